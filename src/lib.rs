@@ -1,0 +1,14 @@
+//! rt-vehicle: a real-time multibody HMMWV (Oh & Kim 2001) solved by the subsystem synthesis method,
+//! with the conventional recursive (42x42) formulation as its cross-check, shipped as an FMI 2.0
+//! Co-Simulation FMU.
+//!
+//! Layers (arrows point down only, see docs/architecture.md):
+//! `fmi` (C API, generic) → `sim` (scenes, stepping) → `model` (vehicle) → `dynamics` (solvers),
+//! with `integrate` (time integrators) beside `sim`.
+
+pub mod dynamics;
+pub mod fmi;
+pub mod integrate;
+pub mod math;
+pub mod model;
+pub mod sim;

@@ -1,0 +1,1 @@
+//! Small geometric helpers shared by the kinematics and the force elements.

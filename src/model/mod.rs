@@ -1,0 +1,11 @@
+//! The vehicle: data, the SLA suspension subsystems, the kinematic rack, force elements, tires and road,
+//! assembled into one derivative function.
+
+pub mod forces;
+pub mod params;
+pub mod road;
+pub mod steering;
+pub mod suspension;
+pub mod tire;
+pub mod vehicle;
+pub mod equilibrium;

@@ -1,0 +1,3 @@
+//! Steering: the rack, driven kinematically (prescribed position, velocity, acceleration).
+
+pub mod rack;

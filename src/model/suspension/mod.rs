@@ -1,0 +1,3 @@
+//! Suspension subsystems. Each corner is one SLA (double wishbone) subsystem of the synthesis method.
+
+pub mod sla;
