@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RigidBody {
     pub mass_kg: f64,
@@ -29,7 +29,7 @@ impl RigidBody {
     }
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Chassis {
     pub mass_kg: f64,
@@ -39,7 +39,7 @@ pub struct Chassis {
     pub inertia_products_kg_m2: [f64; 3],
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Rack {
     pub mass_kg: f64,
@@ -53,7 +53,7 @@ pub struct Rack {
     pub reference_gain_deg_per_m: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Spring {
     pub free_length_m: f64,
@@ -65,7 +65,7 @@ pub struct Spring {
     pub stop_max_length_m: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Damper {
     pub midstroke_compression_Ns_per_m: f64,
@@ -76,7 +76,7 @@ pub struct Damper {
     pub engagement_max_length_m: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ReferenceKinematics {
     pub kingpin_inclination_deg: f64,
@@ -89,7 +89,7 @@ pub struct ReferenceKinematics {
     pub tierod_length_m: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Axle {
     /// Front tie rods end on the rack; rear toe links end on the chassis.
@@ -109,7 +109,7 @@ pub struct Axle {
     pub reference_kinematics: ReferenceKinematics,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StopTable {
     /// Stop engagement (m beyond the stop length) against force (N), both increasing from 0.
@@ -117,7 +117,7 @@ pub struct StopTable {
     pub force_N: Vec<f64>,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WheelBody {
     pub mass_kg: f64,
@@ -125,7 +125,7 @@ pub struct WheelBody {
     pub inertia_kg_m2: [f64; 3],
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StiCoefficients {
     pub a0: f64,
@@ -143,7 +143,7 @@ pub struct StiCoefficients {
     pub trail_m: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Tire {
     pub mass_kg: f64,
@@ -159,14 +159,14 @@ pub struct Tire {
     pub v_min_m_s: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SpeedHold {
     pub kp_per_s: f64,
     pub ki_per_s2: f64,
 }
 
-#[derive(Debug, Clone, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleData {
     pub name: String,

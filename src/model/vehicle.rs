@@ -1,1 +1,690 @@
-//! (placeholder)
+//! The assembled vehicle and its derivative function f(t, x, inputs) (physics.md §4.9).
+//!
+//! Stages, in order, once per evaluation: chassis and rack → for each corner: dependent coordinates
+//! (Newton), velocities and γ̄, global (Bae–Haug velocity-state) kinematics, forces, subsystem terms →
+//! accelerations by the selected formulation → state derivative. The spatial origin is put at the
+//! chassis CM in every evaluation (§4.0), so all positions below are relative to r0.
+
+use crate::dynamics::{self, Accelerations, ChassisTerms, SubsystemTerms};
+use crate::integrate::EvalError;
+use crate::math::{quat_rate, quat_to_matrix, skew, M3, V3};
+use crate::model::forces::{damper_force, spring_force, StopCurve};
+use crate::model::params::{DataError, Spring, VehicleData};
+use crate::model::road::RoadModel;
+use crate::model::suspension::sla::{BodyInertia, SlaGeometry, SlaPositions, Side, Vector5f};
+use crate::model::tire::{self, SlipModel, TireModel, TireParams};
+use nalgebra::{Matrix6, SMatrix, Vector4, Vector6};
+use serde::{Deserialize, Serialize};
+
+/// Corner order everywhere: front left, front right, rear left, rear right.
+pub const CORNERS: [&str; 4] = ["fl", "fr", "rl", "rr"];
+
+/// State layout (physics.md §7.1): r0, e0 (w, x, y, z), ṙ0, ω0 (ground frame), θ_L and θ̇_L per corner,
+/// absolute spin rates Ω, relaxation states (ξ_x, ξ_y) per corner, and the speed-hold integral.
+pub mod idx {
+    pub const R0: usize = 0;
+    pub const E0: usize = 3;
+    pub const V0: usize = 7;
+    pub const W0: usize = 10;
+    pub const U: usize = 13;
+    pub const UD: usize = 17;
+    pub const SPIN: usize = 21;
+    pub const XI: usize = 25;
+    pub const ZV: usize = 33;
+    pub const DIM: usize = 34;
+}
+
+/// Which formulation solves for the accelerations (all share the kinematics and the terms).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Formulation {
+    /// Subsystem synthesis reduced by generalized coordinate partitioning (the default).
+    Synthesis,
+    /// Subsystem synthesis with the 9x9 augmented subsystem solve (cross-check).
+    SynthesisAugmented,
+    /// Conventional recursive formulation: one dense 42x42 augmented system.
+    Conventional,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SpeedMode {
+    Coast,
+    /// PI drive torque holding the target speed (the default, physics.md §8.2).
+    Hold,
+}
+
+/// Which force elements act. All on for a vehicle; tests switch some off (free flight, energy).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ForceSwitches {
+    pub gravity: bool,
+    pub springs: bool,
+    pub stops: bool,
+    pub dampers: bool,
+    pub tires: bool,
+}
+
+impl Default for ForceSwitches {
+    fn default() -> Self {
+        ForceSwitches { gravity: true, springs: true, stops: true, dampers: true, tires: true }
+    }
+}
+
+/// Prescribed rack motion relative to the chassis (+ = left turn input u; the rack moves s = σ_r u).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct RackMotion {
+    pub position: f64,
+    pub velocity: f64,
+    pub acceleration: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Inputs {
+    pub rack: RackMotion,
+    /// External per-wheel torques (FL, FR, RL, RR), N·m; drive adds to the speed hold, brake ≥ 0.
+    pub drive: [f64; 4],
+    pub brake: [f64; 4],
+}
+
+/// Newton warm starts: part of the simulation state (its last bits decide Newton's last bits).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct KinematicsCache {
+    pub dependent: [[f64; 4]; 4],
+}
+
+/// What one evaluation reveals besides ẋ (for outputs and diagnostics).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Diagnostics {
+    /// Chassis CM acceleration r̈0 (ground frame, kinematic).
+    pub chassis_acceleration: V3,
+    pub tire_force: [[f64; 3]; 4],
+    pub kappa: [f64; 4],
+    pub alpha: [f64; 4],
+    pub steer: [f64; 4],
+    pub wheel_centre_z: [f64; 4],
+    pub wheel_spin_relative: [f64; 4],
+    pub drive_torque: [f64; 4],
+    pub max_residual: f64,
+    pub newton_iterations: u32,
+    pub lambda: [Vector4<f64>; 4],
+}
+
+/// Per-corner force element data (the spring free length is what the ride-height retune changes).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CornerForces {
+    pub spring: Spring,
+    pub spring_free_length: f64,
+    pub damper: crate::model::params::Damper,
+}
+
+/// The vehicle model: geometry, inertia, force laws and modes. Immutable during a run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Vehicle {
+    pub corners: [SlaGeometry; 4],
+    pub corner_forces: [CornerForces; 4],
+    pub stops: StopCurve,
+    pub chassis: BodyInertia,
+    pub rack: BodyInertia,
+    /// s = rack_sign · u: sign(∂δ̄/∂s) at design, so that u > 0 steers left.
+    pub rack_sign: f64,
+    pub rack_travel_limit: f64,
+    pub tire: TireParams,
+    pub tire_model: TireModel,
+    pub slip: SlipModel,
+    pub road: RoadModel,
+    pub formulation: Formulation,
+    pub speed_mode: SpeedMode,
+    pub target_speed: f64,
+    pub speed_gains: (f64, f64),
+    pub gravity: f64,
+    pub switches: ForceSwitches,
+    pub total_mass: f64,
+}
+
+/// 6-vector [linear; angular] helpers.
+fn wrench(f: &V3, t: &V3) -> Vector6<f64> {
+    Vector6::new(f.x, f.y, f.z, t.x, t.y, t.z)
+}
+
+fn lin(y: &Vector6<f64>) -> V3 {
+    V3::new(y[0], y[1], y[2])
+}
+
+fn ang(y: &Vector6<f64>) -> V3 {
+    V3::new(y[3], y[4], y[5])
+}
+
+/// M̂ of a body at CM position ρ with inertia J (ground frame), physics.md §4.1.
+fn mass_hat(m: f64, rho: &V3, j: &M3) -> Matrix6<f64> {
+    let r = skew(rho);
+    let mut out = Matrix6::zeros();
+    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&(M3::identity() * m));
+    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-r * m));
+    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(r * m));
+    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&(j - r * r * m));
+    out
+}
+
+/// Gravity plus the velocity-state inertial term of a body: [f; ρ × f − ω × Jω], f = m g − m ω × ṙ.
+fn body_force(m: f64, rho: &V3, j: &M3, w: &V3, rdot: &V3, g: &V3) -> Vector6<f64> {
+    let f = g * m - w.cross(rdot) * m;
+    wrench(&f, &(rho.cross(&f) - w.cross(&(j * w))))
+}
+
+/// A force f acting at the point ρ, as a velocity-state wrench.
+fn point_force(f: &V3, rho: &V3) -> Vector6<f64> {
+    wrench(f, &rho.cross(f))
+}
+
+impl Vehicle {
+    pub fn new(data: &VehicleData) -> Result<Vehicle, DataError> {
+        data.validate()?;
+        let axles = [&data.front, &data.front, &data.rear, &data.rear];
+        let sides = [Side::Left, Side::Right, Side::Left, Side::Right];
+        let mut corners = Vec::with_capacity(4);
+        for i in 0..4 {
+            corners.push(SlaGeometry::from_data(data, axles[i], sides[i])?);
+        }
+        let corners: [SlaGeometry; 4] = corners.try_into().expect("four corners");
+        let corner_forces = axles.map(|a| CornerForces {
+            spring: a.spring.clone(),
+            spring_free_length: a.spring.free_length_m,
+            damper: a.damper.clone(),
+        });
+        let c0 = V3::from(data.chassis.com_m);
+        let chassis_inertia = crate::model::params::RigidBody {
+            mass_kg: data.chassis.mass_kg,
+            inertia_moments_kg_m2: data.chassis.inertia_moments_kg_m2,
+            inertia_products_kg_m2: data.chassis.inertia_products_kg_m2,
+        };
+        let rack_inertia = crate::model::params::RigidBody {
+            mass_kg: data.rack.mass_kg,
+            inertia_moments_kg_m2: data.rack.inertia_moments_kg_m2,
+            inertia_products_kg_m2: data.rack.inertia_products_kg_m2,
+        };
+        let chassis = BodyInertia { mass: data.chassis.mass_kg, com: V3::zeros(), inertia: chassis_inertia.inertia() };
+        let rack = BodyInertia { mass: data.rack.mass_kg, com: V3::from(data.rack.com_m) - c0, inertia: rack_inertia.inertia() };
+        let total_mass = chassis.mass
+            + rack.mass
+            + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>();
+        let mut v = Vehicle {
+            corners,
+            corner_forces,
+            stops: StopCurve::new(&data.stop_table),
+            chassis,
+            rack,
+            rack_sign: 1.0,
+            rack_travel_limit: data.rack.travel_limit_m,
+            tire: data.tire.clone(),
+            tire_model: TireModel::Sti,
+            slip: SlipModel::Relaxation,
+            road: RoadModel::Flat,
+            formulation: Formulation::Synthesis,
+            speed_mode: SpeedMode::Hold,
+            target_speed: 0.0,
+            speed_gains: (data.speed_hold.kp_per_s, data.speed_hold.ki_per_s2),
+            gravity: data.gravity_m_s2,
+            switches: ForceSwitches::default(),
+            total_mass,
+        };
+        v.rack_sign = if v.steering_gain_per_rack_metre().map_err(|e| DataError {
+            field: "front.hardpoints_chassis_frame_m".into(),
+            message: e.0,
+        })? < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        Ok(v)
+    }
+
+    /// ∂δ̄/∂s at design (mean of the two front wheels), rad per metre of rack translation along +y_C.
+    pub fn steering_gain_per_rack_metre(&self) -> Result<f64, EvalError> {
+        let h = 1e-5;
+        let mean = |s: f64| -> Result<f64, EvalError> {
+            let mut sum = 0.0;
+            for c in &self.corners[0..2] {
+                let p = c.solve_positions(0.0, s, &[0.0; 4]).map_err(|e| EvalError(e.0))?;
+                sum += c.steer_angle(&p);
+            }
+            Ok(0.5 * sum)
+        };
+        Ok((mean(h)? - mean(-h)?) / (2.0 * h))
+    }
+
+    /// Rack translation for corner i (rear toe links ignore it).
+    fn rack_translation(&self, i: usize, u: f64) -> f64 {
+        if self.corners[i].steered { self.rack_sign * u } else { 0.0 }
+    }
+
+    /// Solve the dependent coordinates of every corner (updates the warm starts).
+    pub fn corner_positions(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<[SlaPositions; 4], EvalError> {
+        let solve = |i: usize, cache: &mut KinematicsCache| -> Result<SlaPositions, EvalError> {
+            let s = self.rack_translation(i, rack_u);
+            let p = self.corners[i].solve_positions(x[idx::U + i], s, &cache.dependent[i]).map_err(|e| {
+                EvalError(format!("corner {}: {}", CORNERS[i], e.0))
+            })?;
+            cache.dependent[i] = [p.q[1], p.q[2], p.q[3], p.q[4]];
+            Ok(p)
+        };
+        Ok([solve(0, cache)?, solve(1, cache)?, solve(2, cache)?, solve(3, cache)?])
+    }
+
+    /// The derivative function: writes ẋ, updates the warm starts, and fills `diag` if given.
+    /// No heap allocation.
+    pub fn derivative(
+        &self,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        dxdt: &mut [f64],
+        diag: Option<&mut Diagnostics>,
+    ) -> Result<(), EvalError> {
+        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+        let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
+        let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
+        let r0 = V3::new(x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2]);
+        let y0 = wrench(&v0, &w0);
+        let g = if self.switches.gravity { V3::new(0.0, 0.0, -self.gravity) } else { V3::zeros() };
+        let mut local = Diagnostics::default();
+
+        // Chassis (ρ0 = 0 after the origin shift) and rack (§4.7).
+        let j0 = a0 * self.chassis.inertia * a0.transpose();
+        let mut chassis_mass = mass_hat(self.chassis.mass, &V3::zeros(), &j0);
+        let mut chassis_force = body_force(self.chassis.mass, &V3::zeros(), &j0, &w0, &v0, &g);
+        let rack = &inputs.rack;
+        let s = self.rack_sign * rack.position;
+        let sd = self.rack_sign * rack.velocity;
+        let sdd = self.rack_sign * rack.acceleration;
+        {
+            let ey = a0 * V3::y();
+            let rho = a0 * (self.rack.com + V3::y() * s);
+            let j = a0 * self.rack.inertia * a0.transpose();
+            let m_hat = mass_hat(self.rack.mass, &rho, &j);
+            let y_r = y0 + wrench(&(ey * sd), &V3::zeros());
+            let rdot = lin(&y_r) + w0.cross(&rho);
+            let q_hat = body_force(self.rack.mass, &rho, &j, &w0, &rdot, &g);
+            let b_r_sdd_plus_d = wrench(&(ey * sdd + w0.cross(&ey) * sd), &V3::zeros());
+            chassis_mass += m_hat;
+            chassis_force += q_hat - m_hat * b_r_sdd_plus_d;
+        }
+
+        // Speed hold: T_d = m R0 [kp (V* − Vx) + ki z_v], split equally (§8.2).
+        let vx_body = (a0 * V3::x()).dot(&v0);
+        let hold_torque = match self.speed_mode {
+            SpeedMode::Hold => {
+                let (kp, ki) = self.speed_gains;
+                self.total_mass * self.tire.unloaded_radius_m * (kp * (self.target_speed - vx_body) + ki * x[idx::ZV]) / 4.0
+            }
+            SpeedMode::Coast => 0.0,
+        };
+
+        let positions = self.corner_positions(x, rack.position, cache)?;
+        let mut terms = [SubsystemTerms {
+            m_qq: SMatrix::zeros(),
+            m_q0: SMatrix::zeros(),
+            m_00: Matrix6::zeros(),
+            p_q: nalgebra::Vector5::zeros(),
+            p_0: Vector6::zeros(),
+            phi_q: SMatrix::zeros(),
+            gamma_bar: Vector4::zeros(),
+        }; 4];
+        let mut spin_rate_numerator = [0.0; 4];
+        for i in 0..4 {
+            let c = &self.corners[i];
+            let pos = &positions[i];
+            let s_i = if c.steered { sd } else { 0.0 };
+            let sdd_i = if c.steered { sdd } else { 0.0 };
+            let qd = c.velocities(pos, x[idx::UD + i], s_i);
+            let gamma_bar = c.gamma_bar(pos, &qd, s_i, sdd_i);
+            local.max_residual = local.max_residual.max(pos.residual);
+            local.newton_iterations += pos.iterations;
+            let drive = hold_torque + inputs.drive[i];
+            let out = self.corner_terms(i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], &mut local);
+            terms[i] = out.terms;
+            chassis_force += out.chassis_wrench;
+            spin_rate_numerator[i] = out.spin_torque;
+            let xi_rates = out.relaxation_rates;
+            dxdt[idx::XI + 2 * i] = xi_rates[0];
+            dxdt[idx::XI + 2 * i + 1] = xi_rates[1];
+            local.drive_torque[i] = drive;
+        }
+
+        let chassis = ChassisTerms { mass: chassis_mass, force: chassis_force };
+        let acc: Accelerations<4> = match self.formulation {
+            Formulation::Synthesis => dynamics::solve_synthesis_gcp(&chassis, &terms),
+            Formulation::SynthesisAugmented => dynamics::solve_synthesis_augmented(&chassis, &terms),
+            Formulation::Conventional => dynamics::solve_conventional(&chassis, &terms),
+        }
+        .map_err(|e| EvalError(format!("acceleration solve failed: {}", e.0)))?;
+
+        // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
+        let rdd = lin(&acc.chassis) + w0.cross(&v0);
+        let wd = ang(&acc.chassis);
+        let ed = quat_rate(&x[idx::E0..idx::E0 + 4], &w0);
+        for k in 0..3 {
+            dxdt[idx::R0 + k] = v0[k];
+            dxdt[idx::V0 + k] = rdd[k];
+            dxdt[idx::W0 + k] = wd[k];
+        }
+        dxdt[idx::E0..idx::E0 + 4].copy_from_slice(&ed);
+        for i in 0..4 {
+            dxdt[idx::U + i] = x[idx::UD + i];
+            dxdt[idx::UD + i] = acc.q_ddot[i][0];
+            dxdt[idx::SPIN + i] = spin_rate_numerator[i] / self.corners[i].spin_inertia;
+        }
+        dxdt[idx::ZV] = match self.speed_mode {
+            SpeedMode::Hold => self.target_speed - vx_body,
+            SpeedMode::Coast => 0.0,
+        };
+        if !dxdt.iter().all(|v| v.is_finite()) {
+            return Err(EvalError("non-finite state derivative".into()));
+        }
+        if let Some(d) = diag {
+            local.chassis_acceleration = rdd;
+            local.lambda = acc.lambda;
+            *d = local;
+        }
+        Ok(())
+    }
+
+    /// Global kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6).
+    #[allow(clippy::too_many_arguments)]
+    fn corner_terms(
+        &self,
+        i: usize,
+        pos: &SlaPositions,
+        qd: &Vector5f,
+        gamma_bar: &Vector4<f64>,
+        a0: &M3,
+        r0: &V3,
+        y0: &Vector6<f64>,
+        g: &V3,
+        x: &[f64],
+        drive_torque: f64,
+        brake_torque: f64,
+        diag: &mut Diagnostics,
+    ) -> CornerOutput {
+        let c = &self.corners[i];
+        let (v0, w0) = (lin(y0), ang(y0));
+        let k = self.corner_kinematics(i, pos, qd, a0, y0);
+        let [y_l, y_k, _] = k.velocity;
+        let point_velocity = |y: &Vector6<f64>, rho: &V3| lin(y) + ang(y).cross(rho);
+        let w_k = ang(&y_k);
+        let body_wrench = |b: usize| {
+            let (m, rho, j, y) = (k.mass[b], k.com[b], k.inertia[b], k.velocity[b]);
+            body_force(m, &rho, &j, &ang(&y), &point_velocity(&y, &rho), g)
+        };
+        let mut q_l = body_wrench(BODY_L);
+        let mut q_k = body_wrench(BODY_K);
+        let q_u = body_wrench(BODY_U);
+        let mut chassis_wrench = Vector6::zeros();
+
+        // Spring, stops and damper between the chassis and the lower arm (§5.2–5.3).
+        let f = &self.corner_forces[i];
+        let mut line_element = |chassis_pt: &V3, arm_pt: &V3, kind: LineElement| {
+            let rho_c = a0 * chassis_pt;
+            let rho_a = a0 * c.on_lower(pos, arm_pt);
+            let dvec = rho_a - rho_c;
+            let length = dvec.norm();
+            let e = dvec / length;
+            let magnitude = match kind {
+                LineElement::Spring => {
+                    let mut spring = f.spring.clone();
+                    if !self.switches.stops {
+                        spring.stop_min_length_m = f64::NEG_INFINITY;
+                        spring.stop_max_length_m = f64::INFINITY;
+                    }
+                    spring_force(&spring, f.spring_free_length, &self.stops, length)
+                }
+                LineElement::Damper => {
+                    let rate = e.dot(&(point_velocity(&y_l, &rho_a) - (v0 + w0.cross(&rho_c))));
+                    damper_force(&f.damper, length, rate)
+                }
+            };
+            q_l += point_force(&(e * magnitude), &rho_a);
+            chassis_wrench += point_force(&(-e * magnitude), &rho_c);
+        };
+        if self.switches.springs {
+            line_element(&c.spring_chassis, &c.spring_arm, LineElement::Spring);
+        }
+        if self.switches.dampers {
+            line_element(&c.shock_chassis, &c.shock_arm, LineElement::Damper);
+        }
+
+        // Wheel: tire on the road, spin decoupled exactly (§4.8, §6).
+        let axle = k.axle;
+        let spin = x[idx::SPIN + i];
+        let spin_rel = spin - axle.dot(&w_k);
+        let rho_w = k.wheel_centre;
+        let mut spin_torque = drive_torque - brake_torque * (spin_rel / 0.5).tanh();
+        chassis_wrench += wrench(&V3::zeros(), &(-axle * drive_torque));
+        q_k += wrench(&V3::zeros(), &(axle * (brake_torque * (spin_rel / 0.5).tanh())));
+        q_k += wrench(&V3::zeros(), &(-w_k.cross(&axle) * (c.spin_inertia * spin)));
+        let xi = [x[idx::XI + 2 * i], x[idx::XI + 2 * i + 1]];
+        let mut relaxation_rates = [0.0; 2];
+        let centre_abs = rho_w + r0;
+        diag.wheel_centre_z[i] = centre_abs.z;
+        diag.steer[i] = c.steer_angle(pos);
+        diag.wheel_spin_relative[i] = spin_rel;
+        let contact = if self.switches.tires {
+            tire::contact(&self.road, &centre_abs, &axle, self.tire.unloaded_radius_m)
+        } else {
+            None
+        };
+        match contact {
+            Some(ct) => {
+                let rho_c = ct.point - r0;
+                let v_c = point_velocity(&y_k, &rho_c);
+                let pen_rate = -ct.normal.dot(&v_c);
+                let fz = tire::normal_force(&self.tire, ct.penetration, pen_rate);
+                let vx = ct.ex.dot(&v_c);
+                let vy = ct.ey.dot(&v_c);
+                let r_eff = self.tire.unloaded_radius_m - ct.penetration / 3.0;
+                let vsx = vx - r_eff * spin_rel;
+                let vsy = vy;
+                let (kappa, tan_alpha) = match self.slip {
+                    SlipModel::Relaxation => {
+                        relaxation_rates = tire::relaxation_rates(&self.tire, vx, vsx, vsy, xi, true);
+                        (xi[0], xi[1])
+                    }
+                    SlipModel::Steady => tire::steady_slip(&self.tire, vx, vsx, vsy),
+                };
+                let shear = tire::shear_forces(self.tire_model, &self.tire, fz, kappa, tan_alpha, ct.inclination);
+                let m_rr = tire::rolling_resistance_moment(&self.tire, fz, ct.loaded_radius, spin_rel);
+                let force = ct.ex * shear.fx + ct.ey * shear.fy + ct.normal * fz;
+                let moment_w = (rho_c - rho_w).cross(&force) + ct.normal * shear.mz + axle * m_rr;
+                let axial = axle.dot(&moment_w);
+                q_k += wrench(&force, &(rho_w.cross(&force) + moment_w - axle * axial));
+                spin_torque += axial;
+                diag.tire_force[i] = [shear.fx, shear.fy, fz];
+                diag.kappa[i] = kappa;
+                diag.alpha[i] = tan_alpha.atan();
+            }
+            None => {
+                if self.slip == SlipModel::Relaxation {
+                    relaxation_rates = tire::relaxation_rates(&self.tire, 0.0, 0.0, 0.0, xi, false);
+                }
+            }
+        }
+
+        // Subsystem terms (§4.2).
+        let mut t = SubsystemTerms {
+            m_qq: SMatrix::zeros(),
+            m_q0: SMatrix::zeros(),
+            m_00: Matrix6::zeros(),
+            p_q: nalgebra::Vector5::zeros(),
+            p_0: Vector6::zeros(),
+            phi_q: pos.phi_q,
+            gamma_bar: *gamma_bar,
+        };
+        for (b, q_hat) in [(BODY_L, &q_l), (BODY_K, &q_k), (BODY_U, &q_u)] {
+            let m_hat = mass_hat(k.mass[b], &k.com[b], &k.inertia[b]);
+            let btm = k.jacobian[b].transpose() * m_hat;
+            let p = q_hat - m_hat * k.rate[b];
+            t.m_qq += btm * k.jacobian[b];
+            t.m_q0 += btm;
+            t.m_00 += m_hat;
+            t.p_q += k.jacobian[b].transpose() * p;
+            t.p_0 += p;
+        }
+        CornerOutput { terms: t, chassis_wrench, spin_torque, relaxation_rates }
+    }
+}
+
+pub const BODY_L: usize = 0;
+pub const BODY_K: usize = 1;
+pub const BODY_U: usize = 2;
+
+/// Global (ground-frame, origin at the chassis CM) kinematics of the three bodies of one corner, in the
+/// order lower arm, carrier, upper arm: Y_b = Y0 + 𝔅_b q̇, Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b (§3.4).
+#[derive(Debug, Clone, Copy)]
+pub struct CornerKinematics {
+    pub jacobian: [SMatrix<f64, 6, 5>; 3],
+    pub rate: [Vector6<f64>; 3],
+    pub velocity: [Vector6<f64>; 3],
+    pub mass: [f64; 3],
+    pub com: [V3; 3],
+    pub inertia: [M3; 3],
+    pub axle: V3,
+    pub wheel_centre: V3,
+}
+
+impl Vehicle {
+    pub fn corner_kinematics(&self, i: usize, pos: &SlaPositions, qd: &Vector5f, a0: &M3, y0: &Vector6<f64>) -> CornerKinematics {
+        let c = &self.corners[i];
+        let (v0, w0) = (lin(y0), ang(y0));
+        let phid = V3::new(qd[1], qd[2], qd[3]);
+        // Joint velocity matrices: revolute B = [ρ_p × h; h], spherical B_K = [ρ̃_b; I] A_L G.
+        let h_l = a0 * c.h_l;
+        let h_u = a0 * c.h_u;
+        let rho_pl = a0 * c.p_l;
+        let rho_pu = a0 * c.p_u;
+        let rho_b = a0 * pos.b;
+        let a_l_g = a0 * pos.rl_g;
+        let b_l = wrench(&rho_pl.cross(&h_l), &h_l);
+        let b_u = wrench(&rho_pu.cross(&h_u), &h_u);
+        let mut b_k = SMatrix::<f64, 6, 3>::zeros();
+        b_k.fixed_view_mut::<3, 3>(0, 0).copy_from(&(skew(&rho_b) * a_l_g));
+        b_k.fixed_view_mut::<3, 3>(3, 0).copy_from(&a_l_g);
+        let y_l = y0 + b_l * qd[0];
+        let y_k = y_l + b_k * phid;
+        let y_u = y0 + b_u * qd[4];
+        // Rates: D = d(B)/dt q̇ with the chassis turning the axes (ḣ = ω0 × h).
+        let revolute_rate = |rho_p: &V3, h: &V3, rate: f64| -> Vector6<f64> {
+            let hd = w0.cross(h);
+            let pd = v0 + w0.cross(rho_p);
+            wrench(&((pd.cross(h) + rho_p.cross(&hd)) * rate), &(hd * rate))
+        };
+        let d_l = revolute_rate(&rho_pl, &h_l, qd[0]);
+        let d_u = revolute_rate(&rho_pu, &h_u, qd[4]);
+        let omega_r = a_l_g * phid;
+        let w_l = ang(&y_l);
+        let wv = w_l.cross(&omega_r)
+            + a0 * pos.r_l * crate::math::bryant_rate_quadratic(&V3::new(pos.q[1], pos.q[2], pos.q[3]), &phid);
+        let b_dot = lin(&y_l) + w_l.cross(&rho_b);
+        let d_k = wrench(&(b_dot.cross(&omega_r) + rho_b.cross(&wv)), &wv);
+        let mut bb_l = SMatrix::<f64, 6, 5>::zeros();
+        bb_l.set_column(0, &b_l);
+        let mut bb_k = bb_l;
+        bb_k.fixed_view_mut::<6, 3>(0, 1).copy_from(&b_k);
+        let mut bb_u = SMatrix::<f64, 6, 5>::zeros();
+        bb_u.set_column(4, &b_u);
+
+        let rot_l = a0 * pos.r_l;
+        let rot_u = a0 * pos.r_u;
+        let rot_k = a0 * pos.r_k;
+        CornerKinematics {
+            jacobian: [bb_l, bb_k, bb_u],
+            rate: [d_l, d_l + d_k, d_u],
+            velocity: [y_l, y_k, y_u],
+            mass: [c.lower.mass, c.carrier.mass, c.upper.mass],
+            com: [a0 * c.on_lower(pos, &c.lower.com), a0 * c.on_carrier(pos, &c.carrier.com), a0 * c.on_upper(pos, &c.upper.com)],
+            inertia: [
+                rot_l * c.lower.inertia * rot_l.transpose(),
+                rot_k * c.carrier.inertia * rot_k.transpose(),
+                rot_u * c.upper.inertia * rot_u.transpose(),
+            ],
+            axle: rot_k * c.axle,
+            wheel_centre: a0 * c.on_carrier(pos, &c.w0),
+        }
+    }
+}
+
+enum LineElement {
+    Spring,
+    Damper,
+}
+
+struct CornerOutput {
+    terms: SubsystemTerms,
+    chassis_wrench: Vector6<f64>,
+    spin_torque: f64,
+    relaxation_rates: [f64; 2],
+}
+
+/// Momenta and energies of the whole system (for conservation tests and diagnostics).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MechanicalSummary {
+    /// Σ m ṙ, ground frame.
+    pub linear_momentum: V3,
+    /// About the ground origin, including the wheel spin I_s Ω a.
+    pub angular_momentum: V3,
+    pub kinetic_energy: f64,
+    /// Gravity and spring potential (stops excluded: switch them off to test energy).
+    pub potential_energy: f64,
+}
+
+impl Vehicle {
+    pub fn mechanical_summary(&self, x: &[f64], rack: &RackMotion, cache: &mut KinematicsCache) -> Result<MechanicalSummary, EvalError> {
+        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+        let r0 = V3::new(x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2]);
+        let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
+        let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
+        let y0 = wrench(&v0, &w0);
+        let gz = if self.switches.gravity { self.gravity } else { 0.0 };
+        let mut p = V3::zeros();
+        let mut h = V3::zeros();
+        let mut t = 0.0;
+        let mut v = 0.0;
+        let mut add_body = |m: f64, rho: &V3, j: &M3, rdot: &V3, w: &V3| {
+            let r = r0 + rho;
+            p += rdot * m;
+            h += r.cross(&(rdot * m)) + j * w;
+            t += 0.5 * m * rdot.norm_squared() + 0.5 * w.dot(&(j * w));
+            v += m * gz * r.z;
+        };
+        let j0 = a0 * self.chassis.inertia * a0.transpose();
+        add_body(self.chassis.mass, &V3::zeros(), &j0, &v0, &w0);
+        let s = self.rack_sign * rack.position;
+        let sd = self.rack_sign * rack.velocity;
+        let rho_r = a0 * (self.rack.com + V3::y() * s);
+        let rdot_r = v0 + a0 * V3::y() * sd + w0.cross(&rho_r);
+        add_body(self.rack.mass, &rho_r, &(a0 * self.rack.inertia * a0.transpose()), &rdot_r, &w0);
+        let positions = self.corner_positions(x, rack.position, cache)?;
+        let mut spin_terms = Vec::new();
+        let mut spring_potential = 0.0;
+        for i in 0..4 {
+            let c = &self.corners[i];
+            let pos = &positions[i];
+            let qd = c.velocities(pos, x[idx::UD + i], if c.steered { sd } else { 0.0 });
+            let k = self.corner_kinematics(i, pos, &qd, &a0, &y0);
+            for b in 0..3 {
+                let w = ang(&k.velocity[b]);
+                let rdot = lin(&k.velocity[b]) + w.cross(&k.com[b]);
+                add_body(k.mass[b], &k.com[b], &k.inertia[b], &rdot, &w);
+            }
+            spin_terms.push((k.axle, x[idx::SPIN + i], c.spin_inertia));
+            if self.switches.springs {
+                let f = &self.corner_forces[i];
+                let length = (c.on_lower(pos, &c.spring_arm) - c.spring_chassis).norm();
+                let xs = length - f.spring_free_length;
+                spring_potential += 0.5 * f.spring.k1_N_per_m * xs * xs + 0.25 * f.spring.k3_N_per_m3 * xs.powi(4);
+            }
+        }
+        v += spring_potential;
+        for (axle, spin, is) in spin_terms {
+            h += axle * (is * spin);
+            t += 0.5 * is * spin * spin;
+        }
+        Ok(MechanicalSummary { linear_momentum: p, angular_momentum: h, kinetic_energy: t, potential_energy: v })
+    }
+}

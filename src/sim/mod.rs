@@ -17,22 +17,7 @@ use serde::{Deserialize, Serialize};
 
 pub use outputs::{Outputs, CSV_COLUMNS, OUTPUT_NAMES};
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Formulation {
-    /// Subsystem synthesis reduced by generalized coordinate partitioning (the default).
-    Synthesis,
-    /// Subsystem synthesis with the 9x9 augmented subsystem solve (cross-check).
-    SynthesisAugmented,
-    /// Conventional recursive formulation: one dense 42x42 augmented system.
-    Conventional,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum SpeedMode {
-    Coast,
-    /// PI drive torque holding the initial speed (the default).
-    Hold,
-}
+pub use crate::model::vehicle::{Formulation, SpeedMode};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum RoadChoice {

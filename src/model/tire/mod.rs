@@ -83,3 +83,9 @@ pub fn relaxation_rates(p: &TireParams, vx: f64, vsx: f64, vsy: f64, xi: [f64; 2
     let _ = (p, vx, vsx, vsy, xi, in_contact);
     [0.0, 0.0]
 }
+
+/// Rolling resistance moment about the axle (placeholder).
+pub fn rolling_resistance_moment(p: &TireParams, fz: f64, loaded_radius: f64, omega_rel: f64) -> f64 {
+    let _ = (p, fz, loaded_radius, omega_rel);
+    0.0
+}
