@@ -1,1 +1,220 @@
-//! (placeholder)
+//! Initial states computed, not settled (physics.md §8.1): the ride-height retune of the spring free
+//! lengths, the static equilibrium, and steady rolling at speed. Each is a small Newton solve with a
+//! finite-difference Jacobian on residuals taken from the derivative function itself, so the initial
+//! state is an equilibrium of exactly the model that is integrated.
+
+use crate::integrate::EvalError;
+use crate::math::{quat_from_euler, quat_to_matrix, V3};
+use crate::model::tire::SlipModel;
+use crate::model::vehicle::{idx, Inputs, KinematicsCache, SpeedMode, Vehicle};
+use nalgebra::{DMatrix, DVector};
+
+/// Residual tolerance of the initialisation solves (accelerations in m/s² and rad/s²).
+pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-10;
+
+/// Newton with a forward-difference Jacobian (step 1e-7 relative). Allocates: initialisation only.
+pub fn newton<F>(unknowns: &mut [f64], mut residual: F, tolerance: f64, max_iterations: usize) -> Result<usize, EvalError>
+where
+    F: FnMut(&[f64], &mut [f64]) -> Result<(), EvalError>,
+{
+    let n = unknowns.len();
+    let mut r = vec![0.0; n];
+    let mut rp = vec![0.0; n];
+    for it in 0..max_iterations {
+        residual(unknowns, &mut r)?;
+        let norm = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if norm < tolerance {
+            return Ok(it);
+        }
+        let mut jac = DMatrix::<f64>::zeros(n, n);
+        for j in 0..n {
+            let h = 1e-7 * unknowns[j].abs().max(1e-2);
+            let saved = unknowns[j];
+            unknowns[j] += h;
+            residual(unknowns, &mut rp)?;
+            unknowns[j] = saved;
+            for i in 0..n {
+                jac[(i, j)] = (rp[i] - r[i]) / h;
+            }
+        }
+        let step = jac
+            .lu()
+            .solve(&DVector::from_column_slice(&r))
+            .ok_or_else(|| EvalError("equilibrium Jacobian is singular".into()))?;
+        for j in 0..n {
+            unknowns[j] -= step[j];
+        }
+    }
+    let mut r = vec![0.0; n];
+    residual(unknowns, &mut r)?;
+    let norm = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    if norm < tolerance {
+        Ok(max_iterations)
+    } else {
+        Err(EvalError(format!("equilibrium did not converge (residual {norm:.3e})")))
+    }
+}
+
+/// A state at rest: chassis CM at height z with roll and pitch, arm angles u, everything else zero.
+pub fn rest_state(z: f64, roll: f64, pitch: f64, u: &[f64; 4]) -> Vec<f64> {
+    let mut x = vec![0.0; idx::DIM];
+    x[idx::R0 + 2] = z;
+    x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(roll, pitch, 0.0));
+    x[idx::U..idx::U + 4].copy_from_slice(u);
+    x
+}
+
+/// Chassis CM height at the design position on undeflected tires: the first guess of every solve.
+pub fn design_height_guess(v: &Vehicle) -> f64 {
+    let front = &v.corners[0];
+    v.tire.unloaded_radius_m - front.w0.z
+}
+
+fn evaluate(v: &Vehicle, x: &[f64], cache: &mut KinematicsCache, dx: &mut [f64]) -> Result<(), EvalError> {
+    v.derivative(x, &Inputs::default(), cache, dx, None)
+}
+
+/// Ride-height retune (§8.1 step 1): choose the front and rear spring free-length offsets so that the
+/// design position (all arm angles zero) is the static equilibrium. Returns (ΔL_front, ΔL_rear) and
+/// leaves them applied to `v`.
+pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), EvalError> {
+    let base: Vec<f64> = v.corner_forces.iter().map(|f| f.spring_free_length).collect();
+    let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0];
+    let mut cache = KinematicsCache::default();
+    let mut dx = vec![0.0; idx::DIM];
+    let mut statics = v.clone();
+    statics.speed_mode = SpeedMode::Coast;
+    newton(
+        &mut p,
+        |p, r| {
+            for i in 0..4 {
+                statics.corner_forces[i].spring_free_length = base[i] + if i < 2 { p[3] } else { p[4] };
+            }
+            let x = rest_state(p[0], p[1], p[2], &[0.0; 4]);
+            evaluate(&statics, &x, &mut cache, &mut dx)?;
+            r[0] = dx[idx::V0 + 2];
+            r[1] = dx[idx::W0];
+            r[2] = dx[idx::W0 + 1];
+            r[3] = dx[idx::UD] + dx[idx::UD + 1];
+            r[4] = dx[idx::UD + 2] + dx[idx::UD + 3];
+            Ok(())
+        },
+        EQUILIBRIUM_TOLERANCE,
+        20,
+    )?;
+    for i in 0..4 {
+        v.corner_forces[i].spring_free_length = base[i] + if i < 2 { p[3] } else { p[4] };
+    }
+    Ok((p[3], p[4]))
+}
+
+/// Static equilibrium (§8.1 step 2): height, roll, pitch and the four arm angles with every
+/// acceleration zero; x, y and yaw are free and set to zero.
+pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Vec<f64>, EvalError> {
+    let mut statics = v.clone();
+    statics.speed_mode = SpeedMode::Coast;
+    let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let mut dx = vec![0.0; idx::DIM];
+    let state = |p: &[f64]| rest_state(p[0], p[1], p[2], &[p[3], p[4], p[5], p[6]]);
+    newton(
+        &mut p,
+        |p, r| {
+            evaluate(&statics, &state(p), cache, &mut dx)?;
+            r[0] = dx[idx::V0 + 2];
+            r[1] = dx[idx::W0];
+            r[2] = dx[idx::W0 + 1];
+            for i in 0..4 {
+                r[3 + i] = dx[idx::UD + i];
+            }
+            Ok(())
+        },
+        EQUILIBRIUM_TOLERANCE,
+        30,
+    )?;
+    Ok(state(&p))
+}
+
+/// Steady straight rolling at `speed` (§8.1 step 3): starting from the static equilibrium, solve for the
+/// attitude, arm angles, spin rates, longitudinal slip states and (hold) the speed-hold integral so that
+/// the first step is already an equilibrium: no ringing of the lightly damped spin–slip mode.
+/// In coast mode the vehicle decelerates by rolling resistance, so the longitudinal balance is left out.
+pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> Result<Vec<f64>, EvalError> {
+    let mut x = static_equilibrium(v, cache)?;
+    if speed == 0.0 {
+        return Ok(x);
+    }
+    let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+    let vel = a0 * V3::x() * speed;
+    x[idx::V0..idx::V0 + 3].copy_from_slice(vel.as_slice());
+    let r = v.tire.unloaded_radius_m;
+    for i in 0..4 {
+        x[idx::SPIN + i] = speed / r;
+    }
+    let relaxation = v.slip == SlipModel::Relaxation;
+    let hold = v.speed_mode == SpeedMode::Hold;
+    // Unknowns: z, roll, pitch, u1..4, Ω1..4, [ξx1..4], [z_v].
+    let mut p = vec![x[idx::R0 + 2], 0.0, 0.0];
+    let (roll, pitch, _) = crate::math::euler_from_matrix(&a0);
+    p[1] = roll;
+    p[2] = pitch;
+    p.extend_from_slice(&x[idx::U..idx::U + 4]);
+    p.extend_from_slice(&x[idx::SPIN..idx::SPIN + 4]);
+    if relaxation {
+        p.extend_from_slice(&[0.0; 4]);
+    }
+    if hold {
+        p.push(0.0);
+    }
+    let base = x.clone();
+    let assemble = |p: &[f64]| -> Vec<f64> {
+        let mut x = base.clone();
+        x[idx::R0 + 2] = p[0];
+        x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(p[1], p[2], 0.0));
+        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+        x[idx::V0..idx::V0 + 3].copy_from_slice((a0 * V3::x() * speed).as_slice());
+        x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
+        x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
+        let mut k = 11;
+        if relaxation {
+            for i in 0..4 {
+                x[idx::XI + 2 * i] = p[k + i];
+            }
+            k += 4;
+        }
+        if hold {
+            x[idx::ZV] = p[k];
+        }
+        x
+    };
+    let mut dx = vec![0.0; idx::DIM];
+    newton(
+        &mut p,
+        |p, r| {
+            let x = assemble(p);
+            v.derivative(&x, &Inputs::default(), cache, &mut dx, None)?;
+            let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+            let acc = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
+            r[0] = dx[idx::V0 + 2];
+            r[1] = dx[idx::W0];
+            r[2] = dx[idx::W0 + 1];
+            for i in 0..4 {
+                r[3 + i] = dx[idx::UD + i];
+                r[7 + i] = dx[idx::SPIN + i];
+            }
+            let mut k = 11;
+            if relaxation {
+                for i in 0..4 {
+                    r[k + i] = dx[idx::XI + 2 * i];
+                }
+                k += 4;
+            }
+            if hold {
+                r[k] = (a0 * V3::x()).dot(&acc);
+            }
+            Ok(())
+        },
+        EQUILIBRIUM_TOLERANCE,
+        30,
+    )?;
+    Ok(assemble(&p))
+}
