@@ -1,5 +1,10 @@
-//! Road surface behind a small trait (physics.md §6.1). (Placeholder: the tire/road helper implements it.)
+//! Road surface behind a small trait (physics.md §6.1).
+//!
+//! The shipped roads are a flat plane z = 0 and that plane plus half-sine bumps, each confined to one side of
+//! the road (the paper's unsymmetric bump course). Height and gradient are analytic, so the contact normal
+//! (§6.2) is exact. The bumps are only C⁰ at their edges: the normal jumps there, which is the paper's profile.
 use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
 
 /// Height h(x, y) of the road in the ground frame and its gradient (dh/dx, dh/dy).
 pub trait Road {
@@ -16,6 +21,26 @@ pub struct HalfSineBump {
     pub side: f64,
 }
 
+impl HalfSineBump {
+    /// Whether (x, y) lies on the bump's footprint. A bump of non-positive length has no footprint (this
+    /// also keeps the division by `length` below safe for hand-written road files).
+    fn covers(&self, x: f64, y: f64) -> bool {
+        self.length > 0.0 && self.side * y > 0.0 && x >= self.x_start && x <= self.x_start + self.length
+    }
+}
+
+impl Road for HalfSineBump {
+    fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
+        if !self.covers(x, y) {
+            return (0.0, [0.0, 0.0]);
+        }
+        let wave_number = PI / self.length;
+        let phase = wave_number * (x - self.x_start);
+        // The side boundary y = 0 is a step in h; away from it the bump does not vary with y.
+        (self.height * phase.sin(), [self.height * wave_number * phase.cos(), 0.0])
+    }
+}
+
 /// The roads the model ships (an enum so a simulation stays plain data).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub enum RoadModel {
@@ -23,17 +48,114 @@ pub enum RoadModel {
     Bumps(Vec<HalfSineBump>),
 }
 
+/// Bump geometry of the paper's course [P, physics.md §8.3].
+const PAPER_BUMP_LENGTH_M: f64 = 0.5;
+const PAPER_BUMP_HEIGHT_M: f64 = 0.05;
+/// Leading edges, measured from the initial front wheel centres: left wheels, then right wheels.
+const PAPER_BUMPS_LEFT_M: [f64; 2] = [10.0, 14.0];
+const PAPER_BUMPS_RIGHT_M: [f64; 2] = [11.0, 15.0];
+
 impl RoadModel {
     /// The paper's unsymmetric bump course: 0.5 m long, 5 cm high; left wheels at 10 m and 14 m, right at
     /// 11 m and 15 m, leading edges measured from `front_wheel_x0` (the initial front wheel centres).
     pub fn paper_bump_course(front_wheel_x0: f64) -> RoadModel {
-        let _ = front_wheel_x0;
-        RoadModel::Flat
+        let bump = |offset: f64, side: f64| HalfSineBump {
+            x_start: front_wheel_x0 + offset,
+            length: PAPER_BUMP_LENGTH_M,
+            height: PAPER_BUMP_HEIGHT_M,
+            side,
+        };
+        let left = PAPER_BUMPS_LEFT_M.iter().map(|&x| bump(x, 1.0));
+        let right = PAPER_BUMPS_RIGHT_M.iter().map(|&x| bump(x, -1.0));
+        RoadModel::Bumps(left.chain(right).collect())
     }
 }
 
 impl Road for RoadModel {
-    fn height_and_gradient(&self, _x: f64, _y: f64) -> (f64, [f64; 2]) {
-        (0.0, [0.0, 0.0])
+    fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
+        match self {
+            RoadModel::Flat => (0.0, [0.0, 0.0]),
+            // Sum over the bumps (§6.1); overlapping bumps add up.
+            RoadModel::Bumps(bumps) => bumps.iter().fold((0.0, [0.0, 0.0]), |(h, [hx, hy]), bump| {
+                let (bh, [bx, by]) = bump.height_and_gradient(x, y);
+                (h + bh, [hx + bx, hy + by])
+            }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TRACK_HALF: f64 = 0.9; // |y| of a wheel, roughly the HMMWV half-track
+
+    fn height(road: &RoadModel, x: f64, y: f64) -> f64 {
+        road.height_and_gradient(x, y).0
+    }
+
+    #[test]
+    fn flat_road_is_zero_everywhere() {
+        for &(x, y) in &[(0.0, 0.0), (12.3, -4.0), (-1e3, 7.0)] {
+            assert_eq!(RoadModel::Flat.height_and_gradient(x, y), (0.0, [0.0, 0.0]));
+        }
+    }
+
+    #[test]
+    fn paper_course_heights_and_sides() {
+        let x0 = 1.7;
+        let road = RoadModel::paper_bump_course(x0);
+        // Peaks (mid-bump) on the side each bump belongs to; nothing on the other side.
+        for &(offset, side) in &[(10.0, 1.0), (14.0, 1.0), (11.0, -1.0), (15.0, -1.0)] {
+            let mid = x0 + offset + 0.25;
+            assert!((height(&road, mid, side * TRACK_HALF) - 0.05).abs() < 1e-15, "peak at {offset}");
+            assert_eq!(height(&road, mid, -side * TRACK_HALF), 0.0, "other side at {offset}");
+            // Quarter point: 0.05 sin(pi/4).
+            let quarter = x0 + offset + 0.125;
+            let expected = 0.05 * (PI / 4.0).sin();
+            assert!((height(&road, quarter, side * TRACK_HALF) - expected).abs() < 1e-15);
+        }
+        // Before, between and after the bumps, and exactly on the centre line: flat.
+        for &x in &[x0, x0 + 9.99, x0 + 10.51, x0 + 12.0, x0 + 15.51, x0 + 30.0] {
+            assert_eq!(height(&road, x, TRACK_HALF), 0.0, "left at {x}");
+            assert_eq!(height(&road, x, -TRACK_HALF), 0.0, "right at {x}");
+        }
+        assert_eq!(height(&road, x0 + 10.25, 0.0), 0.0);
+        // The edges are the leading/trailing zeros of the sine (C⁰ profile).
+        assert!(height(&road, x0 + 10.0, TRACK_HALF).abs() < 1e-15);
+        assert!(height(&road, x0 + 10.5, TRACK_HALF).abs() < 1e-15);
+    }
+
+    #[test]
+    fn gradient_matches_finite_difference() {
+        let road = RoadModel::paper_bump_course(0.0);
+        // Central difference error is h_step² H (pi/W)³ / 6 ≈ 1e-12 for h_step = 1e-5; allow 1e-8
+        // (round-off 1e-17/1e-5 is far below that too).
+        let step = 1e-5;
+        for i in 1..50 {
+            let x = 10.0 + 0.5 * f64::from(i) / 50.0;
+            let (_, [hx, hy]) = road.height_and_gradient(x, TRACK_HALF);
+            let fd = (height(&road, x + step, TRACK_HALF) - height(&road, x - step, TRACK_HALF)) / (2.0 * step);
+            assert!((hx - fd).abs() < 1e-8, "x = {x}: analytic {hx}, fd {fd}");
+            assert_eq!(hy, 0.0);
+        }
+        // Steepest at the leading edge: H pi / W = 0.1 pi.
+        let (_, [hx, _]) = road.height_and_gradient(10.0, TRACK_HALF);
+        assert!((hx - 0.1 * PI).abs() < 1e-12);
+    }
+
+    #[test]
+    fn overlapping_bumps_add_up() {
+        let bump = HalfSineBump { x_start: 0.0, length: 1.0, height: 0.1, side: 1.0 };
+        let road = RoadModel::Bumps(vec![bump.clone(), HalfSineBump { height: 0.2, ..bump }]);
+        let (h, [hx, _]) = road.height_and_gradient(0.25, 1.0);
+        assert!((h - 0.3 * (PI / 4.0).sin()).abs() < 1e-15);
+        assert!((hx - 0.3 * PI * (PI / 4.0).cos()).abs() < 1e-14);
+    }
+
+    #[test]
+    fn degenerate_bump_is_ignored() {
+        let road = RoadModel::Bumps(vec![HalfSineBump { x_start: 0.0, length: 0.0, height: 0.1, side: 1.0 }]);
+        assert_eq!(road.height_and_gradient(0.0, 1.0), (0.0, [0.0, 0.0]));
     }
 }

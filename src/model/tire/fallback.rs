@@ -1,0 +1,55 @@
+//! Simple tire models for tests and cross-checks (physics.md §6.8). They share the stiffnesses of the STI fit so
+//! that all models agree at small slip.
+use super::sti::{cornering_stiffness, longitudinal_stiffness};
+use super::{ShearForces, TireParams};
+
+/// Linear: F_x = C_s κ, F_y = C_α tan α, no saturation (§6.8). No camber thrust and no aligning moment, so the
+/// model is exactly the linear single-track tire (the reference for understeer-gradient checks).
+pub fn linear_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64) -> ShearForces {
+    ShearForces {
+        fx: longitudinal_stiffness(p, fz) * kappa,
+        fy: cornering_stiffness(p, fz) * tan_alpha,
+        mz: 0.0,
+    }
+}
+
+/// Linear forces scaled down onto the friction circle of radius μ0 F_z: factor min(1, μ0 F_z/‖F‖) (§6.8).
+pub fn linear_friction_circle_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64) -> ShearForces {
+    let linear = linear_forces(p, fz, kappa, tan_alpha);
+    let magnitude = linear.fx.hypot(linear.fy);
+    let limit = p.sti.mu0 * fz;
+    if magnitude <= limit {
+        return linear;
+    }
+    let scale = limit / magnitude;
+    ShearForces { fx: scale * linear.fx, fy: scale * linear.fy, mz: 0.0 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::params::VehicleData;
+
+    #[test]
+    fn linear_is_the_stiffness_times_the_slip() {
+        let p = VehicleData::default_hmmwv().tire;
+        let f = linear_forces(&p, 6300.0, 0.5, 0.3);
+        assert!((f.fx - p.sti.cs * 6300.0 * 0.5).abs() < 1e-9);
+        assert!((f.fy - cornering_stiffness(&p, 6300.0) * 0.3).abs() < 1e-9);
+        assert_eq!(f.mz, 0.0);
+    }
+
+    #[test]
+    fn friction_circle_caps_the_resultant_and_keeps_its_direction() {
+        let p = VehicleData::default_hmmwv().tire;
+        let fz = 6300.0;
+        // Small slip: inside the circle, unchanged.
+        assert_eq!(linear_friction_circle_forces(&p, fz, 0.001, 0.001), linear_forces(&p, fz, 0.001, 0.001));
+        // Large slip: on the circle, same direction as the linear force.
+        let linear = linear_forces(&p, fz, 0.3, -0.2);
+        let capped = linear_friction_circle_forces(&p, fz, 0.3, -0.2);
+        assert!((capped.fx.hypot(capped.fy) - p.sti.mu0 * fz).abs() < 1e-9);
+        assert!((capped.fx * linear.fy - capped.fy * linear.fx).abs() < 1e-6 * linear.fx.hypot(linear.fy).powi(2));
+        assert!(capped.fx > 0.0 && capped.fy < 0.0);
+    }
+}
