@@ -253,9 +253,3 @@ mod tests {
         assert_eq!(slip_for_longitudinal_force(TireModel::Frictionless, &p, fz, 10.0), None);
     }
 }
-
-/// Rolling resistance moment about the axle (placeholder).
-pub fn rolling_resistance_moment(p: &TireParams, fz: f64, loaded_radius: f64, omega_rel: f64) -> f64 {
-    let _ = (p, fz, loaded_radius, omega_rel);
-    0.0
-}
