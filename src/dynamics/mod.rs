@@ -1,61 +1,149 @@
-//! TEMPORARY stand-in with the agreed interface (the dynamics branch replaces this file).
-use nalgebra::{DMatrix, DVector, Matrix6, SMatrix, Vector4, Vector5, Vector6};
+//! Equation solvers of the recursive formulation (physics.md §4.2–§4.6, §4.10).
+//!
+//! The vehicle is a chassis (floating base, velocity state Y₀ ∈ ℝ⁶) carrying K subsystems. Subsystem i has
+//! [`NQ`] = 5 relative coordinates q = (θ_L, φ1, φ2, φ3, θ_U) and [`NC`] = 4 cut constraints Φ(q) = 0. Its
+//! contribution to the equations of motion is summarised by [`SubsystemTerms`] (physics.md §4.2):
+//!
+//! ```text
+//!   subsystem:  M_qq q̈ + M_q0 Ẏ₀ + Φ_qᵀ λ = P_q,        Φ_q q̈ = γ̄
+//!   chassis:    (M̂₀ + M̂_R + Σ M_00) Ẏ₀ + Σ M_0q q̈ = Q̂₀ + Q̂*_R + Σ P_0,     M_0q = M_q0ᵀ
+//! ```
+//!
+//! Three solvers return the same accelerations (Ẏ₀, q̈ᵢ, λᵢ):
+//! - [`solve_synthesis_gcp`]: subsystem synthesis with generalized coordinate partitioning (§4.5), the fast
+//!   path used in the simulation; u = θ_L (index 0) is the independent coordinate;
+//! - [`solve_synthesis_augmented`]: subsystem synthesis with a 9×9 augmented subsystem solve (§4.4, the
+//!   literal form of the paper's eq. 3), the cross-check;
+//! - [`solve_conventional`]: the dense 42×42 augmented system (§4.3), the paper's baseline.
+//!
+//! All three work on the stack only (nalgebra static matrices and an in-place LU); nothing allocates.
+//! The module does not know the vehicle: it never imports `crate::model` (architecture rule).
+
+use nalgebra::{Matrix6, SMatrix, Vector4, Vector5, Vector6};
+
+mod conventional;
+mod lu;
+mod synthesis;
+pub mod synthetic;
+
+#[cfg(test)]
+mod tests;
+
+pub use conventional::{assemble_conventional, solve_conventional, NCONV};
+pub use synthesis::{solve_synthesis_augmented, solve_synthesis_gcp, solve_synthesis_gcp_with, Multipliers};
+
+/// Relative coordinates per subsystem; index 0 (θ_L) is the independent one.
 pub const NQ: usize = 5;
+/// Cut constraints per subsystem.
 pub const NC: usize = 4;
+
+/// One subsystem's contribution to the equations of motion (physics.md §4.2).
+/// All quantities are in the global frame, spatial origin at the current chassis CM (§4.0).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SubsystemTerms {
+    /// M_qq = Σ_b 𝔅_bᵀ M̂_b 𝔅_b (5×5, symmetric positive definite).
     pub m_qq: SMatrix<f64, 5, 5>,
+    /// M_q0 = Σ_b 𝔅_bᵀ M̂_b (5×6); M_0q = M_q0ᵀ.
     pub m_q0: SMatrix<f64, 5, 6>,
+    /// M_00 = Σ_b M̂_b (6×6).
     pub m_00: Matrix6<f64>,
+    /// P_q = Σ_b 𝔅_bᵀ (Q̂_b − M̂_b 𝔇_b).
     pub p_q: Vector5<f64>,
+    /// P_0 = Σ_b (Q̂_b − M̂_b 𝔇_b).
     pub p_0: Vector6<f64>,
+    /// Constraint Jacobian Φ_q = [Φ_u | Φ_v]; column 0 is Φ_u, columns 1..5 (Φ_v, 4×4) must be invertible
+    /// for the GCP path.
     pub phi_q: SMatrix<f64, 4, 5>,
+    /// Acceleration right-hand side: Φ_q q̈ = γ̄ (§3.3).
     pub gamma_bar: Vector4<f64>,
 }
+
+/// The chassis's own terms: `mass` = M̂₀ + M̂_R, `force` = Q̂₀ + Q̂*_R (§4.2, §4.7).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ChassisTerms { pub mass: Matrix6<f64>, pub force: Vector6<f64> }
+pub struct ChassisTerms {
+    pub mass: Matrix6<f64>,
+    pub force: Vector6<f64>,
+}
+
+/// Solution of the equations of motion.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Accelerations<const K: usize> {
+    /// Ẏ₀, the chassis velocity-state derivative (§4.0: r̈₀ = Ẏ₀,lin + ω₀ × ṙ₀, ω̇₀ = Ẏ₀,ang).
     pub chassis: Vector6<f64>,
+    /// q̈ of each subsystem.
     pub q_ddot: [Vector5<f64>; K],
+    /// Cut-constraint multipliers λ of each subsystem (sign: + Φ_qᵀ λ on the left-hand side).
     pub lambda: [Vector4<f64>; K],
 }
+
+impl<const K: usize> Accelerations<K> {
+    /// All zeros.
+    pub fn zeros() -> Self {
+        Self { chassis: Vector6::zeros(), q_ddot: [Vector5::zeros(); K], lambda: [Vector4::zeros(); K] }
+    }
+
+    /// True when every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.chassis.iter().all(|x| x.is_finite())
+            && self.q_ddot.iter().all(|v| v.iter().all(|x| x.is_finite()))
+            && self.lambda.iter().all(|v| v.iter().all(|x| x.is_finite()))
+    }
+}
+
+/// A solver failure: singular matrix, chassis matrix not positive definite, non-finite input or result.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolveError(pub String);
-pub fn solve_conventional(ch: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
-    let n = 42;
-    let mut a = DMatrix::<f64>::zeros(n, n);
-    let mut b = DVector::<f64>::zeros(n);
-    let mut m00 = ch.mass;
-    let mut f0 = ch.force;
+
+impl std::fmt::Display for SolveError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "dynamics solve failed: {}", self.0)
+    }
+}
+
+impl std::error::Error for SolveError {}
+
+fn all_finite<'a>(it: impl IntoIterator<Item = &'a f64>) -> bool {
+    it.into_iter().all(|x| x.is_finite())
+}
+
+/// Rejects non-finite inputs with a message naming the offending term. No allocation on success.
+pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> Result<(), SolveError> {
+    if !all_finite(chassis.mass.iter()) {
+        return Err(SolveError("non-finite input: chassis mass".into()));
+    }
+    if !all_finite(chassis.force.iter()) {
+        return Err(SolveError("non-finite input: chassis force".into()));
+    }
     for (i, s) in subs.iter().enumerate() {
-        let o = 6 + 9 * i;
-        m00 += s.m_00;
-        f0 += s.p_0;
-        a.view_mut((o, 0), (5, 6)).copy_from(&s.m_q0);
-        a.view_mut((0, o), (6, 5)).copy_from(&s.m_q0.transpose());
-        a.view_mut((o, o), (5, 5)).copy_from(&s.m_qq);
-        a.view_mut((o + 5, o), (4, 5)).copy_from(&s.phi_q);
-        a.view_mut((o, o + 5), (5, 4)).copy_from(&s.phi_q.transpose());
-        b.rows_mut(o, 5).copy_from(&s.p_q);
-        b.rows_mut(o + 5, 4).copy_from(&s.gamma_bar);
+        let bad = if !all_finite(s.m_qq.iter()) {
+            Some("m_qq")
+        } else if !all_finite(s.m_q0.iter()) {
+            Some("m_q0")
+        } else if !all_finite(s.m_00.iter()) {
+            Some("m_00")
+        } else if !all_finite(s.p_q.iter()) {
+            Some("p_q")
+        } else if !all_finite(s.p_0.iter()) {
+            Some("p_0")
+        } else if !all_finite(s.phi_q.iter()) {
+            Some("phi_q")
+        } else if !all_finite(s.gamma_bar.iter()) {
+            Some("gamma_bar")
+        } else {
+            None
+        };
+        if let Some(name) = bad {
+            return Err(SolveError(format!("non-finite input: subsystem {i} {name}")));
+        }
     }
-    a.view_mut((0, 0), (6, 6)).copy_from(&m00);
-    b.rows_mut(0, 6).copy_from(&f0);
-    let z = a.lu().solve(&b).ok_or_else(|| SolveError("singular".into()))?;
-    let mut out = Accelerations { chassis: Vector6::from_iterator(z.rows(0, 6).iter().copied()), q_ddot: [Vector5::zeros(); 4], lambda: [Vector4::zeros(); 4] };
-    for i in 0..4 {
-        let o = 6 + 9 * i;
-        out.q_ddot[i] = Vector5::from_iterator(z.rows(o, 5).iter().copied());
-        out.lambda[i] = Vector4::from_iterator(z.rows(o + 5, 4).iter().copied());
+    Ok(())
+}
+
+/// Rejects a non-finite result (overflow from a nearly singular matrix).
+pub(crate) fn check_result<const K: usize>(acc: &Accelerations<K>, solver: &str) -> Result<(), SolveError> {
+    if acc.is_finite() {
+        Ok(())
+    } else {
+        Err(SolveError(format!("{solver}: non-finite result (ill-conditioned system)")))
     }
-    Ok(out)
-}
-pub fn solve_synthesis_gcp<const K: usize>(ch: &ChassisTerms, subs: &[SubsystemTerms; K]) -> Result<Accelerations<K>, SolveError> {
-    let s4: &[SubsystemTerms; 4] = (subs as &dyn std::any::Any).downcast_ref().unwrap();
-    let a = solve_conventional(ch, s4)?;
-    Ok(*(&a as &dyn std::any::Any).downcast_ref::<Accelerations<K>>().unwrap())
-}
-pub fn solve_synthesis_augmented<const K: usize>(ch: &ChassisTerms, subs: &[SubsystemTerms; K]) -> Result<Accelerations<K>, SolveError> {
-    solve_synthesis_gcp(ch, subs)
 }
