@@ -64,10 +64,12 @@ pub fn rest_state(z: f64, roll: f64, pitch: f64, u: &[f64; 4]) -> Vec<f64> {
     x
 }
 
-/// Chassis CM height at the design position on undeflected tires: the first guess of every solve.
+/// Chassis CM height at the design position with the tires deflected by a quarter of the weight each:
+/// the first guess of every solve (undeflected tires would start Newton at the lift-off kink).
 pub fn design_height_guess(v: &Vehicle) -> f64 {
     let front = &v.corners[0];
-    v.tire.unloaded_radius_m - front.w0.z
+    let deflection = v.total_mass * v.gravity / 4.0 / v.tire.vertical_stiffness_N_per_m;
+    v.tire.unloaded_radius_m - deflection - front.w0.z
 }
 
 fn evaluate(v: &Vehicle, x: &[f64], cache: &mut KinematicsCache, dx: &mut [f64]) -> Result<(), EvalError> {
@@ -152,7 +154,7 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
     }
     let relaxation = v.slip == SlipModel::Relaxation;
     let hold = v.speed_mode == SpeedMode::Hold;
-    // Unknowns: z, roll, pitch, u1..4, Ω1..4, [ξx1..4], [z_v].
+    // Unknowns: z, roll, pitch, u1..4, Ω1..4, [ξ (x, y) per corner], [z_v].
     let mut p = vec![x[idx::R0 + 2], 0.0, 0.0];
     let (roll, pitch, _) = crate::math::euler_from_matrix(&a0);
     p[1] = roll;
@@ -160,7 +162,7 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
     p.extend_from_slice(&x[idx::U..idx::U + 4]);
     p.extend_from_slice(&x[idx::SPIN..idx::SPIN + 4]);
     if relaxation {
-        p.extend_from_slice(&[0.0; 4]);
+        p.extend_from_slice(&[0.0; 8]);
     }
     if hold {
         p.push(0.0);
@@ -176,10 +178,8 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
         x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
         let mut k = 11;
         if relaxation {
-            for i in 0..4 {
-                x[idx::XI + 2 * i] = p[k + i];
-            }
-            k += 4;
+            x[idx::XI..idx::XI + 8].copy_from_slice(&p[k..k + 8]);
+            k += 8;
         }
         if hold {
             x[idx::ZV] = p[k];
@@ -203,10 +203,8 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
             }
             let mut k = 11;
             if relaxation {
-                for i in 0..4 {
-                    r[k + i] = dx[idx::XI + 2 * i];
-                }
-                k += 4;
+                r[k..k + 8].copy_from_slice(&dx[idx::XI..idx::XI + 8]);
+                k += 8;
             }
             if hold {
                 r[k] = (a0 * V3::x()).dot(&acc);
