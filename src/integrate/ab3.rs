@@ -1,13 +1,109 @@
-//! AB3 with RK4 start-up. (Placeholder: the integrators helper implements it.)
-use super::{EvalError, Integrator, OdeSystem};
+//! Adams–Bashforth 3 with RK4 start-up (physics.md §7.3):
+//! x_{n+1} = x_n + h/12 (23 f_n − 16 f_{n−1} + 5 f_{n−2}).
+//!
+//! - One evaluation per step: f_n = f(t_n, x_n) is evaluated at the start of each step, i.e. at the
+//!   state as the previous step left it *after* `project`.
+//! - The first two steps after a (re)start are RK4 (k1 of each is the f kept in the history).
+//! - The history (f_{n−1}, f_{n−2}, its length, the step it was built with) is plain serializable data.
+//! - Restart (history discarded) on `restart()`, on a change of `sys.dim()`, and automatically when
+//!   |h − h_hist| > 1e-9·max(|h|, |h_hist|) (masters' step sizes carry rounding noise; fmi.md).
+//! - Stable for hλ ∈ [−0.545, 0] on the real axis and |hλ| ≤ 0.724 on the imaginary axis (§7.4).
+use super::{commit, eval, fit, EvalError, Integrator, OdeSystem, Rk4};
 use serde::{Deserialize, Serialize};
 
+/// Relative tolerance on the step size below which the AB3 history is kept.
+pub const STEP_REL_TOL: f64 = 1e-9;
+
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct Ab3 {}
+pub struct Ab3 {
+    /// f_{n−1} (valid when `count ≥ 1`).
+    #[serde(with = "super::exact::vec_bits")]
+    f1: Vec<f64>,
+    /// f_{n−2} (valid when `count ≥ 2`).
+    #[serde(with = "super::exact::vec_bits")]
+    f2: Vec<f64>,
+    /// Number of valid past derivatives, 0..=2. 0 = (re)start pending.
+    count: usize,
+    /// The step size the history was built with (set at the restart).
+    #[serde(with = "super::exact::f64_bits")]
+    h_hist: f64,
+    /// f_n (scratch: recomputed every step).
+    #[serde(skip)]
+    fnow: Vec<f64>,
+    /// Candidate x_{n+1}.
+    #[serde(skip)]
+    xn: Vec<f64>,
+    /// The starter (scratch only).
+    #[serde(skip)]
+    rk4: Rk4,
+}
+
+/// Whether two step sizes are the same up to the master's rounding noise.
+pub fn same_step(a: f64, b: f64) -> bool {
+    (a - b).abs() <= STEP_REL_TOL * a.abs().max(b.abs())
+}
+
+impl Ab3 {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Number of past derivatives held (0, 1 or 2); 2 means the next step of the same size is an AB3 step.
+    pub fn history_len(&self) -> usize {
+        self.count
+    }
+
+    /// The step size the current history was built with, if there is a history.
+    pub fn history_step(&self) -> Option<f64> {
+        (self.count > 0).then_some(self.h_hist)
+    }
+
+    #[cfg(test)]
+    pub(super) fn capacities(&self) -> Vec<usize> {
+        let mut c = vec![self.f1.capacity(), self.f2.capacity(), self.fnow.capacity(), self.xn.capacity()];
+        c.extend(self.rk4.capacities());
+        c
+    }
+}
 
 impl Integrator for Ab3 {
-    fn step(&mut self, _sys: &mut dyn OdeSystem, _t: f64, _h: f64, _x: &mut [f64]) -> Result<(), EvalError> {
-        Err(EvalError("AB3 not implemented yet".into()))
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+        let n = x.len();
+        if self.f1.len() != n || self.f2.len() != n {
+            fit(&mut self.f1, n);
+            fit(&mut self.f2, n);
+            self.count = 0;
+        }
+        fit(&mut self.fnow, n);
+        fit(&mut self.xn, n);
+        self.rk4.fit(n);
+
+        // Decide locally; the integrator changes only when the step is accepted.
+        let count = if self.count > 0 && same_step(h, self.h_hist) { self.count } else { 0 };
+
+        eval(sys, t, x, &mut self.fnow)?;
+        if count >= 2 {
+            let c = h / 12.0;
+            for i in 0..n {
+                self.xn[i] = x[i] + c * (23.0 * self.fnow[i] - 16.0 * self.f1[i] + 5.0 * self.f2[i]);
+            }
+            commit(sys, t + h, &mut self.xn, x)?;
+        } else {
+            self.rk4.k1.copy_from_slice(&self.fnow);
+            self.rk4.step_from_k1(sys, t, h, x)?;
+        }
+
+        // Accepted: shift the history (f2 ← f1 ← f_n) by swapping buffers (no allocation).
+        std::mem::swap(&mut self.f2, &mut self.f1);
+        std::mem::swap(&mut self.f1, &mut self.fnow);
+        if count == 0 {
+            self.h_hist = h;
+        }
+        self.count = (count + 1).min(2);
+        Ok(())
     }
-    fn restart(&mut self) {}
+
+    fn restart(&mut self) {
+        self.count = 0;
+    }
 }

@@ -1,13 +1,72 @@
-//! Classic RK4. (Placeholder: the integrators helper implements it.)
-use super::{EvalError, Integrator, OdeSystem};
+//! Classic 4-stage Runge–Kutta (physics.md §7.2). Four evaluations per step; stable for
+//! hλ ∈ [−2.785, 0] on the real axis and |hλ| ≤ 2.828 on the imaginary axis (§7.4).
+use super::{commit, eval, fit, EvalError, Integrator, OdeSystem};
 use serde::{Deserialize, Serialize};
 
+/// RK4. Holds only scratch (no history): serializing it saves nothing but its type.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct Rk4 {}
+pub struct Rk4 {
+    #[serde(skip)]
+    pub(super) k1: Vec<f64>,
+    #[serde(skip)]
+    k2: Vec<f64>,
+    #[serde(skip)]
+    k3: Vec<f64>,
+    #[serde(skip)]
+    k4: Vec<f64>,
+    /// Stage state, then the candidate x_{n+1}.
+    #[serde(skip)]
+    xs: Vec<f64>,
+}
+
+impl Rk4 {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Size the scratch for dimension `n` (no-op when already sized).
+    pub(super) fn fit(&mut self, n: usize) {
+        for v in [&mut self.k1, &mut self.k2, &mut self.k3, &mut self.k4, &mut self.xs] {
+            fit(v, n);
+        }
+    }
+
+    /// Scratch capacities (for the no-allocation tests).
+    #[cfg(test)]
+    pub(super) fn capacities(&self) -> [usize; 5] {
+        [self.k1.capacity(), self.k2.capacity(), self.k3.capacity(), self.k4.capacity(), self.xs.capacity()]
+    }
+
+    /// The rest of an RK4 step when `self.k1` already holds f(t, x) (used by AB3's start-up, which keeps
+    /// that f). Commits into `x` only on success. Requires `fit(x.len())`.
+    pub(super) fn step_from_k1(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+        let h2 = 0.5 * h;
+        for i in 0..x.len() {
+            self.xs[i] = x[i] + h2 * self.k1[i];
+        }
+        eval(sys, t + h2, &self.xs, &mut self.k2)?;
+        for i in 0..x.len() {
+            self.xs[i] = x[i] + h2 * self.k2[i];
+        }
+        eval(sys, t + h2, &self.xs, &mut self.k3)?;
+        for i in 0..x.len() {
+            self.xs[i] = x[i] + h * self.k3[i];
+        }
+        eval(sys, t + h, &self.xs, &mut self.k4)?;
+        let h6 = h / 6.0;
+        for i in 0..x.len() {
+            self.xs[i] = x[i] + h6 * (self.k1[i] + 2.0 * self.k2[i] + 2.0 * self.k3[i] + self.k4[i]);
+        }
+        commit(sys, t + h, &mut self.xs, x)
+    }
+}
 
 impl Integrator for Rk4 {
-    fn step(&mut self, _sys: &mut dyn OdeSystem, _t: f64, _h: f64, _x: &mut [f64]) -> Result<(), EvalError> {
-        Err(EvalError("RK4 not implemented yet".into()))
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+        self.fit(x.len());
+        eval(sys, t, x, &mut self.k1)?;
+        self.step_from_k1(sys, t, h, x)
     }
+
     fn restart(&mut self) {}
 }
