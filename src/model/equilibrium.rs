@@ -145,8 +145,7 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
     if speed == 0.0 {
         return Ok(x);
     }
-    let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
-    let vel = a0 * V3::x() * speed;
+    let vel = V3::x() * speed;
     x[idx::V0..idx::V0 + 3].copy_from_slice(vel.as_slice());
     let r = v.tire.unloaded_radius_m;
     for i in 0..4 {
@@ -156,7 +155,7 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
     let hold = v.speed_mode == SpeedMode::Hold;
     // Unknowns: z, roll, pitch, u1..4, Ω1..4, [ξ (x, y) per corner], [z_v].
     let mut p = vec![x[idx::R0 + 2], 0.0, 0.0];
-    let (roll, pitch, _) = crate::math::euler_from_matrix(&a0);
+    let (roll, pitch, _) = crate::math::euler_from_matrix(&quat_to_matrix(&x[idx::E0..idx::E0 + 4]));
     p[1] = roll;
     p[2] = pitch;
     p.extend_from_slice(&x[idx::U..idx::U + 4]);
@@ -172,8 +171,8 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
         let mut x = base.clone();
         x[idx::R0 + 2] = p[0];
         x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(p[1], p[2], 0.0));
-        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
-        x[idx::V0..idx::V0 + 3].copy_from_slice((a0 * V3::x() * speed).as_slice());
+        // Straight ahead along ground x (yaw 0), horizontal whatever the static pitch.
+        x[idx::V0..idx::V0 + 3].copy_from_slice((V3::x() * speed).as_slice());
         x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
         x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
         let mut k = 11;
@@ -192,7 +191,6 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
         |p, r| {
             let x = assemble(p);
             v.derivative(&x, &Inputs::default(), cache, &mut dx, None)?;
-            let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
             let acc = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
@@ -207,7 +205,7 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
                 k += 8;
             }
             if hold {
-                r[k] = (a0 * V3::x()).dot(&acc);
+                r[k] = acc.x;
             }
             Ok(())
         },

@@ -152,6 +152,12 @@ fn ang(y: &Vector6<f64>) -> V3 {
     V3::new(y[3], y[4], y[5])
 }
 
+/// Unit horizontal heading of the chassis: its x axis projected on the ground plane.
+pub fn heading(a0: &M3) -> V3 {
+    let h = a0 * V3::x();
+    V3::new(h.x, h.y, 0.0).normalize()
+}
+
 /// M̂ of a body at CM position ρ with inertia J (ground frame), physics.md §4.1.
 fn mass_hat(m: f64, rho: &V3, j: &M3) -> Matrix6<f64> {
     let r = skew(rho);
@@ -307,8 +313,10 @@ impl Vehicle {
             chassis_force += q_hat - m_hat * b_r_sdd_plus_d;
         }
 
-        // Speed hold: T_d = m R0 [kp (V* − Vx) + ki z_v], split equally (§8.2).
-        let vx_body = (a0 * V3::x()).dot(&v0);
+        // Speed hold: T_d = m R0 [kp (V* − Vx) + ki z_v], split equally (§8.2). Vx is the speed along the
+        // horizontal heading (not the pitched body x axis), so that steady rolling with the static pitch
+        // is an exact equilibrium; on a flat road the two differ by V(1 − cos θ) ≈ 1e-5 m/s.
+        let vx_body = heading(&a0).dot(&v0);
         let hold_torque = match self.speed_mode {
             SpeedMode::Hold => {
                 let (kp, ki) = self.speed_gains;

@@ -8,12 +8,20 @@
 //!   divergence or a model evaluation failure (the state then is the last good one).
 //! - `outputs()`: every CLI column by name (`OUTPUT_NAMES`), plus diagnostics.
 
+pub mod inputs;
 pub mod outputs;
+pub mod scenes;
 
+use crate::integrate::{substeps, AnyIntegrator, EvalError, Integrator, IntegratorKind, OdeSystem};
+use crate::math::{euler_from_matrix, quat_to_matrix, V3};
+use crate::model::equilibrium::{retune_ride_height, steady_rolling};
 use crate::model::params::VehicleData;
+use crate::model::road::RoadModel;
 use crate::model::tire::SlipModel;
-use crate::integrate::IntegratorKind;
+use crate::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Vehicle};
 use serde::{Deserialize, Serialize};
+
+pub use inputs::{RackProfile, RackSample, RackSource};
 
 pub use outputs::{Outputs, CSV_COLUMNS, OUTPUT_NAMES};
 
@@ -56,16 +64,6 @@ impl Default for SimConfig {
     }
 }
 
-/// The rack input at a communication point t_k (left turn positive, m): u(t) = value + d1 (t - t_k)
-/// + ½ d2 (t - t_k)² over the step when derivatives are given; without, a linear ramp from the previous
-/// value to `value` over the step (physics.md §8.1 item 4).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct RackSample {
-    pub value: f64,
-    pub first_derivative: Option<f64>,
-    pub second_derivative: Option<f64>,
-}
-
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimError(pub String);
 
@@ -77,42 +75,279 @@ impl std::fmt::Display for SimError {
 
 impl std::error::Error for SimError {}
 
-/// (Placeholder until the scenes work lands: the API is final, the body is not.)
+/// The vehicle as an ODE for the integrators: inputs from the rack source and the torques.
+pub struct VehicleOde<'a> {
+    pub vehicle: &'a Vehicle,
+    pub rack: &'a RackSource,
+    pub drive: [f64; 4],
+    pub brake: [f64; 4],
+    pub cache: &'a mut KinematicsCache,
+    pub evaluations: u64,
+}
+
+impl OdeSystem for VehicleOde<'_> {
+    fn dim(&self) -> usize {
+        idx::DIM
+    }
+
+    fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError> {
+        self.evaluations += 1;
+        let inputs = Inputs { rack: self.rack.at(t), drive: self.drive, brake: self.brake };
+        self.vehicle.derivative(x, &inputs, self.cache, dxdt, None)
+    }
+
+    fn project(&self, x: &mut [f64]) {
+        let e = &mut x[idx::E0..idx::E0 + 4];
+        let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
+        e.iter_mut().for_each(|v| *v /= n);
+    }
+}
+
+/// Wheel slip without the torque to explain it: the signature of the spin–slip instability of an
+/// explicit scheme at too large a step (physics.md §7.4, §9.11).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct SlipMonitor {
+    /// First time |κ| exceeded the limit with (drive + brake) torque below what that slip would need.
+    pub first_flagged: Option<f64>,
+    pub max_unexplained_kappa: f64,
+}
+
+/// |κ| above this with less torque than `SLIP_TORQUE_FRACTION` of μ0 F_z R0 is flagged.
+pub const SLIP_LIMIT: f64 = 0.05;
+pub const SLIP_TORQUE_FRACTION: f64 = 0.25;
+
+/// A running simulation: plain data, cloned and serialized whole for FMU states.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Simulation {
-    time: f64,
     config: SimConfig,
+    vehicle: Vehicle,
+    integrator: AnyIntegrator,
+    time: f64,
+    state: Vec<f64>,
+    cache: KinematicsCache,
+    rack: RackSource,
+    /// Slope of the last external ramp (a change restarts multistep history: a declared kink).
+    last_external_slope: Option<f64>,
+    drive: [f64; 4],
+    brake: [f64; 4],
+    outputs_values: Vec<f64>,
+    pub monitor: SlipMonitor,
+    evaluations: u64,
+    /// x of the initial front wheel centres (where the bump course is measured from).
+    front_wheel_x0: f64,
 }
 
 impl Simulation {
+    /// Build the vehicle, retune the ride height (if asked), and start in steady rolling at the initial
+    /// speed from the computed equilibrium (physics.md §8.1).
     pub fn new(vehicle: VehicleData, config: SimConfig) -> Result<Simulation, SimError> {
-        let _ = vehicle;
-        Ok(Simulation { time: 0.0, config })
+        let v = Vehicle::new(&vehicle).map_err(|e| SimError(e.to_string()))?;
+        Simulation::from_vehicle(v, config)
+    }
+
+    /// As `new`, from an already built vehicle (tests switch force elements or tire models first).
+    pub fn from_vehicle(mut v: Vehicle, config: SimConfig) -> Result<Simulation, SimError> {
+        if !(config.internal_step > 0.0 && config.internal_step.is_finite()) {
+            return Err(SimError(format!("internal step must be positive, got {}", config.internal_step)));
+        }
+        if !(config.initial_speed >= 0.0 && config.initial_speed.is_finite()) {
+            return Err(SimError(format!("initial speed must be ≥ 0, got {}", config.initial_speed)));
+        }
+        v.formulation = config.formulation;
+        v.slip = config.slip;
+        v.speed_mode = config.speed_mode;
+        v.target_speed = config.initial_speed;
+        if config.ride_height_retune {
+            retune_ride_height(&mut v).map_err(|e| SimError(format!("ride-height retune: {}", e.0)))?;
+        }
+        let mut cache = KinematicsCache::default();
+        let state = steady_rolling(&v, config.initial_speed, &mut cache)
+            .map_err(|e| SimError(format!("initial equilibrium: {}", e.0)))?;
+        let positions = v.corner_positions(&state, 0.0, &mut cache).map_err(|e| SimError(e.0))?;
+        let a0 = quat_to_matrix(&state[idx::E0..idx::E0 + 4]);
+        let front_wheel_x0 = 0.5
+            * (0..2).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
+            + state[idx::R0];
+        if config.road == RoadChoice::PaperBumps {
+            v.road = RoadModel::paper_bump_course(front_wheel_x0);
+        }
+        let mut sim = Simulation {
+            integrator: AnyIntegrator::new(config.integrator),
+            config,
+            vehicle: v,
+            time: 0.0,
+            state,
+            cache,
+            rack: RackSource::Profile(RackProfile::Zero),
+            last_external_slope: None,
+            drive: [0.0; 4],
+            brake: [0.0; 4],
+            outputs_values: vec![0.0; OUTPUT_NAMES.len()],
+            monitor: SlipMonitor::default(),
+            evaluations: 0,
+            front_wheel_x0,
+        };
+        sim.update_outputs().map_err(|e| SimError(e.0))?;
+        Ok(sim)
     }
 
     pub fn config(&self) -> &SimConfig {
         &self.config
     }
 
+    pub fn vehicle(&self) -> &Vehicle {
+        &self.vehicle
+    }
+
+    pub fn state(&self) -> &[f64] {
+        &self.state
+    }
+
     pub fn time(&self) -> f64 {
         self.time
     }
 
+    pub fn front_wheel_x0(&self) -> f64 {
+        self.front_wheel_x0
+    }
+
+    /// Derivative evaluations so far (for cost reports).
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations
+    }
+
+    /// Drive the rack by an analytic profile from now on.
+    pub fn set_rack_profile(&mut self, profile: RackProfile) {
+        self.rack = RackSource::Profile(profile);
+    }
+
+    /// The external rack input for the next `advance` (physics.md §8.1 item 4).
     pub fn set_external_rack(&mut self, sample: RackSample) {
-        let _ = sample;
+        let previous = self.rack.at(self.time).position;
+        self.rack = match sample.first_derivative {
+            Some(d1) => RackSource::External { t_k: self.time, start: sample.value, slope: d1, curvature: sample.second_derivative.unwrap_or(0.0) },
+            None => RackSource::PendingRamp { t_k: self.time, start: previous, target: sample.value },
+        };
+        if sample.first_derivative.is_some() {
+            self.last_external_slope = None;
+        }
     }
 
     /// Per-wheel torques in the order FL, FR, RL, RR, N·m; drive adds to the speed hold, brake ≥ 0.
     pub fn set_wheel_torques(&mut self, drive: [f64; 4], brake: [f64; 4]) {
-        let _ = (drive, brake);
+        self.drive = drive;
+        self.brake = brake.map(|b| b.max(0.0));
     }
 
+    /// Integrate over [t, t + h] in equal sub-steps no larger than the internal step (§7.2). On error the
+    /// simulation is left exactly as before the call.
     pub fn advance(&mut self, h: f64) -> Result<(), SimError> {
-        self.time += h;
-        Err(SimError("simulation not implemented yet".into()))
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(SimError(format!("step must be positive and finite, got {h}")));
+        }
+        let backup = (self.state.clone(), self.cache, self.integrator.clone(), self.evaluations, self.rack, self.last_external_slope);
+        if let RackSource::PendingRamp { t_k, start, target } = self.rack {
+            let slope = (target - start) / h;
+            if self.last_external_slope.is_some_and(|s| s != slope) {
+                self.integrator.restart(); // a ramp's kink is a declared discontinuity of the input (§7.3)
+            }
+            self.last_external_slope = Some(slope);
+            self.rack = RackSource::External { t_k, start, slope, curvature: 0.0 };
+        }
+        match self.integrate(h) {
+            Ok(()) => Ok(()),
+            Err(e) => {
+                (self.state, self.cache, self.integrator, self.evaluations, self.rack, self.last_external_slope) = backup;
+                Err(SimError(format!("t = {:.6} s: {}", self.time, e.0)))
+            }
+        }
+    }
+
+    fn integrate(&mut self, h: f64) -> Result<(), EvalError> {
+        let (n, hs) = substeps(h, self.config.internal_step);
+        let t0 = self.time;
+        let mut ode = VehicleOde {
+            vehicle: &self.vehicle,
+            rack: &self.rack,
+            drive: self.drive,
+            brake: self.brake,
+            cache: &mut self.cache,
+            evaluations: 0,
+        };
+        for k in 0..n {
+            self.integrator.step(&mut ode, t0 + k as f64 * hs, hs, &mut self.state)?;
+        }
+        self.evaluations += ode.evaluations;
+        self.time = t0 + h;
+        self.update_outputs()
+    }
+
+    /// Evaluate the model at the current state for the outputs (and the slip monitor).
+    fn update_outputs(&mut self) -> Result<(), EvalError> {
+        let mut dx = [0.0; idx::DIM];
+        let mut d = Diagnostics::default();
+        let rack = self.rack.at(self.time);
+        let inputs = Inputs { rack, drive: self.drive, brake: self.brake };
+        self.vehicle.derivative(&self.state, &inputs, &mut self.cache, &mut dx, Some(&mut d))?;
+        self.evaluations += 1;
+        let x = &self.state;
+        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+        let (roll, pitch, yaw) = euler_from_matrix(&a0);
+        let v = a0.transpose() * V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
+        let w = a0.transpose() * V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
+        let a = a0.transpose() * d.chassis_acceleration;
+        let o = &mut self.outputs_values;
+        let mut k = 0;
+        let mut push = |val: f64| {
+            o[k] = val;
+            k += 1;
+        };
+        push(self.time);
+        for val in [x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2], roll, pitch, yaw, v.x, v.y, v.z, w.x, w.y, w.z, a.x, a.y, a.z, rack.position] {
+            push(val);
+        }
+        push(d.steer[0]);
+        push(d.steer[1]);
+        d.wheel_centre_z.iter().for_each(|z| push(*z));
+        d.wheel_spin_relative.iter().for_each(|s| push(*s));
+        for c in 0..3 {
+            d.tire_force.iter().for_each(|f| push(f[c]));
+        }
+        d.kappa.iter().for_each(|s| push(*s));
+        d.alpha.iter().for_each(|s| push(*s));
+        push(d.max_residual);
+        push(d.newton_iterations as f64);
+        debug_assert_eq!(k, OUTPUT_NAMES.len());
+
+        // Slip monitor (§9.11).
+        let mu_r = self.vehicle.tire.sti.mu0 * self.vehicle.tire.unloaded_radius_m;
+        for i in 0..4 {
+            let torque = d.drive_torque[i].abs() + self.brake[i];
+            let fz = d.tire_force[i][2];
+            if fz > 0.0 && d.kappa[i].abs() > SLIP_LIMIT && torque < SLIP_TORQUE_FRACTION * mu_r * fz {
+                self.monitor.first_flagged.get_or_insert(self.time);
+                self.monitor.max_unexplained_kappa = self.monitor.max_unexplained_kappa.max(d.kappa[i].abs());
+            }
+        }
+        Ok(())
     }
 
     pub fn outputs(&self) -> Outputs {
-        Outputs::default()
+        let mut o = Outputs::default();
+        o.values.copy_from_slice(&self.outputs_values);
+        o
+    }
+
+    /// Human-readable warnings so far (the CLI prints them, the FMU logs them).
+    pub fn warnings(&self) -> Vec<String> {
+        match self.monitor.first_flagged {
+            Some(t) => vec![format!(
+                "slip monitor: wheel slip |κ| up to {:.3} without the torque to cause it (first at t = {t:.3} s): \
+                 the integration is numerically unstable at this step (physics.md §7.4); use RK4 at 2 ms or a \
+                 smaller step",
+                self.monitor.max_unexplained_kappa
+            )],
+            None => Vec::new(),
+        }
     }
 }

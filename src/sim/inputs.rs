@@ -1,0 +1,152 @@
+//! Rack input signals: analytic scene profiles and the external (FMU) signal between communication
+//! points (physics.md §8.1 item 4, §8.3). Every signal is C¹ with a bounded second derivative: the
+//! rheonomic constraint puts s̈ into γ̄, so a jump in position or a Dirac in s̈ would be integrated.
+
+use crate::model::vehicle::RackMotion;
+use serde::{Deserialize, Serialize};
+
+/// Value and first two derivatives of a scalar function of time.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Jet {
+    v: f64,
+    d1: f64,
+    d2: f64,
+}
+
+impl Jet {
+    fn constant(v: f64) -> Jet {
+        Jet { v, d1: 0.0, d2: 0.0 }
+    }
+
+    fn mul(self, o: Jet) -> Jet {
+        Jet { v: self.v * o.v, d1: self.d1 * o.v + self.v * o.d1, d2: self.d2 * o.v + 2.0 * self.d1 * o.d1 + self.v * o.d2 }
+    }
+
+    fn scale(self, k: f64) -> Jet {
+        Jet { v: self.v * k, d1: self.d1 * k, d2: self.d2 * k }
+    }
+}
+
+/// C² smootherstep S(τ) = 10τ³ − 15τ⁴ + 6τ⁵ of (t − start)/width, with its time derivatives.
+fn smootherstep(t: f64, start: f64, width: f64) -> Jet {
+    let tau = (t - start) / width;
+    if tau <= 0.0 {
+        return Jet::constant(0.0);
+    }
+    if tau >= 1.0 {
+        return Jet::constant(1.0);
+    }
+    let (t2, t3) = (tau * tau, tau * tau * tau);
+    Jet {
+        v: t3 * (10.0 - 15.0 * tau + 6.0 * t2),
+        d1: 30.0 * t2 * (1.0 - tau) * (1.0 - tau) / width,
+        d2: 60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau) / (width * width),
+    }
+}
+
+/// Built-in rack profiles u(t) (left turn positive, m).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum RackProfile {
+    Zero,
+    /// J-turn: u = A·S((t − start)/ramp) (physics.md §8.3).
+    Step { amplitude: f64, start: f64, ramp: f64 },
+    /// Two single-sine inputs, out and back: u = A·w(τ)·sin(πτ/½period), τ = t − start, w = +1 on the
+    /// first period and −1 on the second. The velocity kinks at the ends of each single sine (τ = 0,
+    /// period, 2·period) are blended by C² windows of width `blend`, which keeps the input C¹.
+    DoubleSine { amplitude: f64, start: f64, period: f64, blend: f64 },
+}
+
+impl RackProfile {
+    pub fn at(&self, t: f64) -> RackMotion {
+        let j = match *self {
+            RackProfile::Zero => Jet::default(),
+            RackProfile::Step { amplitude, start, ramp } => smootherstep(t, start, ramp).scale(amplitude),
+            RackProfile::DoubleSine { amplitude, start, period, blend } => {
+                let tau = t - start;
+                let w = std::f64::consts::TAU / period;
+                let sine = Jet { v: (w * tau).sin(), d1: w * (w * tau).cos(), d2: -w * w * (w * tau).sin() };
+                // Window: on at 0, sign flip at one period, off at two periods, each a C² blend centred
+                // on the kink (sin is zero there, so the blend only rounds the velocity corner).
+                let on = smootherstep(tau, -0.5 * blend, blend);
+                let flip = smootherstep(tau, period - 0.5 * blend, blend).scale(-2.0);
+                let flip = Jet { v: 1.0 + flip.v, ..flip };
+                let off = smootherstep(tau, 2.0 * period - 0.5 * blend, blend).scale(-1.0);
+                let off = Jet { v: 1.0 + off.v, ..off };
+                sine.mul(on).mul(flip).mul(off).scale(amplitude)
+            }
+        };
+        RackMotion { position: j.v, velocity: j.d1, acceleration: j.d2 }
+    }
+}
+
+/// The rack input at a communication point t_k (left turn positive, m). With derivatives (the master's
+/// `fmi2SetRealInputDerivatives`): u(t) = value + d1 (t − t_k) + ½ d2 (t − t_k)². Without: a linear
+/// ramp from the previous value to `value` over the step (a one-step lag, no jump in position).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RackSample {
+    pub value: f64,
+    pub first_derivative: Option<f64>,
+    pub second_derivative: Option<f64>,
+}
+
+/// Where the rack motion comes from during a run.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum RackSource {
+    Profile(RackProfile),
+    /// External signal over the interval [t_k, t_k + h]: u = start + slope (t − t_k) + ½ curvature (t − t_k)².
+    External { t_k: f64, start: f64, slope: f64, curvature: f64 },
+    /// An external sample without derivatives, waiting for the step length to become a ramp from
+    /// `start` (the value in force) to `target` over the next step. Until then it holds `start`.
+    PendingRamp { t_k: f64, start: f64, target: f64 },
+}
+
+impl RackSource {
+    pub fn at(&self, t: f64) -> RackMotion {
+        match *self {
+            RackSource::Profile(p) => p.at(t),
+            RackSource::External { t_k, start, slope, curvature } => {
+                let tau = t - t_k;
+                RackMotion { position: start + slope * tau + 0.5 * curvature * tau * tau, velocity: slope + curvature * tau, acceleration: curvature }
+            }
+            RackSource::PendingRamp { start, .. } => RackMotion { position: start, velocity: 0.0, acceleration: 0.0 },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check_derivatives(p: RackProfile, t0: f64, t1: f64) {
+        // Central differences, h = 1e-6: truncation ~h²·u''' and round-off ~1e-16/h, well under 1e-6 relative.
+        let h = 1e-6;
+        let scale = (0..=1000).map(|k| p.at(t0 + (t1 - t0) * k as f64 / 1000.0).acceleration.abs()).fold(1e-9, f64::max);
+        for k in 0..=400 {
+            let t = t0 + (t1 - t0) * k as f64 / 400.0;
+            let (a, b, m) = (p.at(t - h), p.at(t + h), p.at(t));
+            assert!(((b.position - a.position) / (2.0 * h) - m.velocity).abs() < 1e-6 * scale, "velocity at {t}");
+            assert!(((b.velocity - a.velocity) / (2.0 * h) - m.acceleration).abs() < 1e-4 * scale, "acceleration at {t}");
+        }
+    }
+
+    #[test]
+    fn step_profile_is_c2_with_consistent_derivatives() {
+        let p = RackProfile::Step { amplitude: 0.003, start: 3.0, ramp: 0.1 };
+        assert_eq!(p.at(2.9).position, 0.0);
+        assert!((p.at(3.2).position - 0.003).abs() < 1e-15);
+        assert!((p.at(3.05).position - 0.0015).abs() < 1e-15);
+        check_derivatives(p, 2.95, 3.15);
+    }
+
+    #[test]
+    fn double_sine_goes_out_and_back_with_a_continuous_velocity() {
+        let p = RackProfile::DoubleSine { amplitude: 0.004, start: 1.0, period: 2.0, blend: 0.02 };
+        assert!((p.at(1.5).position - 0.004).abs() < 1e-12, "peak of the first sine");
+        assert!((p.at(2.5).position + 0.004).abs() < 1e-12, "second half of the first sine");
+        assert!((p.at(3.5).position + 0.004).abs() < 1e-12, "the second sine is the first mirrored");
+        assert!((p.at(4.5).position - 0.004).abs() < 1e-12);
+        assert_eq!(p.at(0.5).position, 0.0);
+        assert_eq!(p.at(5.5).position, 0.0);
+        check_derivatives(p, 0.9, 5.1);
+    }
+}
