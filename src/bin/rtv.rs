@@ -1,1 +1,350 @@
-fn main() {}
+//! `rtv`: the native command line of rt-vehicle.
+//!
+//!   rtv scene <bump|jturn|sine> [options] [--out FILE.csv]   run a scene, write the output channels
+//!   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
+//!   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
+//!   rtv calibrate                                         J-turn amplitude for 0.400 g → resources/
+//!
+//! Bad arguments get a clear message and exit code 2; a failed run exits with 1.
+
+use rt_vehicle::integrate::IntegratorKind;
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::suspension::sla::{SlaGeometry, Side};
+use rt_vehicle::model::tire::SlipModel;
+use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::{Formulation, SimConfig, SpeedMode, CSV_COLUMNS, OUTPUT_NAMES};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::process::ExitCode;
+use std::time::Instant;
+
+const USAGE: &str = "usage:
+  rtv scene <bump|jturn|sine> [--formulation synthesis|augmented|conventional] [--integrator ab3|rk4|ros2]
+            [--step S] [--end T] [--output-interval DT] [--speed hold|coast] [--slip relaxation|steady]
+            [--amplitude calibrated|paper|METRES] [--vehicle FILE.json] [--out FILE.csv]
+  rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
+  rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
+  rtv calibrate [--vehicle FILE.json]";
+
+struct Failure {
+    message: String,
+    usage: bool,
+}
+
+fn bad(message: impl Into<String>) -> Failure {
+    Failure { message: message.into(), usage: true }
+}
+
+fn failed(message: impl Into<String>) -> Failure {
+    Failure { message: message.into(), usage: false }
+}
+
+/// `--key value` pairs after the positional arguments; every key must be known.
+fn options(args: &[String], known: &[&str]) -> Result<BTreeMap<String, String>, Failure> {
+    let mut out = BTreeMap::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let key = a.strip_prefix("--").ok_or_else(|| bad(format!("unexpected argument '{a}'")))?;
+        if !known.contains(&key) {
+            return Err(bad(format!("unknown option --{key}")));
+        }
+        let value = it.next().ok_or_else(|| bad(format!("--{key} needs a value")))?;
+        out.insert(key.to_string(), value.clone());
+    }
+    Ok(out)
+}
+
+fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f64, Failure> {
+    match opts.get(key) {
+        None => Ok(default),
+        Some(v) => v.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| bad(format!("--{key}: '{v}' is not a number"))),
+    }
+}
+
+fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure> {
+    let data = match opts.get("vehicle") {
+        Some(path) => VehicleData::from_file(std::path::Path::new(path)).map_err(|e| failed(e.to_string()))?,
+        None => VehicleData::default_hmmwv(),
+    };
+    for w in data.warnings() {
+        eprintln!("warning: {w}");
+    }
+    Ok(data)
+}
+
+fn csv_writer(path: Option<&String>) -> Result<Box<dyn Write>, Failure> {
+    match path {
+        Some(p) => {
+            let f = std::fs::File::create(p).map_err(|e| failed(format!("cannot write {p}: {e}")))?;
+            Ok(Box::new(std::io::BufWriter::new(f)))
+        }
+        None => Ok(Box::new(std::io::BufWriter::new(std::io::stdout()))),
+    }
+}
+
+fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Failure> {
+    let mut c = SimConfig::default();
+    if let Some(f) = opts.get("formulation") {
+        c.formulation = match f.as_str() {
+            "synthesis" => Formulation::Synthesis,
+            "augmented" => Formulation::SynthesisAugmented,
+            "conventional" => Formulation::Conventional,
+            _ => return Err(bad(format!("--formulation: '{f}' is not synthesis, augmented or conventional"))),
+        };
+    }
+    if let Some(i) = opts.get("integrator") {
+        c.integrator = match i.as_str() {
+            "ab3" => IntegratorKind::Ab3,
+            "rk4" => IntegratorKind::Rk4,
+            "ros2" => IntegratorKind::Ros2,
+            _ => return Err(bad(format!("--integrator: '{i}' is not ab3, rk4 or ros2"))),
+        };
+    }
+    if let Some(s) = opts.get("speed") {
+        c.speed_mode = match s.as_str() {
+            "hold" => SpeedMode::Hold,
+            "coast" => SpeedMode::Coast,
+            _ => return Err(bad(format!("--speed: '{s}' is not hold or coast"))),
+        };
+    }
+    if let Some(s) = opts.get("slip") {
+        c.slip = match s.as_str() {
+            "relaxation" => SlipModel::Relaxation,
+            "steady" => SlipModel::Steady,
+            _ => return Err(bad(format!("--slip: '{s}' is not relaxation or steady"))),
+        };
+    }
+    let interval = number(opts, "output-interval", 0.01)?;
+    if !(interval > 0.0) {
+        return Err(bad("--output-interval must be positive"));
+    }
+    c.internal_step = number(opts, "step", c.internal_step)?;
+    if !(c.internal_step > 0.0) {
+        return Err(bad("--step must be positive"));
+    }
+    // The step asked for is the step taken: it must divide the output interval.
+    let ratio = interval / c.internal_step;
+    if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
+        return Err(bad(format!(
+            "--step {} does not divide the output interval {interval} (use a step such as {})",
+            c.internal_step,
+            interval / ratio.ceil()
+        )));
+    }
+    Ok((c, interval))
+}
+
+fn cmd_scene(args: &[String]) -> Result<(), Failure> {
+    let name = args.first().ok_or_else(|| bad("scene: which scene? bump, jturn or sine"))?;
+    let kind = SceneKind::parse(name).ok_or_else(|| bad(format!("unknown scene '{name}': bump, jturn or sine")))?;
+    let opts = options(&args[1..], &["formulation", "integrator", "step", "end", "output-interval", "speed", "slip", "amplitude", "vehicle", "out"])?;
+    let (config, interval) = scene_config(&opts)?;
+    let amplitude = match opts.get("amplitude") {
+        Some(a) => Amplitude::parse(a).ok_or_else(|| bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1")))?,
+        None => Amplitude::Calibrated,
+    };
+    let scene = Scene::new(kind, amplitude);
+    let end = number(&opts, "end", scene.duration)?;
+    if !(end > 0.0) {
+        return Err(bad("--end must be positive"));
+    }
+    let data = vehicle_data(&opts)?;
+    let started = Instant::now();
+    let mut sim = scene.start(data, &config).map_err(|e| failed(e.0))?;
+    let setup = started.elapsed();
+    let mut out = csv_writer(opts.get("out"))?;
+    let header = OUTPUT_NAMES[..CSV_COLUMNS].join(",");
+    let mut lines = vec![header];
+    let t = Instant::now();
+    let result = run(&mut sim, end, interval, |o| {
+        lines.push(o.values[..CSV_COLUMNS].iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(","));
+    });
+    let cpu = t.elapsed();
+    for l in &lines {
+        writeln!(out, "{l}").map_err(|e| failed(format!("write failed: {e}")))?;
+    }
+    out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
+    eprintln!(
+        "{}: {:.3} s simulated in {:.3} s CPU ({:.0}x real time; set-up {:.3} s), {} evaluations, {:.2} us each",
+        kind.name(),
+        sim.time(),
+        cpu.as_secs_f64(),
+        sim.time() / cpu.as_secs_f64(),
+        setup.as_secs_f64(),
+        sim.evaluations(),
+        cpu.as_secs_f64() * 1e6 / sim.evaluations() as f64
+    );
+    for w in sim.warnings() {
+        eprintln!("warning: {w}");
+    }
+    result.map_err(|e| failed(format!("simulation stopped: {}", e.0)))
+}
+
+fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
+    let opts = options(args, &["axle", "from", "to", "increment", "vehicle", "out"])?;
+    let axle_name = opts.get("axle").ok_or_else(|| bad("kinematics: --axle front|rear is required"))?;
+    let data = vehicle_data(&opts)?;
+    let axle = match axle_name.as_str() {
+        "front" => &data.front,
+        "rear" => &data.rear,
+        _ => return Err(bad(format!("--axle: '{axle_name}' is not front or rear"))),
+    };
+    let (from, to, inc) = (number(&opts, "from", -0.15)?, number(&opts, "to", 0.10)?, number(&opts, "increment", 0.005)?);
+    if !(inc > 0.0 && to >= from) {
+        return Err(bad("need --increment > 0 and --to ≥ --from"));
+    }
+    let left = SlaGeometry::from_data(&data, axle, Side::Left).map_err(|e| failed(e.to_string()))?;
+    let right = SlaGeometry::from_data(&data, axle, Side::Right).map_err(|e| failed(e.to_string()))?;
+    let mut out = csv_writer(opts.get("out"))?;
+    let mut text = String::from("travel_m,camber_l_deg,camber_r_deg,steer_l_deg,steer_r_deg,wheel_lateral_l_m,spring_length_l_m,damper_length_l_m\n");
+    let n = ((to - from) / inc + 1e-9).floor() as usize;
+    for k in 0..=n {
+        let travel = from + k as f64 * inc;
+        let mut row = Vec::new();
+        for (c, side) in [(&left, "left"), (&right, "right")] {
+            let pos = wheel_at_travel(c, travel).map_err(|e| failed(format!("{side} wheel: {e}")))?;
+            row.push(pos);
+        }
+        let (pl, pr) = (&row[0], &row[1]);
+        let wheel = left.on_carrier(pl, &left.w0);
+        text += &format!(
+            "{travel:.6},{:.6},{:.6},{:.6},{:.6},{:.7},{:.7},{:.7}\n",
+            left.camber(pl).to_degrees(),
+            right.camber(pr).to_degrees(),
+            left.steer_angle(pl).to_degrees(),
+            right.steer_angle(pr).to_degrees(),
+            wheel.y - left.w0.y,
+            (left.on_lower(pl, &left.spring_arm) - left.spring_chassis).norm(),
+            (left.on_lower(pl, &left.shock_arm) - left.shock_chassis).norm(),
+        );
+    }
+    out.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
+    Ok(())
+}
+
+/// Positions with the wheel centre `travel` above its design height (chassis fixed, rack centred):
+/// Newton on θ_L using dz/dθ_L by a central difference.
+fn wheel_at_travel(c: &SlaGeometry, travel: f64) -> Result<rt_vehicle::model::suspension::sla::SlaPositions, String> {
+    let z = |u: f64| -> Result<f64, String> {
+        let p = c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.0)?;
+        Ok(c.on_carrier(&p, &c.w0).z - c.w0.z)
+    };
+    let mut u = travel / 0.45;
+    for _ in 0..30 {
+        let f = z(u).map_err(|e| format!("travel {travel:+.3} m is beyond what the linkage allows ({e})"))? - travel;
+        if f.abs() < 1e-12 {
+            return c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.0);
+        }
+        let h = 1e-6;
+        let slope = (z(u + h).map_err(|e| e.to_string())? - z(u - h).map_err(|e| e.to_string())?) / (2.0 * h);
+        if slope.abs() < 1e-3 {
+            break;
+        }
+        u -= f / slope;
+        if u.abs() > 1.2 {
+            break;
+        }
+    }
+    Err(format!("travel {travel:+.3} m is beyond what the linkage allows"))
+}
+
+fn cmd_steering(args: &[String]) -> Result<(), Failure> {
+    let opts = options(args, &["from", "to", "increment", "vehicle", "out"])?;
+    let data = vehicle_data(&opts)?;
+    let (from, to, inc) = (number(&opts, "from", -0.06)?, number(&opts, "to", 0.06)?, number(&opts, "increment", 0.002)?);
+    if !(inc > 0.0 && to >= from) {
+        return Err(bad("need --increment > 0 and --to ≥ --from"));
+    }
+    let v = rt_vehicle::model::vehicle::Vehicle::new(&data).map_err(|e| failed(e.to_string()))?;
+    let mut text = String::from("rack_displacement_m,steer_l_deg,steer_r_deg\n");
+    let n = ((to - from) / inc + 1e-9).floor() as usize;
+    for k in 0..=n {
+        let u = from + k as f64 * inc;
+        if u.abs() > data.rack.travel_limit_m + 1e-12 {
+            return Err(failed(format!("rack displacement {u:+.4} m is beyond the travel limit ±{} m", data.rack.travel_limit_m)));
+        }
+        let mut angles = [0.0; 2];
+        for (i, a) in angles.iter_mut().enumerate() {
+            let c = &v.corners[i];
+            let p = c.solve_positions(0.0, v.rack_sign * u, &[0.0; 4]).map_err(|e| failed(e.0))?;
+            *a = c.steer_angle(&p).to_degrees();
+        }
+        text += &format!("{u:.6},{:.6},{:.6}\n", angles[0], angles[1]);
+    }
+    csv_writer(opts.get("out"))?.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
+    Ok(())
+}
+
+/// Mean lateral acceleration over 6–8 s of the J-turn with amplitude `a` (the calibration configuration).
+fn steady_ay(data: &VehicleData, a: f64) -> Result<f64, Failure> {
+    let scene = Scene::new(SceneKind::JTurn, Amplitude::Metres(a));
+    let config = SimConfig { formulation: Formulation::Conventional, internal_step: 1e-4, ..SimConfig::default() };
+    let mut sim = scene.start(data.clone(), &config).map_err(|e| failed(e.0))?;
+    let iy = rt_vehicle::sim::Outputs::index("ay").unwrap();
+    let (mut sum, mut n) = (0.0, 0);
+    run(&mut sim, 8.0, 0.01, |o| {
+        if o.values[0] >= 6.0 - 1e-9 {
+            sum += o.values[iy];
+            n += 1;
+        }
+    })
+    .map_err(|e| failed(e.0))?;
+    Ok(sum / n as f64)
+}
+
+fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
+    let opts = options(args, &["vehicle", "out"])?;
+    let data = vehicle_data(&opts)?;
+    let target = 0.4 * data.gravity_m_s2;
+    // Secant iteration on the amplitude (a_y rises monotonically with it, physics.md §9.7).
+    let (mut a0, mut a1) = (0.003, 0.0032);
+    let (mut f0, mut f1) = (steady_ay(&data, a0)? - target, steady_ay(&data, a1)? - target);
+    for it in 0..12 {
+        eprintln!("calibrate: iteration {it}: A = {a1:.7} m gives a_y = {:.5} g", (f1 + target) / data.gravity_m_s2);
+        if (f1 / target).abs() < 1e-5 {
+            break;
+        }
+        let a2 = a1 - f1 * (a1 - a0) / (f1 - f0);
+        (a0, f0) = (a1, f1);
+        a1 = a2;
+        f1 = steady_ay(&data, a1)? - target;
+    }
+    let g = (f1 + target) / data.gravity_m_s2;
+    let text = format!(
+        "{{\n \"jturn_amplitude_m\": {a1:.9},\n \"steady_lateral_acceleration_g\": {g:.6},\n \"target_lateral_acceleration_g\": 0.4,\n \
+         \"configuration\": \"conventional formulation, RK4 at 0.1 ms, hold, relaxation slip, 100 km/h; steady state = mean a_y over 6-8 s\",\n \
+         \"command\": \"cargo run --release --bin rtv -- calibrate --out resources/calibration.json\"\n}}\n"
+    );
+    let path = opts.get("out").cloned().unwrap_or_else(|| "resources/calibration.json".to_string());
+    std::fs::write(&path, text).map_err(|e| failed(format!("cannot write {path}: {e}")))?;
+    eprintln!("calibrate: A = {a1:.7} m gives {g:.5} g; written to {path} (rebuild to use it)");
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("scene") => cmd_scene(&args[1..]),
+        Some("kinematics") => cmd_kinematics(&args[1..]),
+        Some("steering") => cmd_steering(&args[1..]),
+        Some("calibrate") => cmd_calibrate(&args[1..]),
+        Some("--help") | Some("-h") | Some("help") => {
+            println!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        Some(other) => Err(bad(format!("unknown command '{other}'"))),
+        None => Err(bad("no command given")),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(f) => {
+            eprintln!("rtv: {}", f.message);
+            if f.usage {
+                eprintln!("{USAGE}");
+                ExitCode::from(2)
+            } else {
+                ExitCode::from(1)
+            }
+        }
+    }
+}
