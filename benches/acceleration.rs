@@ -127,10 +127,19 @@ fn main() {
 
     // In-process medians and ratios (only under `cargo bench`, not in `cargo test --benches`).
     if std::env::args().any(|a| a == "--bench") {
-        let med: Vec<(&str, f64)> = solvers().iter().map(|(n, f)| (*n, median_ns(*f, 201))).collect();
+        // honour criterion's positional filter (substring), e.g. `cargo bench --bench acceleration -- gcp`
+        let filter: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with('-'));
+        let med: Vec<(&str, f64)> = solvers()
+            .iter()
+            .filter(|(n, _)| filter.as_deref().map_or(true, |f| n.contains(f)))
+            .map(|(n, f)| (*n, median_ns(*f, 201)))
+            .collect();
         println!("\nmedians (201 batches of ~2 ms), terms from synthetic::random_vehicle::<4>({SEED}):");
         for (n, m) in &med {
             println!("  {n:<34} {m:>10.1} ns");
+        }
+        if med.len() < solvers().len() {
+            return;
         }
         let get = |k: &str| med.iter().find(|(n, _)| *n == k).unwrap().1;
         let conv = get("conventional 42x42");

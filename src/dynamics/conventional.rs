@@ -31,6 +31,17 @@ pub fn assemble_conventional(
     b: &mut SVector<f64, NCONV>,
 ) {
     a.fill(0.0);
+    fill_nonzero(chassis, subs, a, b);
+}
+
+/// The nonzero blocks of §4.3 into an already zeroed `a` (every entry of `b` is written).
+#[inline]
+fn fill_nonzero(
+    chassis: &ChassisTerms,
+    subs: &[SubsystemTerms; 4],
+    a: &mut SMatrix<f64, NCONV, NCONV>,
+    b: &mut SVector<f64, NCONV>,
+) {
     let mut m00 = chassis.mass;
     let mut f0 = chassis.force;
     for (i, s) in subs.iter().enumerate() {
@@ -57,7 +68,7 @@ pub fn solve_conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) ->
     check_inputs(chassis, subs)?;
     let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
     let mut b = SMatrix::<f64, NCONV, 1>::zeros();
-    assemble_conventional(chassis, subs, &mut a, &mut b);
+    fill_nonzero(chassis, subs, &mut a, &mut b);
     let mut piv = [0usize; NCONV];
     lu::factor(&mut a, &mut piv).map_err(|e| SolveError(format!("conventional: 42x42 matrix {e}")))?;
     lu::solve(&a, &piv, &mut b);

@@ -47,43 +47,53 @@ impl Gcp {
     };
 }
 
-/// GCP reduction of one subsystem (§4.5). Adds M̄ᵢ to `mass` and P̄ᵢ to `force`.
+/// GCP reduction of one subsystem (§4.5) into `g` (written in place: no large moves). Adds M̄ᵢ to `mass`
+/// and P̄ᵢ to `force`.
 #[inline]
-fn reduce(i: usize, s: &SubsystemTerms, mass: &mut Matrix6<f64>, force: &mut Vector6<f64>) -> Result<Gcp, SolveError> {
+fn reduce(
+    i: usize,
+    s: &SubsystemTerms,
+    g: &mut Gcp,
+    mass: &mut Matrix6<f64>,
+    force: &mut Vector6<f64>,
+) -> Result<(), SolveError> {
     // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4).
-    let mut lu: Matrix4<f64> = s.phi_q.fixed_columns::<4>(1).into_owned();
-    let mut piv = [0usize; 4];
-    lu::factor(&mut lu, &mut piv)
+    g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
+    let (lu, piv) = (&mut g.lu, &mut g.piv);
+    lu::factor(lu, piv)
         .map_err(|e| SolveError(format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}")))?;
 
     // Two right-hand sides (§4.6): [Φ_u | γ̄] → [Φ_v⁻¹Φ_u | Φ_v⁻¹γ̄].
     let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
-    lu::solve(&lu, &piv, &mut rhs);
+    lu::solve(lu, piv, &mut rhs);
     let a: Vector4<f64> = rhs.column(0).into_owned();
     let cv: Vector4<f64> = rhs.column(1).into_owned();
 
     // §4.5: 𝒱 = [1; −Φ_v⁻¹Φ_u], 𝒞 = [0; Φ_v⁻¹γ̄], so that q̈ = 𝒱 ü + 𝒞.
-    let v = Vector5::new(1.0, -a[0], -a[1], -a[2], -a[3]);
-    let c = Vector5::new(0.0, cv[0], cv[1], cv[2], cv[3]);
+    g.v = Vector5::new(1.0, -a[0], -a[1], -a[2], -a[3]);
+    g.c = Vector5::new(0.0, cv[0], cv[1], cv[2], cv[3]);
+    let v = &g.v;
 
     // m̃ = 𝒱ᵀ M_qq 𝒱 (scalar, > 0 because M_qq is SPD and 𝒱 ≠ 0).
     let mt = v.dot(&(s.m_qq * v));
+    g.mt = mt;
     if !(mt > 0.0) || !mt.is_finite() {
         return Err(SolveError(format!("GCP: subsystem {i}: reduced inertia m~ = {mt:e} is not positive")));
     }
     // 𝔪 = M_0q 𝒱 = M_q0ᵀ 𝒱 (6×1).
-    let m: Vector6<f64> = s.m_q0.tr_mul(&v);
+    g.m = s.m_q0.tr_mul(v);
+    let m = &g.m;
     // p̃ = 𝒱ᵀ (P_q − M_qq 𝒞), with 𝒞₀ = 0: M_qq 𝒞 uses columns 1..5 only.
     let mqq_c: Vector5<f64> = s.m_qq.fixed_columns::<4>(1) * cv;
     let pt = v.dot(&(s.p_q - mqq_c));
+    g.pt = pt;
 
     // M̄ᵢ = M_00 − 𝔪𝔪ᵀ/m̃ (rank-1 update);  P̄ᵢ = P_0 − M_0q 𝒞 − 𝔪 p̃/m̃.
     let sm = m / mt;
     *mass += s.m_00 - sm * m.transpose();
     let m0q_c: Vector6<f64> = s.m_q0.fixed_rows::<4>(1).tr_mul(&cv);
     *force += s.p_0 - m0q_c - sm * pt;
-
-    Ok(Gcp { lu, piv, v, c, mt, m, pt })
+    Ok(())
 }
 
 /// Solves the chassis equation (M̂₀ + M̂_R + Σ M̄ᵢ) Ẏ₀ = Q̂₀ + Q̂*_R + Σ P̄ᵢ by a 6×6 Cholesky (§4.4, §4.9 step 4).
@@ -119,7 +129,7 @@ pub fn solve_synthesis_gcp_with<const K: usize>(
     let mut force = chassis.force;
     let mut red = [Gcp::ZERO; K];
     for (i, (s, r)) in subs.iter().zip(red.iter_mut()).enumerate() {
-        *r = reduce(i, s, &mut mass, &mut force)?;
+        reduce(i, s, r, &mut mass, &mut force)?;
     }
 
     let y0 = chassis_solve(mass, &force, "GCP")?;

@@ -280,6 +280,36 @@ fn non_finite_input_is_an_error() {
 }
 
 #[test]
+fn every_non_finite_input_field_is_caught() {
+    let (c, subs) = random_vehicle::<4>(52);
+    let names = ["m_qq", "m_q0", "m_00", "p_q", "p_0", "phi_q", "gamma_bar"];
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        for (f, name) in names.iter().enumerate() {
+            for at_start in [true, false] {
+                let mut s2 = subs;
+                let s = &mut s2[1];
+                let v: &mut [f64] = match f {
+                    0 => s.m_qq.as_mut_slice(),
+                    1 => s.m_q0.as_mut_slice(),
+                    2 => s.m_00.as_mut_slice(),
+                    3 => s.p_q.as_mut_slice(),
+                    4 => s.p_0.as_mut_slice(),
+                    5 => s.phi_q.as_mut_slice(),
+                    _ => s.gamma_bar.as_mut_slice(),
+                };
+                let k = if at_start { 0 } else { v.len() - 1 };
+                v[k] = bad;
+                let e = solve_synthesis_gcp_with(&c, &s2, Multipliers::Skip).unwrap_err();
+                assert_eq!(e.0, format!("non-finite input: subsystem 1 {name}"));
+            }
+        }
+        let mut c2 = c;
+        c2.mass[(5, 5)] = bad;
+        assert!(solve_conventional(&c2, &subs).unwrap_err().0.contains("chassis mass"));
+    }
+}
+
+#[test]
 fn overflowing_result_is_an_error_not_nan() {
     // a finite but huge input overflows inside the solve: reported, not returned as inf/NaN
     let (c, mut subs) = random_vehicle::<4>(61);
