@@ -251,6 +251,18 @@ fn rank_deficient_phi_q_is_an_error_for_all_solvers() {
 }
 
 #[test]
+fn chassis_cholesky_matches_nalgebra() {
+    // the hand-written 6×6 Cholesky of the synthesis path against nalgebra's, through the K = 0 case
+    // (chassis alone: Ẏ₀ = M⁻¹F)
+    for seed in 0..20 {
+        let (c, _) = random_vehicle::<4>(seed);
+        let ours = solve_synthesis_gcp::<0>(&c, &[]).unwrap().chassis;
+        let reference = nalgebra::Cholesky::new(c.mass).unwrap().solve(&c.force);
+        assert!((ours - reference).amax() <= 1e-13 * reference.amax(), "{ours} vs {reference}");
+    }
+}
+
+#[test]
 fn chassis_not_positive_definite_is_an_error() {
     let (mut c, subs) = random_vehicle::<4>(41);
     c.mass[(2, 2)] = -1e5; // a negative mass along z overwhelms the subsystems' contributions
