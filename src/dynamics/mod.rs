@@ -30,7 +30,9 @@ pub mod synthetic;
 mod tests;
 
 pub use conventional::{assemble_conventional, solve_conventional, NCONV};
-pub use synthesis::{solve_synthesis_augmented, solve_synthesis_gcp, solve_synthesis_gcp_with, Multipliers};
+pub use synthesis::{
+    solve_synthesis_augmented, solve_synthesis_gcp, solve_synthesis_gcp_with, Multipliers,
+};
 
 /// Relative coordinates per subsystem; index 0 (θ_L) is the independent one.
 pub const NQ: usize = 5;
@@ -79,7 +81,11 @@ pub struct Accelerations<const K: usize> {
 impl<const K: usize> Accelerations<K> {
     /// All zeros.
     pub fn zeros() -> Self {
-        Self { chassis: Vector6::zeros(), q_ddot: [Vector5::zeros(); K], lambda: [Vector4::zeros(); K] }
+        Self {
+            chassis: Vector6::zeros(),
+            q_ddot: [Vector5::zeros(); K],
+            lambda: [Vector4::zeros(); K],
+        }
     }
 
     /// True when every entry is finite.
@@ -120,7 +126,10 @@ fn finite(s: &[f64]) -> bool {
 }
 
 /// Rejects non-finite inputs with a message naming the offending term. No allocation on success.
-pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> Result<(), SolveError> {
+pub(crate) fn check_inputs(
+    chassis: &ChassisTerms,
+    subs: &[SubsystemTerms],
+) -> Result<(), SolveError> {
     if !finite(chassis.mass.as_slice()) {
         return Err(SolveError("non-finite input: chassis mass".into()));
     }
@@ -139,7 +148,9 @@ pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> R
         ];
         for (name, v) in fields {
             if !finite(v) {
-                return Err(SolveError(format!("non-finite input: subsystem {i} {name}")));
+                return Err(SolveError(format!(
+                    "non-finite input: subsystem {i} {name}"
+                )));
             }
         }
     }
@@ -147,10 +158,15 @@ pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> R
 }
 
 /// Rejects a non-finite result (overflow from a nearly singular matrix).
-pub(crate) fn check_result<const K: usize>(acc: &Accelerations<K>, solver: &str) -> Result<(), SolveError> {
+pub(crate) fn check_result<const K: usize>(
+    acc: &Accelerations<K>,
+    solver: &str,
+) -> Result<(), SolveError> {
     if acc.is_finite() {
         Ok(())
     } else {
-        Err(SolveError(format!("{solver}: non-finite result (ill-conditioned system)")))
+        Err(SolveError(format!(
+            "{solver}: non-finite result (ill-conditioned system)"
+        )))
     }
 }
