@@ -11,7 +11,10 @@ use nalgebra::SMatrix;
 /// row k at step k (LAPACK convention). Fails when a pivot is not larger than n·ε·max|A| (numerically
 /// singular) or is not finite.
 #[inline]
-pub(crate) fn factor<const N: usize>(a: &mut SMatrix<f64, N, N>, piv: &mut [usize; N]) -> Result<(), &'static str> {
+pub(crate) fn factor<const N: usize>(
+    a: &mut SMatrix<f64, N, N>,
+    piv: &mut [usize; N],
+) -> Result<(), &'static str> {
     let scale = a.amax();
     if !scale.is_finite() {
         return Err("non-finite matrix entry");
@@ -29,6 +32,7 @@ pub(crate) fn factor<const N: usize>(a: &mut SMatrix<f64, N, N>, piv: &mut [usiz
                 p = i;
             }
         }
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // written so that NaN fails too
         if !(maxv > tol) {
             return Err("singular matrix (pivot below n·eps·max|A|)");
         }
@@ -58,11 +62,15 @@ pub(crate) fn factor<const N: usize>(a: &mut SMatrix<f64, N, N>, piv: &mut [usiz
 
 /// Solves A X = B in place (B ← X) for every column of B, with A factored by [`factor`].
 #[inline]
-pub(crate) fn solve<const N: usize, const M: usize>(lu: &SMatrix<f64, N, N>, piv: &[usize; N], b: &mut SMatrix<f64, N, M>) {
+pub(crate) fn solve<const N: usize, const M: usize>(
+    lu: &SMatrix<f64, N, N>,
+    piv: &[usize; N],
+    b: &mut SMatrix<f64, N, M>,
+) {
     let a = lu.as_slice();
     for col in b.as_mut_slice().chunks_exact_mut(N) {
-        for k in 0..N {
-            col.swap(k, piv[k]);
+        for (k, &p) in piv.iter().enumerate() {
+            col.swap(k, p);
         }
         // L y = P b (unit lower), column-oriented
         for k in 0..N {
@@ -85,7 +93,11 @@ pub(crate) fn solve<const N: usize, const M: usize>(lu: &SMatrix<f64, N, N>, piv
 /// Solves Aᵀ x = b in place, with A factored by [`factor`]: A = Pᵀ L U, so Aᵀ = Uᵀ Lᵀ P;
 /// solve Uᵀ y = b, Lᵀ w = y, x = Pᵀ w (swaps undone in reverse order).
 #[inline]
-pub(crate) fn solve_transpose<const N: usize>(lu: &SMatrix<f64, N, N>, piv: &[usize; N], b: &mut SMatrix<f64, N, 1>) {
+pub(crate) fn solve_transpose<const N: usize>(
+    lu: &SMatrix<f64, N, N>,
+    piv: &[usize; N],
+    b: &mut SMatrix<f64, N, 1>,
+) {
     let a = lu.as_slice();
     let x = b.as_mut_slice();
     // Uᵀ y = b: row k of Uᵀ is column k of U (rows 0..=k)

@@ -30,7 +30,9 @@ pub mod synthetic;
 mod tests;
 
 pub use conventional::{assemble_conventional, solve_conventional, NCONV};
-pub use synthesis::{solve_synthesis_augmented, solve_synthesis_gcp, solve_synthesis_gcp_with, Multipliers};
+pub use synthesis::{
+    solve_synthesis_augmented, solve_synthesis_gcp, solve_synthesis_gcp_with, Multipliers,
+};
 
 /// Relative coordinates per subsystem; index 0 (θ_L) is the independent one.
 pub const NQ: usize = 5;
@@ -79,14 +81,18 @@ pub struct Accelerations<const K: usize> {
 impl<const K: usize> Accelerations<K> {
     /// All zeros.
     pub fn zeros() -> Self {
-        Self { chassis: Vector6::zeros(), q_ddot: [Vector5::zeros(); K], lambda: [Vector4::zeros(); K] }
+        Self {
+            chassis: Vector6::zeros(),
+            q_ddot: [Vector5::zeros(); K],
+            lambda: [Vector4::zeros(); K],
+        }
     }
 
     /// True when every entry is finite.
     pub fn is_finite(&self) -> bool {
-        self.chassis.iter().all(|x| x.is_finite())
-            && self.q_ddot.iter().all(|v| v.iter().all(|x| x.is_finite()))
-            && self.lambda.iter().all(|v| v.iter().all(|x| x.is_finite()))
+        finite(self.chassis.as_slice())
+            && self.q_ddot.iter().all(|v| finite(v.as_slice()))
+            && self.lambda.iter().all(|v| finite(v.as_slice()))
     }
 }
 
@@ -102,48 +108,65 @@ impl std::fmt::Display for SolveError {
 
 impl std::error::Error for SolveError {}
 
-fn all_finite<'a>(it: impl IntoIterator<Item = &'a f64>) -> bool {
-    it.into_iter().all(|x| x.is_finite())
+/// True when every entry is finite. Branch-free (x·0 is ±0 for finite x and NaN otherwise; 4 accumulators
+/// so that it vectorizes): the check costs a few ns instead of one branch per entry.
+#[inline]
+fn finite(s: &[f64]) -> bool {
+    let mut acc = [0.0f64; 4];
+    let mut chunks = s.chunks_exact(4);
+    for c in &mut chunks {
+        for k in 0..4 {
+            acc[k] += c[k] * 0.0;
+        }
+    }
+    for (k, x) in chunks.remainder().iter().enumerate() {
+        acc[k] += x * 0.0;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) == 0.0
 }
 
 /// Rejects non-finite inputs with a message naming the offending term. No allocation on success.
-pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> Result<(), SolveError> {
-    if !all_finite(chassis.mass.iter()) {
+pub(crate) fn check_inputs(
+    chassis: &ChassisTerms,
+    subs: &[SubsystemTerms],
+) -> Result<(), SolveError> {
+    if !finite(chassis.mass.as_slice()) {
         return Err(SolveError("non-finite input: chassis mass".into()));
     }
-    if !all_finite(chassis.force.iter()) {
+    if !finite(chassis.force.as_slice()) {
         return Err(SolveError("non-finite input: chassis force".into()));
     }
     for (i, s) in subs.iter().enumerate() {
-        let bad = if !all_finite(s.m_qq.iter()) {
-            Some("m_qq")
-        } else if !all_finite(s.m_q0.iter()) {
-            Some("m_q0")
-        } else if !all_finite(s.m_00.iter()) {
-            Some("m_00")
-        } else if !all_finite(s.p_q.iter()) {
-            Some("p_q")
-        } else if !all_finite(s.p_0.iter()) {
-            Some("p_0")
-        } else if !all_finite(s.phi_q.iter()) {
-            Some("phi_q")
-        } else if !all_finite(s.gamma_bar.iter()) {
-            Some("gamma_bar")
-        } else {
-            None
-        };
-        if let Some(name) = bad {
-            return Err(SolveError(format!("non-finite input: subsystem {i} {name}")));
+        let fields: [(&str, &[f64]); 7] = [
+            ("m_qq", s.m_qq.as_slice()),
+            ("m_q0", s.m_q0.as_slice()),
+            ("m_00", s.m_00.as_slice()),
+            ("p_q", s.p_q.as_slice()),
+            ("p_0", s.p_0.as_slice()),
+            ("phi_q", s.phi_q.as_slice()),
+            ("gamma_bar", s.gamma_bar.as_slice()),
+        ];
+        for (name, v) in fields {
+            if !finite(v) {
+                return Err(SolveError(format!(
+                    "non-finite input: subsystem {i} {name}"
+                )));
+            }
         }
     }
     Ok(())
 }
 
 /// Rejects a non-finite result (overflow from a nearly singular matrix).
-pub(crate) fn check_result<const K: usize>(acc: &Accelerations<K>, solver: &str) -> Result<(), SolveError> {
+pub(crate) fn check_result<const K: usize>(
+    acc: &Accelerations<K>,
+    solver: &str,
+) -> Result<(), SolveError> {
     if acc.is_finite() {
         Ok(())
     } else {
-        Err(SolveError(format!("{solver}: non-finite result (ill-conditioned system)")))
+        Err(SolveError(format!(
+            "{solver}: non-finite result (ill-conditioned system)"
+        )))
     }
 }

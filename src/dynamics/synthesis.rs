@@ -2,9 +2,11 @@
 //! inertia M̄ᵢ and an effective force P̄ᵢ, the 6×6 chassis system is solved by Cholesky, and the subsystem
 //! accelerations follow by back-substitution.
 
-use nalgebra::{Cholesky, Matrix4, SMatrix, Vector4, Vector5, Vector6};
+use nalgebra::{Matrix4, SMatrix, Vector4, Vector5, Vector6};
 
-use super::{check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
+use super::{
+    check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms,
+};
 use nalgebra::Matrix6;
 
 /// Whether [`solve_synthesis_gcp_with`] computes the cut-constraint multipliers λ.
@@ -37,7 +39,9 @@ struct Gcp {
 
 impl Gcp {
     const ZERO: Gcp = Gcp {
-        lu: Matrix4::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        lu: Matrix4::new(
+            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+        ),
         piv: [0; 4],
         v: Vector5::new(0.0, 0.0, 0.0, 0.0, 0.0),
         c: Vector5::new(0.0, 0.0, 0.0, 0.0, 0.0),
@@ -47,52 +51,111 @@ impl Gcp {
     };
 }
 
-/// GCP reduction of one subsystem (§4.5). Adds M̄ᵢ to `mass` and P̄ᵢ to `force`.
+/// GCP reduction of one subsystem (§4.5) into `g` (written in place: no large moves). Adds M̄ᵢ to `mass`
+/// and P̄ᵢ to `force`.
 #[inline]
-fn reduce(i: usize, s: &SubsystemTerms, mass: &mut Matrix6<f64>, force: &mut Vector6<f64>) -> Result<Gcp, SolveError> {
+fn reduce(
+    i: usize,
+    s: &SubsystemTerms,
+    g: &mut Gcp,
+    mass: &mut Matrix6<f64>,
+    force: &mut Vector6<f64>,
+) -> Result<(), SolveError> {
     // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4).
-    let mut lu: Matrix4<f64> = s.phi_q.fixed_columns::<4>(1).into_owned();
-    let mut piv = [0usize; 4];
-    lu::factor(&mut lu, &mut piv)
-        .map_err(|e| SolveError(format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}")))?;
+    g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
+    let (lu, piv) = (&mut g.lu, &mut g.piv);
+    lu::factor(lu, piv).map_err(|e| {
+        SolveError(format!(
+            "GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}"
+        ))
+    })?;
 
     // Two right-hand sides (§4.6): [Φ_u | γ̄] → [Φ_v⁻¹Φ_u | Φ_v⁻¹γ̄].
-    let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
-    lu::solve(&lu, &piv, &mut rhs);
+    let mut rhs =
+        SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
+    lu::solve(lu, piv, &mut rhs);
     let a: Vector4<f64> = rhs.column(0).into_owned();
     let cv: Vector4<f64> = rhs.column(1).into_owned();
 
     // §4.5: 𝒱 = [1; −Φ_v⁻¹Φ_u], 𝒞 = [0; Φ_v⁻¹γ̄], so that q̈ = 𝒱 ü + 𝒞.
-    let v = Vector5::new(1.0, -a[0], -a[1], -a[2], -a[3]);
-    let c = Vector5::new(0.0, cv[0], cv[1], cv[2], cv[3]);
+    g.v = Vector5::new(1.0, -a[0], -a[1], -a[2], -a[3]);
+    g.c = Vector5::new(0.0, cv[0], cv[1], cv[2], cv[3]);
+    let v = &g.v;
 
     // m̃ = 𝒱ᵀ M_qq 𝒱 (scalar, > 0 because M_qq is SPD and 𝒱 ≠ 0).
     let mt = v.dot(&(s.m_qq * v));
+    g.mt = mt;
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails too
     if !(mt > 0.0) || !mt.is_finite() {
-        return Err(SolveError(format!("GCP: subsystem {i}: reduced inertia m~ = {mt:e} is not positive")));
+        return Err(SolveError(format!(
+            "GCP: subsystem {i}: reduced inertia m~ = {mt:e} is not positive"
+        )));
     }
     // 𝔪 = M_0q 𝒱 = M_q0ᵀ 𝒱 (6×1).
-    let m: Vector6<f64> = s.m_q0.tr_mul(&v);
+    g.m = s.m_q0.tr_mul(v);
+    let m = &g.m;
     // p̃ = 𝒱ᵀ (P_q − M_qq 𝒞), with 𝒞₀ = 0: M_qq 𝒞 uses columns 1..5 only.
     let mqq_c: Vector5<f64> = s.m_qq.fixed_columns::<4>(1) * cv;
     let pt = v.dot(&(s.p_q - mqq_c));
+    g.pt = pt;
 
     // M̄ᵢ = M_00 − 𝔪𝔪ᵀ/m̃ (rank-1 update);  P̄ᵢ = P_0 − M_0q 𝒞 − 𝔪 p̃/m̃.
     let sm = m / mt;
     *mass += s.m_00 - sm * m.transpose();
     let m0q_c: Vector6<f64> = s.m_q0.fixed_rows::<4>(1).tr_mul(&cv);
     *force += s.p_0 - m0q_c - sm * pt;
-
-    Ok(Gcp { lu, piv, v, c, mt, m, pt })
+    Ok(())
 }
 
-/// Solves the chassis equation (M̂₀ + M̂_R + Σ M̄ᵢ) Ẏ₀ = Q̂₀ + Q̂*_R + Σ P̄ᵢ by a 6×6 Cholesky (§4.4, §4.9 step 4).
+/// Solves the chassis equation (M̂₀ + M̂_R + Σ M̄ᵢ) Ẏ₀ = Q̂₀ + Q̂*_R + Σ P̄ᵢ by a 6×6 Cholesky (§4.4, §4.9 step 4):
+/// M = L Lᵀ (lower triangle of M read), L y = F, Lᵀ Ẏ₀ = y. 6 square roots, ≈ 90 multiplications (§4.10).
+/// Fails when a pivot is not positive (M not positive definite) or not finite.
 #[inline]
-fn chassis_solve(mass: Matrix6<f64>, force: &Vector6<f64>, solver: &str) -> Result<Vector6<f64>, SolveError> {
-    let chol = Cholesky::new(mass).ok_or_else(|| {
-        SolveError(format!("{solver}: chassis effective mass (M0 + M_R + sum Mbar_i) is not positive definite"))
-    })?;
-    Ok(chol.solve(force))
+fn chassis_solve(
+    mass: &Matrix6<f64>,
+    force: &Vector6<f64>,
+    solver: &str,
+) -> Result<Vector6<f64>, SolveError> {
+    let mut l = Matrix6::<f64>::zeros();
+    let mut inv_diag = [0.0f64; 6];
+    for j in 0..6 {
+        let mut d = mass[(j, j)];
+        for k in 0..j {
+            d -= l[(j, k)] * l[(j, k)];
+        }
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails too
+        if !(d > 0.0) || !d.is_finite() {
+            return Err(SolveError(format!(
+                "{solver}: chassis effective mass (M0 + M_R + sum Mbar_i) is not positive definite (pivot {j}: {d:e})"
+            )));
+        }
+        let ljj = d.sqrt();
+        l[(j, j)] = ljj;
+        inv_diag[j] = 1.0 / ljj;
+        for i in j + 1..6 {
+            let mut x = mass[(i, j)];
+            for k in 0..j {
+                x -= l[(i, k)] * l[(j, k)];
+            }
+            l[(i, j)] = x * inv_diag[j];
+        }
+    }
+    let mut y = *force;
+    for i in 0..6 {
+        let mut x = y[i];
+        for k in 0..i {
+            x -= l[(i, k)] * y[k];
+        }
+        y[i] = x * inv_diag[i];
+    }
+    for i in (0..6).rev() {
+        let mut x = y[i];
+        for k in i + 1..6 {
+            x -= l[(k, i)] * y[k];
+        }
+        y[i] = x * inv_diag[i];
+    }
+    Ok(y)
 }
 
 /// Subsystem synthesis with GCP (§4.5), computing the multipliers. See [`solve_synthesis_gcp_with`].
@@ -119,10 +182,10 @@ pub fn solve_synthesis_gcp_with<const K: usize>(
     let mut force = chassis.force;
     let mut red = [Gcp::ZERO; K];
     for (i, (s, r)) in subs.iter().zip(red.iter_mut()).enumerate() {
-        *r = reduce(i, s, &mut mass, &mut force)?;
+        reduce(i, s, r, &mut mass, &mut force)?;
     }
 
-    let y0 = chassis_solve(mass, &force, "GCP")?;
+    let y0 = chassis_solve(&mass, &force, "GCP")?;
 
     let mut acc = Accelerations::<K>::zeros();
     acc.chassis = y0;
@@ -165,15 +228,19 @@ pub fn solve_synthesis_augmented<const K: usize>(
         // 𝐒 = [[M_qq, Φ_qᵀ], [Φ_q, 0]]
         let mut sm = SMatrix::<f64, 9, 9>::zeros();
         sm.fixed_view_mut::<5, 5>(0, 0).copy_from(&s.m_qq);
-        sm.fixed_view_mut::<5, 4>(0, 5).copy_from(&s.phi_q.transpose());
+        sm.fixed_view_mut::<5, 4>(0, 5)
+            .copy_from(&s.phi_q.transpose());
         sm.fixed_view_mut::<4, 5>(5, 0).copy_from(&s.phi_q);
         // [[M_q0, P_q], [0, γ̄]]
         b.fixed_view_mut::<5, 6>(0, 0).copy_from(&s.m_q0);
         b.fixed_view_mut::<5, 1>(0, 6).copy_from(&s.p_q);
         b.fixed_view_mut::<4, 1>(5, 6).copy_from(&s.gamma_bar);
         let mut piv = [0usize; 9];
-        lu::factor(&mut sm, &mut piv)
-            .map_err(|e| SolveError(format!("augmented: subsystem {i}: 9x9 matrix [[M_qq, Phi_q^T], [Phi_q, 0]] {e}")))?;
+        lu::factor(&mut sm, &mut piv).map_err(|e| {
+            SolveError(format!(
+                "augmented: subsystem {i}: 9x9 matrix [[M_qq, Phi_q^T], [Phi_q, 0]] {e}"
+            ))
+        })?;
         lu::solve(&sm, &piv, b);
         // M̄ᵢ = M_00 − M_0q X_q;  P̄ᵢ = P_0 − M_0q x_q  (X_q, x_q: rows 0..5 of the solution)
         let xq = b.fixed_view::<5, 7>(0, 0);
@@ -181,13 +248,12 @@ pub fn solve_synthesis_augmented<const K: usize>(
         force += s.p_0 - s.m_q0.tr_mul(&xq.fixed_columns::<1>(6));
     }
 
-    let y0 = chassis_solve(mass, &force, "augmented")?;
+    let y0 = chassis_solve(&mass, &force, "augmented")?;
 
     let mut acc = Accelerations::<K>::zeros();
     acc.chassis = y0;
-    for i in 0..K {
+    for (i, b) in sol.iter().enumerate() {
         // [q̈; λ] = x − X Ẏ₀  (eq. 3)
-        let b = &sol[i];
         let z: SMatrix<f64, 9, 1> = b.fixed_columns::<1>(6) - b.fixed_columns::<6>(0) * y0;
         acc.q_ddot[i] = z.fixed_rows::<5>(0).into_owned();
         acc.lambda[i] = z.fixed_rows::<4>(5).into_owned();
