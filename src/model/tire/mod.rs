@@ -96,8 +96,8 @@ pub fn normal_force(p: &TireParams, penetration: f64, penetration_rate: f64) -> 
 /// F_x, F_y, M_z from load, slip ratio κ, tan α and inclination γ_w (physics.md §6.5–§6.6, fallbacks §6.8).
 /// No load (F_z <= 0, or not finite) gives no shear force.
 pub fn shear_forces(model: TireModel, p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, inclination: f64) -> ShearForces {
-    // `!(fz > 0)` also catches NaN, which would otherwise spread through every force.
-    if !(fz > 0.0) {
+    // A NaN load would otherwise spread through every force.
+    if fz.is_nan() || fz <= 0.0 {
         return ShearForces::default();
     }
     match model {

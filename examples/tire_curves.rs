@@ -1,0 +1,80 @@
+//! Steady-state tire curves of the STI model with the shipped data (the paper's Fig. 3), and the
+//! physics.md §6.5 reference-table comparison.
+//!
+//! `cargo run --example tire_curves -- OUT.csv` writes one row per point:
+//! `sweep,fz_N,kappa,alpha_rad,fx_N,fy_N,mz_Nm`, where `sweep` is `kappa` (F_x against κ at α = 0) or
+//! `alpha` (F_y and M_z against α at κ = 0). Then `scripts/plot_tire_curves.py OUT.csv OUT.png` draws them.
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::tire::{shear_forces, TireModel, TireParams};
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+/// Loads of the figure, N.
+const LOADS_N: [f64; 4] = [3000.0, 6300.0, 9500.0, 12600.0];
+const KAPPA_RANGE: f64 = 1.0;
+const ALPHA_RANGE_RAD: f64 = 0.35; // ≈ 20°
+const POINTS_PER_SIDE: i32 = 200;
+
+fn curves_csv(p: &TireParams) -> String {
+    let mut csv = String::from("sweep,fz_N,kappa,alpha_rad,fx_N,fy_N,mz_Nm\n");
+    for &fz in &LOADS_N {
+        for i in -POINTS_PER_SIDE..=POINTS_PER_SIDE {
+            let fraction = f64::from(i) / f64::from(POINTS_PER_SIDE);
+            for (sweep, kappa, alpha) in [("kappa", KAPPA_RANGE * fraction, 0.0), ("alpha", 0.0, ALPHA_RANGE_RAD * fraction)] {
+                let f = shear_forces(TireModel::Sti, p, fz, kappa, f64::tan(alpha), 0.0);
+                // Writing to a String cannot fail.
+                let _ = writeln!(csv, "{sweep},{fz},{kappa},{alpha},{},{},{}", f.fx, f.fy, f.mz);
+            }
+        }
+    }
+    csv
+}
+
+/// physics.md §6.5 reference table: (F_z, α, κ, γ_w) → (F_x, F_y, M_z).
+const REFERENCE: [([f64; 4], [f64; 3]); 8] = [
+    ([6300.0, 0.02, 0.0, 0.0], [0.0, 942.97, -22.983]),
+    ([6300.0, 0.10, 0.0, 0.0], [0.0, 3916.8, -25.042]),
+    ([6300.0, 0.0, 0.02, 0.0], [2171.2, 0.0, 0.0]),
+    ([6300.0, 0.0, 0.10, 0.0], [4956.2, 0.0, 0.0]),
+    ([6300.0, 0.05, 0.05, 0.0], [4049.5, 1793.2, -6.1059]),
+    ([6300.0, 0.05, 0.0, 0.05], [0.0, 2372.4, -37.282]),
+    ([12000.0, 0.05, 0.0, 0.0], [0.0, 4160.1, -70.383]),
+    ([6300.0, 0.30, 0.0, 0.0], [0.0, 4848.5, -0.20312]),
+];
+
+/// Markdown table of the model against the reference (relative error, or the absolute value for a 0 entry).
+fn reference_comparison(p: &TireParams) -> String {
+    let mut table = String::from(
+        "| F_z [N] | α [rad] | κ | γ_w [rad] | F_x [N] | F_y [N] | M_z [N·m] | max rel. error |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    for ([fz, alpha, kappa, gamma], expected) in REFERENCE {
+        let f = shear_forces(TireModel::Sti, p, fz, kappa, alpha.tan(), gamma);
+        let got = [f.fx, f.fy, f.mz];
+        let worst = got
+            .iter()
+            .zip(expected.iter())
+            .filter(|(_, &want)| want != 0.0)
+            .map(|(&g, &want)| ((g - want) / want).abs())
+            .fold(0.0, f64::max);
+        let _ = writeln!(
+            table,
+            "| {fz} | {alpha} | {kappa} | {gamma} | {:.5} | {:.5} | {:.5} | {worst:.1e} |",
+            got[0], got[1], got[2]
+        );
+    }
+    table
+}
+
+fn main() -> ExitCode {
+    let Some(out) = std::env::args().nth(1) else {
+        eprintln!("usage: cargo run --example tire_curves -- OUT.csv");
+        return ExitCode::FAILURE;
+    };
+    let p = VehicleData::default_hmmwv().tire;
+    if let Err(e) = std::fs::write(&out, curves_csv(&p)) {
+        eprintln!("cannot write {out}: {e}");
+        return ExitCode::FAILURE;
+    }
+    println!("wrote {out}\n\nphysics.md §6.5 reference table, this implementation:\n{}", reference_comparison(&p));
+    ExitCode::SUCCESS
+}
