@@ -54,6 +54,8 @@ pub enum RackProfile {
     /// first period and −1 on the second. The velocity kinks at the ends of each single sine (τ = 0,
     /// period, 2·period) are blended by C² windows of width `blend`, which keeps the input C¹.
     DoubleSine { amplitude: f64, start: f64, period: f64, blend: f64 },
+    /// A plain sine from t = 0, u = A sin(2πt/period): infinitely smooth for t > 0 (order tests).
+    Sine { amplitude: f64, period: f64 },
 }
 
 impl RackProfile {
@@ -73,6 +75,10 @@ impl RackProfile {
                 let off = smootherstep(tau, 2.0 * period - 0.5 * blend, blend).scale(-1.0);
                 let off = Jet { v: 1.0 + off.v, ..off };
                 sine.mul(on).mul(flip).mul(off).scale(amplitude)
+            }
+            RackProfile::Sine { amplitude, period } => {
+                let w = std::f64::consts::TAU / period;
+                Jet { v: (w * t).sin(), d1: w * (w * t).cos(), d2: -w * w * (w * t).sin() }.scale(amplitude)
             }
         };
         RackMotion { position: j.v, velocity: j.d1, acceleration: j.d2 }

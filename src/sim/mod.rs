@@ -103,6 +103,27 @@ impl OdeSystem for VehicleOde<'_> {
     }
 }
 
+/// Bounds no vehicle on a road reaches (a finite but absurd state is a diverged integration): speed
+/// 300 m/s, rates 100 rad/s (chassis) and 2000 rad/s (wheels), slip states 100.
+fn check_divergence(x: &[f64], t: f64) -> Result<(), EvalError> {
+    let norm3 = |k: usize| (x[k] * x[k] + x[k + 1] * x[k + 1] + x[k + 2] * x[k + 2]).sqrt();
+    let bad = if norm3(idx::V0) > 300.0 {
+        Some("chassis speed above 300 m/s")
+    } else if norm3(idx::W0) > 100.0 {
+        Some("chassis angular rate above 100 rad/s")
+    } else if x[idx::SPIN..idx::SPIN + 4].iter().any(|w| w.abs() > 2000.0) {
+        Some("wheel spin above 2000 rad/s")
+    } else if x[idx::XI..idx::XI + 8].iter().any(|s| s.abs() > 100.0) {
+        Some("tire slip state above 100")
+    } else {
+        None
+    };
+    match bad {
+        Some(why) => Err(EvalError(format!("integration diverged at t = {t:.4} s ({why}); the step is too large for this integrator (physics.md §7.4)"))),
+        None => Ok(()),
+    }
+}
+
 /// Wheel slip without the torque to explain it: the signature of the spin–slip instability of an
 /// explicit scheme at too large a step (physics.md §7.4, §9.11).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -276,6 +297,7 @@ impl Simulation {
         };
         for k in 0..n {
             self.integrator.step(&mut ode, t0 + k as f64 * hs, hs, &mut self.state)?;
+            check_divergence(&self.state, t0 + (k + 1) as f64 * hs)?;
         }
         self.evaluations += ode.evaluations;
         self.time = t0 + h;

@@ -1,0 +1,181 @@
+//! The paper's scenes end to end (physics.md §8.3, §9.4, §9.7–§9.11): formulations agree, observed
+//! integrator orders, steering sign, steady cornering, calibration, saturation, bump timing, stability.
+
+use rt_vehicle::integrate::IntegratorKind;
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::{Formulation, Outputs, RackProfile, SimConfig, Simulation, SpeedMode};
+
+const G: f64 = 9.81;
+
+/// Run a scene; the samples every 0.01 s as rows of all output channels.
+fn samples(kind: SceneKind, amplitude: Amplitude, config: &SimConfig) -> Vec<Outputs> {
+    let scene = Scene::new(kind, amplitude);
+    let mut sim = scene.start(VehicleData::default_hmmwv(), config).unwrap();
+    let mut out = Vec::new();
+    run(&mut sim, scene.duration, 0.01, |o| out.push(*o)).unwrap();
+    assert!(sim.warnings().is_empty(), "{:?}", sim.warnings());
+    out
+}
+
+fn col(rows: &[Outputs], name: &str) -> Vec<f64> {
+    let i = Outputs::index(name).unwrap();
+    rows.iter().map(|r| r.values[i]).collect()
+}
+
+fn mean_between(rows: &[Outputs], name: &str, t0: f64, t1: f64) -> f64 {
+    let (t, v) = (col(rows, "time"), col(rows, name));
+    let sel: Vec<f64> = t.iter().zip(&v).filter(|(t, _)| **t >= t0 - 1e-9 && **t <= t1 + 1e-9).map(|(_, v)| *v).collect();
+    sel.iter().sum::<f64>() / sel.len() as f64
+}
+
+#[test]
+fn formulations_agree_on_every_scene() {
+    // Same integrator and step: the solvers agree to ~1e-14 per evaluation (tests/multibody.rs); over
+    // 4 000 RK4 steps that round-off may grow by the system's error amplification. 1e-8 is the issue's bound.
+    for kind in [SceneKind::Bump, SceneKind::JTurn, SceneKind::Sine] {
+        let syn = samples(kind, Amplitude::Calibrated, &SimConfig { formulation: Formulation::Synthesis, ..SimConfig::default() });
+        let conv = samples(kind, Amplitude::Calibrated, &SimConfig { formulation: Formulation::Conventional, ..SimConfig::default() });
+        let mut worst = (0.0, "");
+        for (i, name) in rt_vehicle::sim::OUTPUT_NAMES[..rt_vehicle::sim::CSV_COLUMNS].iter().enumerate() {
+            let peak = conv.iter().map(|r| r.values[i].abs()).fold(0.0, f64::max);
+            if peak == 0.0 {
+                continue;
+            }
+            let diff = syn.iter().zip(&conv).map(|(a, b)| (a.values[i] - b.values[i]).abs()).fold(0.0, f64::max);
+            if diff / peak > worst.0 {
+                worst = (diff / peak, name);
+            }
+        }
+        println!("{}: worst relative difference synthesis vs conventional {:.2e} ({})", kind.name(), worst.0, worst.1);
+        assert!(worst.0 <= 1e-8, "{}: {} differs by {:e}", kind.name(), worst.1, worst.0);
+    }
+}
+
+/// yaw rate, lateral velocity, roll rate and a_y every 8 ms over 3 s of a gentle 0.5 Hz sine steer at
+/// 100 km/h (8 ms is a multiple of every step used).
+fn sine_steer_trace(integrator: IntegratorKind, h: f64) -> Vec<[f64; 4]> {
+    let config = SimConfig { integrator, internal_step: h, ..SimConfig::default() };
+    let mut sim = Simulation::new(VehicleData::default_hmmwv(), config).unwrap();
+    sim.set_rack_profile(RackProfile::Sine { amplitude: 0.002, period: 2.0 });
+    let mut out = Vec::new();
+    for _ in 0..375 {
+        sim.advance(0.008).unwrap();
+        let o = sim.outputs();
+        out.push(["yaw_rate", "vy", "roll_rate", "ay"].map(|c| o.get(c).unwrap()));
+    }
+    out
+}
+
+#[test]
+fn observed_orders_of_rk4_and_ab3() {
+    // Max-norm errors over the trace (each channel relative to its peak) against RK4 at 1/16 of the
+    // finest step, on a smooth run (no road kinks, C∞ input). The slopes from (h, h/2, h/4) approach the
+    // orders once the steps resolve the fastest modes (spin–slip ≈ 105 rad/s, hλ ≤ 0.84 here) while
+    // the errors stay above the round-off floor (~1e-10: Newton stops at 1e-12 m); ±0.3 allows the
+    // pre-asymptotic remainder.
+    let reference = sine_steer_trace(IntegratorKind::Rk4, 0.125e-3);
+    let peaks: Vec<f64> = (0..4).map(|c| reference.iter().map(|r| r[c].abs()).fold(0.0, f64::max)).collect();
+    let error = |trace: Vec<[f64; 4]>| {
+        trace.iter().zip(&reference).map(|(a, b)| (0..4).map(|c| (a[c] - b[c]).abs() / peaks[c]).fold(0.0, f64::max)).fold(0.0, f64::max)
+    };
+    for (kind, order, h0) in [(IntegratorKind::Rk4, 4.0, 8e-3), (IntegratorKind::Ab3, 3.0, 2e-3)] {
+        let e: Vec<f64> = [h0, h0 / 2.0, h0 / 4.0].iter().map(|h| error(sine_steer_trace(kind, *h))).collect();
+        let slopes = [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()];
+        println!("{kind:?}: errors {e:?} at h = {h0}, {}, {}: slopes {slopes:.2?}", h0 / 2.0, h0 / 4.0);
+        for s in slopes {
+            assert!((s - order).abs() <= 0.3, "{kind:?}: observed order {s} (expected {order})");
+        }
+    }
+}
+
+#[test]
+fn jturn_steers_left_reaches_the_calibrated_steady_state_and_obeys_ay_equals_v_r() {
+    let rows = samples(SceneKind::JTurn, Amplitude::Calibrated, &SimConfig::default());
+    let after = |name: &str| col(&rows, name)[500];
+    // Steering sign (§9.8): u > 0 turns both front wheels left, yaw rate and a_y positive.
+    assert!(after("rack_displacement") > 0.0);
+    assert!(after("steer_fl") > 0.0 && after("steer_fr") > 0.0);
+    assert!(after("yaw_rate") > 0.0 && after("ay") > 0.0);
+    // Steady cornering (§9.7): after 5 s, a_y = V_x r within 1 % (kinematics of steady circular motion
+    // with a slowly varying side-slip).
+    for k in 500..rows.len() {
+        let (ay, vx, r) = (col(&rows, "ay")[k], col(&rows, "vx")[k], col(&rows, "yaw_rate")[k]);
+        assert!((ay - vx * r).abs() < 0.01 * ay, "t = {}: a_y {ay} vs V r {}", k as f64 * 0.01, vx * r);
+    }
+    let ay = mean_between(&rows, "ay", 6.0, 8.0) / G;
+    let r = mean_between(&rows, "yaw_rate", 6.0, 8.0);
+    println!("J-turn (synthesis, RK4 2 ms): steady a_y = {ay:.4} g, yaw rate = {r:.4} rad/s");
+    // The amplitude was calibrated at 0.1 ms with the conventional formulation; RK4 at 2 ms differs by
+    // its truncation error (~1e-6 g), far inside the issue's ±0.005 g.
+    assert!((ay - 0.4).abs() <= 0.005, "steady a_y {ay} g");
+}
+
+#[test]
+fn paper_amplitude_saturates_the_tires_in_coast() {
+    let config = SimConfig { speed_mode: SpeedMode::Coast, ..SimConfig::default() };
+    let rows = samples(SceneKind::JTurn, Amplitude::Paper, &config);
+    let t = col(&rows, "time");
+    let ay = col(&rows, "ay");
+    let peak = t.iter().zip(&ay).filter(|(t, _)| **t >= 3.0).map(|(_, a)| *a / G).fold(0.0, f64::max);
+    println!("J-turn 8 mm coast: peak a_y over 3-8 s = {peak:.3} g, speed at 8 s = {:.1} km/h", col(&rows, "vx").last().unwrap() * 3.6);
+    // The STI friction limit with these coefficients is ≈ 0.774 g (issue): the peak lies near it.
+    assert!((0.72..=0.80).contains(&peak), "peak a_y {peak} g");
+}
+
+#[test]
+fn bump_peaks_come_in_order_with_the_right_spacing() {
+    let rows = samples(SceneKind::Bump, Amplitude::Calibrated, &SimConfig::default());
+    let t = col(&rows, "time");
+    let v = 10.0 / 3.6;
+    let mut first_peaks = Vec::new();
+    for w in ["fl", "fr", "rl", "rr"] {
+        let z = col(&rows, &format!("wheel_z_{w}"));
+        let dz: Vec<f64> = z.iter().map(|x| x - z[0]).collect();
+        let peaks: Vec<(f64, f64)> = (1..dz.len() - 1)
+            .filter(|&i| dz[i] > 0.02 && dz[i] > dz[i - 1] && dz[i] >= dz[i + 1])
+            .map(|i| (t[i], dz[i]))
+            .collect();
+        println!("{w}: peaks {peaks:.3?}");
+        assert_eq!(peaks.len(), 2, "{w}: two bumps, two peaks");
+        for (_, h) in &peaks {
+            assert!((0.045..=0.065).contains(h), "{w}: peak {h} m (§9.9)");
+        }
+        // Second bump 4 m after the first.
+        assert!((peaks[1].0 - peaks[0].0 - 4.0 / v).abs() < 0.05, "{w}: bump spacing");
+        first_peaks.push(peaks[0].0);
+    }
+    // Left to right 1 m apart, front to rear one wheelbase apart (±0.05 s: 5 output samples, the wheel
+    // passes a 0.5 m bump in 0.18 s and the peak time shifts with the load transfer).
+    let wheelbase = 3.301984;
+    assert!((first_peaks[1] - first_peaks[0] - 1.0 / v).abs() < 0.05);
+    assert!((first_peaks[2] - first_peaks[0] - wheelbase / v).abs() < 0.05);
+    assert!((first_peaks[3] - first_peaks[1] - wheelbase / v).abs() < 0.05);
+    // Roll rate changes sign between the left and right hits.
+    let p = col(&rows, "roll_rate");
+    let window: Vec<f64> = t.iter().zip(&p).filter(|(t, _)| **t > first_peaks[0] - 0.3 && **t < first_peaks[1] + 0.3).map(|(_, p)| *p).collect();
+    assert!(window.iter().any(|x| *x > 0.05) && window.iter().any(|x| *x < -0.05), "roll rate changes sign");
+}
+
+#[test]
+fn paper_integrator_configuration_is_reported_unstable_and_the_default_is_not() {
+    // AB3 at the paper's 8.3 ms with these tire data is unstable (physics.md §7.4): it must be reported,
+    // by the slip monitor or as a failed step, never silent.
+    let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
+    let config = SimConfig { integrator: IntegratorKind::Ab3, internal_step: 0.0083, ..SimConfig::default() };
+    let mut sim = scene.start(VehicleData::default_hmmwv(), &config).unwrap();
+    let mut failed = None;
+    for _ in 0..(8.0 / 0.0083) as usize {
+        if let Err(e) = sim.advance(0.0083) {
+            failed = Some(e);
+            break;
+        }
+    }
+    println!("AB3 at 8.3 ms: warnings {:?}, failure {:?}", sim.warnings(), failed);
+    assert!(failed.is_some() || !sim.warnings().is_empty(), "instability went unreported");
+    // The default (RK4, 2 ms, relaxation) passes every scene without a warning: `samples` asserts it.
+    for kind in [SceneKind::Bump, SceneKind::JTurn, SceneKind::Sine] {
+        samples(kind, Amplitude::Calibrated, &SimConfig::default());
+    }
+}
+
