@@ -385,7 +385,7 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
     if !(g.design_det > 1e-12) {
         return Err(DataError {
             field,
-            message: format!("suspension loop is singular at the design position (|det Φ_v| = {:.3e})", g.design_det),
+            message: format!("suspension loop cannot close: singular at the design position (|det Φ_v| = {:.3e})", g.design_det),
         });
     }
     let rack = if axle.steered { data.rack.travel_limit_m } else { 0.0 };

@@ -1,0 +1,65 @@
+//! The `rtv` command line: results on good arguments, clear messages and exit codes on bad ones.
+
+use std::process::Command;
+
+fn rtv(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+}
+
+#[test]
+fn scene_writes_the_documented_columns() {
+    let (code, out, err) = rtv(&["scene", "jturn", "--end", "0.05", "--output-interval", "0.01"]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 7, "header + samples at 0, 0.01, ..., 0.05");
+    assert!(lines[0].starts_with("time,x,y,z,roll,pitch,yaw,vx,vy,vz,roll_rate,pitch_rate,yaw_rate,ax,ay,az,rack_displacement,steer_fl,steer_fr"));
+    assert!(lines[0].ends_with("alpha_fl,alpha_fr,alpha_rl,alpha_rr"));
+    assert_eq!(lines[0].split(',').count(), 47);
+}
+
+#[test]
+fn bad_arguments_get_a_message_and_exit_2() {
+    for (args, needle) in [
+        (vec!["scene", "slalom"], "unknown scene"),
+        (vec!["scene", "jturn", "--step", "0.003"], "does not divide"),
+        (vec!["scene", "jturn", "--integrator", "euler"], "--integrator"),
+        (vec!["scene", "jturn", "--amplitude", "lots"], "--amplitude"),
+        (vec!["scene", "jturn", "--step", "-1"], "positive"),
+        (vec!["scene", "jturn", "--colour", "red"], "unknown option"),
+        (vec!["scene", "jturn", "--end"], "needs a value"),
+        (vec!["kinematics"], "--axle"),
+        (vec!["fly"], "unknown command"),
+    ] {
+        let (code, _, err) = rtv(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn kinematics_beyond_the_linkage_is_a_clear_error() {
+    let (code, _, err) = rtv(&["kinematics", "--axle", "front", "--from", "-0.9", "--to", "-0.8"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("beyond what the linkage allows"), "{err}");
+}
+
+#[test]
+fn steering_curve_is_antisymmetric_and_signed() {
+    let (code, out, err) = rtv(&["steering", "--from", "-0.02", "--to", "0.02", "--increment", "0.02"]);
+    assert_eq!(code, 0, "{err}");
+    let rows: Vec<Vec<f64>> = out.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 3);
+    // Left turn positive: both wheels head left; the right wheel of a left turn mirrors the left of a right turn.
+    assert!(rows[2][1] > 0.0 && rows[2][2] > 0.0);
+    assert!((rows[2][1] + rows[0][2]).abs() < 1e-6 && (rows[2][2] + rows[0][1]).abs() < 1e-6);
+}
+
+#[test]
+fn a_broken_vehicle_file_is_reported() {
+    let path = std::env::temp_dir().join("rtv_broken_vehicle.json");
+    std::fs::write(&path, "{ \"name\": 1 }").unwrap();
+    let (code, _, err) = rtv(&["scene", "jturn", "--end", "0.01", "--vehicle", path.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("vehicle data"), "{err}");
+}
