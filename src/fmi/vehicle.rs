@@ -310,8 +310,9 @@ impl FmuModel for VehicleModel {
                 VehicleData::default_hmmwv()
             }
         };
+        // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
         for w in vehicle.warnings() {
-            log.warning(&format!("vehicle data: {w}"));
+            log.event(&format!("vehicle data: {w}"));
         }
         log.event(&format!("configuration: {config:?}"));
         let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
