@@ -323,7 +323,10 @@ def smootherstep(tau):
 
 t = np.arange(0.0, 8.0 + 1e-9, 0.01)
 rack = 0.003 * smootherstep((t - 3.0) / 0.1)          # m, left turn positive
-signals = np.array(list(zip(t, rack)), dtype=[("time", float), ("rack_displacement", float)])
+# fmpy needs every continuous input in the table when set_input_derivatives=True (torques: zero)
+inputs = ["rack_displacement"] + [f"{{k}}_torque_{{c}}" for k in ("drive", "brake") for c in ("fl", "fr", "rl", "rr")]
+signals = np.zeros(len(t), dtype=[("time", float)] + [(n, float) for n in inputs])
+signals["time"], signals["rack_displacement"] = t, rack
 
 result = simulate_fmu("RtVehicle.fmu", start_time=0.0, stop_time=8.0, output_interval=0.01,
                       input=signals, set_input_derivatives=True,

@@ -33,6 +33,18 @@ PEAK_TOLERANCE = 0.02
 WHEEL_Z_TOLERANCE = 0.5e-3
 
 
+INPUTS = ["rack_displacement"] + [f"{k}_torque_{c}" for k in ("drive", "brake") for c in ("fl", "fr", "rl", "rr")]
+
+
+def input_signals(t, rack):
+    """fmpy's input table with every input: with set_input_derivatives=True, fmpy (0.3) fails when a
+    continuous input is missing from the table (its derivative array has one entry per input)."""
+    sig = np.zeros(len(t), dtype=[("time", np.float64)] + [(n, np.float64) for n in INPUTS])
+    sig["time"] = t
+    sig["rack_displacement"] = rack
+    return sig
+
+
 def load_reference(scene):
     path = REFERENCE_DIR / f"{scene}.csv"
     if not path.is_file():
@@ -49,8 +61,7 @@ def test_scene_against_reference(fmu_path, scene):
     ref = load_reference(scene)
     t_ref = ref["time"]
     stop = float(t_ref[-1])
-    signals = np.array(list(zip(t_ref, ref["rack_displacement"])),
-                       dtype=[("time", np.float64), ("rack_displacement", np.float64)])
+    signals = input_signals(t_ref, ref["rack_displacement"])
     outputs = cfg["channels"] + (WHEELS if cfg["wheel_z"] else [])
 
     wall = time.perf_counter()
@@ -64,6 +75,7 @@ def test_scene_against_reference(fmu_path, scene):
     for name in cfg["channels"]:
         r = np.interp(t, t_ref, ref[name])
         peak = np.max(np.abs(ref[name]))
+        assert peak > 0, f"{scene}: the reference {name} is identically zero"
         err = np.max(np.abs(res[name] - r)) / peak
         lines.append(f"{name} {100 * err:.3f} % of peak ({peak:.4g})")
         if not err <= PEAK_TOLERANCE:
