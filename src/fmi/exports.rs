@@ -1,0 +1,235 @@
+//! The exported FMI 2.0 common and Co-Simulation functions (`#[no_mangle] extern "C"`), bound to the
+//! vehicle model. Each one forwards to the generic `api` function, which checks pointers and arguments and
+//! catches panics. The Model Exchange functions are not exported (the FMU is Co-Simulation only).
+
+#![allow(non_snake_case)]
+#![allow(clippy::missing_safety_doc)]
+
+use super::api;
+use super::vehicle::VehicleModel as M;
+use fmi_sys::fmi2::*;
+
+#[no_mangle]
+pub extern "C" fn fmi2GetTypesPlatform() -> fmi2String {
+    api::get_types_platform()
+}
+
+#[no_mangle]
+pub extern "C" fn fmi2GetVersion() -> fmi2String {
+    api::get_version()
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetDebugLogging(
+    c: fmi2Component,
+    loggingOn: fmi2Boolean,
+    nCategories: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
+    api::set_debug_logging::<M>(c, loggingOn, nCategories, categories)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Instantiate(
+    instanceName: fmi2String,
+    fmuType: fmi2Type,
+    fmuGUID: fmi2String,
+    fmuResourceLocation: fmi2String,
+    functions: *const fmi2CallbackFunctions,
+    visible: fmi2Boolean,
+    loggingOn: fmi2Boolean,
+) -> fmi2Component {
+    api::instantiate::<M>(instanceName, fmuType, fmuGUID, fmuResourceLocation, functions, visible, loggingOn)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
+    api::free_instance::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetupExperiment(
+    c: fmi2Component,
+    toleranceDefined: fmi2Boolean,
+    tolerance: fmi2Real,
+    startTime: fmi2Real,
+    stopTimeDefined: fmi2Boolean,
+    stopTime: fmi2Real,
+) -> fmi2Status {
+    api::setup_experiment::<M>(c, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
+    api::enter_initialization_mode::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
+    api::exit_initialization_mode::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
+    api::terminate::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2Reset(c: fmi2Component) -> fmi2Status {
+    api::reset::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetReal(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Real) -> fmi2Status {
+    api::get_real::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetInteger(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Integer) -> fmi2Status {
+    api::get_integer::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBoolean(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2Boolean) -> fmi2Status {
+    api::get_boolean::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *mut fmi2String) -> fmi2Status {
+    api::get_string::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetReal(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Real) -> fmi2Status {
+    api::set_real::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetInteger(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Integer) -> fmi2Status {
+    api::set_integer::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetBoolean(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2Boolean) -> fmi2Status {
+    api::set_boolean::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetString(c: fmi2Component, vr: *const fmi2ValueReference, nvr: usize, value: *const fmi2String) -> fmi2Status {
+    api::set_string::<M>(c, vr, nvr, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status {
+    api::get_fmu_state::<M>(c, FMUstate)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetFMUstate(c: fmi2Component, FMUstate: fmi2FMUstate) -> fmi2Status {
+    api::set_fmu_state::<M>(c, FMUstate)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2FreeFMUstate(c: fmi2Component, FMUstate: *mut fmi2FMUstate) -> fmi2Status {
+    api::free_fmu_state::<M>(c, FMUstate)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializedFMUstateSize(c: fmi2Component, FMUstate: fmi2FMUstate, size: *mut usize) -> fmi2Status {
+    api::serialized_fmu_state_size::<M>(c, FMUstate, size)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SerializeFMUstate(
+    c: fmi2Component,
+    FMUstate: fmi2FMUstate,
+    serializedState: *mut fmi2Byte,
+    size: usize,
+) -> fmi2Status {
+    api::serialize_fmu_state::<M>(c, FMUstate, serializedState, size)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+    c: fmi2Component,
+    serializedState: *const fmi2Byte,
+    size: usize,
+    FMUstate: *mut fmi2FMUstate,
+) -> fmi2Status {
+    api::deserialize_fmu_state::<M>(c, serializedState, size, FMUstate)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
+    c: fmi2Component,
+    _vUnknown_ref: *const fmi2ValueReference,
+    _nUnknown: usize,
+    _vKnown_ref: *const fmi2ValueReference,
+    _nKnown: usize,
+    _dvKnown: *const fmi2Real,
+    _dvUnknown: *mut fmi2Real,
+) -> fmi2Status {
+    api::get_directional_derivative::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    api::set_real_input_derivatives::<M>(c, vr, nvr, order, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+    c: fmi2Component,
+    _vr: *const fmi2ValueReference,
+    _nvr: usize,
+    _order: *const fmi2Integer,
+    _value: *mut fmi2Real,
+) -> fmi2Status {
+    api::get_real_output_derivatives::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2DoStep(
+    c: fmi2Component,
+    currentCommunicationPoint: fmi2Real,
+    communicationStepSize: fmi2Real,
+    noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+) -> fmi2Status {
+    api::do_step::<M>(c, currentCommunicationPoint, communicationStepSize, noSetFMUStatePriorToCurrentPoint)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
+    api::cancel_step::<M>(c)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Status) -> fmi2Status {
+    api::get_status::<M>(c, s, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetRealStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Real) -> fmi2Status {
+    api::get_real_status::<M>(c, s, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetIntegerStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Integer) -> fmi2Status {
+    api::get_integer_status::<M>(c, s, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetBooleanStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Boolean) -> fmi2Status {
+    api::get_boolean_status::<M>(c, s, value)
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi2GetStringStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2String) -> fmi2Status {
+    api::get_string_status::<M>(c, s, value)
+}

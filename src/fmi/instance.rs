@@ -1,0 +1,480 @@
+//! One FMU instance: the FMI 2.0 Co-Simulation state machine around a generic `FmuModel`.
+//!
+//! Everything of an instance lives here (no global state). The `Core` is the FMU state: mode, times, the
+//! terminated flag and the model. Get/set FMU state clones it; serialization writes it as JSON.
+
+use super::logger::{self, Logger};
+use super::model::{FmuModel, ModelContext, StepFailure};
+use super::status::{Failure, FmiResult, Status};
+use super::variables::{Causality, Initial, Start, VarType, Variable, GUID, VARIABLES};
+use serde::{Deserialize, Serialize};
+use std::ffi::CString;
+
+/// The states of the FMI 2.0 Co-Simulation state machine (standard §4.2.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Mode {
+    Instantiated,
+    InitializationMode,
+    /// "slaveInitialized / stepComplete": ready for fmi2DoStep.
+    StepComplete,
+    /// A step returned fmi2Discard and ended the run (`fmi2Terminated` is true).
+    StepFailed,
+    Terminated,
+    Error,
+    Fatal,
+}
+
+use Mode::*;
+
+const ANY_BUT_FATAL: &[Mode] = &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated, Error];
+const GETTABLE: &[Mode] = &[InitializationMode, StepComplete, StepFailed, Terminated, Error];
+const STATUS_QUERY: &[Mode] = &[StepComplete, StepFailed, Terminated, Error];
+
+/// Relative tolerance on times (communication points against the FMU's own time, stop time).
+pub const TIME_TOLERANCE: f64 = 1e-9;
+
+pub fn times_match(a: f64, b: f64) -> bool {
+    (a - b).abs() <= TIME_TOLERANCE * 1f64.max(a.abs()).max(b.abs())
+}
+
+/// The FMU state: everything a replay needs.
+#[derive(Clone, Serialize, Deserialize)]
+pub struct Core<M> {
+    pub mode: Mode,
+    pub start_time: f64,
+    pub stop_time: Option<f64>,
+    /// The FMU's time: the end of the last successful communication step.
+    pub time: f64,
+    pub terminated: bool,
+    /// A parameter or input changed before step mode: `initialize` must run (again).
+    pub needs_init: bool,
+    pub model: M,
+}
+
+/// A saved FMU state (`fmi2FMUstate` points to one of these).
+pub struct SavedState<M> {
+    magic: u64,
+    pub core: Core<M>,
+}
+
+const STATE_MAGIC: u64 = 0x5254_5645_5354_4154; // "RTVESTAT"
+const INSTANCE_MAGIC: u64 = 0x5254_5645_494E_5354; // "RTVEINST"
+const SERIAL_FORMAT: &str = "rt-vehicle-fmu-state/1";
+
+impl<M> SavedState<M> {
+    pub fn new(core: Core<M>) -> SavedState<M> {
+        SavedState { magic: STATE_MAGIC, core }
+    }
+
+    pub fn is_valid(&self) -> bool {
+        self.magic == STATE_MAGIC
+    }
+
+    pub fn invalidate(&mut self) {
+        self.magic = 0;
+    }
+}
+
+#[derive(Serialize)]
+struct SerialOut<'a, M> {
+    format: &'a str,
+    guid: &'a str,
+    core: &'a Core<M>,
+}
+
+#[derive(Deserialize)]
+struct SerialIn<M> {
+    format: String,
+    guid: String,
+    core: Core<M>,
+}
+
+pub struct Instance<M> {
+    magic: u64,
+    pub logger: Logger,
+    pub context: ModelContext,
+    pub core: Core<M>,
+    /// The strings handed out by the last fmi2GetString (valid until the next call, as the standard says).
+    strings: Vec<CString>,
+}
+
+impl<M: FmuModel> Instance<M> {
+    /// A new instance with every input and parameter at its start value.
+    pub fn new(context: ModelContext, logger: Logger) -> Result<Instance<M>, String> {
+        let core = fresh_core::<M>(&context)?;
+        Ok(Instance { magic: INSTANCE_MAGIC, logger, context, core, strings: Vec::new() })
+    }
+
+    pub fn is_valid(&self) -> bool {
+        self.magic == INSTANCE_MAGIC
+    }
+
+    pub fn invalidate(&mut self) {
+        self.magic = 0;
+    }
+
+    pub fn mode(&self) -> Mode {
+        self.core.mode
+    }
+
+    fn require(&self, function: &str, allowed: &[Mode]) -> FmiResult<()> {
+        if allowed.contains(&self.core.mode) {
+            Ok(())
+        } else {
+            Err(Failure::error(format!("{function} is not allowed in state {:?}", self.core.mode)))
+        }
+    }
+
+    pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> FmiResult {
+        self.require("fmi2SetDebugLogging", ANY_BUT_FATAL)?;
+        self.logger.set_debug_logging(on, categories).map_err(Failure::error)?;
+        Ok(Status::Ok)
+    }
+
+    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> FmiResult {
+        self.require("fmi2SetupExperiment", &[Instantiated])?;
+        if !start.is_finite() {
+            return Err(Failure::error(format!("fmi2SetupExperiment: startTime {start} is not finite")));
+        }
+        if let Some(stop) = stop {
+            if !stop.is_finite() || stop < start {
+                return Err(Failure::error(format!("fmi2SetupExperiment: stopTime {stop} is not finite or before startTime {start}")));
+            }
+        }
+        if let Some(tol) = tolerance {
+            if !(tol.is_finite() && tol > 0.0) {
+                return Err(Failure::error(format!("fmi2SetupExperiment: tolerance {tol} must be finite and positive")));
+            }
+            self.logger.event(&format!("tolerance {tol} ignored: fixed-step integration with internal_step as the largest step"));
+        }
+        self.core.start_time = start;
+        self.core.time = start;
+        self.core.stop_time = stop;
+        Ok(Status::Ok)
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> FmiResult {
+        self.require("fmi2EnterInitializationMode", &[Instantiated])?;
+        self.core.mode = InitializationMode;
+        Ok(Status::Ok)
+    }
+
+    fn initialize_if_needed(&mut self) -> FmiResult<()> {
+        if self.core.needs_init {
+            let (context, start) = (&self.context, self.core.start_time);
+            self.core.model.initialize(context, start, &self.logger).map_err(Failure::error)?;
+            self.core.needs_init = false;
+        }
+        Ok(())
+    }
+
+    /// Leaves initialization mode: the model computes its initial state. On failure (e.g. a broken vehicle
+    /// file) the instance stays in initialization mode, so the master may fix the parameter and retry.
+    pub fn exit_initialization_mode(&mut self) -> FmiResult {
+        self.require("fmi2ExitInitializationMode", &[InitializationMode])?;
+        self.initialize_if_needed()?;
+        self.core.time = self.core.start_time;
+        self.core.terminated = false;
+        self.core.mode = StepComplete;
+        self.logger.event(&format!("initialized at t = {}", self.core.time));
+        Ok(Status::Ok)
+    }
+
+    pub fn terminate(&mut self) -> FmiResult {
+        self.require("fmi2Terminate", &[StepComplete, StepFailed])?;
+        self.core.mode = Terminated;
+        self.logger.event(&format!("terminated at t = {}", self.core.time));
+        Ok(Status::Ok)
+    }
+
+    /// Back to the state right after fmi2Instantiate (start values, no experiment); logging settings stay.
+    pub fn reset(&mut self) -> FmiResult {
+        self.require("fmi2Reset", ANY_BUT_FATAL)?;
+        self.core = fresh_core::<M>(&self.context).map_err(Failure::fatal)?;
+        self.strings.clear();
+        self.logger.event("reset");
+        Ok(Status::Ok)
+    }
+
+    // ---- values ----------------------------------------------------------------------------------
+
+    fn lookup(&self, function: &str, vr: u32, ty: VarType) -> FmiResult<&'static Variable> {
+        Variable::lookup(vr, ty).ok_or_else(|| {
+            Failure::error(format!("{function}: unknown value reference {vr} for type {ty:?}"))
+        })
+    }
+
+    fn check_gettable(&mut self, function: &str, vrs: &[u32], ty: VarType) -> FmiResult<Vec<&'static Variable>> {
+        self.require(function, GETTABLE)?;
+        let vars = vrs.iter().map(|&vr| self.lookup(function, vr, ty)).collect::<FmiResult<Vec<_>>>()?;
+        if self.core.mode == InitializationMode && vars.iter().any(|v| v.initial == Initial::Calculated) {
+            self.initialize_if_needed()?;
+        }
+        Ok(vars)
+    }
+
+    fn check_settable(&self, function: &str, vrs: &[u32], ty: VarType) -> FmiResult<Vec<&'static Variable>> {
+        self.require(function, &[Instantiated, InitializationMode, StepComplete])?;
+        let mode = self.core.mode;
+        vrs.iter()
+            .map(|&vr| {
+                let var = self.lookup(function, vr, ty)?;
+                let ok = match var.causality {
+                    Causality::Input => true,
+                    Causality::Parameter => match var.variability {
+                        super::variables::Variability::Tunable => true,
+                        _ => mode != StepComplete,
+                    },
+                    _ => false,
+                };
+                if ok {
+                    Ok(var)
+                } else if var.causality == Causality::Parameter {
+                    Err(Failure::error(format!(
+                        "{function}: {} is a fixed parameter: settable only before fmi2ExitInitializationMode (state {mode:?})",
+                        var.name
+                    )))
+                } else {
+                    Err(Failure::error(format!("{function}: {} ({:?}) cannot be set", var.name, var.causality)))
+                }
+            })
+            .collect()
+    }
+
+    /// Applies `set` to each variable in order; a rejected value stops there (earlier ones stay applied,
+    /// the rejected one keeps its old value).
+    fn apply<T: Copy + std::fmt::Debug>(
+        &mut self,
+        function: &str,
+        vars: Vec<&'static Variable>,
+        values: &[T],
+        set: impl Fn(&mut M, &Variable, T) -> Result<(), String>,
+    ) -> FmiResult {
+        for (var, &value) in vars.iter().zip(values) {
+            set(&mut self.core.model, var, value)
+                .map_err(|e| Failure::error(format!("{function}: {} = {value:?} rejected: {e}", var.name)))?;
+            if matches!(self.core.mode, Instantiated | InitializationMode) {
+                self.core.needs_init = true;
+            }
+        }
+        Ok(Status::Ok)
+    }
+
+    pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> FmiResult {
+        let vars = self.check_gettable("fmi2GetReal", vrs, VarType::Real)?;
+        for (var, slot) in vars.iter().zip(out.iter_mut()) {
+            let v = self.core.model.get_real(var).map_err(Failure::error)?;
+            if !v.is_finite() {
+                return Err(Failure::error(format!("fmi2GetReal: {} is not finite ({v})", var.name)));
+            }
+            *slot = v;
+        }
+        Ok(Status::Ok)
+    }
+
+    pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> FmiResult {
+        let vars = self.check_gettable("fmi2GetInteger", vrs, VarType::Integer)?;
+        for (var, slot) in vars.iter().zip(out.iter_mut()) {
+            *slot = self.core.model.get_integer(var).map_err(Failure::error)?;
+        }
+        Ok(Status::Ok)
+    }
+
+    pub fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> FmiResult {
+        let vars = self.check_gettable("fmi2GetBoolean", vrs, VarType::Boolean)?;
+        for (var, slot) in vars.iter().zip(out.iter_mut()) {
+            *slot = self.core.model.get_boolean(var).map_err(Failure::error)?;
+        }
+        Ok(Status::Ok)
+    }
+
+    /// The strings stay valid until the next fmi2GetString call on this instance (or its freeing).
+    pub fn get_string(&mut self, vrs: &[u32]) -> FmiResult<Vec<*const std::os::raw::c_char>> {
+        let vars = self.check_gettable("fmi2GetString", vrs, VarType::String)?;
+        let mut strings = Vec::with_capacity(vars.len());
+        for var in vars {
+            strings.push(logger::c_string(&self.core.model.get_string(var).map_err(Failure::error)?));
+        }
+        self.strings = strings;
+        Ok(self.strings.iter().map(|s| s.as_ptr()).collect())
+    }
+
+    pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> FmiResult {
+        let vars = self.check_settable("fmi2SetReal", vrs, VarType::Real)?;
+        if let Some((var, v)) = vars.iter().zip(values).find(|(_, v)| !v.is_finite()) {
+            return Err(Failure::error(format!("fmi2SetReal: {} = {v} is not finite (value kept)", var.name)));
+        }
+        self.apply("fmi2SetReal", vars, values, |m, var, v| m.set_real(var, v))
+    }
+
+    pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> FmiResult {
+        let vars = self.check_settable("fmi2SetInteger", vrs, VarType::Integer)?;
+        self.apply("fmi2SetInteger", vars, values, |m, var, v| m.set_integer(var, v))
+    }
+
+    pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> FmiResult {
+        let vars = self.check_settable("fmi2SetBoolean", vrs, VarType::Boolean)?;
+        self.apply("fmi2SetBoolean", vars, values, |m, var, v| m.set_boolean(var, v))
+    }
+
+    pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> FmiResult {
+        let vars = self.check_settable("fmi2SetString", vrs, VarType::String)?;
+        self.apply("fmi2SetString", vars, values, |m, var, v| m.set_string(var, v))
+    }
+
+    pub fn set_real_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> FmiResult {
+        const F: &str = "fmi2SetRealInputDerivatives";
+        self.require(F, &[Instantiated, InitializationMode, StepComplete])?;
+        let mut checked = Vec::with_capacity(vrs.len());
+        for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
+            let var = self.lookup(F, vr, VarType::Real)?;
+            if var.causality != Causality::Input {
+                return Err(Failure::error(format!("{F}: {} is not a Real input", var.name)));
+            }
+            if order < 1 {
+                return Err(Failure::error(format!("{F}: order {order} of {} must be at least 1", var.name)));
+            }
+            if !value.is_finite() {
+                return Err(Failure::error(format!("{F}: derivative of order {order} of {} is not finite ({value})", var.name)));
+            }
+            checked.push((var, order, value));
+        }
+        for (var, order, value) in checked {
+            self.core
+                .model
+                .set_real_input_derivative(var, order, value)
+                .map_err(|e| Failure::error(format!("{F}: {} (order {order}) = {value} rejected: {e}", var.name)))?;
+        }
+        Ok(Status::Ok)
+    }
+
+    pub fn get_real_output_derivatives(&mut self) -> FmiResult {
+        Err(Failure::error("fmi2GetRealOutputDerivatives is not supported (maxOutputDerivativeOrder = 0)"))
+    }
+
+    pub fn get_directional_derivative(&mut self) -> FmiResult {
+        Err(Failure::error("fmi2GetDirectionalDerivative is not supported (providesDirectionalDerivative = false)"))
+    }
+
+    // ---- stepping --------------------------------------------------------------------------------
+
+    pub fn do_step(&mut self, t: f64, h: f64) -> FmiResult {
+        const F: &str = "fmi2DoStep";
+        if self.core.mode == StepFailed {
+            return Err(Failure::error(format!(
+                "{F}: the run ended at t = {} (fmi2Terminated is true); call fmi2Terminate, fmi2Reset or fmi2SetFMUstate",
+                self.core.time
+            )));
+        }
+        self.require(F, &[StepComplete])?;
+        if !(h.is_finite() && h > 0.0) {
+            return Err(Failure::error(format!("{F}: communicationStepSize {h} must be finite and positive")));
+        }
+        if !t.is_finite() || !times_match(t, self.core.time) {
+            return Err(Failure::error(format!(
+                "{F}: currentCommunicationPoint {t} differs from the FMU time {} (relative tolerance {TIME_TOLERANCE})",
+                self.core.time
+            )));
+        }
+        if let Some(stop) = self.core.stop_time {
+            if t + h > stop && !times_match(t + h, stop) {
+                return Err(Failure::error(format!("{F}: t + h = {} is beyond stopTime {stop}", t + h)));
+            }
+        }
+        match self.core.model.do_step(self.core.time, h, &self.logger) {
+            Ok(()) => {
+                // The master's arithmetic is the reference: the next communication point is t + h.
+                self.core.time = t + h;
+                Ok(Status::Ok)
+            }
+            Err(StepFailure::Terminate(why)) => {
+                self.core.mode = StepFailed;
+                self.core.terminated = true;
+                Err(Failure::discard(format!(
+                    "{F}: step from t = {t} (h = {h}) failed, the run ends at t = {} (outputs keep their last values): {why}",
+                    self.core.time
+                )))
+            }
+            Err(StepFailure::Error(why)) => {
+                self.core.mode = Error;
+                Err(Failure::error(format!("{F}: step from t = {t} (h = {h}) failed: {why}")))
+            }
+        }
+    }
+
+    pub fn cancel_step(&mut self) -> FmiResult {
+        Err(Failure::error("fmi2CancelStep: fmi2DoStep is synchronous (it never returns fmi2Pending)"))
+    }
+
+    pub fn get_status(&mut self) -> FmiResult {
+        Err(Failure::error("fmi2GetStatus: no status kind applies (fmi2DoStep never returns fmi2Pending)"))
+    }
+
+    pub fn last_successful_time(&self) -> FmiResult<f64> {
+        self.require("fmi2GetRealStatus", STATUS_QUERY)?;
+        Ok(self.core.time)
+    }
+
+    pub fn terminated(&self) -> FmiResult<bool> {
+        self.require("fmi2GetBooleanStatus", STATUS_QUERY)?;
+        Ok(self.core.terminated)
+    }
+
+    // ---- FMU state -------------------------------------------------------------------------------
+
+    pub fn get_fmu_state(&self) -> FmiResult<Core<M>> {
+        self.require("fmi2GetFMUstate", ANY_BUT_FATAL)?;
+        Ok(self.core.clone())
+    }
+
+    pub fn set_fmu_state(&mut self, core: &Core<M>) -> FmiResult {
+        self.require("fmi2SetFMUstate", ANY_BUT_FATAL)?;
+        self.core = core.clone();
+        Ok(Status::Ok)
+    }
+
+    pub fn serialize_state(&self, core: &Core<M>) -> FmiResult<Vec<u8>> {
+        self.require("fmi2SerializeFMUstate", ANY_BUT_FATAL)?;
+        serde_json::to_vec(&SerialOut { format: SERIAL_FORMAT, guid: GUID, core })
+            .map_err(|e| Failure::error(format!("fmi2SerializeFMUstate: {e}")))
+    }
+
+    pub fn deserialize_state(&self, bytes: &[u8]) -> FmiResult<Core<M>> {
+        const F: &str = "fmi2DeSerializeFMUstate";
+        self.require(F, ANY_BUT_FATAL)?;
+        // Tolerate a NUL-terminated or zero-padded buffer.
+        let end = bytes.iter().rposition(|&b| b != 0).map_or(0, |i| i + 1);
+        let parsed: SerialIn<M> = serde_json::from_slice(&bytes[..end])
+            .map_err(|e| Failure::error(format!("{F}: not a serialized state of this FMU: {e}")))?;
+        if parsed.format != SERIAL_FORMAT || parsed.guid != GUID {
+            return Err(Failure::error(format!(
+                "{F}: state of format {:?} and guid {:?}, expected {SERIAL_FORMAT:?} and {GUID:?}",
+                parsed.format, parsed.guid
+            )));
+        }
+        Ok(parsed.core)
+    }
+}
+
+fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
+    let mut model = M::new(context);
+    for var in VARIABLES.iter().filter(|v| matches!(v.causality, Causality::Input | Causality::Parameter)) {
+        let result = match var.start {
+            Some(Start::Real(x)) => model.set_real(var, x),
+            Some(Start::Integer(i)) => model.set_integer(var, i),
+            Some(Start::Boolean(b)) => model.set_boolean(var, b),
+            Some(Start::String(s)) => model.set_string(var, s),
+            None => Err("no start value".into()),
+        };
+        result.map_err(|e| format!("start value of {} rejected by the model: {e}", var.name))?;
+    }
+    Ok(Core {
+        mode: Instantiated,
+        start_time: 0.0,
+        stop_time: None,
+        time: 0.0,
+        terminated: false,
+        needs_init: true,
+        model,
+    })
+}

@@ -1,0 +1,75 @@
+//! The one interface between the generic FMI layer and a model.
+//!
+//! The generic layer (state machine, value-reference lookup, argument checks, logging, FMU state) calls
+//! these methods only with a variable of the right type and causality, in a state where the call is legal,
+//! and with finite reals. The model validates ranges and does the work.
+
+use super::logger::Logger;
+use super::variables::Variable;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Where the FMU's `resources/` directory is, from `fmuResourceLocation`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ResourceLocation {
+    /// No location was given (a bare library, e.g. loaded by tests).
+    None,
+    /// A local directory.
+    Dir(PathBuf),
+    /// A location that is not a local directory (kept for the error message).
+    Unsupported(String),
+}
+
+/// What a model may know about its environment (not part of the FMU state).
+#[derive(Debug, Clone)]
+pub struct ModelContext {
+    pub instance_name: String,
+    pub resources: ResourceLocation,
+}
+
+/// Why a communication step did not complete.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StepFailure {
+    /// The model cannot go on (divergence, a mechanism outside its range): the run ends here with
+    /// `fmi2Discard`, `fmi2Terminated = true`; the outputs keep their last good values.
+    Terminate(String),
+    /// The instance is unusable (`fmi2Error`).
+    Error(String),
+}
+
+/// A model as the generic FMI layer drives it. `Clone + Serialize + Deserialize`: the whole value is the
+/// FMU state (get/set by clone, serialize by serde_json), so it must hold everything a replay needs.
+pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
+    /// A model before any start value is applied; the generic layer then sets every input and parameter
+    /// to its start value from the model description through the setters below.
+    fn new(context: &ModelContext) -> Self;
+
+    fn get_real(&self, var: &Variable) -> Result<f64, String>;
+    fn get_integer(&self, var: &Variable) -> Result<i32, String>;
+    fn get_boolean(&self, var: &Variable) -> Result<bool, String> {
+        Err(format!("{} is not a Boolean served by this model", var.name))
+    }
+    fn get_string(&self, var: &Variable) -> Result<String, String>;
+
+    /// Setters: reject out-of-range values with a message (the old value is then kept).
+    fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String>;
+    fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String>;
+    fn set_boolean(&mut self, var: &Variable, value: bool) -> Result<(), String> {
+        let _ = value;
+        Err(format!("{} is not a Boolean served by this model", var.name))
+    }
+    fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String>;
+
+    /// `fmi2SetRealInputDerivatives` for a Real input, order ≥ 1; applies to the next step only.
+    fn set_real_input_derivative(&mut self, var: &Variable, order: i32, value: f64) -> Result<(), String>;
+
+    /// Compute the initial state from the parameters (called when leaving initialization mode, and in
+    /// initialization mode before calculated values are read after a change). `start_time` is the
+    /// experiment's start time.
+    fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String>;
+
+    /// Advance from `t` (the FMU's own time, checked by the caller) by `h > 0`. On failure the values the
+    /// getters return must stay finite (the last good ones).
+    fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure>;
+}

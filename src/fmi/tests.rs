@@ -1,0 +1,819 @@
+//! Tests of the FMI layer through its C-boundary functions (`api::*`): the model description against the
+//! code, the state machine, bad calls and their statuses, logging, FMU state, panics.
+//!
+//! The generic layer is exercised with a mock model (it steps, diverges and panics on demand) and with the
+//! vehicle adapter for everything that does not need a time step.
+
+use super::api;
+use super::instance::{times_match, Mode};
+use super::logger;
+use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
+use super::variables::{vr, Causality, Initial, Start, VarType, Variable, GUID, LOG_CATEGORIES, VARIABLES};
+use super::vehicle::VehicleModel;
+use crate::sim::OUTPUT_NAMES;
+use fmi_sys::fmi2::*;
+use serde::{Deserialize, Serialize};
+use std::ffi::{c_void, CStr, CString};
+use std::os::raw::c_char;
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+const OK: fmi2Status = fmi2Status_fmi2OK;
+const DISCARD: fmi2Status = fmi2Status_fmi2Discard;
+const ERROR: fmi2Status = fmi2Status_fmi2Error;
+
+// ---- a logger that records -----------------------------------------------------------------------
+
+#[derive(Default)]
+struct Recorder {
+    /// (status, category, message)
+    messages: Mutex<Vec<(u32, String, String)>>,
+}
+
+impl Recorder {
+    fn contains(&self, needle: &str) -> bool {
+        self.messages.lock().unwrap().iter().any(|(_, _, m)| m.contains(needle))
+    }
+    fn count(&self) -> usize {
+        self.messages.lock().unwrap().len()
+    }
+    fn last(&self) -> String {
+        self.messages.lock().unwrap().last().map(|m| m.2.clone()).unwrap_or_default()
+    }
+}
+
+/// Receives the importer-side call `logger(env, name, status, category, "%s", message)`. The callback type
+/// is C-variadic; on the platforms we build for, a non-variadic function taking the same arguments receives
+/// them identically.
+unsafe extern "C" fn record(
+    env: fmi2ComponentEnvironment,
+    _name: fmi2String,
+    status: fmi2Status,
+    category: fmi2String,
+    format: fmi2String,
+    message: *const c_char,
+) {
+    let rec = &*(env as *const Recorder);
+    assert_eq!(CStr::from_ptr(format).to_str().unwrap(), "%s", "the message must be an argument of \"%s\"");
+    rec.messages.lock().unwrap().push((
+        status,
+        CStr::from_ptr(category).to_string_lossy().into_owned(),
+        CStr::from_ptr(message).to_string_lossy().into_owned(),
+    ));
+}
+
+fn callbacks(rec: &Recorder) -> fmi2CallbackFunctions {
+    type Plain = unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, *const c_char);
+    let plain: Plain = record;
+    fmi2CallbackFunctions {
+        // SAFETY: see `record`.
+        logger: Some(unsafe { std::mem::transmute::<Plain, unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, ...)>(plain) }),
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: rec as *const Recorder as *mut c_void,
+    }
+}
+
+fn resources_uri() -> CString {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("resources");
+    CString::new(format!("file://{}", dir.display())).unwrap()
+}
+
+struct Inst<'a, M: FmuModel> {
+    c: fmi2Component,
+    _cb: Box<fmi2CallbackFunctions>,
+    rec: &'a Recorder,
+    _m: std::marker::PhantomData<M>,
+}
+
+impl<'a, M: FmuModel> Inst<'a, M> {
+    fn new(rec: &'a Recorder, resources: Option<&CString>) -> Inst<'a, M> {
+        let cb = Box::new(callbacks(rec));
+        let name = CString::new("test").unwrap();
+        let guid = CString::new(GUID).unwrap();
+        let c = unsafe {
+            api::instantiate::<M>(
+                name.as_ptr(),
+                fmi2Type_fmi2CoSimulation,
+                guid.as_ptr(),
+                resources.map_or(std::ptr::null(), |r| r.as_ptr()),
+                &*cb,
+                0,
+                0,
+            )
+        };
+        assert!(!c.is_null(), "instantiate failed: {}", rec.last());
+        Inst { c, _cb: cb, rec, _m: std::marker::PhantomData }
+    }
+
+    fn init(&self, start: f64) {
+        unsafe {
+            assert_eq!(api::setup_experiment::<M>(self.c, 0, 0.0, start, 0, 0.0), OK);
+            assert_eq!(api::enter_initialization_mode::<M>(self.c), OK);
+            assert_eq!(api::exit_initialization_mode::<M>(self.c), OK, "{}", self.rec.last());
+        }
+    }
+
+    fn set_real(&self, vrs: &[u32], values: &[f64]) -> fmi2Status {
+        assert_eq!(vrs.len(), values.len());
+        unsafe { api::set_real::<M>(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr()) }
+    }
+
+    fn set_integer(&self, vrs: &[u32], values: &[i32]) -> fmi2Status {
+        unsafe { api::set_integer::<M>(self.c, vrs.as_ptr(), vrs.len(), values.as_ptr()) }
+    }
+
+    fn set_string(&self, vr: u32, value: &str) -> fmi2Status {
+        let s = CString::new(value).unwrap();
+        let p = [s.as_ptr()];
+        unsafe { api::set_string::<M>(self.c, &vr, 1, p.as_ptr()) }
+    }
+
+    fn get_real(&self, vrs: &[u32]) -> (fmi2Status, Vec<f64>) {
+        let mut out = vec![f64::NAN; vrs.len()];
+        let s = unsafe { api::get_real::<M>(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) };
+        (s, out)
+    }
+
+    fn real(&self, vr: u32) -> f64 {
+        let (s, v) = self.get_real(&[vr]);
+        assert_eq!(s, OK, "{}", self.rec.last());
+        v[0]
+    }
+
+    fn step(&self, t: f64, h: f64) -> fmi2Status {
+        unsafe { api::do_step::<M>(self.c, t, h, 1) }
+    }
+
+    fn mode(&self) -> Mode {
+        unsafe { (*(self.c as *mut super::instance::Instance<M>)).mode() }
+    }
+
+    fn terminated(&self) -> (fmi2Status, bool) {
+        let mut b: fmi2Boolean = -1;
+        let s = unsafe { api::get_boolean_status::<M>(self.c, fmi2StatusKind_fmi2Terminated, &mut b) };
+        (s, b != 0)
+    }
+
+    fn last_time(&self) -> (fmi2Status, f64) {
+        let mut t = f64::NAN;
+        let s = unsafe { api::get_real_status::<M>(self.c, fmi2StatusKind_fmi2LastSuccessfulTime, &mut t) };
+        (s, t)
+    }
+
+    fn outputs(&self) -> Vec<f64> {
+        let vrs: Vec<u32> = VARIABLES.iter().filter(|v| v.causality == Causality::Output).map(|v| v.vr).collect();
+        let (s, v) = self.get_real(&vrs);
+        assert_eq!(s, OK, "{}", self.rec.last());
+        v
+    }
+}
+
+impl<M: FmuModel> Drop for Inst<'_, M> {
+    fn drop(&mut self) {
+        unsafe { api::free_instance::<M>(self.c) }
+    }
+}
+
+// ---- a mock model: steps, diverges and panics on demand ----------------------------------------------
+
+/// rack_displacement = 666 makes the next step panic, 777 makes it diverge (Terminate), 888 fail (Error).
+#[derive(Clone, Serialize, Deserialize)]
+struct Mock {
+    reals: Vec<f64>,
+    ints: Vec<i32>,
+    strings: Vec<String>,
+    state: f64,
+    time: f64,
+    d1: Option<f64>,
+    initialized: u32,
+}
+
+impl FmuModel for Mock {
+    fn new(_: &ModelContext) -> Self {
+        let n = VARIABLES.len();
+        Mock { reals: vec![0.0; n], ints: vec![0; n], strings: vec![String::new(); n], state: 0.1, time: 0.0, d1: None, initialized: 0 }
+    }
+    fn get_real(&self, var: &Variable) -> Result<f64, String> {
+        Ok(match var.causality {
+            Causality::Output => self.state * (var.index as f64 + 1.0) + self.time,
+            _ => self.reals[var.index],
+        })
+    }
+    fn get_integer(&self, var: &Variable) -> Result<i32, String> {
+        Ok(self.ints[var.index])
+    }
+    fn get_string(&self, var: &Variable) -> Result<String, String> {
+        Ok(self.strings[var.index].clone())
+    }
+    fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
+        if value < -1e6 {
+            return Err("too small".into());
+        }
+        self.reals[var.index] = value;
+        Ok(())
+    }
+    fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String> {
+        self.ints[var.index] = value;
+        Ok(())
+    }
+    fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String> {
+        self.strings[var.index] = value.to_string();
+        Ok(())
+    }
+    fn set_real_input_derivative(&mut self, _: &Variable, _: i32, value: f64) -> Result<(), String> {
+        self.d1 = Some(value);
+        Ok(())
+    }
+    fn initialize(&mut self, _: &ModelContext, _: f64, _: &logger::Logger) -> Result<(), String> {
+        self.initialized += 1;
+        Ok(())
+    }
+    fn do_step(&mut self, _t: f64, h: f64, _: &logger::Logger) -> Result<(), StepFailure> {
+        let u = self.reals[Variable::lookup(vr::RACK_DISPLACEMENT, VarType::Real).unwrap().index];
+        if u == 666.0 {
+            panic!("mock panic");
+        }
+        if u == 777.0 {
+            return Err(StepFailure::Terminate("mock divergence".into()));
+        }
+        if u == 888.0 {
+            return Err(StepFailure::Error("mock failure".into()));
+        }
+        // Something chaotic enough that any difference in the replay shows up in the bits.
+        let d = self.d1.take().unwrap_or(0.0);
+        for _ in 0..10 {
+            self.state = 3.9 * self.state * (1.0 - self.state) + 1e-3 * (u + d) * h;
+        }
+        self.time += h;
+        Ok(())
+    }
+}
+
+// ---- the model description against the code ----------------------------------------------------------
+
+#[test]
+fn every_output_name_is_an_output_of_the_model_description() {
+    for name in OUTPUT_NAMES.iter().filter(|n| !matches!(**n, "time" | "rack_displacement")) {
+        let var = Variable::by_name(name).unwrap_or_else(|| panic!("output {name} missing from modelDescription.xml"));
+        assert_eq!(var.causality, Causality::Output, "{name}");
+        assert_eq!(var.ty, VarType::Real, "{name}");
+        assert_eq!(var.initial, Initial::Calculated, "{name}");
+        assert!(var.start.is_none(), "{name}");
+        assert!(var.unit.is_some(), "{name} has no unit");
+    }
+    for var in VARIABLES.iter().filter(|v| v.causality == Causality::Output) {
+        assert!(OUTPUT_NAMES.contains(&var.name), "XML output {} is not a simulation output", var.name);
+    }
+}
+
+#[test]
+fn the_table_matches_the_brief() {
+    let expect = |name: &str, c: Causality, start: Start| {
+        let v = Variable::by_name(name).unwrap_or_else(|| panic!("{name} missing"));
+        assert_eq!(v.causality, c, "{name}");
+        assert_eq!(v.start, Some(start), "{name}");
+    };
+    expect("rack_displacement", Causality::Input, Start::Real(0.0));
+    for c in ["fl", "fr", "rl", "rr"] {
+        expect(&format!("drive_torque_{c}"), Causality::Input, Start::Real(0.0));
+        expect(&format!("brake_torque_{c}"), Causality::Input, Start::Real(0.0));
+    }
+    expect("initial_speed", Causality::Parameter, Start::Real(27.7778));
+    expect("speed_mode", Causality::Parameter, Start::Integer(2));
+    expect("formulation", Causality::Parameter, Start::Integer(1));
+    expect("integrator", Causality::Parameter, Start::Integer(2));
+    expect("internal_step", Causality::Parameter, Start::Real(0.002));
+    expect("slip_model", Causality::Parameter, Start::Integer(1));
+    expect("road", Causality::Parameter, Start::Integer(1));
+    expect("vehicle_file", Causality::Parameter, Start::String(""));
+    assert_eq!(Variable::by_name("step_cpu_time").unwrap().causality, Causality::Local);
+    assert!(Variable::by_name("time").is_none(), "no independent time variable (libcosim)");
+    assert_eq!(LOG_CATEGORIES.len(), 6);
+    for v in VARIABLES {
+        assert_eq!(super::variables::variable_index(v.vr), Some(v.index));
+    }
+}
+
+#[test]
+fn every_variable_of_the_model_description_is_served_by_the_vehicle() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
+    // Settable ones accept their start value in the Instantiated state.
+    for v in VARIABLES.iter().filter(|v| matches!(v.causality, Causality::Input | Causality::Parameter)) {
+        let s = match v.start.unwrap() {
+            Start::Real(x) => inst.set_real(&[v.vr], &[x]),
+            Start::Integer(i) => inst.set_integer(&[v.vr], &[i]),
+            Start::String(s) => inst.set_string(v.vr, s),
+            Start::Boolean(_) => unreachable!(),
+        };
+        assert_eq!(s, OK, "{}: {}", v.name, rec.last());
+    }
+    inst.init(0.0);
+    for v in VARIABLES {
+        let vrs = [v.vr];
+        let status = unsafe {
+            match v.ty {
+                VarType::Real => api::get_real::<VehicleModel>(inst.c, vrs.as_ptr(), 1, &mut 0.0),
+                VarType::Integer => api::get_integer::<VehicleModel>(inst.c, vrs.as_ptr(), 1, &mut 0),
+                VarType::Boolean => api::get_boolean::<VehicleModel>(inst.c, vrs.as_ptr(), 1, &mut 0),
+                VarType::String => api::get_string::<VehicleModel>(inst.c, vrs.as_ptr(), 1, &mut std::ptr::null()),
+            }
+        };
+        assert_eq!(status, OK, "{} is not served: {}", v.name, rec.last());
+        // Start values read back.
+        match v.start {
+            Some(Start::Real(x)) => assert_eq!(inst.real(v.vr), x),
+            Some(Start::Integer(i)) => {
+                let mut out = 0;
+                unsafe { api::get_integer::<VehicleModel>(inst.c, vrs.as_ptr(), 1, &mut out) };
+                assert_eq!(out, i, "{}", v.name);
+            }
+            _ => {}
+        }
+    }
+}
+
+// ---- instantiation ------------------------------------------------------------------------------------
+
+#[test]
+fn instantiate_rejects_a_wrong_guid_a_wrong_type_and_null_callbacks() {
+    let rec = Recorder::default();
+    let cb = callbacks(&rec);
+    let name = CString::new("x").unwrap();
+    let bad = CString::new("{00000000-0000-0000-0000-000000000000}").unwrap();
+    let good = CString::new(GUID).unwrap();
+    unsafe {
+        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, bad.as_ptr(), std::ptr::null(), &cb, 0, 0);
+        assert!(c.is_null());
+        assert!(rec.contains("GUID mismatch"), "{}", rec.last());
+        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, std::ptr::null(), std::ptr::null(), &cb, 0, 0);
+        assert!(c.is_null());
+        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2ModelExchange, good.as_ptr(), std::ptr::null(), &cb, 0, 0);
+        assert!(c.is_null());
+        assert!(rec.contains("Co-Simulation only"));
+        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, good.as_ptr(), std::ptr::null(), std::ptr::null(), 0, 0);
+        assert!(c.is_null());
+        let c = api::instantiate::<VehicleModel>(std::ptr::null(), fmi2Type_fmi2CoSimulation, good.as_ptr(), std::ptr::null(), &cb, 0, 0);
+        assert!(c.is_null());
+        // Without a logger it still works.
+        let quiet = fmi2CallbackFunctions { logger: None, allocateMemory: None, freeMemory: None, stepFinished: None, componentEnvironment: std::ptr::null_mut() };
+        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, good.as_ptr(), std::ptr::null(), &quiet, 0, 1);
+        assert!(!c.is_null());
+        assert_eq!(api::set_real::<VehicleModel>(c, &99999, 1, &1.0), ERROR);
+        api::free_instance::<VehicleModel>(c);
+    }
+}
+
+#[test]
+fn null_instance_and_null_arrays_are_errors() {
+    let null = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(api::do_step::<VehicleModel>(null, 0.0, 0.01, 1), ERROR);
+        assert_eq!(api::get_real::<VehicleModel>(null, &200, 1, &mut 0.0), ERROR);
+        assert_eq!(api::set_real::<VehicleModel>(null, &1, 1, &0.0), ERROR);
+        assert_eq!(api::reset::<VehicleModel>(null), ERROR);
+        assert_eq!(api::get_boolean_status::<VehicleModel>(null, fmi2StatusKind_fmi2Terminated, &mut 0), ERROR);
+        api::free_instance::<VehicleModel>(null);
+    }
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    unsafe {
+        assert_eq!(api::set_real::<VehicleModel>(inst.c, std::ptr::null(), 2, [0.0, 0.0].as_ptr()), ERROR);
+        assert_eq!(api::set_real::<VehicleModel>(inst.c, [1u32, 2].as_ptr(), 2, std::ptr::null()), ERROR);
+        assert!(rec.contains("NULL"));
+        // nvr = 0 with NULL arrays is a valid empty call.
+        assert_eq!(api::set_real::<VehicleModel>(inst.c, std::ptr::null(), 0, std::ptr::null()), OK);
+        assert_eq!(api::get_real_status::<VehicleModel>(inst.c, fmi2StatusKind_fmi2LastSuccessfulTime, std::ptr::null_mut()), ERROR);
+        assert_eq!(api::get_fmu_state::<VehicleModel>(inst.c, std::ptr::null_mut()), ERROR);
+        assert_eq!(api::set_fmu_state::<VehicleModel>(inst.c, std::ptr::null_mut()), ERROR);
+    }
+}
+
+#[test]
+fn bad_values_are_errors_and_keep_the_old_value() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.002]), OK);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[bad]), ERROR);
+        assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[bad]), ERROR);
+    }
+    assert!(rec.contains("not finite"));
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.0]), ERROR);
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[-0.001]), ERROR);
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.1000001]), ERROR);
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.1]), OK);
+    assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[-1.0]), ERROR);
+    assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[60.5]), ERROR);
+    assert_eq!(inst.set_real(&[vr::BRAKE_TORQUE_RL], &[-1.0]), ERROR);
+    assert_eq!(inst.set_real(&[vr::DRIVE_TORQUE_RL], &[-100.0]), OK);
+    for (v, bad) in [(vr::SPEED_MODE, 0), (vr::SPEED_MODE, 3), (vr::FORMULATION, 4), (vr::INTEGRATOR, 3), (vr::SLIP_MODEL, 0), (vr::ROAD, 3)] {
+        assert_eq!(inst.set_integer(&[v], &[bad]), ERROR, "{v} = {bad}");
+    }
+    // Unknown value references, and known ones asked with the wrong type.
+    assert_eq!(inst.set_real(&[12345], &[1.0]), ERROR);
+    assert_eq!(inst.set_integer(&[vr::RACK_DISPLACEMENT], &[1]), ERROR);
+    assert_eq!(inst.set_real(&[vr::SPEED_MODE], &[1.0]), ERROR);
+    // Outputs and locals are not settable.
+    assert_eq!(inst.set_real(&[vr::AY], &[1.0]), ERROR);
+    assert_eq!(inst.set_real(&[vr::STEP_CPU_TIME], &[1.0]), ERROR);
+    inst.init(0.0);
+    assert_eq!(inst.real(vr::RACK_DISPLACEMENT), 0.002);
+    assert_eq!(inst.real(vr::INTERNAL_STEP), 0.1);
+    assert_eq!(inst.real(vr::INITIAL_SPEED), 27.7778);
+    assert_eq!(inst.real(vr::BRAKE_TORQUE_RL), 0.0);
+    assert_eq!(inst.get_real(&[54321]).0, ERROR);
+    assert!(inst.outputs().iter().all(|v| v.is_finite()));
+}
+
+#[test]
+fn calls_in_the_wrong_state_are_errors() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    unsafe {
+        assert_eq!(inst.step(0.0, 0.01), ERROR, "doStep before initialization");
+        assert_eq!(inst.get_real(&[vr::AY]).0, ERROR, "get before initialization mode");
+        assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR);
+        assert_eq!(api::terminate::<VehicleModel>(inst.c), ERROR);
+        assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 1, -1.0), ERROR, "stop before start");
+        assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, f64::NAN, 0, 0.0), ERROR);
+        assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0), OK);
+        assert_eq!(api::enter_initialization_mode::<VehicleModel>(inst.c), OK);
+        assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0), ERROR);
+        assert_eq!(api::enter_initialization_mode::<VehicleModel>(inst.c), ERROR);
+        assert_eq!(inst.step(0.0, 0.01), ERROR, "doStep in initialization mode");
+        assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[1]), OK, "parameters are settable in initialization mode");
+        assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK);
+    }
+    assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[2]), ERROR, "fixed parameter in step mode");
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.001]), ERROR, "fixed parameter in step mode");
+    assert_eq!(inst.set_string(vr::VEHICLE_FILE, "x.json"), ERROR, "fixed parameter in step mode");
+    assert!(rec.contains("fixed parameter"));
+    assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.001]), OK, "inputs are settable in step mode");
+    let mut i = 0;
+    unsafe { api::get_integer::<VehicleModel>(inst.c, &vr::INTEGRATOR, 1, &mut i) };
+    assert_eq!(i, 1);
+    unsafe {
+        assert_eq!(api::terminate::<VehicleModel>(inst.c), OK);
+        assert_eq!(inst.step(0.0, 0.01), ERROR, "doStep after terminate");
+        assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.0]), ERROR);
+        assert_eq!(api::reset::<VehicleModel>(inst.c), OK);
+        assert_eq!(inst.mode(), Mode::Instantiated);
+    }
+}
+
+#[test]
+fn do_step_checks_its_arguments() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    inst.init(1.5);
+    assert_eq!(inst.step(1.5, 0.0), ERROR);
+    assert_eq!(inst.step(1.5, -0.01), ERROR);
+    assert_eq!(inst.step(1.5, f64::NAN), ERROR);
+    assert_eq!(inst.step(f64::NAN, 0.01), ERROR);
+    assert_eq!(inst.step(1.6, 0.01), ERROR, "currentCommunicationPoint is not the FMU time");
+    assert!(rec.contains("differs from the FMU time"));
+    assert_eq!(inst.mode(), Mode::StepComplete, "argument errors leave the instance usable");
+    // Floating-point noise in the communication point is accepted.
+    assert_eq!(inst.step(1.5 + 1e-12, 0.01), OK);
+    assert_eq!(inst.step(1.51 - 1e-12, 0.1 - 0.09), OK);
+    let (s, t) = inst.last_time();
+    assert_eq!(s, OK);
+    assert!(times_match(t, 1.52), "{t}");
+}
+
+#[test]
+fn stop_time_is_enforced_with_a_tolerance() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    unsafe {
+        assert_eq!(api::setup_experiment::<Mock>(inst.c, 0, 0.0, 0.0, 1, 0.3), OK);
+        assert_eq!(api::enter_initialization_mode::<Mock>(inst.c), OK);
+        assert_eq!(api::exit_initialization_mode::<Mock>(inst.c), OK);
+    }
+    let mut t = 0.0;
+    for _ in 0..3 {
+        assert_eq!(inst.step(t, 0.1), OK);
+        t += 0.1; // 0.30000000000000004 at the end: within tolerance of 0.3
+    }
+    assert_eq!(inst.step(t, 0.1), ERROR);
+}
+
+#[test]
+fn a_diverging_step_is_a_discard_with_terminated_and_last_good_outputs() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    inst.init(0.0);
+    assert_eq!(inst.step(0.0, 0.01), OK);
+    let good = inst.outputs();
+    assert_eq!(inst.terminated(), (OK, false));
+    assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[777.0]), OK);
+    assert_eq!(inst.step(0.01, 0.01), DISCARD);
+    assert!(rec.contains("mock divergence"));
+    assert_eq!(inst.terminated(), (OK, true));
+    assert_eq!(inst.last_time(), (OK, 0.01));
+    assert_eq!(inst.outputs(), good);
+    assert_eq!(inst.step(0.01, 0.01), ERROR, "no step after the run ended");
+    unsafe { assert_eq!(api::terminate::<Mock>(inst.c), OK) };
+}
+
+#[test]
+fn a_panic_is_caught_logged_and_recoverable() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    inst.init(0.0);
+    let mut saved: fmi2FMUstate = std::ptr::null_mut();
+    unsafe { assert_eq!(api::get_fmu_state::<Mock>(inst.c, &mut saved), OK) };
+    assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[666.0]), OK);
+    assert_eq!(inst.step(0.0, 0.01), ERROR);
+    assert!(rec.contains("mock panic"), "{}", rec.last());
+    assert_eq!(inst.mode(), Mode::Error);
+    assert_eq!(inst.step(0.0, 0.01), ERROR);
+    unsafe {
+        // Recover by restoring a state (or by reset).
+        assert_eq!(api::set_fmu_state::<Mock>(inst.c, saved), OK);
+        assert_eq!(inst.step(0.0, 0.01), OK);
+        assert_eq!(api::free_fmu_state::<Mock>(inst.c, &mut saved), OK);
+        assert!(saved.is_null());
+        assert_eq!(api::reset::<Mock>(inst.c), OK);
+    }
+    inst.init(0.0);
+    assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[888.0]), OK);
+    assert_eq!(inst.step(0.0, 0.01), ERROR);
+    assert_eq!(inst.mode(), Mode::Error);
+}
+
+fn run(inst: &Inst<Mock>, t0: f64, n: usize, h: f64) -> Vec<Vec<f64>> {
+    let mut t = t0;
+    (0..n)
+        .map(|k| {
+            assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[(k as f64 * 0.37).sin()]), OK);
+            let d = [(k as f64).cos()];
+            unsafe { assert_eq!(api::set_real_input_derivatives::<Mock>(inst.c, &vr::RACK_DISPLACEMENT, 1, &1, d.as_ptr()), OK) };
+            assert_eq!(inst.step(t, h), OK);
+            t += h;
+            inst.outputs()
+        })
+        .collect()
+}
+
+#[test]
+fn fmu_state_get_set_and_serialize_replay_bit_identically() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    inst.init(0.0);
+    run(&inst, 0.0, 5, 0.01);
+    let t = 0.05;
+    let mut state: fmi2FMUstate = std::ptr::null_mut();
+    unsafe { assert_eq!(api::get_fmu_state::<Mock>(inst.c, &mut state), OK) };
+    let first = run(&inst, t, 20, 0.01);
+    unsafe { assert_eq!(api::set_fmu_state::<Mock>(inst.c, state), OK) };
+    let second = run(&inst, t, 20, 0.01);
+    assert_eq!(first, second);
+    // Serialize, deserialize into a new state, restore it, replay.
+    let mut size = 0usize;
+    unsafe { assert_eq!(api::serialized_fmu_state_size::<Mock>(inst.c, state, &mut size), OK) };
+    let mut bytes = vec![0 as c_char; size];
+    unsafe {
+        assert_eq!(api::serialize_fmu_state::<Mock>(inst.c, state, bytes.as_mut_ptr(), size - 1), ERROR, "buffer too small");
+        assert_eq!(api::serialize_fmu_state::<Mock>(inst.c, state, bytes.as_mut_ptr(), size), OK);
+    }
+    // Into another instance (same FMU): replay there too.
+    let other = Inst::<Mock>::new(&rec, None);
+    let mut restored: fmi2FMUstate = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(api::deserialize_fmu_state::<Mock>(other.c, bytes.as_ptr(), size, &mut restored), OK);
+        assert_eq!(api::set_fmu_state::<Mock>(other.c, restored), OK);
+    }
+    assert_eq!(run(&other, t, 20, 0.01), first);
+    // Garbage does not deserialize.
+    let junk = b"{\"format\":1}".map(|b| b as c_char);
+    let mut s2: fmi2FMUstate = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(api::deserialize_fmu_state::<Mock>(other.c, junk.as_ptr(), junk.len(), &mut s2), ERROR);
+        assert!(s2.is_null());
+        // Overwrite an existing state in place.
+        assert_eq!(api::get_fmu_state::<Mock>(inst.c, &mut state), OK);
+        assert_eq!(api::free_fmu_state::<Mock>(inst.c, &mut state), OK);
+        assert_eq!(api::free_fmu_state::<Mock>(other.c, &mut restored), OK);
+        // Freeing NULL is a no-op.
+        assert_eq!(api::free_fmu_state::<Mock>(other.c, &mut restored), OK);
+    }
+}
+
+#[test]
+fn serialized_states_keep_every_bit_of_awkward_floats() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    inst.init(0.0);
+    let awkward = [0.1 + 0.2, 1e-300, 5e-324, f64::MAX, -0.0, 1.0 / 3.0, 2.2250738585072014e-308, 9007199254740993.0];
+    for (i, &x) in awkward.iter().enumerate() {
+        assert_eq!(inst.set_real(&[vr::DRIVE_TORQUE_FL + i as u32], &[x]), OK);
+    }
+    let mut state: fmi2FMUstate = std::ptr::null_mut();
+    let mut size = 0;
+    unsafe {
+        api::get_fmu_state::<Mock>(inst.c, &mut state);
+        api::serialized_fmu_state_size::<Mock>(inst.c, state, &mut size);
+        let mut bytes = vec![0 as c_char; size + 16]; // a larger, zero-padded buffer is fine
+        assert_eq!(api::serialize_fmu_state::<Mock>(inst.c, state, bytes.as_mut_ptr(), bytes.len()), OK);
+        let mut back: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(api::deserialize_fmu_state::<Mock>(inst.c, bytes.as_ptr(), bytes.len(), &mut back), OK);
+        assert_eq!(api::reset::<Mock>(inst.c), OK);
+        assert_eq!(api::set_fmu_state::<Mock>(inst.c, back), OK);
+        api::free_fmu_state::<Mock>(inst.c, &mut back);
+        api::free_fmu_state::<Mock>(inst.c, &mut state);
+    }
+    for (i, &x) in awkward.iter().enumerate() {
+        assert_eq!(inst.real(vr::DRIVE_TORQUE_FL + i as u32).to_bits(), x.to_bits());
+    }
+}
+
+#[test]
+fn vehicle_state_serializes_and_restores() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
+    assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.001]), OK);
+    inst.init(0.0);
+    let mut state: fmi2FMUstate = std::ptr::null_mut();
+    let mut size = 0;
+    unsafe {
+        assert_eq!(api::get_fmu_state::<VehicleModel>(inst.c, &mut state), OK);
+        assert_eq!(api::serialized_fmu_state_size::<VehicleModel>(inst.c, state, &mut size), OK, "{}", rec.last());
+        let mut bytes = vec![0 as c_char; size];
+        assert_eq!(api::serialize_fmu_state::<VehicleModel>(inst.c, state, bytes.as_mut_ptr(), size), OK);
+        let mut back: fmi2FMUstate = std::ptr::null_mut();
+        assert_eq!(api::deserialize_fmu_state::<VehicleModel>(inst.c, bytes.as_ptr(), size, &mut back), OK, "{}", rec.last());
+        assert_eq!(api::reset::<VehicleModel>(inst.c), OK);
+        assert_eq!(api::set_fmu_state::<VehicleModel>(inst.c, back), OK);
+        assert_eq!(inst.mode(), Mode::StepComplete);
+        assert_eq!(inst.real(vr::RACK_DISPLACEMENT), 0.001);
+        api::free_fmu_state::<VehicleModel>(inst.c, &mut back);
+        api::free_fmu_state::<VehicleModel>(inst.c, &mut state);
+    }
+}
+
+#[test]
+fn two_instances_interleaved_behave_like_one_alone() {
+    let rec = Recorder::default();
+    let alone = Inst::<Mock>::new(&rec, None);
+    alone.init(0.0);
+    let reference = run(&alone, 0.0, 30, 0.01);
+    // Interleaved with a second instance driven differently.
+    let (c, d) = (Inst::<Mock>::new(&rec, None), Inst::<Mock>::new(&rec, None));
+    c.init(0.0);
+    d.init(0.0);
+    let mut t = 0.0;
+    let mut rc = Vec::new();
+    for k in 0..30 {
+        for (inst, u) in [(&c, (k as f64 * 0.37).sin()), (&d, 0.25)] {
+            assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[u]), OK);
+            let der = [(k as f64).cos()];
+            unsafe { api::set_real_input_derivatives::<Mock>(inst.c, &vr::RACK_DISPLACEMENT, 1, &1, der.as_ptr()) };
+            assert_eq!(inst.step(t, 0.01), OK);
+        }
+        rc.push(c.outputs());
+        t += 0.01;
+    }
+    assert_eq!(rc, reference);
+}
+
+#[test]
+fn reset_then_rerun_is_identical() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    inst.init(0.0);
+    let first = run(&inst, 0.0, 25, 0.01);
+    unsafe { assert_eq!(api::reset::<Mock>(inst.c), OK) };
+    inst.init(0.0);
+    assert_eq!(run(&inst, 0.0, 25, 0.01), first);
+}
+
+#[test]
+fn input_derivatives_are_checked() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    let set = |vrs: &[u32], orders: &[i32], values: &[f64]| unsafe {
+        api::set_real_input_derivatives::<VehicleModel>(inst.c, vrs.as_ptr(), vrs.len(), orders.as_ptr(), values.as_ptr())
+    };
+    assert_eq!(set(&[vr::RACK_DISPLACEMENT, vr::RACK_DISPLACEMENT], &[1, 2], &[0.02, -0.5]), OK);
+    assert_eq!(set(&[vr::DRIVE_TORQUE_FL], &[1], &[10.0]), OK, "accepted (held over the step)");
+    assert_eq!(set(&[vr::RACK_DISPLACEMENT], &[3], &[0.0]), ERROR);
+    assert_eq!(set(&[vr::RACK_DISPLACEMENT], &[0], &[0.0]), ERROR);
+    assert_eq!(set(&[vr::RACK_DISPLACEMENT], &[1], &[f64::NAN]), ERROR);
+    assert_eq!(set(&[vr::AY], &[1], &[0.0]), ERROR, "not an input");
+    assert_eq!(set(&[vr::INITIAL_SPEED], &[1], &[0.0]), ERROR, "not an input");
+    assert_eq!(set(&[4242], &[1], &[0.0]), ERROR);
+    unsafe {
+        assert_eq!(api::get_real_output_derivatives::<VehicleModel>(inst.c), ERROR);
+        assert_eq!(api::get_directional_derivative::<VehicleModel>(inst.c), ERROR);
+        assert_eq!(api::cancel_step::<VehicleModel>(inst.c), ERROR);
+    }
+    assert!(rec.contains("not supported"));
+}
+
+#[test]
+fn debug_logging_follows_categories() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    let cats: Vec<CString> = ["logCalls"].iter().map(|c| CString::new(*c).unwrap()).collect();
+    let ptrs: Vec<*const c_char> = cats.iter().map(|c| c.as_ptr()).collect();
+    unsafe {
+        let before = rec.count();
+        inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.0]);
+        assert_eq!(rec.count(), before, "logCalls is off by default");
+        assert_eq!(api::set_debug_logging::<Mock>(inst.c, 1, 1, ptrs.as_ptr()), OK);
+        inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.0]);
+        assert!(rec.messages.lock().unwrap().iter().any(|(_, c, m)| c == "logCalls" && m == "fmi2SetReal"));
+        // Everything off: even errors are silent.
+        assert_eq!(api::set_debug_logging::<Mock>(inst.c, 0, 0, std::ptr::null()), OK);
+        let before = rec.count();
+        assert_eq!(inst.set_real(&[999], &[0.0]), ERROR);
+        assert_eq!(rec.count(), before);
+        // Unknown category: error.
+        let bad = CString::new("logNonsense").unwrap();
+        assert_eq!(api::set_debug_logging::<Mock>(inst.c, 1, 1, &bad.as_ptr()), ERROR);
+        assert_eq!(api::set_debug_logging::<Mock>(inst.c, 1, 0, std::ptr::null()), OK);
+        assert_eq!(inst.set_real(&[999], &[0.0]), ERROR);
+        let m = rec.messages.lock().unwrap();
+        let (status, cat, msg) = m.last().unwrap();
+        assert_eq!((*status, cat.as_str()), (ERROR, "logStatusError"));
+        assert!(msg.contains("unknown value reference 999"));
+    }
+    // A message with a printf directive reaches the logger verbatim (passed as the "%s" argument).
+    let evil = CString::new("%s%n%x").unwrap();
+    unsafe { assert_eq!(api::set_debug_logging::<Mock>(inst.c, 1, 1, &evil.as_ptr()), ERROR) };
+    assert!(rec.contains("unknown log category \"%s%n%x\""), "{}", rec.last());
+}
+
+#[test]
+fn resource_locations_parse() {
+    let dir = |s: &str| ResourceLocation::Dir(PathBuf::from(s));
+    assert_eq!(api::parse_resource_location(Some("file:///tmp/x/resources")), dir("/tmp/x/resources"));
+    assert_eq!(api::parse_resource_location(Some("file:///tmp/a%20b/resources/")), dir("/tmp/a b/resources/"));
+    assert_eq!(api::parse_resource_location(Some("file://localhost/tmp/r")), dir("/tmp/r"));
+    assert_eq!(api::parse_resource_location(Some("file:/tmp/r")), dir("/tmp/r"));
+    assert_eq!(api::parse_resource_location(Some("/tmp/r")), dir("/tmp/r"));
+    assert_eq!(api::parse_resource_location(None), ResourceLocation::None);
+    assert_eq!(api::parse_resource_location(Some("")), ResourceLocation::None);
+    assert!(matches!(api::parse_resource_location(Some("http://example.com/r")), ResourceLocation::Unsupported(_)));
+    assert!(matches!(api::parse_resource_location(Some("file://server/share")), ResourceLocation::Unsupported(_)));
+}
+
+#[test]
+fn vehicle_files_missing_or_broken_are_errors_at_exit_initialization() {
+    let tmp = std::env::temp_dir().join(format!("rtv-fmi-test-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    std::fs::write(tmp.join("broken.json"), "{ \"name\": ").unwrap();
+    let uri = CString::new(format!("file://{}", tmp.display())).unwrap();
+    let rec = Recorder::default();
+    let exit = |inst: &Inst<VehicleModel>| unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+        api::exit_initialization_mode::<VehicleModel>(inst.c)
+    };
+    // The resources directory has no hmmwv.json: an error, not the compiled-in default.
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
+    assert_eq!(exit(&inst), ERROR);
+    assert!(rec.contains("cannot read the vehicle file"), "{}", rec.last());
+    assert_eq!(inst.mode(), Mode::InitializationMode, "the master may fix vehicle_file and retry");
+    // A broken file, by a relative name found in the resources.
+    assert_eq!(inst.set_string(vr::VEHICLE_FILE, "broken.json"), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
+    assert!(rec.contains("vehicle data"), "{}", rec.last());
+    // Fixed: the shipped file by absolute path.
+    let good = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("resources/hmmwv.json");
+    assert_eq!(inst.set_string(vr::VEHICLE_FILE, good.to_str().unwrap()), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last()) };
+    // No resource location at all: the compiled-in default.
+    let inst2 = Inst::<VehicleModel>::new(&rec, None);
+    assert_eq!(exit(&inst2), OK);
+    std::fs::remove_dir_all(&tmp).ok();
+}
+
+#[test]
+fn outputs_in_initialization_mode_are_computed_from_the_parameters() {
+    let rec = Recorder::default();
+    let inst = Inst::<Mock>::new(&rec, None);
+    unsafe {
+        api::setup_experiment::<Mock>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<Mock>(inst.c);
+    }
+    inst.outputs();
+    inst.outputs();
+    let count = |inst: &Inst<Mock>| unsafe { (*(inst.c as *mut super::instance::Instance<Mock>)).core.model.initialized };
+    assert_eq!(count(&inst), 1, "computed once while nothing changes");
+    unsafe { assert_eq!(api::exit_initialization_mode::<Mock>(inst.c), OK) };
+    assert_eq!(count(&inst), 1, "and not again when leaving initialization mode");
+}
+
+#[test]
+fn many_instances_come_and_go() {
+    let rec = Recorder::default();
+    for _ in 0..200 {
+        let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
+        inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.001]);
+    }
+}

@@ -1,0 +1,355 @@
+//! The vehicle behind the generic FMI layer: parameters → `SimConfig`, inputs → `Simulation` before each
+//! `advance(h)`, outputs from `Simulation::outputs()` by name.
+//!
+//! Parameters are plain values until the simulation is built (`initialize`, i.e. when leaving
+//! initialization mode). The outputs served are the last good ones: a failed step never hands NaN to the
+//! master.
+
+use super::logger::Logger;
+use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
+use super::variables::{vr, Causality, Variable, VARIABLES};
+use crate::integrate::IntegratorKind;
+use crate::model::params::VehicleData;
+use crate::model::tire::SlipModel;
+use crate::sim::{Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The vehicle data file inside the FMU's `resources/`.
+pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
+
+/// Limits of the Real parameters (also declared in the model description where FMI can express them).
+pub const INITIAL_SPEED_MAX: f64 = 60.0;
+pub const INTERNAL_STEP_MAX: f64 = 0.1;
+
+const DRIVE: [u32; 4] = [vr::DRIVE_TORQUE_FL, vr::DRIVE_TORQUE_FR, vr::DRIVE_TORQUE_RL, vr::DRIVE_TORQUE_RR];
+const BRAKE: [u32; 4] = [vr::BRAKE_TORQUE_FL, vr::BRAKE_TORQUE_FR, vr::BRAKE_TORQUE_RL, vr::BRAKE_TORQUE_RR];
+
+const fn str_eq(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// For each variable of the model description, its column in `OUTPUT_NAMES` (`usize::MAX` if it is not
+/// an output). Computed at compile time: an output of the XML missing from `OUTPUT_NAMES` does not compile.
+const OUTPUT_SLOTS: [usize; VARIABLES.len()] = {
+    let mut slots = [usize::MAX; VARIABLES.len()];
+    let mut i = 0;
+    while i < VARIABLES.len() {
+        if matches!(VARIABLES[i].causality, Causality::Output) {
+            let mut j = 0;
+            while j < OUTPUT_NAMES.len() && !str_eq(OUTPUT_NAMES[j], VARIABLES[i].name) {
+                j += 1;
+            }
+            if j == OUTPUT_NAMES.len() {
+                panic!("an output of modelDescription.xml is not a column of sim::OUTPUT_NAMES");
+            }
+            slots[i] = j;
+        }
+        i += 1;
+    }
+    slots
+};
+
+/// The parameters as the model description has them (Integer modes).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct Parameters {
+    pub initial_speed: f64,
+    pub speed_mode: i32,
+    pub formulation: i32,
+    pub integrator: i32,
+    pub internal_step: f64,
+    pub slip_model: i32,
+    pub road: i32,
+    pub vehicle_file: String,
+}
+
+impl Parameters {
+    pub fn config(&self) -> Result<SimConfig, String> {
+        Ok(SimConfig {
+            formulation: formulation(self.formulation)?,
+            integrator: integrator(self.integrator)?,
+            internal_step: self.internal_step,
+            slip: slip_model(self.slip_model)?,
+            road: road(self.road)?,
+            speed_mode: speed_mode(self.speed_mode)?,
+            initial_speed: self.initial_speed,
+            ..SimConfig::default()
+        })
+    }
+}
+
+fn speed_mode(i: i32) -> Result<SpeedMode, String> {
+    match i {
+        1 => Ok(SpeedMode::Coast),
+        2 => Ok(SpeedMode::Hold),
+        _ => Err(format!("speed_mode {i} is not 1 (coast) or 2 (hold)")),
+    }
+}
+
+fn formulation(i: i32) -> Result<Formulation, String> {
+    match i {
+        1 => Ok(Formulation::Synthesis),
+        2 => Ok(Formulation::Conventional),
+        3 => Ok(Formulation::SynthesisAugmented),
+        _ => Err(format!("formulation {i} is not 1 (synthesis), 2 (conventional) or 3 (synthesis, augmented 9x9 solve)")),
+    }
+}
+
+fn integrator(i: i32) -> Result<IntegratorKind, String> {
+    match i {
+        1 => Ok(IntegratorKind::Ab3),
+        2 => Ok(IntegratorKind::Rk4),
+        _ => Err(format!("integrator {i} is not 1 (AB3) or 2 (RK4)")),
+    }
+}
+
+fn slip_model(i: i32) -> Result<SlipModel, String> {
+    match i {
+        1 => Ok(SlipModel::Relaxation),
+        2 => Ok(SlipModel::Steady),
+        _ => Err(format!("slip_model {i} is not 1 (relaxation) or 2 (steady)")),
+    }
+}
+
+fn road(i: i32) -> Result<RoadChoice, String> {
+    match i {
+        1 => Ok(RoadChoice::Flat),
+        2 => Ok(RoadChoice::PaperBumps),
+        _ => Err(format!("road {i} is not 1 (flat) or 2 (the paper's bump course)")),
+    }
+}
+
+/// The instance model state: parameters, inputs, the simulation and the last good outputs.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct VehicleModel {
+    pub params: Parameters,
+    pub rack: f64,
+    /// Rack input derivatives of order 1 and 2 for the next step only.
+    pub rack_derivatives: [Option<f64>; 2],
+    pub drive: [f64; 4],
+    pub brake: [f64; 4],
+    pub sim: Option<Simulation>,
+    /// The last good outputs, indexed like `OUTPUT_NAMES` (empty before `initialize`).
+    pub outputs: Vec<f64>,
+    /// Wall-clock seconds of the last `fmi2DoStep` (diagnostic, not deterministic).
+    pub step_cpu_time: f64,
+}
+
+impl VehicleModel {
+    /// The vehicle data file this instance uses: `vehicle_file` (a path or `file:` URI; relative paths are
+    /// looked up in the resources, then the working directory), else `resources/hmmwv.json`, else (no
+    /// resource location at all) `None` for the compiled-in default.
+    pub fn vehicle_path(&self, context: &ModelContext) -> Result<Option<PathBuf>, String> {
+        let file = self.params.vehicle_file.trim();
+        if !file.is_empty() {
+            if file.to_ascii_lowercase().starts_with("file:") {
+                return match super::api::parse_resource_location(Some(file)) {
+                    ResourceLocation::Dir(p) => Ok(Some(p)),
+                    _ => Err(format!("vehicle_file {file:?} is not a local file URI")),
+                };
+            }
+            let path = Path::new(file);
+            if path.is_relative() {
+                if let ResourceLocation::Dir(dir) = &context.resources {
+                    let candidate = dir.join(path);
+                    if candidate.exists() {
+                        return Ok(Some(candidate));
+                    }
+                }
+            }
+            return Ok(Some(path.to_path_buf()));
+        }
+        match &context.resources {
+            ResourceLocation::Dir(dir) => Ok(Some(dir.join(VEHICLE_RESOURCE))),
+            ResourceLocation::None => Ok(None),
+            ResourceLocation::Unsupported(uri) => {
+                Err(format!("fmuResourceLocation {uri:?} is not a local directory: cannot read {VEHICLE_RESOURCE}"))
+            }
+        }
+    }
+
+    fn output(&self, var: &Variable) -> Result<f64, String> {
+        let slot = OUTPUT_SLOTS[var.index];
+        self.outputs
+            .get(slot)
+            .copied()
+            .ok_or_else(|| format!("{} is available once the model is initialized", var.name))
+    }
+}
+
+impl FmuModel for VehicleModel {
+    fn new(_context: &ModelContext) -> Self {
+        VehicleModel {
+            params: Parameters::default(),
+            rack: 0.0,
+            rack_derivatives: [None, None],
+            drive: [0.0; 4],
+            brake: [0.0; 4],
+            sim: None,
+            outputs: Vec::new(),
+            step_cpu_time: 0.0,
+        }
+    }
+
+    fn get_real(&self, var: &Variable) -> Result<f64, String> {
+        let p = &self.params;
+        Ok(match var.vr {
+            vr::RACK_DISPLACEMENT => self.rack,
+            vr::INITIAL_SPEED => p.initial_speed,
+            vr::INTERNAL_STEP => p.internal_step,
+            vr::STEP_CPU_TIME => self.step_cpu_time,
+            r if DRIVE.contains(&r) => self.drive[DRIVE.iter().position(|&d| d == r).unwrap()],
+            r if BRAKE.contains(&r) => self.brake[BRAKE.iter().position(|&d| d == r).unwrap()],
+            _ if var.causality == Causality::Output => self.output(var)?,
+            _ => return Err(format!("{} is not a Real of this model", var.name)),
+        })
+    }
+
+    fn get_integer(&self, var: &Variable) -> Result<i32, String> {
+        let p = &self.params;
+        Ok(match var.vr {
+            vr::SPEED_MODE => p.speed_mode,
+            vr::FORMULATION => p.formulation,
+            vr::INTEGRATOR => p.integrator,
+            vr::SLIP_MODEL => p.slip_model,
+            vr::ROAD => p.road,
+            _ => return Err(format!("{} is not an Integer of this model", var.name)),
+        })
+    }
+
+    fn get_string(&self, var: &Variable) -> Result<String, String> {
+        match var.vr {
+            vr::VEHICLE_FILE => Ok(self.params.vehicle_file.clone()),
+            _ => Err(format!("{} is not a String of this model", var.name)),
+        }
+    }
+
+    fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
+        match var.vr {
+            vr::RACK_DISPLACEMENT => self.rack = value,
+            vr::INITIAL_SPEED => {
+                if !(0.0..=INITIAL_SPEED_MAX).contains(&value) {
+                    return Err(format!("initial_speed must be in [0, {INITIAL_SPEED_MAX}] m/s"));
+                }
+                self.params.initial_speed = value;
+            }
+            vr::INTERNAL_STEP => {
+                if !(value > 0.0 && value <= INTERNAL_STEP_MAX) {
+                    return Err(format!("internal_step must be in (0, {INTERNAL_STEP_MAX}] s"));
+                }
+                self.params.internal_step = value;
+            }
+            r if DRIVE.contains(&r) => self.drive[DRIVE.iter().position(|&d| d == r).unwrap()] = value,
+            r if BRAKE.contains(&r) => {
+                if value < 0.0 {
+                    return Err("a brake torque must be >= 0 (it always opposes the wheel spin)".into());
+                }
+                self.brake[BRAKE.iter().position(|&d| d == r).unwrap()] = value;
+            }
+            _ => return Err(format!("{} is not a settable Real of this model", var.name)),
+        }
+        Ok(())
+    }
+
+    fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String> {
+        let p = &mut self.params;
+        match var.vr {
+            vr::SPEED_MODE => speed_mode(value).map(|_| p.speed_mode = value),
+            vr::FORMULATION => formulation(value).map(|_| p.formulation = value),
+            vr::INTEGRATOR => integrator(value).map(|_| p.integrator = value),
+            vr::SLIP_MODEL => slip_model(value).map(|_| p.slip_model = value),
+            vr::ROAD => road(value).map(|_| p.road = value),
+            _ => Err(format!("{} is not a settable Integer of this model", var.name)),
+        }
+    }
+
+    fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String> {
+        match var.vr {
+            vr::VEHICLE_FILE => {
+                self.params.vehicle_file = value.to_string();
+                Ok(())
+            }
+            _ => Err(format!("{} is not a settable String of this model", var.name)),
+        }
+    }
+
+    fn set_real_input_derivative(&mut self, var: &Variable, order: i32, value: f64) -> Result<(), String> {
+        if !(1..=2).contains(&order) {
+            return Err("derivatives of order 1 and 2 only".into());
+        }
+        // The wheel torques are held over a step: their derivatives are accepted (fmpy sends them for every
+        // continuous input) and not used.
+        if var.vr == vr::RACK_DISPLACEMENT {
+            self.rack_derivatives[order as usize - 1] = Some(value);
+        }
+        Ok(())
+    }
+
+    fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String> {
+        let _ = start_time; // the simulation's clock starts at 0; the generic layer keeps the FMU time
+        let config = self.params.config()?;
+        let vehicle = match self.vehicle_path(context)? {
+            Some(path) => {
+                let data = VehicleData::from_file(&path).map_err(|e| e.to_string())?;
+                log.event(&format!("vehicle data: {}", path.display()));
+                data
+            }
+            None => {
+                log.event("vehicle data: compiled-in default (no fmuResourceLocation)");
+                VehicleData::default_hmmwv()
+            }
+        };
+        // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
+        for w in vehicle.warnings() {
+            log.event(&format!("vehicle data: {w}"));
+        }
+        log.event(&format!("configuration: {config:?}"));
+        let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
+        let outputs = sim.outputs().values.to_vec();
+        if let Some(i) = outputs.iter().position(|v| !v.is_finite()) {
+            return Err(format!("initial output {} is not finite ({})", OUTPUT_NAMES[i], outputs[i]));
+        }
+        self.sim = Some(sim);
+        self.outputs = outputs;
+        self.step_cpu_time = 0.0;
+        Ok(())
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, _log: &Logger) -> Result<(), StepFailure> {
+        let derivatives = std::mem::take(&mut self.rack_derivatives);
+        let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
+        sim.set_external_rack(RackSample {
+            value: self.rack,
+            first_derivative: derivatives[0],
+            second_derivative: derivatives[1],
+        });
+        sim.set_wheel_torques(self.drive, self.brake);
+        let clock = std::time::Instant::now();
+        let result = sim.advance(h);
+        self.step_cpu_time = clock.elapsed().as_secs_f64();
+        result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))?;
+        let out = sim.outputs();
+        if let Some(i) = out.values.iter().position(|v| !v.is_finite()) {
+            return Err(StepFailure::Terminate(format!(
+                "diverged: output {} is {} at t = {}",
+                OUTPUT_NAMES[i],
+                out.values[i],
+                t + h
+            )));
+        }
+        self.outputs.clear();
+        self.outputs.extend_from_slice(&out.values);
+        Ok(())
+    }
+}
