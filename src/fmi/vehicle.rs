@@ -110,7 +110,8 @@ fn integrator(i: i32) -> Result<IntegratorKind, String> {
     match i {
         1 => Ok(IntegratorKind::Ab3),
         2 => Ok(IntegratorKind::Rk4),
-        _ => Err(format!("integrator {i} is not 1 (AB3) or 2 (RK4)")),
+        3 => Ok(IntegratorKind::Ros2),
+        _ => Err(format!("integrator {i} is not 1 (AB3), 2 (RK4) or 3 (ROS2)")),
     }
 }
 

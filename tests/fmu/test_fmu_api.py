@@ -148,7 +148,7 @@ def test_non_finite_reals_are_rejected_and_the_old_value_kept(make, bad):
     ("initial_speed", -0.1), ("initial_speed", 60.01),
     ("brake_torque_fl", -1.0), ("brake_torque_rr", -1e-9),
     ("speed_mode", 0), ("speed_mode", 3), ("formulation", 0), ("formulation", 4),
-    ("integrator", 0), ("integrator", 3), ("slip_model", 3), ("road", 0), ("road", 3),
+    ("integrator", 0), ("integrator", 4), ("slip_model", 3), ("road", 0), ("road", 3),
 ])
 def test_out_of_range_values_are_errors(make, name, value):
     s = make()
