@@ -409,7 +409,7 @@ fn bad_values_are_errors_and_keep_the_old_value() {
     assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[60.5]), ERROR);
     assert_eq!(inst.set_real(&[vr::BRAKE_TORQUE_RL], &[-1.0]), ERROR);
     assert_eq!(inst.set_real(&[vr::DRIVE_TORQUE_RL], &[-100.0]), OK);
-    for (v, bad) in [(vr::SPEED_MODE, 0), (vr::SPEED_MODE, 3), (vr::FORMULATION, 4), (vr::INTEGRATOR, 3), (vr::SLIP_MODEL, 0), (vr::ROAD, 3)] {
+    for (v, bad) in [(vr::SPEED_MODE, 0), (vr::SPEED_MODE, 3), (vr::FORMULATION, 4), (vr::INTEGRATOR, 4), (vr::SLIP_MODEL, 0), (vr::ROAD, 3)] {
         assert_eq!(inst.set_integer(&[v], &[bad]), ERROR, "{v} = {bad}");
     }
     // Unknown value references, and known ones asked with the wrong type.
