@@ -1,1 +1,146 @@
-fn main() {}
+//! Function evaluation, assembly and acceleration evaluation of the real vehicle (the paper's Table 1,
+//! physics.md §4.10), and the cost of one fmi2DoStep of 8.3 ms through the C API.
+//!
+//! `cargo bench --bench evaluation` runs criterion, then prints, from one in-process run, the medians
+//! and the ratios next to the paper's (3.23 for the function evaluation, 19.1 for the acceleration
+//! evaluation, op-count ratio ≈ 29).
+
+use criterion::Criterion;
+use rt_vehicle::dynamics::Multipliers;
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::vehicle::{idx, Diagnostics, Formulation, Inputs, KinematicsCache, Vehicle};
+use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::SimConfig;
+use std::hint::black_box;
+use std::time::Instant;
+
+/// A state in the middle of the J-turn (t = 4 s: cornering at 0.35 g, every term non-trivial).
+fn cornering() -> (Vehicle, Vec<f64>, Inputs) {
+    let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
+    let mut sim = scene.start(VehicleData::default_hmmwv(), &SimConfig::default()).unwrap();
+    run(&mut sim, 4.0, 0.01, |_| {}).unwrap();
+    let inputs = Inputs { rack: scene.rack.at(4.0), drive: [0.0; 4], brake: [0.0; 4] };
+    (sim.vehicle().clone(), sim.state().to_vec(), inputs)
+}
+
+fn with_formulation(v: &Vehicle, f: Formulation) -> Vehicle {
+    let mut v = v.clone();
+    v.formulation = f;
+    v
+}
+
+/// Median wall time per call, µs, over 101 batches.
+fn median_us(mut f: impl FnMut()) -> f64 {
+    let batch = 200;
+    let mut t: Vec<f64> = (0..101)
+        .map(|_| {
+            let s = Instant::now();
+            for _ in 0..batch {
+                f();
+            }
+            s.elapsed().as_secs_f64() * 1e6 / batch as f64
+        })
+        .collect();
+    t.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    t[50]
+}
+
+mod fmu {
+    use fmi_sys::fmi2::*;
+    use rt_vehicle::fmi::exports::*;
+    use std::ffi::CString;
+
+    pub struct Instance(pub fmi2Component, pub f64);
+
+    pub fn instantiate() -> Instance {
+        let name = CString::new("bench").unwrap();
+        let guid = CString::new(rt_vehicle::fmi::variables::GUID).unwrap();
+        let quiet = fmi2CallbackFunctions { logger: None, allocateMemory: None, freeMemory: None, stepFinished: None, componentEnvironment: std::ptr::null_mut() };
+        unsafe {
+            let c = fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &quiet, 0, 0);
+            assert!(!c.is_null());
+            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status_fmi2OK);
+            assert_eq!(fmi2EnterInitializationMode(c), fmi2Status_fmi2OK);
+            assert_eq!(fmi2ExitInitializationMode(c), fmi2Status_fmi2OK);
+            Instance(c, 0.0)
+        }
+    }
+
+    impl Instance {
+        pub fn step(&mut self, h: f64) {
+            let status = unsafe { fmi2DoStep(self.0, self.1, h, 1) };
+            assert_eq!(status, fmi2Status_fmi2OK);
+            self.1 += h;
+        }
+    }
+
+    impl Drop for Instance {
+        fn drop(&mut self) {
+            unsafe { fmi2FreeInstance(self.0) }
+        }
+    }
+}
+
+fn main() {
+    let (vehicle, x, inputs) = cornering();
+    let formulations = [("synthesis", Formulation::Synthesis), ("augmented", Formulation::SynthesisAugmented), ("conventional", Formulation::Conventional)];
+    let mut c = Criterion::default().configure_from_args();
+    for (name, f) in formulations {
+        let v = with_formulation(&vehicle, f);
+        let mut cache = KinematicsCache::default();
+        let mut dx = vec![0.0; idx::DIM];
+        c.bench_function(&format!("function evaluation/{name}"), |b| {
+            b.iter(|| v.derivative(black_box(&x), &inputs, &mut cache, &mut dx, None).unwrap())
+        });
+    }
+    let mut cache = KinematicsCache::default();
+    c.bench_function("assembly (shared terms, §4.9 steps 1-3e)", |b| {
+        b.iter(|| vehicle.assemble(black_box(&x), &inputs, &mut cache, &mut Diagnostics::default()).unwrap())
+    });
+    let assembly = vehicle.assemble(&x, &inputs, &mut KinematicsCache::default(), &mut Diagnostics::default()).unwrap();
+    for (name, f) in [("synthesis GCP", Formulation::Synthesis), ("conventional 42x42", Formulation::Conventional)] {
+        let v = with_formulation(&vehicle, f);
+        c.bench_function(&format!("acceleration evaluation/{name}"), |b| {
+            b.iter(|| v.accelerations(black_box(&assembly), Multipliers::Skip).unwrap())
+        });
+    }
+    let mut inst = fmu::instantiate();
+    c.bench_function("fmi2DoStep 8.3 ms (RK4, 2 ms internal: 5 sub-steps)", |b| b.iter(|| inst.step(0.0083)));
+    drop(inst);
+    c.final_summary();
+
+    // One in-process run for the ratios.
+    let mut med = Vec::new();
+    for (name, f) in formulations {
+        let v = with_formulation(&vehicle, f);
+        let mut cache = KinematicsCache::default();
+        let mut dx = vec![0.0; idx::DIM];
+        med.push((name, median_us(|| v.derivative(black_box(&x), &inputs, &mut cache, &mut dx, None).unwrap())));
+    }
+    let mut cache = KinematicsCache::default();
+    let asm = median_us(|| {
+        black_box(vehicle.assemble(black_box(&x), &inputs, &mut cache, &mut Diagnostics::default()).unwrap());
+    });
+    let acc: Vec<f64> = [Formulation::Synthesis, Formulation::Conventional]
+        .iter()
+        .map(|f| {
+            let v = with_formulation(&vehicle, *f);
+            median_us(|| {
+                black_box(v.accelerations(black_box(&assembly), Multipliers::Skip).unwrap());
+            })
+        })
+        .collect();
+    let mut inst = fmu::instantiate();
+    let step = median_us(|| inst.step(0.0083));
+    println!("\nmedians from one run (us):");
+    for (name, m) in &med {
+        println!("  function evaluation, {name:<13} {m:8.2}");
+    }
+    println!("  assembly (shared)                 {asm:8.2}");
+    println!("  acceleration evaluation, GCP      {:8.2}", acc[0]);
+    println!("  acceleration evaluation, 42x42    {:8.2}", acc[1]);
+    println!("  fmi2DoStep of 8.3 ms              {step:8.2}  ({:.0}x real time)", 8300.0 / step);
+    println!("ratios conventional / synthesis:");
+    println!("  function evaluation      {:6.2}   (paper 3.23)", med[2].1 / med[0].1);
+    println!("  acceleration evaluation  {:6.2}   (paper 19.1, op count ~29)", acc[1] / acc[0]);
+}

@@ -327,7 +327,7 @@ impl FmuModel for VehicleModel {
         Ok(())
     }
 
-    fn do_step(&mut self, t: f64, h: f64, _log: &Logger) -> Result<(), StepFailure> {
+    fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure> {
         let derivatives = std::mem::take(&mut self.rack_derivatives);
         let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
         sim.set_external_rack(RackSample {
@@ -336,9 +336,14 @@ impl FmuModel for VehicleModel {
             second_derivative: derivatives[1],
         });
         sim.set_wheel_torques(self.drive, self.brake);
+        let flagged_before = sim.monitor.first_flagged.is_some();
         let clock = std::time::Instant::now();
         let result = sim.advance(h);
         self.step_cpu_time = clock.elapsed().as_secs_f64();
+        if !flagged_before && sim.monitor.first_flagged.is_some() {
+            // Numerical instability is reported when it starts, never silent (physics.md §7.4).
+            sim.warnings().iter().for_each(|w| log.warning(w));
+        }
         result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))?;
         let out = sim.outputs();
         if let Some(i) = out.values.iter().position(|v| !v.is_finite()) {

@@ -5,7 +5,7 @@
 //! accelerations by the selected formulation → state derivative. The spatial origin is put at the
 //! chassis CM in every evaluation (§4.0), so all positions below are relative to r0.
 
-use crate::dynamics::{self, Accelerations, ChassisTerms, SubsystemTerms};
+use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, SubsystemTerms};
 use crate::integrate::EvalError;
 use crate::math::{quat_rate, quat_to_matrix, skew, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
@@ -284,13 +284,65 @@ impl Vehicle {
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
     ) -> Result<(), EvalError> {
+        let mut local = Diagnostics::default();
+        let assembly = self.assemble(x, inputs, cache, &mut local)?;
+        let multipliers = if diag.is_some() { Multipliers::Compute } else { Multipliers::Skip };
+        let acc = self.accelerations(&assembly, multipliers)?;
+
+        // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
+        let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
+        let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
+        let rdd = lin(&acc.chassis) + w0.cross(&v0);
+        let wd = ang(&acc.chassis);
+        let ed = quat_rate(&x[idx::E0..idx::E0 + 4], &w0);
+        for k in 0..3 {
+            dxdt[idx::R0 + k] = v0[k];
+            dxdt[idx::V0 + k] = rdd[k];
+            dxdt[idx::W0 + k] = wd[k];
+        }
+        dxdt[idx::E0..idx::E0 + 4].copy_from_slice(&ed);
+        for i in 0..4 {
+            dxdt[idx::U + i] = x[idx::UD + i];
+            dxdt[idx::UD + i] = acc.q_ddot[i][0];
+            dxdt[idx::SPIN + i] = assembly.spin_torque[i] / self.corners[i].spin_inertia;
+            dxdt[idx::XI + 2 * i] = assembly.relaxation_rates[i][0];
+            dxdt[idx::XI + 2 * i + 1] = assembly.relaxation_rates[i][1];
+        }
+        dxdt[idx::ZV] = match self.speed_mode {
+            SpeedMode::Hold => self.target_speed - assembly.heading_speed,
+            SpeedMode::Coast => 0.0,
+        };
+        if !dxdt.iter().all(|v| v.is_finite()) {
+            return Err(EvalError("non-finite state derivative".into()));
+        }
+        if let Some(d) = diag {
+            local.chassis_acceleration = rdd;
+            local.lambda = acc.lambda;
+            *d = local;
+        }
+        Ok(())
+    }
+
+    /// Accelerations from the assembled terms by the selected formulation (§4.9 steps 3f–5, or the
+    /// 42x42 of §4.3): what the paper's Table 1 calls the acceleration evaluation.
+    pub fn accelerations(&self, a: &Assembly, multipliers: Multipliers) -> Result<Accelerations<4>, EvalError> {
+        match self.formulation {
+            Formulation::Synthesis => dynamics::solve_synthesis_gcp_with(&a.chassis, &a.terms, multipliers),
+            Formulation::SynthesisAugmented => dynamics::solve_synthesis_augmented(&a.chassis, &a.terms),
+            Formulation::Conventional => dynamics::solve_conventional(&a.chassis, &a.terms),
+        }
+        .map_err(|e| EvalError(format!("acceleration solve failed: {}", e.0)))
+    }
+
+    /// Everything before the equation solving (§4.9 steps 1–3e): kinematics, forces and the chassis and
+    /// subsystem terms, shared by every formulation.
+    pub fn assemble(&self, x: &[f64], inputs: &Inputs, cache: &mut KinematicsCache, local: &mut Diagnostics) -> Result<Assembly, EvalError> {
         let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
         let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
         let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
         let r0 = V3::new(x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2]);
         let y0 = wrench(&v0, &w0);
         let g = if self.switches.gravity { V3::new(0.0, 0.0, -self.gravity) } else { V3::zeros() };
-        let mut local = Diagnostics::default();
 
         // Chassis (ρ0 = 0 after the origin shift) and rack (§4.7).
         let j0 = a0 * self.chassis.inertia * a0.transpose();
@@ -335,7 +387,8 @@ impl Vehicle {
             phi_q: SMatrix::zeros(),
             gamma_bar: Vector4::zeros(),
         }; 4];
-        let mut spin_rate_numerator = [0.0; 4];
+        let mut spin_torque = [0.0; 4];
+        let mut relaxation_rates = [[0.0; 2]; 4];
         for i in 0..4 {
             let c = &self.corners[i];
             let pos = &positions[i];
@@ -346,52 +399,21 @@ impl Vehicle {
             local.max_residual = local.max_residual.max(pos.residual);
             local.newton_iterations += pos.iterations;
             let drive = hold_torque + inputs.drive[i];
-            let out = self.corner_terms(i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], &mut local);
+            let out = self.corner_terms(i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], local);
             terms[i] = out.terms;
             chassis_force += out.chassis_wrench;
-            spin_rate_numerator[i] = out.spin_torque;
-            let xi_rates = out.relaxation_rates;
-            dxdt[idx::XI + 2 * i] = xi_rates[0];
-            dxdt[idx::XI + 2 * i + 1] = xi_rates[1];
+            spin_torque[i] = out.spin_torque;
+            relaxation_rates[i] = out.relaxation_rates;
             local.drive_torque[i] = drive;
         }
 
-        let chassis = ChassisTerms { mass: chassis_mass, force: chassis_force };
-        let acc: Accelerations<4> = match self.formulation {
-            Formulation::Synthesis => dynamics::solve_synthesis_gcp(&chassis, &terms),
-            Formulation::SynthesisAugmented => dynamics::solve_synthesis_augmented(&chassis, &terms),
-            Formulation::Conventional => dynamics::solve_conventional(&chassis, &terms),
-        }
-        .map_err(|e| EvalError(format!("acceleration solve failed: {}", e.0)))?;
-
-        // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
-        let rdd = lin(&acc.chassis) + w0.cross(&v0);
-        let wd = ang(&acc.chassis);
-        let ed = quat_rate(&x[idx::E0..idx::E0 + 4], &w0);
-        for k in 0..3 {
-            dxdt[idx::R0 + k] = v0[k];
-            dxdt[idx::V0 + k] = rdd[k];
-            dxdt[idx::W0 + k] = wd[k];
-        }
-        dxdt[idx::E0..idx::E0 + 4].copy_from_slice(&ed);
-        for i in 0..4 {
-            dxdt[idx::U + i] = x[idx::UD + i];
-            dxdt[idx::UD + i] = acc.q_ddot[i][0];
-            dxdt[idx::SPIN + i] = spin_rate_numerator[i] / self.corners[i].spin_inertia;
-        }
-        dxdt[idx::ZV] = match self.speed_mode {
-            SpeedMode::Hold => self.target_speed - vx_body,
-            SpeedMode::Coast => 0.0,
-        };
-        if !dxdt.iter().all(|v| v.is_finite()) {
-            return Err(EvalError("non-finite state derivative".into()));
-        }
-        if let Some(d) = diag {
-            local.chassis_acceleration = rdd;
-            local.lambda = acc.lambda;
-            *d = local;
-        }
-        Ok(())
+        Ok(Assembly {
+            chassis: ChassisTerms { mass: chassis_mass, force: chassis_force },
+            terms,
+            spin_torque,
+            relaxation_rates,
+            heading_speed: vx_body,
+        })
     }
 
     /// Global kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6).
@@ -615,6 +637,18 @@ impl Vehicle {
             wheel_centre: a0 * c.on_carrier(pos, &c.w0),
         }
     }
+}
+
+/// The terms of one evaluation, before the equation solving.
+#[derive(Debug, Clone, Copy)]
+pub struct Assembly {
+    pub chassis: ChassisTerms,
+    pub terms: [SubsystemTerms; 4],
+    /// a·M_W + T_d − T_b per wheel: I_s Ω̇ (§4.8).
+    pub spin_torque: [f64; 4],
+    pub relaxation_rates: [[f64; 2]; 4],
+    /// Chassis speed along its horizontal heading (the speed hold's V_x).
+    pub heading_speed: f64,
 }
 
 enum LineElement {
