@@ -144,3 +144,66 @@ fn suspension_kinematics_match_the_data_set() {
     check("steering gain deg/m of rack (left-turn input)", gain, data.rack.reference_gain_deg_per_m);
     assert_eq!(v.rack_sign, -1.0, "steering arms behind the axle: left turn moves the rack to −y");
 }
+
+/// Body velocity states and their rates against finite differences along a trajectory of the chassis
+/// and the joints (physics.md §3.4, §9.1): Y_b = Y0 + 𝔅_b q̇ and Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b.
+#[test]
+fn velocity_state_matrices_match_finite_differences() {
+    use nalgebra::{Matrix3, Vector3, Vector6};
+    use rt_vehicle::math::rotation_about;
+    let v = Vehicle::new(&VehicleData::default_hmmwv()).unwrap();
+    let axis = Vector3::new(0.3, -0.5, 0.8).normalize();
+    let (r0, vel, acc) = (Vector3::new(10.0, -4.0, 0.7), Vector3::new(12.0, 3.0, -0.5), Vector3::new(1.0, -2.0, 0.5));
+    let (th, thd, thdd) = (0.4, 0.7, -1.5);
+    let q = Vector5f::new(0.05, 0.02, -0.03, 0.04, 0.06);
+    let qd = Vector5f::new(0.9, -0.4, 0.6, 0.3, -0.8);
+    let qdd = Vector5f::new(-3.0, 2.0, 1.0, -2.5, 4.0);
+    let pose = |t: f64| {
+        let a0 = rotation_about(&axis, th + thd * t + 0.5 * thdd * t * t);
+        (r0 + vel * t + acc * 0.5 * t * t, a0, vel + acc * t, axis * (thd + thdd * t), q + qd * t + qdd * 0.5 * t * t, qd + qdd * t)
+    };
+    let bodies = |i: usize, t: f64| {
+        // Absolute CM positions, rotations, and (from the velocity states) CM velocities and ω.
+        let (r, a0, rd, w, qt, qdt) = pose(t);
+        let c = &v.corners[i];
+        let pos = c.evaluate(&qt, 0.0);
+        let y0 = Vector6::new(rd.x, rd.y, rd.z, w.x, w.y, w.z);
+        let k = v.corner_kinematics(i, &pos, &qdt, &a0, &y0);
+        let rots = [a0 * pos.r_l, a0 * pos.r_k, a0 * pos.r_u];
+        (0..3)
+            .map(|b| {
+                let wb = Vector3::new(k.velocity[b][3], k.velocity[b][4], k.velocity[b][5]);
+                let vhat = Vector3::new(k.velocity[b][0], k.velocity[b][1], k.velocity[b][2]);
+                let rdot = vhat + wb.cross(&k.com[b]);
+                (r + k.com[b], rots[b], rdot, wb, k)
+            })
+            .collect::<Vec<(Vector3<f64>, Matrix3<f64>, Vector3<f64>, Vector3<f64>, _)>>()
+    };
+    let h = 1e-5;
+    for i in 0..4 {
+        let (now, plus, minus) = (bodies(i, 0.0), bodies(i, h), bodies(i, -h));
+        let origin = pose(0.0).0;
+        for b in 0..3 {
+            // Velocities: CM velocity and angular velocity from the states vs differences of positions.
+            let fd_v = (plus[b].0 - minus[b].0) / (2.0 * h);
+            let wt = (plus[b].1 - minus[b].1) / (2.0 * h) * now[b].1.transpose();
+            let fd_w = Vector3::new(wt[(2, 1)] - wt[(1, 2)], wt[(0, 2)] - wt[(2, 0)], wt[(1, 0)] - wt[(0, 1)]) * 0.5;
+            assert!((fd_v - now[b].2).amax() < 1e-7 * (1.0 + fd_v.amax()), "corner {i} body {b}: ṙ {fd_v} vs {}", now[b].2);
+            assert!((fd_w - now[b].3).amax() < 1e-7, "corner {i} body {b}: ω {fd_w} vs {}", now[b].3);
+            // Rates: Y_b about a fixed origin, differenced, against Ẏ0 + 𝔅 q̈ + 𝔇.
+            let y_fixed = |s: &(Vector3<f64>, Matrix3<f64>, Vector3<f64>, Vector3<f64>, _)| {
+                let vhat = s.2 - s.3.cross(&(s.0 - origin));
+                Vector6::new(vhat.x, vhat.y, vhat.z, s.3.x, s.3.y, s.3.z)
+            };
+            let fd_ydot = (y_fixed(&plus[b]) - y_fixed(&minus[b])) / (2.0 * h);
+            let (_, _, rd, w, _, _) = pose(0.0);
+            let wdot = axis * thdd;
+            let lin0 = acc - w.cross(&rd);
+            let y0dot = Vector6::new(lin0.x, lin0.y, lin0.z, wdot.x, wdot.y, wdot.z);
+            let k = &now[b].4;
+            let model = y0dot + k.jacobian[b] * qdd + k.rate[b];
+            let err = (fd_ydot - model).amax();
+            assert!(err < 1e-5 * (1.0 + model.amax()), "corner {i} body {b}: Ẏ error {err:e}");
+        }
+    }
+}
