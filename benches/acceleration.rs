@@ -6,37 +6,19 @@
 //! the ratios conventional/GCP next to the paper's 19.1 (Table 1) and the operation-count ratio ≈ 29 (§4.10).
 //! Before timing, it checks with a counting global allocator that no solver allocates.
 
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::hint::black_box;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use criterion::Criterion;
+use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 use nalgebra::{SMatrix, SVector};
 use rt_vehicle::dynamics::{
     assemble_conventional, solve_conventional, solve_synthesis_augmented, solve_synthesis_gcp,
     solve_synthesis_gcp_with, synthetic::random_vehicle, Multipliers, NCONV,
 };
 
-struct Counting;
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
-        System.realloc(ptr, layout, new_size)
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 const SEED: u64 = 2001;
 
@@ -95,11 +77,11 @@ fn with_terms(
 fn check_no_allocation() {
     for (name, f) in solvers() {
         black_box(f()); // warm up (thread-local initialization allocates nothing, but be safe)
-        let before = ALLOCS.load(Ordering::Relaxed);
+        let before = allocations();
         for _ in 0..1000 {
             black_box(f());
         }
-        let n = ALLOCS.load(Ordering::Relaxed) - before;
+        let n = allocations() - before;
         println!("allocations in 1000 calls of {name}: {n}");
         assert_eq!(n, 0, "{name} allocates");
     }

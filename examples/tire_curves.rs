@@ -30,17 +30,7 @@ fn curves_csv(p: &TireParams) -> String {
     csv
 }
 
-/// physics.md §6.5 reference table: (F_z, α, κ, γ_w) → (F_x, F_y, M_z).
-const REFERENCE: [([f64; 4], [f64; 3]); 8] = [
-    ([6300.0, 0.02, 0.0, 0.0], [0.0, 942.97, -22.983]),
-    ([6300.0, 0.10, 0.0, 0.0], [0.0, 3916.8, -25.042]),
-    ([6300.0, 0.0, 0.02, 0.0], [2171.2, 0.0, 0.0]),
-    ([6300.0, 0.0, 0.10, 0.0], [4956.2, 0.0, 0.0]),
-    ([6300.0, 0.05, 0.05, 0.0], [4049.5, 1793.2, -6.1059]),
-    ([6300.0, 0.05, 0.0, 0.05], [0.0, 2372.4, -37.282]),
-    ([12000.0, 0.05, 0.0, 0.0], [0.0, 4160.1, -70.383]),
-    ([6300.0, 0.30, 0.0, 0.0], [0.0, 4848.5, -0.20312]),
-];
+use rt_vehicle::model::tire::sti::REFERENCE;
 
 /// Markdown table of the model against the reference (relative error, or the absolute value for a 0 entry).
 fn reference_comparison(p: &TireParams) -> String {

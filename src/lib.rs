@@ -6,6 +6,7 @@
 //! `fmi` (C API, generic) → `sim` (scenes, stepping) → `model` (vehicle) → `dynamics` (solvers),
 //! with `integrate` (time integrators) beside `sim`.
 
+pub mod alloc_count;
 pub mod dynamics;
 pub mod fmi;
 pub mod integrate;

@@ -3,28 +3,10 @@
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Diagnostics, Formulation, Inputs, KinematicsCache, RackMotion};
 use rt_vehicle::sim::{SimConfig, Simulation};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        System.realloc(ptr, layout, new_size)
-    }
-}
+use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn derivative_does_not_allocate() {
@@ -37,12 +19,12 @@ fn derivative_does_not_allocate() {
     let mut diag = Diagnostics::default();
     for f in [Formulation::Synthesis, Formulation::SynthesisAugmented, Formulation::Conventional] {
         vehicle.formulation = f;
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        let before = allocations();
         for _ in 0..100 {
             vehicle.derivative(&x, &inputs, &mut cache, &mut dx, None).unwrap();
             vehicle.derivative(&x, &inputs, &mut cache, &mut dx, Some(&mut diag)).unwrap();
         }
-        let n = ALLOCATIONS.load(Ordering::Relaxed) - before;
+        let n = allocations() - before;
         assert_eq!(n, 0, "{f:?}: {n} allocations in 200 evaluations");
     }
 }

@@ -95,6 +95,19 @@ pub fn sti_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, inclinati
     ShearForces { fx: slip.fx, fy: slip.fy_slip + camber_thrust, mz: -s.trail_m * adhesion * slip.fy_slip }
 }
 
+/// physics.md §6.5 reference table, computed by an independent implementation of the formulas with
+/// the default coefficients: (F_z, α, κ, γ_w) → (F_x, F_y, M_z), 5 significant figures.
+pub const REFERENCE: [([f64; 4], [f64; 3]); 8] = [
+    ([6300.0, 0.02, 0.0, 0.0], [0.0, 942.97, -22.983]),
+    ([6300.0, 0.10, 0.0, 0.0], [0.0, 3916.8, -25.042]),
+    ([6300.0, 0.0, 0.02, 0.0], [2171.2, 0.0, 0.0]),
+    ([6300.0, 0.0, 0.10, 0.0], [4956.2, 0.0, 0.0]),
+    ([6300.0, 0.05, 0.05, 0.0], [4049.5, 1793.2, -6.1059]),
+    ([6300.0, 0.05, 0.0, 0.05], [0.0, 2372.4, -37.282]),
+    ([12000.0, 0.05, 0.0, 0.0], [0.0, 4160.1, -70.383]),
+    ([6300.0, 0.30, 0.0, 0.0], [0.0, 4848.5, -0.20312]),
+];
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -104,17 +117,6 @@ mod tests {
         VehicleData::default_hmmwv().tire
     }
 
-    /// physics.md §6.5 reference table: (F_z, α, κ, γ_w) → (F_x, F_y, M_z), 5 significant figures.
-    const REFERENCE: [([f64; 4], [f64; 3]); 8] = [
-        ([6300.0, 0.02, 0.0, 0.0], [0.0, 942.97, -22.983]),
-        ([6300.0, 0.10, 0.0, 0.0], [0.0, 3916.8, -25.042]),
-        ([6300.0, 0.0, 0.02, 0.0], [2171.2, 0.0, 0.0]),
-        ([6300.0, 0.0, 0.10, 0.0], [4956.2, 0.0, 0.0]),
-        ([6300.0, 0.05, 0.05, 0.0], [4049.5, 1793.2, -6.1059]),
-        ([6300.0, 0.05, 0.0, 0.05], [0.0, 2372.4, -37.282]),
-        ([12000.0, 0.05, 0.0, 0.0], [0.0, 4160.1, -70.383]),
-        ([6300.0, 0.30, 0.0, 0.0], [0.0, 4848.5, -0.20312]),
-    ];
 
     /// Relative error of each component; exact zeros in the table must be zero to 1e-9 of the load.
     fn reference_errors(p: &TireParams) -> Vec<[f64; 3]> {
