@@ -140,9 +140,9 @@ fn suspension_kinematics_match_the_data_set() {
         check(&format!("{axle_name} spring motion ratio"), ratio, r.spring_motion_ratio_dLspring_dzwheel);
     }
     let v = Vehicle::new(&data).unwrap();
-    let gain = (v.steering_gain_per_rack_metre().unwrap() * v.rack_sign).to_degrees();
+    let gain = (v.steering_gain_per_rack_metre().unwrap() * v.rack.sign).to_degrees();
     check("steering gain deg/m of rack (left-turn input)", gain, data.rack.reference_gain_deg_per_m);
-    assert_eq!(v.rack_sign, -1.0, "steering arms behind the axle: left turn moves the rack to −y");
+    assert_eq!(v.rack.sign, -1.0, "steering arms behind the axle: left turn moves the rack to −y");
 }
 
 /// Body velocity states and their rates against finite differences along a trajectory of the chassis

@@ -266,7 +266,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
         let mut angles = [0.0; 2];
         for (i, a) in angles.iter_mut().enumerate() {
             let c = &v.corners[i];
-            let p = c.solve_positions(0.0, v.rack_sign * u, &[0.0; 4]).map_err(|e| failed(e.0))?;
+            let p = c.solve_positions(0.0, v.rack.sign * u, &[0.0; 4]).map_err(|e| failed(e.0))?;
             *a = c.steer_angle(&p).to_degrees();
         }
         text += &format!("{u:.6},{:.6},{:.6}\n", angles[0], angles[1]);

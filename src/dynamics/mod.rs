@@ -21,6 +21,7 @@
 
 use nalgebra::{Matrix6, SMatrix, Vector4, Vector5, Vector6};
 
+pub mod body;
 mod conventional;
 mod lu;
 mod synthesis;

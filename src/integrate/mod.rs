@@ -1,6 +1,6 @@
 //! Time integrators behind one small trait, and the one sub-stepping rule (physics.md §7.2).
 //!
-//! INTERFACE CONTRACT (the vehicle simulation depends on exactly this):
+//! What the rest of the crate uses:
 //! - `OdeSystem`: the model as seen by an integrator.
 //! - `Integrator`: a concrete, `Clone + Serialize + Deserialize` scheme; its history (AB3) is plain data so
 //!   an FMU state can be saved and restored bit-identically.

@@ -5,12 +5,14 @@
 //! accelerations by the selected formulation → state derivative. The spatial origin is put at the
 //! chassis CM in every evaluation (§4.0), so all positions below are relative to r0.
 
+use crate::dynamics::body::{ang, body_force, lin, mass_hat, point_force, wrench};
 use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, SubsystemTerms};
 use crate::integrate::EvalError;
 use crate::math::{quat_rate, quat_to_matrix, skew, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
 use crate::model::road::RoadModel;
+use crate::model::steering::rack::Rack;
 use crate::model::suspension::sla::{BodyInertia, SlaGeometry, SlaPositions, Side, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{Matrix6, SMatrix, Vector4, Vector6};
@@ -68,13 +70,7 @@ impl Default for ForceSwitches {
     }
 }
 
-/// Prescribed rack motion relative to the chassis (+ = left turn input u; the rack moves s = σ_r u).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct RackMotion {
-    pub position: f64,
-    pub velocity: f64,
-    pub acceleration: f64,
-}
+pub use crate::model::steering::rack::RackMotion;
 
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Inputs {
@@ -122,10 +118,7 @@ pub struct Vehicle {
     pub corner_forces: [CornerForces; 4],
     pub stops: StopCurve,
     pub chassis: BodyInertia,
-    pub rack: BodyInertia,
-    /// s = rack_sign · u: sign(∂δ̄/∂s) at design, so that u > 0 steers left.
-    pub rack_sign: f64,
-    pub rack_travel_limit: f64,
+    pub rack: Rack,
     pub tire: TireParams,
     pub tire_model: TireModel,
     pub slip: SlipModel,
@@ -139,45 +132,10 @@ pub struct Vehicle {
     pub total_mass: f64,
 }
 
-/// 6-vector [linear; angular] helpers.
-fn wrench(f: &V3, t: &V3) -> Vector6<f64> {
-    Vector6::new(f.x, f.y, f.z, t.x, t.y, t.z)
-}
-
-fn lin(y: &Vector6<f64>) -> V3 {
-    V3::new(y[0], y[1], y[2])
-}
-
-fn ang(y: &Vector6<f64>) -> V3 {
-    V3::new(y[3], y[4], y[5])
-}
-
 /// Unit horizontal heading of the chassis: its x axis projected on the ground plane.
 pub fn heading(a0: &M3) -> V3 {
     let h = a0 * V3::x();
     V3::new(h.x, h.y, 0.0).normalize()
-}
-
-/// M̂ of a body at CM position ρ with inertia J (ground frame), physics.md §4.1.
-fn mass_hat(m: f64, rho: &V3, j: &M3) -> Matrix6<f64> {
-    let r = skew(rho);
-    let mut out = Matrix6::zeros();
-    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&(M3::identity() * m));
-    out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-r * m));
-    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&(r * m));
-    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&(j - r * r * m));
-    out
-}
-
-/// Gravity plus the velocity-state inertial term of a body: [f; ρ × f − ω × Jω], f = m g − m ω × ṙ.
-fn body_force(m: f64, rho: &V3, j: &M3, w: &V3, rdot: &V3, g: &V3) -> Vector6<f64> {
-    let f = g * m - w.cross(rdot) * m;
-    wrench(&f, &(rho.cross(&f) - w.cross(&(j * w))))
-}
-
-/// A force f acting at the point ρ, as a velocity-state wrench.
-fn point_force(f: &V3, rho: &V3) -> Vector6<f64> {
-    wrench(f, &rho.cross(f))
 }
 
 impl Vehicle {
@@ -195,21 +153,15 @@ impl Vehicle {
             spring_free_length: a.spring.free_length_m,
             damper: a.damper.clone(),
         });
-        let c0 = V3::from(data.chassis.com_m);
         let chassis_inertia = crate::model::params::RigidBody {
             mass_kg: data.chassis.mass_kg,
             inertia_moments_kg_m2: data.chassis.inertia_moments_kg_m2,
             inertia_products_kg_m2: data.chassis.inertia_products_kg_m2,
         };
-        let rack_inertia = crate::model::params::RigidBody {
-            mass_kg: data.rack.mass_kg,
-            inertia_moments_kg_m2: data.rack.inertia_moments_kg_m2,
-            inertia_products_kg_m2: data.rack.inertia_products_kg_m2,
-        };
         let chassis = BodyInertia { mass: data.chassis.mass_kg, com: V3::zeros(), inertia: chassis_inertia.inertia() };
-        let rack = BodyInertia { mass: data.rack.mass_kg, com: V3::from(data.rack.com_m) - c0, inertia: rack_inertia.inertia() };
+        let rack = Rack::from_data(data);
         let total_mass = chassis.mass
-            + rack.mass
+            + rack.body.mass
             + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>();
         let mut v = Vehicle {
             corners,
@@ -217,8 +169,6 @@ impl Vehicle {
             stops: StopCurve::new(&data.stop_table),
             chassis,
             rack,
-            rack_sign: 1.0,
-            rack_travel_limit: data.rack.travel_limit_m,
             tire: data.tire.clone(),
             tire_model: TireModel::Sti,
             slip: SlipModel::Relaxation,
@@ -231,7 +181,7 @@ impl Vehicle {
             switches: ForceSwitches::default(),
             total_mass,
         };
-        v.rack_sign = if v.steering_gain_per_rack_metre().map_err(|e| DataError {
+        v.rack.sign = if v.steering_gain_per_rack_metre().map_err(|e| DataError {
             field: "front.hardpoints_chassis_frame_m".into(),
             message: e.0,
         })? < 0.0 {
@@ -258,7 +208,7 @@ impl Vehicle {
 
     /// Rack translation for corner i (rear toe links ignore it).
     fn rack_translation(&self, i: usize, u: f64) -> f64 {
-        if self.corners[i].steered { self.rack_sign * u } else { 0.0 }
+        if self.corners[i].steered { self.rack.sign * u } else { 0.0 }
     }
 
     /// Solve the dependent coordinates of every corner (updates the warm starts).
@@ -349,21 +299,11 @@ impl Vehicle {
         let mut chassis_mass = mass_hat(self.chassis.mass, &V3::zeros(), &j0);
         let mut chassis_force = body_force(self.chassis.mass, &V3::zeros(), &j0, &w0, &v0, &g);
         let rack = &inputs.rack;
-        let s = self.rack_sign * rack.position;
-        let sd = self.rack_sign * rack.velocity;
-        let sdd = self.rack_sign * rack.acceleration;
-        {
-            let ey = a0 * V3::y();
-            let rho = a0 * (self.rack.com + V3::y() * s);
-            let j = a0 * self.rack.inertia * a0.transpose();
-            let m_hat = mass_hat(self.rack.mass, &rho, &j);
-            let y_r = y0 + wrench(&(ey * sd), &V3::zeros());
-            let rdot = lin(&y_r) + w0.cross(&rho);
-            let q_hat = body_force(self.rack.mass, &rho, &j, &w0, &rdot, &g);
-            let b_r_sdd_plus_d = wrench(&(ey * sdd + w0.cross(&ey) * sd), &V3::zeros());
-            chassis_mass += m_hat;
-            chassis_force += q_hat - m_hat * b_r_sdd_plus_d;
-        }
+        let s = self.rack.translation(rack);
+        let (sd, sdd) = (s.velocity, s.acceleration);
+        let (rack_mass, rack_force) = self.rack.chassis_terms(&a0, &y0, &g, &s);
+        chassis_mass += rack_mass;
+        chassis_force += rack_force;
 
         // Speed hold: T_d = m R0 [kp (V* − Vx) + ki z_v], split equally (§8.2). Vx is the speed along the
         // horizontal heading (not the pitched body x axis), so that steady rolling with the static pitch
@@ -696,11 +636,10 @@ impl Vehicle {
         };
         let j0 = a0 * self.chassis.inertia * a0.transpose();
         add_body(self.chassis.mass, &V3::zeros(), &j0, &v0, &w0);
-        let s = self.rack_sign * rack.position;
-        let sd = self.rack_sign * rack.velocity;
-        let rho_r = a0 * (self.rack.com + V3::y() * s);
-        let rdot_r = v0 + a0 * V3::y() * sd + w0.cross(&rho_r);
-        add_body(self.rack.mass, &rho_r, &(a0 * self.rack.inertia * a0.transpose()), &rdot_r, &w0);
+        let s = self.rack.translation(rack);
+        let sd = s.velocity;
+        let (rho_r, rdot_r, j_r) = self.rack.state(&a0, &v0, &w0, &s);
+        add_body(self.rack.body.mass, &rho_r, &j_r, &rdot_r, &w0);
         let positions = self.corner_positions(x, rack.position, cache)?;
         let mut spin_terms = Vec::new();
         let mut spring_potential = 0.0;

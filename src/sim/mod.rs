@@ -1,7 +1,7 @@
 //! A Simulation = vehicle model + integrator + inputs, stepping in equal internal sub-steps
 //! (physics.md §7.2). Plain data (`Clone + Serialize + Deserialize`): the FMU saves and restores it whole.
 //!
-//! PUBLIC API CONTRACT (the FMU adapter codes against exactly this):
+//! Its API (what the FMU adapter and the CLI use):
 //! - `SimConfig` (all modes), `Simulation::new(vehicle, config)` computes the initial equilibrium.
 //! - `set_external_rack(RackSample)` before each `advance(h)`; `set_wheel_torques(drive, brake)`.
 //! - `advance(h)`: integrate one interval (split into equal sub-steps ≤ internal_step), `Err` on
