@@ -204,41 +204,46 @@ impl<M: FmuModel> Instance<M> {
         })
     }
 
-    fn check_gettable(&mut self, function: &str, vrs: &[u32], ty: VarType) -> FmiResult<Vec<&'static Variable>> {
+    /// Validates a get call (state, every value reference) without collecting anything: the value
+    /// calls of a running master allocate nothing.
+    fn check_gettable(&mut self, function: &str, vrs: &[u32], ty: VarType) -> FmiResult<()> {
         self.require(function, GETTABLE)?;
-        let vars = vrs.iter().map(|&vr| self.lookup(function, vr, ty)).collect::<FmiResult<Vec<_>>>()?;
-        if self.core.mode == InitializationMode && vars.iter().any(|v| v.initial == Initial::Calculated) {
+        let mut calculated = false;
+        for &vr in vrs {
+            calculated |= self.lookup(function, vr, ty)?.initial == Initial::Calculated;
+        }
+        if self.core.mode == InitializationMode && calculated {
             self.initialize_if_needed()?;
         }
-        Ok(vars)
+        Ok(())
     }
 
-    fn check_settable(&self, function: &str, vrs: &[u32], ty: VarType) -> FmiResult<Vec<&'static Variable>> {
+    /// Validates a set call (state, value references, causality and variability) without collecting.
+    fn check_settable(&self, function: &str, vrs: &[u32], ty: VarType) -> FmiResult<()> {
         self.require(function, &[Instantiated, InitializationMode, StepComplete])?;
         let mode = self.core.mode;
-        vrs.iter()
-            .map(|&vr| {
-                let var = self.lookup(function, vr, ty)?;
-                let ok = match var.causality {
-                    Causality::Input => true,
-                    Causality::Parameter => match var.variability {
-                        super::variables::Variability::Tunable => true,
-                        _ => mode != StepComplete,
-                    },
-                    _ => false,
-                };
-                if ok {
-                    Ok(var)
-                } else if var.causality == Causality::Parameter {
-                    Err(Failure::error(format!(
+        for &vr in vrs {
+            let var = self.lookup(function, vr, ty)?;
+            let ok = match var.causality {
+                Causality::Input => true,
+                Causality::Parameter => match var.variability {
+                    super::variables::Variability::Tunable => true,
+                    _ => mode != StepComplete,
+                },
+                _ => false,
+            };
+            if !ok {
+                return Err(if var.causality == Causality::Parameter {
+                    Failure::error(format!(
                         "{function}: {} is a fixed parameter: settable only before fmi2ExitInitializationMode (state {mode:?})",
                         var.name
-                    )))
+                    ))
                 } else {
-                    Err(Failure::error(format!("{function}: {} ({:?}) cannot be set", var.name, var.causality)))
-                }
-            })
-            .collect()
+                    Failure::error(format!("{function}: {} ({:?}) cannot be set", var.name, var.causality))
+                });
+            }
+        }
+        Ok(())
     }
 
     /// Applies `set` to each variable in order; a rejected value stops there (earlier ones stay applied,
@@ -246,11 +251,13 @@ impl<M: FmuModel> Instance<M> {
     fn apply<T: Copy + std::fmt::Debug>(
         &mut self,
         function: &str,
-        vars: Vec<&'static Variable>,
+        vrs: &[u32],
+        ty: VarType,
         values: &[T],
         set: impl Fn(&mut M, &Variable, T) -> Result<(), String>,
     ) -> FmiResult {
-        for (var, &value) in vars.iter().zip(values) {
+        for (&vr, &value) in vrs.iter().zip(values) {
+            let var = self.lookup(function, vr, ty)?;
             set(&mut self.core.model, var, value)
                 .map_err(|e| Failure::error(format!("{function}: {} = {value:?} rejected: {e}", var.name)))?;
             if matches!(self.core.mode, Instantiated | InitializationMode) {
@@ -261,8 +268,9 @@ impl<M: FmuModel> Instance<M> {
     }
 
     pub fn get_real(&mut self, vrs: &[u32], out: &mut [f64]) -> FmiResult {
-        let vars = self.check_gettable("fmi2GetReal", vrs, VarType::Real)?;
-        for (var, slot) in vars.iter().zip(out.iter_mut()) {
+        self.check_gettable("fmi2GetReal", vrs, VarType::Real)?;
+        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+            let var = self.lookup("fmi2GetReal", vr, VarType::Real)?;
             let v = self.core.model.get_real(var).map_err(Failure::error)?;
             if !v.is_finite() {
                 return Err(Failure::error(format!("fmi2GetReal: {} is not finite ({v})", var.name)));
@@ -273,16 +281,18 @@ impl<M: FmuModel> Instance<M> {
     }
 
     pub fn get_integer(&mut self, vrs: &[u32], out: &mut [i32]) -> FmiResult {
-        let vars = self.check_gettable("fmi2GetInteger", vrs, VarType::Integer)?;
-        for (var, slot) in vars.iter().zip(out.iter_mut()) {
+        self.check_gettable("fmi2GetInteger", vrs, VarType::Integer)?;
+        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+            let var = self.lookup("fmi2GetInteger", vr, VarType::Integer)?;
             *slot = self.core.model.get_integer(var).map_err(Failure::error)?;
         }
         Ok(Status::Ok)
     }
 
     pub fn get_boolean(&mut self, vrs: &[u32], out: &mut [bool]) -> FmiResult {
-        let vars = self.check_gettable("fmi2GetBoolean", vrs, VarType::Boolean)?;
-        for (var, slot) in vars.iter().zip(out.iter_mut()) {
+        self.check_gettable("fmi2GetBoolean", vrs, VarType::Boolean)?;
+        for (&vr, slot) in vrs.iter().zip(out.iter_mut()) {
+            let var = self.lookup("fmi2GetBoolean", vr, VarType::Boolean)?;
             *slot = self.core.model.get_boolean(var).map_err(Failure::error)?;
         }
         Ok(Status::Ok)
@@ -290,9 +300,10 @@ impl<M: FmuModel> Instance<M> {
 
     /// The strings stay valid until the next fmi2GetString call on this instance (or its freeing).
     pub fn get_string(&mut self, vrs: &[u32]) -> FmiResult<Vec<*const std::os::raw::c_char>> {
-        let vars = self.check_gettable("fmi2GetString", vrs, VarType::String)?;
-        let mut strings = Vec::with_capacity(vars.len());
-        for var in vars {
+        self.check_gettable("fmi2GetString", vrs, VarType::String)?;
+        let mut strings = Vec::with_capacity(vrs.len());
+        for &vr in vrs {
+            let var = self.lookup("fmi2GetString", vr, VarType::String)?;
             strings.push(logger::c_string(&self.core.model.get_string(var).map_err(Failure::error)?));
         }
         self.strings = strings;
@@ -300,32 +311,33 @@ impl<M: FmuModel> Instance<M> {
     }
 
     pub fn set_real(&mut self, vrs: &[u32], values: &[f64]) -> FmiResult {
-        let vars = self.check_settable("fmi2SetReal", vrs, VarType::Real)?;
-        if let Some((var, v)) = vars.iter().zip(values).find(|(_, v)| !v.is_finite()) {
-            return Err(Failure::error(format!("fmi2SetReal: {} = {v} is not finite (value kept)", var.name)));
+        self.check_settable("fmi2SetReal", vrs, VarType::Real)?;
+        if let Some((&vr, v)) = vrs.iter().zip(values).find(|(_, v)| !v.is_finite()) {
+            let name = self.lookup("fmi2SetReal", vr, VarType::Real)?.name;
+            return Err(Failure::error(format!("fmi2SetReal: {name} = {v} is not finite (value kept)")));
         }
-        self.apply("fmi2SetReal", vars, values, |m, var, v| m.set_real(var, v))
+        self.apply("fmi2SetReal", vrs, VarType::Real, values, |m, var, v| m.set_real(var, v))
     }
 
     pub fn set_integer(&mut self, vrs: &[u32], values: &[i32]) -> FmiResult {
-        let vars = self.check_settable("fmi2SetInteger", vrs, VarType::Integer)?;
-        self.apply("fmi2SetInteger", vars, values, |m, var, v| m.set_integer(var, v))
+        self.check_settable("fmi2SetInteger", vrs, VarType::Integer)?;
+        self.apply("fmi2SetInteger", vrs, VarType::Integer, values, |m, var, v| m.set_integer(var, v))
     }
 
     pub fn set_boolean(&mut self, vrs: &[u32], values: &[bool]) -> FmiResult {
-        let vars = self.check_settable("fmi2SetBoolean", vrs, VarType::Boolean)?;
-        self.apply("fmi2SetBoolean", vars, values, |m, var, v| m.set_boolean(var, v))
+        self.check_settable("fmi2SetBoolean", vrs, VarType::Boolean)?;
+        self.apply("fmi2SetBoolean", vrs, VarType::Boolean, values, |m, var, v| m.set_boolean(var, v))
     }
 
     pub fn set_string(&mut self, vrs: &[u32], values: &[&str]) -> FmiResult {
-        let vars = self.check_settable("fmi2SetString", vrs, VarType::String)?;
-        self.apply("fmi2SetString", vars, values, |m, var, v| m.set_string(var, v))
+        self.check_settable("fmi2SetString", vrs, VarType::String)?;
+        self.apply("fmi2SetString", vrs, VarType::String, values, |m, var, v| m.set_string(var, v))
     }
 
     pub fn set_real_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> FmiResult {
         const F: &str = "fmi2SetRealInputDerivatives";
         self.require(F, &[Instantiated, InitializationMode, StepComplete])?;
-        let mut checked = Vec::with_capacity(vrs.len());
+        // Check all before applying any, without collecting (no allocation on the stepping path).
         for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
             let var = self.lookup(F, vr, VarType::Real)?;
             if var.causality != Causality::Input {
@@ -337,9 +349,9 @@ impl<M: FmuModel> Instance<M> {
             if !value.is_finite() {
                 return Err(Failure::error(format!("{F}: derivative of order {order} of {} is not finite ({value})", var.name)));
             }
-            checked.push((var, order, value));
         }
-        for (var, order, value) in checked {
+        for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
+            let var = self.lookup(F, vr, VarType::Real)?;
             self.core
                 .model
                 .set_real_input_derivative(var, order, value)

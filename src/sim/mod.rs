@@ -152,6 +152,9 @@ pub struct Simulation {
     drive: [f64; 4],
     brake: [f64; 4],
     outputs_values: Vec<f64>,
+    /// The state at the start of the current `advance`, for rollback (scratch: not part of a saved state).
+    #[serde(skip)]
+    state_before: Vec<f64>,
     pub monitor: SlipMonitor,
     evaluations: u64,
     /// x of the initial front wheel centres (where the bump course is measured from).
@@ -204,6 +207,7 @@ impl Simulation {
             drive: [0.0; 4],
             brake: [0.0; 4],
             outputs_values: vec![0.0; OUTPUT_NAMES.len()],
+            state_before: Vec::with_capacity(idx::DIM),
             monitor: SlipMonitor::default(),
             evaluations: 0,
             front_wheel_x0,
@@ -261,12 +265,16 @@ impl Simulation {
     }
 
     /// Integrate over [t, t + h] in equal sub-steps no larger than the internal step (§7.2). On error the
-    /// simulation is left exactly as before the call.
+    /// state, time, inputs and warm starts are left as before the call (a multistep history is restarted).
+    /// No heap allocation once the first step has sized the integrator's scratch.
     pub fn advance(&mut self, h: f64) -> Result<(), SimError> {
         if !(h > 0.0 && h.is_finite()) {
             return Err(SimError(format!("step must be positive and finite, got {h}")));
         }
-        let backup = (self.state.clone(), self.cache, self.integrator.clone(), self.evaluations, self.rack, self.last_external_slope);
+        // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
+        self.state_before.clear();
+        self.state_before.extend_from_slice(&self.state);
+        let backup = (self.cache, self.evaluations, self.rack, self.last_external_slope);
         if let RackSource::PendingRamp { t_k, start, target } = self.rack {
             let slope = (target - start) / h;
             if self.last_external_slope.is_some_and(|s| s != slope) {
@@ -278,7 +286,10 @@ impl Simulation {
         match self.integrate(h) {
             Ok(()) => Ok(()),
             Err(e) => {
-                (self.state, self.cache, self.integrator, self.evaluations, self.rack, self.last_external_slope) = backup;
+                self.state.copy_from_slice(&self.state_before);
+                (self.cache, self.evaluations, self.rack, self.last_external_slope) = backup;
+                // A multistep history may hold sub-steps of the failed interval: start it afresh.
+                self.integrator.restart();
                 Err(SimError(format!("t = {:.6} s: {}", self.time, e.0)))
             }
         }
