@@ -6,11 +6,13 @@ pub type V3 = Vector3<f64>;
 pub type M3 = Matrix3<f64>;
 
 /// Skew matrix: `skew(a) * b == a.cross(&b)`.
+#[inline]
 pub fn skew(a: &V3) -> M3 {
     Matrix3::new(0.0, -a.z, a.y, a.z, 0.0, -a.x, -a.y, a.x, 0.0)
 }
 
 /// Rodrigues rotation about the unit axis `h` by `theta`: I + sin θ h̃ + (1 − cos θ) h̃².
+#[inline]
 pub fn rotation_about(h: &V3, theta: f64) -> M3 {
     let k = skew(h);
     let (s, c) = theta.sin_cos();
@@ -18,6 +20,7 @@ pub fn rotation_about(h: &V3, theta: f64) -> M3 {
 }
 
 /// Bryant (x-y-z) angles: A = Rx(φ1) Ry(φ2) Rz(φ3), the orientation of the knuckle relative to the lower arm.
+#[inline]
 pub fn bryant(phi: &V3) -> M3 {
     let (s1, c1) = phi.x.sin_cos();
     let (s2, c2) = phi.y.sin_cos();
@@ -29,6 +32,7 @@ pub fn bryant(phi: &V3) -> M3 {
 }
 
 /// G(φ): relative angular velocity (in the lower-arm frame) = G φ̇. Columns are the joint axes g_j.
+#[inline]
 pub fn bryant_rate_matrix(phi: &V3) -> M3 {
     let (s1, c1) = phi.x.sin_cos();
     let (s2, c2) = phi.y.sin_cos();
@@ -36,6 +40,7 @@ pub fn bryant_rate_matrix(phi: &V3) -> M3 {
 }
 
 /// Ġ φ̇, the velocity-quadratic part of d(Gφ̇)/dt.
+#[inline]
 pub fn bryant_rate_quadratic(phi: &V3, phid: &V3) -> V3 {
     let (s1, c1) = phi.x.sin_cos();
     let (s2, c2) = phi.y.sin_cos();
@@ -45,18 +50,21 @@ pub fn bryant_rate_quadratic(phi: &V3, phid: &V3) -> V3 {
 }
 
 /// Rotation matrix of a (not necessarily normalised) quaternion stored as [w, x, y, z].
+#[inline]
 pub fn quat_to_matrix(e: &[f64]) -> M3 {
     let q = nalgebra::Quaternion::new(e[0], e[1], e[2], e[3]);
     UnitQuaternion::from_quaternion(q).to_rotation_matrix().into_inner()
 }
 
 /// Quaternion [w, x, y, z] of ISO yaw-pitch-roll angles: A = Rz(ψ) Ry(θ) Rx(φ).
+#[inline]
 pub fn quat_from_euler(roll: f64, pitch: f64, yaw: f64) -> [f64; 4] {
     let q = UnitQuaternion::from_euler_angles(roll, pitch, yaw);
     [q.w, q.i, q.j, q.k]
 }
 
 /// ISO (roll, pitch, yaw) of a rotation matrix A = Rz(ψ) Ry(θ) Rx(φ).
+#[inline]
 pub fn euler_from_matrix(a: &M3) -> (f64, f64, f64) {
     let roll = a[(2, 1)].atan2(a[(2, 2)]);
     let pitch = (-a[(2, 0)]).clamp(-1.0, 1.0).asin();
@@ -65,6 +73,7 @@ pub fn euler_from_matrix(a: &M3) -> (f64, f64, f64) {
 }
 
 /// Quaternion rate ė = ½ [−ω·e_v ; e_s ω + ω × e_v] for ω in the ground frame.
+#[inline]
 pub fn quat_rate(e: &[f64], w: &V3) -> [f64; 4] {
     let ev = V3::new(e[1], e[2], e[3]);
     let vs = w * e[0] + w.cross(&ev);
@@ -72,6 +81,7 @@ pub fn quat_rate(e: &[f64], w: &V3) -> [f64; 4] {
 }
 
 /// C¹ smoothstep on [0, 1] (3τ² − 2τ³), clamped outside.
+#[inline]
 pub fn smoothstep(t: f64) -> f64 {
     let t = t.clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)

@@ -6,21 +6,25 @@ use crate::math::{skew, M3, V3};
 use nalgebra::{Matrix6, Vector6};
 
 /// A 6-vector [linear; angular] from its halves.
+#[inline]
 pub fn wrench(f: &V3, t: &V3) -> Vector6<f64> {
     Vector6::new(f.x, f.y, f.z, t.x, t.y, t.z)
 }
 
 /// The linear half of a 6-vector.
+#[inline]
 pub fn lin(y: &Vector6<f64>) -> V3 {
     V3::new(y[0], y[1], y[2])
 }
 
 /// The angular half of a 6-vector.
+#[inline]
 pub fn ang(y: &Vector6<f64>) -> V3 {
     V3::new(y[3], y[4], y[5])
 }
 
 /// M̂ = [[mI, −mρ̃], [mρ̃, J − mρ̃ρ̃]] of a body with mass m, CM at ρ and inertia J about its CM.
+#[inline]
 pub fn mass_hat(m: f64, rho: &V3, j: &M3) -> Matrix6<f64> {
     let r = skew(rho);
     let mut out = Matrix6::zeros();
@@ -32,12 +36,14 @@ pub fn mass_hat(m: f64, rho: &V3, j: &M3) -> Matrix6<f64> {
 }
 
 /// Gravity plus the velocity-state inertial term of a body: [f; ρ × f − ω × Jω], f = m g − m ω × ṙ.
+#[inline]
 pub fn body_force(m: f64, rho: &V3, j: &M3, w: &V3, rdot: &V3, g: &V3) -> Vector6<f64> {
     let f = g * m - w.cross(rdot) * m;
     wrench(&f, &(rho.cross(&f) - w.cross(&(j * w))))
 }
 
 /// A force f acting at the point ρ, as a velocity-state wrench [f; ρ × f].
+#[inline]
 pub fn point_force(f: &V3, rho: &V3) -> Vector6<f64> {
     wrench(f, &rho.cross(f))
 }
