@@ -442,26 +442,21 @@ impl Vehicle {
         };
         match contact {
             Some(ct) => {
-                let rho_c = ct.point - r0;
-                let v_c = point_velocity(&y_k, &rho_c);
-                let pen_rate = -ct.normal.dot(&v_c);
-                let fz = tire::normal_force(&self.tire, ct.penetration, pen_rate);
-                let vx = ct.ex.dot(&v_c);
-                let vy = ct.ey.dot(&v_c);
-                let r_eff = self.tire.unloaded_radius_m - ct.penetration / 3.0;
-                let vsx = vx - r_eff * spin_rel;
-                let vsy = vy;
+                let v_c = point_velocity(&y_k, &(ct.point - r0));
+                let fz = tire::normal_force(&self.tire, ct.penetration, tire::penetration_rate(&ct, &v_c));
+                let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
                 let (kappa, tan_alpha) = match self.slip {
                     SlipModel::Relaxation => {
-                        relaxation_rates = tire::relaxation_rates(&self.tire, vx, vsx, vsy, xi, true);
+                        relaxation_rates = tire::relaxation_rates(&self.tire, slip.vx, slip.vsx, slip.vsy, xi, true);
                         (xi[0], xi[1])
                     }
-                    SlipModel::Steady => tire::steady_slip(&self.tire, vx, vsx, vsy),
+                    SlipModel::Steady => tire::steady_slip(&self.tire, slip.vx, slip.vsx, slip.vsy),
                 };
                 let shear = tire::shear_forces(self.tire_model, &self.tire, fz, kappa, tan_alpha, ct.inclination);
                 let m_rr = tire::rolling_resistance_moment(&self.tire, fz, ct.loaded_radius, spin_rel);
-                let force = ct.ex * shear.fx + ct.ey * shear.fy + ct.normal * fz;
-                let moment_w = (rho_c - rho_w).cross(&force) + ct.normal * shear.mz + axle * m_rr;
+                let force = ct.force(fz, &shear);
+                let moment_w = ct.moment_about_centre(&axle, &force, shear.mz, m_rr);
+                // The axial moment drives the spin (§4.8); the rest acts on the carrier at the wheel centre.
                 let axial = axle.dot(&moment_w);
                 q_k += wrench(&force, &(rho_w.cross(&force) + moment_w - axle * axial));
                 spin_torque += axial;

@@ -117,33 +117,6 @@ pub fn rolling_resistance_moment(p: &TireParams, fz: f64, loaded_radius: f64, om
     -p.rolling_resistance * fz * loaded_radius * (omega_rel / ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S).tanh()
 }
 
-/// Bracket of the slip search in [`slip_for_longitudinal_force`]: the STI F_x(κ) (α = 0) rises
-/// monotonically up to its peak at κ ≈ 0.111 for the default data, at every load.
-const SLIP_SEARCH_BRACKET: f64 = 0.1;
-
-/// The slip ratio κ in [-0.1, 0.1] at which the model gives F_x = `fx` (α = 0, γ_w = 0), by bisection; `None`
-/// if `fx` lies outside the forces reachable there. Meant for initialization in steady rolling (§8.1 step 3:
-/// ξ_x balancing the rolling resistance), not for the time loop.
-pub fn slip_for_longitudinal_force(model: TireModel, p: &TireParams, fz: f64, fx: f64) -> Option<f64> {
-    let force_at = |kappa: f64| shear_forces(model, p, fz, kappa, 0.0, 0.0).fx;
-    let (mut low, mut high) = (-SLIP_SEARCH_BRACKET, SLIP_SEARCH_BRACKET);
-    let (lowest, highest) = (force_at(low), force_at(high));
-    // A model without slip stiffness (frictionless) only reaches F_x = 0, at κ = 0.
-    if !(lowest < highest && lowest <= fx && fx <= highest) {
-        return (fx == 0.0).then_some(0.0);
-    }
-    // 64 halvings shrink the bracket below the spacing of f64 near κ.
-    for _ in 0..64 {
-        let middle = 0.5 * (low + high);
-        if force_at(middle) < fx {
-            low = middle;
-        } else {
-            high = middle;
-        }
-    }
-    Some(0.5 * (low + high))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -234,22 +207,5 @@ mod tests {
         // r = (0, 0, -0.45): r × F = (0.45·2000, -0.45·1000, 0); plus M_z about z and M_rr about y.
         let expected = Vector3::new(0.45 * 2000.0, -0.45 * 1000.0 - 40.0, -30.0);
         assert!((moment - expected).norm() < 1e-9, "{moment}");
-    }
-
-    #[test]
-    fn slip_for_a_longitudinal_force_inverts_the_model() {
-        let p = params();
-        let fz = 6300.0;
-        for model in [TireModel::Sti, TireModel::Linear, TireModel::LinearFrictionCircle] {
-            for target in [-95.0, 0.0, 1.0, 2000.0] {
-                let kappa = slip_for_longitudinal_force(model, &p, fz, target).expect("reachable");
-                let fx = shear_forces(model, &p, fz, kappa, 0.0, 0.0).fx;
-                assert!((fx - target).abs() < 1e-9 * fz, "{model:?}: F_x({kappa}) = {fx} ≠ {target}");
-            }
-            // Beyond the bracket: the STI and the circle stop near 0.8 F_z, the linear model at 1.78 F_z.
-            assert!(slip_for_longitudinal_force(model, &p, fz, 2.0 * fz).is_none(), "beyond the bracket");
-        }
-        assert_eq!(slip_for_longitudinal_force(TireModel::Frictionless, &p, fz, 0.0), Some(0.0));
-        assert_eq!(slip_for_longitudinal_force(TireModel::Frictionless, &p, fz, 10.0), None);
     }
 }
