@@ -239,7 +239,7 @@ th {{ background: #eee; }} code, pre {{ background: #f4f4f4; }} pre {{ padding: 
 wishbone) suspension subsystems and a kinematically driven steering rack (14 degrees of freedom), with STI tires on
 a flat road or the paper's bump course. The equations of motion are solved by the subsystem synthesis method
 (generalized coordinate partitioning per subsystem), or, as a cross-check, by the conventional recursive
-formulation (one dense 42&times;42 system). Time integration: RK4 (default) or AB3 with an RK4 start, in equal
+formulation (one dense 42&times;42 system). Time integration: RK4 (default), AB3 with an RK4 start, or ROS2 (linearly implicit), in equal
 internal sub-steps no larger than <code>internal_step</code>: a communication step H is split into
 n = max(1, &lceil;H/h<sub>max</sub> &minus; 10<sup>&minus;9</sup>&rceil;) sub-steps of H/n, so any communication step
 (shorter than, or not a multiple of, the internal step) ends exactly at the communication point.</p>
