@@ -80,10 +80,29 @@ pub struct Inputs {
     pub brake: [f64; 4],
 }
 
+/// The last converged dependent coordinates of one corner and their first-order sensitivities, from
+/// which the next Newton solve starts: v ≈ v_last + ∂v/∂u Δu + ∂v/∂s Δs (the tangent of the constraint
+/// manifold), so Newton starts within O(Δ²) of the solution.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct WarmStart {
+    pub v: [f64; 4],
+    pub u: f64,
+    pub s: f64,
+    pub dv_du: [f64; 4],
+    pub dv_ds: [f64; 4],
+}
+
+impl WarmStart {
+    fn predict(&self, u: f64, s: f64) -> [f64; 4] {
+        let (du, ds) = (u - self.u, s - self.s);
+        std::array::from_fn(|k| self.v[k] + self.dv_du[k] * du + self.dv_ds[k] * ds)
+    }
+}
+
 /// Newton warm starts: part of the simulation state (its last bits decide Newton's last bits).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct KinematicsCache {
-    pub dependent: [[f64; 4]; 4],
+    pub corners: [WarmStart; 4],
 }
 
 /// What one evaluation reveals besides ẋ (for outputs and diagnostics).
@@ -215,10 +234,19 @@ impl Vehicle {
     pub fn corner_positions(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<[SlaPositions; 4], EvalError> {
         let solve = |i: usize, cache: &mut KinematicsCache| -> Result<SlaPositions, EvalError> {
             let s = self.rack_translation(i, rack_u);
-            let p = self.corners[i].solve_positions(x[idx::U + i], s, &cache.dependent[i]).map_err(|e| {
-                EvalError(format!("corner {}: {}", CORNERS[i], e.0))
-            })?;
-            cache.dependent[i] = [p.q[1], p.q[2], p.q[3], p.q[4]];
+            let c = &self.corners[i];
+            let u = x[idx::U + i];
+            let guess = cache.corners[i].predict(u, s);
+            let p = c.solve_positions(u, s, &guess).map_err(|e| EvalError(format!("corner {}: {}", CORNERS[i], e.0)))?;
+            // Sensitivities from the LU Newton already factorized: ∂v/∂u = −Φ_v⁻¹Φ_u, ∂v/∂s = −Φ_v⁻¹Φ_s.
+            let (du, ds) = (c.velocities(&p, 1.0, 0.0), c.velocities(&p, 0.0, 1.0));
+            cache.corners[i] = WarmStart {
+                v: [p.q[1], p.q[2], p.q[3], p.q[4]],
+                u,
+                s,
+                dv_du: [du[1], du[2], du[3], du[4]],
+                dv_ds: [ds[1], ds[2], ds[3], ds[4]],
+            };
             Ok(p)
         };
         Ok([solve(0, cache)?, solve(1, cache)?, solve(2, cache)?, solve(3, cache)?])

@@ -1,0 +1,50 @@
+//! Newton iterations and cost per evaluation in a running scene (RK4, 2 ms): how good the warm start is.
+//! `cargo run --release --example newton_count`
+use rt_vehicle::integrate::{EvalError, Integrator, OdeSystem, Rk4};
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Vehicle};
+use rt_vehicle::sim::scenes::{Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::{RackProfile, SimConfig};
+
+struct Counting<'a> {
+    vehicle: &'a Vehicle,
+    rack: RackProfile,
+    cache: KinematicsCache,
+    iterations: u64,
+    evaluations: u64,
+}
+
+impl OdeSystem for Counting<'_> {
+    fn dim(&self) -> usize {
+        idx::DIM
+    }
+    fn derivative(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), EvalError> {
+        let mut d = Diagnostics::default();
+        let inputs = Inputs { rack: self.rack.at(t), drive: [0.0; 4], brake: [0.0; 4] };
+        let r = self.vehicle.derivative(x, &inputs, &mut self.cache, dx, Some(&mut d));
+        self.iterations += d.newton_iterations as u64;
+        self.evaluations += 1;
+        r
+    }
+}
+
+fn main() {
+    for kind in [SceneKind::JTurn, SceneKind::Bump, SceneKind::Sine] {
+        let scene = Scene::new(kind, Amplitude::Calibrated);
+        let sim = scene.start(VehicleData::default_hmmwv(), &SimConfig::default()).unwrap();
+        let vehicle = sim.vehicle().clone();
+        let mut x = sim.state().to_vec();
+        let mut ode = Counting { vehicle: &vehicle, rack: scene.rack, cache: KinematicsCache::default(), iterations: 0, evaluations: 0 };
+        let mut rk4 = Rk4::new();
+        let clock = std::time::Instant::now();
+        for k in 0..4000 {
+            rk4.step(&mut ode, k as f64 * 0.002, 0.002, &mut x).unwrap();
+        }
+        println!(
+            "{:<6} {:.2} Newton iterations per evaluation (4 corners), {:.2} us per evaluation (with diagnostics)",
+            kind.name(),
+            ode.iterations as f64 / ode.evaluations as f64,
+            clock.elapsed().as_secs_f64() * 1e6 / ode.evaluations as f64
+        );
+    }
+}
