@@ -28,6 +28,7 @@ fn bad_arguments_get_a_message_and_exit_2() {
         (vec!["scene", "jturn", "--step", "-1"], "positive"),
         (vec!["scene", "jturn", "--colour", "red"], "unknown option"),
         (vec!["scene", "jturn", "--end"], "needs a value"),
+        (vec!["scene", "jturn", "--ride-height", "low"], "--ride-height"),
         (vec!["kinematics"], "--axle"),
         (vec!["fly"], "unknown command"),
     ] {
@@ -62,4 +63,15 @@ fn a_broken_vehicle_file_is_reported() {
     let (code, _, err) = rtv(&["scene", "jturn", "--end", "0.01", "--vehicle", path.to_str().unwrap()]);
     assert_eq!(code, 1);
     assert!(err.contains("vehicle data"), "{err}");
+}
+
+#[test]
+fn ride_height_switch_turns_the_retune_off() {
+    let z = |mode: &str| -> f64 {
+        let (code, out, err) = rtv(&["scene", "bump", "--end", "0.01", "--ride-height", mode]);
+        assert_eq!(code, 0, "{err}");
+        out.lines().nth(1).unwrap().split(',').nth(3).unwrap().parse().unwrap()
+    };
+    // The data's free lengths leave the chassis CM ~0.1 m higher (the wheels hang on their arms).
+    assert!(z("data") - z("retuned") > 0.05, "{} vs {}", z("data"), z("retuned"));
 }

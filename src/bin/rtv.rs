@@ -21,7 +21,8 @@ use std::time::Instant;
 const USAGE: &str = "usage:
   rtv scene <bump|jturn|sine> [--formulation synthesis|augmented|conventional] [--integrator ab3|rk4|ros2]
             [--step S] [--end T] [--output-interval DT] [--speed hold|coast] [--slip relaxation|steady]
-            [--amplitude calibrated|paper|METRES] [--vehicle FILE.json] [--out FILE.csv]
+            [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
+            [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv calibrate [--vehicle FILE.json]";
@@ -114,6 +115,15 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
             _ => return Err(bad(format!("--slip: '{s}' is not relaxation or steady"))),
         };
     }
+    if let Some(r) = opts.get("ride-height") {
+        // retuned: spring free lengths set so that the design position is the static equilibrium (§8.1);
+        // data: the data's free lengths (the chassis then rests ~0.1 m higher, the arms hanging ~12° down).
+        c.ride_height_retune = match r.as_str() {
+            "retuned" => true,
+            "data" => false,
+            _ => return Err(bad(format!("--ride-height: '{r}' is not retuned or data"))),
+        };
+    }
     let interval = number(opts, "output-interval", 0.01)?;
     if !(interval > 0.0) {
         return Err(bad("--output-interval must be positive"));
@@ -137,7 +147,7 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
 fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let name = args.first().ok_or_else(|| bad("scene: which scene? bump, jturn or sine"))?;
     let kind = SceneKind::parse(name).ok_or_else(|| bad(format!("unknown scene '{name}': bump, jturn or sine")))?;
-    let opts = options(&args[1..], &["formulation", "integrator", "step", "end", "output-interval", "speed", "slip", "amplitude", "vehicle", "out"])?;
+    let opts = options(&args[1..], &["formulation", "integrator", "step", "end", "output-interval", "speed", "slip", "amplitude", "ride-height", "vehicle", "out"])?;
     let (config, interval) = scene_config(&opts)?;
     let amplitude = match opts.get("amplitude") {
         Some(a) => Amplitude::parse(a).ok_or_else(|| bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1")))?,
