@@ -87,10 +87,9 @@ fn generate(text: &str) -> Result<String, String> {
         let start_code = match (ty_name, start) {
             (_, None) => "None".to_string(),
             ("Real", Some(s)) => format!("Some(Start::Real({:?}))", num(s).map_err(|e| format!("{name}: {e}"))?),
-            ("Integer", Some(s)) => format!(
-                "Some(Start::Integer({}))",
-                s.trim().parse::<i32>().map_err(|e| format!("{name}: start: {e}"))?
-            ),
+            ("Integer", Some(s)) => {
+                format!("Some(Start::Integer({}))", s.trim().parse::<i32>().map_err(|e| format!("{name}: start: {e}"))?)
+            }
             ("Boolean", Some(s)) => format!("Some(Start::Boolean({}))", matches!(s.trim(), "true" | "1")),
             ("String", Some(s)) => format!("Some(Start::String({s:?}))"),
             (other, _) => return Err(format!("{name}: unsupported type {other}")),

@@ -10,8 +10,8 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::Criterion;
-use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 use nalgebra::{SMatrix, SVector};
+use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 use rt_vehicle::dynamics::{
     assemble_conventional, solve_conventional, solve_synthesis_augmented, solve_synthesis_gcp,
     solve_synthesis_gcp_with, synthetic::random_vehicle, Multipliers, NCONV,
@@ -28,21 +28,11 @@ fn solvers() -> [Solver; 5] {
     // the closures below take the terms from a thread-local, so that only the solve is timed
     [
         ("gcp (no multipliers)", || {
-            with_terms(|c, s| {
-                solve_synthesis_gcp_with(c, s, Multipliers::Skip)
-                    .unwrap()
-                    .chassis[0]
-            })
+            with_terms(|c, s| solve_synthesis_gcp_with(c, s, Multipliers::Skip).unwrap().chassis[0])
         }),
-        ("gcp", || {
-            with_terms(|c, s| solve_synthesis_gcp(c, s).unwrap().chassis[0])
-        }),
-        ("augmented 9x9", || {
-            with_terms(|c, s| solve_synthesis_augmented(c, s).unwrap().chassis[0])
-        }),
-        ("conventional 42x42", || {
-            with_terms(|c, s| solve_conventional(c, s).unwrap().chassis[0])
-        }),
+        ("gcp", || with_terms(|c, s| solve_synthesis_gcp(c, s).unwrap().chassis[0])),
+        ("augmented 9x9", || with_terms(|c, s| solve_synthesis_augmented(c, s).unwrap().chassis[0])),
+        ("conventional 42x42", || with_terms(|c, s| solve_conventional(c, s).unwrap().chassis[0])),
         ("conventional 42x42 (nalgebra LU)", || {
             with_terms(|c, s| {
                 // reference only: the same dense system through nalgebra's generic LU
@@ -55,10 +45,7 @@ fn solvers() -> [Solver; 5] {
     ]
 }
 
-type Terms = (
-    rt_vehicle::dynamics::ChassisTerms,
-    [rt_vehicle::dynamics::SubsystemTerms; 4],
-);
+type Terms = (rt_vehicle::dynamics::ChassisTerms, [rt_vehicle::dynamics::SubsystemTerms; 4]);
 
 thread_local! {
     static TERMS: Terms = random_vehicle::<4>(SEED);
@@ -130,12 +117,10 @@ fn main() {
         let filter: Option<String> = std::env::args().skip(1).find(|a| !a.starts_with('-'));
         let med: Vec<(&str, f64)> = solvers()
             .iter()
-            .filter(|(n, _)| filter.as_deref().map_or(true, |f| n.contains(f)))
+            .filter(|(n, _)| filter.as_deref().is_none_or(|f| n.contains(f)))
             .map(|(n, f)| (*n, median_ns(*f, 201)))
             .collect();
-        println!(
-            "\nmedians (201 batches of ~2 ms), terms from synthetic::random_vehicle::<4>({SEED}):"
-        );
+        println!("\nmedians (201 batches of ~2 ms), terms from synthetic::random_vehicle::<4>({SEED}):");
         for (n, m) in &med {
             println!("  {n:<34} {m:>10.1} ns");
         }
@@ -145,18 +130,9 @@ fn main() {
         let get = |k: &str| med.iter().find(|(n, _)| *n == k).unwrap().1;
         let conv = get("conventional 42x42");
         println!("ratios conventional / synthesis (paper Table 1: 19.1; op count §4.10: ≈29 for GCP, ≈6 for 9x9):");
-        println!(
-            "  conventional / gcp (no multipliers) = {:.1}",
-            conv / get("gcp (no multipliers)")
-        );
-        println!(
-            "  conventional / gcp                  = {:.1}",
-            conv / get("gcp")
-        );
-        println!(
-            "  conventional / augmented 9x9        = {:.1}",
-            conv / get("augmented 9x9")
-        );
+        println!("  conventional / gcp (no multipliers) = {:.1}", conv / get("gcp (no multipliers)"));
+        println!("  conventional / gcp                  = {:.1}", conv / get("gcp"));
+        println!("  conventional / augmented 9x9        = {:.1}", conv / get("augmented 9x9"));
         println!(
             "  conventional (nalgebra LU) / gcp (no multipliers) = {:.1}",
             get("conventional 42x42 (nalgebra LU)") / get("gcp (no multipliers)")

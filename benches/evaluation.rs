@@ -55,9 +55,23 @@ mod fmu {
     pub fn instantiate() -> Instance {
         let name = CString::new("bench").unwrap();
         let guid = CString::new(rt_vehicle::fmi::variables::GUID).unwrap();
-        let quiet = fmi2CallbackFunctions { logger: None, allocateMemory: None, freeMemory: None, stepFinished: None, componentEnvironment: std::ptr::null_mut() };
+        let quiet = fmi2CallbackFunctions {
+            logger: None,
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: std::ptr::null_mut(),
+        };
         unsafe {
-            let c = fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &quiet, 0, 0);
+            let c = fmi2Instantiate(
+                name.as_ptr(),
+                fmi2Type_fmi2CoSimulation,
+                guid.as_ptr(),
+                std::ptr::null(),
+                &quiet,
+                0,
+                0,
+            );
             assert!(!c.is_null());
             assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status_fmi2OK);
             assert_eq!(fmi2EnterInitializationMode(c), fmi2Status_fmi2OK);
@@ -83,7 +97,11 @@ mod fmu {
 
 fn main() {
     let (vehicle, x, inputs) = cornering();
-    let formulations = [("synthesis", Formulation::Synthesis), ("augmented", Formulation::SynthesisAugmented), ("conventional", Formulation::Conventional)];
+    let formulations = [
+        ("synthesis", Formulation::Synthesis),
+        ("augmented", Formulation::SynthesisAugmented),
+        ("conventional", Formulation::Conventional),
+    ];
     let mut c = Criterion::default().configure_from_args();
     for (name, f) in formulations {
         let v = with_formulation(&vehicle, f);

@@ -34,7 +34,13 @@ fn main() {
         let sim = scene.start(VehicleData::default_hmmwv(), &SimConfig::default()).unwrap();
         let vehicle = sim.vehicle().clone();
         let mut x = sim.state().to_vec();
-        let mut ode = Counting { vehicle: &vehicle, rack: scene.rack, cache: KinematicsCache::default(), iterations: 0, evaluations: 0 };
+        let mut ode = Counting {
+            vehicle: &vehicle,
+            rack: scene.rack,
+            cache: KinematicsCache::default(),
+            iterations: 0,
+            evaluations: 0,
+        };
         let mut rk4 = Rk4::new();
         let clock = std::time::Instant::now();
         for k in 0..4000 {

@@ -20,7 +20,9 @@ fn curves_csv(p: &TireParams) -> String {
     for &fz in &LOADS_N {
         for i in -POINTS_PER_SIDE..=POINTS_PER_SIDE {
             let fraction = f64::from(i) / f64::from(POINTS_PER_SIDE);
-            for (sweep, kappa, alpha) in [("kappa", KAPPA_RANGE * fraction, 0.0), ("alpha", 0.0, ALPHA_RANGE_RAD * fraction)] {
+            for (sweep, kappa, alpha) in
+                [("kappa", KAPPA_RANGE * fraction, 0.0), ("alpha", 0.0, ALPHA_RANGE_RAD * fraction)]
+            {
                 let f = shear_forces(TireModel::Sti, p, fz, kappa, f64::tan(alpha), 0.0);
                 // Writing to a String cannot fail.
                 let _ = writeln!(csv, "{sweep},{fz},{kappa},{alpha},{},{},{}", f.fx, f.fy, f.mz);

@@ -111,7 +111,8 @@ mod tests {
         let phi = V3::new(0.11, -0.07, 0.23);
         let phid = V3::new(0.7, -1.3, 0.4);
         let h = 1e-6;
-        let fd = (bryant_rate_matrix(&(phi + phid * h)) * phid - bryant_rate_matrix(&(phi - phid * h)) * phid) / (2.0 * h);
+        let fd =
+            (bryant_rate_matrix(&(phi + phid * h)) * phid - bryant_rate_matrix(&(phi - phid * h)) * phid) / (2.0 * h);
         assert!((fd - bryant_rate_quadratic(&phi, &phid)).norm() < 1e-8);
     }
 

@@ -1,9 +1,9 @@
 //! The derivative function allocates nothing (a real-time requirement): counted by a global allocator.
 
+use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Diagnostics, Formulation, Inputs, KinematicsCache, RackMotion};
 use rt_vehicle::sim::{SimConfig, Simulation};
-use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;
@@ -13,7 +13,11 @@ fn derivative_does_not_allocate() {
     let sim = Simulation::new(VehicleData::default_hmmwv(), SimConfig::default()).unwrap();
     let mut vehicle = sim.vehicle().clone();
     let x = sim.state().to_vec();
-    let inputs = Inputs { rack: RackMotion { position: 0.002, velocity: 0.01, acceleration: 0.1 }, drive: [10.0; 4], brake: [5.0; 4] };
+    let inputs = Inputs {
+        rack: RackMotion { position: 0.002, velocity: 0.01, acceleration: 0.1 },
+        drive: [10.0; 4],
+        brake: [5.0; 4],
+    };
     let mut cache = KinematicsCache::default();
     let mut dx = vec![0.0; idx::DIM];
     let mut diag = Diagnostics::default();
@@ -51,9 +55,16 @@ fn fmi2_do_step_does_not_allocate() {
     use rt_vehicle::fmi::exports::*;
     let name = std::ffi::CString::new("alloc").unwrap();
     let guid = std::ffi::CString::new(rt_vehicle::fmi::variables::GUID).unwrap();
-    let quiet = fmi2CallbackFunctions { logger: None, allocateMemory: None, freeMemory: None, stepFinished: None, componentEnvironment: std::ptr::null_mut() };
+    let quiet = fmi2CallbackFunctions {
+        logger: None,
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut(),
+    };
     unsafe {
-        let c = fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &quiet, 0, 0);
+        let c =
+            fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &quiet, 0, 0);
         assert!(!c.is_null());
         assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status_fmi2OK);
         assert_eq!(fmi2EnterInitializationMode(c), fmi2Status_fmi2OK);
@@ -64,7 +75,10 @@ fn fmi2_do_step_does_not_allocate() {
         let mut t = 0.0;
         let mut step = |t: &mut f64| {
             assert_eq!(fmi2SetReal(c, vr.as_ptr(), 1, [0.001 * *t].as_ptr()), fmi2Status_fmi2OK);
-            assert_eq!(fmi2SetRealInputDerivatives(c, vr.as_ptr(), 1, [1].as_ptr(), [0.001].as_ptr()), fmi2Status_fmi2OK);
+            assert_eq!(
+                fmi2SetRealInputDerivatives(c, vr.as_ptr(), 1, [1].as_ptr(), [0.001].as_ptr()),
+                fmi2Status_fmi2OK
+            );
             assert_eq!(fmi2DoStep(c, *t, 0.01, 1), fmi2Status_fmi2OK);
             assert_eq!(fmi2GetReal(c, ay.as_ptr(), 1, out.as_mut_ptr()), fmi2Status_fmi2OK);
             *t += 0.01;

@@ -4,7 +4,11 @@ use std::process::Command;
 
 fn rtv(args: &[&str]) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 #[test]
@@ -13,7 +17,9 @@ fn scene_writes_the_documented_columns() {
     assert_eq!(code, 0, "{err}");
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines.len(), 7, "header + samples at 0, 0.01, ..., 0.05");
-    assert!(lines[0].starts_with("time,x,y,z,roll,pitch,yaw,vx,vy,vz,roll_rate,pitch_rate,yaw_rate,ax,ay,az,rack_displacement,steer_fl,steer_fr"));
+    assert!(lines[0].starts_with(
+        "time,x,y,z,roll,pitch,yaw,vx,vy,vz,roll_rate,pitch_rate,yaw_rate,ax,ay,az,rack_displacement,steer_fl,steer_fr"
+    ));
     assert!(lines[0].ends_with("alpha_fl,alpha_fr,alpha_rl,alpha_rr"));
     assert_eq!(lines[0].split(',').count(), 47);
 }

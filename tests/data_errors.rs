@@ -40,7 +40,8 @@ fn negative_mass_is_named() {
 
 #[test]
 fn non_positive_definite_inertia_is_named() {
-    let e = edited(|v| v["front"]["upright"]["inertia_products_kg_m2"] = serde_json::json!([0.5, 0.0, 0.0])).unwrap_err();
+    let e =
+        edited(|v| v["front"]["upright"]["inertia_products_kg_m2"] = serde_json::json!([0.5, 0.0, 0.0])).unwrap_err();
     assert!(e.contains("front.upright.inertia") && e.contains("positive definite"), "{e}");
 }
 

@@ -29,12 +29,22 @@ fn report(v: &Vehicle, x: &[f64], label: &str) {
     // hang 12° down, where bump steer toes the wheels in by ~1.1° and camber thrust (STI §6.6, nonzero at
     // standstill) then has a small net forward component: x, y and yaw are free in the static problem
     // (§8.1 step 2), so that residual is reported, not asserted.
-    println!("  horizontal/yaw accelerations (free directions): {:.2e} {:.2e} {:.2e}", dx[idx::V0], dx[idx::V0 + 1], dx[idx::W0 + 2]);
+    println!(
+        "  horizontal/yaw accelerations (free directions): {:.2e} {:.2e} {:.2e}",
+        dx[idx::V0],
+        dx[idx::V0 + 1],
+        dx[idx::W0 + 2]
+    );
     let worst = [idx::V0 + 2, idx::W0, idx::W0 + 1, idx::UD, idx::UD + 1, idx::UD + 2, idx::UD + 3]
         .iter()
         .map(|k| dx[*k].abs())
         .fold(0.0, f64::max);
-    println!("  max |acceleration| = {worst:.2e}; accelerations {:?} {:?} {:?}", &dx[idx::V0..idx::V0 + 3], &dx[idx::W0..idx::W0 + 3], &dx[idx::UD..idx::UD + 4]);
+    println!(
+        "  max |acceleration| = {worst:.2e}; accelerations {:?} {:?} {:?}",
+        &dx[idx::V0..idx::V0 + 3],
+        &dx[idx::W0..idx::W0 + 3],
+        &dx[idx::UD..idx::UD + 4]
+    );
     // Residual tolerance of the Newton solve is 1e-10; 1e-9 is the bound.
     assert!(worst <= 1e-9, "{label}: accelerations do not vanish ({worst:e})");
     assert!(((total - weight) / weight).abs() <= 1e-6, "{label}: ΣF_z {total} vs weight {weight}");
@@ -74,8 +84,9 @@ fn steady_rolling_starts_in_equilibrium() {
     let (dx, d) = accelerations(&v, &x);
     let worst = dx[idx::V0..idx::ZV].iter().chain(&dx[idx::SPIN..]).fold(0.0f64, |m, a| m.max(a.abs()));
     println!("steady rolling: kappa {:?}, drive {:?}, max |rate| {worst:.2e}", d.kappa, d.drive_torque);
+    #[allow(clippy::needless_range_loop)]
     for k in idx::V0..idx::DIM {
-        if k >= idx::U && k < idx::UD {
+        if (idx::U..idx::UD).contains(&k) {
             continue;
         }
         assert!(dx[k].abs() < 1e-8, "state {k} rate {}", dx[k]);

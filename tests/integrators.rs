@@ -1,8 +1,8 @@
 //! No heap allocation per step, counted: this test binary installs a counting global allocator (it only
 //! affects this binary) and asserts that, once the scratch is sized by the first step, further steps of
 //! every integrator allocate nothing — including AB3 restarts and ROS2 Jacobian refreshes.
-use rt_vehicle::integrate::{AnyIntegrator, EvalError, Integrator, IntegratorKind, OdeSystem};
 use rt_vehicle::alloc_count::{allocations, CountingAllocator};
+use rt_vehicle::integrate::{AnyIntegrator, EvalError, Integrator, IntegratorKind, OdeSystem};
 
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;

@@ -3,7 +3,7 @@
 
 use nalgebra::Vector4;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::suspension::sla::{SlaGeometry, Side, Vector5f};
+use rt_vehicle::model::suspension::sla::{Side, SlaGeometry, Vector5f};
 use rt_vehicle::model::vehicle::Vehicle;
 
 fn corners() -> Vec<(String, SlaGeometry)> {
@@ -107,7 +107,10 @@ fn left(axle: &str) -> SlaGeometry {
     SlaGeometry::from_data(&data, a, Side::Left).unwrap()
 }
 
-fn derivative_wrt_travel(c: &SlaGeometry, f: impl Fn(&SlaGeometry, &rt_vehicle::model::suspension::sla::SlaPositions) -> f64) -> f64 {
+fn derivative_wrt_travel(
+    c: &SlaGeometry,
+    f: impl Fn(&SlaGeometry, &rt_vehicle::model::suspension::sla::SlaPositions) -> f64,
+) -> f64 {
     let h = 1e-5;
     let at = |u: f64| {
         let p = c.solve_positions(u, 0.0, &[0.0; 4]).unwrap();
@@ -130,7 +133,11 @@ fn suspension_kinematics_match_the_data_set() {
         let c = left(axle_name);
         let r = &axle.reference_kinematics;
         let k = c.u0 - c.b0;
-        check(&format!("{axle_name} kingpin inclination deg"), (-k.y).atan2(k.z).to_degrees(), r.kingpin_inclination_deg);
+        check(
+            &format!("{axle_name} kingpin inclination deg"),
+            (-k.y).atan2(k.z).to_degrees(),
+            r.kingpin_inclination_deg,
+        );
         check(&format!("{axle_name} caster deg"), (-k.x).atan2(k.z).to_degrees(), r.caster_deg);
         let camber = derivative_wrt_travel(&c, |c, p| c.camber(p).to_degrees());
         check(&format!("{axle_name} camber gain deg/m"), camber, r.camber_gain_deg_per_m);
@@ -160,7 +167,14 @@ fn velocity_state_matrices_match_finite_differences() {
     let qdd = Vector5f::new(-3.0, 2.0, 1.0, -2.5, 4.0);
     let pose = |t: f64| {
         let a0 = rotation_about(&axis, th + thd * t + 0.5 * thdd * t * t);
-        (r0 + vel * t + acc * 0.5 * t * t, a0, vel + acc * t, axis * (thd + thdd * t), q + qd * t + qdd * 0.5 * t * t, qd + qdd * t)
+        (
+            r0 + vel * t + acc * 0.5 * t * t,
+            a0,
+            vel + acc * t,
+            axis * (thd + thdd * t),
+            q + qd * t + qdd * 0.5 * t * t,
+            qd + qdd * t,
+        )
     };
     let bodies = |i: usize, t: f64| {
         // Absolute CM positions, rotations, and (from the velocity states) CM velocities and ω.
@@ -188,7 +202,11 @@ fn velocity_state_matrices_match_finite_differences() {
             let fd_v = (plus[b].0 - minus[b].0) / (2.0 * h);
             let wt = (plus[b].1 - minus[b].1) / (2.0 * h) * now[b].1.transpose();
             let fd_w = Vector3::new(wt[(2, 1)] - wt[(1, 2)], wt[(0, 2)] - wt[(2, 0)], wt[(1, 0)] - wt[(0, 1)]) * 0.5;
-            assert!((fd_v - now[b].2).amax() < 1e-7 * (1.0 + fd_v.amax()), "corner {i} body {b}: ṙ {fd_v} vs {}", now[b].2);
+            assert!(
+                (fd_v - now[b].2).amax() < 1e-7 * (1.0 + fd_v.amax()),
+                "corner {i} body {b}: ṙ {fd_v} vs {}",
+                now[b].2
+            );
             assert!((fd_w - now[b].3).amax() < 1e-7, "corner {i} body {b}: ω {fd_w} vs {}", now[b].3);
             // Rates: Y_b about a fixed origin, differenced, against Ẏ0 + 𝔅 q̈ + 𝔇.
             let y_fixed = |s: &(Vector3<f64>, Matrix3<f64>, Vector3<f64>, Vector3<f64>, _)| {

@@ -4,7 +4,9 @@
 use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::model::equilibrium::{static_equilibrium, steady_rolling};
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{idx, Formulation, ForceSwitches, Inputs, KinematicsCache, RackMotion, SpeedMode, Vehicle};
+use rt_vehicle::model::vehicle::{
+    idx, ForceSwitches, Formulation, Inputs, KinematicsCache, RackMotion, SpeedMode, Vehicle,
+};
 use rt_vehicle::sim::{inputs::RackProfile, RackSource, VehicleOde};
 
 /// Small deterministic PRNG (xorshift64*), so the random states are reproducible.
@@ -56,7 +58,11 @@ fn formulations_agree_at_random_admissible_states() {
     for case in 0..150 {
         let x = random_state(&mut rng, &base);
         let inputs = Inputs {
-            rack: RackMotion { position: rng.uniform(-0.06, 0.06), velocity: rng.uniform(-0.3, 0.3), acceleration: rng.uniform(-5.0, 5.0) },
+            rack: RackMotion {
+                position: rng.uniform(-0.06, 0.06),
+                velocity: rng.uniform(-0.3, 0.3),
+                acceleration: rng.uniform(-5.0, 5.0),
+            },
             drive: [rng.uniform(-500.0, 500.0); 4],
             brake: [rng.uniform(0.0, 500.0); 4],
         };
@@ -106,7 +112,8 @@ fn tumbling_state(v: &Vehicle) -> Vec<f64> {
 fn integrate(v: &Vehicle, x: &mut [f64], h: f64, steps: usize) {
     let rack = RackSource::Profile(RackProfile::Zero);
     let mut cache = KinematicsCache::default();
-    let mut ode = VehicleOde { vehicle: v, rack: &rack, drive: [0.0; 4], brake: [0.0; 4], cache: &mut cache, evaluations: 0 };
+    let mut ode =
+        VehicleOde { vehicle: v, rack: &rack, drive: [0.0; 4], brake: [0.0; 4], cache: &mut cache, evaluations: 0 };
     let mut rk4 = Rk4::new();
     for k in 0..steps {
         rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {}", e.0));

@@ -25,7 +25,8 @@ fn col(rows: &[Outputs], name: &str) -> Vec<f64> {
 
 fn mean_between(rows: &[Outputs], name: &str, t0: f64, t1: f64) -> f64 {
     let (t, v) = (col(rows, "time"), col(rows, name));
-    let sel: Vec<f64> = t.iter().zip(&v).filter(|(t, _)| **t >= t0 - 1e-9 && **t <= t1 + 1e-9).map(|(_, v)| *v).collect();
+    let sel: Vec<f64> =
+        t.iter().zip(&v).filter(|(t, _)| **t >= t0 - 1e-9 && **t <= t1 + 1e-9).map(|(_, v)| *v).collect();
     sel.iter().sum::<f64>() / sel.len() as f64
 }
 
@@ -34,8 +35,16 @@ fn formulations_agree_on_every_scene() {
     // Same integrator and step: the solvers agree to ~1e-14 per evaluation (tests/multibody.rs); over
     // 4 000 RK4 steps that round-off may grow by the system's error amplification. 1e-8 is the issue's bound.
     for kind in [SceneKind::Bump, SceneKind::JTurn, SceneKind::Sine] {
-        let syn = samples(kind, Amplitude::Calibrated, &SimConfig { formulation: Formulation::Synthesis, ..SimConfig::default() });
-        let conv = samples(kind, Amplitude::Calibrated, &SimConfig { formulation: Formulation::Conventional, ..SimConfig::default() });
+        let syn = samples(
+            kind,
+            Amplitude::Calibrated,
+            &SimConfig { formulation: Formulation::Synthesis, ..SimConfig::default() },
+        );
+        let conv = samples(
+            kind,
+            Amplitude::Calibrated,
+            &SimConfig { formulation: Formulation::Conventional, ..SimConfig::default() },
+        );
         let mut worst = (0.0, "");
         for (i, name) in rt_vehicle::sim::OUTPUT_NAMES[..rt_vehicle::sim::CSV_COLUMNS].iter().enumerate() {
             let peak = conv.iter().map(|r| r.values[i].abs()).fold(0.0, f64::max);
@@ -77,7 +86,11 @@ fn observed_orders_of_rk4_and_ab3() {
     let reference = sine_steer_trace(IntegratorKind::Rk4, 0.125e-3);
     let peaks: Vec<f64> = (0..4).map(|c| reference.iter().map(|r| r[c].abs()).fold(0.0, f64::max)).collect();
     let error = |trace: Vec<[f64; 4]>| {
-        trace.iter().zip(&reference).map(|(a, b)| (0..4).map(|c| (a[c] - b[c]).abs() / peaks[c]).fold(0.0, f64::max)).fold(0.0, f64::max)
+        trace
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (0..4).map(|c| (a[c] - b[c]).abs() / peaks[c]).fold(0.0, f64::max))
+            .fold(0.0, f64::max)
     };
     for (kind, order, h0) in [(IntegratorKind::Rk4, 4.0, 8e-3), (IntegratorKind::Ab3, 3.0, 2e-3)] {
         let e: Vec<f64> = [h0, h0 / 2.0, h0 / 4.0].iter().map(|h| error(sine_steer_trace(kind, *h))).collect();
@@ -118,7 +131,10 @@ fn paper_amplitude_saturates_the_tires_in_coast() {
     let t = col(&rows, "time");
     let ay = col(&rows, "ay");
     let peak = t.iter().zip(&ay).filter(|(t, _)| **t >= 3.0).map(|(_, a)| *a / G).fold(0.0, f64::max);
-    println!("J-turn 8 mm coast: peak a_y over 3-8 s = {peak:.3} g, speed at 8 s = {:.1} km/h", col(&rows, "vx").last().unwrap() * 3.6);
+    println!(
+        "J-turn 8 mm coast: peak a_y over 3-8 s = {peak:.3} g, speed at 8 s = {:.1} km/h",
+        col(&rows, "vx").last().unwrap() * 3.6
+    );
     // The STI friction limit with these coefficients is ≈ 0.774 g (issue): the peak lies near it.
     assert!((0.72..=0.80).contains(&peak), "peak a_y {peak} g");
 }
@@ -153,7 +169,12 @@ fn bump_peaks_come_in_order_with_the_right_spacing() {
     assert!((first_peaks[3] - first_peaks[1] - wheelbase / v).abs() < 0.05);
     // Roll rate changes sign between the left and right hits.
     let p = col(&rows, "roll_rate");
-    let window: Vec<f64> = t.iter().zip(&p).filter(|(t, _)| **t > first_peaks[0] - 0.3 && **t < first_peaks[1] + 0.3).map(|(_, p)| *p).collect();
+    let window: Vec<f64> = t
+        .iter()
+        .zip(&p)
+        .filter(|(t, _)| **t > first_peaks[0] - 0.3 && **t < first_peaks[1] + 0.3)
+        .map(|(_, p)| *p)
+        .collect();
     assert!(window.iter().any(|x| *x > 0.05) && window.iter().any(|x| *x < -0.05), "roll rate changes sign");
 }
 
@@ -178,4 +199,3 @@ fn paper_integrator_configuration_is_reported_unstable_and_the_default_is_not() 
         samples(kind, Amplitude::Calibrated, &SimConfig::default());
     }
 }
-

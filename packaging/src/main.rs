@@ -83,7 +83,8 @@ fn run() -> Result<PathBuf, String> {
     let (platform, lib_name, ext) = platform()?;
     let target = target_dir(&root);
     let lib = target.join("release").join(&lib_name);
-    let binary = std::fs::read(&lib).map_err(|e| format!("{}: {e} (build it with cargo build --release --lib)", lib.display()))?;
+    let binary = std::fs::read(&lib)
+        .map_err(|e| format!("{}: {e} (build it with cargo build --release --lib)", lib.display()))?;
 
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
@@ -170,11 +171,18 @@ impl ModelDescription {
             .unwrap_or_default();
         let categories = child(root, "LogCategories")
             .map(|c| {
-                c.children().filter(|n| n.has_tag_name("Category")).map(|n| (attr(n, "name"), attr(n, "description"))).collect()
+                c.children()
+                    .filter(|n| n.has_tag_name("Category"))
+                    .map(|n| (attr(n, "name"), attr(n, "description")))
+                    .collect()
             })
             .unwrap_or_default();
         let mut vars = Vec::new();
-        for sv in child(root, "ModelVariables").ok_or("no ModelVariables")?.children().filter(|n| n.has_tag_name("ScalarVariable")) {
+        for sv in child(root, "ModelVariables")
+            .ok_or("no ModelVariables")?
+            .children()
+            .filter(|n| n.has_tag_name("ScalarVariable"))
+        {
             let ty = sv.children().find(|n| n.is_element()).ok_or("a variable without type")?;
             let range = match (ty.attribute("min"), ty.attribute("max")) {
                 (None, None) => String::new(),

@@ -7,9 +7,12 @@
 //!
 //! Bad arguments get a clear message and exit code 2; a failed run exits with 1.
 
+// `!(x > 0.0)` is deliberate: it rejects NaN too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::suspension::sla::{SlaGeometry, Side};
+use rt_vehicle::model::suspension::sla::{Side, SlaGeometry};
 use rt_vehicle::model::tire::SlipModel;
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{Formulation, SimConfig, SpeedMode, CSV_COLUMNS, OUTPUT_NAMES};
@@ -58,7 +61,11 @@ fn options(args: &[String], known: &[&str]) -> Result<BTreeMap<String, String>, 
 fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f64, Failure> {
     match opts.get(key) {
         None => Ok(default),
-        Some(v) => v.parse::<f64>().ok().filter(|x| x.is_finite()).ok_or_else(|| bad(format!("--{key}: '{v}' is not a number"))),
+        Some(v) => v
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| bad(format!("--{key}: '{v}' is not a number"))),
     }
 }
 
@@ -147,10 +154,27 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
 fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let name = args.first().ok_or_else(|| bad("scene: which scene? bump, jturn or sine"))?;
     let kind = SceneKind::parse(name).ok_or_else(|| bad(format!("unknown scene '{name}': bump, jturn or sine")))?;
-    let opts = options(&args[1..], &["formulation", "integrator", "step", "end", "output-interval", "speed", "slip", "amplitude", "ride-height", "vehicle", "out"])?;
+    let opts = options(
+        &args[1..],
+        &[
+            "formulation",
+            "integrator",
+            "step",
+            "end",
+            "output-interval",
+            "speed",
+            "slip",
+            "amplitude",
+            "ride-height",
+            "vehicle",
+            "out",
+        ],
+    )?;
     let (config, interval) = scene_config(&opts)?;
     let amplitude = match opts.get("amplitude") {
-        Some(a) => Amplitude::parse(a).ok_or_else(|| bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1")))?,
+        Some(a) => Amplitude::parse(a).ok_or_else(|| {
+            bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1"))
+        })?,
         None => Amplitude::Calibrated,
     };
     let scene = Scene::new(kind, amplitude);
@@ -199,7 +223,8 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
         "rear" => &data.rear,
         _ => return Err(bad(format!("--axle: '{axle_name}' is not front or rear"))),
     };
-    let (from, to, inc) = (number(&opts, "from", -0.15)?, number(&opts, "to", 0.10)?, number(&opts, "increment", 0.005)?);
+    let (from, to, inc) =
+        (number(&opts, "from", -0.15)?, number(&opts, "to", 0.10)?, number(&opts, "increment", 0.005)?);
     if !(inc > 0.0 && to >= from) {
         return Err(bad("need --increment > 0 and --to ≥ --from"));
     }
@@ -261,7 +286,8 @@ fn wheel_at_travel(c: &SlaGeometry, travel: f64) -> Result<rt_vehicle::model::su
 fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["from", "to", "increment", "vehicle", "out"])?;
     let data = vehicle_data(&opts)?;
-    let (from, to, inc) = (number(&opts, "from", -0.06)?, number(&opts, "to", 0.06)?, number(&opts, "increment", 0.002)?);
+    let (from, to, inc) =
+        (number(&opts, "from", -0.06)?, number(&opts, "to", 0.06)?, number(&opts, "increment", 0.002)?);
     if !(inc > 0.0 && to >= from) {
         return Err(bad("need --increment > 0 and --to ≥ --from"));
     }
@@ -271,7 +297,10 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     for k in 0..=n {
         let u = from + k as f64 * inc;
         if u.abs() > data.rack.travel_limit_m + 1e-12 {
-            return Err(failed(format!("rack displacement {u:+.4} m is beyond the travel limit ±{} m", data.rack.travel_limit_m)));
+            return Err(failed(format!(
+                "rack displacement {u:+.4} m is beyond the travel limit ±{} m",
+                data.rack.travel_limit_m
+            )));
         }
         let mut angles = [0.0; 2];
         for (i, a) in angles.iter_mut().enumerate() {

@@ -4,9 +4,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::{
-    check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms,
-};
+use super::{check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
 
 /// Size of the conventional system: 6 + 4·(5 + 4) = 42.
 pub const NCONV: usize = 6 + 4 * (super::NQ + super::NC);
@@ -50,12 +48,10 @@ fn fill_nonzero(
         let o = offset(i);
         m00 += s.m_00;
         f0 += s.p_0;
-        a.fixed_view_mut::<6, 5>(0, o)
-            .copy_from(&s.m_q0.transpose()); // M_0q
+        a.fixed_view_mut::<6, 5>(0, o).copy_from(&s.m_q0.transpose()); // M_0q
         a.fixed_view_mut::<5, 6>(o, 0).copy_from(&s.m_q0); // M_q0
         a.fixed_view_mut::<5, 5>(o, o).copy_from(&s.m_qq);
-        a.fixed_view_mut::<5, 4>(o, o + 5)
-            .copy_from(&s.phi_q.transpose());
+        a.fixed_view_mut::<5, 4>(o, o + 5).copy_from(&s.phi_q.transpose());
         a.fixed_view_mut::<4, 5>(o + 5, o).copy_from(&s.phi_q);
         b.fixed_rows_mut::<5>(o).copy_from(&s.p_q);
         b.fixed_rows_mut::<4>(o + 5).copy_from(&s.gamma_bar);
@@ -68,17 +64,13 @@ fn fill_nonzero(
 /// (n³/3 − n/3 ≈ 24 682 multiplications + n² = 1 764 for the solve, §4.10). The matrix (14 KiB) lives on
 /// the stack. Fails when the matrix is numerically singular or on non-finite input or result. It does not
 /// test the chassis matrix for positive definiteness (an LU does not need it).
-pub fn solve_conventional(
-    chassis: &ChassisTerms,
-    subs: &[SubsystemTerms; 4],
-) -> Result<Accelerations<4>, SolveError> {
+pub fn solve_conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
     check_inputs(chassis, subs)?;
     let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
     let mut b = SMatrix::<f64, NCONV, 1>::zeros();
     fill_nonzero(chassis, subs, &mut a, &mut b);
     let mut piv = [0usize; NCONV];
-    lu::factor(&mut a, &mut piv)
-        .map_err(|e| SolveError(format!("conventional: 42x42 matrix {e}")))?;
+    lu::factor(&mut a, &mut piv).map_err(|e| SolveError(format!("conventional: 42x42 matrix {e}")))?;
     lu::solve(&a, &piv, &mut b);
 
     let mut acc = Accelerations::<4>::zeros();

@@ -11,10 +11,7 @@ use nalgebra::SMatrix;
 /// row k at step k (LAPACK convention). Fails when a pivot is not larger than n·ε·max|A| (numerically
 /// singular) or is not finite.
 #[inline]
-pub(crate) fn factor<const N: usize>(
-    a: &mut SMatrix<f64, N, N>,
-    piv: &mut [usize; N],
-) -> Result<(), &'static str> {
+pub(crate) fn factor<const N: usize>(a: &mut SMatrix<f64, N, N>, piv: &mut [usize; N]) -> Result<(), &'static str> {
     let scale = a.amax();
     if !scale.is_finite() {
         return Err("non-finite matrix entry");
@@ -93,11 +90,7 @@ pub(crate) fn solve<const N: usize, const M: usize>(
 /// Solves Aᵀ x = b in place, with A factored by [`factor`]: A = Pᵀ L U, so Aᵀ = Uᵀ Lᵀ P;
 /// solve Uᵀ y = b, Lᵀ w = y, x = Pᵀ w (swaps undone in reverse order).
 #[inline]
-pub(crate) fn solve_transpose<const N: usize>(
-    lu: &SMatrix<f64, N, N>,
-    piv: &[usize; N],
-    b: &mut SMatrix<f64, N, 1>,
-) {
+pub(crate) fn solve_transpose<const N: usize>(lu: &SMatrix<f64, N, N>, piv: &[usize; N], b: &mut SMatrix<f64, N, 1>) {
     let a = lu.as_slice();
     let x = b.as_mut_slice();
     // Uᵀ y = b: row k of Uᵀ is column k of U (rows 0..=k)

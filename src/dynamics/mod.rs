@@ -31,9 +31,7 @@ pub mod synthetic;
 mod tests;
 
 pub use conventional::{assemble_conventional, solve_conventional, NCONV};
-pub use synthesis::{
-    solve_synthesis_augmented, solve_synthesis_gcp, solve_synthesis_gcp_with, Multipliers,
-};
+pub use synthesis::{solve_synthesis_augmented, solve_synthesis_gcp, solve_synthesis_gcp_with, Multipliers};
 
 /// Relative coordinates per subsystem; index 0 (θ_L) is the independent one.
 pub const NQ: usize = 5;
@@ -82,11 +80,7 @@ pub struct Accelerations<const K: usize> {
 impl<const K: usize> Accelerations<K> {
     /// All zeros.
     pub fn zeros() -> Self {
-        Self {
-            chassis: Vector6::zeros(),
-            q_ddot: [Vector5::zeros(); K],
-            lambda: [Vector4::zeros(); K],
-        }
+        Self { chassis: Vector6::zeros(), q_ddot: [Vector5::zeros(); K], lambda: [Vector4::zeros(); K] }
     }
 
     /// True when every entry is finite.
@@ -127,10 +121,7 @@ fn finite(s: &[f64]) -> bool {
 }
 
 /// Rejects non-finite inputs with a message naming the offending term. No allocation on success.
-pub(crate) fn check_inputs(
-    chassis: &ChassisTerms,
-    subs: &[SubsystemTerms],
-) -> Result<(), SolveError> {
+pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> Result<(), SolveError> {
     if !finite(chassis.mass.as_slice()) {
         return Err(SolveError("non-finite input: chassis mass".into()));
     }
@@ -149,9 +140,7 @@ pub(crate) fn check_inputs(
         ];
         for (name, v) in fields {
             if !finite(v) {
-                return Err(SolveError(format!(
-                    "non-finite input: subsystem {i} {name}"
-                )));
+                return Err(SolveError(format!("non-finite input: subsystem {i} {name}")));
             }
         }
     }
@@ -159,15 +148,10 @@ pub(crate) fn check_inputs(
 }
 
 /// Rejects a non-finite result (overflow from a nearly singular matrix).
-pub(crate) fn check_result<const K: usize>(
-    acc: &Accelerations<K>,
-    solver: &str,
-) -> Result<(), SolveError> {
+pub(crate) fn check_result<const K: usize>(acc: &Accelerations<K>, solver: &str) -> Result<(), SolveError> {
     if acc.is_finite() {
         Ok(())
     } else {
-        Err(SolveError(format!(
-            "{solver}: non-finite result (ill-conditioned system)"
-        )))
+        Err(SolveError(format!("{solver}: non-finite result (ill-conditioned system)")))
     }
 }

@@ -4,9 +4,7 @@
 
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector5, Vector6};
 
-use super::{
-    check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms,
-};
+use super::{check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
 use nalgebra::Matrix6;
 
 /// Whether [`solve_synthesis_gcp_with`] computes the cut-constraint multipliers λ.
@@ -39,9 +37,7 @@ struct Gcp {
 
 impl Gcp {
     const ZERO: Gcp = Gcp {
-        lu: Matrix4::new(
-            0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-        ),
+        lu: Matrix4::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
         piv: [0; 4],
         v: Vector5::new(0.0, 0.0, 0.0, 0.0, 0.0),
         c: Vector5::new(0.0, 0.0, 0.0, 0.0, 0.0),
@@ -64,15 +60,11 @@ fn reduce(
     // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4).
     g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
     let (lu, piv) = (&mut g.lu, &mut g.piv);
-    lu::factor(lu, piv).map_err(|e| {
-        SolveError(format!(
-            "GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}"
-        ))
-    })?;
+    lu::factor(lu, piv)
+        .map_err(|e| SolveError(format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}")))?;
 
     // Two right-hand sides (§4.6): [Φ_u | γ̄] → [Φ_v⁻¹Φ_u | Φ_v⁻¹γ̄].
-    let mut rhs =
-        SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
+    let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
     lu::solve(lu, piv, &mut rhs);
     let a: Vector4<f64> = rhs.column(0).into_owned();
     let cv: Vector4<f64> = rhs.column(1).into_owned();
@@ -87,9 +79,7 @@ fn reduce(
     g.mt = mt;
     #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails too
     if !(mt > 0.0) || !mt.is_finite() {
-        return Err(SolveError(format!(
-            "GCP: subsystem {i}: reduced inertia m~ = {mt:e} is not positive"
-        )));
+        return Err(SolveError(format!("GCP: subsystem {i}: reduced inertia m~ = {mt:e} is not positive")));
     }
     // 𝔪 = M_0q 𝒱 = M_q0ᵀ 𝒱 (6×1).
     g.m = s.m_q0.tr_mul(v);
@@ -111,11 +101,7 @@ fn reduce(
 /// M = L Lᵀ (lower triangle of M read), L y = F, Lᵀ Ẏ₀ = y. 6 square roots, ≈ 90 multiplications (§4.10).
 /// Fails when a pivot is not positive (M not positive definite) or not finite.
 #[inline]
-fn chassis_solve(
-    mass: &Matrix6<f64>,
-    force: &Vector6<f64>,
-    solver: &str,
-) -> Result<Vector6<f64>, SolveError> {
+fn chassis_solve(mass: &Matrix6<f64>, force: &Vector6<f64>, solver: &str) -> Result<Vector6<f64>, SolveError> {
     let mut l = Matrix6::<f64>::zeros();
     let mut inv_diag = [0.0f64; 6];
     for j in 0..6 {
@@ -228,8 +214,7 @@ pub fn solve_synthesis_augmented<const K: usize>(
         // 𝐒 = [[M_qq, Φ_qᵀ], [Φ_q, 0]]
         let mut sm = SMatrix::<f64, 9, 9>::zeros();
         sm.fixed_view_mut::<5, 5>(0, 0).copy_from(&s.m_qq);
-        sm.fixed_view_mut::<5, 4>(0, 5)
-            .copy_from(&s.phi_q.transpose());
+        sm.fixed_view_mut::<5, 4>(0, 5).copy_from(&s.phi_q.transpose());
         sm.fixed_view_mut::<4, 5>(5, 0).copy_from(&s.phi_q);
         // [[M_q0, P_q], [0, γ̄]]
         b.fixed_view_mut::<5, 6>(0, 0).copy_from(&s.m_q0);
@@ -237,9 +222,7 @@ pub fn solve_synthesis_augmented<const K: usize>(
         b.fixed_view_mut::<4, 1>(5, 6).copy_from(&s.gamma_bar);
         let mut piv = [0usize; 9];
         lu::factor(&mut sm, &mut piv).map_err(|e| {
-            SolveError(format!(
-                "augmented: subsystem {i}: 9x9 matrix [[M_qq, Phi_q^T], [Phi_q, 0]] {e}"
-            ))
+            SolveError(format!("augmented: subsystem {i}: 9x9 matrix [[M_qq, Phi_q^T], [Phi_q, 0]] {e}"))
         })?;
         lu::solve(&sm, &piv, b);
         // M̄ᵢ = M_00 − M_0q X_q;  P̄ᵢ = P_0 − M_0q x_q  (X_q, x_q: rows 0..5 of the solution)

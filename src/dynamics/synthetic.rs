@@ -56,11 +56,7 @@ impl XorShift64 {
     /// A random unit vector.
     pub fn unit3(&mut self) -> Vector3<f64> {
         loop {
-            let v = Vector3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
+            let v = Vector3::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0));
             let n = v.norm();
             if n > 0.2 && n <= 1.0 {
                 return v / n;
@@ -74,21 +70,15 @@ impl XorShift64 {
 pub fn body_mass(m: f64, rho: &Vector3<f64>, j: &Matrix3<f64>) -> Matrix6<f64> {
     let rt = rho.cross_matrix();
     let mut mh = Matrix6::zeros();
-    mh.fixed_view_mut::<3, 3>(0, 0)
-        .copy_from(&(Matrix3::identity() * m));
+    mh.fixed_view_mut::<3, 3>(0, 0).copy_from(&(Matrix3::identity() * m));
     mh.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-m * rt));
     mh.fixed_view_mut::<3, 3>(3, 0).copy_from(&(m * rt));
-    mh.fixed_view_mut::<3, 3>(3, 3)
-        .copy_from(&(j - m * rt * rt));
+    mh.fixed_view_mut::<3, 3>(3, 3).copy_from(&(j - m * rt * rt));
     mh
 }
 
 fn random_inertia(rng: &mut XorShift64, lo: f64, hi: f64, off: f64) -> Matrix3<f64> {
-    let mut j = Matrix3::from_diagonal(&Vector3::new(
-        rng.range(lo, hi),
-        rng.range(lo, hi),
-        rng.range(lo, hi),
-    ));
+    let mut j = Matrix3::from_diagonal(&Vector3::new(rng.range(lo, hi), rng.range(lo, hi), rng.range(lo, hi)));
     for (r, c) in [(0, 1), (0, 2), (1, 2)] {
         let x = rng.range(-off, off);
         j[(r, c)] = x;
@@ -106,9 +96,7 @@ fn twist(p: &Vector3<f64>, a: &Vector3<f64>) -> Vector6<f64> {
 /// One random subsystem at corner (sx, sy) ∈ {±1}².
 pub fn random_subsystem(rng: &mut XorShift64, sx: f64, sy: f64) -> SubsystemTerms {
     let corner = Vector3::new(1.7 * sx, 0.8 * sy, -0.35);
-    let jitter = |rng: &mut XorShift64, s: f64| {
-        Vector3::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s))
-    };
+    let jitter = |rng: &mut XorShift64, s: f64| Vector3::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s));
     let pivot_l = corner + Vector3::new(0.0, -0.45 * sy, -0.1) + jitter(rng, 0.05);
     let pivot_u = corner + Vector3::new(0.0, -0.35 * sy, 0.2) + jitter(rng, 0.05);
     let ball = corner + Vector3::new(0.0, 0.0, -0.15) + jitter(rng, 0.05);
@@ -127,12 +115,7 @@ pub fn random_subsystem(rng: &mut XorShift64, sx: f64, sy: f64) -> SubsystemTerm
                 let m = rng.range(5.0, 30.0);
                 let mut b = SMatrix::<f64, 6, 5>::zeros();
                 b.set_column(0, &col_l);
-                (
-                    m,
-                    (pivot_l + ball) * 0.5 + jitter(rng, 0.03),
-                    random_inertia(rng, 0.05, 0.5, 0.02),
-                    b,
-                )
+                (m, (pivot_l + ball) * 0.5 + jitter(rng, 0.03), random_inertia(rng, 0.05, 0.5, 0.02), b)
             }
             1 => {
                 // K (with the wheel lumped in, §4.8): θ_L and the three ball-joint angles
@@ -160,12 +143,7 @@ pub fn random_subsystem(rng: &mut XorShift64, sx: f64, sy: f64) -> SubsystemTerm
                 let m = rng.range(1.0, 15.0);
                 let mut b = SMatrix::<f64, 6, 5>::zeros();
                 b.set_column(4, &twist(&pivot_u, &upper_axis.normalize()));
-                (
-                    m,
-                    pivot_u + Vector3::new(0.0, 0.15 * sy, -0.1),
-                    random_inertia(rng, 0.02, 0.3, 0.01),
-                    b,
-                )
+                (m, pivot_u + Vector3::new(0.0, 0.15 * sy, -0.1), random_inertia(rng, 0.02, 0.3, 0.01), b)
             }
         };
         let mh = body_mass(m, &rho, &j);
@@ -181,33 +159,14 @@ pub fn random_subsystem(rng: &mut XorShift64, sx: f64, sy: f64) -> SubsystemTerm
         let scale = rng.range(0.2, 1.0);
         phi_q[(r, 0)] = rng.range(-1.0, 1.0) * scale;
         for c in 0..4 {
-            phi_q[(r, c + 1)] = scale
-                * if r == c {
-                    rng.signed(1.0, 2.0)
-                } else {
-                    rng.range(-0.3, 0.3)
-                };
+            phi_q[(r, c + 1)] = scale * if r == c { rng.signed(1.0, 2.0) } else { rng.range(-0.3, 0.3) };
         }
     }
 
     let p_q = Vector5::from_fn(|_, _| rng.range(-500.0, 500.0));
-    let p_0 = Vector6::from_fn(|r, _| {
-        if r < 3 {
-            rng.range(-3000.0, 3000.0)
-        } else {
-            rng.range(-2000.0, 2000.0)
-        }
-    });
+    let p_0 = Vector6::from_fn(|r, _| if r < 3 { rng.range(-3000.0, 3000.0) } else { rng.range(-2000.0, 2000.0) });
     let gamma_bar = Vector4::from_fn(|_, _| rng.range(-20.0, 20.0));
-    SubsystemTerms {
-        m_qq,
-        m_q0,
-        m_00,
-        p_q,
-        p_0,
-        phi_q,
-        gamma_bar,
-    }
+    SubsystemTerms { m_qq, m_q0, m_00, p_q, p_0, phi_q, gamma_bar }
 }
 
 /// A random chassis: M̂₀ (2000 kg, inertias 1000–3500 kg m²) + M̂_R (5 kg rack off the CM); Q̂₀ with gravity.
@@ -225,15 +184,9 @@ pub fn random_chassis(rng: &mut XorShift64) -> ChassisTerms {
     };
     let m0 = rng.range(1900.0, 2100.0);
     let rack = Vector3::new(1.5, rng.range(-0.05, 0.05), -0.2);
-    let mass = body_mass(m0, &Vector3::zeros(), &j0)
-        + body_mass(5.0, &rack, &(Matrix3::identity() * 0.05));
-    let mut force = Vector6::from_fn(|r, _| {
-        if r < 3 {
-            rng.range(-3000.0, 3000.0)
-        } else {
-            rng.range(-5000.0, 5000.0)
-        }
-    });
+    let mass = body_mass(m0, &Vector3::zeros(), &j0) + body_mass(5.0, &rack, &(Matrix3::identity() * 0.05));
+    let mut force =
+        Vector6::from_fn(|r, _| if r < 3 { rng.range(-3000.0, 3000.0) } else { rng.range(-5000.0, 5000.0) });
     force[2] -= m0 * 9.81;
     ChassisTerms { mass, force }
 }

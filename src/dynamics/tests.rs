@@ -14,41 +14,22 @@ fn max_abs<'a>(it: impl IntoIterator<Item = &'a f64>) -> f64 {
 
 /// max|Δ| / max|value| over Ẏ₀ and all q̈ (the acceleration agreement measure).
 fn rel_diff_acc<const K: usize>(a: &Accelerations<K>, b: &Accelerations<K>) -> f64 {
-    let d = max_abs((a.chassis - b.chassis).iter()).max(
-        a.q_ddot
-            .iter()
-            .zip(&b.q_ddot)
-            .fold(0.0f64, |m, (x, y)| m.max(max_abs((x - y).iter()))),
-    );
-    let s = max_abs(b.chassis.iter()).max(
-        b.q_ddot
-            .iter()
-            .fold(0.0f64, |m, x| m.max(max_abs(x.iter()))),
-    );
+    let d = max_abs((a.chassis - b.chassis).iter())
+        .max(a.q_ddot.iter().zip(&b.q_ddot).fold(0.0f64, |m, (x, y)| m.max(max_abs((x - y).iter()))));
+    let s = max_abs(b.chassis.iter()).max(b.q_ddot.iter().fold(0.0f64, |m, x| m.max(max_abs(x.iter()))));
     d / s
 }
 
 /// max|Δλ| / max|λ|.
 fn rel_diff_lambda<const K: usize>(a: &Accelerations<K>, b: &Accelerations<K>) -> f64 {
-    let d = a
-        .lambda
-        .iter()
-        .zip(&b.lambda)
-        .fold(0.0f64, |m, (x, y)| m.max(max_abs((x - y).iter())));
-    let s = b
-        .lambda
-        .iter()
-        .fold(0.0f64, |m, x| m.max(max_abs(x.iter())));
+    let d = a.lambda.iter().zip(&b.lambda).fold(0.0f64, |m, (x, y)| m.max(max_abs((x - y).iter())));
+    let s = b.lambda.iter().fold(0.0f64, |m, x| m.max(max_abs(x.iter())));
     d / s
 }
 
 /// Residuals of the equations of motion (§4.2) for any K, relative to the right-hand-side scale:
 /// returns (max |chassis and subsystem-equation residual| / max |RHS|, max_i |Φ_q q̈ − γ̄| / max_i |γ̄|).
-fn eom_residual<const K: usize>(
-    c: &ChassisTerms,
-    subs: &[SubsystemTerms; K],
-    acc: &Accelerations<K>,
-) -> (f64, f64) {
+fn eom_residual<const K: usize>(c: &ChassisTerms, subs: &[SubsystemTerms; K], acc: &Accelerations<K>) -> (f64, f64) {
     let mut lhs0: Vector6<f64> = c.mass * acc.chassis;
     let mut rhs0 = c.force;
     let mut res = 0.0f64;
@@ -59,8 +40,7 @@ fn eom_residual<const K: usize>(
         lhs0 += s.m_00 * acc.chassis + s.m_q0.transpose() * acc.q_ddot[i];
         rhs0 += s.p_0;
         let r: Vector5<f64> =
-            s.m_qq * acc.q_ddot[i] + s.m_q0 * acc.chassis + s.phi_q.transpose() * acc.lambda[i]
-                - s.p_q;
+            s.m_qq * acc.q_ddot[i] + s.m_q0 * acc.chassis + s.phi_q.transpose() * acc.lambda[i] - s.p_q;
         res = res.max(max_abs(r.iter()));
         scale = scale.max(max_abs(s.p_q.iter()));
         let rc: Vector4<f64> = s.phi_q * acc.q_ddot[i] - s.gamma_bar;
@@ -98,10 +78,7 @@ fn lu_matches_nalgebra_and_solves_transpose() {
         lu::factor(&mut a, &mut piv).unwrap();
         let mut x = b0;
         lu::solve(&a, &piv, &mut x);
-        assert!(
-            max_abs((x - reference).iter()) <= 1e-10 * max_abs(reference.iter()),
-            "LU solve differs from nalgebra"
-        );
+        assert!(max_abs((x - reference).iter()) <= 1e-10 * max_abs(reference.iter()), "LU solve differs from nalgebra");
         let mut xt: SVector<f64, 9> = b0.column(0).into_owned();
         lu::solve_transpose(&a, &piv, &mut xt);
         let r = a0.transpose() * xt - b0.column(0);
@@ -131,8 +108,7 @@ fn synthetic_terms_are_well_posed() {
         for s in &subs {
             let mut blk = SMatrix::<f64, 11, 11>::zeros();
             blk.fixed_view_mut::<6, 6>(0, 0).copy_from(&s.m_00);
-            blk.fixed_view_mut::<6, 5>(0, 6)
-                .copy_from(&s.m_q0.transpose());
+            blk.fixed_view_mut::<6, 5>(0, 6).copy_from(&s.m_q0.transpose());
             blk.fixed_view_mut::<5, 6>(6, 0).copy_from(&s.m_q0);
             blk.fixed_view_mut::<5, 5>(6, 6).copy_from(&s.m_qq);
             let ev = blk.symmetric_eigenvalues();
@@ -148,8 +124,7 @@ fn synthetic_terms_are_well_posed() {
 
 #[test]
 fn three_solvers_agree_on_random_cases() {
-    let (mut acc_gc, mut acc_ga, mut lam_gc, mut lam_ga, mut lam_ac) =
-        (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut acc_gc, mut acc_ga, mut lam_gc, mut lam_ga, mut lam_ac) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
     for seed in 0..N_CASES {
         let (c, subs) = random_vehicle::<4>(seed);
         let g = solve_synthesis_gcp(&c, &subs).unwrap();
@@ -267,10 +242,7 @@ fn singular_phi_v_is_an_error_for_gcp() {
     let col = subs[2].phi_q.column(2) * 2.0;
     subs[2].phi_q.set_column(3, &col);
     let e = solve_synthesis_gcp(&c, &subs).unwrap_err();
-    assert!(
-        e.0.contains("subsystem 2") && e.0.contains("Phi_v") && e.0.contains("singular"),
-        "{e}"
-    );
+    assert!(e.0.contains("subsystem 2") && e.0.contains("Phi_v") && e.0.contains("singular"), "{e}");
     // θ_L is a bad choice of independent coordinate here, but the augmented forms are still well posed
     let a = solve_synthesis_augmented(&c, &subs).unwrap();
     let v = solve_conventional(&c, &subs).unwrap();
@@ -305,10 +277,7 @@ fn chassis_cholesky_matches_nalgebra() {
         let (c, _) = random_vehicle::<4>(seed);
         let ours = solve_synthesis_gcp::<0>(&c, &[]).unwrap().chassis;
         let reference = nalgebra::Cholesky::new(c.mass).unwrap().solve(&c.force);
-        assert!(
-            (ours - reference).amax() <= 1e-13 * reference.amax(),
-            "{ours} vs {reference}"
-        );
+        assert!((ours - reference).amax() <= 1e-13 * reference.amax(), "{ours} vs {reference}");
     }
 }
 
@@ -316,10 +285,7 @@ fn chassis_cholesky_matches_nalgebra() {
 fn chassis_not_positive_definite_is_an_error() {
     let (mut c, subs) = random_vehicle::<4>(41);
     c.mass[(2, 2)] = -1e5; // a negative mass along z overwhelms the subsystems' contributions
-    for r in [
-        solve_synthesis_gcp(&c, &subs).map(|_| ()),
-        solve_synthesis_augmented(&c, &subs).map(|_| ()),
-    ] {
+    for r in [solve_synthesis_gcp(&c, &subs).map(|_| ()), solve_synthesis_augmented(&c, &subs).map(|_| ())] {
         let e = r.unwrap_err();
         assert!(e.0.contains("not positive definite"), "{e}");
     }
@@ -332,10 +298,7 @@ fn non_finite_input_is_an_error() {
     s2[3].gamma_bar[1] = f64::NAN;
     let mut c2 = c;
     c2.force[4] = f64::INFINITY;
-    for (cc, ss, what) in [
-        (&c, &s2, "subsystem 3 gamma_bar"),
-        (&c2, &subs, "chassis force"),
-    ] {
+    for (cc, ss, what) in [(&c, &s2, "subsystem 3 gamma_bar"), (&c2, &subs, "chassis force")] {
         for r in [
             solve_synthesis_gcp(cc, ss).map(|_| ()),
             solve_synthesis_augmented(cc, ss).map(|_| ()),
@@ -373,10 +336,7 @@ fn every_non_finite_input_field_is_caught() {
         }
         let mut c2 = c;
         c2.mass[(5, 5)] = bad;
-        assert!(solve_conventional(&c2, &subs)
-            .unwrap_err()
-            .0
-            .contains("chassis mass"));
+        assert!(solve_conventional(&c2, &subs).unwrap_err().0.contains("chassis mass"));
     }
 }
 

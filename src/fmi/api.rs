@@ -233,12 +233,21 @@ pub unsafe fn free_instance<M: FmuModel>(c: fmi2Component) {
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn set_debug_logging<M: FmuModel>(c: fmi2Component, on: fmi2Boolean, n: usize, categories: *const fmi2String) -> fmi2Status {
+pub unsafe fn set_debug_logging<M: FmuModel>(
+    c: fmi2Component,
+    on: fmi2Boolean,
+    n: usize,
+    categories: *const fmi2String,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2SetDebugLogging", |inst| {
         let cats = slice(categories, n, "categories")?;
         let mut names = Vec::with_capacity(n);
         for &p in cats {
-            names.push(string(p).ok_or_else(|| Failure::error("fmi2SetDebugLogging: a category is NULL or not UTF-8"))?.to_string());
+            names.push(
+                string(p)
+                    .ok_or_else(|| Failure::error("fmi2SetDebugLogging: a category is NULL or not UTF-8"))?
+                    .to_string(),
+            );
         }
         inst.set_debug_logging(on != 0, &names)
     })
@@ -289,19 +298,34 @@ pub unsafe fn reset<M: FmuModel>(c: fmi2Component) -> fmi2Status {
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_real<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2Real) -> fmi2Status {
+pub unsafe fn get_real<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *mut fmi2Real,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetReal", |i| i.get_real(slice(vr, n, "vr")?, slice_mut(value, n, "value")?))
 }
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_integer<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2Integer) -> fmi2Status {
+pub unsafe fn get_integer<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetInteger", |i| i.get_integer(slice(vr, n, "vr")?, slice_mut(value, n, "value")?))
 }
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_boolean<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2Boolean) -> fmi2Status {
+pub unsafe fn get_boolean<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetBoolean", |i| {
         let vrs = slice(vr, n, "vr")?;
         let out = slice_mut(value, n, "value")?;
@@ -314,7 +338,12 @@ pub unsafe fn get_boolean<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueRef
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_string<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *mut fmi2String) -> fmi2Status {
+pub unsafe fn get_string<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *mut fmi2String,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetString", |i| {
         let vrs = slice(vr, n, "vr")?;
         let out = slice_mut(value, n, "value")?;
@@ -326,19 +355,34 @@ pub unsafe fn get_string<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueRefe
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn set_real<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Real) -> fmi2Status {
+pub unsafe fn set_real<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2SetReal", |i| i.set_real(slice(vr, n, "vr")?, slice(value, n, "value")?))
 }
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn set_integer<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Integer) -> fmi2Status {
+pub unsafe fn set_integer<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *const fmi2Integer,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2SetInteger", |i| i.set_integer(slice(vr, n, "vr")?, slice(value, n, "value")?))
 }
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn set_boolean<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2Boolean) -> fmi2Status {
+pub unsafe fn set_boolean<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *const fmi2Boolean,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2SetBoolean", |i| {
         let values: Vec<bool> = slice(value, n, "value")?.iter().map(|&b| b != 0).collect();
         i.set_boolean(slice(vr, n, "vr")?, &values)
@@ -347,7 +391,12 @@ pub unsafe fn set_boolean<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueRef
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn set_string<M: FmuModel>(c: fmi2Component, vr: *const fmi2ValueReference, n: usize, value: *const fmi2String) -> fmi2Status {
+pub unsafe fn set_string<M: FmuModel>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *const fmi2String,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2SetString", |i| {
         let mut values = Vec::with_capacity(n);
         for &p in slice(value, n, "value")? {
@@ -385,7 +434,12 @@ pub unsafe fn get_directional_derivative<M: FmuModel>(c: fmi2Component) -> fmi2S
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn do_step<M: FmuModel>(c: fmi2Component, t: fmi2Real, h: fmi2Real, _no_set_prior: fmi2Boolean) -> fmi2Status {
+pub unsafe fn do_step<M: FmuModel>(
+    c: fmi2Component,
+    t: fmi2Real,
+    h: fmi2Real,
+    _no_set_prior: fmi2Boolean,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2DoStep", |i| i.do_step(t, h))
 }
 
@@ -410,7 +464,9 @@ pub unsafe fn get_real_status<M: FmuModel>(c: fmi2Component, kind: fmi2StatusKin
     with_instance::<M>(c, "fmi2GetRealStatus", |i| {
         let out = slice_mut(value, 1, "value")?;
         if kind != fmi2StatusKind_fmi2LastSuccessfulTime {
-            return Err(Failure::error(format!("fmi2GetRealStatus: status kind {kind} is not a Real status (only fmi2LastSuccessfulTime)")));
+            return Err(Failure::error(format!(
+                "fmi2GetRealStatus: status kind {kind} is not a Real status (only fmi2LastSuccessfulTime)"
+            )));
         }
         out[0] = i.last_successful_time()?;
         Ok(Status::Ok)
@@ -419,7 +475,11 @@ pub unsafe fn get_real_status<M: FmuModel>(c: fmi2Component, kind: fmi2StatusKin
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_integer_status<M: FmuModel>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Integer) -> fmi2Status {
+pub unsafe fn get_integer_status<M: FmuModel>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Integer,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetIntegerStatus", |_| {
         slice_mut(value, 1, "value")?;
         Err(Failure::error(format!("fmi2GetIntegerStatus: status kind {kind}: FMI 2.0 defines no Integer status")))
@@ -428,11 +488,17 @@ pub unsafe fn get_integer_status<M: FmuModel>(c: fmi2Component, kind: fmi2Status
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_boolean_status<M: FmuModel>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2Boolean) -> fmi2Status {
+pub unsafe fn get_boolean_status<M: FmuModel>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2Boolean,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetBooleanStatus", |i| {
         let out = slice_mut(value, 1, "value")?;
         if kind != fmi2StatusKind_fmi2Terminated {
-            return Err(Failure::error(format!("fmi2GetBooleanStatus: status kind {kind} is not a Boolean status (only fmi2Terminated)")));
+            return Err(Failure::error(format!(
+                "fmi2GetBooleanStatus: status kind {kind} is not a Boolean status (only fmi2Terminated)"
+            )));
         }
         out[0] = i.terminated()? as fmi2Boolean;
         Ok(Status::Ok)
@@ -441,7 +507,11 @@ pub unsafe fn get_boolean_status<M: FmuModel>(c: fmi2Component, kind: fmi2Status
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_string_status<M: FmuModel>(c: fmi2Component, kind: fmi2StatusKind, value: *mut fmi2String) -> fmi2Status {
+pub unsafe fn get_string_status<M: FmuModel>(
+    c: fmi2Component,
+    kind: fmi2StatusKind,
+    value: *mut fmi2String,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetStringStatus", |_| {
         slice_mut(value, 1, "value")?;
         Err(Failure::error(format!(
@@ -502,7 +572,11 @@ pub unsafe fn free_fmu_state<M: FmuModel>(c: fmi2Component, state: *mut fmi2FMUs
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn serialized_fmu_state_size<M: FmuModel>(c: fmi2Component, state: fmi2FMUstate, size: *mut usize) -> fmi2Status {
+pub unsafe fn serialized_fmu_state_size<M: FmuModel>(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    size: *mut usize,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2SerializedFMUstateSize", |i| {
         let out = slice_mut(size, 1, "size")?;
         out[0] = i.serialize_state(&saved_state::<M>(state)?.core)?.len();
@@ -512,7 +586,12 @@ pub unsafe fn serialized_fmu_state_size<M: FmuModel>(c: fmi2Component, state: fm
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn serialize_fmu_state<M: FmuModel>(c: fmi2Component, state: fmi2FMUstate, bytes: *mut fmi2Byte, size: usize) -> fmi2Status {
+pub unsafe fn serialize_fmu_state<M: FmuModel>(
+    c: fmi2Component,
+    state: fmi2FMUstate,
+    bytes: *mut fmi2Byte,
+    size: usize,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2SerializeFMUstate", |i| {
         let data = i.serialize_state(&saved_state::<M>(state)?.core)?;
         if size < data.len() {
@@ -530,7 +609,12 @@ pub unsafe fn serialize_fmu_state<M: FmuModel>(c: fmi2Component, state: fmi2FMUs
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn deserialize_fmu_state<M: FmuModel>(c: fmi2Component, bytes: *const fmi2Byte, size: usize, state: *mut fmi2FMUstate) -> fmi2Status {
+pub unsafe fn deserialize_fmu_state<M: FmuModel>(
+    c: fmi2Component,
+    bytes: *const fmi2Byte,
+    size: usize,
+    state: *mut fmi2FMUstate,
+) -> fmi2Status {
     with_instance::<M>(c, "fmi2DeSerializeFMUstate", |i| {
         let slot = state.as_mut().ok_or_else(|| Failure::error("fmi2DeSerializeFMUstate: FMUstate is NULL"))?;
         let data = slice(bytes as *const u8, size, "serializedState")?;

@@ -138,14 +138,20 @@ impl<M: FmuModel> Instance<M> {
         }
         if let Some(stop) = stop {
             if !stop.is_finite() || stop < start {
-                return Err(Failure::error(format!("fmi2SetupExperiment: stopTime {stop} is not finite or before startTime {start}")));
+                return Err(Failure::error(format!(
+                    "fmi2SetupExperiment: stopTime {stop} is not finite or before startTime {start}"
+                )));
             }
         }
         if let Some(tol) = tolerance {
             if !(tol.is_finite() && tol > 0.0) {
-                return Err(Failure::error(format!("fmi2SetupExperiment: tolerance {tol} must be finite and positive")));
+                return Err(Failure::error(format!(
+                    "fmi2SetupExperiment: tolerance {tol} must be finite and positive"
+                )));
             }
-            self.logger.event(&format!("tolerance {tol} ignored: fixed-step integration with internal_step as the largest step"));
+            self.logger.event(&format!(
+                "tolerance {tol} ignored: fixed-step integration with internal_step as the largest step"
+            ));
         }
         self.core.start_time = start;
         self.core.time = start;
@@ -199,9 +205,8 @@ impl<M: FmuModel> Instance<M> {
     // ---- values ----------------------------------------------------------------------------------
 
     fn lookup(&self, function: &str, vr: u32, ty: VarType) -> FmiResult<&'static Variable> {
-        Variable::lookup(vr, ty).ok_or_else(|| {
-            Failure::error(format!("{function}: unknown value reference {vr} for type {ty:?}"))
-        })
+        Variable::lookup(vr, ty)
+            .ok_or_else(|| Failure::error(format!("{function}: unknown value reference {vr} for type {ty:?}")))
     }
 
     /// Validates a get call (state, every value reference) without collecting anything: the value
@@ -347,7 +352,10 @@ impl<M: FmuModel> Instance<M> {
                 return Err(Failure::error(format!("{F}: order {order} of {} must be at least 1", var.name)));
             }
             if !value.is_finite() {
-                return Err(Failure::error(format!("{F}: derivative of order {order} of {} is not finite ({value})", var.name)));
+                return Err(Failure::error(format!(
+                    "{F}: derivative of order {order} of {} is not finite ({value})",
+                    var.name
+                )));
             }
         }
         for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {

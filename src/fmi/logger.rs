@@ -38,7 +38,12 @@ impl Logger {
     /// Status categories (warnings, discards, errors, fatal) are on from the start, so that failures are
     /// explained even without debug logging; the debug categories (events, calls) follow `logging_on`.
     /// `fmi2SetDebugLogging` can switch any of them.
-    pub fn new(callback: fmi2CallbackLogger, environment: fmi2ComponentEnvironment, instance_name: &str, logging_on: bool) -> Logger {
+    pub fn new(
+        callback: fmi2CallbackLogger,
+        environment: fmi2ComponentEnvironment,
+        instance_name: &str,
+        logging_on: bool,
+    ) -> Logger {
         let enabled = LOG_CATEGORIES.iter().map(|c| logging_on || !matches!(*c, EVENTS | CALLS)).collect();
         Logger { callback, environment, instance_name: c_string(instance_name), enabled }
     }
@@ -69,7 +74,10 @@ impl Logger {
             match LOG_CATEGORIES.iter().position(|k| k == c) {
                 Some(i) => indices.push(i),
                 None => {
-                    return Err(format!("fmi2SetDebugLogging: unknown log category {c:?} (declared: {})", LOG_CATEGORIES.join(", ")))
+                    return Err(format!(
+                        "fmi2SetDebugLogging: unknown log category {c:?} (declared: {})",
+                        LOG_CATEGORIES.join(", ")
+                    ))
                 }
             }
         }

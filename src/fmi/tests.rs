@@ -63,11 +63,17 @@ unsafe extern "C" fn record(
 }
 
 fn callbacks(rec: &Recorder) -> fmi2CallbackFunctions {
-    type Plain = unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, *const c_char);
+    type Plain =
+        unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, *const c_char);
     let plain: Plain = record;
     fmi2CallbackFunctions {
         // SAFETY: see `record`.
-        logger: Some(unsafe { std::mem::transmute::<Plain, unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, ...)>(plain) }),
+        logger: Some(unsafe {
+            std::mem::transmute::<
+                Plain,
+                unsafe extern "C" fn(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, ...),
+            >(plain)
+        }),
         allocateMemory: None,
         freeMemory: None,
         stepFinished: None,
@@ -193,7 +199,15 @@ struct Mock {
 impl FmuModel for Mock {
     fn new(_: &ModelContext) -> Self {
         let n = VARIABLES.len();
-        Mock { reals: vec![0.0; n], ints: vec![0; n], strings: vec![String::new(); n], state: 0.1, time: 0.0, d1: None, initialized: 0 }
+        Mock {
+            reals: vec![0.0; n],
+            ints: vec![0; n],
+            strings: vec![String::new(); n],
+            state: 0.1,
+            time: 0.0,
+            d1: None,
+            initialized: 0,
+        }
     }
     fn get_real(&self, var: &Variable) -> Result<f64, String> {
         Ok(match var.causality {
@@ -345,21 +359,75 @@ fn instantiate_rejects_a_wrong_guid_a_wrong_type_and_null_callbacks() {
     let bad = CString::new("{00000000-0000-0000-0000-000000000000}").unwrap();
     let good = CString::new(GUID).unwrap();
     unsafe {
-        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, bad.as_ptr(), std::ptr::null(), &cb, 0, 0);
+        let c = api::instantiate::<VehicleModel>(
+            name.as_ptr(),
+            fmi2Type_fmi2CoSimulation,
+            bad.as_ptr(),
+            std::ptr::null(),
+            &cb,
+            0,
+            0,
+        );
         assert!(c.is_null());
         assert!(rec.contains("GUID mismatch"), "{}", rec.last());
-        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, std::ptr::null(), std::ptr::null(), &cb, 0, 0);
+        let c = api::instantiate::<VehicleModel>(
+            name.as_ptr(),
+            fmi2Type_fmi2CoSimulation,
+            std::ptr::null(),
+            std::ptr::null(),
+            &cb,
+            0,
+            0,
+        );
         assert!(c.is_null());
-        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2ModelExchange, good.as_ptr(), std::ptr::null(), &cb, 0, 0);
+        let c = api::instantiate::<VehicleModel>(
+            name.as_ptr(),
+            fmi2Type_fmi2ModelExchange,
+            good.as_ptr(),
+            std::ptr::null(),
+            &cb,
+            0,
+            0,
+        );
         assert!(c.is_null());
         assert!(rec.contains("Co-Simulation only"));
-        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, good.as_ptr(), std::ptr::null(), std::ptr::null(), 0, 0);
+        let c = api::instantiate::<VehicleModel>(
+            name.as_ptr(),
+            fmi2Type_fmi2CoSimulation,
+            good.as_ptr(),
+            std::ptr::null(),
+            std::ptr::null(),
+            0,
+            0,
+        );
         assert!(c.is_null());
-        let c = api::instantiate::<VehicleModel>(std::ptr::null(), fmi2Type_fmi2CoSimulation, good.as_ptr(), std::ptr::null(), &cb, 0, 0);
+        let c = api::instantiate::<VehicleModel>(
+            std::ptr::null(),
+            fmi2Type_fmi2CoSimulation,
+            good.as_ptr(),
+            std::ptr::null(),
+            &cb,
+            0,
+            0,
+        );
         assert!(c.is_null());
         // Without a logger it still works.
-        let quiet = fmi2CallbackFunctions { logger: None, allocateMemory: None, freeMemory: None, stepFinished: None, componentEnvironment: std::ptr::null_mut() };
-        let c = api::instantiate::<VehicleModel>(name.as_ptr(), fmi2Type_fmi2CoSimulation, good.as_ptr(), std::ptr::null(), &quiet, 0, 1);
+        let quiet = fmi2CallbackFunctions {
+            logger: None,
+            allocateMemory: None,
+            freeMemory: None,
+            stepFinished: None,
+            componentEnvironment: std::ptr::null_mut(),
+        };
+        let c = api::instantiate::<VehicleModel>(
+            name.as_ptr(),
+            fmi2Type_fmi2CoSimulation,
+            good.as_ptr(),
+            std::ptr::null(),
+            &quiet,
+            0,
+            1,
+        );
         assert!(!c.is_null());
         assert_eq!(api::set_real::<VehicleModel>(c, &99999, 1, &1.0), ERROR);
         api::free_instance::<VehicleModel>(c);
@@ -385,7 +453,10 @@ fn null_instance_and_null_arrays_are_errors() {
         assert!(rec.contains("NULL"));
         // nvr = 0 with NULL arrays is a valid empty call.
         assert_eq!(api::set_real::<VehicleModel>(inst.c, std::ptr::null(), 0, std::ptr::null()), OK);
-        assert_eq!(api::get_real_status::<VehicleModel>(inst.c, fmi2StatusKind_fmi2LastSuccessfulTime, std::ptr::null_mut()), ERROR);
+        assert_eq!(
+            api::get_real_status::<VehicleModel>(inst.c, fmi2StatusKind_fmi2LastSuccessfulTime, std::ptr::null_mut()),
+            ERROR
+        );
         assert_eq!(api::get_fmu_state::<VehicleModel>(inst.c, std::ptr::null_mut()), ERROR);
         assert_eq!(api::set_fmu_state::<VehicleModel>(inst.c, std::ptr::null_mut()), ERROR);
     }
@@ -409,7 +480,14 @@ fn bad_values_are_errors_and_keep_the_old_value() {
     assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[60.5]), ERROR);
     assert_eq!(inst.set_real(&[vr::BRAKE_TORQUE_RL], &[-1.0]), ERROR);
     assert_eq!(inst.set_real(&[vr::DRIVE_TORQUE_RL], &[-100.0]), OK);
-    for (v, bad) in [(vr::SPEED_MODE, 0), (vr::SPEED_MODE, 3), (vr::FORMULATION, 4), (vr::INTEGRATOR, 4), (vr::SLIP_MODEL, 0), (vr::ROAD, 3)] {
+    for (v, bad) in [
+        (vr::SPEED_MODE, 0),
+        (vr::SPEED_MODE, 3),
+        (vr::FORMULATION, 4),
+        (vr::INTEGRATOR, 4),
+        (vr::SLIP_MODEL, 0),
+        (vr::ROAD, 3),
+    ] {
         assert_eq!(inst.set_integer(&[v], &[bad]), ERROR, "{v} = {bad}");
     }
     // Unknown value references, and known ones asked with the wrong type.
@@ -551,7 +629,12 @@ fn run(inst: &Inst<Mock>, t0: f64, n: usize, h: f64) -> Vec<Vec<f64>> {
         .map(|k| {
             assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[(k as f64 * 0.37).sin()]), OK);
             let d = [(k as f64).cos()];
-            unsafe { assert_eq!(api::set_real_input_derivatives::<Mock>(inst.c, &vr::RACK_DISPLACEMENT, 1, &1, d.as_ptr()), OK) };
+            unsafe {
+                assert_eq!(
+                    api::set_real_input_derivatives::<Mock>(inst.c, &vr::RACK_DISPLACEMENT, 1, &1, d.as_ptr()),
+                    OK
+                )
+            };
             assert_eq!(inst.step(t, h), OK);
             t += h;
             inst.outputs()
@@ -577,7 +660,11 @@ fn fmu_state_get_set_and_serialize_replay_bit_identically() {
     unsafe { assert_eq!(api::serialized_fmu_state_size::<Mock>(inst.c, state, &mut size), OK) };
     let mut bytes = vec![0 as c_char; size];
     unsafe {
-        assert_eq!(api::serialize_fmu_state::<Mock>(inst.c, state, bytes.as_mut_ptr(), size - 1), ERROR, "buffer too small");
+        assert_eq!(
+            api::serialize_fmu_state::<Mock>(inst.c, state, bytes.as_mut_ptr(), size - 1),
+            ERROR,
+            "buffer too small"
+        );
         assert_eq!(api::serialize_fmu_state::<Mock>(inst.c, state, bytes.as_mut_ptr(), size), OK);
     }
     // Into another instance (same FMU): replay there too.
@@ -645,7 +732,12 @@ fn vehicle_state_serializes_and_restores() {
         let mut bytes = vec![0 as c_char; size];
         assert_eq!(api::serialize_fmu_state::<VehicleModel>(inst.c, state, bytes.as_mut_ptr(), size), OK);
         let mut back: fmi2FMUstate = std::ptr::null_mut();
-        assert_eq!(api::deserialize_fmu_state::<VehicleModel>(inst.c, bytes.as_ptr(), size, &mut back), OK, "{}", rec.last());
+        assert_eq!(
+            api::deserialize_fmu_state::<VehicleModel>(inst.c, bytes.as_ptr(), size, &mut back),
+            OK,
+            "{}",
+            rec.last()
+        );
         assert_eq!(api::reset::<VehicleModel>(inst.c), OK);
         assert_eq!(api::set_fmu_state::<VehicleModel>(inst.c, back), OK);
         assert_eq!(inst.mode(), Mode::StepComplete);
@@ -696,7 +788,13 @@ fn input_derivatives_are_checked() {
     let rec = Recorder::default();
     let inst = Inst::<VehicleModel>::new(&rec, None);
     let set = |vrs: &[u32], orders: &[i32], values: &[f64]| unsafe {
-        api::set_real_input_derivatives::<VehicleModel>(inst.c, vrs.as_ptr(), vrs.len(), orders.as_ptr(), values.as_ptr())
+        api::set_real_input_derivatives::<VehicleModel>(
+            inst.c,
+            vrs.as_ptr(),
+            vrs.len(),
+            orders.as_ptr(),
+            values.as_ptr(),
+        )
     };
     assert_eq!(set(&[vr::RACK_DISPLACEMENT, vr::RACK_DISPLACEMENT], &[1, 2], &[0.02, -0.5]), OK);
     assert_eq!(set(&[vr::DRIVE_TORQUE_FL], &[1], &[10.0]), OK, "accepted (held over the step)");
@@ -803,7 +901,8 @@ fn outputs_in_initialization_mode_are_computed_from_the_parameters() {
     }
     inst.outputs();
     inst.outputs();
-    let count = |inst: &Inst<Mock>| unsafe { (*(inst.c as *mut super::instance::Instance<Mock>)).core.model.initialized };
+    let count =
+        |inst: &Inst<Mock>| unsafe { (*(inst.c as *mut super::instance::Instance<Mock>)).core.model.initialized };
     assert_eq!(count(&inst), 1, "computed once while nothing changes");
     unsafe { assert_eq!(api::exit_initialization_mode::<Mock>(inst.c), OK) };
     assert_eq!(count(&inst), 1, "and not again when leaving initialization mode");

@@ -102,7 +102,9 @@ fn formulation(i: i32) -> Result<Formulation, String> {
         1 => Ok(Formulation::Synthesis),
         2 => Ok(Formulation::Conventional),
         3 => Ok(Formulation::SynthesisAugmented),
-        _ => Err(format!("formulation {i} is not 1 (synthesis), 2 (conventional) or 3 (synthesis, augmented 9x9 solve)")),
+        _ => {
+            Err(format!("formulation {i} is not 1 (synthesis), 2 (conventional) or 3 (synthesis, augmented 9x9 solve)"))
+        }
     }
 }
 

@@ -128,7 +128,12 @@ pub(crate) fn eval(sys: &mut dyn OdeSystem, t: f64, x: &[f64], out: &mut [f64]) 
 
 /// Accept a candidate state: project it, check it, and only then copy it into `x` ("copy in, copy out":
 /// on `Err`, `x` is untouched).
-pub(crate) fn commit(sys: &mut dyn OdeSystem, t_new: f64, candidate: &mut [f64], x: &mut [f64]) -> Result<(), EvalError> {
+pub(crate) fn commit(
+    sys: &mut dyn OdeSystem,
+    t_new: f64,
+    candidate: &mut [f64],
+    x: &mut [f64],
+) -> Result<(), EvalError> {
     sys.project(candidate);
     if candidate.iter().all(|v| v.is_finite()) {
         x.copy_from_slice(candidate);

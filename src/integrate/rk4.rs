@@ -39,7 +39,13 @@ impl Rk4 {
 
     /// The rest of an RK4 step when `self.k1` already holds f(t, x) (used by AB3's start-up, which keeps
     /// that f). Commits into `x` only on success. Requires `fit(x.len())`.
-    pub(super) fn step_from_k1(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+    pub(super) fn step_from_k1(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        h: f64,
+        x: &mut [f64],
+    ) -> Result<(), EvalError> {
         let h2 = 0.5 * h;
         for i in 0..x.len() {
             self.xs[i] = x[i] + h2 * self.k1[i];

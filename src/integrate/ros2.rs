@@ -141,7 +141,7 @@ impl Ros2 {
             let xj = x[j];
             self.xs[j] = xj + sqrt_eps * xj.abs().max(1.0);
             let dx = self.xs[j] - xj; // the perturbation actually represented
-            // k2 is free scratch here.
+                                      // k2 is free scratch here.
             let r = eval(sys, t, &self.xs, &mut self.k2);
             self.xs[j] = xj;
             r?;
@@ -222,7 +222,7 @@ impl Integrator for Ros2 {
 
         eval(sys, t, x, &mut self.f0)?;
         let n_j = self.jacobian_interval(h);
-        if self.jac_age.map_or(true, |age| age >= n_j) {
+        if self.jac_age.is_none_or(|age| age >= n_j) {
             self.jac_age = None; // invalid until built (an Err below leaves it so)
             self.build_jacobian(sys, t, x)?;
             self.jac_age = Some(0);

@@ -176,7 +176,10 @@ fn orders(make: &dyn Fn() -> AnyIntegrator, n0: usize, xref: &[f64]) -> ([f64; 3
 const SLOPE_BAND: f64 = 0.25;
 
 fn assert_order(name: &str, e: [f64; 3], s: [f64; 2], p: f64) {
-    eprintln!("{name}: errors {:.3e} {:.3e} {:.3e}, observed orders {:.3} {:.3} (expected {p})", e[0], e[1], e[2], s[0], s[1]);
+    eprintln!(
+        "{name}: errors {:.3e} {:.3e} {:.3e}, observed orders {:.3} {:.3} (expected {p})",
+        e[0], e[1], e[2], s[0], s[1]
+    );
     for v in s {
         assert!((v - p).abs() <= SLOPE_BAND, "{name}: observed order {v:.3} not within {p}±{SLOPE_BAND}");
     }
@@ -227,7 +230,13 @@ fn ros2_is_a_w_method() {
 // ---------------------------------------------------------------------------------------------
 
 /// Steps until the first Err (at most `max`), checking that the failing step left x untouched.
-fn steps_until_err(integ: &mut dyn Integrator, sys: &mut dyn OdeSystem, x: &mut [f64], h: f64, max: usize) -> Option<usize> {
+fn steps_until_err(
+    integ: &mut dyn Integrator,
+    sys: &mut dyn OdeSystem,
+    x: &mut [f64],
+    h: f64,
+    max: usize,
+) -> Option<usize> {
     for k in 0..max {
         let before = x.to_vec();
         if integ.step(sys, k as f64 * h, h, x).is_err() {

@@ -13,7 +13,12 @@ use nalgebra::{DMatrix, DVector};
 pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-10;
 
 /// Newton with a forward-difference Jacobian (step 1e-7 relative). Allocates: initialisation only.
-pub fn newton<F>(unknowns: &mut [f64], mut residual: F, tolerance: f64, max_iterations: usize) -> Result<usize, EvalError>
+pub fn newton<F>(
+    unknowns: &mut [f64],
+    mut residual: F,
+    tolerance: f64,
+    max_iterations: usize,
+) -> Result<usize, EvalError>
 where
     F: FnMut(&[f64], &mut [f64]) -> Result<(), EvalError>,
 {
@@ -125,9 +130,7 @@ pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Ve
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
-            for i in 0..4 {
-                r[3 + i] = dx[idx::UD + i];
-            }
+            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
             Ok(())
         },
         EQUILIBRIUM_TOLERANCE,
@@ -195,10 +198,8 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
-            for i in 0..4 {
-                r[3 + i] = dx[idx::UD + i];
-                r[7 + i] = dx[idx::SPIN + i];
-            }
+            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+            r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
             let mut k = 11;
             if relaxation {
                 r[k..k + 8].copy_from_slice(&dx[idx::XI..idx::XI + 8]);

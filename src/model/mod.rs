@@ -1,6 +1,7 @@
 //! The vehicle: data, the SLA suspension subsystems, the kinematic rack, force elements, tires and road,
 //! assembled into one derivative function.
 
+pub mod equilibrium;
 pub mod forces;
 pub mod params;
 pub mod road;
@@ -8,4 +9,3 @@ pub mod steering;
 pub mod suspension;
 pub mod tire;
 pub mod vehicle;
-pub mod equilibrium;

@@ -295,7 +295,10 @@ impl VehicleData {
                 nonneg(&format!("{name}.damper.{k}"), v)?;
             }
             if !(d.engagement_min_length_m < d.engagement_max_length_m) {
-                return Err(err(format!("{name}.damper.engagement_min_length_m"), "must be below engagement_max_length_m"));
+                return Err(err(
+                    format!("{name}.damper.engagement_min_length_m"),
+                    "must be below engagement_max_length_m",
+                ));
             }
             crate::model::suspension::sla::check_loop_closes(self, name, axle)?;
         }
@@ -331,9 +334,17 @@ impl VehicleData {
         positive("tire.sti.a2_N", sti.a2_N)?;
         positive("tire.sti.cs", sti.cs)?;
         positive("tire.sti.mu0", sti.mu0)?;
-        for (k, v) in [("a0", sti.a0), ("k_mu", sti.k_mu), ("k_a", sti.k_a), ("c1", sti.c1), ("c2", sti.c2),
-            ("c3", sti.c3), ("c4", sti.c4), ("c_gamma_per_rad", sti.c_gamma_per_rad), ("trail_m", sti.trail_m)]
-        {
+        for (k, v) in [
+            ("a0", sti.a0),
+            ("k_mu", sti.k_mu),
+            ("k_a", sti.k_a),
+            ("c1", sti.c1),
+            ("c2", sti.c2),
+            ("c3", sti.c3),
+            ("c4", sti.c4),
+            ("c_gamma_per_rad", sti.c_gamma_per_rad),
+            ("trail_m", sti.trail_m),
+        ] {
             finite(&format!("tire.sti.{k}"), v)?;
         }
         nonneg("speed_hold.kp_per_s", self.speed_hold.kp_per_s)?;
@@ -345,7 +356,9 @@ impl VehicleData {
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
         for (name, axle) in self.axles() {
-            for (body, b) in [("lower_arm", &axle.lower_arm), ("upper_arm", &axle.upper_arm), ("upright", &axle.upright)] {
+            for (body, b) in
+                [("lower_arm", &axle.lower_arm), ("upper_arm", &axle.upper_arm), ("upright", &axle.upright)]
+            {
                 let e = b.inertia().symmetric_eigenvalues();
                 let (a, bb, c) = (e[0], e[1], e[2]);
                 if a > bb + c || bb > a + c || c > a + bb {
@@ -365,7 +378,11 @@ impl VehicleData {
 }
 
 fn finite(field: &str, v: f64) -> Result<(), DataError> {
-    if v.is_finite() { Ok(()) } else { Err(err(field, format!("must be a finite number, got {v}"))) }
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(err(field, format!("must be a finite number, got {v}")))
+    }
 }
 
 fn finite3(field: &str, v: &[f64; 3]) -> Result<(), DataError> {
@@ -373,11 +390,19 @@ fn finite3(field: &str, v: &[f64; 3]) -> Result<(), DataError> {
 }
 
 fn positive(field: &str, v: f64) -> Result<(), DataError> {
-    if v.is_finite() && v > 0.0 { Ok(()) } else { Err(err(field, format!("must be positive, got {v}"))) }
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(err(field, format!("must be positive, got {v}")))
+    }
 }
 
 fn nonneg(field: &str, v: f64) -> Result<(), DataError> {
-    if v.is_finite() && v >= 0.0 { Ok(()) } else { Err(err(field, format!("must be zero or positive, got {v}"))) }
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(err(field, format!("must be zero or positive, got {v}")))
+    }
 }
 
 fn pos_def(field: &str, b: &RigidBody) -> Result<(), DataError> {
@@ -387,6 +412,9 @@ fn pos_def(field: &str, b: &RigidBody) -> Result<(), DataError> {
     if e.iter().all(|x| *x > 0.0) {
         Ok(())
     } else {
-        Err(err(field, format!("inertia tensor is not positive definite (eigenvalues {:.4}, {:.4}, {:.4})", e[0], e[1], e[2])))
+        Err(err(
+            field,
+            format!("inertia tensor is not positive definite (eigenvalues {:.4}, {:.4}, {:.4})", e[0], e[1], e[2]),
+        ))
     }
 }

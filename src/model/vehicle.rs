@@ -13,7 +13,7 @@ use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
 use crate::model::road::RoadModel;
 use crate::model::steering::rack::Rack;
-use crate::model::suspension::sla::{BodyInertia, SlaGeometry, SlaPositions, Side, Vector5f};
+use crate::model::suspension::sla::{BodyInertia, Side, SlaGeometry, SlaPositions, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{Matrix6, SMatrix, Vector4, Vector6};
 use serde::{Deserialize, Serialize};
@@ -200,10 +200,11 @@ impl Vehicle {
             switches: ForceSwitches::default(),
             total_mass,
         };
-        v.rack.sign = if v.steering_gain_per_rack_metre().map_err(|e| DataError {
-            field: "front.hardpoints_chassis_frame_m".into(),
-            message: e.0,
-        })? < 0.0 {
+        v.rack.sign = if v
+            .steering_gain_per_rack_metre()
+            .map_err(|e| DataError { field: "front.hardpoints_chassis_frame_m".into(), message: e.0 })?
+            < 0.0
+        {
             -1.0
         } else {
             1.0
@@ -227,17 +228,27 @@ impl Vehicle {
 
     /// Rack translation for corner i (rear toe links ignore it).
     fn rack_translation(&self, i: usize, u: f64) -> f64 {
-        if self.corners[i].steered { self.rack.sign * u } else { 0.0 }
+        if self.corners[i].steered {
+            self.rack.sign * u
+        } else {
+            0.0
+        }
     }
 
     /// Solve the dependent coordinates of every corner (updates the warm starts).
-    pub fn corner_positions(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<[SlaPositions; 4], EvalError> {
+    pub fn corner_positions(
+        &self,
+        x: &[f64],
+        rack_u: f64,
+        cache: &mut KinematicsCache,
+    ) -> Result<[SlaPositions; 4], EvalError> {
         let solve = |i: usize, cache: &mut KinematicsCache| -> Result<SlaPositions, EvalError> {
             let s = self.rack_translation(i, rack_u);
             let c = &self.corners[i];
             let u = x[idx::U + i];
             let guess = cache.corners[i].predict(u, s);
-            let p = c.solve_positions(u, s, &guess).map_err(|e| EvalError(format!("corner {}: {}", CORNERS[i], e.0)))?;
+            let p =
+                c.solve_positions(u, s, &guess).map_err(|e| EvalError(format!("corner {}: {}", CORNERS[i], e.0)))?;
             // Sensitivities from the LU Newton already factorized: ∂v/∂u = −Φ_v⁻¹Φ_u, ∂v/∂s = −Φ_v⁻¹Φ_s.
             let (du, ds) = (c.velocities(&p, 1.0, 0.0), c.velocities(&p, 0.0, 1.0));
             cache.corners[i] = WarmStart {
@@ -314,7 +325,13 @@ impl Vehicle {
 
     /// Everything before the equation solving (§4.9 steps 1–3e): kinematics, forces and the chassis and
     /// subsystem terms, shared by every formulation.
-    pub fn assemble(&self, x: &[f64], inputs: &Inputs, cache: &mut KinematicsCache, local: &mut Diagnostics) -> Result<Assembly, EvalError> {
+    pub fn assemble(
+        &self,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        local: &mut Diagnostics,
+    ) -> Result<Assembly, EvalError> {
         let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
         let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
         let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
@@ -340,7 +357,8 @@ impl Vehicle {
         let hold_torque = match self.speed_mode {
             SpeedMode::Hold => {
                 let (kp, ki) = self.speed_gains;
-                self.total_mass * self.tire.unloaded_radius_m * (kp * (self.target_speed - vx_body) + ki * x[idx::ZV]) / 4.0
+                self.total_mass * self.tire.unloaded_radius_m * (kp * (self.target_speed - vx_body) + ki * x[idx::ZV])
+                    / 4.0
             }
             SpeedMode::Coast => 0.0,
         };
@@ -542,7 +560,14 @@ pub struct CornerKinematics {
 }
 
 impl Vehicle {
-    pub fn corner_kinematics(&self, i: usize, pos: &SlaPositions, qd: &Vector5f, a0: &M3, y0: &Vector6<f64>) -> CornerKinematics {
+    pub fn corner_kinematics(
+        &self,
+        i: usize,
+        pos: &SlaPositions,
+        qd: &Vector5f,
+        a0: &M3,
+        y0: &Vector6<f64>,
+    ) -> CornerKinematics {
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
         let phid = V3::new(qd[1], qd[2], qd[3]);
@@ -590,7 +615,11 @@ impl Vehicle {
             rate: [d_l, d_l + d_k, d_u],
             velocity: [y_l, y_k, y_u],
             mass: [c.lower.mass, c.carrier.mass, c.upper.mass],
-            com: [a0 * c.on_lower(pos, &c.lower.com), a0 * c.on_carrier(pos, &c.carrier.com), a0 * c.on_upper(pos, &c.upper.com)],
+            com: [
+                a0 * c.on_lower(pos, &c.lower.com),
+                a0 * c.on_carrier(pos, &c.carrier.com),
+                a0 * c.on_upper(pos, &c.upper.com),
+            ],
             inertia: [
                 rot_l * c.lower.inertia * rot_l.transpose(),
                 rot_k * c.carrier.inertia * rot_k.transpose(),
@@ -639,7 +668,12 @@ pub struct MechanicalSummary {
 }
 
 impl Vehicle {
-    pub fn mechanical_summary(&self, x: &[f64], rack: &RackMotion, cache: &mut KinematicsCache) -> Result<MechanicalSummary, EvalError> {
+    pub fn mechanical_summary(
+        &self,
+        x: &[f64],
+        rack: &RackMotion,
+        cache: &mut KinematicsCache,
+    ) -> Result<MechanicalSummary, EvalError> {
         let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
         let r0 = V3::new(x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2]);
         let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);

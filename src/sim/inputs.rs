@@ -19,7 +19,11 @@ impl Jet {
     }
 
     fn mul(self, o: Jet) -> Jet {
-        Jet { v: self.v * o.v, d1: self.d1 * o.v + self.v * o.d1, d2: self.d2 * o.v + 2.0 * self.d1 * o.d1 + self.v * o.d2 }
+        Jet {
+            v: self.v * o.v,
+            d1: self.d1 * o.v + self.v * o.d1,
+            d2: self.d2 * o.v + 2.0 * self.d1 * o.d1 + self.v * o.d2,
+        }
     }
 
     fn scale(self, k: f64) -> Jet {
@@ -49,13 +53,25 @@ fn smootherstep(t: f64, start: f64, width: f64) -> Jet {
 pub enum RackProfile {
     Zero,
     /// J-turn: u = A·S((t − start)/ramp) (physics.md §8.3).
-    Step { amplitude: f64, start: f64, ramp: f64 },
+    Step {
+        amplitude: f64,
+        start: f64,
+        ramp: f64,
+    },
     /// Two single-sine inputs, out and back: u = A·w(τ)·sin(πτ/½period), τ = t − start, w = +1 on the
     /// first period and −1 on the second. The velocity kinks at the ends of each single sine (τ = 0,
     /// period, 2·period) are blended by C² windows of width `blend`, which keeps the input C¹.
-    DoubleSine { amplitude: f64, start: f64, period: f64, blend: f64 },
+    DoubleSine {
+        amplitude: f64,
+        start: f64,
+        period: f64,
+        blend: f64,
+    },
     /// A plain sine from t = 0, u = A sin(2πt/period): infinitely smooth for t > 0 (order tests).
-    Sine { amplitude: f64, period: f64 },
+    Sine {
+        amplitude: f64,
+        period: f64,
+    },
 }
 
 impl RackProfile {
@@ -100,10 +116,19 @@ pub struct RackSample {
 pub enum RackSource {
     Profile(RackProfile),
     /// External signal over the interval [t_k, t_k + h]: u = start + slope (t − t_k) + ½ curvature (t − t_k)².
-    External { t_k: f64, start: f64, slope: f64, curvature: f64 },
+    External {
+        t_k: f64,
+        start: f64,
+        slope: f64,
+        curvature: f64,
+    },
     /// An external sample without derivatives, waiting for the step length to become a ramp from
     /// `start` (the value in force) to `target` over the next step. Until then it holds `start`.
-    PendingRamp { t_k: f64, start: f64, target: f64 },
+    PendingRamp {
+        t_k: f64,
+        start: f64,
+        target: f64,
+    },
 }
 
 impl RackSource {
@@ -112,7 +137,11 @@ impl RackSource {
             RackSource::Profile(p) => p.at(t),
             RackSource::External { t_k, start, slope, curvature } => {
                 let tau = t - t_k;
-                RackMotion { position: start + slope * tau + 0.5 * curvature * tau * tau, velocity: slope + curvature * tau, acceleration: curvature }
+                RackMotion {
+                    position: start + slope * tau + 0.5 * curvature * tau * tau,
+                    velocity: slope + curvature * tau,
+                    acceleration: curvature,
+                }
             }
             RackSource::PendingRamp { start, .. } => RackMotion { position: start, velocity: 0.0, acceleration: 0.0 },
         }
@@ -126,12 +155,16 @@ mod tests {
     fn check_derivatives(p: RackProfile, t0: f64, t1: f64) {
         // Central differences, h = 1e-6: truncation ~h²·u''' and round-off ~1e-16/h, well under 1e-6 relative.
         let h = 1e-6;
-        let scale = (0..=1000).map(|k| p.at(t0 + (t1 - t0) * k as f64 / 1000.0).acceleration.abs()).fold(1e-9, f64::max);
+        let scale =
+            (0..=1000).map(|k| p.at(t0 + (t1 - t0) * k as f64 / 1000.0).acceleration.abs()).fold(1e-9, f64::max);
         for k in 0..=400 {
             let t = t0 + (t1 - t0) * k as f64 / 400.0;
             let (a, b, m) = (p.at(t - h), p.at(t + h), p.at(t));
             assert!(((b.position - a.position) / (2.0 * h) - m.velocity).abs() < 1e-6 * scale, "velocity at {t}");
-            assert!(((b.velocity - a.velocity) / (2.0 * h) - m.acceleration).abs() < 1e-4 * scale, "acceleration at {t}");
+            assert!(
+                ((b.velocity - a.velocity) / (2.0 * h) - m.acceleration).abs() < 1e-4 * scale,
+                "acceleration at {t}"
+            );
         }
     }
 

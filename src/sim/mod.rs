@@ -119,7 +119,9 @@ fn check_divergence(x: &[f64], t: f64) -> Result<(), EvalError> {
         None
     };
     match bad {
-        Some(why) => Err(EvalError(format!("integration diverged at t = {t:.4} s ({why}); the step is too large for this integrator (physics.md §7.4)"))),
+        Some(why) => Err(EvalError(format!(
+            "integration diverged at t = {t:.4} s ({why}); the step is too large for this integrator (physics.md §7.4)"
+        ))),
         None => Ok(()),
     }
 }
@@ -250,7 +252,12 @@ impl Simulation {
     pub fn set_external_rack(&mut self, sample: RackSample) {
         let previous = self.rack.at(self.time).position;
         self.rack = match sample.first_derivative {
-            Some(d1) => RackSource::External { t_k: self.time, start: sample.value, slope: d1, curvature: sample.second_derivative.unwrap_or(0.0) },
+            Some(d1) => RackSource::External {
+                t_k: self.time,
+                start: sample.value,
+                slope: d1,
+                curvature: sample.second_derivative.unwrap_or(0.0),
+            },
             None => RackSource::PendingRamp { t_k: self.time, start: previous, target: sample.value },
         };
         if sample.first_derivative.is_some() {
@@ -336,7 +343,24 @@ impl Simulation {
             k += 1;
         };
         push(self.time);
-        for val in [x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2], roll, pitch, yaw, v.x, v.y, v.z, w.x, w.y, w.z, a.x, a.y, a.z, rack.position] {
+        for val in [
+            x[idx::R0],
+            x[idx::R0 + 1],
+            x[idx::R0 + 2],
+            roll,
+            pitch,
+            yaw,
+            v.x,
+            v.y,
+            v.z,
+            w.x,
+            w.y,
+            w.z,
+            a.x,
+            a.y,
+            a.z,
+            rack.position,
+        ] {
             push(val);
         }
         push(d.steer[0]);

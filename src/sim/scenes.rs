@@ -89,7 +89,9 @@ impl Scene {
             Amplitude::Metres(a) => a,
         };
         match kind {
-            SceneKind::Bump => Scene { kind, speed: 10.0 / 3.6, road: RoadChoice::PaperBumps, rack: RackProfile::Zero, duration: 8.0 },
+            SceneKind::Bump => {
+                Scene { kind, speed: 10.0 / 3.6, road: RoadChoice::PaperBumps, rack: RackProfile::Zero, duration: 8.0 }
+            }
             SceneKind::JTurn => Scene {
                 kind,
                 speed: 100.0 / 3.6,
@@ -101,7 +103,12 @@ impl Scene {
                 kind,
                 speed: 60.0 / 3.6,
                 road: RoadChoice::Flat,
-                rack: RackProfile::DoubleSine { amplitude: SINE_TO_JTURN * jturn, start: 1.0, period: 2.0, blend: SINE_KINK_BLEND },
+                rack: RackProfile::DoubleSine {
+                    amplitude: SINE_TO_JTURN * jturn,
+                    start: 1.0,
+                    period: 2.0,
+                    blend: SINE_KINK_BLEND,
+                },
                 duration: 8.0,
             },
         }

@@ -41,12 +41,20 @@ impl Rack {
             inertia_products_kg_m2: r.inertia_products_kg_m2,
         };
         let com = V3::from(r.com_m) - V3::from(data.chassis.com_m);
-        Rack { body: BodyInertia { mass: r.mass_kg, com, inertia: inertia.inertia() }, sign: 1.0, travel_limit: r.travel_limit_m }
+        Rack {
+            body: BodyInertia { mass: r.mass_kg, com, inertia: inertia.inertia() },
+            sign: 1.0,
+            travel_limit: r.travel_limit_m,
+        }
     }
 
     /// Rack translation s, ṡ, s̈ along +y of the chassis for the input u.
     pub fn translation(&self, u: &RackMotion) -> RackMotion {
-        RackMotion { position: self.sign * u.position, velocity: self.sign * u.velocity, acceleration: self.sign * u.acceleration }
+        RackMotion {
+            position: self.sign * u.position,
+            velocity: self.sign * u.velocity,
+            acceleration: self.sign * u.acceleration,
+        }
     }
 
     /// CM position (from the chassis CM), CM velocity and inertia in the ground frame, for chassis

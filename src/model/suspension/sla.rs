@@ -132,7 +132,8 @@ impl SlaGeometry {
         };
         let arm = |body: &RigidBody, front: &str, back: &str, outer: &str, cm: &str| -> BodyInertia {
             // Chrono gives arm inertias in the arm frame: x = unit(F − B), z = unit((B − U) × (F − U)).
-            let (f, b, u) = (VehicleData::point(axle, front), VehicleData::point(axle, back), VehicleData::point(axle, outer));
+            let (f, b, u) =
+                (VehicleData::point(axle, front), VehicleData::point(axle, back), VehicleData::point(axle, outer));
             let x = (f - b).normalize();
             let z = (b - u).cross(&(f - u)).normalize();
             let y = z.cross(&x);
@@ -207,7 +208,11 @@ impl SlaGeometry {
 
     /// Inner tie-rod point: on the rack (moves with s along +y_C) in front, fixed to the chassis at the rear.
     pub fn tie_rod_inner(&self, s: f64) -> V3 {
-        if self.steered { self.t_r0 + V3::new(0.0, s, 0.0) } else { self.t_r0 }
+        if self.steered {
+            self.t_r0 + V3::new(0.0, s, 0.0)
+        } else {
+            self.t_r0
+        }
     }
 
     /// Positions, Φ and Φ_q at q (no solve). The tie-rod row is scaled by 1/ℓ so that every row is in
@@ -333,7 +338,8 @@ impl SlaGeometry {
         let a_u = w_u.cross(&w_u.cross(&(pos.upper_joint - self.p_u)));
         let b_rel = pos.b - self.p_l;
         let a_b = w_l.cross(&w_l.cross(&b_rel));
-        let beta = w_l.cross(&(pos.rl_g * phid)) + pos.r_l * bryant_rate_quadratic(&V3::new(pos.q[1], pos.q[2], pos.q[3]), &phid);
+        let beta = w_l.cross(&(pos.rl_g * phid))
+            + pos.r_l * bryant_rate_quadratic(&V3::new(pos.q[1], pos.q[2], pos.q[3]), &phid);
         let a_k = |rho: &V3| a_b + beta.cross(rho) + w_k.cross(&w_k.cross(rho));
         let gamma_s = -(a_u - a_k(&pos.rho_u));
         let rack_rate = if self.steered { s_dot } else { 0.0 };
@@ -385,7 +391,10 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
     if !(g.design_det > 1e-12) {
         return Err(DataError {
             field,
-            message: format!("suspension loop cannot close: singular at the design position (|det Φ_v| = {:.3e})", g.design_det),
+            message: format!(
+                "suspension loop cannot close: singular at the design position (|det Φ_v| = {:.3e})",
+                g.design_det
+            ),
         });
     }
     let rack = if axle.steered { data.rack.travel_limit_m } else { 0.0 };

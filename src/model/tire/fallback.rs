@@ -6,11 +6,7 @@ use super::{ShearForces, TireParams};
 /// Linear: F_x = C_s κ, F_y = C_α tan α, no saturation (§6.8). No camber thrust and no aligning moment, so the
 /// model is exactly the linear single-track tire (the reference for understeer-gradient checks).
 pub fn linear_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64) -> ShearForces {
-    ShearForces {
-        fx: longitudinal_stiffness(p, fz) * kappa,
-        fy: cornering_stiffness(p, fz) * tan_alpha,
-        mz: 0.0,
-    }
+    ShearForces { fx: longitudinal_stiffness(p, fz) * kappa, fy: cornering_stiffness(p, fz) * tan_alpha, mz: 0.0 }
 }
 
 /// Linear forces scaled down onto the friction circle of radius μ0 F_z: factor min(1, μ0 F_z/‖F‖) (§6.8).

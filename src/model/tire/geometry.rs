@@ -131,7 +131,8 @@ mod tests {
         assert!(close(&c.ex, &Vector3::new(1.0, 0.0, hx).normalize()), "e_x follows the slope");
         // Distance to the tilted plane along the wheel's down direction d ⟂ e_x, in the wheel plane.
         let down = Vector3::y().cross(&c.ex);
-        let expected_radius = expected_normal.dot(&(Vector3::new(centre.x, centre.y, h) - centre)) / expected_normal.dot(&down);
+        let expected_radius =
+            expected_normal.dot(&(Vector3::new(centre.x, centre.y, h) - centre)) / expected_normal.dot(&down);
         assert!((c.loaded_radius - expected_radius).abs() < TOL);
         assert!(c.penetration > R0 - (0.45 - h), "the tilted plane is closer than the height under the centre");
         // The contact point is on the local plane.

@@ -51,7 +51,13 @@ impl Contact {
     /// Moment of the tire loads about the wheel centre (§6.6, §4.8):
     /// M_W = (ρ_C - ρ_W) × F_t + M_z n + M_rr a, with `axle` the unit spin axis a and `force` = F_t. The
     /// wheel centre enters only through ρ_C - ρ_W = s* d, so no centre position is needed.
-    pub fn moment_about_centre(&self, axle: &Vector3<f64>, force: &Vector3<f64>, mz: f64, rolling_resistance: f64) -> Vector3<f64> {
+    pub fn moment_about_centre(
+        &self,
+        axle: &Vector3<f64>,
+        force: &Vector3<f64>,
+        mz: f64,
+        rolling_resistance: f64,
+    ) -> Vector3<f64> {
         let down = axle.cross(&self.ex);
         (self.loaded_radius * down).cross(force) + mz * self.normal + rolling_resistance * axle
     }
@@ -95,7 +101,14 @@ pub fn normal_force(p: &TireParams, penetration: f64, penetration_rate: f64) -> 
 
 /// F_x, F_y, M_z from load, slip ratio κ, tan α and inclination γ_w (physics.md §6.5–§6.6, fallbacks §6.8).
 /// No load (F_z <= 0, or not finite) gives no shear force.
-pub fn shear_forces(model: TireModel, p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, inclination: f64) -> ShearForces {
+pub fn shear_forces(
+    model: TireModel,
+    p: &TireParams,
+    fz: f64,
+    kappa: f64,
+    tan_alpha: f64,
+    inclination: f64,
+) -> ShearForces {
     // A NaN load would otherwise spread through every force.
     if fz.is_nan() || fz <= 0.0 {
         return ShearForces::default();

@@ -23,7 +23,12 @@ pub fn effective_rolling_radius(p: &TireParams, penetration: f64) -> f64 {
 /// Slip velocities (§6.4) from the velocity `contact_velocity` of the carrier point at the contact (v_C, the
 /// wheel spin excluded) and the spin rate relative to the carrier Ω_rel = Ω - a·ω_K:
 /// V_x = e_x·v_C, V_sx = V_x - R_e Ω_rel, V_sy = e_y·v_C.
-pub fn slip_velocities(p: &TireParams, contact: &Contact, contact_velocity: &Vector3<f64>, omega_rel: f64) -> SlipVelocities {
+pub fn slip_velocities(
+    p: &TireParams,
+    contact: &Contact,
+    contact_velocity: &Vector3<f64>,
+    omega_rel: f64,
+) -> SlipVelocities {
     let vx = contact.ex.dot(contact_velocity);
     let rolling_speed = effective_rolling_radius(p, contact.penetration) * omega_rel;
     SlipVelocities { vx, vsx: vx - rolling_speed, vsy: contact.ey.dot(contact_velocity) }
@@ -59,10 +64,7 @@ pub fn relaxation_rates(p: &TireParams, vx: f64, vsx: f64, vsy: f64, xi: [f64; 2
         return xi.map(|x| -x / LIFT_OFF_RELAXATION_TIME_S);
     }
     let speed = vx.abs();
-    [
-        (-vsx - speed * xi[0]) / p.relaxation_length_x_m,
-        (-vsy - speed * xi[1]) / p.relaxation_length_y_m,
-    ]
+    [(-vsx - speed * xi[0]) / p.relaxation_length_x_m, (-vsy - speed * xi[1]) / p.relaxation_length_y_m]
 }
 
 #[cfg(test)]

@@ -117,7 +117,6 @@ mod tests {
         VehicleData::default_hmmwv().tire
     }
 
-
     /// Relative error of each component; exact zeros in the table must be zero to 1e-9 of the load.
     fn reference_errors(p: &TireParams) -> Vec<[f64; 3]> {
         REFERENCE
