@@ -199,3 +199,22 @@ fn paper_integrator_configuration_is_reported_unstable_and_the_default_is_not() 
         samples(kind, Amplitude::Calibrated, &SimConfig::default());
     }
 }
+
+#[test]
+fn ros2_runs_the_bump_course_through_its_c0_edges() {
+    // At 10 km/h the front wheels reach the first bump edges exactly at a step boundary (t = 3.6 s).
+    // A finite-difference Jacobian taken there would straddle the C⁰ edge; ROS2 therefore builds its
+    // Jacobian on the edge-averaged road (Vehicle::jacobian_derivative). It must run the scene through,
+    // with every wheel's peaks in the band of physics.md §9.9.
+    let config = SimConfig { integrator: IntegratorKind::Ros2, ..SimConfig::default() };
+    let scene = Scene::new(SceneKind::Bump, Amplitude::Calibrated);
+    let mut sim = scene.start(VehicleData::default_hmmwv(), &config).unwrap();
+    let mut rows = Vec::new();
+    run(&mut sim, scene.duration, 0.01, |o| rows.push(*o)).unwrap();
+    for w in ["fl", "fr", "rl", "rr"] {
+        let z = col(&rows, &format!("wheel_z_{w}"));
+        let peak = z.iter().map(|v| v - z[0]).fold(0.0, f64::max);
+        println!("ROS2 2 ms bump: {w} peak {peak:.4} m");
+        assert!((0.045..=0.065).contains(&peak), "{w}: peak {peak}");
+    }
+}

@@ -32,6 +32,16 @@ pub trait OdeSystem {
     fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError>;
     /// Called after every accepted step (e.g. renormalise a quaternion). Default: nothing.
     fn project(&self, _x: &mut [f64]) {}
+    /// Whether finite-difference Jacobians should use `jacobian_derivative` (a smoothed model) instead of
+    /// `derivative`. Default: no.
+    fn has_jacobian_model(&self) -> bool {
+        false
+    }
+    /// The model seen by finite-difference Jacobians, for systems whose right-hand side has kinks that a
+    /// perturbation could straddle. Default: `derivative`.
+    fn jacobian_derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError> {
+        self.derivative(t, x, dxdt)
+    }
 }
 
 /// The integration schemes, selectable at run time.

@@ -136,19 +136,32 @@ impl Ros2 {
             return Ok(());
         }
         let sqrt_eps = f64::EPSILON.sqrt();
+        // k1 and k2 are free scratch here. The base point is f0, or the system's Jacobian model at x.
+        let separate = sys.has_jacobian_model();
+        if separate {
+            sys.jacobian_derivative(t, x, &mut self.k1)?;
+        } else {
+            self.k1.copy_from_slice(&self.f0);
+        }
         self.xs.copy_from_slice(x);
         for j in 0..n {
             let xj = x[j];
             self.xs[j] = xj + sqrt_eps * xj.abs().max(1.0);
             let dx = self.xs[j] - xj; // the perturbation actually represented
-                                      // k2 is free scratch here.
-            let r = eval(sys, t, &self.xs, &mut self.k2);
+            let r = if separate {
+                sys.jacobian_derivative(t, &self.xs, &mut self.k2)
+            } else {
+                eval(sys, t, &self.xs, &mut self.k2)
+            };
             self.xs[j] = xj;
             r?;
             let c = self.jacobian_scale / dx;
             for i in 0..n {
-                self.jac[(i, j)] = c * (self.k2[i] - self.f0[i]);
+                self.jac[(i, j)] = c * (self.k2[i] - self.k1[i]);
             }
+        }
+        if !self.jac.iter().all(|v| v.is_finite()) {
+            return Err(EvalError(format!("ROS2: non-finite Jacobian at t = {t}")));
         }
         Ok(())
     }

@@ -11,12 +11,15 @@ use crate::integrate::EvalError;
 use crate::math::{quat_rate, quat_to_matrix, skew, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
-use crate::model::road::RoadModel;
+use crate::model::road::{EdgeAveraged, Road, RoadModel};
 use crate::model::steering::rack::Rack;
 use crate::model::suspension::sla::{BodyInertia, Side, SlaGeometry, SlaPositions, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{Matrix6, SMatrix, Vector4, Vector6};
 use serde::{Deserialize, Serialize};
+
+/// Window of the road average seen by finite-difference Jacobians, m (see `Vehicle::jacobian_derivative`).
+pub const JACOBIAN_ROAD_AVERAGING: f64 = 0.002;
 
 /// Corner order everywhere: front left, front right, rear left, rear right.
 pub const CORNERS: [&str; 4] = ["fl", "fr", "rl", "rr"];
@@ -273,8 +276,34 @@ impl Vehicle {
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
     ) -> Result<(), EvalError> {
+        self.derivative_on(&self.road, x, inputs, cache, dxdt, diag)
+    }
+
+    /// The derivative for a finite-difference Jacobian: the same model on the road averaged over
+    /// `JACOBIAN_ROAD_AVERAGING` along x, so that a perturbation never straddles a C⁰ road edge (the
+    /// paper's bumps). A linearly implicit W-method stays second order with any Jacobian.
+    pub fn jacobian_derivative(
+        &self,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        dxdt: &mut [f64],
+    ) -> Result<(), EvalError> {
+        let road = EdgeAveraged { road: &self.road, width: JACOBIAN_ROAD_AVERAGING };
+        self.derivative_on(&road, x, inputs, cache, dxdt, None)
+    }
+
+    fn derivative_on(
+        &self,
+        road: &dyn Road,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        dxdt: &mut [f64],
+        diag: Option<&mut Diagnostics>,
+    ) -> Result<(), EvalError> {
         let mut local = Diagnostics::default();
-        let assembly = self.assemble(x, inputs, cache, &mut local)?;
+        let assembly = self.assemble_on(road, x, inputs, cache, &mut local)?;
         let multipliers = if diag.is_some() { Multipliers::Compute } else { Multipliers::Skip };
         let acc = self.accelerations(&assembly, multipliers)?;
 
@@ -327,6 +356,17 @@ impl Vehicle {
     /// subsystem terms, shared by every formulation.
     pub fn assemble(
         &self,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        local: &mut Diagnostics,
+    ) -> Result<Assembly, EvalError> {
+        self.assemble_on(&self.road, x, inputs, cache, local)
+    }
+
+    fn assemble_on(
+        &self,
+        road: &dyn Road,
         x: &[f64],
         inputs: &Inputs,
         cache: &mut KinematicsCache,
@@ -385,7 +425,8 @@ impl Vehicle {
             local.max_residual = local.max_residual.max(pos.residual);
             local.newton_iterations += pos.iterations;
             let drive = hold_torque + inputs.drive[i];
-            let out = self.corner_terms(i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], local);
+            let out =
+                self.corner_terms(road, i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], local);
             terms[i] = out.terms;
             chassis_force += out.chassis_wrench;
             spin_torque[i] = out.spin_torque;
@@ -406,6 +447,7 @@ impl Vehicle {
     #[allow(clippy::too_many_arguments)]
     fn corner_terms(
         &self,
+        road: &dyn Road,
         i: usize,
         pos: &SlaPositions,
         qd: &Vector5f,
@@ -482,7 +524,7 @@ impl Vehicle {
         diag.steer[i] = c.steer_angle(pos);
         diag.wheel_spin_relative[i] = spin_rel;
         let contact = if self.switches.tires {
-            tire::contact(&self.road, &centre_abs, &axle, self.tire.unloaded_radius_m)
+            tire::contact(road, &centre_abs, &axle, self.tire.unloaded_radius_m)
         } else {
             None
         };

@@ -96,6 +96,17 @@ impl OdeSystem for VehicleOde<'_> {
         self.vehicle.derivative(x, &inputs, self.cache, dxdt, None)
     }
 
+    fn has_jacobian_model(&self) -> bool {
+        // Only a road with C⁰ edges needs the smoothed view.
+        matches!(self.vehicle.road, RoadModel::Bumps(_))
+    }
+
+    fn jacobian_derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError> {
+        self.evaluations += 1;
+        let inputs = Inputs { rack: self.rack.at(t), drive: self.drive, brake: self.brake };
+        self.vehicle.jacobian_derivative(x, &inputs, self.cache, dxdt)
+    }
+
     fn project(&self, x: &mut [f64]) {
         let e = &mut x[idx::E0..idx::E0 + 4];
         let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
