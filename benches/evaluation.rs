@@ -6,7 +6,9 @@
 //! evaluation, op-count ratio ≈ 29).
 
 use criterion::Criterion;
+use fmi_sys::fmi2::fmi2Status_fmi2OK;
 use rt_vehicle::dynamics::Multipliers;
+use rt_vehicle::fmi::native::NativeInstance;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Diagnostics, Formulation, Inputs, KinematicsCache, Vehicle};
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
@@ -45,56 +47,6 @@ fn median_us(mut f: impl FnMut()) -> f64 {
     t[50]
 }
 
-mod fmu {
-    use fmi_sys::fmi2::*;
-    use rt_vehicle::fmi::exports::*;
-    use std::ffi::CString;
-
-    pub struct Instance(pub fmi2Component, pub f64);
-
-    pub fn instantiate() -> Instance {
-        let name = CString::new("bench").unwrap();
-        let guid = CString::new(rt_vehicle::fmi::variables::GUID).unwrap();
-        let quiet = fmi2CallbackFunctions {
-            logger: None,
-            allocateMemory: None,
-            freeMemory: None,
-            stepFinished: None,
-            componentEnvironment: std::ptr::null_mut(),
-        };
-        unsafe {
-            let c = fmi2Instantiate(
-                name.as_ptr(),
-                fmi2Type_fmi2CoSimulation,
-                guid.as_ptr(),
-                std::ptr::null(),
-                &quiet,
-                0,
-                0,
-            );
-            assert!(!c.is_null());
-            assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status_fmi2OK);
-            assert_eq!(fmi2EnterInitializationMode(c), fmi2Status_fmi2OK);
-            assert_eq!(fmi2ExitInitializationMode(c), fmi2Status_fmi2OK);
-            Instance(c, 0.0)
-        }
-    }
-
-    impl Instance {
-        pub fn step(&mut self, h: f64) {
-            let status = unsafe { fmi2DoStep(self.0, self.1, h, 1) };
-            assert_eq!(status, fmi2Status_fmi2OK);
-            self.1 += h;
-        }
-    }
-
-    impl Drop for Instance {
-        fn drop(&mut self) {
-            unsafe { fmi2FreeInstance(self.0) }
-        }
-    }
-}
-
 fn main() {
     let (vehicle, x, inputs) = cornering();
     let formulations = [
@@ -122,8 +74,10 @@ fn main() {
             b.iter(|| v.accelerations(black_box(&assembly), Multipliers::Skip).unwrap())
         });
     }
-    let mut inst = fmu::instantiate();
-    c.bench_function("fmi2DoStep 8.3 ms (RK4, 2 ms internal: 5 sub-steps)", |b| b.iter(|| inst.step(0.0083)));
+    let mut inst = NativeInstance::initialized("bench").unwrap();
+    c.bench_function("fmi2DoStep 8.3 ms (RK4, 2 ms internal: 5 sub-steps)", |b| {
+        b.iter(|| assert_eq!(inst.do_step(0.0083), fmi2Status_fmi2OK))
+    });
     drop(inst);
     c.final_summary();
 
@@ -148,8 +102,8 @@ fn main() {
             })
         })
         .collect();
-    let mut inst = fmu::instantiate();
-    let step = median_us(|| inst.step(0.0083));
+    let mut inst = NativeInstance::initialized("bench").unwrap();
+    let step = median_us(|| assert_eq!(inst.do_step(0.0083), fmi2Status_fmi2OK));
     println!("\nmedians from one run (us):");
     for (name, m) in &med {
         println!("  function evaluation, {name:<13} {m:8.2}");

@@ -51,45 +51,28 @@ fn advancing_a_simulation_does_not_allocate() {
 
 #[test]
 fn fmi2_do_step_does_not_allocate() {
-    use fmi_sys::fmi2::*;
-    use rt_vehicle::fmi::exports::*;
-    let name = std::ffi::CString::new("alloc").unwrap();
-    let guid = std::ffi::CString::new(rt_vehicle::fmi::variables::GUID).unwrap();
-    let quiet = fmi2CallbackFunctions {
-        logger: None,
-        allocateMemory: None,
-        freeMemory: None,
-        stepFinished: None,
-        componentEnvironment: std::ptr::null_mut(),
+    use fmi_sys::fmi2::fmi2Status_fmi2OK as OK;
+    use rt_vehicle::fmi::exports::{fmi2GetReal, fmi2SetReal, fmi2SetRealInputDerivatives};
+    use rt_vehicle::fmi::variables::vr;
+    let mut fmu = rt_vehicle::fmi::native::NativeInstance::initialized("alloc").unwrap();
+    let c = fmu.component();
+    let round = |fmu: &mut rt_vehicle::fmi::native::NativeInstance| unsafe {
+        // The calls of a master's loop: the input and its derivative, a step, an output.
+        let u = [0.001 * fmu.time()];
+        assert_eq!(fmi2SetReal(c, [vr::RACK_DISPLACEMENT].as_ptr(), 1, u.as_ptr()), OK);
+        assert_eq!(
+            fmi2SetRealInputDerivatives(c, [vr::RACK_DISPLACEMENT].as_ptr(), 1, [1].as_ptr(), [0.001].as_ptr()),
+            OK
+        );
+        assert_eq!(fmu.do_step(0.01), OK);
+        let mut ay = [0.0];
+        assert_eq!(fmi2GetReal(c, [vr::AY].as_ptr(), 1, ay.as_mut_ptr()), OK);
     };
-    unsafe {
-        let c =
-            fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &quiet, 0, 0);
-        assert!(!c.is_null());
-        assert_eq!(fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2Status_fmi2OK);
-        assert_eq!(fmi2EnterInitializationMode(c), fmi2Status_fmi2OK);
-        assert_eq!(fmi2ExitInitializationMode(c), fmi2Status_fmi2OK);
-        let vr = [rt_vehicle::fmi::variables::vr::RACK_DISPLACEMENT];
-        let ay = [rt_vehicle::fmi::variables::vr::AY];
-        let mut out = [0.0];
-        let mut t = 0.0;
-        let mut step = |t: &mut f64| {
-            assert_eq!(fmi2SetReal(c, vr.as_ptr(), 1, [0.001 * *t].as_ptr()), fmi2Status_fmi2OK);
-            assert_eq!(
-                fmi2SetRealInputDerivatives(c, vr.as_ptr(), 1, [1].as_ptr(), [0.001].as_ptr()),
-                fmi2Status_fmi2OK
-            );
-            assert_eq!(fmi2DoStep(c, *t, 0.01, 1), fmi2Status_fmi2OK);
-            assert_eq!(fmi2GetReal(c, ay.as_ptr(), 1, out.as_mut_ptr()), fmi2Status_fmi2OK);
-            *t += 0.01;
-        };
-        step(&mut t);
-        let before = allocations();
-        for _ in 0..50 {
-            step(&mut t);
-        }
-        let n = allocations() - before;
-        fmi2FreeInstance(c);
-        assert_eq!(n, 0, "{n} allocations in 50 set/doStep/get rounds");
+    round(&mut fmu);
+    let before = allocations();
+    for _ in 0..50 {
+        round(&mut fmu);
     }
+    let n = allocations() - before;
+    assert_eq!(n, 0, "{n} allocations in 50 set/doStep/get rounds");
 }

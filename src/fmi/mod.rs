@@ -14,6 +14,7 @@ pub mod exports;
 pub mod instance;
 pub mod logger;
 pub mod model;
+pub mod native;
 pub mod status;
 pub mod variables;
 pub mod vehicle;
