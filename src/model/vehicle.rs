@@ -154,6 +154,21 @@ pub struct Vehicle {
     pub total_mass: f64,
 }
 
+/// The chassis part of the state: attitude A0, CM position r0, velocity ṙ0, angular velocity ω0 (ground).
+struct Chassis {
+    a0: M3,
+    r0: V3,
+    v0: V3,
+    w0: V3,
+}
+
+impl Chassis {
+    fn of(x: &[f64]) -> Chassis {
+        let v3 = |k: usize| V3::new(x[k], x[k + 1], x[k + 2]);
+        Chassis { a0: quat_to_matrix(&x[idx::E0..idx::E0 + 4]), r0: v3(idx::R0), v0: v3(idx::V0), w0: v3(idx::W0) }
+    }
+}
+
 /// Unit horizontal heading of the chassis: its x axis projected on the ground plane.
 pub fn heading(a0: &M3) -> V3 {
     let h = a0 * V3::x();
@@ -308,8 +323,7 @@ impl Vehicle {
         let acc = self.accelerations(&assembly, multipliers)?;
 
         // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
-        let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
-        let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
+        let Chassis { v0, w0, .. } = Chassis::of(x);
         let rdd = lin(&acc.chassis) + w0.cross(&v0);
         let wd = ang(&acc.chassis);
         let ed = quat_rate(&x[idx::E0..idx::E0 + 4], &w0);
@@ -372,10 +386,7 @@ impl Vehicle {
         cache: &mut KinematicsCache,
         local: &mut Diagnostics,
     ) -> Result<Assembly, EvalError> {
-        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
-        let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
-        let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
-        let r0 = V3::new(x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2]);
+        let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
         let g = if self.switches.gravity { V3::new(0.0, 0.0, -self.gravity) } else { V3::zeros() };
 
@@ -716,10 +727,7 @@ impl Vehicle {
         rack: &RackMotion,
         cache: &mut KinematicsCache,
     ) -> Result<MechanicalSummary, EvalError> {
-        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
-        let r0 = V3::new(x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2]);
-        let v0 = V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
-        let w0 = V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
+        let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
         let gz = if self.switches.gravity { self.gravity } else { 0.0 };
         let mut p = V3::zeros();
