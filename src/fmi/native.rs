@@ -10,6 +10,17 @@ use super::variables::GUID;
 use fmi_sys::fmi2::{fmi2CallbackFunctions, fmi2Component, fmi2Status, fmi2Status_fmi2OK, fmi2Type_fmi2CoSimulation};
 use std::ffi::CString;
 
+/// Callbacks without a logger (allowed: the FMU then logs nothing) and with Rust's own allocator.
+pub fn quiet_callbacks() -> fmi2CallbackFunctions {
+    fmi2CallbackFunctions {
+        logger: None,
+        allocateMemory: None,
+        freeMemory: None,
+        stepFinished: None,
+        componentEnvironment: std::ptr::null_mut(),
+    }
+}
+
 /// One instance in step mode, freed on drop.
 pub struct NativeInstance {
     component: fmi2Component,
@@ -21,13 +32,7 @@ impl NativeInstance {
     pub fn initialized(name: &str) -> Result<NativeInstance, String> {
         let name = CString::new(name).map_err(|e| e.to_string())?;
         let guid = CString::new(GUID).map_err(|e| e.to_string())?;
-        let quiet = fmi2CallbackFunctions {
-            logger: None,
-            allocateMemory: None,
-            freeMemory: None,
-            stepFinished: None,
-            componentEnvironment: std::ptr::null_mut(),
-        };
+        let quiet = quiet_callbacks();
         // SAFETY: valid C strings and callbacks for the duration of the call (the FMU copies what it keeps).
         let component = unsafe {
             fmi2Instantiate(name.as_ptr(), fmi2Type_fmi2CoSimulation, guid.as_ptr(), std::ptr::null(), &quiet, 0, 0)

@@ -412,13 +412,7 @@ fn instantiate_rejects_a_wrong_guid_a_wrong_type_and_null_callbacks() {
         );
         assert!(c.is_null());
         // Without a logger it still works.
-        let quiet = fmi2CallbackFunctions {
-            logger: None,
-            allocateMemory: None,
-            freeMemory: None,
-            stepFinished: None,
-            componentEnvironment: std::ptr::null_mut(),
-        };
+        let quiet = super::native::quiet_callbacks();
         let c = api::instantiate::<VehicleModel>(
             name.as_ptr(),
             fmi2Type_fmi2CoSimulation,

@@ -164,9 +164,14 @@ struct Chassis {
 
 impl Chassis {
     fn of(x: &[f64]) -> Chassis {
-        let v3 = |k: usize| V3::new(x[k], x[k + 1], x[k + 2]);
-        Chassis { a0: quat_to_matrix(&x[idx::E0..idx::E0 + 4]), r0: v3(idx::R0), v0: v3(idx::V0), w0: v3(idx::W0) }
+        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+        Chassis { a0, r0: vector_at(x, idx::R0), v0: vector_at(x, idx::V0), w0: vector_at(x, idx::W0) }
     }
+}
+
+/// The 3-vector stored at `x[k..k + 3]`.
+fn vector_at(x: &[f64], k: usize) -> V3 {
+    V3::new(x[k], x[k + 1], x[k + 2])
 }
 
 /// Unit horizontal heading of the chassis: its x axis projected on the ground plane.
@@ -323,7 +328,7 @@ impl Vehicle {
         let acc = self.accelerations(&assembly, multipliers)?;
 
         // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
-        let Chassis { v0, w0, .. } = Chassis::of(x);
+        let (v0, w0) = (vector_at(x, idx::V0), vector_at(x, idx::W0));
         let rdd = lin(&acc.chassis) + w0.cross(&v0);
         let wd = ang(&acc.chassis);
         let ed = quat_rate(&x[idx::E0..idx::E0 + 4], &w0);
