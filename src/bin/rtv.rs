@@ -136,9 +136,7 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
         return Err(bad("--output-interval must be positive"));
     }
     c.internal_step = number(opts, "step", c.internal_step)?;
-    if !(c.internal_step > 0.0) {
-        return Err(bad("--step must be positive"));
-    }
+    c.validate().map_err(|e| bad(format!("--step: {e}")))?;
     // The step asked for is the step taken: it must divide the output interval.
     let ratio = interval / c.internal_step;
     if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
@@ -148,8 +146,14 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
             interval / ratio.ceil()
         )));
     }
+    // One output interval is one `advance`: refused up front if it would take more than its work limit.
+    c.plan(interval).map_err(|e| bad(format!("--output-interval: {e}")))?;
     Ok((c, interval))
 }
+
+/// A scene run: at most an hour of driving (about 1 min of CPU at the default step) and 1e7 CSV rows.
+const MAX_END: f64 = 3600.0;
+const MAX_ROWS: f64 = 1e7;
 
 fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let name = args.first().ok_or_else(|| bad("scene: which scene? bump, jturn or sine"))?;
@@ -179,8 +183,10 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     };
     let scene = Scene::new(kind, amplitude);
     let end = number(&opts, "end", scene.duration)?;
-    if !(end > 0.0) {
-        return Err(bad("--end must be positive"));
+    if !(end > 0.0 && end <= MAX_END && end / interval <= MAX_ROWS) {
+        return Err(bad(format!(
+            "--end must be in (0, {MAX_END}] s with at most {MAX_ROWS:e} output rows (--end / --output-interval)"
+        )));
     }
     let data = vehicle_data(&opts)?;
     let started = Instant::now();
@@ -214,6 +220,22 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     result.map_err(|e| failed(format!("simulation stopped: {}", e.0)))
 }
 
+/// The most points a kinematics or steering sweep computes.
+const MAX_SWEEP_POINTS: f64 = 1e6;
+
+/// `--from`, `--to`, `--increment` of a sweep: (from, increment, index of the last point).
+fn sweep(opts: &BTreeMap<String, String>, from: f64, to: f64, inc: f64) -> Result<(f64, f64, usize), Failure> {
+    let (from, to, inc) = (number(opts, "from", from)?, number(opts, "to", to)?, number(opts, "increment", inc)?);
+    if !(inc > 0.0 && to >= from) {
+        return Err(bad("need --increment > 0 and --to ≥ --from"));
+    }
+    let n = ((to - from) / inc + 1e-9).floor();
+    if n >= MAX_SWEEP_POINTS {
+        return Err(bad(format!("--increment {inc} gives {n:.3e} points, more than {MAX_SWEEP_POINTS:e}")));
+    }
+    Ok((from, inc, n as usize))
+}
+
 fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["axle", "from", "to", "increment", "vehicle", "out"])?;
     let axle_name = opts.get("axle").ok_or_else(|| bad("kinematics: --axle front|rear is required"))?;
@@ -223,16 +245,11 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
         "rear" => &data.rear,
         _ => return Err(bad(format!("--axle: '{axle_name}' is not front or rear"))),
     };
-    let (from, to, inc) =
-        (number(&opts, "from", -0.15)?, number(&opts, "to", 0.10)?, number(&opts, "increment", 0.005)?);
-    if !(inc > 0.0 && to >= from) {
-        return Err(bad("need --increment > 0 and --to ≥ --from"));
-    }
+    let (from, inc, n) = sweep(&opts, -0.15, 0.10, 0.005)?;
     let left = SlaGeometry::from_data(&data, axle, Side::Left).map_err(|e| failed(e.to_string()))?;
     let right = SlaGeometry::from_data(&data, axle, Side::Right).map_err(|e| failed(e.to_string()))?;
     let mut out = csv_writer(opts.get("out"))?;
     let mut text = String::from("travel_m,camber_l_deg,camber_r_deg,steer_l_deg,steer_r_deg,wheel_lateral_l_m,spring_length_l_m,damper_length_l_m\n");
-    let n = ((to - from) / inc + 1e-9).floor() as usize;
     for k in 0..=n {
         let travel = from + k as f64 * inc;
         let mut row = Vec::new();
@@ -286,14 +303,9 @@ fn wheel_at_travel(c: &SlaGeometry, travel: f64) -> Result<rt_vehicle::model::su
 fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["from", "to", "increment", "vehicle", "out"])?;
     let data = vehicle_data(&opts)?;
-    let (from, to, inc) =
-        (number(&opts, "from", -0.06)?, number(&opts, "to", 0.06)?, number(&opts, "increment", 0.002)?);
-    if !(inc > 0.0 && to >= from) {
-        return Err(bad("need --increment > 0 and --to ≥ --from"));
-    }
+    let (from, inc, n) = sweep(&opts, -0.06, 0.06, 0.002)?;
     let v = rt_vehicle::model::vehicle::Vehicle::new(&data).map_err(|e| failed(e.to_string()))?;
     let mut text = String::from("rack_displacement_m,steer_l_deg,steer_r_deg\n");
-    let n = ((to - from) / inc + 1e-9).floor() as usize;
     for k in 0..=n {
         let u = from + k as f64 * inc;
         if u.abs() > data.rack.travel_limit_m + 1e-12 {

@@ -2,7 +2,7 @@
 //! status mapping and logging of failures. `exports.rs` binds these to the `fmi2…` symbols for the
 //! vehicle; the tests bind them to mock models.
 
-use super::instance::{Instance, SavedState};
+use super::instance::Instance;
 use super::logger::{self, Logger};
 use super::model::{FmuModel, ModelContext, ResourceLocation};
 use super::status::{Failure, FmiResult, Status};
@@ -78,33 +78,47 @@ fn report<M: FmuModel>(inst: &Instance<M>, failure: &Failure) {
     inst.logger.log(failure.status, logger::category_of(failure.status), &failure.message);
 }
 
-/// A slice from a C array: `n == 0` gives an empty slice whatever the pointer; NULL with `n > 0` fails.
+/// The longest array an array call accepts. The model has fewer than 100 variables; FMI allows a value
+/// reference to repeat, but an array of more than a million is a corrupted length, refused before it is
+/// read or anything is allocated for it.
+pub const MAX_ARRAY_LEN: usize = 1 << 20;
+
+/// A slice from a C array: `n == 0` gives an empty slice whatever the pointer; NULL with `n > 0` and
+/// `n > MAX_ARRAY_LEN` fail.
 ///
 /// # Safety
 /// A non-NULL `p` must point to `n` valid elements.
 unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> FmiResult<&'a [T]> {
-    if n == 0 {
-        Ok(&[])
-    } else if p.is_null() {
-        Err(Failure::error(format!("{what} is NULL with nvr = {n}")))
-    } else if n > (isize::MAX as usize) / std::mem::size_of::<T>().max(1) {
-        Err(Failure::error(format!("{what}: nvr = {n} is not a plausible array length")))
-    } else {
-        Ok(std::slice::from_raw_parts(p, n))
-    }
+    check_array(p.is_null(), n, MAX_ARRAY_LEN, what)?;
+    Ok(if n == 0 { &[] } else { std::slice::from_raw_parts(p, n) })
 }
 
 /// # Safety
 /// As `slice`, mutable.
 unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> FmiResult<&'a mut [T]> {
-    if n == 0 {
-        Ok(&mut [])
-    } else if p.is_null() {
+    check_array(p.is_null(), n, MAX_ARRAY_LEN, what)?;
+    Ok(if n == 0 { &mut [] } else { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// The largest serialized FMU state buffer accepted (a state is tens of kB).
+pub const MAX_STATE_BYTES: usize = 64 << 20;
+
+/// A serialized-state buffer: as `slice`, with the byte limit `MAX_STATE_BYTES`.
+///
+/// # Safety
+/// As `slice`.
+unsafe fn bytes<'a>(p: *const fmi2Byte, n: usize, what: &str) -> FmiResult<&'a [u8]> {
+    check_array(p.is_null(), n, MAX_STATE_BYTES, what)?;
+    Ok(if n == 0 { &[] } else { std::slice::from_raw_parts(p as *const u8, n) })
+}
+
+fn check_array(null: bool, n: usize, limit: usize, what: &str) -> FmiResult<()> {
+    if n > limit {
+        Err(Failure::error(format!("{what}: length {n} is not plausible (at most {limit})")))
+    } else if null && n > 0 {
         Err(Failure::error(format!("{what} is NULL with nvr = {n}")))
-    } else if n > (isize::MAX as usize) / std::mem::size_of::<T>().max(1) {
-        Err(Failure::error(format!("{what}: nvr = {n} is not a plausible array length")))
     } else {
-        Ok(std::slice::from_raw_parts_mut(p, n))
+        Ok(())
     }
 }
 
@@ -384,8 +398,9 @@ pub unsafe fn set_boolean<M: FmuModel>(
     value: *const fmi2Boolean,
 ) -> fmi2Status {
     with_instance::<M>(c, "fmi2SetBoolean", |i| {
+        let vrs = slice(vr, n, "vr")?;
         let values: Vec<bool> = slice(value, n, "value")?.iter().map(|&b| b != 0).collect();
-        i.set_boolean(slice(vr, n, "vr")?, &values)
+        i.set_boolean(vrs, &values)
     })
 }
 
@@ -398,11 +413,14 @@ pub unsafe fn set_string<M: FmuModel>(
     value: *const fmi2String,
 ) -> fmi2Status {
     with_instance::<M>(c, "fmi2SetString", |i| {
+        // Both arrays are checked before anything is allocated for them.
+        let vrs = slice(vr, n, "vr")?;
+        let strings = slice(value, n, "value")?;
         let mut values = Vec::with_capacity(n);
-        for &p in slice(value, n, "value")? {
+        for &p in strings {
             values.push(string(p).ok_or_else(|| Failure::error("fmi2SetString: a value is NULL or not UTF-8"))?);
         }
-        i.set_string(slice(vr, n, "vr")?, &values)
+        i.set_string(vrs, &values)
     })
 }
 
@@ -521,52 +539,26 @@ pub unsafe fn get_string_status<M: FmuModel>(
 }
 
 /// # Safety
-/// `state` must be NULL or a pointer returned by `get_fmu_state`/`deserialize_fmu_state`, not yet freed.
-unsafe fn saved_state<'a, M>(state: fmi2FMUstate) -> FmiResult<&'a mut SavedState<M>> {
-    match (state as *mut SavedState<M>).as_mut() {
-        Some(s) if s.is_valid() => Ok(s),
-        Some(_) => Err(Failure::error("the FMU state pointer is not a live state of this FMU")),
-        None => Err(Failure::error("the FMU state pointer is NULL")),
-    }
-}
-
-/// # Safety
 /// FMI pointers.
 pub unsafe fn get_fmu_state<M: FmuModel>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
     with_instance::<M>(c, "fmi2GetFMUstate", |i| {
         let slot = state.as_mut().ok_or_else(|| Failure::error("fmi2GetFMUstate: FMUstate is NULL"))?;
-        let core = i.get_fmu_state()?;
-        if slot.is_null() {
-            *slot = Box::into_raw(Box::new(SavedState::new(core))) as fmi2FMUstate;
-        } else {
-            // The standard: a non-NULL *FMUstate is a previous state to overwrite.
-            saved_state::<M>(*slot)?.core = core;
-        }
-        Ok(Status::Ok)
+        i.get_fmu_state(slot)
     })
 }
 
 /// # Safety
 /// FMI pointers.
 pub unsafe fn set_fmu_state<M: FmuModel>(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
-    with_instance::<M>(c, "fmi2SetFMUstate", |i| {
-        let saved = saved_state::<M>(state)?;
-        i.set_fmu_state(&saved.core)
-    })
+    with_instance::<M>(c, "fmi2SetFMUstate", |i| i.set_fmu_state(state))
 }
 
 /// # Safety
 /// FMI pointers.
 pub unsafe fn free_fmu_state<M: FmuModel>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
-    with_instance::<M>(c, "fmi2FreeFMUstate", |_| {
-        let Some(slot) = state.as_mut() else { return Ok(Status::Ok) };
-        if slot.is_null() {
-            return Ok(Status::Ok);
-        }
-        saved_state::<M>(*slot)?.invalidate();
-        drop(Box::from_raw(*slot as *mut SavedState<M>));
-        *slot = std::ptr::null_mut();
-        Ok(Status::Ok)
+    with_instance::<M>(c, "fmi2FreeFMUstate", |i| match state.as_mut() {
+        Some(slot) => i.free_fmu_state(slot),
+        None => Ok(Status::Ok),
     })
 }
 
@@ -579,7 +571,7 @@ pub unsafe fn serialized_fmu_state_size<M: FmuModel>(
 ) -> fmi2Status {
     with_instance::<M>(c, "fmi2SerializedFMUstateSize", |i| {
         let out = slice_mut(size, 1, "size")?;
-        out[0] = i.serialize_state(&saved_state::<M>(state)?.core)?.len();
+        out[0] = i.serialize_state("fmi2SerializedFMUstateSize", state)?.len();
         Ok(Status::Ok)
     })
 }
@@ -593,16 +585,17 @@ pub unsafe fn serialize_fmu_state<M: FmuModel>(
     size: usize,
 ) -> fmi2Status {
     with_instance::<M>(c, "fmi2SerializeFMUstate", |i| {
-        let data = i.serialize_state(&saved_state::<M>(state)?.core)?;
+        let data = i.serialize_state("fmi2SerializeFMUstate", state)?;
         if size < data.len() {
             return Err(Failure::error(format!(
                 "fmi2SerializeFMUstate: the buffer holds {size} bytes, the state needs {} (fmi2SerializedFMUstateSize)",
                 data.len()
             )));
         }
-        let out = slice_mut(bytes as *mut u8, size, "serializedState")?;
+        check_array(bytes.is_null(), size, MAX_STATE_BYTES, "serializedState")?;
+        let out = std::slice::from_raw_parts_mut(bytes as *mut u8, size);
         out[..data.len()].copy_from_slice(&data);
-        out[data.len()..].fill(0);
+        out[data.len()..].fill(0); // a larger buffer deserializes as it is (zero padding is skipped)
         Ok(Status::Ok)
     })
 }
@@ -611,15 +604,13 @@ pub unsafe fn serialize_fmu_state<M: FmuModel>(
 /// FMI pointers.
 pub unsafe fn deserialize_fmu_state<M: FmuModel>(
     c: fmi2Component,
-    bytes: *const fmi2Byte,
+    serialized: *const fmi2Byte,
     size: usize,
     state: *mut fmi2FMUstate,
 ) -> fmi2Status {
     with_instance::<M>(c, "fmi2DeSerializeFMUstate", |i| {
         let slot = state.as_mut().ok_or_else(|| Failure::error("fmi2DeSerializeFMUstate: FMUstate is NULL"))?;
-        let data = slice(bytes as *const u8, size, "serializedState")?;
-        let core = i.deserialize_state(data)?;
-        *slot = Box::into_raw(Box::new(SavedState::new(core))) as fmi2FMUstate;
-        Ok(Status::Ok)
+        let data = bytes(serialized, size, "serializedState")?;
+        i.deserialize_state(data, slot)
     })
 }

@@ -8,7 +8,7 @@ use super::model::{FmuModel, ModelContext, StepFailure};
 use super::status::{Failure, FmiResult, Status};
 use super::variables::{Causality, Initial, Start, VarType, Variable, GUID, VARIABLES};
 use serde::{Deserialize, Serialize};
-use std::ffi::CString;
+use std::ffi::{c_void, CString};
 
 /// The states of the FMI 2.0 Co-Simulation state machine (standard §4.2.4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -51,29 +51,63 @@ pub struct Core<M> {
     pub model: M,
 }
 
-/// A saved FMU state (`fmi2FMUstate` points to one of these).
-pub struct SavedState<M> {
-    magic: u64,
-    pub core: Core<M>,
+/// The FMU states an instance has handed out (`fmi2FMUstate` is the address of one of its boxes). They
+/// belong to the instance: a pointer is accepted only if it is one of these (never dereferenced on trust),
+/// and `fmi2FreeInstance` frees those the master left alive (FMI 2.0 §2.1.5: fmi2FreeInstance frees all
+/// memory allocated through the instance's calls).
+pub struct SavedStates<M> {
+    states: Vec<Box<Core<M>>>,
 }
 
-const STATE_MAGIC: u64 = 0x5254_5645_5354_4154; // "RTVESTAT"
+impl<M> SavedStates<M> {
+    fn new() -> SavedStates<M> {
+        SavedStates { states: Vec::new() }
+    }
+
+    fn position(&self, handle: *const c_void) -> Option<usize> {
+        self.states.iter().position(|b| std::ptr::eq(&**b as *const Core<M> as *const c_void, handle))
+    }
+
+    /// The state behind `handle`, if it is a live state of this instance.
+    pub fn get(&self, handle: *const c_void) -> Option<&Core<M>> {
+        Some(&self.states[self.position(handle)?])
+    }
+
+    pub fn get_mut(&mut self, handle: *const c_void) -> Option<&mut Core<M>> {
+        let i = self.position(handle)?;
+        Some(&mut self.states[i])
+    }
+
+    /// Keep `core` and return its handle (stable: the box does not move when the list grows).
+    pub fn insert(&mut self, core: Core<M>) -> *mut c_void {
+        let mut b = Box::new(core);
+        let handle = &mut *b as *mut Core<M> as *mut c_void;
+        self.states.push(b);
+        handle
+    }
+
+    /// Free the state behind `handle`; false if it is not a live state of this instance.
+    pub fn remove(&mut self, handle: *const c_void) -> bool {
+        match self.position(handle) {
+            Some(i) => {
+                self.states.swap_remove(i);
+                true
+            }
+            None => false,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.states.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.states.is_empty()
+    }
+}
+
 const INSTANCE_MAGIC: u64 = 0x5254_5645_494E_5354; // "RTVEINST"
 const SERIAL_FORMAT: &str = "rt-vehicle-fmu-state/1";
-
-impl<M> SavedState<M> {
-    pub fn new(core: Core<M>) -> SavedState<M> {
-        SavedState { magic: STATE_MAGIC, core }
-    }
-
-    pub fn is_valid(&self) -> bool {
-        self.magic == STATE_MAGIC
-    }
-
-    pub fn invalidate(&mut self) {
-        self.magic = 0;
-    }
-}
 
 #[derive(Serialize)]
 struct SerialOut<'a, M> {
@@ -94,6 +128,8 @@ pub struct Instance<M> {
     pub logger: Logger,
     pub context: ModelContext,
     pub core: Core<M>,
+    /// FMU states handed out by fmi2GetFMUstate / fmi2DeSerializeFMUstate and not yet freed.
+    pub saved: SavedStates<M>,
     /// The strings handed out by the last fmi2GetString (valid until the next call, as the standard says).
     strings: Vec<CString>,
 }
@@ -102,7 +138,7 @@ impl<M: FmuModel> Instance<M> {
     /// A new instance with every input and parameter at its start value.
     pub fn new(context: ModelContext, logger: Logger) -> Result<Instance<M>, String> {
         let core = fresh_core::<M>(&context)?;
-        Ok(Instance { magic: INSTANCE_MAGIC, logger, context, core, strings: Vec::new() })
+        Ok(Instance { magic: INSTANCE_MAGIC, logger, context, core, saved: SavedStates::new(), strings: Vec::new() })
     }
 
     pub fn is_valid(&self) -> bool {
@@ -415,6 +451,9 @@ impl<M: FmuModel> Instance<M> {
                     self.core.time
                 )))
             }
+            Err(StepFailure::Refused(why)) => {
+                Err(Failure::error(format!("{F}: step from t = {t} (h = {h}) refused, nothing changed: {why}")))
+            }
             Err(StepFailure::Error(why)) => {
                 self.core.mode = Error;
                 Err(Failure::error(format!("{F}: step from t = {t} (h = {h}) failed: {why}")))
@@ -442,24 +481,65 @@ impl<M: FmuModel> Instance<M> {
 
     // ---- FMU state -------------------------------------------------------------------------------
 
-    pub fn get_fmu_state(&self) -> FmiResult<Core<M>> {
-        self.require("fmi2GetFMUstate", ANY_BUT_FATAL)?;
-        Ok(self.core.clone())
+    /// The saved state behind `handle`: only a live state of this instance is accepted.
+    fn saved(&self, function: &str, handle: *const c_void) -> FmiResult<&Core<M>> {
+        if handle.is_null() {
+            return Err(Failure::error(format!("{function}: the FMU state pointer is NULL")));
+        }
+        self.saved.get(handle).ok_or_else(|| {
+            Failure::error(format!(
+                "{function}: the FMU state pointer is not a live state of this instance (freed, or from another \
+                 instance: pass states between instances with fmi2SerializeFMUstate / fmi2DeSerializeFMUstate)"
+            ))
+        })
     }
 
-    pub fn set_fmu_state(&mut self, core: &Core<M>) -> FmiResult {
-        self.require("fmi2SetFMUstate", ANY_BUT_FATAL)?;
-        self.core = core.clone();
+    /// Stores a copy of the current state in `*slot`: a new one if `*slot` is NULL, else (the standard)
+    /// over the previous state it points to.
+    pub fn get_fmu_state(&mut self, slot: &mut *mut c_void) -> FmiResult {
+        const F: &str = "fmi2GetFMUstate";
+        self.require(F, ANY_BUT_FATAL)?;
+        if slot.is_null() {
+            *slot = self.saved.insert(self.core.clone());
+        } else {
+            self.saved(F, *slot)?;
+            let core = self.core.clone();
+            *self.saved.get_mut(*slot).expect("checked above") = core;
+        }
         Ok(Status::Ok)
     }
 
-    pub fn serialize_state(&self, core: &Core<M>) -> FmiResult<Vec<u8>> {
-        self.require("fmi2SerializeFMUstate", ANY_BUT_FATAL)?;
-        serde_json::to_vec(&SerialOut { format: SERIAL_FORMAT, guid: GUID, core })
-            .map_err(|e| Failure::error(format!("fmi2SerializeFMUstate: {e}")))
+    pub fn set_fmu_state(&mut self, handle: *const c_void) -> FmiResult {
+        const F: &str = "fmi2SetFMUstate";
+        self.require(F, ANY_BUT_FATAL)?;
+        self.core = self.saved(F, handle)?.clone();
+        Ok(Status::Ok)
     }
 
-    pub fn deserialize_state(&self, bytes: &[u8]) -> FmiResult<Core<M>> {
+    /// Frees the state in `*slot` and sets it to NULL (NULL: nothing to do).
+    pub fn free_fmu_state(&mut self, slot: &mut *mut c_void) -> FmiResult {
+        const F: &str = "fmi2FreeFMUstate";
+        if slot.is_null() {
+            return Ok(Status::Ok);
+        }
+        self.saved(F, *slot)?;
+        self.saved.remove(*slot);
+        *slot = std::ptr::null_mut();
+        Ok(Status::Ok)
+    }
+
+    pub fn serialize_state(&self, function: &str, handle: *const c_void) -> FmiResult<Vec<u8>> {
+        self.require(function, ANY_BUT_FATAL)?;
+        let core = self.saved(function, handle)?;
+        serde_json::to_vec(&SerialOut { format: SERIAL_FORMAT, guid: GUID, core })
+            .map_err(|e| Failure::error(format!("{function}: {e}")))
+    }
+
+    /// Parses and validates a serialized state (as strictly as the setters check values: a state that
+    /// could not have been reached through the API is refused) and stores it in `*slot`: over the state
+    /// `*slot` points to if it is a live state of this instance, else in a new one (an importer may pass
+    /// an uninitialized variable).
+    pub fn deserialize_state(&mut self, bytes: &[u8], slot: &mut *mut c_void) -> FmiResult {
         const F: &str = "fmi2DeSerializeFMUstate";
         self.require(F, ANY_BUT_FATAL)?;
         // Tolerate a NUL-terminated or zero-padded buffer.
@@ -472,7 +552,47 @@ impl<M: FmuModel> Instance<M> {
                 parsed.format, parsed.guid
             )));
         }
-        Ok(parsed.core)
+        let mut core = parsed.core;
+        core.validate(&self.context).map_err(|e| Failure::error(format!("{F}: invalid state: {e}")))?;
+        match self.saved.get_mut(*slot) {
+            Some(existing) => *existing = core,
+            None => *slot = self.saved.insert(core),
+        }
+        Ok(Status::Ok)
+    }
+}
+
+impl<M: FmuModel> Core<M> {
+    /// The checks a deserialized state must pass: times consistent with the mode and the stop time, and
+    /// the model's own (`FmuModel::validate_restored`).
+    fn validate(&mut self, context: &ModelContext) -> Result<(), String> {
+        let (start, time) = (self.start_time, self.time);
+        if !start.is_finite() || !time.is_finite() {
+            return Err(format!("start time {start} and time {time} must be finite"));
+        }
+        if time < start && !times_match(time, start) {
+            return Err(format!("time {time} is before the start time {start}"));
+        }
+        if let Some(stop) = self.stop_time {
+            if !stop.is_finite() || (stop < time && !times_match(stop, time)) {
+                return Err(format!("stop time {stop} is not finite or before the time {time}"));
+            }
+        }
+        match self.mode {
+            Fatal => return Err("a state in the Fatal mode cannot be restored".into()),
+            StepFailed if !self.terminated => return Err("mode StepFailed with terminated = false".into()),
+            Instantiated | InitializationMode if self.terminated => {
+                return Err(format!("mode {:?} with terminated = true", self.mode))
+            }
+            _ => {}
+        }
+        // needs_init = false: the model holds a simulation computed from its parameters (always so once
+        // initialization mode has been left; a value set since then would be an input, not a parameter).
+        if self.needs_init && matches!(self.mode, StepComplete | StepFailed | Terminated) {
+            return Err(format!("mode {:?} with needs_init = true", self.mode));
+        }
+        let initialized = !self.needs_init;
+        self.model.validate_restored(context, initialized, time - start)
     }
 }
 

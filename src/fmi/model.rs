@@ -36,6 +36,9 @@ pub enum StepFailure {
     Terminate(String),
     /// The instance is unusable (`fmi2Error`).
     Error(String),
+    /// The step was refused before anything changed (e.g. too much work for one call): `fmi2Error`, and
+    /// the instance stays usable at the same time.
+    Refused(String),
 }
 
 /// A model as the generic FMI layer drives it. `Clone + Serialize + Deserialize`: the whole value is the
@@ -68,6 +71,11 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
     /// initialization mode before calculated values are read after a change). `start_time` is the
     /// experiment's start time.
     fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String>;
+
+    /// Check a model read from a serialized FMU state as strictly as the setters check values, and
+    /// rebuild what it derives from data outside the state: `initialized` says it must hold a computed
+    /// simulation, and `elapsed` is the FMU time since the start time. `Err` names the first bad field.
+    fn validate_restored(&mut self, context: &ModelContext, initialized: bool, elapsed: f64) -> Result<(), String>;
 
     /// Advance from `t` (the FMU's own time, checked by the caller) by `h > 0`. On failure the values the
     /// getters return must stay finite (the last good ones).

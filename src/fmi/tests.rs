@@ -244,6 +244,14 @@ impl FmuModel for Mock {
         self.initialized += 1;
         Ok(())
     }
+    fn validate_restored(&mut self, _: &ModelContext, _: bool, _: f64) -> Result<(), String> {
+        // The mock's values are free; its shape is not.
+        let n = VARIABLES.len();
+        if self.reals.len() != n || self.ints.len() != n || self.strings.len() != n {
+            return Err("mock: wrong number of values".into());
+        }
+        Ok(())
+    }
     fn do_step(&mut self, _t: f64, h: f64, _: &logger::Logger) -> Result<(), StepFailure> {
         let u = self.reals[Variable::lookup(vr::RACK_DISPLACEMENT, VarType::Real).unwrap().index];
         if u == 666.0 {
@@ -909,4 +917,216 @@ fn many_instances_come_and_go() {
         let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
         inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.001]);
     }
+}
+
+// ---- hardening: what a randomized campaign of FMI call sequences found (issue 7) ---------------------
+
+/// Steps the vehicle by `h` from its current time; the status and the FMU time after it.
+fn vehicle_step(inst: &Inst<VehicleModel>, h: f64) -> (fmi2Status, f64) {
+    let (_, t) = inst.last_time();
+    let s = inst.step(t, h);
+    (s, inst.last_time().1)
+}
+
+#[test]
+fn array_lengths_are_checked_before_anything_is_allocated() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    let huge = 1usize << 32;
+    unsafe {
+        // Used to abort the process: "memory allocation of 68719476736 bytes failed".
+        assert_eq!(api::set_string::<VehicleModel>(inst.c, std::ptr::null(), huge, std::ptr::null()), ERROR);
+        assert!(rec.last().contains("not plausible"), "{}", rec.last());
+        assert_eq!(api::set_boolean::<VehicleModel>(inst.c, std::ptr::null(), huge, std::ptr::null()), ERROR);
+        assert_eq!(api::get_boolean::<VehicleModel>(inst.c, std::ptr::null(), huge, std::ptr::null_mut()), ERROR);
+        assert_eq!(api::get_string::<VehicleModel>(inst.c, std::ptr::null(), huge, std::ptr::null_mut()), ERROR);
+        assert_eq!(api::set_debug_logging::<VehicleModel>(inst.c, 1, huge, std::ptr::null()), ERROR);
+        // NULL arrays with a plausible length: refused, named.
+        assert_eq!(api::set_string::<VehicleModel>(inst.c, &vr::VEHICLE_FILE, 1, std::ptr::null()), ERROR);
+        assert!(rec.last().contains("value is NULL"), "{}", rec.last());
+    }
+    // The instance is unharmed.
+    assert_eq!(inst.set_string(vr::VEHICLE_FILE, ""), OK);
+}
+
+#[test]
+fn internal_step_has_a_range() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    for bad in [1e-9, 5e-324, 0.0, -1.0, 0.2] {
+        assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[bad]), ERROR, "{bad}");
+        assert!(rec.last().contains("internal_step must be in [1e-6, 0.1]"), "{}", rec.last());
+    }
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[1e-6]), OK);
+    unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+    }
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[5e-324]), ERROR);
+    assert_eq!(inst.real(vr::INTERNAL_STEP), 1e-6, "the old value is kept");
+    let var = Variable::by_name("internal_step").unwrap();
+    assert_eq!((var.min, var.max), (Some(1e-6), Some(0.1)), "the model description declares the range");
+}
+
+#[test]
+fn a_step_too_long_for_one_call_is_refused_before_any_work() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    inst.init(0.0);
+    let before = inst.outputs();
+    // 1e5 s at 2 ms would be 5e7 RK4 steps (hours); refused at once, nothing changed.
+    let clock = std::time::Instant::now();
+    assert_eq!(vehicle_step(&inst, 1e5), (ERROR, 0.0));
+    assert!(clock.elapsed().as_secs_f64() < 1.0, "refused without stepping");
+    assert!(rec.last().contains("refused, nothing changed") && rec.last().contains("split it"), "{}", rec.last());
+    assert_eq!(inst.outputs(), before);
+    assert_eq!(inst.mode(), Mode::StepComplete, "still usable");
+    // The largest interval allowed at 2 ms with RK4: (1e5 - 1) / 4 steps = 49.998 s; just above it is refused.
+    assert_eq!(vehicle_step(&inst, 50.0).0, ERROR);
+    assert_eq!(vehicle_step(&inst, 0.01), (OK, 0.01));
+}
+
+#[test]
+fn the_work_limit_counts_the_integrator_cost() {
+    // ROS2 costs up to 3 + 34 evaluations a step: the same interval that RK4 may take is refused.
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[3]), OK);
+    inst.init(0.0);
+    assert_eq!(vehicle_step(&inst, 10.0).0, ERROR);
+    assert!(rec.last().contains("2702 one call may take"), "{}", rec.last());
+}
+
+/// Serialize the current state of `inst` to JSON text.
+fn serialized(inst: &Inst<VehicleModel>) -> String {
+    let mut state: fmi2FMUstate = std::ptr::null_mut();
+    let mut size = 0;
+    unsafe {
+        assert_eq!(api::get_fmu_state::<VehicleModel>(inst.c, &mut state), OK);
+        assert_eq!(api::serialized_fmu_state_size::<VehicleModel>(inst.c, state, &mut size), OK);
+        let mut bytes = vec![0u8; size];
+        assert_eq!(
+            api::serialize_fmu_state::<VehicleModel>(inst.c, state, bytes.as_mut_ptr() as *mut c_char, size),
+            OK
+        );
+        assert_eq!(api::free_fmu_state::<VehicleModel>(inst.c, &mut state), OK);
+        String::from_utf8(bytes).unwrap()
+    }
+}
+
+fn deserialize(inst: &Inst<VehicleModel>, text: &str, slot: &mut fmi2FMUstate) -> fmi2Status {
+    unsafe { api::deserialize_fmu_state::<VehicleModel>(inst.c, text.as_ptr() as *const c_char, text.len(), slot) }
+}
+
+fn live_states(inst: &Inst<VehicleModel>) -> usize {
+    unsafe { (*(inst.c as *mut super::instance::Instance<VehicleModel>)).saved.len() }
+}
+
+#[test]
+fn fmu_states_belong_to_their_instance() {
+    let rec = Recorder::default();
+    let (a, b) = (Inst::<VehicleModel>::new(&rec, None), Inst::<VehicleModel>::new(&rec, None));
+    a.init(0.0);
+    b.init(0.0);
+    let mut s: fmi2FMUstate = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(api::get_fmu_state::<VehicleModel>(a.c, &mut s), OK);
+        assert_eq!(live_states(&a), 1);
+        // Another instance's state is not dereferenced on trust: refused by address.
+        assert_eq!(api::set_fmu_state::<VehicleModel>(b.c, s), ERROR);
+        assert!(rec.last().contains("not a live state of this instance"), "{}", rec.last());
+        let mut bogus = 0x1234usize as fmi2FMUstate;
+        assert_eq!(api::free_fmu_state::<VehicleModel>(b.c, &mut bogus), ERROR);
+        assert_eq!(api::set_fmu_state::<VehicleModel>(a.c, bogus), ERROR);
+        // Deserializing into a slot that holds a live state reuses it (the old one used to leak).
+        let text = serialized(&a);
+        assert_eq!(deserialize(&a, &text, &mut s), OK, "{}", rec.last());
+        assert_eq!(live_states(&a), 1, "no second state");
+        // Into an uninitialized slot (garbage): a new state.
+        let mut garbage = 0xdead_beefusize as fmi2FMUstate;
+        assert_eq!(deserialize(&a, &text, &mut garbage), OK);
+        assert_eq!(live_states(&a), 2);
+        assert_eq!(api::free_fmu_state::<VehicleModel>(a.c, &mut garbage), OK);
+        assert!(garbage.is_null());
+        assert_eq!(api::free_fmu_state::<VehicleModel>(a.c, &mut garbage), OK, "NULL: nothing to do");
+        assert_eq!(live_states(&a), 1);
+        // `s` stays alive: freed with the instance (valgrind checks the bytes: tests/memcheck).
+    }
+}
+
+#[test]
+fn deserialized_states_are_validated_like_the_setters() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
+    inst.init(0.0);
+    assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.002]), OK);
+    assert_eq!(vehicle_step(&inst, 0.01), (OK, 0.01));
+    let good = serialized(&inst);
+    let mut slot: fmi2FMUstate = std::ptr::null_mut();
+    assert_eq!(deserialize(&inst, &good, &mut slot), OK, "{}", rec.last());
+
+    let value: serde_json::Value = serde_json::from_str(&good).unwrap();
+    let edited = |path: &str, new: serde_json::Value| {
+        let mut v = value.clone();
+        *v.pointer_mut(path).unwrap_or_else(|| panic!("{path} not in the state")) = new;
+        v.to_string()
+    };
+    let sim = "/core/model/sim";
+    let mut state35 = value.pointer(&format!("{sim}/state")).unwrap().as_array().unwrap().clone();
+    state35.push(0.0.into());
+    let mut heavier = value.clone();
+    let mass = heavier.pointer_mut(&format!("{sim}/vehicle/chassis/mass")).expect("chassis mass in the state");
+    *mass = (mass.as_f64().unwrap() * 1.01).into();
+    let cases = [
+        (edited("/core/model/params/internal_step", (-1.0).into()), "internal step"),
+        (edited(&format!("{sim}/config/internal_step"), 1e-9.into()), "internal step"),
+        (edited("/core/model/brake/1", (-5.0).into()), "brake torque"),
+        (edited(&format!("{sim}/brake/1"), (-5.0).into()), "brake torques"),
+        (edited("/core/model/params/formulation", 5.into()), "formulation 5"),
+        (edited("/core/stop_time", 0.001.into()), "stop time"),
+        (edited("/core/time", 7.0.into()), "time"),
+        (edited(&format!("{sim}/state"), state35.into()), "finite numbers"),
+        (edited(&format!("{sim}/state/4"), 3.0.into()), "quaternion"),
+        (edited(&format!("{sim}/state/0"), "HUGE".into()).replace("\"HUGE\"", "1e400"), "not a serialized state"),
+        (edited("/core/mode", "Fatal".into()), "Fatal"),
+        (edited("/core/needs_init", true.into()), "needs_init"),
+        (edited("/core/model/sim", serde_json::Value::Null), "without a simulation"),
+        (edited("/core/model/params/speed_mode", 1.into()), "configuration differs"),
+        (heavier.to_string(), "vehicle differs"),
+    ];
+    for (text, needle) in cases {
+        assert_eq!(deserialize(&inst, &text, &mut slot), ERROR, "accepted a state expected to fail with {needle:?}");
+        assert!(rec.last().contains(needle), "{needle:?} not in {}", rec.last());
+    }
+    // The slot still holds the good state, and the instance steps on.
+    unsafe { assert_eq!(api::set_fmu_state::<VehicleModel>(inst.c, slot), OK) };
+    assert_eq!(vehicle_step(&inst, 0.01), (OK, 0.02));
+}
+
+#[test]
+fn vehicle_file_must_be_a_small_regular_file() {
+    let tmp = std::env::temp_dir().join(format!("rtv-fmi-files-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let fifo = tmp.join("fifo");
+    let c_fifo = CString::new(fifo.to_str().unwrap()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c_fifo.as_ptr(), 0o600) }, 0);
+    let big = tmp.join("big.json");
+    std::fs::write(&big, vec![b' '; (crate::model::params::MAX_FILE_BYTES + 1) as usize]).unwrap();
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
+    unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+    }
+    for (file, needle) in [
+        (fifo.to_str().unwrap(), "not a regular file"), // used to block forever
+        ("/dev/zero", "not a regular file"),            // used to read until memory ran out
+        (tmp.to_str().unwrap(), "not a regular file"),
+        (big.to_str().unwrap(), "more than the 1048576 allowed"),
+    ] {
+        assert_eq!(inst.set_string(vr::VEHICLE_FILE, file), OK);
+        unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR, "{file}") };
+        assert!(rec.last().contains(needle), "{file}: {}", rec.last());
+    }
+    std::fs::remove_dir_all(&tmp).ok();
 }

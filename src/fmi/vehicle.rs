@@ -18,9 +18,8 @@ use std::path::{Path, PathBuf};
 /// The vehicle data file inside the FMU's `resources/`.
 pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
 
-/// Limits of the Real parameters (also declared in the model description where FMI can express them).
-pub const INITIAL_SPEED_MAX: f64 = 60.0;
-pub const INTERNAL_STEP_MAX: f64 = 0.1;
+/// Limits of the Real parameters (also declared in the model description as min/max).
+pub use crate::sim::{INITIAL_SPEED_MAX, INTERNAL_STEP_MAX, INTERNAL_STEP_MIN};
 
 const DRIVE: [u32; 4] = [vr::DRIVE_TORQUE_FL, vr::DRIVE_TORQUE_FR, vr::DRIVE_TORQUE_RL, vr::DRIVE_TORQUE_RR];
 const BRAKE: [u32; 4] = [vr::BRAKE_TORQUE_FL, vr::BRAKE_TORQUE_FR, vr::BRAKE_TORQUE_RL, vr::BRAKE_TORQUE_RR];
@@ -182,6 +181,21 @@ impl VehicleModel {
         }
     }
 
+    /// The vehicle data this instance uses (see `vehicle_path`), read and validated.
+    fn vehicle_data(&self, context: &ModelContext, log: &Logger) -> Result<VehicleData, String> {
+        Ok(match self.vehicle_path(context)? {
+            Some(path) => {
+                let data = VehicleData::from_file(&path).map_err(|e| e.to_string())?;
+                log.event(&format!("vehicle data: {}", path.display()));
+                data
+            }
+            None => {
+                log.event("vehicle data: compiled-in default (no fmuResourceLocation)");
+                VehicleData::default_hmmwv()
+            }
+        })
+    }
+
     fn output(&self, var: &Variable) -> Result<f64, String> {
         let slot = OUTPUT_SLOTS[var.index];
         self.outputs
@@ -248,8 +262,8 @@ impl FmuModel for VehicleModel {
                 self.params.initial_speed = value;
             }
             vr::INTERNAL_STEP => {
-                if !(value > 0.0 && value <= INTERNAL_STEP_MAX) {
-                    return Err(format!("internal_step must be in (0, {INTERNAL_STEP_MAX}] s"));
+                if !(INTERNAL_STEP_MIN..=INTERNAL_STEP_MAX).contains(&value) {
+                    return Err(format!("internal_step must be in [{INTERNAL_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s"));
                 }
                 self.params.internal_step = value;
             }
@@ -302,17 +316,7 @@ impl FmuModel for VehicleModel {
     fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String> {
         let _ = start_time; // the simulation's clock starts at 0; the generic layer keeps the FMU time
         let config = self.params.config()?;
-        let vehicle = match self.vehicle_path(context)? {
-            Some(path) => {
-                let data = VehicleData::from_file(&path).map_err(|e| e.to_string())?;
-                log.event(&format!("vehicle data: {}", path.display()));
-                data
-            }
-            None => {
-                log.event("vehicle data: compiled-in default (no fmuResourceLocation)");
-                VehicleData::default_hmmwv()
-            }
-        };
+        let vehicle = self.vehicle_data(context, log)?;
         // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
         for w in vehicle.warnings() {
             log.event(&format!("vehicle data: {w}"));
@@ -329,9 +333,49 @@ impl FmuModel for VehicleModel {
         Ok(())
     }
 
+    fn validate_restored(&mut self, context: &ModelContext, initialized: bool, elapsed: f64) -> Result<(), String> {
+        let config = self.params.config()?;
+        config.validate().map_err(|e| format!("parameters: {e}"))?;
+        let finite =
+            |name: &str, v: f64| if v.is_finite() { Ok(()) } else { Err(format!("{name} = {v} is not finite")) };
+        finite("rack_displacement", self.rack)?;
+        for d in self.rack_derivatives.iter().flatten() {
+            finite("a rack_displacement derivative", *d)?;
+        }
+        for (i, (&d, &b)) in self.drive.iter().zip(&self.brake).enumerate() {
+            finite(&format!("drive torque {i}"), d)?;
+            if !(b >= 0.0 && b.is_finite()) {
+                return Err(format!("brake torque {i} = {b} must be finite and >= 0"));
+            }
+        }
+        if !(self.step_cpu_time >= 0.0 && self.step_cpu_time.is_finite()) {
+            return Err(format!("step_cpu_time = {} must be finite and >= 0", self.step_cpu_time));
+        }
+        match &self.sim {
+            Some(sim) => {
+                if self.outputs.len() != OUTPUT_NAMES.len() || self.outputs.iter().any(|v| !v.is_finite()) {
+                    return Err(format!("outputs: {} finite values expected", OUTPUT_NAMES.len()));
+                }
+                sim.config().validate().map_err(|e| format!("simulation: {e}"))?;
+                if *sim.config() != config {
+                    return Err("the simulation's configuration differs from the parameters".into());
+                }
+                // The vehicle is derived from the data file the parameters name: rebuilt from it here and
+                // required to be the one in the state (a state is not a way to pass other vehicle data).
+                let data = self.vehicle_data(context, &Logger::silent())?;
+                sim.validate_restored(&data, elapsed).map_err(|e| e.to_string())
+            }
+            None if initialized => Err("an initialized state without a simulation".into()),
+            None if !self.outputs.is_empty() => Err("outputs without a simulation".into()),
+            None => Ok(()),
+        }
+    }
+
     fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure> {
-        let derivatives = std::mem::take(&mut self.rack_derivatives);
         let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
+        // Too much work for one call: refused before anything changes (the inputs stay for the next try).
+        sim.config().plan(h).map_err(|e| StepFailure::Refused(e.to_string()))?;
+        let derivatives = std::mem::take(&mut self.rack_derivatives);
         sim.set_external_rack(RackSample {
             value: self.rack,
             first_derivative: derivatives[0],

@@ -58,6 +58,29 @@ impl Ab3 {
         (self.count > 0).then_some(self.h_hist)
     }
 
+    /// A restored history must be one this scheme could have built for a system of dimension `dim`.
+    pub fn validate(&self, dim: usize) -> Result<(), String> {
+        let shape_ok = |v: &Vec<f64>| v.is_empty() || v.len() == dim;
+        if self.count > 2 || !shape_ok(&self.f1) || !shape_ok(&self.f2) {
+            return Err(format!(
+                "AB3 history: count {} with {} and {} values",
+                self.count,
+                self.f1.len(),
+                self.f2.len()
+            ));
+        }
+        if self.count >= 1 && (self.f1.len() != dim || !(self.h_hist > 0.0 && self.h_hist.is_finite())) {
+            return Err("AB3 history: a past derivative or its step is missing".into());
+        }
+        if self.count >= 2 && self.f2.len() != dim {
+            return Err("AB3 history: the second past derivative is missing".into());
+        }
+        if self.f1.iter().chain(&self.f2).any(|v| !v.is_finite()) {
+            return Err("AB3 history: a past derivative is not finite".into());
+        }
+        Ok(())
+    }
+
     #[cfg(test)]
     pub(super) fn capacities(&self) -> Vec<usize> {
         let mut c = vec![self.f1.capacity(), self.f2.capacity(), self.fnow.capacity(), self.xn.capacity()];

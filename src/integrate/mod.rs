@@ -63,6 +63,17 @@ pub use ab3::Ab3;
 pub use rk4::Rk4;
 pub use ros2::Ros2;
 
+impl IntegratorKind {
+    /// The most derivative evaluations one step can cost for a system of dimension `dim` (RK4's 4 stages;
+    /// AB3's RK4 start; ROS2's 2 stages, f(x) and a finite-difference Jacobian of `dim` columns).
+    pub fn max_evaluations_per_step(self, dim: usize) -> u64 {
+        match self {
+            IntegratorKind::Rk4 | IntegratorKind::Ab3 => 4,
+            IntegratorKind::Ros2 => 3 + dim as u64,
+        }
+    }
+}
+
 /// One step of size h from t; `x` is updated in place.
 pub trait Integrator {
     fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError>;
@@ -93,6 +104,17 @@ impl AnyIntegrator {
             AnyIntegrator::Rk4(_) => IntegratorKind::Rk4,
             AnyIntegrator::Ab3(_) => IntegratorKind::Ab3,
             AnyIntegrator::Ros2(_) => IntegratorKind::Ros2,
+        }
+    }
+}
+
+impl AnyIntegrator {
+    /// Check a scheme read from a saved state for a system of dimension `dim` (history shapes, finite).
+    pub fn validate(&self, dim: usize) -> Result<(), String> {
+        match self {
+            AnyIntegrator::Rk4(_) => Ok(()),
+            AnyIntegrator::Ab3(i) => i.validate(dim),
+            AnyIntegrator::Ros2(i) => i.validate(dim),
         }
     }
 }

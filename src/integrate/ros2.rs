@@ -84,6 +84,22 @@ impl Ros2 {
         self
     }
 
+    /// A restored scheme must be the default one (as `new` makes it) with a Jacobian of dimension `dim`
+    /// or none.
+    pub fn validate(&self, dim: usize) -> Result<(), String> {
+        if self.jacobian_interval.is_some() || self.jacobian_scale != 1.0 {
+            return Err("ROS2: not the default refresh policy and Jacobian".into());
+        }
+        let (r, c) = self.jac.shape();
+        if !((r, c) == (0, 0) || (r, c) == (dim, dim)) || self.jac.iter().any(|v| !v.is_finite()) {
+            return Err(format!("ROS2: a {r}x{c} or non-finite Jacobian for dimension {dim}"));
+        }
+        if self.jac_age.is_some() && r == 0 {
+            return Err("ROS2: a Jacobian age without a Jacobian".into());
+        }
+        Ok(())
+    }
+
     /// N_J in effect for a step of size h.
     pub fn jacobian_interval(&self, h: f64) -> usize {
         match self.jacobian_interval {

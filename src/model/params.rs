@@ -210,14 +210,37 @@ fn err(field: impl Into<String>, message: impl Into<String>) -> DataError {
 /// The data shipped in `resources/`, compiled in so the library works without any file at hand.
 pub const DEFAULT_VEHICLE_JSON: &str = include_str!("../../resources/hmmwv.json");
 
+/// The largest vehicle file read (the HMMWV's is 7 kB).
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
 impl VehicleData {
     pub fn default_hmmwv() -> VehicleData {
         VehicleData::from_json(DEFAULT_VEHICLE_JSON).expect("shipped vehicle data must be valid")
     }
 
+    /// Reads a vehicle file: a regular file of at most `MAX_FILE_BYTES` (a FIFO would block the caller, a
+    /// device such as /dev/zero would be read until memory runs out: both are refused before opening).
     pub fn from_file(path: &Path) -> Result<VehicleData, DataError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| err(path.display().to_string(), format!("cannot read the vehicle file: {e}")))?;
+        use std::io::Read as _;
+        let fail = |why: String| err(path.display().to_string(), why);
+        let meta = std::fs::metadata(path).map_err(|e| fail(format!("cannot read the vehicle file: {e}")))?;
+        if !meta.is_file() {
+            return Err(fail("the vehicle file is not a regular file (a directory, FIFO or device)".into()));
+        }
+        if meta.len() > MAX_FILE_BYTES {
+            return Err(fail(format!(
+                "the vehicle file has {} bytes, more than the {MAX_FILE_BYTES} allowed",
+                meta.len()
+            )));
+        }
+        // The size may change between the check and the read: never read more than the limit.
+        let mut text = String::new();
+        std::fs::File::open(path)
+            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_string(&mut text))
+            .map_err(|e| fail(format!("cannot read the vehicle file: {e}")))?;
+        if text.len() as u64 > MAX_FILE_BYTES {
+            return Err(fail(format!("the vehicle file grew beyond the {MAX_FILE_BYTES} bytes allowed")));
+        }
         VehicleData::from_json(&text)
     }
 

@@ -49,6 +49,58 @@ pub struct SimConfig {
     pub ride_height_retune: bool,
 }
 
+/// The range of the internal step, s. Below 1 µs a step buys no accuracy (round-off dominates RK4 there:
+/// docs/integrators.md) and only costs time; above 0.1 s no integrator here is stable for this vehicle.
+pub const INTERNAL_STEP_MIN: f64 = 1e-6;
+pub const INTERNAL_STEP_MAX: f64 = 0.1;
+/// Initial speed range, m/s (216 km/h: beyond the vehicle's and the tire data's range).
+pub const INITIAL_SPEED_MAX: f64 = 60.0;
+/// The most derivative evaluations one `advance` may cost (about 1 s here at ~10 µs each): a larger
+/// interval is refused before any work, so that no call hangs (an FMU master's doStep, a CLI run's output
+/// interval). Split such an interval into several.
+pub const MAX_EVALUATIONS_PER_ADVANCE: u64 = 100_000;
+
+impl SimConfig {
+    /// The ranges every entry point (CLI, FMU parameters, restored FMU states) enforces.
+    pub fn validate(&self) -> Result<(), SimError> {
+        if !(INTERNAL_STEP_MIN..=INTERNAL_STEP_MAX).contains(&self.internal_step) {
+            return Err(SimError(format!(
+                "internal step {} s is outside [{INTERNAL_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s",
+                self.internal_step
+            )));
+        }
+        if !(0.0..=INITIAL_SPEED_MAX).contains(&self.initial_speed) {
+            return Err(SimError(format!(
+                "initial speed {} m/s is outside [0, {INITIAL_SPEED_MAX}] m/s",
+                self.initial_speed
+            )));
+        }
+        Ok(())
+    }
+
+    /// The sub-steps that cover an interval `h`, or an error if they would cost more than
+    /// `MAX_EVALUATIONS_PER_ADVANCE` derivative evaluations (nothing is done then).
+    pub fn plan(&self, h: f64) -> Result<(usize, f64), SimError> {
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(SimError(format!("step must be positive and finite, got {h}")));
+        }
+        let per_step = self.integrator.max_evaluations_per_step(idx::DIM);
+        let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step; // one evaluation for the outputs
+                                                                      // Compare before converting: ceil(h / internal_step) may not fit a usize.
+        if h / self.internal_step > max_steps as f64 {
+            return Err(SimError(format!(
+                "an interval of {h} s needs {:.3e} internal steps of {} s, more than the {max_steps} one call may \
+                 take (at most {MAX_EVALUATIONS_PER_ADVANCE} evaluations, about 1 s): split it into intervals of \
+                 at most {} s",
+                (h / self.internal_step).ceil(),
+                self.internal_step,
+                max_steps as f64 * self.internal_step
+            )));
+        }
+        Ok(substeps(h, self.internal_step))
+    }
+}
+
 impl Default for SimConfig {
     fn default() -> Self {
         SimConfig {
@@ -111,6 +163,40 @@ impl OdeSystem for VehicleOde<'_> {
         let e = &mut x[idx::E0..idx::E0 + 4];
         let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
         e.iter_mut().for_each(|v| *v /= n);
+    }
+}
+
+/// What a simulation starts from: the vehicle as configured (ride height retuned, road placed) and its
+/// steady rolling state. A deterministic function of the vehicle and the configuration.
+struct Start {
+    vehicle: Vehicle,
+    state: Vec<f64>,
+    cache: KinematicsCache,
+    front_wheel_x0: f64,
+}
+
+impl Start {
+    fn new(mut v: Vehicle, config: &SimConfig) -> Result<Start, SimError> {
+        config.validate()?;
+        v.formulation = config.formulation;
+        v.slip = config.slip;
+        v.speed_mode = config.speed_mode;
+        v.target_speed = config.initial_speed;
+        if config.ride_height_retune {
+            retune_ride_height(&mut v).map_err(|e| SimError(format!("ride-height retune: {}", e.0)))?;
+        }
+        let mut cache = KinematicsCache::default();
+        let state = steady_rolling(&v, config.initial_speed, &mut cache)
+            .map_err(|e| SimError(format!("initial equilibrium: {}", e.0)))?;
+        let positions = v.corner_positions(&state, 0.0, &mut cache).map_err(|e| SimError(e.0))?;
+        let a0 = quat_to_matrix(&state[idx::E0..idx::E0 + 4]);
+        let front_wheel_x0 = 0.5
+            * (0..2).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
+            + state[idx::R0];
+        if config.road == RoadChoice::PaperBumps {
+            v.road = RoadModel::paper_bump_course(front_wheel_x0);
+        }
+        Ok(Start { vehicle: v, state, cache, front_wheel_x0 })
     }
 }
 
@@ -183,31 +269,8 @@ impl Simulation {
     }
 
     /// As `new`, from an already built vehicle (tests switch force elements or tire models first).
-    pub fn from_vehicle(mut v: Vehicle, config: SimConfig) -> Result<Simulation, SimError> {
-        if !(config.internal_step > 0.0 && config.internal_step.is_finite()) {
-            return Err(SimError(format!("internal step must be positive, got {}", config.internal_step)));
-        }
-        if !(config.initial_speed >= 0.0 && config.initial_speed.is_finite()) {
-            return Err(SimError(format!("initial speed must be ≥ 0, got {}", config.initial_speed)));
-        }
-        v.formulation = config.formulation;
-        v.slip = config.slip;
-        v.speed_mode = config.speed_mode;
-        v.target_speed = config.initial_speed;
-        if config.ride_height_retune {
-            retune_ride_height(&mut v).map_err(|e| SimError(format!("ride-height retune: {}", e.0)))?;
-        }
-        let mut cache = KinematicsCache::default();
-        let state = steady_rolling(&v, config.initial_speed, &mut cache)
-            .map_err(|e| SimError(format!("initial equilibrium: {}", e.0)))?;
-        let positions = v.corner_positions(&state, 0.0, &mut cache).map_err(|e| SimError(e.0))?;
-        let a0 = quat_to_matrix(&state[idx::E0..idx::E0 + 4]);
-        let front_wheel_x0 = 0.5
-            * (0..2).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
-            + state[idx::R0];
-        if config.road == RoadChoice::PaperBumps {
-            v.road = RoadModel::paper_bump_course(front_wheel_x0);
-        }
+    pub fn from_vehicle(v: Vehicle, config: SimConfig) -> Result<Simulation, SimError> {
+        let Start { vehicle: v, state, cache, front_wheel_x0 } = Start::new(v, &config)?;
         let mut sim = Simulation {
             integrator: AnyIntegrator::new(config.integrator),
             config,
@@ -227,6 +290,48 @@ impl Simulation {
         };
         sim.update_outputs().map_err(|e| SimError(e.0))?;
         Ok(sim)
+    }
+
+    /// Check a simulation read from a saved FMU state, as strictly as `new` checks its arguments: its
+    /// vehicle must be the one `new(data, config)` builds (rebuilt here and compared exactly), and its
+    /// state, integrator history and inputs must be of the right shape, finite and within the divergence
+    /// bounds; `elapsed` is the master's time since the start, which must be the simulation's.
+    pub fn validate_restored(&self, data: &VehicleData, elapsed: f64) -> Result<(), SimError> {
+        let bad = |why: String| Err(SimError(format!("simulation: {why}")));
+        self.config.validate()?;
+        let built = Start::new(Vehicle::new(data).map_err(|e| SimError(e.to_string()))?, &self.config)?;
+        if built.vehicle != self.vehicle || built.front_wheel_x0 != self.front_wheel_x0 {
+            return bad("its vehicle differs from the one the vehicle data file and the parameters give".into());
+        }
+        if !(self.time >= 0.0 && (self.time - elapsed).abs() <= 1e-6 * elapsed.abs().max(1.0)) {
+            return bad(format!("time {} differs from the FMU's time since the start {elapsed}", self.time));
+        }
+        if self.state.len() != idx::DIM || self.state.iter().any(|v| !v.is_finite()) {
+            return bad(format!("the state must be {} finite numbers (got {})", idx::DIM, self.state.len()));
+        }
+        let e = &self.state[idx::E0..idx::E0 + 4];
+        if (e.iter().map(|v| v * v).sum::<f64>().sqrt() - 1.0).abs() > 1e-6 {
+            return bad("the attitude quaternion is not of unit length".into());
+        }
+        check_divergence(&self.state, self.time).map_err(|e| SimError(format!("simulation: {}", e.0)))?;
+        if self.integrator.kind() != self.config.integrator {
+            return bad("the integrator differs from the configured one".into());
+        }
+        self.integrator.validate(idx::DIM).map_err(|e| SimError(format!("simulation: {e}")))?;
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !finite(&self.drive) || !self.brake.iter().all(|b| *b >= 0.0 && b.is_finite()) {
+            return bad("wheel torques must be finite, brake torques >= 0".into());
+        }
+        let rack = self.rack.at(self.time);
+        if !(finite(&[rack.position, rack.velocity, rack.acceleration])
+            && self.last_external_slope.is_none_or(f64::is_finite))
+        {
+            return bad("the rack input is not finite".into());
+        }
+        if self.outputs_values.len() != OUTPUT_NAMES.len() || !finite(&self.outputs_values) {
+            return bad(format!("outputs: {} finite values expected", OUTPUT_NAMES.len()));
+        }
+        Ok(())
     }
 
     pub fn config(&self) -> &SimConfig {
@@ -285,10 +390,10 @@ impl Simulation {
     /// Integrate over [t, t + h] in equal sub-steps no larger than the internal step (§7.2). On error the
     /// state, time, inputs and warm starts are left as before the call (a multistep history is restarted).
     /// No heap allocation once the first step has sized the integrator's scratch.
+    /// An interval that would cost more than `MAX_EVALUATIONS_PER_ADVANCE` is refused before any work
+    /// (`SimConfig::plan`).
     pub fn advance(&mut self, h: f64) -> Result<(), SimError> {
-        if !(h > 0.0 && h.is_finite()) {
-            return Err(SimError(format!("step must be positive and finite, got {h}")));
-        }
+        let (n, hs) = self.config.plan(h)?;
         // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
         self.state_before.clear();
         self.state_before.extend_from_slice(&self.state);
@@ -301,7 +406,7 @@ impl Simulation {
             self.last_external_slope = Some(slope);
             self.rack = RackSource::External { t_k, start, slope, curvature: 0.0 };
         }
-        match self.integrate(h) {
+        match self.integrate(h, n, hs) {
             Ok(()) => Ok(()),
             Err(e) => {
                 self.state.copy_from_slice(&self.state_before);
@@ -313,8 +418,7 @@ impl Simulation {
         }
     }
 
-    fn integrate(&mut self, h: f64) -> Result<(), EvalError> {
-        let (n, hs) = substeps(h, self.config.internal_step);
+    fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), EvalError> {
         let t0 = self.time;
         let mut ode = VehicleOde {
             vehicle: &self.vehicle,
