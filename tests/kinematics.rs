@@ -219,7 +219,7 @@ fn velocity_state_matrices_match_finite_differences() {
             let lin0 = acc - w.cross(&rd);
             let y0dot = Vector6::new(lin0.x, lin0.y, lin0.z, wdot.x, wdot.y, wdot.z);
             let k = &now[b].4;
-            let model = y0dot + k.jacobian[b] * qdd + k.rate[b];
+            let model = y0dot + k.jacobian(b) * qdd + k.rate[b];
             let err = (fd_ydot - model).amax();
             assert!(err < 1e-5 * (1.0 + model.amax()), "corner {i} body {b}: Ẏ error {err:e}");
         }

@@ -5,7 +5,7 @@
 //! accelerations by the selected formulation → state derivative. The spatial origin is put at the
 //! chassis CM in every evaluation (§4.0), so all positions below are relative to r0.
 
-use crate::dynamics::body::{ang, body_force, lin, mass_hat, point_force, wrench};
+use crate::dynamics::body::{ang, body_force, lin, mass_hat, mass_hat_times, point_force, wrench, MassHatSum};
 use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, SubsystemTerms};
 use crate::integrate::EvalError;
 use crate::math::{quat_rate, quat_to_matrix, skew, M3, V3};
@@ -15,7 +15,7 @@ use crate::model::road::{EdgeAveraged, Road, RoadModel};
 use crate::model::steering::rack::Rack;
 use crate::model::suspension::sla::{BodyInertia, Side, SlaGeometry, SlaPositions, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
-use nalgebra::{Matrix6, SMatrix, Vector4, Vector6};
+use nalgebra::{SMatrix, Vector4, Vector6};
 use serde::{Deserialize, Serialize};
 
 /// Window of the road average seen by finite-difference Jacobians, m (see `Vehicle::jacobian_derivative`).
@@ -420,18 +420,10 @@ impl Vehicle {
         };
 
         let positions = self.corner_positions(x, rack.position, cache)?;
-        let mut terms = [SubsystemTerms {
-            m_qq: SMatrix::zeros(),
-            m_q0: SMatrix::zeros(),
-            m_00: Matrix6::zeros(),
-            p_q: nalgebra::Vector5::zeros(),
-            p_0: Vector6::zeros(),
-            phi_q: SMatrix::zeros(),
-            gamma_bar: Vector4::zeros(),
-        }; 4];
         let mut spin_torque = [0.0; 4];
         let mut relaxation_rates = [[0.0; 2]; 4];
-        for i in 0..4 {
+        // Built element by element in place (no zero-filled array overwritten afterwards).
+        let terms: [SubsystemTerms; 4] = std::array::from_fn(|i| {
             let c = &self.corners[i];
             let pos = &positions[i];
             let s_i = if c.steered { sd } else { 0.0 };
@@ -441,14 +433,14 @@ impl Vehicle {
             local.max_residual = local.max_residual.max(pos.residual);
             local.newton_iterations += pos.iterations;
             let drive = hold_torque + inputs.drive[i];
-            let out =
-                self.corner_terms(road, i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], local);
-            terms[i] = out.terms;
-            chassis_force += out.chassis_wrench;
-            spin_torque[i] = out.spin_torque;
-            relaxation_rates[i] = out.relaxation_rates;
             local.drive_torque[i] = drive;
-        }
+            let (terms, wheel) =
+                self.corner_terms(road, i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], local);
+            chassis_force += wheel.chassis_wrench;
+            spin_torque[i] = wheel.spin_torque;
+            relaxation_rates[i] = wheel.relaxation_rates;
+            terms
+        });
 
         Ok(Assembly {
             chassis: ChassisTerms { mass: chassis_mass, force: chassis_force },
@@ -476,7 +468,7 @@ impl Vehicle {
         drive_torque: f64,
         brake_torque: f64,
         diag: &mut Diagnostics,
-    ) -> CornerOutput {
+    ) -> (SubsystemTerms, CornerOutput) {
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
         let k = self.corner_kinematics(i, pos, qd, a0, y0);
@@ -575,27 +567,52 @@ impl Vehicle {
             }
         }
 
-        // Subsystem terms (§4.2).
-        let mut t = SubsystemTerms {
-            m_qq: SMatrix::zeros(),
-            m_q0: SMatrix::zeros(),
-            m_00: Matrix6::zeros(),
-            p_q: nalgebra::Vector5::zeros(),
-            p_0: Vector6::zeros(),
+        // Subsystem terms (§4.2) from the joint-Jacobian structure: 𝔅_L = [b_L 0 0 0 0], 𝔅_K = [b_L B_K 0],
+        // 𝔅_U = [0 0 0 0 b_U], so that M_qq = Σ 𝔅ᵀM̂𝔅 has the blocks below (zero between θ_U and the rest)
+        // and only M̂ times these columns is needed: 6-vector products instead of dense 6×5 ones.
+        let mh = |b: usize, y: &Vector6<f64>| mass_hat_times(k.mass[b], &k.com[b], &k.inertia[b], y);
+        let ml_bl = mh(BODY_L, &k.b_l);
+        let mk_bl = mh(BODY_K, &k.b_l);
+        let mk_bk: [Vector6<f64>; 3] = std::array::from_fn(|j| mh(BODY_K, &k.b_k.column(j).into_owned()));
+        let mu_bu = mh(BODY_U, &k.b_u);
+        let m_bl = ml_bl + mk_bl;
+        let p_l = q_l - mh(BODY_L, &k.rate[BODY_L]);
+        let p_k = q_k - mh(BODY_K, &k.rate[BODY_K]);
+        let p_u = q_u - mh(BODY_U, &k.rate[BODY_U]);
+        let mut m_qq = SMatrix::<f64, 5, 5>::zeros();
+        let mut m_q0 = SMatrix::<f64, 5, 6>::zeros();
+        let mut p_q = nalgebra::Vector5::zeros();
+        m_qq[(0, 0)] = k.b_l.dot(&m_bl);
+        m_qq[(4, 4)] = k.b_u.dot(&mu_bu);
+        for j in 0..3 {
+            let bkj = k.b_k.column(j);
+            m_qq[(0, 1 + j)] = k.b_l.dot(&mk_bk[j]);
+            m_qq[(1 + j, 0)] = m_qq[(0, 1 + j)];
+            for l in j..3 {
+                m_qq[(1 + j, 1 + l)] = bkj.dot(&mk_bk[l]);
+                m_qq[(1 + l, 1 + j)] = m_qq[(1 + j, 1 + l)];
+            }
+            m_q0.set_row(1 + j, &mk_bk[j].transpose());
+            p_q[1 + j] = bkj.dot(&p_k);
+        }
+        m_q0.set_row(0, &m_bl.transpose());
+        m_q0.set_row(4, &mu_bu.transpose());
+        p_q[0] = k.b_l.dot(&(p_l + p_k));
+        p_q[4] = k.b_u.dot(&p_u);
+        let mut m_00 = MassHatSum::new();
+        for b in [BODY_L, BODY_K, BODY_U] {
+            m_00.add(k.mass[b], &k.com[b], &k.inertia[b]);
+        }
+        let terms = SubsystemTerms {
+            m_qq,
+            m_q0,
+            m_00: m_00.matrix(),
+            p_q,
+            p_0: p_l + p_k + p_u,
             phi_q: pos.phi_q,
             gamma_bar: *gamma_bar,
         };
-        for (b, q_hat) in [(BODY_L, &q_l), (BODY_K, &q_k), (BODY_U, &q_u)] {
-            let m_hat = mass_hat(k.mass[b], &k.com[b], &k.inertia[b]);
-            let btm = k.jacobian[b].transpose() * m_hat;
-            let p = q_hat - m_hat * k.rate[b];
-            t.m_qq += btm * k.jacobian[b];
-            t.m_q0 += btm;
-            t.m_00 += m_hat;
-            t.p_q += k.jacobian[b].transpose() * p;
-            t.p_0 += p;
-        }
-        CornerOutput { terms: t, chassis_wrench, spin_torque, relaxation_rates }
+        (terms, CornerOutput { chassis_wrench, spin_torque, relaxation_rates })
     }
 }
 
@@ -607,7 +624,11 @@ pub const BODY_U: usize = 2;
 /// order lower arm, carrier, upper arm: Y_b = Y0 + 𝔅_b q̇, Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b (§3.4).
 #[derive(Debug, Clone, Copy)]
 pub struct CornerKinematics {
-    pub jacobian: [SMatrix<f64, 6, 5>; 3],
+    /// The non-zero columns of the joint Jacobians 𝔅_b (6×5): 𝔅_L = [b_L 0 0 0 0], 𝔅_K = [b_L B_K 0],
+    /// 𝔅_U = [0 0 0 0 b_U] (`jacobian(b)` builds them whole).
+    pub b_l: Vector6<f64>,
+    pub b_k: SMatrix<f64, 6, 3>,
+    pub b_u: Vector6<f64>,
     pub rate: [Vector6<f64>; 3],
     pub velocity: [Vector6<f64>; 3],
     pub mass: [f64; 3],
@@ -615,6 +636,22 @@ pub struct CornerKinematics {
     pub inertia: [M3; 3],
     pub axle: V3,
     pub wheel_centre: V3,
+}
+
+impl CornerKinematics {
+    /// 𝔅_b as a dense 6×5 matrix (for tests and diagnostics; the terms use the columns).
+    pub fn jacobian(&self, b: usize) -> SMatrix<f64, 6, 5> {
+        let mut m = SMatrix::<f64, 6, 5>::zeros();
+        match b {
+            BODY_L => m.set_column(0, &self.b_l),
+            BODY_K => {
+                m.set_column(0, &self.b_l);
+                m.fixed_view_mut::<6, 3>(0, 1).copy_from(&self.b_k);
+            }
+            _ => m.set_column(4, &self.b_u),
+        }
+        m
+    }
 }
 
 impl Vehicle {
@@ -658,18 +695,14 @@ impl Vehicle {
             + a0 * pos.r_l * crate::math::bryant_rate_quadratic(&V3::new(pos.q[1], pos.q[2], pos.q[3]), &phid);
         let b_dot = lin(&y_l) + w_l.cross(&rho_b);
         let d_k = wrench(&(b_dot.cross(&omega_r) + rho_b.cross(&wv)), &wv);
-        let mut bb_l = SMatrix::<f64, 6, 5>::zeros();
-        bb_l.set_column(0, &b_l);
-        let mut bb_k = bb_l;
-        bb_k.fixed_view_mut::<6, 3>(0, 1).copy_from(&b_k);
-        let mut bb_u = SMatrix::<f64, 6, 5>::zeros();
-        bb_u.set_column(4, &b_u);
 
         let rot_l = a0 * pos.r_l;
         let rot_u = a0 * pos.r_u;
         let rot_k = a0 * pos.r_k;
         CornerKinematics {
-            jacobian: [bb_l, bb_k, bb_u],
+            b_l,
+            b_k,
+            b_u,
             rate: [d_l, d_l + d_k, d_u],
             velocity: [y_l, y_k, y_u],
             mass: [c.lower.mass, c.carrier.mass, c.upper.mass],
@@ -706,8 +739,8 @@ enum LineElement {
     Damper,
 }
 
+/// What a corner adds besides its subsystem terms.
 struct CornerOutput {
-    terms: SubsystemTerms,
     chassis_wrench: Vector6<f64>,
     spin_torque: f64,
     relaxation_rates: [f64; 2],

@@ -1,0 +1,29 @@
+//! Instructions per synthesis evaluation at the J-turn's cornering state (t = 4 s), free of machine noise:
+//! run under callgrind with N = 0 and N = 20000 evaluations and divide the difference by N.
+//!
+//! ```sh
+//! cargo build --release --example evaluation_instructions
+//! for n in 0 20000; do valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$n \
+//!     target/release/examples/evaluation_instructions $n 2>&1 | grep "Collected"; done
+//! ```
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::vehicle::{idx, Inputs, KinematicsCache};
+use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::SimConfig;
+use std::hint::black_box;
+
+fn main() {
+    let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(20000);
+    let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
+    let mut sim = scene.start(VehicleData::default_hmmwv(), &SimConfig::default()).unwrap();
+    run(&mut sim, 4.0, 0.01, |_| {}).unwrap();
+    let inputs = Inputs { rack: scene.rack.at(4.0), drive: [0.0; 4], brake: [0.0; 4] };
+    let (vehicle, x) = (sim.vehicle().clone(), sim.state().to_vec());
+    let mut cache = KinematicsCache::default();
+    let mut dx = vec![0.0; idx::DIM];
+    vehicle.derivative(&x, &inputs, &mut cache, &mut dx, None).unwrap(); // warm start at this state
+    for _ in 0..n {
+        vehicle.derivative(black_box(&x), &inputs, &mut cache, &mut dx, None).unwrap();
+    }
+    println!("{n} evaluations, ax = {:.6e}", dx[idx::V0]);
+}
