@@ -14,39 +14,81 @@ pub fn skew(a: &V3) -> M3 {
 /// Rodrigues rotation about the unit axis `h` by `theta`: I + sin θ h̃ + (1 − cos θ) h̃².
 #[inline]
 pub fn rotation_about(h: &V3, theta: f64) -> M3 {
-    let k = skew(h);
     let (s, c) = theta.sin_cos();
+    rotation_about_sc(h, s, c)
+}
+
+/// As `rotation_about`, from sin θ and cos θ.
+#[inline]
+pub fn rotation_about_sc(h: &V3, s: f64, c: f64) -> M3 {
+    let k = skew(h);
     M3::identity() + k * s + k * k * (1.0 - c)
+}
+
+/// Sines and cosines of Bryant angles, computed once and shared by A(φ), G(φ) and Ġφ̇ (the evaluation
+/// pipeline calls all three for the same φ).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BryantSinCos {
+    pub s1: f64,
+    pub c1: f64,
+    pub s2: f64,
+    pub c2: f64,
+    pub s3: f64,
+    pub c3: f64,
+}
+
+impl BryantSinCos {
+    #[inline]
+    pub fn new(phi: &V3) -> BryantSinCos {
+        let (s1, c1) = phi.x.sin_cos();
+        let (s2, c2) = phi.y.sin_cos();
+        let (s3, c3) = phi.z.sin_cos();
+        BryantSinCos { s1, c1, s2, c2, s3, c3 }
+    }
+
+    /// A = Rx(φ1) Ry(φ2) Rz(φ3).
+    #[inline]
+    pub fn rotation(&self) -> M3 {
+        let BryantSinCos { s1, c1, s2, c2, s3, c3 } = *self;
+        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, c1, -s1, 0.0, s1, c1);
+        let ry = Matrix3::new(c2, 0.0, s2, 0.0, 1.0, 0.0, -s2, 0.0, c2);
+        let rz = Matrix3::new(c3, -s3, 0.0, s3, c3, 0.0, 0.0, 0.0, 1.0);
+        rx * ry * rz
+    }
+
+    /// G(φ): relative angular velocity (in the lower-arm frame) = G φ̇. Columns are the joint axes g_j.
+    #[inline]
+    pub fn rate_matrix(&self) -> M3 {
+        let BryantSinCos { s1, c1, s2, c2, .. } = *self;
+        Matrix3::new(1.0, 0.0, s2, 0.0, c1, -s1 * c2, 0.0, s1, c1 * c2)
+    }
+
+    /// Ġ φ̇, the velocity-quadratic part of d(Gφ̇)/dt.
+    #[inline]
+    pub fn rate_quadratic(&self, phid: &V3) -> V3 {
+        let BryantSinCos { s1, c1, s2, c2, .. } = *self;
+        let g2p = V3::new(0.0, -s1, c1) * phid.x;
+        let g3p = V3::new(c2 * phid.y, -c1 * c2 * phid.x + s1 * s2 * phid.y, -s1 * c2 * phid.x - c1 * s2 * phid.y);
+        g2p * phid.y + g3p * phid.z
+    }
 }
 
 /// Bryant (x-y-z) angles: A = Rx(φ1) Ry(φ2) Rz(φ3), the orientation of the knuckle relative to the lower arm.
 #[inline]
 pub fn bryant(phi: &V3) -> M3 {
-    let (s1, c1) = phi.x.sin_cos();
-    let (s2, c2) = phi.y.sin_cos();
-    let (s3, c3) = phi.z.sin_cos();
-    let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, c1, -s1, 0.0, s1, c1);
-    let ry = Matrix3::new(c2, 0.0, s2, 0.0, 1.0, 0.0, -s2, 0.0, c2);
-    let rz = Matrix3::new(c3, -s3, 0.0, s3, c3, 0.0, 0.0, 0.0, 1.0);
-    rx * ry * rz
+    BryantSinCos::new(phi).rotation()
 }
 
 /// G(φ): relative angular velocity (in the lower-arm frame) = G φ̇. Columns are the joint axes g_j.
 #[inline]
 pub fn bryant_rate_matrix(phi: &V3) -> M3 {
-    let (s1, c1) = phi.x.sin_cos();
-    let (s2, c2) = phi.y.sin_cos();
-    Matrix3::new(1.0, 0.0, s2, 0.0, c1, -s1 * c2, 0.0, s1, c1 * c2)
+    BryantSinCos::new(phi).rate_matrix()
 }
 
 /// Ġ φ̇, the velocity-quadratic part of d(Gφ̇)/dt.
 #[inline]
 pub fn bryant_rate_quadratic(phi: &V3, phid: &V3) -> V3 {
-    let (s1, c1) = phi.x.sin_cos();
-    let (s2, c2) = phi.y.sin_cos();
-    let g2p = V3::new(0.0, -s1, c1) * phid.x;
-    let g3p = V3::new(c2 * phid.y, -c1 * c2 * phid.x + s1 * s2 * phid.y, -s1 * c2 * phid.x - c1 * s2 * phid.y);
-    g2p * phid.y + g3p * phid.z
+    BryantSinCos::new(phi).rate_quadratic(phid)
 }
 
 /// Rotation matrix of a (not necessarily normalised) quaternion stored as [w, x, y, z].

@@ -4,7 +4,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
-use super::{check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
+use super::{check_result, explained, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
 
 /// Size of the conventional system: 6 + 4·(5 + 4) = 42.
 pub const NCONV: usize = 6 + 4 * (super::NQ + super::NC);
@@ -65,7 +65,10 @@ fn fill_nonzero(
 /// the stack. Fails when the matrix is numerically singular or on non-finite input or result. It does not
 /// test the chassis matrix for positive definiteness (an LU does not need it).
 pub fn solve_conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
-    check_inputs(chassis, subs)?;
+    explained(chassis, subs, conventional(chassis, subs))
+}
+
+fn conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
     let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
     let mut b = SMatrix::<f64, NCONV, 1>::zeros();
     fill_nonzero(chassis, subs, &mut a, &mut b);

@@ -40,7 +40,7 @@ pub const NC: usize = 4;
 
 /// One subsystem's contribution to the equations of motion (physics.md §4.2).
 /// All quantities are in the global frame, spatial origin at the current chassis CM (§4.0).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SubsystemTerms {
     /// M_qq = Σ_b 𝔅_bᵀ M̂_b 𝔅_b (5×5, symmetric positive definite).
     pub m_qq: SMatrix<f64, 5, 5>,
@@ -60,7 +60,7 @@ pub struct SubsystemTerms {
 }
 
 /// The chassis's own terms: `mass` = M̂₀ + M̂_R, `force` = Q̂₀ + Q̂*_R (§4.2, §4.7).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ChassisTerms {
     pub mass: Matrix6<f64>,
     pub force: Vector6<f64>,
@@ -118,6 +118,25 @@ fn finite(s: &[f64]) -> bool {
         acc[k] += x * 0.0;
     }
     (acc[0] + acc[1]) + (acc[2] + acc[3]) == 0.0
+}
+
+/// A solver's result, with the failure explained: a non-finite input is named (`check_inputs`) rather
+/// than reported as the singular matrix or non-finite result it causes. The inputs are checked only
+/// when the solve failed: a NaN in any entry a solver reads reaches its result, which `check_result`
+/// rejects (an entry it does not read, such as the chassis matrix's upper triangle for the Cholesky,
+/// cannot corrupt it), so the check costs nothing on the hot path.
+pub(crate) fn explained<T>(
+    chassis: &ChassisTerms,
+    subs: &[SubsystemTerms],
+    result: Result<T, SolveError>,
+) -> Result<T, SolveError> {
+    match result {
+        Ok(v) => Ok(v),
+        Err(e) => {
+            check_inputs(chassis, subs)?;
+            Err(e)
+        }
+    }
 }
 
 /// Rejects non-finite inputs with a message naming the offending term. No allocation on success.

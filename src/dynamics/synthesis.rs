@@ -4,7 +4,7 @@
 
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector5, Vector6};
 
-use super::{check_inputs, check_result, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
+use super::{check_result, explained, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
 use nalgebra::Matrix6;
 
 /// Whether [`solve_synthesis_gcp_with`] computes the cut-constraint multipliers λ.
@@ -163,7 +163,14 @@ pub fn solve_synthesis_gcp_with<const K: usize>(
     subs: &[SubsystemTerms; K],
     multipliers: Multipliers,
 ) -> Result<Accelerations<K>, SolveError> {
-    check_inputs(chassis, subs)?;
+    explained(chassis, subs, gcp(chassis, subs, multipliers))
+}
+
+fn gcp<const K: usize>(
+    chassis: &ChassisTerms,
+    subs: &[SubsystemTerms; K],
+    multipliers: Multipliers,
+) -> Result<Accelerations<K>, SolveError> {
     let mut mass = chassis.mass;
     let mut force = chassis.force;
     let mut red = [Gcp::ZERO; K];
@@ -205,7 +212,13 @@ pub fn solve_synthesis_augmented<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
 ) -> Result<Accelerations<K>, SolveError> {
-    check_inputs(chassis, subs)?;
+    explained(chassis, subs, augmented(chassis, subs))
+}
+
+fn augmented<const K: usize>(
+    chassis: &ChassisTerms,
+    subs: &[SubsystemTerms; K],
+) -> Result<Accelerations<K>, SolveError> {
     let mut mass = chassis.mass;
     let mut force = chassis.force;
     let mut sol = [SMatrix::<f64, 9, 7>::zeros(); K];

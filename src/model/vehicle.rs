@@ -102,10 +102,23 @@ impl WarmStart {
     }
 }
 
-/// Newton warm starts: part of the simulation state (its last bits decide Newton's last bits).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+/// Newton warm starts, part of the simulation state (their last bits decide Newton's last bits), and the
+/// corner positions of the latest evaluation, written in place by each evaluation (scratch: neither saved
+/// nor compared).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct KinematicsCache {
     pub corners: [WarmStart; 4],
+    #[serde(skip)]
+    pub positions: [SlaPositions; 4],
+    /// The terms of the latest evaluation (scratch, written in place).
+    #[serde(skip)]
+    pub assembly: Assembly,
+}
+
+impl PartialEq for KinematicsCache {
+    fn eq(&self, other: &Self) -> bool {
+        self.corners == other.corners
+    }
 }
 
 /// What one evaluation reveals besides ẋ (for outputs and diagnostics).
@@ -258,22 +271,30 @@ impl Vehicle {
         }
     }
 
-    /// Solve the dependent coordinates of every corner (updates the warm starts).
+    /// Solve the dependent coordinates of every corner (updates the warm starts); a copy of the positions.
     pub fn corner_positions(
         &self,
         x: &[f64],
         rack_u: f64,
         cache: &mut KinematicsCache,
     ) -> Result<[SlaPositions; 4], EvalError> {
-        let solve = |i: usize, cache: &mut KinematicsCache| -> Result<SlaPositions, EvalError> {
+        self.solve_corners(x, rack_u, cache)?;
+        Ok(cache.positions.clone())
+    }
+
+    /// Solve the dependent coordinates of every corner into `cache.positions` (in place) from the warm
+    /// starts, and update the warm starts.
+    pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<(), EvalError> {
+        for i in 0..4 {
             let s = self.rack_translation(i, rack_u);
             let c = &self.corners[i];
             let u = x[idx::U + i];
             let guess = cache.corners[i].predict(u, s);
-            let p =
-                c.solve_positions(u, s, &guess).map_err(|e| EvalError(format!("corner {}: {}", CORNERS[i], e.0)))?;
+            let p = &mut cache.positions[i];
+            c.solve_positions_into(u, s, &guess, p)
+                .map_err(|e| EvalError(format!("corner {}: {}", CORNERS[i], e.0)))?;
             // Sensitivities from the LU Newton already factorized: ∂v/∂u = −Φ_v⁻¹Φ_u, ∂v/∂s = −Φ_v⁻¹Φ_s.
-            let (du, ds) = (c.velocities(&p, 1.0, 0.0), c.velocities(&p, 0.0, 1.0));
+            let (du, ds) = (c.velocities(p, 1.0, 0.0), c.velocities(p, 0.0, 1.0));
             cache.corners[i] = WarmStart {
                 v: [p.q[1], p.q[2], p.q[3], p.q[4]],
                 u,
@@ -281,9 +302,8 @@ impl Vehicle {
                 dv_du: [du[1], du[2], du[3], du[4]],
                 dv_ds: [ds[1], ds[2], ds[3], ds[4]],
             };
-            Ok(p)
-        };
-        Ok([solve(0, cache)?, solve(1, cache)?, solve(2, cache)?, solve(3, cache)?])
+        }
+        Ok(())
     }
 
     /// The derivative function: writes ẋ, updates the warm starts, and fills `diag` if given.
@@ -323,9 +343,10 @@ impl Vehicle {
         diag: Option<&mut Diagnostics>,
     ) -> Result<(), EvalError> {
         let mut local = Diagnostics::default();
-        let assembly = self.assemble_on(road, x, inputs, cache, &mut local)?;
+        self.assemble_on(road, x, inputs, cache, &mut local)?;
+        let assembly = &cache.assembly;
         let multipliers = if diag.is_some() { Multipliers::Compute } else { Multipliers::Skip };
-        let acc = self.accelerations(&assembly, multipliers)?;
+        let acc = self.accelerations(assembly, multipliers)?;
 
         // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
         let (v0, w0) = (vector_at(x, idx::V0), vector_at(x, idx::W0));
@@ -380,7 +401,8 @@ impl Vehicle {
         cache: &mut KinematicsCache,
         local: &mut Diagnostics,
     ) -> Result<Assembly, EvalError> {
-        self.assemble_on(&self.road, x, inputs, cache, local)
+        self.assemble_on(&self.road, x, inputs, cache, local)?;
+        Ok(cache.assembly)
     }
 
     fn assemble_on(
@@ -390,7 +412,7 @@ impl Vehicle {
         inputs: &Inputs,
         cache: &mut KinematicsCache,
         local: &mut Diagnostics,
-    ) -> Result<Assembly, EvalError> {
+    ) -> Result<(), EvalError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
         let g = if self.switches.gravity { V3::new(0.0, 0.0, -self.gravity) } else { V3::zeros() };
@@ -419,11 +441,10 @@ impl Vehicle {
             SpeedMode::Coast => 0.0,
         };
 
-        let positions = self.corner_positions(x, rack.position, cache)?;
-        let mut spin_torque = [0.0; 4];
-        let mut relaxation_rates = [[0.0; 2]; 4];
-        // Built element by element in place (no zero-filled array overwritten afterwards).
-        let terms: [SubsystemTerms; 4] = std::array::from_fn(|i| {
+        self.solve_corners(x, rack.position, cache)?;
+        // Each corner writes its terms in place (no array built and then moved).
+        let KinematicsCache { positions, assembly, .. } = cache;
+        for i in 0..4 {
             let c = &self.corners[i];
             let pos = &positions[i];
             let s_i = if c.steered { sd } else { 0.0 };
@@ -434,21 +455,29 @@ impl Vehicle {
             local.newton_iterations += pos.iterations;
             let drive = hold_torque + inputs.drive[i];
             local.drive_torque[i] = drive;
-            let (terms, wheel) =
-                self.corner_terms(road, i, pos, &qd, &gamma_bar, &a0, &r0, &y0, &g, x, drive, inputs.brake[i], local);
+            let wheel = self.corner_terms(
+                road,
+                i,
+                pos,
+                &qd,
+                &gamma_bar,
+                &a0,
+                &r0,
+                &y0,
+                &g,
+                x,
+                drive,
+                inputs.brake[i],
+                local,
+                &mut assembly.terms[i],
+            );
             chassis_force += wheel.chassis_wrench;
-            spin_torque[i] = wheel.spin_torque;
-            relaxation_rates[i] = wheel.relaxation_rates;
-            terms
-        });
-
-        Ok(Assembly {
-            chassis: ChassisTerms { mass: chassis_mass, force: chassis_force },
-            terms,
-            spin_torque,
-            relaxation_rates,
-            heading_speed: vx_body,
-        })
+            assembly.spin_torque[i] = wheel.spin_torque;
+            assembly.relaxation_rates[i] = wheel.relaxation_rates;
+        }
+        assembly.chassis = ChassisTerms { mass: chassis_mass, force: chassis_force };
+        assembly.heading_speed = vx_body;
+        Ok(())
     }
 
     /// Global kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6).
@@ -468,7 +497,8 @@ impl Vehicle {
         drive_torque: f64,
         brake_torque: f64,
         diag: &mut Diagnostics,
-    ) -> (SubsystemTerms, CornerOutput) {
+        terms: &mut SubsystemTerms,
+    ) -> CornerOutput {
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
         let k = self.corner_kinematics(i, pos, qd, a0, y0);
@@ -579,9 +609,12 @@ impl Vehicle {
         let p_l = q_l - mh(BODY_L, &k.rate[BODY_L]);
         let p_k = q_k - mh(BODY_K, &k.rate[BODY_K]);
         let p_u = q_u - mh(BODY_U, &k.rate[BODY_U]);
-        let mut m_qq = SMatrix::<f64, 5, 5>::zeros();
-        let mut m_q0 = SMatrix::<f64, 5, 6>::zeros();
-        let mut p_q = nalgebra::Vector5::zeros();
+        let SubsystemTerms { m_qq, m_q0, p_q, .. } = terms;
+        // M_qq's zero block (θ_U with the rest): set here, every other entry is written below.
+        for j in 0..4 {
+            m_qq[(j, 4)] = 0.0;
+            m_qq[(4, j)] = 0.0;
+        }
         m_qq[(0, 0)] = k.b_l.dot(&m_bl);
         m_qq[(4, 4)] = k.b_u.dot(&mu_bu);
         for j in 0..3 {
@@ -603,16 +636,11 @@ impl Vehicle {
         for b in [BODY_L, BODY_K, BODY_U] {
             m_00.add(k.mass[b], &k.com[b], &k.inertia[b]);
         }
-        let terms = SubsystemTerms {
-            m_qq,
-            m_q0,
-            m_00: m_00.matrix(),
-            p_q,
-            p_0: p_l + p_k + p_u,
-            phi_q: pos.phi_q,
-            gamma_bar: *gamma_bar,
-        };
-        (terms, CornerOutput { chassis_wrench, spin_torque, relaxation_rates })
+        terms.m_00 = m_00.matrix();
+        terms.p_0 = p_l + p_k + p_u;
+        terms.phi_q = pos.phi_q;
+        terms.gamma_bar = *gamma_bar;
+        CornerOutput { chassis_wrench, spin_torque, relaxation_rates }
     }
 }
 
@@ -691,8 +719,7 @@ impl Vehicle {
         let d_u = revolute_rate(&rho_pu, &h_u, qd[4]);
         let omega_r = a_l_g * phid;
         let w_l = ang(&y_l);
-        let wv = w_l.cross(&omega_r)
-            + a0 * pos.r_l * crate::math::bryant_rate_quadratic(&V3::new(pos.q[1], pos.q[2], pos.q[3]), &phid);
+        let wv = w_l.cross(&omega_r) + a0 * pos.r_l * pos.bryant.rate_quadratic(&phid);
         let b_dot = lin(&y_l) + w_l.cross(&rho_b);
         let d_k = wrench(&(b_dot.cross(&omega_r) + rho_b.cross(&wv)), &wv);
 
@@ -723,7 +750,7 @@ impl Vehicle {
 }
 
 /// The terms of one evaluation, before the equation solving.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct Assembly {
     pub chassis: ChassisTerms,
     pub terms: [SubsystemTerms; 4],

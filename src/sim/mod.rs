@@ -397,7 +397,7 @@ impl Simulation {
         // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
         self.state_before.clear();
         self.state_before.extend_from_slice(&self.state);
-        let backup = (self.cache, self.evaluations, self.rack, self.last_external_slope);
+        let backup = (self.cache.corners, self.evaluations, self.rack, self.last_external_slope);
         if let RackSource::PendingRamp { t_k, start, target } = self.rack {
             let slope = (target - start) / h;
             if self.last_external_slope.is_some_and(|s| s != slope) {
@@ -410,7 +410,7 @@ impl Simulation {
             Ok(()) => Ok(()),
             Err(e) => {
                 self.state.copy_from_slice(&self.state_before);
-                (self.cache, self.evaluations, self.rack, self.last_external_slope) = backup;
+                (self.cache.corners, self.evaluations, self.rack, self.last_external_slope) = backup;
                 // A multistep history may hold sub-steps of the failed interval: start it afresh.
                 self.integrator.restart();
                 Err(SimError(format!("t = {:.6} s: {}", self.time, e.0)))

@@ -10,7 +10,7 @@
 //! subsystem's constraints do not depend on the chassis motion: that is what lets each subsystem be
 //! solved on its own (the subsystem synthesis method).
 
-use crate::math::{bryant, bryant_rate_matrix, bryant_rate_quadratic, rotation_about, M3, V3};
+use crate::math::{rotation_about_sc, BryantSinCos, M3, V3};
 use crate::model::params::{Axle, DataError, RigidBody, VehicleData};
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector5, LU, U4};
 use serde::{Deserialize, Serialize};
@@ -85,6 +85,8 @@ impl std::fmt::Display for KinematicsError {
 #[derive(Debug, Clone)]
 pub struct SlaPositions {
     pub q: Vector5f,
+    /// Sines and cosines of the Bryant angles q[1..4].
+    pub bryant: BryantSinCos,
     pub s: f64,
     pub r_l: M3,
     pub r_u: M3,
@@ -104,6 +106,32 @@ pub struct SlaPositions {
     pub phi_s: Vector4<f64>,
     pub lu_v: LU<f64, U4, U4>,
     pub iterations: u32,
+}
+
+impl Default for SlaPositions {
+    /// The design position's shape with identity rotations (a slot to be written by `evaluate_into`).
+    fn default() -> Self {
+        SlaPositions {
+            q: Vector5f::zeros(),
+            bryant: BryantSinCos::new(&V3::zeros()),
+            s: 0.0,
+            r_l: M3::identity(),
+            r_u: M3::identity(),
+            r_k: M3::identity(),
+            g: M3::identity(),
+            rl_g: M3::identity(),
+            b: V3::zeros(),
+            upper_joint: V3::zeros(),
+            rho_u: V3::zeros(),
+            rho_t: V3::zeros(),
+            d: V3::zeros(),
+            residual: 0.0,
+            phi_q: PhiQ::zeros(),
+            phi_s: Vector4::zeros(),
+            lu_v: Matrix4::identity().lu(),
+            iterations: 0,
+        }
+    }
 }
 
 impl SlaGeometry {
@@ -218,12 +246,21 @@ impl SlaGeometry {
     /// Positions, Φ and Φ_q at q (no solve). The tie-rod row is scaled by 1/ℓ so that every row is in
     /// metres and one tolerance fits all.
     pub fn evaluate(&self, q: &Vector5f, s: f64) -> SlaPositions {
-        let phi_angles = V3::new(q[1], q[2], q[3]);
-        let r_l = rotation_about(&self.h_l, q[0]);
-        let r_u = rotation_about(&self.h_u, q[4]);
-        let a_rel = bryant(&phi_angles);
-        let r_k = r_l * a_rel;
-        let g = bryant_rate_matrix(&phi_angles);
+        let mut pos = SlaPositions::default();
+        self.evaluate_into(q, s, &mut pos);
+        pos
+    }
+
+    /// As `evaluate`, written in place (the evaluation pipeline keeps one `SlaPositions` per corner).
+    pub fn evaluate_into(&self, q: &Vector5f, s: f64, pos: &mut SlaPositions) {
+        // The five angles' sines and cosines, once (A, G and, later, Ġφ̇ share the Bryant ones).
+        let (sl, cl) = q[0].sin_cos();
+        let (su, cu) = q[4].sin_cos();
+        let bryant = BryantSinCos::new(&V3::new(q[1], q[2], q[3]));
+        let r_l = rotation_about_sc(&self.h_l, sl, cl);
+        let r_u = rotation_about_sc(&self.h_u, su, cu);
+        let r_k = r_l * bryant.rotation();
+        let g = bryant.rate_matrix();
         let rl_g = r_l * g;
         let b = self.p_l + r_l * (self.b0 - self.p_l);
         let upper_joint = self.p_u + r_u * (self.u0 - self.p_u);
@@ -237,7 +274,7 @@ impl SlaGeometry {
         let phi_s3 = upper_joint - k_u0;
         let phi_d = 0.5 * (d.dot(&d) - self.tie_length * self.tie_length) * inv_l;
 
-        let mut phi_q = PhiQ::zeros();
+        let phi_q = &mut pos.phi_q;
         // Column θ_L.
         let c = -self.h_l.cross(&(k_u0 - self.p_l));
         phi_q.fixed_view_mut::<3, 1>(0, 0).copy_from(&c);
@@ -251,31 +288,26 @@ impl SlaGeometry {
         // Column θ_U.
         let c = self.h_u.cross(&(upper_joint - self.p_u));
         phi_q.fixed_view_mut::<3, 1>(0, 4).copy_from(&c);
-        let mut phi_s = Vector4::zeros();
+        pos.phi_s = Vector4::zeros();
         if self.steered {
-            phi_s[3] = -d.y * inv_l;
+            pos.phi_s[3] = -d.y * inv_l;
         }
-        let residual = phi_s3.amax().max(phi_d.abs());
-        let phi_v = phi_q.fixed_columns::<4>(1).into_owned();
-        SlaPositions {
-            q: *q,
-            s,
-            r_l,
-            r_u,
-            r_k,
-            g,
-            rl_g,
-            b,
-            upper_joint,
-            rho_u,
-            rho_t,
-            d,
-            residual,
-            phi_q,
-            phi_s,
-            lu_v: phi_v.lu(),
-            iterations: 0,
-        }
+        pos.residual = phi_s3.amax().max(phi_d.abs());
+        pos.lu_v = pos.phi_q.fixed_columns::<4>(1).into_owned().lu();
+        pos.q = *q;
+        pos.bryant = bryant;
+        pos.s = s;
+        pos.r_l = r_l;
+        pos.r_u = r_u;
+        pos.r_k = r_k;
+        pos.g = g;
+        pos.rl_g = rl_g;
+        pos.b = b;
+        pos.upper_joint = upper_joint;
+        pos.rho_u = rho_u;
+        pos.rho_t = rho_t;
+        pos.d = d;
+        pos.iterations = 0;
     }
 
     pub fn constraint_values(&self, pos: &SlaPositions) -> Vector4<f64> {
@@ -287,9 +319,22 @@ impl SlaGeometry {
 
     /// Dependent coordinates by Newton from the warm start `v_guess` (physics.md §3.2), to ‖Φ‖∞ ≤ 1e-12 m.
     pub fn solve_positions(&self, theta_l: f64, s: f64, v_guess: &[f64; 4]) -> Result<SlaPositions, KinematicsError> {
+        let mut pos = SlaPositions::default();
+        self.solve_positions_into(theta_l, s, v_guess, &mut pos)?;
+        Ok(pos)
+    }
+
+    /// As `solve_positions`, written in place; on `Err`, `pos` holds the last iterate.
+    pub fn solve_positions_into(
+        &self,
+        theta_l: f64,
+        s: f64,
+        v_guess: &[f64; 4],
+        pos: &mut SlaPositions,
+    ) -> Result<(), KinematicsError> {
         let mut q = Vector5f::new(theta_l, v_guess[0], v_guess[1], v_guess[2], v_guess[3]);
         for it in 0..=MAX_NEWTON_ITERATIONS {
-            let mut pos = self.evaluate(&q, s);
+            self.evaluate_into(&q, s, pos);
             let det = pos.lu_v.determinant().abs();
             if !(det >= MIN_RELATIVE_DET * self.design_det) {
                 return Err(KinematicsError(format!(
@@ -299,9 +344,9 @@ impl SlaGeometry {
             }
             if pos.residual <= POSITION_TOLERANCE {
                 pos.iterations = it;
-                return Ok(pos);
+                return Ok(());
             }
-            let phi = self.constraint_values(&pos);
+            let phi = self.constraint_values(pos);
             let dv = pos.lu_v.solve(&(-phi)).ok_or_else(|| KinematicsError("Φ_v not invertible".into()))?;
             for i in 0..4 {
                 q[1 + i] += dv[i];
@@ -338,8 +383,7 @@ impl SlaGeometry {
         let a_u = w_u.cross(&w_u.cross(&(pos.upper_joint - self.p_u)));
         let b_rel = pos.b - self.p_l;
         let a_b = w_l.cross(&w_l.cross(&b_rel));
-        let beta = w_l.cross(&(pos.rl_g * phid))
-            + pos.r_l * bryant_rate_quadratic(&V3::new(pos.q[1], pos.q[2], pos.q[3]), &phid);
+        let beta = w_l.cross(&(pos.rl_g * phid)) + pos.r_l * pos.bryant.rate_quadratic(&phid);
         let a_k = |rho: &V3| a_b + beta.cross(rho) + w_k.cross(&w_k.cross(rho));
         let gamma_s = -(a_u - a_k(&pos.rho_u));
         let rack_rate = if self.steered { s_dot } else { 0.0 };
