@@ -7,6 +7,45 @@
 
 use nalgebra::SMatrix;
 
+/// A factored square matrix: L and U in place, with the pivots (the result of [`factor`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lu<const N: usize> {
+    pub factors: SMatrix<f64, N, N>,
+    pub piv: [usize; N],
+}
+
+impl<const N: usize> Lu<N> {
+    /// Factors `a`; `Err` when it is numerically singular or not finite.
+    #[inline]
+    pub fn new(a: &SMatrix<f64, N, N>) -> Result<Lu<N>, &'static str> {
+        let mut lu = Lu { factors: *a, piv: [0; N] };
+        factor(&mut lu.factors, &mut lu.piv)?;
+        Ok(lu)
+    }
+
+    /// The identity, factored (a placeholder for a slot that is written before it is read).
+    pub fn identity() -> Lu<N> {
+        Lu { factors: SMatrix::identity(), piv: std::array::from_fn(|k| k) }
+    }
+
+    /// Solves A X = B in place.
+    #[inline]
+    pub fn solve<const M: usize>(&self, b: &mut SMatrix<f64, N, M>) {
+        solve(&self.factors, &self.piv, b)
+    }
+
+    /// det A = ± Π U_kk (one sign change per row swap).
+    pub fn determinant(&self) -> f64 {
+        let swaps = self.piv.iter().enumerate().filter(|(k, p)| k != *p).count();
+        let d: f64 = (0..N).map(|k| self.factors[(k, k)]).product();
+        if swaps % 2 == 0 {
+            d
+        } else {
+            -d
+        }
+    }
+}
+
 /// Factors P A = L U in place (L unit lower, U upper, both stored in `a`); `piv[k]` is the row swapped with
 /// row k at step k (LAPACK convention). Fails when a pivot is not larger than n·ε·max|A| (numerically
 /// singular) or is not finite.

@@ -23,7 +23,7 @@ use nalgebra::{Matrix6, SMatrix, Vector4, Vector5, Vector6};
 
 pub mod body;
 mod conventional;
-mod lu;
+pub mod lu;
 mod synthesis;
 pub mod synthetic;
 
@@ -57,6 +57,9 @@ pub struct SubsystemTerms {
     pub phi_q: SMatrix<f64, 4, 5>,
     /// Acceleration right-hand side: Φ_q q̈ = γ̄ (§3.3).
     pub gamma_bar: Vector4<f64>,
+    /// Φ_v (columns 1..5 of `phi_q`) already factored by the kinematics, if it was: GCP then reuses it
+    /// instead of factoring the same matrix again. `None`: GCP factors it.
+    pub phi_v_lu: Option<lu::Lu<NC>>,
 }
 
 /// The chassis's own terms: `mass` = M̂₀ + M̂_R, `force` = Q̂₀ + Q̂*_R (§4.2, §4.7).

@@ -57,11 +57,16 @@ fn reduce(
     mass: &mut Matrix6<f64>,
     force: &mut Vector6<f64>,
 ) -> Result<(), SolveError> {
-    // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4).
-    g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
-    let (lu, piv) = (&mut g.lu, &mut g.piv);
-    lu::factor(lu, piv)
-        .map_err(|e| SolveError(format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}")))?;
+    // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4), unless the kinematics factored it.
+    match &s.phi_v_lu {
+        Some(f) => (g.lu, g.piv) = (f.factors, f.piv),
+        None => {
+            g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
+            lu::factor(&mut g.lu, &mut g.piv)
+                .map_err(|e| SolveError(format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}")))?;
+        }
+    }
+    let (lu, piv) = (&g.lu, &g.piv);
 
     // Two right-hand sides (§4.6): [Φ_u | γ̄] → [Φ_v⁻¹Φ_u | Φ_v⁻¹γ̄].
     let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);

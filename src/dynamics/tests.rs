@@ -354,3 +354,28 @@ fn overflowing_result_is_an_error_not_nan() {
         assert!(matches!(r, Err(_) | Ok(true)), "{r:?}");
     }
 }
+
+#[test]
+fn gcp_reusing_a_factored_phi_v_gives_the_same_solution() {
+    // The kinematics hand GCP their LU of Φ_v (`SubsystemTerms::phi_v_lu`); it must be the same solve.
+    for seed in 0..N_CASES {
+        let (c, subs) = random_vehicle::<4>(seed);
+        let own = solve_synthesis_gcp(&c, &subs).unwrap();
+        let mut given = subs;
+        for s in given.iter_mut() {
+            s.phi_v_lu = Some(lu::Lu::new(&s.phi_q.fixed_columns::<4>(1).into_owned()).unwrap());
+        }
+        let shared = solve_synthesis_gcp(&c, &given).unwrap();
+        assert_eq!(own, shared, "the same factors, the same arithmetic");
+    }
+}
+
+#[test]
+fn lu_determinant_matches_nalgebra() {
+    let mut rng = XorShift64::new(5);
+    for _ in 0..50 {
+        let a = SMatrix::<f64, 4, 4>::from_fn(|_, _| 2.0 * rng.uniform() - 1.0);
+        let d = lu::Lu::new(&a).unwrap().determinant();
+        assert!((d - a.determinant()).abs() <= 1e-12 * a.determinant().abs().max(1.0), "{d} vs {}", a.determinant());
+    }
+}

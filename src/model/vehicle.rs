@@ -293,15 +293,9 @@ impl Vehicle {
             let p = &mut cache.positions[i];
             c.solve_positions_into(u, s, &guess, p)
                 .map_err(|e| EvalError(format!("corner {}: {}", CORNERS[i], e.0)))?;
-            // Sensitivities from the LU Newton already factorized: ∂v/∂u = −Φ_v⁻¹Φ_u, ∂v/∂s = −Φ_v⁻¹Φ_s.
-            let (du, ds) = (c.velocities(p, 1.0, 0.0), c.velocities(p, 0.0, 1.0));
-            cache.corners[i] = WarmStart {
-                v: [p.q[1], p.q[2], p.q[3], p.q[4]],
-                u,
-                s,
-                dv_du: [du[1], du[2], du[3], du[4]],
-                dv_ds: [ds[1], ds[2], ds[3], ds[4]],
-            };
+            // The tangent of the constraint manifold at the solution: the next solve's start.
+            cache.corners[i] =
+                WarmStart { v: [p.q[1], p.q[2], p.q[3], p.q[4]], u, s, dv_du: p.dv_du.into(), dv_ds: p.dv_ds.into() };
         }
         Ok(())
     }
@@ -640,6 +634,7 @@ impl Vehicle {
         terms.p_0 = p_l + p_k + p_u;
         terms.phi_q = pos.phi_q;
         terms.gamma_bar = *gamma_bar;
+        terms.phi_v_lu = pos.lu_v;
         CornerOutput { chassis_wrench, spin_torque, relaxation_rates }
     }
 }

@@ -10,9 +10,10 @@
 //! subsystem's constraints do not depend on the chassis motion: that is what lets each subsystem be
 //! solved on its own (the subsystem synthesis method).
 
+use crate::dynamics::lu::Lu;
 use crate::math::{rotation_about_sc, BryantSinCos, M3, V3};
 use crate::model::params::{Axle, DataError, RigidBody, VehicleData};
-use nalgebra::{Matrix4, SMatrix, Vector4, Vector5, LU, U4};
+use nalgebra::{Matrix4, SMatrix, Vector4, Vector5};
 use serde::{Deserialize, Serialize};
 
 pub type Vector5f = Vector5<f64>;
@@ -81,7 +82,8 @@ impl std::fmt::Display for KinematicsError {
     }
 }
 
-/// Converged positions of one subsystem: rotations, key points, Φ_q and the LU of Φ_v.
+/// Converged positions of one subsystem: rotations, key points, Φ_q, the LU of Φ_v and the first-order
+/// sensitivities of the dependent coordinates.
 #[derive(Debug, Clone)]
 pub struct SlaPositions {
     pub q: Vector5f,
@@ -104,7 +106,12 @@ pub struct SlaPositions {
     pub phi_q: PhiQ,
     /// ∂Φ/∂s (only the tie-rod row, front).
     pub phi_s: Vector4<f64>,
-    pub lu_v: LU<f64, U4, U4>,
+    /// Φ_v factored (`None`: numerically singular). The dynamics reuse it (`SubsystemTerms::phi_v_lu`).
+    pub lu_v: Option<Lu<4>>,
+    /// ∂v/∂u = −Φ_v⁻¹Φ_u and ∂v/∂s = −Φ_v⁻¹Φ_s: v̇ = ∂v/∂u u̇ + ∂v/∂s ṡ (§3.3), and the Newton warm start's
+    /// tangent. Zero when Φ_v is singular.
+    pub dv_du: Vector4<f64>,
+    pub dv_ds: Vector4<f64>,
     pub iterations: u32,
 }
 
@@ -128,7 +135,9 @@ impl Default for SlaPositions {
             residual: 0.0,
             phi_q: PhiQ::zeros(),
             phi_s: Vector4::zeros(),
-            lu_v: Matrix4::identity().lu(),
+            lu_v: Some(Lu::identity()),
+            dv_du: Vector4::zeros(),
+            dv_ds: Vector4::zeros(),
             iterations: 0,
         }
     }
@@ -293,7 +302,16 @@ impl SlaGeometry {
             pos.phi_s[3] = -d.y * inv_l;
         }
         pos.residual = phi_s3.amax().max(phi_d.abs());
-        pos.lu_v = pos.phi_q.fixed_columns::<4>(1).into_owned().lu();
+        pos.lu_v = Lu::new(&pos.phi_q.fixed_columns::<4>(1).into_owned()).ok();
+        match &pos.lu_v {
+            Some(lu) => {
+                let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[-pos.phi_q.column(0), -pos.phi_s]);
+                lu.solve(&mut rhs);
+                pos.dv_du = rhs.column(0).into_owned();
+                pos.dv_ds = rhs.column(1).into_owned();
+            }
+            None => (pos.dv_du, pos.dv_ds) = (Vector4::zeros(), Vector4::zeros()),
+        }
         pos.q = *q;
         pos.bryant = bryant;
         pos.s = s;
@@ -335,7 +353,7 @@ impl SlaGeometry {
         let mut q = Vector5f::new(theta_l, v_guess[0], v_guess[1], v_guess[2], v_guess[3]);
         for it in 0..=MAX_NEWTON_ITERATIONS {
             self.evaluate_into(&q, s, pos);
-            let det = pos.lu_v.determinant().abs();
+            let det = pos.lu_v.map_or(0.0, |lu| lu.determinant().abs());
             if !(det >= MIN_RELATIVE_DET * self.design_det) {
                 return Err(KinematicsError(format!(
                     "suspension linkage singular (|det Φ_v| = {det:.3e}) at θ_L = {theta_l:.4} rad, rack {s:.4} m: \
@@ -346,8 +364,8 @@ impl SlaGeometry {
                 pos.iterations = it;
                 return Ok(());
             }
-            let phi = self.constraint_values(pos);
-            let dv = pos.lu_v.solve(&(-phi)).ok_or_else(|| KinematicsError("Φ_v not invertible".into()))?;
+            let mut dv = -self.constraint_values(pos);
+            pos.lu_v.as_ref().ok_or_else(|| KinematicsError("Φ_v not invertible".into()))?.solve(&mut dv);
             for i in 0..4 {
                 q[1 + i] += dv[i];
             }
@@ -361,10 +379,9 @@ impl SlaGeometry {
         )))
     }
 
-    /// q̇ from u̇ = θ̇_L and the rack rate: v̇ = −Φ_v⁻¹(Φ_u u̇ + Φ_s ṡ) (physics.md §3.3).
+    /// q̇ from u̇ = θ̇_L and the rack rate: v̇ = −Φ_v⁻¹(Φ_u u̇ + Φ_s ṡ) = ∂v/∂u u̇ + ∂v/∂s ṡ (physics.md §3.3).
     pub fn velocities(&self, pos: &SlaPositions, theta_l_dot: f64, s_dot: f64) -> Vector5f {
-        let rhs = -(pos.phi_q.column(0) * theta_l_dot + pos.phi_s * s_dot);
-        let vd = pos.lu_v.solve(&rhs).unwrap_or_else(Vector4::zeros);
+        let vd = pos.dv_du * theta_l_dot + pos.dv_ds * s_dot;
         Vector5f::new(theta_l_dot, vd[0], vd[1], vd[2], vd[3])
     }
 
