@@ -135,7 +135,6 @@ pub struct Diagnostics {
     pub drive_torque: [f64; 4],
     pub max_residual: f64,
     pub newton_iterations: u32,
-    pub lambda: [Vector4<f64>; 4],
 }
 
 /// Per-corner force element data (the spring free length is what the ride-height retune changes).
@@ -339,8 +338,8 @@ impl Vehicle {
         let mut local = Diagnostics::default();
         self.assemble_on(road, x, inputs, cache, &mut local)?;
         let assembly = &cache.assembly;
-        let multipliers = if diag.is_some() { Multipliers::Compute } else { Multipliers::Skip };
-        let acc = self.accelerations(assembly, multipliers)?;
+        // λ feeds neither ẋ nor any output: never computed here (dynamics::Multipliers::Compute gives it).
+        let acc = self.accelerations(assembly, Multipliers::Skip)?;
 
         // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
         let (v0, w0) = (vector_at(x, idx::V0), vector_at(x, idx::W0));
@@ -369,7 +368,6 @@ impl Vehicle {
         }
         if let Some(d) = diag {
             local.chassis_acceleration = rdd;
-            local.lambda = acc.lambda;
             *d = local;
         }
         Ok(())
