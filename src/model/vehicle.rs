@@ -128,8 +128,8 @@ pub struct Diagnostics {
     pub chassis_acceleration: V3,
     pub tire_force: [[f64; 3]; 4],
     pub kappa: [f64; 4],
-    pub alpha: [f64; 4],
-    pub steer: [f64; 4],
+    /// tan α (the angle itself, an arctangent, is taken only where it is output).
+    pub tan_alpha: [f64; 4],
     pub wheel_centre_z: [f64; 4],
     pub wheel_spin_relative: [f64; 4],
     pub drive_torque: [f64; 4],
@@ -551,7 +551,6 @@ impl Vehicle {
         let mut relaxation_rates = [0.0; 2];
         let centre_abs = rho_w + r0;
         diag.wheel_centre_z[i] = centre_abs.z;
-        diag.steer[i] = c.steer_angle(pos);
         diag.wheel_spin_relative[i] = spin_rel;
         let contact = if self.switches.tires {
             tire::contact(road, &centre_abs, &axle, self.tire.unloaded_radius_m)
@@ -580,7 +579,7 @@ impl Vehicle {
                 spin_torque += axial;
                 diag.tire_force[i] = [shear.fx, shear.fy, fz];
                 diag.kappa[i] = kappa;
-                diag.alpha[i] = tan_alpha.atan();
+                diag.tan_alpha[i] = tan_alpha;
             }
             None => {
                 if self.slip == SlipModel::Relaxation {

@@ -478,15 +478,17 @@ impl Simulation {
         ] {
             push(val);
         }
-        push(d.steer[0]);
-        push(d.steer[1]);
+        // Steer angles from the positions this evaluation solved (an atan2 each: only here, not per stage).
+        let positions = &self.cache.positions;
+        push(self.vehicle.corners[0].steer_angle(&positions[0]));
+        push(self.vehicle.corners[1].steer_angle(&positions[1]));
         d.wheel_centre_z.iter().for_each(|z| push(*z));
         d.wheel_spin_relative.iter().for_each(|s| push(*s));
         for c in 0..3 {
             d.tire_force.iter().for_each(|f| push(f[c]));
         }
         d.kappa.iter().for_each(|s| push(*s));
-        d.alpha.iter().for_each(|s| push(*s));
+        d.tan_alpha.iter().for_each(|t| push(t.atan()));
         push(d.max_residual);
         push(d.newton_iterations as f64);
         debug_assert_eq!(k, OUTPUT_NAMES.len());
