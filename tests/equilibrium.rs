@@ -9,7 +9,7 @@ fn vehicle() -> Vehicle {
 }
 
 fn accelerations(v: &Vehicle, x: &[f64]) -> (Vec<f64>, Diagnostics) {
-    let mut dx = vec![0.0; idx::DIM];
+    let mut dx = vec![0.0; v.layout().dim];
     let mut d = Diagnostics::default();
     v.derivative(x, &Inputs::default(), &mut KinematicsCache::default(), &mut dx, Some(&mut d)).unwrap();
     (dx, d)

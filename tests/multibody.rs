@@ -100,8 +100,7 @@ fn free_flight_vehicle(gravity: bool, springs: bool) -> Vehicle {
 
 /// A non-trivial free-flight state: translating, tumbling, arms moving, wheels spinning.
 fn tumbling_state(v: &Vehicle) -> Vec<f64> {
-    let mut x = rt_vehicle::model::equilibrium::rest_state(1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
-    let _ = v;
+    let mut x = rt_vehicle::model::equilibrium::rest_state(&v.layout(), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
     x[idx::V0..idx::V0 + 3].copy_from_slice(&[12.0, -3.0, 1.5]);
     x[idx::W0..idx::W0 + 3].copy_from_slice(&[0.4, -0.3, 0.6]);
     x[idx::UD..idx::UD + 4].copy_from_slice(&[1.0, -0.8, 0.5, -1.2]);

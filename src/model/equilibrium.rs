@@ -5,8 +5,7 @@
 
 use crate::integrate::EvalError;
 use crate::math::{quat_from_euler, quat_to_matrix, V3};
-use crate::model::tire::SlipModel;
-use crate::model::vehicle::{idx, Inputs, KinematicsCache, SpeedMode, Vehicle};
+use crate::model::vehicle::{idx, Inputs, KinematicsCache, Layout, SpeedMode, Vehicle};
 use nalgebra::{DMatrix, DVector};
 
 /// Residual tolerance of the initialisation solves (accelerations in m/s² and rad/s²).
@@ -60,9 +59,10 @@ where
     }
 }
 
-/// A state at rest: chassis CM at height z with roll and pitch, arm angles u, everything else zero.
-pub fn rest_state(z: f64, roll: f64, pitch: f64, u: &[f64; 4]) -> Vec<f64> {
-    let mut x = vec![0.0; idx::DIM];
+/// A state at rest in `layout`: chassis CM at height z with roll and pitch, arm angles u, everything else
+/// zero.
+pub fn rest_state(layout: &Layout, z: f64, roll: f64, pitch: f64, u: &[f64; 4]) -> Vec<f64> {
+    let mut x = vec![0.0; layout.dim];
     x[idx::R0 + 2] = z;
     x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(roll, pitch, 0.0));
     x[idx::U..idx::U + 4].copy_from_slice(u);
@@ -88,16 +88,17 @@ pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), EvalError> {
     let base: Vec<f64> = v.corner_forces.iter().map(|f| f.spring_free_length).collect();
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0];
     let mut cache = KinematicsCache::default();
-    let mut dx = vec![0.0; idx::DIM];
     let mut statics = v.clone();
     statics.speed_mode = SpeedMode::Coast;
+    let layout = statics.layout();
+    let mut dx = vec![0.0; layout.dim];
     newton(
         &mut p,
         |p, r| {
             for i in 0..4 {
                 statics.corner_forces[i].spring_free_length = base[i] + if i < 2 { p[3] } else { p[4] };
             }
-            let x = rest_state(p[0], p[1], p[2], &[0.0; 4]);
+            let x = rest_state(&layout, p[0], p[1], p[2], &[0.0; 4]);
             evaluate(&statics, &x, &mut cache, &mut dx)?;
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
@@ -116,13 +117,14 @@ pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), EvalError> {
 }
 
 /// Static equilibrium (§8.1 step 2): height, roll, pitch and the four arm angles with every
-/// acceleration zero; x, y and yaw are free and set to zero.
+/// acceleration zero; x, y and yaw are free and set to zero. The state is in `v`'s layout.
 pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Vec<f64>, EvalError> {
     let mut statics = v.clone();
     statics.speed_mode = SpeedMode::Coast;
+    let layout = statics.layout();
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    let mut dx = vec![0.0; idx::DIM];
-    let state = |p: &[f64]| rest_state(p[0], p[1], p[2], &[p[3], p[4], p[5], p[6]]);
+    let mut dx = vec![0.0; layout.dim];
+    let state = |p: &[f64]| rest_state(&layout, p[0], p[1], p[2], &[p[3], p[4], p[5], p[6]]);
     newton(
         &mut p,
         |p, r| {
@@ -136,7 +138,7 @@ pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Ve
         EQUILIBRIUM_TOLERANCE,
         30,
     )?;
-    Ok(state(&p))
+    Ok(v.layout().convert(&state(&p), &layout))
 }
 
 /// Steady straight rolling at `speed` (§8.1 step 3): starting from the static equilibrium, solve for the
@@ -154,8 +156,10 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
     for i in 0..4 {
         x[idx::SPIN + i] = speed / r;
     }
-    let relaxation = v.slip == SlipModel::Relaxation;
-    let hold = v.speed_mode == SpeedMode::Hold;
+    // The slip and hold unknowns exist when the options use them (a full layout may carry unused ones).
+    let layout = v.layout();
+    let relaxation = layout.xi.filter(|_| v.slip == crate::model::tire::SlipModel::Relaxation);
+    let hold = layout.zv.filter(|_| v.speed_mode == SpeedMode::Hold);
     // Unknowns: z, roll, pitch, u1..4, Ω1..4, [ξ (x, y) per corner], [z_v].
     let mut p = vec![x[idx::R0 + 2], 0.0, 0.0];
     let (roll, pitch, _) = crate::math::euler_from_matrix(&quat_to_matrix(&x[idx::E0..idx::E0 + 4]));
@@ -163,10 +167,10 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
     p[2] = pitch;
     p.extend_from_slice(&x[idx::U..idx::U + 4]);
     p.extend_from_slice(&x[idx::SPIN..idx::SPIN + 4]);
-    if relaxation {
+    if relaxation.is_some() {
         p.extend_from_slice(&[0.0; 8]);
     }
-    if hold {
+    if hold.is_some() {
         p.push(0.0);
     }
     let base = x.clone();
@@ -179,16 +183,16 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
         x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
         x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
         let mut k = 11;
-        if relaxation {
-            x[idx::XI..idx::XI + 8].copy_from_slice(&p[k..k + 8]);
+        if let Some(xi) = relaxation {
+            x[xi..xi + 8].copy_from_slice(&p[k..k + 8]);
             k += 8;
         }
-        if hold {
-            x[idx::ZV] = p[k];
+        if let Some(zv) = hold {
+            x[zv] = p[k];
         }
         x
     };
-    let mut dx = vec![0.0; idx::DIM];
+    let mut dx = vec![0.0; layout.dim];
     newton(
         &mut p,
         |p, r| {
@@ -201,11 +205,11 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
             r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
             r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
             let mut k = 11;
-            if relaxation {
-                r[k..k + 8].copy_from_slice(&dx[idx::XI..idx::XI + 8]);
+            if let Some(xi) = relaxation {
+                r[k..k + 8].copy_from_slice(&dx[xi..xi + 8]);
                 k += 8;
             }
-            if hold {
+            if hold.is_some() {
                 r[k] = acc.x;
             }
             Ok(())

@@ -25,7 +25,9 @@ pub const JACOBIAN_ROAD_AVERAGING: f64 = 0.002;
 pub const CORNERS: [&str; 4] = ["fl", "fr", "rl", "rr"];
 
 /// State layout (physics.md §7.1): r0, e0 (w, x, y, z), ṙ0, ω0 (ground frame), θ_L and θ̇_L per corner,
-/// absolute spin rates Ω, relaxation states (ξ_x, ξ_y) per corner, and the speed-hold integral.
+/// absolute spin rates Ω (the 25 states every run has), then, when the options need them, the relaxation
+/// states (ξ_x, ξ_y) per corner and the speed-hold integral (see `Layout`). `XI`, `ZV` and `DIM` are their
+/// places in the full layout (relaxation slip and speed hold, the defaults).
 pub mod idx {
     pub const R0: usize = 0;
     pub const E0: usize = 3;
@@ -34,9 +36,60 @@ pub mod idx {
     pub const U: usize = 13;
     pub const UD: usize = 17;
     pub const SPIN: usize = 21;
+    /// The states of every run.
+    pub const CORE: usize = 25;
     pub const XI: usize = 25;
     pub const ZV: usize = 33;
     pub const DIM: usize = 34;
+}
+
+/// Where the optional states are, decided by the options: the eight relaxation slip states exist only
+/// with relaxation slip (steady slip has no slip dynamics), the speed-hold integral only with the speed
+/// hold (coasting has no controller). Leaving them out is exact: they would only carry zero derivatives,
+/// never read; it saves integrator work and, for ROS2, finite-difference Jacobian columns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Layout {
+    /// Index of ξ_x of the front-left corner (then ξ_y, then the next corner), if present.
+    pub xi: Option<usize>,
+    /// Index of the speed-hold integral z_v, if present.
+    pub zv: Option<usize>,
+    pub dim: usize,
+}
+
+impl Layout {
+    /// The full layout (every optional state), whatever the options.
+    pub const FULL: Layout = Layout { xi: Some(idx::XI), zv: Some(idx::ZV), dim: idx::DIM };
+
+    pub fn new(slip: SlipModel, speed_mode: SpeedMode) -> Layout {
+        let mut dim = idx::CORE;
+        let mut take = |n: usize| {
+            let at = dim;
+            dim += n;
+            at
+        };
+        let xi = (slip == SlipModel::Relaxation).then(|| take(8));
+        let zv = (speed_mode == SpeedMode::Hold).then(|| take(1));
+        Layout { xi, zv, dim }
+    }
+
+    /// The relaxation states of corner i (zero where the layout has none).
+    #[inline]
+    pub fn xi(&self, x: &[f64], i: usize) -> [f64; 2] {
+        self.xi.map_or([0.0; 2], |k| [x[k + 2 * i], x[k + 2 * i + 1]])
+    }
+
+    /// `x` (laid out by `from`) in this layout: the common states copied, new ones zero.
+    pub fn convert(&self, x: &[f64], from: &Layout) -> Vec<f64> {
+        let mut out = vec![0.0; self.dim];
+        out[..idx::CORE].copy_from_slice(&x[..idx::CORE]);
+        if let (Some(a), Some(b)) = (self.xi, from.xi) {
+            out[a..a + 8].copy_from_slice(&x[b..b + 8]);
+        }
+        if let (Some(a), Some(b)) = (self.zv, from.zv) {
+            out[a] = x[b];
+        }
+        out
+    }
 }
 
 /// Which formulation solves for the accelerations (all share the kinematics and the terms).
@@ -164,6 +217,10 @@ pub struct Vehicle {
     pub gravity: f64,
     pub switches: ForceSwitches,
     pub total_mass: f64,
+    /// Keep the states the options leave unused (`Layout::FULL`): only to verify that leaving them out
+    /// changes nothing (tests/pruning.rs).
+    #[serde(default)]
+    pub keep_unused_states: bool,
 }
 
 /// The chassis part of the state: attitude A0, CM position r0, velocity ṙ0, angular velocity ω0 (ground).
@@ -234,6 +291,7 @@ impl Vehicle {
             gravity: data.gravity_m_s2,
             switches: ForceSwitches::default(),
             total_mass,
+            keep_unused_states: false,
         };
         v.rack.sign = if v
             .steering_gain_per_rack_metre()
@@ -245,6 +303,15 @@ impl Vehicle {
             1.0
         };
         Ok(v)
+    }
+
+    /// The state layout this vehicle's options give.
+    pub fn layout(&self) -> Layout {
+        if self.keep_unused_states {
+            Layout::FULL
+        } else {
+            Layout::new(self.slip, self.speed_mode)
+        }
     }
 
     /// ∂δ̄/∂s at design (mean of the two front wheels), rad per metre of rack translation along +y_C.
@@ -335,6 +402,15 @@ impl Vehicle {
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
     ) -> Result<(), EvalError> {
+        let layout = self.layout();
+        if x.len() != layout.dim || dxdt.len() != layout.dim {
+            return Err(EvalError(format!(
+                "state of {} and derivative of {} numbers, the layout of these options has {}",
+                x.len(),
+                dxdt.len(),
+                layout.dim
+            )));
+        }
         let mut local = Diagnostics::default();
         self.assemble_on(road, x, inputs, cache, &mut local)?;
         let assembly = &cache.assembly;
@@ -356,13 +432,17 @@ impl Vehicle {
             dxdt[idx::U + i] = x[idx::UD + i];
             dxdt[idx::UD + i] = acc.q_ddot[i][0];
             dxdt[idx::SPIN + i] = assembly.spin_torque[i] / self.corners[i].spin_inertia;
-            dxdt[idx::XI + 2 * i] = assembly.relaxation_rates[i][0];
-            dxdt[idx::XI + 2 * i + 1] = assembly.relaxation_rates[i][1];
+            if let Some(k) = layout.xi {
+                dxdt[k + 2 * i] = assembly.relaxation_rates[i][0];
+                dxdt[k + 2 * i + 1] = assembly.relaxation_rates[i][1];
+            }
         }
-        dxdt[idx::ZV] = match self.speed_mode {
-            SpeedMode::Hold => self.target_speed - assembly.heading_speed,
-            SpeedMode::Coast => 0.0,
-        };
+        if let Some(k) = layout.zv {
+            dxdt[k] = match self.speed_mode {
+                SpeedMode::Hold => self.target_speed - assembly.heading_speed,
+                SpeedMode::Coast => 0.0, // only in the full layout (`keep_unused_states`)
+            };
+        }
         if !dxdt.iter().all(|v| v.is_finite()) {
             return Err(EvalError("non-finite state derivative".into()));
         }
@@ -424,13 +504,12 @@ impl Vehicle {
         // horizontal heading (not the pitched body x axis), so that steady rolling with the static pitch
         // is an exact equilibrium; on a flat road the two differ by V(1 − cos θ) ≈ 1e-5 m/s.
         let vx_body = heading(&a0).dot(&v0);
-        let hold_torque = match self.speed_mode {
-            SpeedMode::Hold => {
+        let hold_torque = match (self.speed_mode, self.layout().zv) {
+            (SpeedMode::Hold, Some(zv)) => {
                 let (kp, ki) = self.speed_gains;
-                self.total_mass * self.tire.unloaded_radius_m * (kp * (self.target_speed - vx_body) + ki * x[idx::ZV])
-                    / 4.0
+                self.total_mass * self.tire.unloaded_radius_m * (kp * (self.target_speed - vx_body) + ki * x[zv]) / 4.0
             }
-            SpeedMode::Coast => 0.0,
+            _ => 0.0,
         };
 
         self.solve_corners(x, rack.position, cache)?;
@@ -547,7 +626,7 @@ impl Vehicle {
         chassis_wrench += wrench(&V3::zeros(), &(-axle * drive_torque));
         q_k += wrench(&V3::zeros(), &(axle * (brake_torque * (spin_rel / 0.5).tanh())));
         q_k += wrench(&V3::zeros(), &(-w_k.cross(&axle) * (c.spin_inertia * spin)));
-        let xi = [x[idx::XI + 2 * i], x[idx::XI + 2 * i + 1]];
+        let xi = self.layout().xi(x, i);
         let mut relaxation_rates = [0.0; 2];
         let centre_abs = rho_w + r0;
         diag.wheel_centre_z[i] = centre_abs.z;

@@ -18,7 +18,7 @@ use crate::model::equilibrium::{retune_ride_height, steady_rolling};
 use crate::model::params::VehicleData;
 use crate::model::road::RoadModel;
 use crate::model::tire::SlipModel;
-use crate::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Vehicle};
+use crate::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Layout, Vehicle};
 use serde::{Deserialize, Serialize};
 
 pub use inputs::{RackProfile, RackSample, RackSource};
@@ -84,6 +84,7 @@ impl SimConfig {
         if !(h > 0.0 && h.is_finite()) {
             return Err(SimError(format!("step must be positive and finite, got {h}")));
         }
+        // The largest layout: a bound that holds whatever states the options keep.
         let per_step = self.integrator.max_evaluations_per_step(idx::DIM);
         let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step; // one evaluation for the outputs
                                                                       // Compare before converting: ceil(h / internal_step) may not fit a usize.
@@ -139,7 +140,7 @@ pub struct VehicleOde<'a> {
 
 impl OdeSystem for VehicleOde<'_> {
     fn dim(&self) -> usize {
-        idx::DIM
+        self.vehicle.layout().dim
     }
 
     fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError> {
@@ -202,7 +203,7 @@ impl Start {
 
 /// Bounds no vehicle on a road reaches (a finite but absurd state is a diverged integration): speed
 /// 300 m/s, rates 100 rad/s (chassis) and 2000 rad/s (wheels), slip states 100.
-fn check_divergence(x: &[f64], t: f64) -> Result<(), EvalError> {
+fn check_divergence(x: &[f64], layout: &Layout, t: f64) -> Result<(), EvalError> {
     let norm3 = |k: usize| (x[k] * x[k] + x[k + 1] * x[k + 1] + x[k + 2] * x[k + 2]).sqrt();
     let bad = if norm3(idx::V0) > 300.0 {
         Some("chassis speed above 300 m/s")
@@ -210,7 +211,7 @@ fn check_divergence(x: &[f64], t: f64) -> Result<(), EvalError> {
         Some("chassis angular rate above 100 rad/s")
     } else if x[idx::SPIN..idx::SPIN + 4].iter().any(|w| w.abs() > 2000.0) {
         Some("wheel spin above 2000 rad/s")
-    } else if x[idx::XI..idx::XI + 8].iter().any(|s| s.abs() > 100.0) {
+    } else if layout.xi.is_some_and(|k| x[k..k + 8].iter().any(|s| s.abs() > 100.0)) {
         Some("tire slip state above 100")
     } else {
         None
@@ -283,7 +284,7 @@ impl Simulation {
             drive: [0.0; 4],
             brake: [0.0; 4],
             outputs_values: vec![0.0; OUTPUT_NAMES.len()],
-            state_before: Vec::with_capacity(idx::DIM),
+            state_before: Vec::with_capacity(idx::DIM), // the largest layout: no allocation per step
             monitor: SlipMonitor::default(),
             evaluations: 0,
             front_wheel_x0,
@@ -306,18 +307,19 @@ impl Simulation {
         if !(self.time >= 0.0 && (self.time - elapsed).abs() <= 1e-6 * elapsed.abs().max(1.0)) {
             return bad(format!("time {} differs from the FMU's time since the start {elapsed}", self.time));
         }
-        if self.state.len() != idx::DIM || self.state.iter().any(|v| !v.is_finite()) {
-            return bad(format!("the state must be {} finite numbers (got {})", idx::DIM, self.state.len()));
+        let layout = self.vehicle.layout();
+        if self.state.len() != layout.dim || self.state.iter().any(|v| !v.is_finite()) {
+            return bad(format!("the state must be {} finite numbers (got {})", layout.dim, self.state.len()));
         }
         let e = &self.state[idx::E0..idx::E0 + 4];
         if (e.iter().map(|v| v * v).sum::<f64>().sqrt() - 1.0).abs() > 1e-6 {
             return bad("the attitude quaternion is not of unit length".into());
         }
-        check_divergence(&self.state, self.time).map_err(|e| SimError(format!("simulation: {}", e.0)))?;
+        check_divergence(&self.state, &layout, self.time).map_err(|e| SimError(format!("simulation: {}", e.0)))?;
         if self.integrator.kind() != self.config.integrator {
             return bad("the integrator differs from the configured one".into());
         }
-        self.integrator.validate(idx::DIM).map_err(|e| SimError(format!("simulation: {e}")))?;
+        self.integrator.validate(layout.dim).map_err(|e| SimError(format!("simulation: {e}")))?;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         if !finite(&self.drive) || !self.brake.iter().all(|b| *b >= 0.0 && b.is_finite()) {
             return bad("wheel torques must be finite, brake torques >= 0".into());
@@ -420,6 +422,7 @@ impl Simulation {
 
     fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), EvalError> {
         let t0 = self.time;
+        let layout = self.vehicle.layout();
         let mut ode = VehicleOde {
             vehicle: &self.vehicle,
             rack: &self.rack,
@@ -430,7 +433,7 @@ impl Simulation {
         };
         for k in 0..n {
             self.integrator.step(&mut ode, t0 + k as f64 * hs, hs, &mut self.state)?;
-            check_divergence(&self.state, t0 + (k + 1) as f64 * hs)?;
+            check_divergence(&self.state, &layout, t0 + (k + 1) as f64 * hs)?;
         }
         self.evaluations += ode.evaluations;
         self.time = t0 + h;
@@ -439,11 +442,12 @@ impl Simulation {
 
     /// Evaluate the model at the current state for the outputs (and the slip monitor).
     fn update_outputs(&mut self) -> Result<(), EvalError> {
-        let mut dx = [0.0; idx::DIM];
+        let mut dx = [0.0; idx::DIM]; // the largest layout
+        let dx = &mut dx[..self.vehicle.layout().dim];
         let mut d = Diagnostics::default();
         let rack = self.rack.at(self.time);
         let inputs = Inputs { rack, drive: self.drive, brake: self.brake };
-        self.vehicle.derivative(&self.state, &inputs, &mut self.cache, &mut dx, Some(&mut d))?;
+        self.vehicle.derivative(&self.state, &inputs, &mut self.cache, dx, Some(&mut d))?;
         self.evaluations += 1;
         let x = &self.state;
         let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
