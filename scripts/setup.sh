@@ -1,15 +1,24 @@
 #!/usr/bin/env bash
-# Installs what the build and the tests need on a fresh Debian machine (idempotent):
-# libclang for fmi-sys's bindgen, and a Python venv (.venv) with fmpy, numpy, matplotlib, pytest.
+# Installs what the build and the tests need on a fresh Debian machine (idempotent, quiet when all is there):
+# libclang for fmi-sys's bindgen, valgrind for the memcheck run, and a Python venv (.venv) with fmpy, numpy,
+# matplotlib, pytest, pyelftools (the GLIBC check) and cargo-zigbuild + ziglang (the portable linux64 FMU binary).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if ! ls /usr/lib/llvm-*/lib/libclang*.so* >/dev/null 2>&1 && ! ldconfig -p 2>/dev/null | grep -q libclang; then
+source scripts/libclang.sh
+apt_packages=()
+# Judge by the files bindgen can load (libclang-cpp.so.N, present on Debian 12 images, is not one).
+mapfile -t libclang_files < <(libclang_candidates)
+libclang_present "${libclang_files[@]}" >/dev/null || apt_packages+=(libclang-dev)
+command -v valgrind >/dev/null 2>&1 || apt_packages+=(valgrind)
+if [ ${#apt_packages[@]} -gt 0 ]; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq libclang-dev >/dev/null
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${apt_packages[@]}" >/dev/null
 fi
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-.venv/bin/python -c "import fmpy, numpy, matplotlib, pytest" 2>/dev/null || \
-    .venv/bin/pip install -q fmpy numpy matplotlib pytest
+# packaging/ runs .venv/bin/cargo-zigbuild, which finds zig as `python -m ziglang` in the same venv.
+{ .venv/bin/python -c "import fmpy, numpy, matplotlib, pytest, elftools, ziglang" 2>/dev/null \
+    && [ -x .venv/bin/cargo-zigbuild ]; } || \
+    .venv/bin/pip install -q fmpy numpy matplotlib pytest pyelftools cargo-zigbuild ziglang
