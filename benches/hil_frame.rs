@@ -1,7 +1,9 @@
 //! The 1 kHz HIL frame through the C API, as a real-time master drives it: each frame sets the rack
-//! (fmi2SetReal), advances 1 ms (fmi2DoStep: one RK4 step of 1 ms) and reads every output (fmi2GetReal).
-//! Prints the median, the 99th percentile and the maximum of the frame's cost, in µs and as a share of
-//! the 1 ms frame, over 20 s of J-turn-like input (20,000 frames after 1,000 of warm-up).
+//! (fmi2SetReal), advances 1 ms (fmi2DoStep: one RK4 step of 1 ms) and reads outputs (fmi2GetReal).
+//! Three read patterns: every output; the pose and velocities only (what a motion platform or an image
+//! generator reads; read straight from the state, no evaluation); nothing. Prints the median, the 99th
+//! percentile and the maximum of the frame's cost, in µs and as a share of the 1 ms frame, over 20 s of
+//! a J-turn-like input (20,000 frames after 1,000 of warm-up).
 //!
 //! `cargo bench --bench hil_frame`
 //! (A report, not a test: the machine's noise moves the tail; quote the median, and instruction counts
@@ -10,14 +12,13 @@
 use fmi_sys::fmi2::fmi2Status_fmi2OK;
 use rt_vehicle::fmi::exports::{fmi2GetReal, fmi2SetReal};
 use rt_vehicle::fmi::native::NativeInstance;
-use rt_vehicle::fmi::variables::{vr, Causality, VARIABLES};
+use rt_vehicle::fmi::variables::{vr, Causality, Variable, VARIABLES};
 use std::time::Instant;
 
 const FRAME: f64 = 1e-3;
 
-fn main() {
+fn frames(outputs: &[u32]) -> Vec<f64> {
     let mut inst = NativeInstance::initialized("hil").expect("instance");
-    let outputs: Vec<u32> = VARIABLES.iter().filter(|v| v.causality == Causality::Output).map(|v| v.vr).collect();
     let mut values = vec![0.0; outputs.len()];
     let rack_vr = [vr::RACK_DISPLACEMENT];
     let (warmup, frames) = (1_000usize, 20_000usize);
@@ -43,13 +44,26 @@ fn main() {
     }
     std::hint::black_box(&values);
     cost.sort_by(|a, b| a.total_cmp(b));
-    let at = |q: f64| cost[((cost.len() - 1) as f64 * q).round() as usize];
-    let frame_us = FRAME * 1e6;
-    println!(
-        "1 kHz HIL frame (set rack, fmi2DoStep 1 ms = one RK4 step, get {} outputs), {frames} frames:",
-        outputs.len()
-    );
-    for (name, v) in [("median", at(0.5)), ("p99", at(0.99)), ("max", *cost.last().unwrap())] {
-        println!("  {name:<6} {v:8.2} us  {:6.2} % of the frame", 100.0 * v / frame_us);
+    cost
+}
+
+fn main() {
+    let all: Vec<u32> = VARIABLES.iter().filter(|v| v.causality == Causality::Output).map(|v| v.vr).collect();
+    let pose = ["x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vz", "roll_rate", "pitch_rate", "yaw_rate"];
+    let pose: Vec<u32> = pose.iter().map(|n| Variable::by_name(n).expect("output").vr).collect();
+    println!("1 kHz HIL frame: set rack, fmi2DoStep 1 ms (one RK4 step), get outputs; 20000 frames");
+    for (label, outputs) in
+        [("every output (47)", &all[..]), ("pose and velocities (12)", &pose[..]), ("none", &[][..])]
+    {
+        let cost = frames(outputs);
+        let at = |q: f64| cost[((cost.len() - 1) as f64 * q).round() as usize];
+        let share = |v: f64| 100.0 * v / (FRAME * 1e6);
+        let (median, p99, max) = (at(0.5), at(0.99), *cost.last().unwrap());
+        println!(
+            "  {label:<26} median {median:6.2} us ({:5.2} %), p99 {p99:6.2} us ({:5.2} %), max {max:7.2} us ({:5.2} %)",
+            share(median),
+            share(p99),
+            share(max)
+        );
     }
 }

@@ -70,7 +70,7 @@ fn sine_steer_trace(integrator: IntegratorKind, h: f64) -> Vec<[f64; 4]> {
     let mut out = Vec::new();
     for _ in 0..375 {
         sim.advance(0.008).unwrap();
-        let o = sim.outputs();
+        let o = sim.outputs().unwrap();
         out.push(["yaw_rate", "vy", "roll_rate", "ay"].map(|c| o.get(c).unwrap()));
     }
     out

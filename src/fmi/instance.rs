@@ -256,6 +256,11 @@ impl<M: FmuModel> Instance<M> {
         if self.core.mode == InitializationMode && calculated {
             self.initialize_if_needed()?;
         }
+        // Values are computed when read: bring every requested one up to date first.
+        for &vr in vrs {
+            let var = self.lookup(function, vr, ty)?;
+            self.core.model.refresh(var, &self.logger).map_err(|e| Failure::error(format!("{function}: {e}")))?;
+        }
         Ok(())
     }
 

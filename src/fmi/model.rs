@@ -77,6 +77,14 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
     /// simulation, and `elapsed` is the FMU time since the start time. `Err` names the first bad field.
     fn validate_restored(&mut self, context: &ModelContext, initialized: bool, elapsed: f64) -> Result<(), String>;
 
+    /// Make `var` current before it is read: values are computed when read, not per step (the Reference
+    /// FMUs' `isDirtyValues`). Called for every variable of a get call, before any is read. Default: the
+    /// model keeps every value current.
+    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), String> {
+        let _ = (var, log);
+        Ok(())
+    }
+
     /// Advance from `t` (the FMU's own time, checked by the caller) by `h > 0`. On failure the values the
     /// getters return must stay finite (the last good ones).
     fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure>;

@@ -2,8 +2,9 @@
 //! `advance(h)`, outputs from `Simulation::outputs()` by name.
 //!
 //! Parameters are plain values until the simulation is built (`initialize`, i.e. when leaving
-//! initialization mode). The outputs served are the last good ones: a failed step never hands NaN to the
-//! master.
+//! initialization mode). Outputs are computed when read (`refresh`, as the Reference FMUs' `isDirtyValues`):
+//! those read straight from the state cost nothing, the others one evaluation per step for all of them,
+//! none when nothing is read. A failed step leaves the last good state, so its outputs are served.
 
 use super::logger::Logger;
 use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
@@ -132,7 +133,7 @@ fn road(i: i32) -> Result<RoadChoice, String> {
     }
 }
 
-/// The instance model state: parameters, inputs, the simulation and the last good outputs.
+/// The instance model state: parameters, inputs and the simulation.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VehicleModel {
     pub params: Parameters,
@@ -142,8 +143,9 @@ pub struct VehicleModel {
     pub drive: [f64; 4],
     pub brake: [f64; 4],
     pub sim: Option<Simulation>,
-    /// The last good outputs, indexed like `OUTPUT_NAMES` (empty before `initialize`).
-    pub outputs: Vec<f64>,
+    /// The slip monitor's warning was logged (it is logged once, when it first fires).
+    #[serde(default)]
+    pub monitor_reported: bool,
     /// Wall-clock seconds of the last `fmi2DoStep` (diagnostic, not deterministic).
     pub step_cpu_time: f64,
 }
@@ -197,11 +199,10 @@ impl VehicleModel {
     }
 
     fn output(&self, var: &Variable) -> Result<f64, String> {
-        let slot = OUTPUT_SLOTS[var.index];
-        self.outputs
-            .get(slot)
-            .copied()
-            .ok_or_else(|| format!("{} is available once the model is initialized", var.name))
+        let sim =
+            self.sim.as_ref().ok_or_else(|| format!("{} is available once the model is initialized", var.name))?;
+        sim.current_output(OUTPUT_SLOTS[var.index])
+            .ok_or_else(|| format!("{} was not computed for the current state (refresh first)", var.name))
     }
 }
 
@@ -214,7 +215,7 @@ impl FmuModel for VehicleModel {
             drive: [0.0; 4],
             brake: [0.0; 4],
             sim: None,
-            outputs: Vec::new(),
+            monitor_reported: false,
             step_cpu_time: 0.0,
         }
     }
@@ -323,12 +324,8 @@ impl FmuModel for VehicleModel {
         }
         log.event(&format!("configuration: {config:?}"));
         let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
-        let outputs = sim.outputs().values.to_vec();
-        if let Some(i) = outputs.iter().position(|v| !v.is_finite()) {
-            return Err(format!("initial output {} is not finite ({})", OUTPUT_NAMES[i], outputs[i]));
-        }
         self.sim = Some(sim);
-        self.outputs = outputs;
+        self.monitor_reported = false;
         self.step_cpu_time = 0.0;
         Ok(())
     }
@@ -353,9 +350,6 @@ impl FmuModel for VehicleModel {
         }
         match &self.sim {
             Some(sim) => {
-                if self.outputs.len() != OUTPUT_NAMES.len() || self.outputs.iter().any(|v| !v.is_finite()) {
-                    return Err(format!("outputs: {} finite values expected", OUTPUT_NAMES.len()));
-                }
                 sim.config().validate().map_err(|e| format!("simulation: {e}"))?;
                 if *sim.config() != config {
                     return Err("the simulation's configuration differs from the parameters".into());
@@ -366,12 +360,11 @@ impl FmuModel for VehicleModel {
                 sim.validate_restored(&data, elapsed).map_err(|e| e.to_string())
             }
             None if initialized => Err("an initialized state without a simulation".into()),
-            None if !self.outputs.is_empty() => Err("outputs without a simulation".into()),
             None => Ok(()),
         }
     }
 
-    fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure> {
+    fn do_step(&mut self, t: f64, h: f64, _log: &Logger) -> Result<(), StepFailure> {
         let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
         // Too much work for one call: refused before anything changes (the inputs stay for the next try).
         sim.config().plan(h).map_err(|e| StepFailure::Refused(e.to_string()))?;
@@ -382,26 +375,23 @@ impl FmuModel for VehicleModel {
             second_derivative: derivatives[1],
         });
         sim.set_wheel_torques(self.drive, self.brake);
-        let flagged_before = sim.monitor.first_flagged.is_some();
         let clock = std::time::Instant::now();
         let result = sim.advance(h);
         self.step_cpu_time = clock.elapsed().as_secs_f64();
-        if !flagged_before && sim.monitor.first_flagged.is_some() {
-            // Numerical instability is reported when it starts, never silent (physics.md §7.4).
+        result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))
+    }
+
+    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), String> {
+        let Some(sim) = self.sim.as_mut() else { return Ok(()) };
+        if var.causality != Causality::Output {
+            return Ok(());
+        }
+        sim.output(OUTPUT_SLOTS[var.index]).map_err(|e| e.to_string())?;
+        if !self.monitor_reported && sim.monitor.first_flagged.is_some() {
+            // Numerical instability is reported when the outputs first show it, never silent (§7.4).
+            self.monitor_reported = true;
             sim.warnings().iter().for_each(|w| log.warning(w));
         }
-        result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))?;
-        let out = sim.outputs();
-        if let Some(i) = out.values.iter().position(|v| !v.is_finite()) {
-            return Err(StepFailure::Terminate(format!(
-                "diverged: output {} is {} at t = {}",
-                OUTPUT_NAMES[i],
-                out.values[i],
-                t + h
-            )));
-        }
-        self.outputs.clear();
-        self.outputs.extend_from_slice(&out.values);
         Ok(())
     }
 }

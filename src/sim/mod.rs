@@ -224,6 +224,18 @@ fn check_divergence(x: &[f64], layout: &Layout, t: f64) -> Result<(), EvalError>
     }
 }
 
+/// How far the stored outputs are up to date with the state (outputs are computed when read).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Default, Serialize, Deserialize)]
+enum Fresh {
+    /// Stale: the state moved since they were computed.
+    #[default]
+    None,
+    /// The outputs read straight from the state are current (`outputs::from_state`).
+    State,
+    /// All are current.
+    All,
+}
+
 /// Wheel slip without the torque to explain it: the signature of the spin–slip instability of an
 /// explicit scheme at too large a step (physics.md §7.4, §9.11).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
@@ -252,6 +264,9 @@ pub struct Simulation {
     drive: [f64; 4],
     brake: [f64; 4],
     outputs_values: Vec<f64>,
+    /// Which of `outputs_values` belong to the current state.
+    #[serde(default)]
+    fresh: Fresh,
     /// The state at the start of the current `advance`, for rollback (scratch: not part of a saved state).
     #[serde(skip)]
     state_before: Vec<f64>,
@@ -284,12 +299,13 @@ impl Simulation {
             drive: [0.0; 4],
             brake: [0.0; 4],
             outputs_values: vec![0.0; OUTPUT_NAMES.len()],
+            fresh: Fresh::None,
             state_before: Vec::with_capacity(idx::DIM), // the largest layout: no allocation per step
             monitor: SlipMonitor::default(),
             evaluations: 0,
             front_wheel_x0,
         };
-        sim.update_outputs().map_err(|e| SimError(e.0))?;
+        sim.evaluate_outputs().map_err(|e| SimError(e.0))?;
         Ok(sim)
     }
 
@@ -399,7 +415,7 @@ impl Simulation {
         // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
         self.state_before.clear();
         self.state_before.extend_from_slice(&self.state);
-        let backup = (self.cache.corners, self.evaluations, self.rack, self.last_external_slope);
+        let backup = (self.cache.corners, self.evaluations, self.rack, self.last_external_slope, self.fresh);
         if let RackSource::PendingRamp { t_k, start, target } = self.rack {
             let slope = (target - start) / h;
             if self.last_external_slope.is_some_and(|s| s != slope) {
@@ -412,7 +428,7 @@ impl Simulation {
             Ok(()) => Ok(()),
             Err(e) => {
                 self.state.copy_from_slice(&self.state_before);
-                (self.cache.corners, self.evaluations, self.rack, self.last_external_slope) = backup;
+                (self.cache.corners, self.evaluations, self.rack, self.last_external_slope, self.fresh) = backup;
                 // A multistep history may hold sub-steps of the failed interval: start it afresh.
                 self.integrator.restart();
                 Err(SimError(format!("t = {:.6} s: {}", self.time, e.0)))
@@ -437,32 +453,21 @@ impl Simulation {
         }
         self.evaluations += ode.evaluations;
         self.time = t0 + h;
-        self.update_outputs()
+        self.fresh = Fresh::None; // outputs are computed when read
+        Ok(())
     }
 
-    /// Evaluate the model at the current state for the outputs (and the slip monitor).
-    fn update_outputs(&mut self) -> Result<(), EvalError> {
-        let mut dx = [0.0; idx::DIM]; // the largest layout
-        let dx = &mut dx[..self.vehicle.layout().dim];
-        let mut d = Diagnostics::default();
-        let rack = self.rack.at(self.time);
-        let inputs = Inputs { rack, drive: self.drive, brake: self.brake };
-        self.vehicle.derivative(&self.state, &inputs, &mut self.cache, dx, Some(&mut d))?;
-        self.evaluations += 1;
+    /// The outputs that come straight from the state, without an evaluation: time, pose, velocities and
+    /// the rack position.
+    fn write_state_outputs(&mut self) {
         let x = &self.state;
         let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
         let (roll, pitch, yaw) = euler_from_matrix(&a0);
         let v = a0.transpose() * V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
         let w = a0.transpose() * V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
-        let a = a0.transpose() * d.chassis_acceleration;
         let o = &mut self.outputs_values;
-        let mut k = 0;
-        let mut push = |val: f64| {
-            o[k] = val;
-            k += 1;
-        };
-        push(self.time);
-        for val in [
+        o[0] = self.time;
+        o[1..13].copy_from_slice(&[
             x[idx::R0],
             x[idx::R0 + 1],
             x[idx::R0 + 2],
@@ -475,13 +480,34 @@ impl Simulation {
             w.x,
             w.y,
             w.z,
-            a.x,
-            a.y,
-            a.z,
-            rack.position,
-        ] {
-            push(val);
-        }
+        ]);
+        o[16] = self.rack.at(self.time).position;
+        self.fresh = self.fresh.max(Fresh::State);
+    }
+
+    /// Evaluate the model at the current state for the other outputs (and the slip monitor). The
+    /// evaluation leaves the Newton warm starts as they were: reading outputs never changes the run.
+    fn evaluate_outputs(&mut self) -> Result<(), EvalError> {
+        self.write_state_outputs();
+        let mut dx = [0.0; idx::DIM]; // the largest layout
+        let dx = &mut dx[..self.vehicle.layout().dim];
+        let mut d = Diagnostics::default();
+        let rack = self.rack.at(self.time);
+        let inputs = Inputs { rack, drive: self.drive, brake: self.brake };
+        let warm_starts = self.cache.corners;
+        let evaluated = self.vehicle.derivative(&self.state, &inputs, &mut self.cache, dx, Some(&mut d));
+        self.cache.corners = warm_starts;
+        evaluated?;
+        self.evaluations += 1;
+        let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
+        let a = a0.transpose() * d.chassis_acceleration;
+        let o = &mut self.outputs_values;
+        o[13..16].copy_from_slice(&[a.x, a.y, a.z]);
+        let mut k = 17;
+        let mut push = |val: f64| {
+            o[k] = val;
+            k += 1;
+        };
         // Steer angles from the positions this evaluation solved (an atan2 each: only here, not per stage).
         let positions = &self.cache.positions;
         push(self.vehicle.corners[0].steer_angle(&positions[0]));
@@ -496,8 +522,15 @@ impl Simulation {
         push(d.max_residual);
         push(d.newton_iterations as f64);
         debug_assert_eq!(k, OUTPUT_NAMES.len());
+        if let Some(i) = self.outputs_values.iter().position(|v| !v.is_finite()) {
+            return Err(EvalError(format!(
+                "output {} is {} at t = {}",
+                OUTPUT_NAMES[i], self.outputs_values[i], self.time
+            )));
+        }
+        self.fresh = Fresh::All;
 
-        // Slip monitor (§9.11).
+        // Slip monitor (§9.11), at the output points.
         let mu_r = self.vehicle.tire.sti.mu0 * self.vehicle.tire.unloaded_radius_m;
         for i in 0..4 {
             let torque = d.drive_torque[i].abs() + self.brake[i];
@@ -510,10 +543,34 @@ impl Simulation {
         Ok(())
     }
 
-    pub fn outputs(&self) -> Outputs {
+    /// Output `index` (of `OUTPUT_NAMES`) at the current state, computed when first read after a step:
+    /// the state outputs cost no evaluation, the others one evaluation for all of them.
+    pub fn output(&mut self, index: usize) -> Result<f64, SimError> {
+        let needed = if outputs::from_state(index) { Fresh::State } else { Fresh::All };
+        if self.fresh < needed {
+            if needed == Fresh::State {
+                self.write_state_outputs();
+            } else {
+                self.evaluate_outputs().map_err(|e| SimError(format!("outputs: {}", e.0)))?;
+            }
+        }
+        Ok(self.outputs_values[index])
+    }
+
+    /// Output `index` if it is already computed for the current state (`output` computes it).
+    pub fn current_output(&self, index: usize) -> Option<f64> {
+        let needed = if outputs::from_state(index) { Fresh::State } else { Fresh::All };
+        (self.fresh >= needed).then(|| self.outputs_values[index])
+    }
+
+    /// Every output at the current state (one evaluation if they are not yet computed).
+    pub fn outputs(&mut self) -> Result<Outputs, SimError> {
+        if self.fresh < Fresh::All {
+            self.evaluate_outputs().map_err(|e| SimError(format!("outputs: {}", e.0)))?;
+        }
         let mut o = Outputs::default();
         o.values.copy_from_slice(&self.outputs_values);
-        o
+        Ok(o)
     }
 
     /// Human-readable warnings so far (the CLI prints them, the FMU logs them).

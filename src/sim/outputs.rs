@@ -57,6 +57,12 @@ pub const OUTPUT_NAMES: [&str; 49] = [
 /// max |Φ| over the subsystems at the last evaluation (m), Newton iterations of the last evaluation.
 pub const CSV_COLUMNS: usize = 47;
 
+/// Whether output `index` is read straight from the state (time, pose, velocities, rack position: no
+/// evaluation of the model needed) rather than from an evaluation (accelerations, wheels, tires).
+pub const fn from_state(index: usize) -> bool {
+    index <= 12 || index == 16
+}
+
 /// One sample of every output channel, indexed like `OUTPUT_NAMES`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outputs {
@@ -76,5 +82,34 @@ impl Outputs {
 
     pub fn get(&self, name: &str) -> Option<f64> {
         Self::index(name).map(|i| self.values[i])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_state_outputs_are_the_pose_the_velocities_and_the_rack() {
+        let state: Vec<&str> = (0..OUTPUT_NAMES.len()).filter(|&i| from_state(i)).map(|i| OUTPUT_NAMES[i]).collect();
+        assert_eq!(
+            state,
+            [
+                "time",
+                "x",
+                "y",
+                "z",
+                "roll",
+                "pitch",
+                "yaw",
+                "vx",
+                "vy",
+                "vz",
+                "roll_rate",
+                "pitch_rate",
+                "yaw_rate",
+                "rack_displacement"
+            ]
+        );
     }
 }

@@ -129,13 +129,13 @@ impl Scene {
 /// Step `sim` to `end`, calling `sample` at t = 0 and every `interval` (each interval is one `advance`,
 /// split into equal sub-steps by the one rule of §7.2).
 pub fn run(sim: &mut Simulation, end: f64, interval: f64, mut sample: impl FnMut(&Outputs)) -> Result<(), SimError> {
-    sample(&sim.outputs());
+    sample(&sim.outputs()?);
     let n = (end / interval - 1e-9).ceil().max(0.0) as usize;
     let t0 = sim.time();
     for k in 1..=n {
         let target = (t0 + k as f64 * interval).min(t0 + end);
         sim.advance(target - sim.time())?;
-        sample(&sim.outputs());
+        sample(&sim.outputs()?);
     }
     Ok(())
 }
