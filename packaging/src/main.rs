@@ -1,14 +1,23 @@
-//! Builds `target/fmu/RtVehicle.fmu`: `cargo build --release --lib` of the root crate, then a zip with
+//! Builds `target/fmu/RtVehicle.fmu`: a portable linux64 build of the root crate's library, then a zip with
 //!
 //! ```text
 //! modelDescription.xml
 //! binaries/linux64/RtVehicle.so      (librt_vehicle.so renamed: no `lib` prefix)
+//! binaries/<platform>/RtVehicle.<ext> (prebuilt binaries given with --binary, if any)
 //! resources/…                        (every file of resources/, e.g. hmmwv.json)
 //! documentation/index.html           (generated from the model description)
 //! ```
 //!
-//! Usage: `cargo run --release -p packaging [-- --no-build]` (`--no-build` packages the existing library).
+//! The linux64 library is built with `cargo zigbuild --release --lib -p rt-vehicle --target
+//! x86_64-unknown-linux-gnu.2.17`: zig links it against glibc 2.17 symbol versions, so the FMU loads on any
+//! x86-64 Linux with glibc ≥ 2.17 (RHEL/CentOS 7 and newer), not only on machines as new as the build host.
+//! cargo-zigbuild and zig (PyPI's ziglang) come from the project's venv `.venv` (`bash scripts/setup.sh`).
+//!
+//! Usage: `cargo run --release -p packaging [-- [--no-build] [--binary PLATFORM=PATH]...]`
+//! (`--no-build` packages the existing library; `--binary win64=RtVehicle.dll` adds another platform's
+//! prebuilt binary, e.g. one built on Windows, to make a multi-platform FMU).
 
+use std::ffi::OsString;
 use std::fmt::Write as _;
 use std::fs::File;
 use std::io::Write as _;
@@ -17,6 +26,22 @@ use std::process::{Command, ExitCode};
 use zip::write::SimpleFileOptions;
 
 const LIB_STEM: &str = "rt_vehicle";
+
+/// The Rust target of the linux64 binary: x86-64 Linux, glibc symbol versions no newer than 2.17 (the
+/// manylinux2014 floor; Rust's standard library supports 2.17). cargo-zigbuild strips the `.2.17` suffix for
+/// rustc and for the output directory, so this is the host's own target: no `rustup target add` needed.
+const PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
+const PORTABLE_TARGET_DIR: &str = "x86_64-unknown-linux-gnu";
+
+/// FMI 2.0's platform folders (binaries/<platform>/) and the extension of a shared library on each.
+const FMI_PLATFORMS: [(&str, &str); 6] = [
+    ("win32", "dll"),
+    ("win64", "dll"),
+    ("linux32", "so"),
+    ("linux64", "so"),
+    ("darwin32", "dylib"),
+    ("darwin64", "dylib"),
+];
 
 fn main() -> ExitCode {
     match run() {
@@ -49,42 +74,127 @@ fn target_dir(root: &Path) -> PathBuf {
     }
 }
 
-/// (FMI platform folder, shared-library file name cargo writes, extension)
-fn platform() -> Result<(&'static str, String, &'static str), String> {
-    if cfg!(all(target_os = "linux", target_pointer_width = "64")) {
-        Ok(("linux64", format!("lib{LIB_STEM}.so"), "so"))
-    } else if cfg!(all(target_os = "macos", target_pointer_width = "64")) {
-        Ok(("darwin64", format!("lib{LIB_STEM}.dylib"), "dylib"))
-    } else if cfg!(all(target_os = "windows", target_pointer_width = "64")) {
-        Ok(("win64", format!("{LIB_STEM}.dll"), "dll"))
-    } else {
-        Err("unsupported platform (FMI 2.0 names linux64, darwin64, win64)".into())
+/// The command line: `--no-build` and any number of `--binary PLATFORM=PATH`.
+#[derive(Debug, PartialEq)]
+struct Options {
+    build: bool,
+    /// (FMI platform, file): copied to binaries/<platform>/<model identifier>.<ext>
+    binaries: Vec<(String, PathBuf)>,
+}
+
+fn parse_args<I: IntoIterator<Item = String>>(args: I) -> Result<Options, String> {
+    let mut options = Options { build: true, binaries: Vec::new() };
+    let mut args = args.into_iter();
+    while let Some(arg) = args.next() {
+        let spec = match arg.as_str() {
+            "--no-build" => {
+                options.build = false;
+                continue;
+            }
+            "--binary" => args.next().ok_or("--binary needs PLATFORM=PATH, e.g. --binary win64=RtVehicle.dll")?,
+            a if a.starts_with("--binary=") => a["--binary=".len()..].to_string(),
+            a => return Err(format!("unknown argument {a:?} (usage: [--no-build] [--binary PLATFORM=PATH]...)")),
+        };
+        let (platform, path) = parse_binary(&spec)?;
+        if options.binaries.iter().any(|(p, _)| *p == platform) {
+            return Err(format!("--binary {platform}=… given twice"));
+        }
+        options.binaries.push((platform, path));
     }
+    Ok(options)
+}
+
+/// `PLATFORM=PATH` → (platform, path), checked: an FMI 2.0 platform other than linux64 (built here), an
+/// existing file, and the shared-library extension of that platform (a .so in win64/ would never load).
+fn parse_binary(spec: &str) -> Result<(String, PathBuf), String> {
+    let (platform, path) = spec
+        .split_once('=')
+        .ok_or_else(|| format!("--binary {spec:?}: expected PLATFORM=PATH, e.g. win64=RtVehicle.dll"))?;
+    let names = FMI_PLATFORMS.iter().map(|(p, _)| *p).collect::<Vec<_>>().join(", ");
+    let ext = FMI_PLATFORMS
+        .iter()
+        .find(|(p, _)| *p == platform)
+        .map(|(_, e)| *e)
+        .ok_or_else(|| format!("--binary {spec:?}: unknown platform {platform:?} (FMI 2.0 platforms: {names})"))?;
+    if platform == "linux64" {
+        return Err(format!("--binary {spec:?}: the linux64 binary is built by this command (portable, glibc ≥ 2.17)"));
+    }
+    let path = PathBuf::from(path);
+    if !path.is_file() {
+        return Err(format!("--binary {spec:?}: {} is not a file", path.display()));
+    }
+    if path.extension().and_then(|e| e.to_str()) != Some(ext) {
+        return Err(format!("--binary {spec:?}: a {platform} binary must be a .{ext} file"));
+    }
+    Ok((platform.to_string(), path))
+}
+
+/// Builds the linux64 library with cargo-zigbuild from `.venv`, or says how to install it. No fallback to a
+/// native `cargo build`: that library would need the build host's glibc (2.35 on Debian 12) and silently
+/// ship an FMU that does not load on older Linux.
+fn build_portable(root: &Path, target: &Path) -> Result<(), String> {
+    let venv_bin = root.join(".venv").join("bin");
+    let zigbuild = venv_bin.join("cargo-zigbuild");
+    let install = "install the cross toolchain (cargo-zigbuild and ziglang into .venv) with `bash scripts/setup.sh`";
+    if !zigbuild.is_file() {
+        return Err(format!("{} not found: {install}", zigbuild.display()));
+    }
+    // cargo-zigbuild runs zig as `python -m ziglang` when no `zig` is on PATH: check it is there.
+    let zig_ok = Command::new(venv_bin.join("python")).args(["-m", "ziglang", "version"]).output();
+    if !zig_ok.as_ref().is_ok_and(|o| o.status.success()) {
+        return Err(format!("zig (`.venv/bin/python -m ziglang`) does not run: {install}"));
+    }
+    // zig's caches and cargo-zigbuild's wrapper scripts go under target/, not the user's ~/.cache.
+    let zig_dir = target.join("zig");
+    std::fs::create_dir_all(&zig_dir).map_err(|e| format!("{}: {e}", zig_dir.display()))?;
+    let mut path = OsString::from(&venv_bin);
+    if let Some(p) = std::env::var_os("PATH") {
+        path.push(":");
+        path.push(p);
+    }
+    let status = Command::new(&zigbuild)
+        .args(["zigbuild", "--release", "--lib", "-p", "rt-vehicle", "--target", PORTABLE_TARGET])
+        .arg("--manifest-path")
+        .arg(root.join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(target)
+        // Not the workspace root: zig prints its include paths relative to the working directory when they
+        // lie below it (.venv/…), cargo-zigbuild hands them to bindgen (fmi-sys's build script), which runs
+        // in another directory and then finds no stddef.h.
+        .current_dir(&zig_dir)
+        .env("PATH", path)
+        .env("CARGO_ZIGBUILD_CACHE_DIR", zig_dir.join("cargo-zigbuild"))
+        .env("ZIG_GLOBAL_CACHE_DIR", zig_dir.join("global"))
+        .env("ZIG_LOCAL_CACHE_DIR", zig_dir.join("local"))
+        .status()
+        .map_err(|e| format!("cannot run {}: {e}", zigbuild.display()))?;
+    if !status.success() {
+        return Err(format!("cargo zigbuild --release --lib --target {PORTABLE_TARGET} failed ({status})"));
+    }
+    Ok(())
 }
 
 fn run() -> Result<PathBuf, String> {
     let root = root();
-    let build = !std::env::args().any(|a| a == "--no-build");
-    if build {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let status = Command::new(cargo)
-            .args(["build", "--release", "--lib", "-p", "rt-vehicle"])
-            .current_dir(&root)
-            .status()
-            .map_err(|e| format!("cannot run cargo: {e}"))?;
-        if !status.success() {
-            return Err(format!("cargo build --release --lib failed ({status})"));
-        }
+    let options = parse_args(std::env::args().skip(1))?;
+    let target = target_dir(&root);
+    if options.build {
+        build_portable(&root, &target)?;
     }
     let xml_path = root.join("modelDescription/modelDescription.xml");
     let xml = std::fs::read_to_string(&xml_path).map_err(|e| format!("{}: {e}", xml_path.display()))?;
     let md = ModelDescription::parse(&xml)?;
 
-    let (platform, lib_name, ext) = platform()?;
-    let target = target_dir(&root);
-    let lib = target.join("release").join(&lib_name);
-    let binary = std::fs::read(&lib)
-        .map_err(|e| format!("{}: {e} (build it with cargo build --release --lib)", lib.display()))?;
+    let lib = target.join(PORTABLE_TARGET_DIR).join("release").join(format!("lib{LIB_STEM}.so"));
+    let linux64 = std::fs::read(&lib).map_err(|e| {
+        format!("{}: {e} (build it with `cargo run --release -p packaging`, without --no-build)", lib.display())
+    })?;
+    let mut binaries = vec![("linux64".to_string(), "so", linux64)];
+    for (platform, path) in &options.binaries {
+        let ext = FMI_PLATFORMS.iter().find(|(p, _)| p == platform).expect("checked by parse_binary").1;
+        let data = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        binaries.push((platform.clone(), ext, data));
+    }
 
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
@@ -98,7 +208,9 @@ fn run() -> Result<PathBuf, String> {
         zip.write_all(data).map_err(|e| format!("{name}: {e}"))
     };
     add("modelDescription.xml", xml.as_bytes(), 0o644)?;
-    add(&format!("binaries/{platform}/{}.{ext}", md.model_identifier), &binary, 0o755)?;
+    for (platform, ext, data) in &binaries {
+        add(&format!("binaries/{platform}/{}.{ext}", md.model_identifier), data, 0o755)?;
+    }
     let mut resources = Vec::new();
     collect_files(&root.join("resources"), Path::new(""), &mut resources)?;
     resources.sort();
@@ -108,7 +220,8 @@ fn run() -> Result<PathBuf, String> {
         let name = rel.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/");
         add(&format!("resources/{name}"), &data, 0o644)?;
     }
-    add("documentation/index.html", documentation(&md, &resources).as_bytes(), 0o644)?;
+    let platforms: Vec<&str> = binaries.iter().map(|(p, _, _)| p.as_str()).collect();
+    add("documentation/index.html", documentation(&md, &resources, &platforms).as_bytes(), 0o644)?;
     zip.finish().map_err(|e| format!("zip: {e}"))?;
     std::fs::rename(&tmp_path, &fmu_path).map_err(|e| format!("{}: {e}", fmu_path.display()))?;
     Ok(fmu_path)
@@ -226,7 +339,7 @@ fn esc(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-fn documentation(md: &ModelDescription, resources: &[PathBuf]) -> String {
+fn documentation(md: &ModelDescription, resources: &[PathBuf], platforms: &[&str]) -> String {
     let mut h = String::new();
     let title = esc(&md.model_name);
     writeln!(
@@ -363,8 +476,74 @@ stops the run cleanly. The outputs keep their last good values (never NaN).</p>
     writeln!(
         h,
         "</ul>\n<p>The vehicle data are read from <code>resources/hmmwv.json</code> unless the parameter <code>vehicle_file</code> names \
-         another file (absolute, or relative to <code>resources/</code>). The Linux binary needs glibc &ge; 2.34.</p>\n</body></html>"
+         another file (absolute, or relative to <code>resources/</code>).</p>"
     )
     .unwrap();
+    writeln!(h, "<h2>Platforms</h2>\n<p>Binaries: {}. The linux64 binary runs on any x86-64 CPU and needs glibc &ge; 2.17.</p>\n</body></html>",
+        platforms.iter().map(|p| format!("<code>{}</code>", esc(p))).collect::<Vec<_>>().join(", "))
+    .unwrap();
     h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(a: &[&str]) -> Vec<String> {
+        a.iter().map(|s| s.to_string()).collect()
+    }
+
+    /// A scratch file with the given name (the checks look at existence and extension only).
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("rtv-packaging-test-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join(name);
+        std::fs::write(&path, b"not really a library").unwrap();
+        path
+    }
+
+    fn err(a: &[&str]) -> String {
+        parse_args(args(a)).expect_err("should be refused")
+    }
+
+    #[test]
+    fn no_arguments_build_and_package_linux64_only() {
+        assert_eq!(parse_args(args(&[])).unwrap(), Options { build: true, binaries: vec![] });
+        assert_eq!(parse_args(args(&["--no-build"])).unwrap(), Options { build: false, binaries: vec![] });
+    }
+
+    #[test]
+    fn prebuilt_binaries_for_other_platforms() {
+        let dll = scratch("RtVehicle.dll");
+        let dylib = scratch("RtVehicle.dylib");
+        let o = parse_args(args(&[
+            "--binary",
+            &format!("win64={}", dll.display()),
+            "--no-build",
+            &format!("--binary=darwin64={}", dylib.display()),
+        ]))
+        .unwrap();
+        assert!(!o.build);
+        assert_eq!(o.binaries, vec![("win64".to_string(), dll.clone()), ("darwin64".to_string(), dylib)]);
+        // 32-bit platforms are FMI 2.0 names too.
+        let o = parse_args(args(&["--binary", &format!("win32={}", dll.display())])).unwrap();
+        assert_eq!(o.binaries, vec![("win32".to_string(), dll)]);
+    }
+
+    #[test]
+    fn bad_binaries_are_refused_with_a_reason() {
+        let dll = scratch("RtVehicle.dll");
+        let so = scratch("RtVehicle.so");
+        let dll = dll.display().to_string();
+        assert!(err(&["--binary"]).contains("PLATFORM=PATH"));
+        assert!(err(&["--binary", &dll]).contains("expected PLATFORM=PATH"));
+        let e = err(&["--binary", &format!("windows64={dll}")]);
+        assert!(e.contains("unknown platform \"windows64\"") && e.contains("win32, win64, linux32"), "{e}");
+        assert!(err(&["--binary", &format!("linux64={}", so.display())]).contains("built by this command"));
+        assert!(err(&["--binary", "win64=/nonexistent/RtVehicle.dll"]).contains("is not a file"));
+        assert!(err(&["--binary", &format!("win64={}", so.display())]).contains("must be a .dll file"));
+        assert!(err(&["--binary", &format!("darwin64={dll}")]).contains("must be a .dylib file"));
+        assert!(err(&["--binary", &format!("win64={dll}"), "--binary", &format!("win64={dll}")]).contains("twice"));
+        assert!(err(&["--nobuild"]).contains("unknown argument"));
+    }
 }
