@@ -18,7 +18,8 @@ fi
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-# packaging/ runs .venv/bin/cargo-zigbuild, which finds zig as `python -m ziglang` in the same venv.
+# packaging/ runs .venv/bin/cargo-zigbuild, which finds zig as `python -m ziglang` in the same venv. Both are
+# pinned to the pair the portable build was tested with (zig's command line and paths change between releases).
 { .venv/bin/python -c "import fmpy, numpy, matplotlib, pytest, elftools, ziglang" 2>/dev/null \
     && [ -x .venv/bin/cargo-zigbuild ]; } || \
-    .venv/bin/pip install -q fmpy numpy matplotlib pytest pyelftools cargo-zigbuild ziglang
+    .venv/bin/pip install -q fmpy numpy matplotlib pytest pyelftools cargo-zigbuild==0.24.0 ziglang==0.17.1
