@@ -45,6 +45,9 @@ pub struct Core<M> {
     pub stop_time: Option<f64>,
     /// The FMU's time: the end of the last successful communication step.
     pub time: f64,
+    /// The start of the last communication step (where the run ends if that step is undone).
+    #[serde(default)]
+    pub step_start: f64,
     pub terminated: bool,
     /// A parameter or input changed before step mode: `initialize` must run (again).
     pub needs_init: bool,
@@ -259,7 +262,24 @@ impl<M: FmuModel> Instance<M> {
         // Values are computed when read: bring every requested one up to date first.
         for &vr in vrs {
             let var = self.lookup(function, vr, ty)?;
-            self.core.model.refresh(var, &self.logger).map_err(|e| Failure::error(format!("{function}: {e}")))?;
+            match self.core.model.refresh(var, &self.logger) {
+                Ok(()) => {}
+                Err(StepFailure::Terminate(why)) => {
+                    // The last step is undone: the run ends at its start, as if that step had failed.
+                    let reached = self.core.time;
+                    self.core.time = self.core.step_start;
+                    self.core.mode = StepFailed;
+                    self.core.terminated = true;
+                    return Err(Failure::discard(format!(
+                        "{function}: the run ends at t = {} (outputs of that time are served): the step to t = {reached} \
+                         {why}",
+                        self.core.time
+                    )));
+                }
+                Err(StepFailure::Error(why) | StepFailure::Refused(why)) => {
+                    return Err(Failure::error(format!("{function}: {why}")))
+                }
+            }
         }
         Ok(())
     }
@@ -442,6 +462,7 @@ impl<M: FmuModel> Instance<M> {
                 return Err(Failure::error(format!("{F}: t + h = {} is beyond stopTime {stop}", t + h)));
             }
         }
+        self.core.step_start = self.core.time;
         match self.core.model.do_step(self.core.time, h, &self.logger) {
             Ok(()) => {
                 // The master's arithmetic is the reference: the next communication point is t + h.
@@ -578,6 +599,10 @@ impl<M: FmuModel> Core<M> {
         if time < start && !times_match(time, start) {
             return Err(format!("time {time} is before the start time {start}"));
         }
+        let step_start = self.step_start;
+        if !step_start.is_finite() || step_start > time {
+            return Err(format!("the last step's start {step_start} is not finite or after the time {time}"));
+        }
         if let Some(stop) = self.stop_time {
             if !stop.is_finite() || (stop < time && !times_match(stop, time)) {
                 return Err(format!("stop time {stop} is not finite or before the time {time}"));
@@ -618,6 +643,7 @@ fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
         start_time: 0.0,
         stop_time: None,
         time: 0.0,
+        step_start: 0.0,
         terminated: false,
         needs_init: true,
         model,

@@ -79,8 +79,10 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
 
     /// Make `var` current before it is read: values are computed when read, not per step (the Reference
     /// FMUs' `isDirtyValues`). Called for every variable of a get call, before any is read. Default: the
-    /// model keeps every value current.
-    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), String> {
+    /// model keeps every value current. `Err(Terminate)`: the last step reached a state the model cannot
+    /// be evaluated at; the model has undone that step, and the run ends at its start as if it had failed
+    /// (fmi2Discard, `fmi2Terminated`). `Err(Error)` or `Err(Refused)`: fmi2Error.
+    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), StepFailure> {
         let _ = (var, log);
         Ok(())
     }

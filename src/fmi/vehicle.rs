@@ -381,12 +381,20 @@ impl FmuModel for VehicleModel {
         result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))
     }
 
-    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), String> {
+    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), StepFailure> {
         let Some(sim) = self.sim.as_mut() else { return Ok(()) };
         if var.causality != Causality::Output {
             return Ok(());
         }
-        sim.output(OUTPUT_SLOTS[var.index]).map_err(|e| e.to_string())?;
+        if let Err(e) = sim.output(OUTPUT_SLOTS[var.index]) {
+            // The step reached a state its stages never visited and the model cannot be evaluated at (e.g. a
+            // suspension beyond its range): undo that step, as if it had failed, so that what is served
+            // belongs to the time the run ends at.
+            return match sim.undo_last_advance().and_then(|()| sim.outputs()) {
+                Ok(_) => Err(StepFailure::Terminate(format!("reached a state the model cannot be evaluated at ({e})"))),
+                Err(_) => Err(StepFailure::Error(format!("the outputs cannot be computed: {e}"))),
+            };
+        }
         if !self.monitor_reported && sim.monitor.first_flagged.is_some() {
             // Numerical instability is reported when the outputs first show it, never silent (§7.4).
             self.monitor_reported = true;

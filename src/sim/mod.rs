@@ -224,6 +224,17 @@ fn check_divergence(x: &[f64], layout: &Layout, t: f64) -> Result<(), EvalError>
     }
 }
 
+/// What `advance` changes besides the state vector (with `Simulation::state_before`, the undo record).
+#[derive(Debug, Clone, Copy)]
+struct Before {
+    time: f64,
+    warm_starts: [crate::model::vehicle::WarmStart; 4],
+    evaluations: u64,
+    rack: RackSource,
+    last_external_slope: Option<f64>,
+    fresh: Fresh,
+}
+
 /// How far the stored outputs are up to date with the state (outputs are computed when read).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Default, Serialize, Deserialize)]
 enum Fresh {
@@ -267,9 +278,12 @@ pub struct Simulation {
     /// Which of `outputs_values` belong to the current state.
     #[serde(default)]
     fresh: Fresh,
-    /// The state at the start of the current `advance`, for rollback (scratch: not part of a saved state).
+    /// The state at the start of the last `advance`, to roll a failed one back or undo a finished one
+    /// (scratch: not part of a saved state, so a restored simulation cannot undo its last interval).
     #[serde(skip)]
     state_before: Vec<f64>,
+    #[serde(skip)]
+    before: Option<Before>,
     pub monitor: SlipMonitor,
     evaluations: u64,
     /// x of the initial front wheel centres (where the bump course is measured from).
@@ -301,6 +315,7 @@ impl Simulation {
             outputs_values: vec![0.0; OUTPUT_NAMES.len()],
             fresh: Fresh::None,
             state_before: Vec::with_capacity(idx::DIM), // the largest layout: no allocation per step
+            before: None,
             monitor: SlipMonitor::default(),
             evaluations: 0,
             front_wheel_x0,
@@ -415,7 +430,15 @@ impl Simulation {
         // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
         self.state_before.clear();
         self.state_before.extend_from_slice(&self.state);
-        let backup = (self.cache.corners, self.evaluations, self.rack, self.last_external_slope, self.fresh);
+        let before = Before {
+            time: self.time,
+            warm_starts: self.cache.corners,
+            evaluations: self.evaluations,
+            rack: self.rack,
+            last_external_slope: self.last_external_slope,
+            fresh: self.fresh,
+        };
+        self.before = Some(before);
         if let RackSource::PendingRamp { t_k, start, target } = self.rack {
             let slope = (target - start) / h;
             if self.last_external_slope.is_some_and(|s| s != slope) {
@@ -427,13 +450,32 @@ impl Simulation {
         match self.integrate(h, n, hs) {
             Ok(()) => Ok(()),
             Err(e) => {
-                self.state.copy_from_slice(&self.state_before);
-                (self.cache.corners, self.evaluations, self.rack, self.last_external_slope, self.fresh) = backup;
-                // A multistep history may hold sub-steps of the failed interval: start it afresh.
-                self.integrator.restart();
+                self.restore(&before);
                 Err(SimError(format!("t = {:.6} s: {}", self.time, e.0)))
             }
         }
+    }
+
+    /// Undo the last successful `advance` (for a state the step reached but the model cannot be
+    /// evaluated at, found when its outputs are read). `Err` when there is nothing to undo (no step since
+    /// the start or since the simulation was restored, or already undone).
+    pub fn undo_last_advance(&mut self) -> Result<(), SimError> {
+        let before = self.before.take().ok_or_else(|| SimError("no interval to undo".into()))?;
+        self.restore(&before);
+        self.fresh = Fresh::None; // the stored outputs may have been overwritten since
+        Ok(())
+    }
+
+    fn restore(&mut self, before: &Before) {
+        self.state.copy_from_slice(&self.state_before);
+        self.time = before.time;
+        self.cache.corners = before.warm_starts;
+        self.evaluations = before.evaluations;
+        self.rack = before.rack;
+        self.last_external_slope = before.last_external_slope;
+        self.fresh = before.fresh;
+        // A multistep history may hold sub-steps of the undone interval: start it afresh.
+        self.integrator.restart();
     }
 
     fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), EvalError> {
