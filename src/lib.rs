@@ -10,6 +10,7 @@
 // than zipped iterators when several per-corner arrays are involved.
 #![allow(clippy::neg_cmp_op_on_partial_ord, clippy::needless_range_loop)]
 
+#[cfg(any(test, feature = "test-support"))]
 pub mod alloc_count;
 pub mod dynamics;
 pub mod fmi;

@@ -25,6 +25,7 @@ pub mod body;
 mod conventional;
 pub mod lu;
 mod synthesis;
+#[cfg(any(test, feature = "test-support"))]
 pub mod synthetic;
 
 #[cfg(test)]

@@ -14,6 +14,7 @@ pub mod exports;
 pub mod instance;
 pub mod logger;
 pub mod model;
+#[cfg(any(test, feature = "test-support"))]
 pub mod native;
 pub mod status;
 pub mod variables;
