@@ -10,20 +10,18 @@
 // `!(x > 0.0)` is deliberate: it rejects NaN too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::suspension::sla::{Side, SlaGeometry};
-use rt_vehicle::model::tire::SlipModel;
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
-use rt_vehicle::sim::{Formulation, SimConfig, SpeedMode, CSV_COLUMNS, OUTPUT_NAMES};
+use rt_vehicle::sim::{modes, Formulation, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage:
-  rtv scene <bump|jturn|sine> [--formulation synthesis|augmented|conventional] [--integrator ab3|rk4|ros2]
-            [--step S] [--end T] [--output-interval DT] [--speed hold|coast] [--slip relaxation|steady]
+  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|ros2]
+            [--step S] [--end T] [--output-interval DT] [--speed coast|hold] [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
@@ -93,34 +91,16 @@ fn csv_writer(path: Option<&String>) -> Result<Box<dyn Write>, Failure> {
 fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Failure> {
     let mut c = SimConfig::default();
     if let Some(f) = opts.get("formulation") {
-        c.formulation = match f.as_str() {
-            "synthesis" => Formulation::Synthesis,
-            "augmented" => Formulation::SynthesisAugmented,
-            "conventional" => Formulation::Conventional,
-            _ => return Err(bad(format!("--formulation: '{f}' is not synthesis, augmented or conventional"))),
-        };
+        c.formulation = modes::FORMULATIONS.by_name(f).map_err(bad)?;
     }
     if let Some(i) = opts.get("integrator") {
-        c.integrator = match i.as_str() {
-            "ab3" => IntegratorKind::Ab3,
-            "rk4" => IntegratorKind::Rk4,
-            "ros2" => IntegratorKind::Ros2,
-            _ => return Err(bad(format!("--integrator: '{i}' is not ab3, rk4 or ros2"))),
-        };
+        c.integrator = modes::INTEGRATORS.by_name(i).map_err(bad)?;
     }
     if let Some(s) = opts.get("speed") {
-        c.speed_mode = match s.as_str() {
-            "hold" => SpeedMode::Hold,
-            "coast" => SpeedMode::Coast,
-            _ => return Err(bad(format!("--speed: '{s}' is not hold or coast"))),
-        };
+        c.speed_mode = modes::SPEED_MODES.by_name(s).map_err(bad)?;
     }
     if let Some(s) = opts.get("slip") {
-        c.slip = match s.as_str() {
-            "relaxation" => SlipModel::Relaxation,
-            "steady" => SlipModel::Steady,
-            _ => return Err(bad(format!("--slip: '{s}' is not relaxation or steady"))),
-        };
+        c.slip = modes::SLIP_MODELS.by_name(s).map_err(bad)?;
     }
     if let Some(r) = opts.get("ride-height") {
         // retuned: spring free lengths set so that the design position is the static equilibrium (§8.1);
@@ -396,6 +376,23 @@ fn main() -> ExitCode {
             } else {
                 ExitCode::from(1)
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_usage_lists_every_choice_of_the_mode_tables() {
+        for names in [
+            modes::FORMULATIONS.names(),
+            modes::INTEGRATORS.names(),
+            modes::SPEED_MODES.names(),
+            modes::SLIP_MODELS.names(),
+        ] {
+            assert!(USAGE.contains(&names), "the usage lacks {names}");
         }
     }
 }

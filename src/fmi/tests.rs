@@ -1130,3 +1130,36 @@ fn vehicle_file_must_be_a_small_regular_file() {
     }
     std::fs::remove_dir_all(&tmp).ok();
 }
+
+// ---- the mode tables against the docs and the model description ------------------------------------
+
+/// The FMU parameter's row in docs/fmu.md and its min/max in the model description follow the table.
+fn check_mode_table<T: Copy + PartialEq + std::fmt::Debug>(table: &crate::sim::modes::Table<T>) {
+    let docs = include_str!("../../docs/fmu.md");
+    let row = docs
+        .lines()
+        .find(|l| l.starts_with(&format!("| `{}` |", table.parameter)))
+        .unwrap_or_else(|| panic!("docs/fmu.md has no row for {}", table.parameter));
+    assert!(row.contains(&table.describe()), "docs/fmu.md: {row}\nexpected: {}", table.describe());
+    let var = Variable::by_name(table.parameter).unwrap();
+    let codes: Vec<i32> = table.choices.iter().map(|c| c.code).collect();
+    let (min, max) = (*codes.iter().min().unwrap(), *codes.iter().max().unwrap());
+    assert_eq!((var.min, var.max), (Some(min as f64), Some(max as f64)), "{}: model description", table.parameter);
+    assert_eq!(codes.len() as i32, max - min + 1, "{}: codes are consecutive", table.parameter);
+    for c in table.choices {
+        assert_eq!(table.by_code(c.code).unwrap(), c.value);
+        assert_eq!(table.by_name(c.name).unwrap(), c.value);
+        assert_eq!(table.code(c.value), c.code);
+    }
+    assert!(table.by_code(max + 1).is_err() && table.by_name("nonsense").is_err());
+}
+
+#[test]
+fn every_mode_table_agrees_with_the_docs_and_the_model_description() {
+    use crate::sim::modes::*;
+    check_mode_table(&FORMULATIONS);
+    check_mode_table(&INTEGRATORS);
+    check_mode_table(&SPEED_MODES);
+    check_mode_table(&SLIP_MODELS);
+    check_mode_table(&ROADS);
+}

@@ -12,7 +12,7 @@ use super::variables::{vr, Causality, Variable, VARIABLES};
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
-use crate::sim::{Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::sim::{modes, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -90,47 +90,23 @@ impl Parameters {
 }
 
 fn speed_mode(i: i32) -> Result<SpeedMode, String> {
-    match i {
-        1 => Ok(SpeedMode::Coast),
-        2 => Ok(SpeedMode::Hold),
-        _ => Err(format!("speed_mode {i} is not 1 (coast) or 2 (hold)")),
-    }
+    modes::SPEED_MODES.by_code(i)
 }
 
 fn formulation(i: i32) -> Result<Formulation, String> {
-    match i {
-        1 => Ok(Formulation::Synthesis),
-        2 => Ok(Formulation::Conventional),
-        3 => Ok(Formulation::SynthesisAugmented),
-        _ => {
-            Err(format!("formulation {i} is not 1 (synthesis), 2 (conventional) or 3 (synthesis, augmented 9x9 solve)"))
-        }
-    }
+    modes::FORMULATIONS.by_code(i)
 }
 
 fn integrator(i: i32) -> Result<IntegratorKind, String> {
-    match i {
-        1 => Ok(IntegratorKind::Ab3),
-        2 => Ok(IntegratorKind::Rk4),
-        3 => Ok(IntegratorKind::Ros2),
-        _ => Err(format!("integrator {i} is not 1 (AB3), 2 (RK4) or 3 (ROS2)")),
-    }
+    modes::INTEGRATORS.by_code(i)
 }
 
 fn slip_model(i: i32) -> Result<SlipModel, String> {
-    match i {
-        1 => Ok(SlipModel::Relaxation),
-        2 => Ok(SlipModel::Steady),
-        _ => Err(format!("slip_model {i} is not 1 (relaxation) or 2 (steady)")),
-    }
+    modes::SLIP_MODELS.by_code(i)
 }
 
 fn road(i: i32) -> Result<RoadChoice, String> {
-    match i {
-        1 => Ok(RoadChoice::Flat),
-        2 => Ok(RoadChoice::PaperBumps),
-        _ => Err(format!("road {i} is not 1 (flat) or 2 (the paper's bump course)")),
-    }
+    modes::ROADS.by_code(i)
 }
 
 /// The instance model state: parameters, inputs and the simulation.
