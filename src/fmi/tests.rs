@@ -1074,9 +1074,8 @@ fn deserialized_states_are_validated_like_the_setters() {
     let sim = "/core/model/sim";
     let mut state35 = value.pointer(&format!("{sim}/state")).unwrap().as_array().unwrap().clone();
     state35.push(0.0.into());
-    let mut heavier = value.clone();
-    let mass = heavier.pointer_mut(&format!("{sim}/vehicle/chassis/mass")).expect("chassis mass in the state");
-    *mass = (mass.as_f64().unwrap() * 1.01).into();
+    assert!(value.pointer(&format!("{sim}/vehicle")).is_none(), "the vehicle is data, not state");
+    let fp = value.pointer(&format!("{sim}/vehicle_fingerprint")).unwrap().as_u64().unwrap();
     let cases = [
         (edited("/core/model/params/internal_step", (-1.0).into()), "internal step"),
         (edited(&format!("{sim}/config/internal_step"), 1e-9.into()), "internal step"),
@@ -1092,7 +1091,7 @@ fn deserialized_states_are_validated_like_the_setters() {
         (edited("/core/needs_init", true.into()), "needs_init"),
         (edited("/core/model/sim", serde_json::Value::Null), "without a simulation"),
         (edited("/core/model/params/speed_mode", 1.into()), "configuration differs"),
-        (heavier.to_string(), "vehicle differs"),
+        (edited(&format!("{sim}/vehicle_fingerprint"), (fp ^ 1).into()), "vehicle differs"),
     ];
     for (text, needle) in cases {
         assert_eq!(deserialize(&inst, &text, &mut slot), ERROR, "accepted a state expected to fail with {needle:?}");
@@ -1162,4 +1161,31 @@ fn every_mode_table_agrees_with_the_docs_and_the_model_description() {
     check_mode_table(&SPEED_MODES);
     check_mode_table(&SLIP_MODELS);
     check_mode_table(&ROADS);
+}
+
+#[test]
+fn a_state_is_refused_when_its_vehicle_file_changed() {
+    // The state names the vehicle by its fingerprint and the file by the parameter: a file that changed
+    // since the state was saved gives another vehicle, and the state is refused.
+    let tmp = std::env::temp_dir().join(format!("rtv-fmi-fingerprint-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let file = tmp.join("vehicle.json");
+    let shipped =
+        std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("resources/hmmwv.json")).unwrap();
+    std::fs::write(&file, &shipped).unwrap();
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
+    assert_eq!(inst.set_string(vr::VEHICLE_FILE, file.to_str().unwrap()), OK);
+    inst.init(0.0);
+    let text = serialized(&inst);
+    let mut slot: fmi2FMUstate = std::ptr::null_mut();
+    assert_eq!(deserialize(&inst, &text, &mut slot), OK, "{}", rec.last());
+    let mut data: serde_json::Value = serde_json::from_str(&shipped).unwrap();
+    let mass = data.pointer_mut("/chassis/mass_kg").unwrap();
+    *mass = (mass.as_f64().unwrap() * 1.01).into();
+    std::fs::write(&file, data.to_string()).unwrap();
+    let mut other: fmi2FMUstate = std::ptr::null_mut();
+    assert_eq!(deserialize(&inst, &text, &mut other), ERROR);
+    assert!(rec.last().contains("vehicle differs"), "{}", rec.last());
+    std::fs::remove_dir_all(&tmp).ok();
 }

@@ -168,6 +168,17 @@ impl OdeSystem for VehicleOde<'_> {
     }
 }
 
+/// The vehicle of a simulation, or the error of one read back from a saved state and not yet validated.
+fn attached(vehicle: &Option<Vehicle>) -> Result<&Vehicle, EvalError> {
+    vehicle.as_ref().ok_or_else(|| EvalError("a restored simulation has no vehicle until validate_restored".into()))
+}
+
+/// FNV-1a (64 bit) of the vehicle's serialized form: a saved state names its vehicle by this.
+fn fingerprint(vehicle: &Vehicle) -> u64 {
+    let bytes = serde_json::to_vec(vehicle).expect("a vehicle serializes");
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3))
+}
+
 /// What a simulation starts from: the vehicle as configured (ride height retuned, road placed) and its
 /// steady rolling state. A deterministic function of the vehicle and the configuration.
 struct Start {
@@ -261,11 +272,17 @@ pub struct SlipMonitor {
 pub const SLIP_LIMIT: f64 = 0.05;
 pub const SLIP_TORQUE_FRACTION: f64 = 0.25;
 
-/// A running simulation: plain data, cloned and serialized whole for FMU states.
+/// A running simulation: plain data, cloned whole for FMU states. Serialized without its vehicle (three
+/// quarters of the bytes), which is data, not state: a saved state carries the vehicle's fingerprint, and
+/// `validate_restored` rebuilds the vehicle from the vehicle data and attaches it after checking it.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Simulation {
     config: SimConfig,
-    vehicle: Vehicle,
+    /// `None` only in a simulation read back from a saved state, until `validate_restored` attaches it.
+    #[serde(skip)]
+    vehicle: Option<Vehicle>,
+    /// `fingerprint` of the vehicle, to recognise it when a saved state is restored.
+    vehicle_fingerprint: u64,
     integrator: AnyIntegrator,
     time: f64,
     state: Vec<f64>,
@@ -302,10 +319,12 @@ impl Simulation {
     /// As `new`, from an already built vehicle (tests switch force elements or tire models first).
     pub fn from_vehicle(v: Vehicle, config: SimConfig) -> Result<Simulation, SimError> {
         let Start { vehicle: v, state, cache, front_wheel_x0 } = Start::new(v, &config)?;
+        let vehicle_fingerprint = fingerprint(&v);
         let mut sim = Simulation {
             integrator: AnyIntegrator::new(config.integrator),
             config,
-            vehicle: v,
+            vehicle: Some(v),
+            vehicle_fingerprint,
             time: 0.0,
             state,
             cache,
@@ -329,17 +348,18 @@ impl Simulation {
     /// vehicle must be the one `new(data, config)` builds (rebuilt here and compared exactly), and its
     /// state, integrator history and inputs must be of the right shape, finite and within the divergence
     /// bounds; `elapsed` is the master's time since the start, which must be the simulation's.
-    pub fn validate_restored(&self, data: &VehicleData, elapsed: f64) -> Result<(), SimError> {
+    pub fn validate_restored(&mut self, data: &VehicleData, elapsed: f64) -> Result<(), SimError> {
         let bad = |why: String| Err(SimError(format!("simulation: {why}")));
         self.config.validate()?;
         let built = Start::new(Vehicle::new(data).map_err(|e| SimError(e.to_string()))?, &self.config)?;
-        if built.vehicle != self.vehicle || built.front_wheel_x0 != self.front_wheel_x0 {
+        if fingerprint(&built.vehicle) != self.vehicle_fingerprint || built.front_wheel_x0 != self.front_wheel_x0 {
             return bad("its vehicle differs from the one the vehicle data file and the parameters give".into());
         }
+        self.vehicle = Some(built.vehicle);
         if !(self.time >= 0.0 && (self.time - elapsed).abs() <= 1e-6 * elapsed.abs().max(1.0)) {
             return bad(format!("time {} differs from the FMU's time since the start {elapsed}", self.time));
         }
-        let layout = self.vehicle.layout();
+        let layout = self.vehicle().layout();
         if self.state.len() != layout.dim || self.state.iter().any(|v| !v.is_finite()) {
             return bad(format!("the state must be {} finite numbers (got {})", layout.dim, self.state.len()));
         }
@@ -373,7 +393,7 @@ impl Simulation {
     }
 
     pub fn vehicle(&self) -> &Vehicle {
-        &self.vehicle
+        self.vehicle.as_ref().expect("a restored simulation gets its vehicle from validate_restored")
     }
 
     pub fn state(&self) -> &[f64] {
@@ -481,9 +501,10 @@ impl Simulation {
 
     fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), EvalError> {
         let t0 = self.time;
-        let layout = self.vehicle.layout();
+        let vehicle = attached(&self.vehicle)?;
+        let layout = vehicle.layout();
         let mut ode = VehicleOde {
-            vehicle: &self.vehicle,
+            vehicle,
             rack: &self.rack,
             drive: self.drive,
             brake: self.brake,
@@ -532,13 +553,14 @@ impl Simulation {
     /// evaluation leaves the Newton warm starts as they were: reading outputs never changes the run.
     fn evaluate_outputs(&mut self) -> Result<(), EvalError> {
         self.write_state_outputs();
+        let vehicle = attached(&self.vehicle)?;
         let mut dx = [0.0; idx::DIM]; // the largest layout
-        let dx = &mut dx[..self.vehicle.layout().dim];
+        let dx = &mut dx[..vehicle.layout().dim];
         let mut d = Diagnostics::default();
         let rack = self.rack.at(self.time);
         let inputs = Inputs { rack, drive: self.drive, brake: self.brake };
         let warm_starts = self.cache.corners;
-        let evaluated = self.vehicle.derivative(&self.state, &inputs, &mut self.cache, dx, Some(&mut d));
+        let evaluated = vehicle.derivative(&self.state, &inputs, &mut self.cache, dx, Some(&mut d));
         self.cache.corners = warm_starts;
         evaluated?;
         self.evaluations += 1;
@@ -553,8 +575,8 @@ impl Simulation {
         };
         // Steer angles from the positions this evaluation solved (an atan2 each: only here, not per stage).
         let positions = &self.cache.positions;
-        push(self.vehicle.corners[0].steer_angle(&positions[0]));
-        push(self.vehicle.corners[1].steer_angle(&positions[1]));
+        push(vehicle.corners[0].steer_angle(&positions[0]));
+        push(vehicle.corners[1].steer_angle(&positions[1]));
         d.wheel_centre_z.iter().for_each(|z| push(*z));
         d.wheel_spin_relative.iter().for_each(|s| push(*s));
         for c in 0..3 {
@@ -574,7 +596,7 @@ impl Simulation {
         self.fresh = Fresh::All;
 
         // Slip monitor (§9.11), at the output points.
-        let mu_r = self.vehicle.tire.sti.mu0 * self.vehicle.tire.unloaded_radius_m;
+        let mu_r = vehicle.tire.sti.mu0 * vehicle.tire.unloaded_radius_m;
         for i in 0..4 {
             let torque = d.drive_torque[i].abs() + self.brake[i];
             let fz = d.tire_force[i][2];
