@@ -21,6 +21,12 @@ use serde::{Deserialize, Serialize};
 /// Window of the road average seen by finite-difference Jacobians, m (see `Vehicle::jacobian_derivative`).
 pub const JACOBIAN_ROAD_AVERAGING: f64 = 0.002;
 
+impl From<crate::model::suspension::sla::KinematicsError> for EvalError {
+    fn from(e: crate::model::suspension::sla::KinematicsError) -> Self {
+        EvalError(e.0)
+    }
+}
+
 /// Corner order everywhere: front left, front right, rear left, rear right.
 pub const CORNERS: [&str; 4] = ["fl", "fr", "rl", "rr"];
 
@@ -320,7 +326,7 @@ impl Vehicle {
         let mean = |s: f64| -> Result<f64, EvalError> {
             let mut sum = 0.0;
             for c in &self.corners[0..2] {
-                let p = c.solve_positions(0.0, s, &[0.0; 4]).map_err(|e| EvalError(e.0))?;
+                let p = c.solve_positions(0.0, s, &[0.0; 4])?;
                 sum += c.steer_angle(&p);
             }
             Ok(0.5 * sum)

@@ -129,6 +129,29 @@ impl std::fmt::Display for SimError {
 
 impl std::error::Error for SimError {}
 
+impl From<EvalError> for SimError {
+    fn from(e: EvalError) -> Self {
+        SimError(e.0)
+    }
+}
+
+impl From<crate::model::params::DataError> for SimError {
+    fn from(e: crate::model::params::DataError) -> Self {
+        SimError(e.to_string())
+    }
+}
+
+/// `result.context("what")`: a failure of any layer as a `SimError` that says what was being done.
+pub(crate) trait Context<T> {
+    fn context(self, what: &str) -> Result<T, SimError>;
+}
+
+impl<T, E: std::fmt::Display> Context<T> for Result<T, E> {
+    fn context(self, what: &str) -> Result<T, SimError> {
+        self.map_err(|e| SimError(format!("{what}: {e}")))
+    }
+}
+
 /// The vehicle as an ODE for the integrators: inputs from the rack source and the torques.
 pub struct VehicleOde<'a> {
     pub vehicle: &'a Vehicle,
@@ -196,12 +219,11 @@ impl Start {
         v.speed_mode = config.speed_mode;
         v.target_speed = config.initial_speed;
         if config.ride_height_retune {
-            retune_ride_height(&mut v).map_err(|e| SimError(format!("ride-height retune: {}", e.0)))?;
+            retune_ride_height(&mut v).context("ride-height retune")?;
         }
         let mut cache = KinematicsCache::default();
-        let state = steady_rolling(&v, config.initial_speed, &mut cache)
-            .map_err(|e| SimError(format!("initial equilibrium: {}", e.0)))?;
-        let positions = v.corner_positions(&state, 0.0, &mut cache).map_err(|e| SimError(e.0))?;
+        let state = steady_rolling(&v, config.initial_speed, &mut cache).context("initial equilibrium")?;
+        let positions = v.corner_positions(&state, 0.0, &mut cache)?;
         let a0 = quat_to_matrix(&state[idx::E0..idx::E0 + 4]);
         let front_wheel_x0 = 0.5
             * (0..2).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
@@ -312,7 +334,7 @@ impl Simulation {
     /// Build the vehicle, retune the ride height (if asked), and start in steady rolling at the initial
     /// speed from the computed equilibrium (physics.md §8.1).
     pub fn new(vehicle: VehicleData, config: SimConfig) -> Result<Simulation, SimError> {
-        let v = Vehicle::new(&vehicle).map_err(|e| SimError(e.to_string()))?;
+        let v = Vehicle::new(&vehicle)?;
         Simulation::from_vehicle(v, config)
     }
 
@@ -340,7 +362,7 @@ impl Simulation {
             evaluations: 0,
             front_wheel_x0,
         };
-        sim.evaluate_outputs().map_err(|e| SimError(e.0))?;
+        sim.evaluate_outputs()?;
         Ok(sim)
     }
 
@@ -351,7 +373,7 @@ impl Simulation {
     pub fn validate_restored(&mut self, data: &VehicleData, elapsed: f64) -> Result<(), SimError> {
         let bad = |why: String| Err(SimError(format!("simulation: {why}")));
         self.config.validate()?;
-        let built = Start::new(Vehicle::new(data).map_err(|e| SimError(e.to_string()))?, &self.config)?;
+        let built = Start::new(Vehicle::new(data)?, &self.config)?;
         if fingerprint(&built.vehicle) != self.vehicle_fingerprint || built.front_wheel_x0 != self.front_wheel_x0 {
             return bad("its vehicle differs from the one the vehicle data file and the parameters give".into());
         }
@@ -367,11 +389,11 @@ impl Simulation {
         if (e.iter().map(|v| v * v).sum::<f64>().sqrt() - 1.0).abs() > 1e-6 {
             return bad("the attitude quaternion is not of unit length".into());
         }
-        check_divergence(&self.state, &layout, self.time).map_err(|e| SimError(format!("simulation: {}", e.0)))?;
+        check_divergence(&self.state, &layout, self.time).context("simulation")?;
         if self.integrator.kind() != self.config.integrator {
             return bad("the integrator differs from the configured one".into());
         }
-        self.integrator.validate(layout.dim).map_err(|e| SimError(format!("simulation: {e}")))?;
+        self.integrator.validate(layout.dim).context("simulation")?;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         if !finite(&self.drive) || !self.brake.iter().all(|b| *b >= 0.0 && b.is_finite()) {
             return bad("wheel torques must be finite, brake torques >= 0".into());
@@ -616,7 +638,7 @@ impl Simulation {
             if needed == Fresh::State {
                 self.write_state_outputs();
             } else {
-                self.evaluate_outputs().map_err(|e| SimError(format!("outputs: {}", e.0)))?;
+                self.evaluate_outputs().context("outputs")?;
             }
         }
         Ok(self.outputs_values[index])
@@ -631,7 +653,7 @@ impl Simulation {
     /// Every output at the current state (one evaluation if they are not yet computed).
     pub fn outputs(&mut self) -> Result<Outputs, SimError> {
         if self.fresh < Fresh::All {
-            self.evaluate_outputs().map_err(|e| SimError(format!("outputs: {}", e.0)))?;
+            self.evaluate_outputs().context("outputs")?;
         }
         let mut o = Outputs::default();
         o.values.copy_from_slice(&self.outputs_values);
