@@ -52,6 +52,8 @@ fn generate(text: &str) -> Result<String, String> {
     let mut rows = String::new();
     let mut consts = String::new();
     let mut lookup = String::new();
+    // One variant per input, parameter and local (outputs are served by column): `Var` below.
+    let (mut inputs, mut parameters, mut locals) = (String::new(), String::new(), String::new());
     let mut vrs = HashSet::new();
     let mut names = HashSet::new();
     for (index, sv) in vars.children().filter(|n| n.has_tag_name("ScalarVariable")).enumerate() {
@@ -104,11 +106,28 @@ fn generate(text: &str) -> Result<String, String> {
             Some(u) => format!("Some({u:?})"),
             None => "None".into(),
         };
+        let variant = variant_name(name);
+        let var = match causality {
+            "input" => {
+                writeln!(inputs, "    {variant},").unwrap();
+                format!("Var::Input(Input::{variant})")
+            }
+            "parameter" => {
+                writeln!(parameters, "    {variant},").unwrap();
+                format!("Var::Parameter(Parameter::{variant})")
+            }
+            "local" => {
+                writeln!(locals, "    {variant},").unwrap();
+                format!("Var::Local(Local::{variant})")
+            }
+            "output" => "Var::Output".to_string(),
+            other => return Err(format!("{name}: causality {other} is not served by this FMU's code")),
+        };
         writeln!(
             rows,
             "    Variable {{ index: {index}, name: {name:?}, vr: {vr}, causality: Causality::{}, variability: \
              Variability::{}, initial: Initial::{}, ty: VarType::{ty_name}, start: {start_code}, min: {}, max: {}, \
-             unit: {unit} }},",
+             unit: {unit}, var: {var} }},",
             camel(causality)?,
             camel(variability)?,
             camel(initial)?,
@@ -131,6 +150,13 @@ fn generate(text: &str) -> Result<String, String> {
     writeln!(code, "pub const DEFAULT_START_TIME: f64 = {start_time:?};").unwrap();
     writeln!(code, "pub const DEFAULT_STOP_TIME: f64 = {stop_time:?};").unwrap();
     writeln!(code, "pub const DEFAULT_STEP_SIZE: f64 = {step_size:?};").unwrap();
+    let derive = "#[derive(Debug, Clone, Copy, PartialEq, Eq)]";
+    writeln!(code, "/// The inputs, one variant each (a model's match over them is exhaustive).").unwrap();
+    writeln!(code, "{derive}\npub enum Input {{\n{inputs}}}").unwrap();
+    writeln!(code, "/// The parameters, one variant each.").unwrap();
+    writeln!(code, "{derive}\npub enum Parameter {{\n{parameters}}}").unwrap();
+    writeln!(code, "/// The locals, one variant each.").unwrap();
+    writeln!(code, "{derive}\npub enum Local {{\n{locals}}}").unwrap();
     writeln!(code, "/// Every ScalarVariable, in XML order (`index` is the XML index minus one).").unwrap();
     writeln!(code, "pub const VARIABLES: &[Variable] = &[\n{rows}];").unwrap();
     writeln!(code, "/// Value-reference constants, one per variable (upper-case name).").unwrap();
@@ -139,6 +165,16 @@ fn generate(text: &str) -> Result<String, String> {
     writeln!(code, "pub const fn variable_index(vr: u32) -> Option<usize> {{\n    match vr {{\n{lookup}        _ => None,\n    }}\n}}")
         .unwrap();
     Ok(code)
+}
+
+/// `drive_torque_fl` → `DriveTorqueFl`.
+fn variant_name(name: &str) -> String {
+    name.split('_')
+        .map(|w| {
+            let mut c = w.chars();
+            c.next().map(|f| f.to_ascii_uppercase().to_string() + c.as_str()).unwrap_or_default()
+        })
+        .collect()
 }
 
 fn child<'a, 'input>(node: roxmltree::Node<'a, 'input>, tag: &str) -> Option<roxmltree::Node<'a, 'input>> {

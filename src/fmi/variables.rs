@@ -60,6 +60,17 @@ pub struct Variable {
     pub min: Option<f64>,
     pub max: Option<f64>,
     pub unit: Option<&'static str>,
+    /// Which variable this is, for exhaustive matches (generated: `Input`, `Parameter`, `Local`).
+    pub var: Var,
+}
+
+/// A variable by role: each input, parameter and local by name; outputs all alike (served by column).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Var {
+    Input(Input),
+    Parameter(Parameter),
+    Output,
+    Local(Local),
 }
 
 impl Variable {

@@ -8,7 +8,7 @@
 
 use super::logger::Logger;
 use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
-use super::variables::{vr, Causality, Variable, VARIABLES};
+use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, Variable, VARIABLES};
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
@@ -22,8 +22,27 @@ pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
 /// Limits of the Real parameters (also declared in the model description as min/max).
 pub use crate::sim::{INITIAL_SPEED_MAX, INTERNAL_STEP_MAX, INTERNAL_STEP_MIN};
 
-const DRIVE: [u32; 4] = [vr::DRIVE_TORQUE_FL, vr::DRIVE_TORQUE_FR, vr::DRIVE_TORQUE_RL, vr::DRIVE_TORQUE_RR];
-const BRAKE: [u32; 4] = [vr::BRAKE_TORQUE_FL, vr::BRAKE_TORQUE_FR, vr::BRAKE_TORQUE_RL, vr::BRAKE_TORQUE_RR];
+/// What an input drives: the rack, or a wheel's drive or brake torque (corners FL, FR, RL, RR).
+enum InputSlot {
+    Rack,
+    Drive(usize),
+    Brake(usize),
+}
+
+/// Exhaustive: an input added to the model description does not compile until it has a place here.
+fn input_slot(input: I) -> InputSlot {
+    match input {
+        I::RackDisplacement => InputSlot::Rack,
+        I::DriveTorqueFl => InputSlot::Drive(0),
+        I::DriveTorqueFr => InputSlot::Drive(1),
+        I::DriveTorqueRl => InputSlot::Drive(2),
+        I::DriveTorqueRr => InputSlot::Drive(3),
+        I::BrakeTorqueFl => InputSlot::Brake(0),
+        I::BrakeTorqueFr => InputSlot::Brake(1),
+        I::BrakeTorqueRl => InputSlot::Brake(2),
+        I::BrakeTorqueRr => InputSlot::Brake(3),
+    }
+}
 
 const fn str_eq(a: &str, b: &str) -> bool {
     let (a, b) = (a.as_bytes(), b.as_bytes());
@@ -198,79 +217,93 @@ impl FmuModel for VehicleModel {
 
     fn get_real(&self, var: &Variable) -> Result<f64, String> {
         let p = &self.params;
-        Ok(match var.vr {
-            vr::RACK_DISPLACEMENT => self.rack,
-            vr::INITIAL_SPEED => p.initial_speed,
-            vr::INTERNAL_STEP => p.internal_step,
-            vr::STEP_CPU_TIME => self.step_cpu_time,
-            r if DRIVE.contains(&r) => self.drive[DRIVE.iter().position(|&d| d == r).unwrap()],
-            r if BRAKE.contains(&r) => self.brake[BRAKE.iter().position(|&d| d == r).unwrap()],
-            _ if var.causality == Causality::Output => self.output(var)?,
-            _ => return Err(format!("{} is not a Real of this model", var.name)),
+        Ok(match var.var {
+            Var::Input(i) => match input_slot(i) {
+                InputSlot::Rack => self.rack,
+                InputSlot::Drive(c) => self.drive[c],
+                InputSlot::Brake(c) => self.brake[c],
+            },
+            Var::Parameter(P::InitialSpeed) => p.initial_speed,
+            Var::Parameter(P::InternalStep) => p.internal_step,
+            Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile) => {
+                return Err(format!("{} is not a Real of this model", var.name))
+            }
+            Var::Local(L::StepCpuTime) => self.step_cpu_time,
+            Var::Output => self.output(var)?,
         })
     }
 
     fn get_integer(&self, var: &Variable) -> Result<i32, String> {
         let p = &self.params;
-        Ok(match var.vr {
-            vr::SPEED_MODE => p.speed_mode,
-            vr::FORMULATION => p.formulation,
-            vr::INTEGRATOR => p.integrator,
-            vr::SLIP_MODEL => p.slip_model,
-            vr::ROAD => p.road,
-            _ => return Err(format!("{} is not an Integer of this model", var.name)),
+        Ok(match var.var {
+            Var::Parameter(P::SpeedMode) => p.speed_mode,
+            Var::Parameter(P::Formulation) => p.formulation,
+            Var::Parameter(P::Integrator) => p.integrator,
+            Var::Parameter(P::SlipModel) => p.slip_model,
+            Var::Parameter(P::Road) => p.road,
+            Var::Parameter(P::InitialSpeed | P::InternalStep | P::VehicleFile)
+            | Var::Input(_)
+            | Var::Local(_)
+            | Var::Output => return Err(format!("{} is not an Integer of this model", var.name)),
         })
     }
 
     fn get_string(&self, var: &Variable) -> Result<String, String> {
-        match var.vr {
-            vr::VEHICLE_FILE => Ok(self.params.vehicle_file.clone()),
+        match var.var {
+            Var::Parameter(P::VehicleFile) => Ok(self.params.vehicle_file.clone()),
             _ => Err(format!("{} is not a String of this model", var.name)),
         }
     }
 
     fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
-        match var.vr {
-            vr::RACK_DISPLACEMENT => self.rack = value,
-            vr::INITIAL_SPEED => {
+        match var.var {
+            Var::Input(i) => match input_slot(i) {
+                InputSlot::Rack => self.rack = value,
+                InputSlot::Drive(c) => self.drive[c] = value,
+                InputSlot::Brake(c) => {
+                    if value < 0.0 {
+                        return Err("a brake torque must be >= 0 (it always opposes the wheel spin)".into());
+                    }
+                    self.brake[c] = value;
+                }
+            },
+            Var::Parameter(P::InitialSpeed) => {
                 if !(0.0..=INITIAL_SPEED_MAX).contains(&value) {
                     return Err(format!("initial_speed must be in [0, {INITIAL_SPEED_MAX}] m/s"));
                 }
                 self.params.initial_speed = value;
             }
-            vr::INTERNAL_STEP => {
+            Var::Parameter(P::InternalStep) => {
                 if !(INTERNAL_STEP_MIN..=INTERNAL_STEP_MAX).contains(&value) {
                     return Err(format!("internal_step must be in [{INTERNAL_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s"));
                 }
                 self.params.internal_step = value;
             }
-            r if DRIVE.contains(&r) => self.drive[DRIVE.iter().position(|&d| d == r).unwrap()] = value,
-            r if BRAKE.contains(&r) => {
-                if value < 0.0 {
-                    return Err("a brake torque must be >= 0 (it always opposes the wheel spin)".into());
-                }
-                self.brake[BRAKE.iter().position(|&d| d == r).unwrap()] = value;
-            }
-            _ => return Err(format!("{} is not a settable Real of this model", var.name)),
+            Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile)
+            | Var::Local(_)
+            | Var::Output => return Err(format!("{} is not a settable Real of this model", var.name)),
         }
         Ok(())
     }
 
     fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String> {
         let p = &mut self.params;
-        match var.vr {
-            vr::SPEED_MODE => speed_mode(value).map(|_| p.speed_mode = value),
-            vr::FORMULATION => formulation(value).map(|_| p.formulation = value),
-            vr::INTEGRATOR => integrator(value).map(|_| p.integrator = value),
-            vr::SLIP_MODEL => slip_model(value).map(|_| p.slip_model = value),
-            vr::ROAD => road(value).map(|_| p.road = value),
-            _ => Err(format!("{} is not a settable Integer of this model", var.name)),
+        match var.var {
+            Var::Parameter(P::SpeedMode) => speed_mode(value).map(|_| p.speed_mode = value),
+            Var::Parameter(P::Formulation) => formulation(value).map(|_| p.formulation = value),
+            Var::Parameter(P::Integrator) => integrator(value).map(|_| p.integrator = value),
+            Var::Parameter(P::SlipModel) => slip_model(value).map(|_| p.slip_model = value),
+            Var::Parameter(P::Road) => road(value).map(|_| p.road = value),
+            Var::Parameter(P::InitialSpeed | P::InternalStep | P::VehicleFile)
+            | Var::Input(_)
+            | Var::Local(_)
+            | Var::Output => Err(format!("{} is not a settable Integer of this model", var.name)),
         }
     }
 
     fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String> {
-        match var.vr {
-            vr::VEHICLE_FILE => {
+        match var.var {
+            Var::Parameter(P::VehicleFile) => {
                 self.params.vehicle_file = value.to_string();
                 Ok(())
             }
@@ -282,10 +315,14 @@ impl FmuModel for VehicleModel {
         if !(1..=2).contains(&order) {
             return Err("derivatives of order 1 and 2 only".into());
         }
-        // The wheel torques are held over a step: their derivatives are accepted (fmpy sends them for every
-        // continuous input) and not used.
-        if var.vr == vr::RACK_DISPLACEMENT {
-            self.rack_derivatives[order as usize - 1] = Some(value);
+        match var.var {
+            Var::Input(i) => match input_slot(i) {
+                InputSlot::Rack => self.rack_derivatives[order as usize - 1] = Some(value),
+                // The wheel torques are held over a step: their derivatives are accepted (fmpy sends them
+                // for every continuous input) and not used.
+                InputSlot::Drive(_) | InputSlot::Brake(_) => {}
+            },
+            _ => return Err(format!("{} is not a Real input", var.name)),
         }
         Ok(())
     }
