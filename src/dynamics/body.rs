@@ -59,10 +59,12 @@ impl MassHatSum {
     }
 
     pub fn add(&mut self, m: f64, rho: &V3, j: &M3) {
-        let r = skew(rho);
         self.mass += m;
         self.first_moment += rho * m;
-        self.inertia_about_origin += j - r * r * m;
+        // J − m ρ̃ρ̃ = J + m (ρ·ρ I − ρ ρᵀ) (parallel axes), without the 3×3 product ρ̃ρ̃.
+        let rr = rho * rho.transpose();
+        let d = rho.norm_squared();
+        self.inertia_about_origin += j + (M3::from_diagonal_element(d) - rr) * m;
     }
 
     pub fn matrix(&self) -> Matrix6<f64> {

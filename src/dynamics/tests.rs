@@ -379,3 +379,28 @@ fn lu_determinant_matches_nalgebra() {
         assert!((d - a.determinant()).abs() <= 1e-12 * a.determinant().abs().max(1.0), "{d} vs {}", a.determinant());
     }
 }
+
+#[test]
+fn structured_mass_products_match_the_dense_mass_matrix() {
+    // Σ M̂ from summed mass, moment and inertia, and M̂ y without M̂, against the dense M̂ of body.rs.
+    use super::body::{mass_hat, mass_hat_times, MassHatSum};
+    use nalgebra::{Matrix3, Vector3};
+    let mut rng = XorShift64::new(3);
+    let mut u = || 2.0 * rng.uniform() - 1.0;
+    for _ in 0..50 {
+        let mut sum = MassHatSum::new();
+        let mut dense = nalgebra::Matrix6::<f64>::zeros();
+        for _ in 0..3 {
+            let m = 1.0 + 10.0 * u().abs();
+            let rho = Vector3::new(u(), u(), u());
+            let a = Matrix3::from_fn(|_, _| u());
+            let j = a * a.transpose() + Matrix3::identity();
+            sum.add(m, &rho, &j);
+            let mh = mass_hat(m, &rho, &j);
+            dense += mh;
+            let y = Vector6::new(u(), u(), u(), u(), u(), u());
+            assert!((mass_hat_times(m, &rho, &j, &y) - mh * y).amax() <= 1e-12 * (mh * y).amax().max(1.0));
+        }
+        assert!((sum.matrix() - dense).amax() <= 1e-12 * dense.amax());
+    }
+}

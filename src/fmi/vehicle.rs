@@ -381,7 +381,7 @@ impl FmuModel for VehicleModel {
         }
     }
 
-    fn do_step(&mut self, t: f64, h: f64, _log: &Logger) -> Result<(), StepFailure> {
+    fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure> {
         let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
         // Too much work for one call: refused before anything changes (the inputs stay for the next try).
         sim.config().plan(h).map_err(|e| StepFailure::Refused(e.to_string()))?;
@@ -395,10 +395,15 @@ impl FmuModel for VehicleModel {
         let clock = std::time::Instant::now();
         let result = sim.advance(h);
         self.step_cpu_time = clock.elapsed().as_secs_f64();
+        if !self.monitor_reported && sim.monitor.first_flagged.is_some() {
+            // Numerical instability is reported when it starts, never silent (physics.md §7.4).
+            self.monitor_reported = true;
+            sim.warnings().iter().for_each(|w| log.warning(w));
+        }
         result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))
     }
 
-    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), StepFailure> {
+    fn refresh(&mut self, var: &Variable, _log: &Logger) -> Result<(), StepFailure> {
         let Some(sim) = self.sim.as_mut() else { return Ok(()) };
         if var.causality != Causality::Output {
             return Ok(());
@@ -411,11 +416,6 @@ impl FmuModel for VehicleModel {
                 Ok(_) => Err(StepFailure::Terminate(format!("reached a state the model cannot be evaluated at ({e})"))),
                 Err(_) => Err(StepFailure::Error(format!("the outputs cannot be computed: {e}"))),
             };
-        }
-        if !self.monitor_reported && sim.monitor.first_flagged.is_some() {
-            // Numerical instability is reported when the outputs first show it, never silent (§7.4).
-            self.monitor_reported = true;
-            sim.warnings().iter().for_each(|w| log.warning(w));
         }
         Ok(())
     }

@@ -172,6 +172,18 @@ pub struct KinematicsCache {
     /// The terms of the latest evaluation (scratch, written in place).
     #[serde(skip)]
     pub assembly: Assembly,
+    /// Per wheel, the slip, load and drive torque of the latest evaluation: what the simulation's slip
+    /// monitor reads after each step without an evaluation of its own (scratch).
+    #[serde(skip)]
+    pub wheels: WheelSample,
+}
+
+/// Slip ratio κ, normal load F_z (N) and drive torque (N·m) per wheel, from one evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelSample {
+    pub kappa: [f64; 4],
+    pub fz: [f64; 4],
+    pub drive_torque: [f64; 4],
 }
 
 impl PartialEq for KinematicsCache {
@@ -419,6 +431,8 @@ impl Vehicle {
         }
         let mut local = Diagnostics::default();
         self.assemble_on(road, x, inputs, cache, &mut local)?;
+        cache.wheels =
+            WheelSample { kappa: local.kappa, fz: local.tire_force.map(|f| f[2]), drive_torque: local.drive_torque };
         let assembly = &cache.assembly;
         // λ feeds neither ẋ nor any output: never computed here (dynamics::Multipliers::Compute gives it).
         let acc = self.accelerations(assembly, Multipliers::Skip)?;
@@ -510,7 +524,8 @@ impl Vehicle {
         // horizontal heading (not the pitched body x axis), so that steady rolling with the static pitch
         // is an exact equilibrium; on a flat road the two differ by V(1 − cos θ) ≈ 1e-5 m/s.
         let vx_body = heading(&a0).dot(&v0);
-        let hold_torque = match (self.speed_mode, self.layout().zv) {
+        let layout = self.layout();
+        let hold_torque = match (self.speed_mode, layout.zv) {
             (SpeedMode::Hold, Some(zv)) => {
                 let (kp, ki) = self.speed_gains;
                 self.total_mass * self.tire.unloaded_radius_m * (kp * (self.target_speed - vx_body) + ki * x[zv]) / 4.0
@@ -532,6 +547,12 @@ impl Vehicle {
             local.newton_iterations += pos.iterations;
             let drive = hold_torque + inputs.drive[i];
             local.drive_torque[i] = drive;
+            let state = WheelState {
+                spin: x[idx::SPIN + i],
+                xi: layout.xi(x, i),
+                drive_torque: drive,
+                brake_torque: inputs.brake[i],
+            };
             let wheel = self.corner_terms(
                 road,
                 i,
@@ -542,9 +563,7 @@ impl Vehicle {
                 &r0,
                 &y0,
                 &g,
-                x,
-                drive,
-                inputs.brake[i],
+                &state,
                 local,
                 &mut assembly.terms[i],
             );
@@ -570,12 +589,11 @@ impl Vehicle {
         r0: &V3,
         y0: &Vector6<f64>,
         g: &V3,
-        x: &[f64],
-        drive_torque: f64,
-        brake_torque: f64,
+        wheel: &WheelState,
         diag: &mut Diagnostics,
         terms: &mut SubsystemTerms,
     ) -> CornerOutput {
+        let WheelState { spin, xi, drive_torque, brake_torque } = *wheel;
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
         let k = self.corner_kinematics(i, pos, qd, a0, y0);
@@ -625,14 +643,12 @@ impl Vehicle {
 
         // Wheel: tire on the road, spin decoupled exactly (§4.8, §6).
         let axle = k.axle;
-        let spin = x[idx::SPIN + i];
         let spin_rel = spin - axle.dot(&w_k);
         let rho_w = k.wheel_centre;
         let mut spin_torque = drive_torque - brake_torque * (spin_rel / 0.5).tanh();
         chassis_wrench += wrench(&V3::zeros(), &(-axle * drive_torque));
         q_k += wrench(&V3::zeros(), &(axle * (brake_torque * (spin_rel / 0.5).tanh())));
         q_k += wrench(&V3::zeros(), &(-w_k.cross(&axle) * (c.spin_inertia * spin)));
-        let xi = self.layout().xi(x, i);
         let mut relaxation_rates = [0.0; 2];
         let centre_abs = rho_w + r0;
         diag.wheel_centre_z[i] = centre_abs.z;
@@ -841,6 +857,17 @@ pub struct Assembly {
 enum LineElement {
     Spring,
     Damper,
+}
+
+/// A wheel's own state and torques, as one corner's evaluation reads them.
+#[derive(Debug, Clone, Copy)]
+struct WheelState {
+    /// Absolute spin rate Ω, rad/s.
+    spin: f64,
+    /// Relaxation slip states (ξ_x, ξ_y); zero where the layout has none.
+    xi: [f64; 2],
+    drive_torque: f64,
+    brake_torque: f64,
 }
 
 /// What a corner adds besides its subsystem terms.

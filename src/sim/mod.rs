@@ -540,7 +540,24 @@ impl Simulation {
         self.evaluations += ode.evaluations;
         self.time = t0 + h;
         self.fresh = Fresh::None; // outputs are computed when read
+        self.watch_slip();
         Ok(())
+    }
+
+    /// Slip monitor (§9.11), after every interval whether or not outputs are read: wheel slip without the
+    /// torque to explain it, from the step's last evaluation (no evaluation of its own).
+    fn watch_slip(&mut self) {
+        let Some(vehicle) = self.vehicle.as_ref() else { return };
+        let w = &self.cache.wheels;
+        let mu_r = vehicle.tire.sti.mu0 * vehicle.tire.unloaded_radius_m;
+        for i in 0..4 {
+            let torque = w.drive_torque[i].abs() + self.brake[i];
+            let fz = w.fz[i];
+            if fz > 0.0 && w.kappa[i].abs() > SLIP_LIMIT && torque < SLIP_TORQUE_FRACTION * mu_r * fz {
+                self.monitor.first_flagged.get_or_insert(self.time);
+                self.monitor.max_unexplained_kappa = self.monitor.max_unexplained_kappa.max(w.kappa[i].abs());
+            }
+        }
     }
 
     /// The outputs that come straight from the state, without an evaluation: time, pose, velocities and
@@ -617,16 +634,6 @@ impl Simulation {
         }
         self.fresh = Fresh::All;
 
-        // Slip monitor (§9.11), at the output points.
-        let mu_r = vehicle.tire.sti.mu0 * vehicle.tire.unloaded_radius_m;
-        for i in 0..4 {
-            let torque = d.drive_torque[i].abs() + self.brake[i];
-            let fz = d.tire_force[i][2];
-            if fz > 0.0 && d.kappa[i].abs() > SLIP_LIMIT && torque < SLIP_TORQUE_FRACTION * mu_r * fz {
-                self.monitor.first_flagged.get_or_insert(self.time);
-                self.monitor.max_unexplained_kappa = self.monitor.max_unexplained_kappa.max(d.kappa[i].abs());
-            }
-        }
         Ok(())
     }
 
