@@ -7,15 +7,19 @@ Run by tests/fmu/test_c_api_fuzz.py in child processes, so that a crash is repor
 Each seed is one sequence: one or two instances, 40 calls drawn from the whole API with arguments that are
 of the right C type but otherwise hostile (unknown value references, NULL arrays with nvr > 0, nvr = 2^32,
 NaN, inf, denormal and absurd reals, odd integers, FIFO/device/directory/huge vehicle files, mutated
-serialized states, freed state pointers, calls in the wrong state), then the instances are freed (states
-left alive half of the time). Checks, per call: it returns within HANG_SECONDS; a status other than
-fmi2OK was explained by a log message of that instance during the call; after an fmi2OK fmi2DoStep, every
-Real output read with fmi2OK is finite. Prints one JSON line per sequence: {"seed", "calls", "slowest",
-"problems"}; before each call, the call's description goes to stderr (the parent reads the last one when
-the process dies).
+serialized states, freed state pointers, calls in the wrong state, every other entry point with NULL
+outputs and odd status kinds, fmi2Instantiate with a wrong GUID, type, name or callbacks), then the
+instances are freed (states left alive half of the time). Checks, per call: it returns within HANG_SECONDS
+(a watchdog thread, faulthandler, ends the process with "Timeout" on stderr when a call does not return:
+a hang is reported after HANG_SECONDS, not at the batch timeout); a status other than fmi2OK was explained
+by a log message of that instance during the call; after an fmi2OK fmi2DoStep, every Real output read
+with fmi2OK is finite; a bad fmi2Instantiate returns NULL and says why. Prints one JSON line per
+sequence: {"seed", "calls", "slowest", "problems"}; before each call, the call's description goes to
+stderr (the parent reads the last one when the process dies).
 """
 
 import ctypes as C
+import faulthandler
 import json
 import math
 import os
@@ -49,6 +53,10 @@ LOG = {}  # instance name -> number of messages
 def _log(env, name, status, category, fmt, message):
     key = (name or b"").decode("utf-8", "replace")
     LOG[key] = LOG.get(key, 0) + 1
+    LOG[ANY] = LOG.get(ANY, 0) + 1
+
+
+ANY = None  # LOG[ANY]: messages of every instance (fmi2Instantiate's refusals name no instance yet)
 
 
 _libc = C.CDLL(None)
@@ -90,6 +98,13 @@ def load(path):
         "fmi2CancelStep": (C.c_int, [fmi2Component]),
         "fmi2GetRealStatus": (C.c_int, [fmi2Component, C.c_int, C.POINTER(C.c_double)]),
         "fmi2GetBooleanStatus": (C.c_int, [fmi2Component, C.c_int, C.POINTER(C.c_int)]),
+        "fmi2GetStatus": (C.c_int, [fmi2Component, C.c_int, C.POINTER(C.c_int)]),
+        "fmi2GetIntegerStatus": (C.c_int, [fmi2Component, C.c_int, C.POINTER(C.c_int)]),
+        "fmi2GetStringStatus": (C.c_int, [fmi2Component, C.c_int, C.POINTER(C.c_char_p)]),
+        "fmi2GetRealOutputDerivatives": (C.c_int, [fmi2Component, vr_p, n, C.POINTER(C.c_int), C.POINTER(C.c_double)]),
+        "fmi2GetDirectionalDerivative": (C.c_int, [fmi2Component, vr_p, n, vr_p, n, C.POINTER(C.c_double), C.POINTER(C.c_double)]),
+        "fmi2GetTypesPlatform": (C.c_char_p, []),
+        "fmi2GetVersion": (C.c_char_p, []),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)
@@ -128,19 +143,26 @@ class Sequence:
                       os.path.join(workdir, "broken.json").encode()]
 
     # -- plumbing --------------------------------------------------------------------------------------
-    def call(self, inst, label, fn, *args):
-        name = self.instances[inst][1] if inst is not None else ""
+    def timed(self, label, fn, *args):
+        """fn(*args), announced on stderr, timed, under the watchdog."""
         sys.stderr.write(f"seed {self.seed} call {self.calls}: {label}\n")
         sys.stderr.flush()
-        before = LOG.get(name, 0)
+        faulthandler.dump_traceback_later(HANG_SECONDS, exit=True)
         t0 = time.perf_counter()
-        status = fn(*args)
+        result = fn(*args)
         dt = time.perf_counter() - t0
+        faulthandler.cancel_dump_traceback_later()
         self.calls += 1
         if dt > self.slowest[0]:
             self.slowest = (dt, label)
         if dt > HANG_SECONDS:
             self.problems.append(f"{label} took {dt:.1f} s")
+        return result
+
+    def call(self, inst, label, fn, *args):
+        name = self.instances[inst][1] if inst is not None else ANY
+        before = LOG.get(name, 0)
+        status = self.timed(label, fn, *args)
         if status is not None and status != OK and LOG.get(name, 0) == before:
             self.problems.append(f"{label} returned {status} without a log message")
         return status
@@ -156,9 +178,16 @@ class Sequence:
     # -- the calls -------------------------------------------------------------------------------------
     def instantiate(self):
         name = f"fuzz{self.seed}_{len(self.instances)}"
-        c = self.lib.fmi2Instantiate(name.encode(), 1, self.guid.encode(), self.resources.encode(),
-                                     C.cast(C.pointer(CALLBACKS), C.c_void_p), 0, self.rng.randint(0, 1))
-        self.calls += 1
+        resources = self.resources
+        if self.rng.random() < 0.15:
+            if self.bad_instantiate(name):
+                return
+            # Odd resource locations are allowed at instantiation (the vehicle file is read later).
+            resources = self.rng.choice(["", "http://example.com/resources", "file:///nonexistent/resources",
+                                         "file://otherhost/r", "not a uri", "file:///%zz", self.resources])
+        c = self.timed(f"fmi2Instantiate({name!r}, resources={resources!r})", self.lib.fmi2Instantiate,
+                       name.encode(), 1, self.guid.encode(), resources.encode(),
+                       C.cast(C.pointer(CALLBACKS), C.c_void_p), 0, self.rng.randint(0, 1))
         if c:
             self.instances.append([c, name, 0.0])
             i = len(self.instances) - 1
@@ -170,6 +199,27 @@ class Sequence:
                 for _ in range(self.rng.randint(0, 2)):
                     self.one(i)
                 self.call(i, "exit", self.lib.fmi2ExitInitializationMode, c)
+
+    def bad_instantiate(self, name):
+        """fmi2Instantiate with one argument wrong: must return NULL and, given a logger, say why. True
+        when the call was made (with nothing to continue with)."""
+        r = self.rng
+        cb = C.cast(C.pointer(CALLBACKS), C.c_void_p)
+        args = [name.encode(), 1, self.guid.encode(), self.resources.encode(), cb, 0, 0]
+        what = r.choice(["Model Exchange", "fmuType 7", "fmuType -1", "wrong GUID", "NULL GUID", "empty GUID",
+                         "NULL instanceName", "NULL functions"])
+        where, value = {"Model Exchange": (1, 0), "fmuType 7": (1, 7), "fmuType -1": (1, -1),
+                        "wrong GUID": (2, b"{00000000-0000-0000-0000-000000000000}"), "NULL GUID": (2, None),
+                        "empty GUID": (2, b""), "NULL instanceName": (0, None), "NULL functions": (4, None)}[what]
+        args[where] = value
+        before = LOG.get(ANY, 0)
+        c = self.timed(f"fmi2Instantiate({what})", self.lib.fmi2Instantiate, *args)
+        if c:
+            self.problems.append(f"fmi2Instantiate with {what} returned an instance")
+            self.lib.fmi2FreeInstance(c)
+        elif args[4] is not None and LOG.get(ANY, 0) == before:
+            self.problems.append(f"fmi2Instantiate with {what} returned NULL without a log message")
+        return True
 
     def step(self, i):
         c, _, t = self.instances[i]
@@ -193,7 +243,7 @@ class Sequence:
         i = r.randrange(len(self.instances)) if i is None else i
         c = self.instances[i][0]
         lib = self.lib
-        k = r.randrange(24) if r.random() < 0.7 else r.choice([4, 5, 6, 7, 12])  # steps and gets weigh more
+        k = r.randrange(28) if r.random() < 0.7 else r.choice([4, 5, 6, 7, 12])  # steps and gets weigh more
         if k == 0:
             self.call(i, "setup", lib.fmi2SetupExperiment, c, r.randint(0, 1), r.choice(REALS), r.choice([0.0, 0.0, 10.0, -1.0, float("nan")]),
                       r.randint(0, 1), r.choice([1.0, 8.0, 0.5, -1.0, 1e9]))
@@ -267,12 +317,125 @@ class Sequence:
             on = 1 if (not cats or b"logStatusError" in cats) else r.randint(0, 1)
             arr = (C.c_char_p * max(1, len(cats)))(*cats)
             self.call(i, f"fmi2SetDebugLogging({on}, {cats})", lib.fmi2SetDebugLogging, c, on, len(cats), arr)
+        elif k == 24:
+            self.rare(i)
+        elif k == 25:
+            self.null_arrays(i)
+        elif k == 26:
+            self.null_state_arguments(i)
+        elif k == 27:
+            self.hostile_parameter(i)
         else:
             t = C.c_double()
             b = C.c_int()
             self.call(i, "status", r.choice([lambda: lib.fmi2GetRealStatus(c, 2, C.byref(t)),
                                               lambda: lib.fmi2GetBooleanStatus(c, 3, C.byref(b)),
                                               lambda: lib.fmi2CancelStep(c)]))
+
+    def rare(self, i):
+        """The entry points a master seldom calls: unsupported ones, every status getter with any kind and
+        a NULL output, the platform and version strings."""
+        r, lib, c = self.rng, self.lib, self.instances[i][0]
+        kind = r.choice([0, 1, 2, 3, 4, -1, 99])
+        nul = r.random() < 0.3
+        which = r.randrange(9)
+        if which == 0:
+            v = self.timed("fmi2GetTypesPlatform", lib.fmi2GetTypesPlatform)
+            if v != b"default":
+                self.problems.append(f"fmi2GetTypesPlatform returned {v!r}")
+        elif which == 1:
+            v = self.timed("fmi2GetVersion", lib.fmi2GetVersion)
+            if v != b"2.0":
+                self.problems.append(f"fmi2GetVersion returned {v!r}")
+        elif which in (2, 3, 4, 5, 6):
+            fn, ctype = [(lib.fmi2GetStatus, C.c_int), (lib.fmi2GetRealStatus, C.c_double),
+                         (lib.fmi2GetIntegerStatus, C.c_int), (lib.fmi2GetBooleanStatus, C.c_int),
+                         (lib.fmi2GetStringStatus, C.c_char_p)][which - 2]
+            out = None if nul else C.byref(ctype())
+            self.call(i, f"{fn.__name__}(kind={kind}, value={'NULL' if nul else 'ptr'})", fn, c, kind, out)
+        elif which == 7:
+            n = r.choice([0, 1, 3, 1 << 32])
+            vrs = None if n > 4 or nul else self.arr(C.c_uint, self.outputs[:n])
+            orders = None if n > 4 or nul else self.arr(C.c_int, [1] * n)
+            vals = None if n > 4 or nul else (C.c_double * max(1, n))()
+            self.call(i, f"fmi2GetRealOutputDerivatives(n={n})", lib.fmi2GetRealOutputDerivatives, c, vrs, n, orders, vals)
+        else:
+            nu, nk = r.choice([0, 1, 2, 1 << 32]), r.choice([0, 1, 2, 1 << 32])
+            unknowns = None if nu > 4 or nul else self.arr(C.c_uint, self.outputs[:nu])
+            knowns = None if nk > 4 or nul else self.arr(C.c_uint, [1, 2][:nk])
+            dv_known = None if nk > 4 or nul else (C.c_double * max(1, nk))()
+            dv_unknown = None if nu > 4 or nul else (C.c_double * max(1, nu))()
+            self.call(i, f"fmi2GetDirectionalDerivative(nu={nu}, nk={nk})", lib.fmi2GetDirectionalDerivative,
+                      c, unknowns, nu, knowns, nk, dv_known, dv_unknown)
+
+    def null_arrays(self, i):
+        """Every array call with a NULL array and nvr > 0, or an absurd nvr (always with NULL arrays: a
+        real array of 2^32 elements cannot be passed)."""
+        r, lib, c = self.rng, self.lib, self.instances[i][0]
+        n = r.choice([1, 3, 1 << 20, (1 << 20) + 1, 1 << 32, 1 << 40, 2**64 - 1])
+        fn = r.choice([lib.fmi2GetReal, lib.fmi2GetInteger, lib.fmi2GetBoolean, lib.fmi2GetString, lib.fmi2SetReal,
+                       lib.fmi2SetInteger, lib.fmi2SetBoolean, lib.fmi2SetString, lib.fmi2SetRealInputDerivatives,
+                       lib.fmi2SetDebugLogging])
+        name = fn.__name__
+        if fn is lib.fmi2SetDebugLogging:
+            self.call(i, f"{name}(1, {n}, NULL)", fn, c, 1, n, None)
+            return
+        kind = {"Real": C.c_double, "Integer": C.c_int, "Boolean": C.c_int, "String": C.c_char_p}
+        ctype = next((t for k, t in kind.items() if k in name), C.c_double)
+        if n > 4:
+            arrays = [None, None, None] if fn is lib.fmi2SetRealInputDerivatives else [None, None]
+        else:
+            vr = self.arr(C.c_uint, [r.choice(self.outputs + [1, 104, 107]) for _ in range(n)])
+            vals = (ctype * n)()
+            if "SetString" in name:
+                vals = self.arr(C.c_char_p, [b""] * n)
+            arrays = [vr, self.arr(C.c_int, [1] * n), self.arr(C.c_double, [0.0] * n)] \
+                if fn is lib.fmi2SetRealInputDerivatives else [vr, vals]
+            arrays[r.randrange(len(arrays))] = None
+        shown = ", ".join("NULL" if a is None else "arr" for a in arrays)
+        self.call(i, f"{name}(n={n}, {shown})", fn, c, arrays[0], n, *arrays[1:])
+
+    def null_state_arguments(self, i):
+        """The FMU-state calls with NULL where a pointer is expected, too small or absurd buffer sizes."""
+        r, lib, c = self.rng, self.lib, self.instances[i][0]
+        which = r.randrange(7)
+        st = fmi2FMUstate(self.any_state(i))
+        if which == 0:
+            self.call(i, "fmi2GetFMUstate(NULL)", lib.fmi2GetFMUstate, c, None)
+        elif which == 1:
+            self.call(i, "fmi2FreeFMUstate(NULL)", lib.fmi2FreeFMUstate, c, None)
+        elif which == 2:
+            self.call(i, "fmi2SerializedFMUstateSize(size=NULL)", lib.fmi2SerializedFMUstateSize, c, st, None)
+        elif which == 3:
+            size = r.choice([0, 16, 1 << 40, 2**64 - 1])
+            self.call(i, f"fmi2SerializeFMUstate(NULL, {size})", lib.fmi2SerializeFMUstate, c, st, None, size)
+        elif which == 4:
+            size = r.choice([0, 1, 100])
+            buf = C.create_string_buffer(max(1, size))
+            self.call(i, f"fmi2SerializeFMUstate(buffer of {size})", lib.fmi2SerializeFMUstate, c, st, buf, size)
+        elif which == 5:
+            size = r.choice([1, 100, 1 << 40, 2**64 - 1])
+            slot = fmi2FMUstate(r.choice([None, self.any_state(i)]))
+            self.call(i, f"fmi2DeSerializeFMUstate(NULL, {size})", lib.fmi2DeSerializeFMUstate, c, None, size, C.byref(slot))
+        else:
+            blob = self.mutated_blob()
+            self.call(i, "fmi2DeSerializeFMUstate(slot pointer NULL)", lib.fmi2DeSerializeFMUstate, c, blob, len(blob), None)
+
+    def hostile_parameter(self, i):
+        """A parameter or input set to an edge of its range or beyond (internal_step 1e-9, 5e-324, -1,
+        a brake torque of -5, a mode of 5, ...), in whatever state the instance is."""
+        r, lib, c = self.rng, self.lib, self.instances[i][0]
+        name, vr, kind, _ = r.choice([v for v in self.vars if v[3] in ("parameter", "input")])
+        if kind == "Real":
+            v = r.choice([1e-9, 5e-324, -5e-324, -1.0, -5.0, 0.0, -0.0, 1e-6, 0.1, 0.1000001, 60.0, 60.0001,
+                          1e300, -1e300, float("nan"), float("inf"), 2.2250738585072014e-308])
+            self.call(i, f"fmi2SetReal({name} = {v!r})", lib.fmi2SetReal, c, self.arr(C.c_uint, [vr]), 1, self.arr(C.c_double, [v]))
+        elif kind == "Integer":
+            v = r.choice([-1, 0, 1, 2, 3, 4, 5, 2**31 - 1, -2**31])
+            self.call(i, f"fmi2SetInteger({name} = {v})", lib.fmi2SetInteger, c, self.arr(C.c_uint, [vr]), 1, self.arr(C.c_int, [v]))
+        else:
+            v = r.choice(self.files + [b"\xff\xfe not utf-8", b"x" * 5000, b"file:///dev/zero"])
+            self.call(i, f"fmi2SetString({name} = {v[:60]!r})", lib.fmi2SetString, c, self.arr(C.c_uint, [vr]), 1, self.arr(C.c_char_p, [v]))
 
     def current_time(self, i):
         t = C.c_double()
@@ -340,9 +503,8 @@ class Sequence:
                     if VALID_POINTERS_ONLY and j != idx:
                         continue
                     slot = fmi2FMUstate(p)
-                    self.lib.fmi2FreeFMUstate(c, C.byref(slot))
-            sys.stderr.write(f"seed {self.seed}: fmi2FreeInstance\n")
-            self.lib.fmi2FreeInstance(c)
+                    self.timed("fmi2FreeFMUstate (cleanup)", self.lib.fmi2FreeFMUstate, c, C.byref(slot))
+            self.timed("fmi2FreeInstance", self.lib.fmi2FreeInstance, c)
         return {"seed": self.seed, "calls": self.calls, "ok_steps": self.ok_steps, "slowest": self.slowest,
                 "problems": self.problems}
 

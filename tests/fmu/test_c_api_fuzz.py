@@ -2,61 +2,126 @@
 binary (tests/fmu/fuzz_driver.py), each batch in a child process so that a crash or a hang is reported with
 the sequence and the call that caused it instead of ending the test run.
 
-Fixed seeds: 2,000 sequences (40 calls each) in the normal run; RTV_FUZZ_SEQUENCES=100000 runs more.
-Checks: no crash, no call over 10 s, every status other than fmi2OK logged by its instance, every Real
-output finite after an fmi2OK step.
+Fixed seeds: 5,000 sequences (about 50 calls each) in the normal run; RTV_FUZZ_SEQUENCES=100000 runs more.
+Checks: no crash, no call over 10 s (the child's watchdog ends it then), every status other than fmi2OK
+logged by its instance, every Real output finite after an fmi2OK step, bad fmi2Instantiate arguments
+refused with a message.
+
+When a child dies (signal, exit status, watchdog), the last call it announced names the seed and the call;
+that seed is run again alone in a fresh child (does it reproduce without the sequences before it in the
+same process?), and the batch goes on from the next seed, so one finding does not hide the others.
 """
 
 import json
 import os
 import pathlib
+import re
+import signal
 import subprocess
 import sys
 import tempfile
+import time
 from concurrent.futures import ThreadPoolExecutor
 
-import pytest
 from fmpy import extract
 
 from conftest import FMU_PATH
 
-SEQUENCES = int(os.environ.get("RTV_FUZZ_SEQUENCES", "2000"))
-BATCH = 100
+SEQUENCES = int(os.environ.get("RTV_FUZZ_SEQUENCES", "5000"))
+BATCH = 250
+MAX_FINDINGS_PER_BATCH = 3  # a broken binary fails every sequence: name a few, not thousands
 DRIVER = pathlib.Path(__file__).with_name("fuzz_driver.py")
+ANNOUNCED = re.compile(r"^seed (\d+) call (\d+): (.*)$")
 
 
-def run_batch(library, resources, first, count):
-    """(results, crash): the JSON result of every sequence that finished, and for a child that died or
-    hung, the description of the last call it started."""
+def run_child(library, resources, first, count):
+    """(results, death): the JSON result of every sequence that finished; for a child that did not end
+    normally, (seed, call, how, detail, calls of that seed up to it), else None."""
     with tempfile.TemporaryDirectory() as work:
         try:
             p = subprocess.run([sys.executable, str(DRIVER), library, resources, work, str(first), str(count)],
-                               capture_output=True, text=True, timeout=60 + 3 * count)
-        except subprocess.TimeoutExpired as e:
-            last = (e.stderr or b"").decode(errors="replace").strip().splitlines()[-1:]
-            return [], f"batch from seed {first} hung; last call started: {last}"
-    results = [json.loads(line) for line in p.stdout.splitlines() if line.startswith("{")]
-    if p.returncode != 0:
-        last = p.stderr.strip().splitlines()[-3:]
-        return results, f"batch from seed {first} died (exit {p.returncode}); last lines: {last}"
-    return results, None
+                               capture_output=True, timeout=60 + 3 * count)
+            stdout, stderr, how = p.stdout, p.stderr, None
+            if p.returncode < 0:
+                how = signal.Signals(-p.returncode).name
+            elif p.returncode != 0:
+                how = f"exit status {p.returncode}"
+        except subprocess.TimeoutExpired as e:  # the watchdog failed too: the batch's own bound
+            stdout, stderr, how = e.stdout or b"", e.stderr or b"", "batch timeout"
+    results = [json.loads(line) for line in stdout.decode().splitlines() if line.startswith("{")]
+    if how is None:
+        return results, None
+    lines = stderr.decode(errors="replace").splitlines()
+    announced = [m for m in map(ANNOUNCED.match, lines) if m]
+    if any(line.startswith("Timeout (") for line in lines):
+        how = "hang (no return within the watchdog's 10 s)"
+    # What the process said besides the announcements: Rust's abort message ("memory allocation of …
+    # failed"), a panic; not the watchdog's Python traceback nor Rust's stack backtrace.
+    said = [line for line in lines if line.strip() and not line[0].isspace() and not ANNOUNCED.match(line)
+            and not line.startswith(("Timeout (", "Thread 0x", "stack backtrace", "note: "))]
+    if announced:
+        seed = int(announced[-1].group(1))
+        calls = [m.group(3) for m in announced if int(m.group(1)) == seed]
+        return results, (seed, calls[-1], how, said[:2], calls)
+    seed = results[-1]["seed"] + 1 if results else first
+    return results, (seed, "(before the first call)", how, said[:2], [])
 
 
-def test_random_call_sequences_never_crash_hang_or_fail_silently(tmp_path):
+def run_batch(library, resources, first, count):
+    """(results, findings): every finished sequence of seeds [first, first + count), and one finding per
+    child that died, after which the batch continues with the next seed."""
+    results, findings = [], []
+    seed, end = first, first + count
+    while seed < end:
+        rs, death = run_child(library, resources, seed, end - seed)
+        results += rs
+        if death is None:
+            break
+        culprit, call, how, detail, calls = death
+        _, alone = run_child(library, resources, culprit, 1)
+        findings.append({
+            "seed": culprit, "call": call, "how": how, "detail": detail, "calls": calls,
+            "alone": "reproduces alone" if alone else "does not reproduce alone (RTV_FUZZ seeds before it matter)",
+        })
+        seed = culprit + 1
+        if len(findings) >= MAX_FINDINGS_PER_BATCH and seed < end:
+            findings.append({"seed": seed, "call": None, "how": f"seeds {seed}..{end - 1} not run",
+                             "detail": [], "calls": [], "alone": ""})
+            break
+    return results, findings
+
+
+def describe(f):
+    if f["call"] is None:
+        return f"{f['how']} (after {MAX_FINDINGS_PER_BATCH} findings in the batch)"
+    detail = "; ".join(f["detail"])
+    before = f["calls"][:-1]
+    shown = (["…"] if len(before) > 8 else []) + before[-8:]
+    return (f"seed {f['seed']}: {f['how']} in {f['call']} ({f['alone']}){': ' + detail if detail else ''}\n"
+            f"    after: {' | '.join(shown) or '(nothing)'}\n"
+            f"    replay: python tests/fmu/fuzz_driver.py FMU_DIR/binaries/linux64/RtVehicle.so file://FMU_DIR/resources "
+            f"$(mktemp -d) {f['seed']} 1")
+
+
+def test_random_call_sequences_never_crash_hang_or_fail_silently(tmp_path, capsys):
     unzipped = extract(str(FMU_PATH), unzipdir=str(tmp_path / "fmu"))
     library = str(pathlib.Path(unzipped) / "binaries" / "linux64" / "RtVehicle.so")
     resources = (pathlib.Path(unzipped) / "resources").as_uri()
     batches = [(first, min(BATCH, SEQUENCES - first)) for first in range(0, SEQUENCES, BATCH)]
+    t0 = time.perf_counter()
     with ThreadPoolExecutor(max_workers=2) as pool:
         outcomes = list(pool.map(lambda b: run_batch(library, resources, *b), batches))
+    elapsed = time.perf_counter() - t0
     results = [r for (rs, _) in outcomes for r in rs]
-    crashes = [c for (_, c) in outcomes if c]
+    findings = [f for (_, fs) in outcomes for f in fs]
     problems = [(r["seed"], p) for r in results for p in r["problems"]]
     calls = sum(r["calls"] for r in results)
     slowest = max((r["slowest"] for r in results), default=(0.0, ""))
     steps = sum(r["ok_steps"] for r in results)
-    print(f"\nfuzz: {len(results)} sequences, {calls} calls ({steps} fmi2OK steps); "
-          f"slowest call {slowest[0]:.3f} s ({slowest[1]})")
-    assert not crashes, crashes
+    with capsys.disabled():
+        print(f"\nfuzz: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} fmi2OK steps) "
+              f"in {elapsed:.1f} s; slowest call {slowest[0]:.3f} s ({slowest[1]}); "
+              f"{len([f for f in findings if f['call']])} crashes or hangs, {len(problems)} other problems")
+    assert not findings, "\n".join(map(describe, findings))
     assert not problems, problems[:20]
     assert len(results) == SEQUENCES
