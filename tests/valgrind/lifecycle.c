@@ -1,7 +1,11 @@
 /* A small FMI 2.0 master over the whole lifecycle, for valgrind's memcheck (tests/valgrind/run.sh):
  * two instances, parameters (one bad), initialization, 0.3 s of a ramped rack with every output read,
  * FMU states got, set, serialized, deserialized (also into a slot that holds a state) and some left alive
- * at fmi2FreeInstance, a bad vehicle file, bad arguments, reset, terminate, free.
+ * at fmi2FreeInstance, reset, terminate, free; then, on a third instance, the hostile calls of issue 7 (an
+ * array length of 2^32 with NULL arrays, /dev/zero as the vehicle file, a step of 1e5 s). The hostile calls
+ * come last, after the first two instances are freed and their state pointers dropped: a binary that
+ * aborts or hangs on them still has its leaks of the lifecycle reported as "definitely lost" (valgrind
+ * runs the leak check when the process dies from a signal; before issue 7: 4 states, 19,520 bytes).
  * Exits 1 if a call that must succeed does not. The prototypes are FMI 2.0's (fmi2FunctionTypes.h). */
 #include <dlfcn.h>
 #include <stdarg.h>
@@ -81,15 +85,12 @@ int main(int argc, char **argv) {
     expect(set_real(a, &step_vr, 1, &bad_step) == ERROR, "internal_step 1e-9 refused");
     expect(set_real(a, &step_vr, 1, &step) == OK, "internal_step");
     expect(set_integer(b, &formulation_vr, 1, &conventional) == OK, "formulation");
-    expect(set_string(a, NULL, (size_t)1 << 32, NULL) == ERROR, "fmi2SetString(NULL, 2^32) refused");
     const char *dev_zero = "/dev/zero", *empty = "";
     fmi2Component insts[2] = {a, b};
     for (int i = 0; i < 2; i++) {
         expect(setup(insts[i], 0, 0.0, 0.0, 1, 10.0) == OK, "setup");
         expect(enter(insts[i]) == OK, "enter");
     }
-    expect(set_string(b, &file_vr, 1, &dev_zero) == OK, "vehicle_file = /dev/zero");
-    expect(exit_init(b) == ERROR, "/dev/zero refused");
     expect(set_string(b, &file_vr, 1, &empty) == OK, "vehicle_file = ''");
     const char *got = NULL;
     expect(get_string(b, &file_vr, 1, &got) == OK && got && strcmp(got, "") == 0, "get vehicle_file");
@@ -114,7 +115,6 @@ int main(int argc, char **argv) {
         if (n == 10) expect(get_state(a, &saved) == OK && get_state(a, &spare) == OK, "get states");
         if (n == 20) expect(get_state(a, &saved) == OK, "get state over a previous one");
     }
-    expect(do_step(a, t, 1e5, 1) == ERROR, "a step of 1e5 s refused");
 
     /* Serialize, deserialize into a fresh slot and into the occupied `spare`, restore, step on. */
     size_t size = 0;
@@ -146,6 +146,19 @@ int main(int argc, char **argv) {
     expect(terminate(a) == OK && terminate(b) == OK, "terminate");
     free_instance(a);
     free_instance(b);
+    saved = spare = left_alive = NULL; /* freed with their instances: nothing of the driver points to them */
+
+    /* The hostile calls, on a fresh instance. */
+    fmi2Component c = instantiate("c", 1, GUID, argv[2], &cb, 0, 0);
+    expect(c != NULL, "instantiate c");
+    expect(set_string(c, NULL, (size_t)1 << 32, NULL) == ERROR, "fmi2SetString(NULL, 2^32) refused");
+    expect(setup(c, 0, 0.0, 0.0, 0, 0.0) == OK && enter(c) == OK, "initialize c");
+    expect(set_string(c, &file_vr, 1, &dev_zero) == OK, "vehicle_file = /dev/zero");
+    expect(exit_init(c) == ERROR, "/dev/zero refused");
+    expect(set_string(c, &file_vr, 1, &empty) == OK && exit_init(c) == OK, "vehicle_file = '' and exit");
+    expect(do_step(c, 0.0, 1e5, 1) == ERROR, "a step of 1e5 s refused");
+    expect(do_step(c, 0.0, h, 1) == OK, "a step after the refused one");
+    free_instance(c);
     free(bytes);
     free(broken);
     dlclose(lib);

@@ -12,9 +12,14 @@ rm -rf "$work" && mkdir -p "$work/fmu"
 python3 -c "import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])" target/fmu/RtVehicle.fmu "$work/fmu"
 cc -O1 -g -Wall -Wextra -o "$work/lifecycle" tests/valgrind/lifecycle.c -ldl
 resources="file://$(pwd)/$work/fmu/resources"
+# Not `set -e` here: the summary is printed whatever the outcome, a failing run's above all.
+status=0
 valgrind --error-exitcode=1 --leak-check=full --show-leak-kinds=definite,indirect,possible \
     --errors-for-leak-kinds=definite,indirect,possible --log-file="$work/memcheck.log" \
-    "$work/lifecycle" "$work/fmu/binaries/linux64/RtVehicle.so" "$resources"
-status=$?
-grep -E "ERROR SUMMARY|definitely lost|indirectly lost|possibly lost|still reachable|in use at exit" "$work/memcheck.log" | sed 's/^==[0-9]*== /memcheck: /'
+    "$work/lifecycle" "$work/fmu/binaries/linux64/RtVehicle.so" "$resources" || status=$?
+grep -E "Process terminating|All heap blocks were freed|ERROR SUMMARY|definitely lost:|indirectly lost:|possibly lost:|still reachable:|in use at exit" \
+    "$work/memcheck.log" | sed 's/^==[0-9]*== */memcheck: /'
+if [ "$status" -ne 0 ]; then
+    echo "memcheck FAILED (exit status $status): $work/memcheck.log"
+fi
 exit $status
