@@ -13,7 +13,8 @@ instances are freed (states left alive half of the time). Checks, per call: it r
 (a watchdog thread, faulthandler, ends the process with "Timeout" on stderr when a call does not return:
 a hang is reported after HANG_SECONDS, not at the batch timeout); a status other than fmi2OK was explained
 by a log message of that instance during the call; after an fmi2OK fmi2DoStep, every Real output read
-with fmi2OK is finite; a bad fmi2Instantiate returns NULL and says why. Prints one JSON line per
+with fmi2OK is finite; a bad fmi2Instantiate returns NULL and says why; a serialized state edited to be
+invalid (a parameter out of range, times out of order, a state vector of the wrong length) is refused. Prints one JSON line per
 sequence: {"seed", "calls", "slowest", "problems"}; before each call, the call's description goes to
 stderr (the parent reads the last one when the process dies).
 """
@@ -297,10 +298,18 @@ class Sequence:
                 if self.call(i, "fmi2SerializeFMUstate", lib.fmi2SerializeFMUstate, c, st, buf, size.value) == OK:
                     self.blobs.append(buf.raw)
         elif k in (17, 18):
-            blob = self.mutated_blob()
+            if r.random() < 0.4:
+                if not self.blobs:
+                    self.snapshot(i)
+                blob, invalid = self.invalid_blob()
+            else:
+                blob, invalid = self.mutated_blob(), None
             slot = fmi2FMUstate(r.choice([None, self.any_state(i)] + ([] if VALID_POINTERS_ONLY else [0xdeadbeef])))
-            if self.call(i, f"fmi2DeSerializeFMUstate({len(blob)} bytes)", lib.fmi2DeSerializeFMUstate, c, blob, len(blob), C.byref(slot)) == OK:
+            label = f"fmi2DeSerializeFMUstate({len(blob)} bytes{', ' + invalid if invalid else ''})"
+            if self.call(i, label, lib.fmi2DeSerializeFMUstate, c, blob, len(blob), C.byref(slot)) == OK:
                 self.states.append((i, slot.value))
+                if invalid:
+                    self.problems.append(f"{label} accepted a state the API could not have produced")
         elif k == 19:
             if self.call(i, "fmi2Reset", lib.fmi2Reset, c) == OK:
                 self.instances[i][2] = 0.0
@@ -482,6 +491,76 @@ class Sequence:
                 r.choice([lambda: sim["state"].append(0.0), lambda: sim["state"].pop(),
                           lambda: sim["brake"].__setitem__(0, -5.0)])()
         return json.dumps(state).encode()
+
+    def snapshot(self, i):
+        """Serialize the instance's current state into self.blobs (when its state allows it)."""
+        lib, c = self.lib, self.instances[i][0]
+        slot = fmi2FMUstate(None)
+        if self.call(i, "fmi2GetFMUstate (snapshot)", lib.fmi2GetFMUstate, c, C.byref(slot)) != OK:
+            return
+        size = C.c_size_t(0)
+        if self.call(i, "fmi2SerializedFMUstateSize", lib.fmi2SerializedFMUstateSize, c, slot, C.byref(size)) == OK:
+            buf = C.create_string_buffer(size.value)
+            if self.call(i, "fmi2SerializeFMUstate", lib.fmi2SerializeFMUstate, c, slot, buf, size.value) == OK:
+                self.blobs.append(buf.raw)
+        self.call(i, "fmi2FreeFMUstate (snapshot)", lib.fmi2FreeFMUstate, c, C.byref(slot))
+
+    def invalid_blob(self):
+        """(bytes, what): a serialized state of this run with one edit that makes it invalid (a parameter
+        or input out of its range, times out of order, a state vector of the wrong length), which
+        fmi2DeSerializeFMUstate must refuse; (a mutated blob, None) when there is no state to edit."""
+        r = self.rng
+        states = []
+        for blob in self.blobs:
+            try:
+                state = json.loads(blob.rstrip(b"\0"))
+                model = state["core"]["model"]
+                if isinstance(model["params"], dict) and isinstance(model["sim"]["state"], list):
+                    states.append(state)
+            except (ValueError, KeyError, TypeError):
+                pass
+        if not states:
+            return self.mutated_blob(), None
+        state = r.choice(states)
+        core, model = state["core"], state["core"]["model"]
+        what = r.choice(["internal_step -1", "internal_step 1e-9", "internal_step 5e-324", "brake torque -5",
+                         "formulation 5", "integrator 0", "stop_time < time", "state vector +1", "state vector -1",
+                         "initial_speed 1e9", "time NaN"])
+        if what.startswith("internal_step"):
+            v = float(what.split()[1])
+            model["params"]["internal_step"] = v
+            self.edit_all(model, "internal_step", v)
+        elif what == "brake torque -5":
+            model["brake"][r.randrange(4)] = -5.0
+            if isinstance(model["sim"].get("brake"), list):
+                model["sim"]["brake"] = list(model["brake"])
+        elif what in ("formulation 5", "integrator 0"):
+            key, v = what.split()
+            model["params"][key] = int(v)
+        elif what == "stop_time < time":
+            core["time"] = max(core["time"], 0.5)
+            model["sim"]["time"] = core["time"]
+            core["stop_time"] = core["time"] - 0.25
+        elif what == "state vector +1":
+            model["sim"]["state"].append(0.0)
+        elif what == "state vector -1":
+            model["sim"]["state"].pop()
+        elif what == "initial_speed 1e9":
+            model["params"]["initial_speed"] = 1e9
+        else:
+            core["time"] = "NaN"  # not a number at all: serde must refuse it
+        return json.dumps(state).encode(), what
+
+    def edit_all(self, node, key, value):
+        if isinstance(node, dict):
+            for k in node:
+                if k == key:
+                    node[k] = value
+                else:
+                    self.edit_all(node[k], key, value)
+        elif isinstance(node, list):
+            for v in node:
+                self.edit_all(v, key, value)
 
     def edit(self, node, key, value):
         if isinstance(node, dict):

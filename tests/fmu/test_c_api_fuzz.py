@@ -5,7 +5,9 @@ the sequence and the call that caused it instead of ending the test run.
 Fixed seeds: 5,000 sequences (about 50 calls each) in the normal run; RTV_FUZZ_SEQUENCES=100000 runs more.
 Checks: no crash, no call over 10 s (the child's watchdog ends it then), every status other than fmi2OK
 logged by its instance, every Real output finite after an fmi2OK step, bad fmi2Instantiate arguments
-refused with a message.
+refused with a message, serialized states edited to be invalid (internal_step -1, 1e-9 or 5e-324, a brake
+torque of -5, formulation 5, stop_time < time, a state vector one number longer or shorter, ...) refused
+by fmi2DeSerializeFMUstate.
 
 When a child dies (signal, exit status, watchdog), the last call it announced names the seed and the call;
 that seed is run again alone in a fresh child (does it reproduce without the sequences before it in the
