@@ -361,24 +361,18 @@ impl FmuModel for VehicleModel {
         if !(self.step_cpu_time >= 0.0 && self.step_cpu_time.is_finite()) {
             return Err(format!("step_cpu_time = {} must be finite and >= 0", self.step_cpu_time));
         }
+        if self.sim.is_none() {
+            return if initialized { Err("an initialized state without a simulation".into()) } else { Ok(()) };
+        }
         // The vehicle is data, not state: rebuilt from the data file the parameters name, recognised by the
         // fingerprint the state carries, and attached (a state is not a way to pass other vehicle data).
-        let data = match &self.sim {
-            Some(_) => Some(self.vehicle_data(context, &Logger::silent())?),
-            None => None,
-        };
-        match (&mut self.sim, data) {
-            (Some(sim), Some(data)) => {
-                sim.config().validate().map_err(|e| format!("simulation: {e}"))?;
-                if *sim.config() != config {
-                    return Err("the simulation's configuration differs from the parameters".into());
-                }
-                sim.validate_restored(&data, elapsed).map_err(|e| e.to_string())
-            }
-            (Some(_), None) => unreachable!("data is read whenever there is a simulation"),
-            (None, _) if initialized => Err("an initialized state without a simulation".into()),
-            (None, _) => Ok(()),
+        let data = self.vehicle_data(context, &Logger::silent())?;
+        let sim = self.sim.as_mut().expect("checked above");
+        sim.config().validate().map_err(|e| format!("simulation: {e}"))?;
+        if *sim.config() != config {
+            return Err("the simulation's configuration differs from the parameters".into());
         }
+        sim.validate_restored(&data, elapsed).map_err(|e| e.to_string())
     }
 
     fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure> {

@@ -87,8 +87,9 @@ impl SimConfig {
         }
         // The largest layout: a bound that holds whatever states the options keep.
         let per_step = self.integrator.max_evaluations_per_step(idx::DIM);
-        let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step; // one evaluation for the outputs
-                                                                      // Compare before converting: ceil(h / internal_step) may not fit a usize.
+        // One evaluation is left for the outputs.
+        let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step;
+        // Compare before converting: ceil(h / internal_step) may not fit a usize.
         if h / self.internal_step > max_steps as f64 {
             return Err(SimError(format!(
                 "an interval of {h} s needs {:.3e} internal steps of {} s, more than the {max_steps} one call may \
@@ -279,6 +280,17 @@ enum Fresh {
     State,
     /// All are current.
     All,
+}
+
+impl Fresh {
+    /// What output `index` needs to be current.
+    fn needed_for(index: usize) -> Fresh {
+        if outputs::from_state(index) {
+            Fresh::State
+        } else {
+            Fresh::All
+        }
+    }
 }
 
 /// Wheel slip without the torque to explain it: the signature of the spin–slip instability of an
@@ -588,8 +600,8 @@ impl Simulation {
         self.fresh = self.fresh.max(Fresh::State);
     }
 
-    /// Evaluate the model at the current state for the other outputs (and the slip monitor). The
-    /// evaluation leaves the Newton warm starts as they were: reading outputs never changes the run.
+    /// Evaluate the model at the current state for the other outputs. The evaluation leaves the Newton
+    /// warm starts as they were: reading outputs never changes the run.
     fn evaluate_outputs(&mut self) -> Result<(), EvalError> {
         self.write_state_outputs();
         let vehicle = attached(&self.vehicle)?;
@@ -640,7 +652,7 @@ impl Simulation {
     /// Output `index` (of `OUTPUT_NAMES`) at the current state, computed when first read after a step:
     /// the state outputs cost no evaluation, the others one evaluation for all of them.
     pub fn output(&mut self, index: usize) -> Result<f64, SimError> {
-        let needed = if outputs::from_state(index) { Fresh::State } else { Fresh::All };
+        let needed = Fresh::needed_for(index);
         if self.fresh < needed {
             if needed == Fresh::State {
                 self.write_state_outputs();
@@ -653,8 +665,7 @@ impl Simulation {
 
     /// Output `index` if it is already computed for the current state (`output` computes it).
     pub fn current_output(&self, index: usize) -> Option<f64> {
-        let needed = if outputs::from_state(index) { Fresh::State } else { Fresh::All };
-        (self.fresh >= needed).then(|| self.outputs_values[index])
+        (self.fresh >= Fresh::needed_for(index)).then(|| self.outputs_values[index])
     }
 
     /// Every output at the current state (one evaluation if they are not yet computed).

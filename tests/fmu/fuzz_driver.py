@@ -529,7 +529,7 @@ class Sequence:
         if what.startswith("internal_step"):
             v = float(what.split()[1])
             model["params"]["internal_step"] = v
-            self.edit_all(model, "internal_step", v)
+            self.edit(model, "internal_step", v, share=1.0)
         elif what == "brake torque -5":
             model["brake"][r.randrange(4)] = -5.0
             if isinstance(model["sim"].get("brake"), list):
@@ -551,27 +551,18 @@ class Sequence:
             core["time"] = "NaN"  # not a number at all: serde must refuse it
         return json.dumps(state).encode(), what
 
-    def edit_all(self, node, key, value):
+    def edit(self, node, key, value, share=0.7):
+        """Set `key` to `value` wherever it occurs in the JSON tree, at each place with probability `share`
+        (1: everywhere; no random draw is made then, so the sequence of draws is the same as before)."""
         if isinstance(node, dict):
             for k in node:
-                if k == key:
+                if k == key and (share >= 1.0 or self.rng.random() < share):
                     node[k] = value
                 else:
-                    self.edit_all(node[k], key, value)
+                    self.edit(node[k], key, value, share)
         elif isinstance(node, list):
             for v in node:
-                self.edit_all(v, key, value)
-
-    def edit(self, node, key, value):
-        if isinstance(node, dict):
-            for k in node:
-                if k == key and self.rng.random() < 0.7:
-                    node[k] = value
-                else:
-                    self.edit(node[k], key, value)
-        elif isinstance(node, list):
-            for v in node:
-                self.edit(v, key, value)
+                self.edit(v, key, value, share)
 
     def run(self):
         for _ in range(40):
