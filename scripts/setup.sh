@@ -7,8 +7,13 @@ cd "$(dirname "$0")/.."
 source scripts/libclang.sh
 apt_packages=()
 # Judge by the files bindgen can load (libclang-cpp.so.N, present on Debian 12 images, is not one).
+# bindgen also needs clang's builtin headers (stddef.h) in the library's resource directory: libclang1-N
+# without libclang-common-N-dev has the library and not them.
 mapfile -t libclang_files < <(libclang_candidates)
-libclang_present "${libclang_files[@]}" >/dev/null || apt_packages+=(libclang-dev)
+if ! libclang_present "${libclang_files[@]}" >/dev/null \
+    || ! compgen -G "/usr/lib/llvm-*/lib/clang/*/include/stddef.h" >/dev/null; then
+    apt_packages+=(libclang-dev)
+fi
 command -v valgrind >/dev/null 2>&1 || apt_packages+=(valgrind)
 if [ ${#apt_packages[@]} -gt 0 ]; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
