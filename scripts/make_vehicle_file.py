@@ -99,6 +99,8 @@ out = {
         "relaxation_length_x_m": 0.3,
         "relaxation_length_y_m": 0.5,
         "v_min_m_s": 1.0,
+        "low_speed_blend_m_s": [0.5, 2.0],
+        "low_speed_damping_Ns_per_m": 12000.0,
     },
     "speed_hold": {"kp_per_s": 5.0, "ki_per_s2": 2.0},
 }

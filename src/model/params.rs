@@ -157,6 +157,11 @@ pub struct Tire {
     pub relaxation_length_x_m: f64,
     pub relaxation_length_y_m: f64,
     pub v_min_m_s: f64,
+    /// Forward speeds |V_x| between which the tire blends from its standstill form (damped tread spring,
+    /// no aligning moment or camber thrust) into the rolling relaxation model, m/s (physics.md §6.9).
+    pub low_speed_blend_m_s: [f64; 2],
+    /// Damping of the tread against slip velocity at standstill, per tire, N·s/m (faded out by the blend).
+    pub low_speed_damping_Ns_per_m: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -352,6 +357,12 @@ impl VehicleData {
         positive("tire.relaxation_length_x_m", tire.relaxation_length_x_m)?;
         positive("tire.relaxation_length_y_m", tire.relaxation_length_y_m)?;
         positive("tire.v_min_m_s", tire.v_min_m_s)?;
+        let [v_lo, v_hi] = tire.low_speed_blend_m_s;
+        positive("tire.low_speed_blend_m_s[0]", v_lo)?;
+        if !(v_hi > v_lo && v_hi.is_finite()) {
+            return Err(err("tire.low_speed_blend_m_s", "must be two increasing finite speeds, the first positive"));
+        }
+        nonneg("tire.low_speed_damping_Ns_per_m", tire.low_speed_damping_Ns_per_m)?;
         let sti = &tire.sti;
         positive("tire.sti.a1", sti.a1)?;
         positive("tire.sti.a2_N", sti.a2_N)?;

@@ -566,7 +566,7 @@ impl Vehicle {
                 &state,
                 local,
                 &mut assembly.terms[i],
-            );
+            )?;
             chassis_force += wheel.chassis_wrench;
             assembly.spin_torque[i] = wheel.spin_torque;
             assembly.relaxation_rates[i] = wheel.relaxation_rates;
@@ -592,7 +592,7 @@ impl Vehicle {
         wheel: &WheelState,
         diag: &mut Diagnostics,
         terms: &mut SubsystemTerms,
-    ) -> CornerOutput {
+    ) -> Result<CornerOutput, EvalError> {
         let WheelState { spin, xi, drive_torque, brake_torque } = *wheel;
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
@@ -645,10 +645,10 @@ impl Vehicle {
         let axle = k.axle;
         let spin_rel = spin - axle.dot(&w_k);
         let rho_w = k.wheel_centre;
-        let mut spin_torque = drive_torque - brake_torque * (spin_rel / 0.5).tanh();
         chassis_wrench += wrench(&V3::zeros(), &(-axle * drive_torque));
-        q_k += wrench(&V3::zeros(), &(axle * (brake_torque * (spin_rel / 0.5).tanh())));
         q_k += wrench(&V3::zeros(), &(-w_k.cross(&axle) * (c.spin_inertia * spin)));
+        // Torque about the spin axis from everything but the brake: the drive, then the tire.
+        let mut free_torque = drive_torque;
         let mut relaxation_rates = [0.0; 2];
         let centre_abs = rho_w + r0;
         diag.wheel_centre_z[i] = centre_abs.z;
@@ -663,31 +663,59 @@ impl Vehicle {
                 let v_c = point_velocity(&y_k, &(ct.point - r0));
                 let fz = tire::normal_force(&self.tire, ct.penetration, tire::penetration_rate(&ct, &v_c));
                 let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
+                // 1 when rolling above the low-speed range (the model of §6.7 exactly), 0 at standstill.
+                let blend = tire::low_speed_blend(&self.tire, slip.vx);
                 let (kappa, tan_alpha) = match self.slip {
                     SlipModel::Relaxation => {
-                        relaxation_rates = tire::relaxation_rates(&self.tire, slip.vx, slip.vsx, slip.vsy, xi, true);
-                        (xi[0], xi[1])
+                        let context = tire::SlipStateContext {
+                            in_contact: true,
+                            blend,
+                            sliding_limit: tire::sliding_limits(&self.tire, fz),
+                        };
+                        relaxation_rates =
+                            tire::relaxation_rates(&self.tire, slip.vx, slip.vsx, slip.vsy, xi, &context);
+                        tire::damped_slip(&self.tire, fz, xi, &slip, blend)
+                    }
+                    SlipModel::Steady if blend < 1.0 => {
+                        return Err(EvalError(format!(
+                            "wheel {}: forward speed {:.3} m/s is below {} m/s, where steady slip does not hold                              (it divides by the speed); use relaxation slip (slip_model = 1), which covers                              standstill",
+                            CORNERS[i],
+                            slip.vx.abs(),
+                            self.tire.low_speed_blend_m_s[1]
+                        )))
                     }
                     SlipModel::Steady => tire::steady_slip(&self.tire, slip.vx, slip.vsx, slip.vsy),
                 };
-                let shear = tire::shear_forces(self.tire_model, &self.tire, fz, kappa, tan_alpha, ct.inclination);
+                // Camber thrust and aligning moment build up by rolling: faded out at standstill (b = 0),
+                // where they would push and twist a parked car.
+                let shear =
+                    tire::shear_forces(self.tire_model, &self.tire, fz, kappa, tan_alpha, ct.inclination * blend);
+                let mz = shear.mz * blend;
                 let m_rr = tire::rolling_resistance_moment(&self.tire, fz, ct.loaded_radius, spin_rel);
                 let force = ct.force(fz, &shear);
-                let moment_w = ct.moment_about_centre(&axle, &force, shear.mz, m_rr);
+                let moment_w = ct.moment_about_centre(&axle, &force, mz, m_rr);
                 // The axial moment drives the spin (§4.8); the rest acts on the carrier at the wheel centre.
                 let axial = axle.dot(&moment_w);
                 q_k += wrench(&force, &(rho_w.cross(&force) + moment_w - axle * axial));
-                spin_torque += axial;
+                free_torque += axial;
                 diag.tire_force[i] = [shear.fx, shear.fy, fz];
                 diag.kappa[i] = kappa;
                 diag.tan_alpha[i] = tan_alpha;
             }
             None => {
                 if self.slip == SlipModel::Relaxation {
-                    relaxation_rates = tire::relaxation_rates(&self.tire, 0.0, 0.0, 0.0, xi, false);
+                    let lifted = tire::SlipStateContext { in_contact: false, blend: 1.0, sliding_limit: [1.0; 2] };
+                    relaxation_rates = tire::relaxation_rates(&self.tire, 0.0, 0.0, 0.0, xi, &lifted);
                 }
             }
         }
+        // Brake between wheel and carrier (model::brake): holds the relative spin within its capacity.
+        let brake = crate::model::brake::torque(
+            brake_torque,
+            crate::model::brake::demand(free_torque, c.spin_inertia, spin_rel),
+        );
+        q_k += wrench(&V3::zeros(), &(axle * brake));
+        let spin_torque = free_torque - brake;
 
         // Subsystem terms (§4.2) from the joint-Jacobian structure: 𝔅_L = [b_L 0 0 0 0], 𝔅_K = [b_L B_K 0],
         // 𝔅_U = [0 0 0 0 b_U], so that M_qq = Σ 𝔅ᵀM̂𝔅 has the blocks below (zero between θ_U and the rest)
@@ -733,7 +761,7 @@ impl Vehicle {
         terms.phi_q = pos.phi_q;
         terms.gamma_bar = *gamma_bar;
         terms.phi_v_lu = pos.lu_v;
-        CornerOutput { chassis_wrench, spin_torque, relaxation_rates }
+        Ok(CornerOutput { chassis_wrench, spin_torque, relaxation_rates })
     }
 }
 

@@ -1,4 +1,5 @@
 //! Slip kinematics (physics.md §6.4) and the relaxation-length slip states (§6.7).
+use super::sti::{cornering_stiffness, longitudinal_stiffness};
 use super::{Contact, TireParams};
 use nalgebra::Vector3;
 
@@ -55,16 +56,95 @@ pub fn steady_slip(p: &TireParams, vx: f64, vsx: f64, vsy: f64) -> (f64, f64) {
     (-vsx / v_ref, -vsy / v_ref)
 }
 
-/// Rates of the relaxation states (ξ_x, ξ_y) ≈ (κ, tan α) (physics.md §6.7):
-/// L_x ξ̇_x + |V_x| ξ_x = -V_sx, L_y ξ̇_y + |V_x| ξ_y = -V_sy. The exact |V_x| is used, as in §6.7: its kink at
-/// V_x = 0 multiplies ξ, so it does not matter at the zero-slip equilibrium. `in_contact == false` relaxes the
-/// states to 0 with a 0.05 s time constant.
-pub fn relaxation_rates(p: &TireParams, vx: f64, vsx: f64, vsy: f64, xi: [f64; 2], in_contact: bool) -> [f64; 2] {
-    if !in_contact {
+/// Slip speed scale of the standstill tread model, m/s: below it the tread deflection approaches its
+/// sliding limit as in Dahl's friction model (rate ∝ |V_s|); above it the approach rate stops growing, so
+/// that the fastest rate stays V_S/(L ξ_lim) ≈ 37 1/s (explicit schemes stay stable) and ξ may go past the
+/// limit into the sliding part of the force law, where the force no longer grows.
+pub const DAHL_SLIP_SPEED_M_S: f64 = 0.5;
+
+/// The low-speed blend b(|V_x|) (physics.md §6.9): 0 at and below `low_speed_blend_m_s[0]`, 1 at and above
+/// `[1]`, the C² smootherstep between. b = 1 is the rolling tire of §6.7 exactly.
+pub fn low_speed_blend(p: &TireParams, vx: f64) -> f64 {
+    let [v_lo, v_hi] = p.low_speed_blend_m_s;
+    let speed = vx.abs();
+    if speed >= v_hi {
+        return 1.0;
+    }
+    if speed <= v_lo {
+        return 0.0;
+    }
+    let tau = (speed - v_lo) / (v_hi - v_lo);
+    tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau)
+}
+
+/// What the slip states need besides the velocities: whether the wheel touches the road, the low-speed
+/// blend b, and the sliding limits of the tread deflection ξ_lim = μ0 F_z / C (in slip units: the slip at
+/// which the linear force reaches μ0 F_z), for x and y.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlipStateContext {
+    pub in_contact: bool,
+    pub blend: f64,
+    pub sliding_limit: [f64; 2],
+}
+
+/// Sliding limits of the tread deflection in slip units, ξ_lim = μ0 F_z / C for C = C_s (x) and C_α (y): the
+/// slip at which the linear force would reach μ0 F_z. The load is floored at 100 N (a wheel barely
+/// touching), and a stiffness of 0 gives no limit (infinity).
+pub fn sliding_limits(p: &TireParams, fz: f64) -> [f64; 2] {
+    let fz = fz.max(MIN_LOAD_N);
+    let mu_fz = p.sti.mu0 * fz;
+    [mu_fz / longitudinal_stiffness(p, fz), mu_fz / cornering_stiffness(p, fz)]
+}
+
+/// Load floor of the low-speed terms, N.
+const MIN_LOAD_N: f64 = 100.0;
+
+/// The slips (κ, tan α) the force law sees: the states, plus at low speed the tread damping
+/// -c (1 - b) V_s / C (physics.md §6.9), i.e. a force -c V_s at small slip (Pacejka's low-speed damping,
+/// Tire and Vehicle Dynamics §8.6, faded in the same way). It damps the tread spring at standstill;
+/// through the force law it saturates with the force. Above the blend (b = 1) the states themselves.
+pub fn damped_slip(p: &TireParams, fz: f64, xi: [f64; 2], slip: &SlipVelocities, blend: f64) -> (f64, f64) {
+    if blend >= 1.0 {
+        return (xi[0], xi[1]);
+    }
+    let fz = fz.max(MIN_LOAD_N);
+    let damping = p.low_speed_damping_Ns_per_m * (1.0 - blend);
+    let c_x = longitudinal_stiffness(p, fz).max(1.0);
+    let c_y = cornering_stiffness(p, fz).max(1.0);
+    (xi[0] - damping * slip.vsx / c_x, xi[1] - damping * slip.vsy / c_y)
+}
+
+/// Rates of the slip states (ξ_x, ξ_y) ≈ (κ, tan α); L ξ is the tread deflection (physics.md §6.7, §6.9).
+///
+/// Rolling (b = 1, |V_x| above the blend): the relaxation-length equations L_x ξ̇_x + |V_x| ξ_x = -V_sx,
+/// L_y ξ̇_y + |V_x| ξ_y = -V_sy, exactly as before (their fixed point is the steady slip). The exact |V_x|
+/// is used: its kink at V_x = 0 multiplies ξ, so it does not matter at the zero-slip equilibrium.
+///
+/// At standstill (b = 0) |V_x| ξ would vanish and leave ξ̇ = -V_s/L: an undamped spring whose deflection
+/// grows without bound while the tread slides (a locked wheel stores ξ ≈ -1 and springs the car back at
+/// the stop). The deflection instead approaches its sliding limit as in Dahl's friction model, which
+/// Chrono's Pac02 tire uses below 1 m/s (`ChPac02Tire::CombinedCoulombForces`): L ξ̇ = -V_s - V_D ξ/ξ_lim
+/// with V_D = V_S tanh(|V_s|/V_S). With V_s = 0 the deflection holds: the tire is a spring that holds the
+/// car on a grade without creeping. Between, the two relaxation speeds blend by b.
+///
+/// Out of contact the states relax to 0 with a 0.05 s time constant.
+pub fn relaxation_rates(p: &TireParams, vx: f64, vsx: f64, vsy: f64, xi: [f64; 2], context: &SlipStateContext) -> [f64; 2] {
+    if !context.in_contact {
         return xi.map(|x| -x / LIFT_OFF_RELAXATION_TIME_S);
     }
     let speed = vx.abs();
-    [(-vsx - speed * xi[0]) / p.relaxation_length_x_m, (-vsy - speed * xi[1]) / p.relaxation_length_y_m]
+    if context.blend >= 1.0 {
+        return [(-vsx - speed * xi[0]) / p.relaxation_length_x_m, (-vsy - speed * xi[1]) / p.relaxation_length_y_m];
+    }
+    let b = context.blend;
+    let rate = |vs: f64, xi: f64, limit: f64, length: f64| {
+        let dahl = DAHL_SLIP_SPEED_M_S * (vs.abs() / DAHL_SLIP_SPEED_M_S).tanh() / limit;
+        (-vs - (b * speed + (1.0 - b) * dahl) * xi) / length
+    };
+    [
+        rate(vsx, xi[0], context.sliding_limit[0], p.relaxation_length_x_m),
+        rate(vsy, xi[1], context.sliding_limit[1], p.relaxation_length_y_m),
+    ]
 }
 
 #[cfg(test)]
@@ -75,6 +155,9 @@ mod tests {
     fn params() -> TireParams {
         VehicleData::default_hmmwv().tire
     }
+
+    /// Rolling above the blend, in contact (limits unused there).
+    const ROLLING: SlipStateContext = SlipStateContext { in_contact: true, blend: 1.0, sliding_limit: [0.05, 0.1] };
 
     #[test]
     fn reference_speed_is_a_smooth_max() {
@@ -115,14 +198,14 @@ mod tests {
         let (kappa, tan_alpha) = steady_slip(&p, vx, vsx, vsy);
         // The fixed point of the rates is -V_s/|V_x|; V_ref differs from |V_x| by < ε²/(4·14) = 4.5e-5 m/s,
         // i.e. 3.0e-6 relative: the rates at the steady slips must vanish to that level (4e-6 allowed).
-        let rates = relaxation_rates(&p, vx, vsx, vsy, [kappa, tan_alpha], true);
+        let rates = relaxation_rates(&p, vx, vsx, vsy, [kappa, tan_alpha], &ROLLING);
         assert!(rates[0].abs() < 4e-6 * vx * kappa.abs() / p.relaxation_length_x_m);
         assert!(rates[1].abs() < 4e-6 * vx * tan_alpha.abs() / p.relaxation_length_y_m);
         // And a transient converges to it: integrate 2 s (many times L/V = 0.03 s) with explicit Euler.
         let mut xi = [0.0, 0.0];
         let dt = 1e-4;
         for _ in 0..20_000 {
-            let r = relaxation_rates(&p, vx, vsx, vsy, xi, true);
+            let r = relaxation_rates(&p, vx, vsx, vsy, xi, &ROLLING);
             xi = [xi[0] + dt * r[0], xi[1] + dt * r[1]];
         }
         assert!((xi[0] - kappa).abs() < 1e-5 * kappa.abs());
@@ -130,17 +213,48 @@ mod tests {
     }
 
     #[test]
-    fn relaxation_at_standstill_integrates_slip_displacement() {
+    fn standstill_tread_holds_its_deflection_and_is_bounded_when_sliding() {
         let p = params();
-        // At V_x = 0, ξ̇ = -V_s/L exactly, independent of ξ: ξ = -(slip displacement)/L.
-        let rates = relaxation_rates(&p, 0.0, 0.02, -0.05, [0.3, -0.7], true);
-        assert_eq!(rates, [-0.02 / p.relaxation_length_x_m, 0.05 / p.relaxation_length_y_m]);
+        let limits = [0.045, 0.1];
+        let standstill = SlipStateContext { in_contact: true, blend: low_speed_blend(&p, 0.0), sliding_limit: limits };
+        assert_eq!(standstill.blend, 0.0);
+        // No slip velocity: the deflection neither grows nor leaks (a spring that holds the car).
+        assert_eq!(relaxation_rates(&p, 0.0, 0.0, 0.0, [0.03, -0.07], &standstill), [0.0, 0.0]);
+        // Small slip displacements integrate as a spring: ξ̇ ≈ -V_s/L while ξ is far from its limit.
+        let rates = relaxation_rates(&p, 0.0, 1e-4, -1e-4, [0.0, 0.0], &standstill);
+        assert_eq!(rates, [-1e-4 / p.relaxation_length_x_m, 1e-4 / p.relaxation_length_y_m]);
+        // Sliding at 1 cm/s for 100 s (1 m, many times the deflection at the limit; the slowest approach
+        // rate is V_s/(L_y ξ_lim,y) = 0.2 1/s): ξ settles at the Dahl fixed point ξ_lim V_s/V_D, within 1e-3
+        // of ξ_lim since V_D = V_S tanh(V_s/V_S) ≈ V_s here.
+        let mut xi = [0.0, 0.0];
+        let dt = 1e-2;
+        for _ in 0..10_000 {
+            let r = relaxation_rates(&p, 0.0, -0.01, 0.01, xi, &standstill);
+            xi = [xi[0] + dt * r[0], xi[1] + dt * r[1]];
+        }
+        assert!((xi[0] - limits[0]).abs() < 1e-3 * limits[0], "{xi:?}");
+        assert!((xi[1] + limits[1]).abs() < 1e-3 * limits[1], "{xi:?}");
+    }
+
+    #[test]
+    fn low_speed_blend_is_smooth_and_exact_at_its_ends() {
+        let p = params();
+        let [v_lo, v_hi] = p.low_speed_blend_m_s;
+        assert_eq!(low_speed_blend(&p, 0.0), 0.0);
+        assert_eq!(low_speed_blend(&p, -v_lo), 0.0);
+        assert_eq!(low_speed_blend(&p, v_hi), 1.0);
+        assert_eq!(low_speed_blend(&p, -27.8), 1.0);
+        assert!((low_speed_blend(&p, 0.5 * (v_lo + v_hi)) - 0.5).abs() < 1e-15);
+        // Continuous at both ends (a smootherstep: value and two derivatives vanish there).
+        assert!(low_speed_blend(&p, v_lo + 1e-6) < 1e-15);
+        assert!(1.0 - low_speed_blend(&p, v_hi - 1e-6) < 1e-15);
     }
 
     #[test]
     fn relaxation_decays_when_lifted_off() {
         let p = params();
-        let rates = relaxation_rates(&p, 20.0, -1.0, 1.0, [0.1, -0.2], false);
+        let lifted = SlipStateContext { in_contact: false, ..ROLLING };
+        let rates = relaxation_rates(&p, 20.0, -1.0, 1.0, [0.1, -0.2], &lifted);
         assert_eq!(rates, [-0.1 / 0.05, 0.2 / 0.05]);
     }
 }
