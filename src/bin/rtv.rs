@@ -23,7 +23,8 @@ const USAGE: &str = "usage:
   rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|ros2]
             [--step S] [--end T] [--output-interval DT] [--speed coast|hold] [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
-            [--out FILE.csv]
+            [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
+            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv calibrate [--vehicle FILE.json]";
@@ -116,7 +117,9 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
         return Err(bad("--output-interval must be positive"));
     }
     c.internal_step = number(opts, "step", c.internal_step)?;
-    c.validate().map_err(|e| bad(format!("--step: {e}")))?;
+    c.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
+    c.bump = [number(opts, "bump-height", c.bump[0])?, number(opts, "bump-length", c.bump[1])?];
+    c.validate().map_err(|e| bad(e.0))?;
     // The step asked for is the step taken: it must divide the output interval.
     let ratio = interval / c.internal_step;
     if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
@@ -151,17 +154,33 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "amplitude",
             "ride-height",
             "vehicle",
+            "initial-speed",
+            "bump-height",
+            "bump-length",
+            "grade",
+            "cross-slope",
+            "brake",
+            "drive",
             "out",
         ],
     )?;
-    let (config, interval) = scene_config(&opts)?;
+    let (mut config, interval) = scene_config(&opts)?;
     let amplitude = match opts.get("amplitude") {
         Some(a) => Amplitude::parse(a).ok_or_else(|| {
             bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1"))
         })?,
         None => Amplitude::Calibrated,
     };
-    let scene = Scene::new(kind, amplitude);
+    let mut scene = Scene::new(kind, amplitude);
+    scene.speed = number(&opts, "initial-speed", scene.speed)?;
+    config.initial_speed = scene.speed;
+    config.validate().map_err(|e| bad(format!("--initial-speed: {e}")))?;
+    // Wheel torques on every wheel from the start (N·m): brake ≥ 0 is a clamp capacity.
+    let brake = number(&opts, "brake", 0.0)?;
+    let drive = number(&opts, "drive", 0.0)?;
+    if !(brake >= 0.0) {
+        return Err(bad("--brake: a brake torque must be >= 0 N·m"));
+    }
     let end = number(&opts, "end", scene.duration)?;
     if !(end > 0.0 && end <= MAX_END && end / interval <= MAX_ROWS) {
         return Err(bad(format!(
@@ -169,8 +188,10 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         )));
     }
     let data = vehicle_data(&opts)?;
+    scene.check_rack(data.rack.travel_limit_m).map_err(|e| bad(format!("--amplitude: {e}")))?;
     let started = Instant::now();
     let mut sim = scene.start(data, &config).map_err(|e| failed(e.0))?;
+    sim.set_wheel_torques([drive; 4], [brake; 4]);
     let setup = started.elapsed();
     let mut out = csv_writer(opts.get("out"))?;
     let header = OUTPUT_NAMES[..CSV_COLUMNS].join(",");

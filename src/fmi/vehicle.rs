@@ -20,7 +20,10 @@ use std::path::{Path, PathBuf};
 pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
 
 /// Limits of the Real parameters (also declared in the model description as min/max).
-pub use crate::sim::{INITIAL_SPEED_MAX, INTERNAL_STEP_MAX, INTERNAL_STEP_MIN};
+pub use crate::sim::{
+    BUMP_HEIGHT_MAX, BUMP_LENGTH_MAX, BUMP_LENGTH_MIN, INITIAL_SPEED_MAX, INTERNAL_STEP_MAX, INTERNAL_STEP_MIN,
+    SLOPE_MAX,
+};
 
 /// What an input drives: the rack, or a wheel's drive or brake torque (corners FL, FR, RL, RR).
 enum InputSlot {
@@ -91,6 +94,14 @@ pub struct Parameters {
     pub slip_model: i32,
     pub road: i32,
     pub vehicle_file: String,
+    #[serde(default)]
+    pub road_grade: f64,
+    #[serde(default)]
+    pub road_cross_slope: f64,
+    #[serde(default)]
+    pub bump_height: f64,
+    #[serde(default)]
+    pub bump_length: f64,
 }
 
 impl Parameters {
@@ -103,9 +114,22 @@ impl Parameters {
             road: road(self.road)?,
             speed_mode: speed_mode(self.speed_mode)?,
             initial_speed: self.initial_speed,
+            slope: [self.road_grade, self.road_cross_slope],
+            bump: [self.bump_height, self.bump_length],
             ..SimConfig::default()
         })
     }
+}
+
+/// The rack input within the rack's travel limit (vehicle data `rack.travel_limit_m`).
+fn check_rack(value: f64, limit: f64) -> Result<(), String> {
+    if value.abs() > limit {
+        return Err(format!(
+            "rack_displacement {value} m is beyond the rack's travel limit of ±{limit} m (vehicle data \
+             rack.travel_limit_m); the old value is kept"
+        ));
+    }
+    Ok(())
 }
 
 fn speed_mode(i: i32) -> Result<SpeedMode, String> {
@@ -225,6 +249,10 @@ impl FmuModel for VehicleModel {
             },
             Var::Parameter(P::InitialSpeed) => p.initial_speed,
             Var::Parameter(P::InternalStep) => p.internal_step,
+            Var::Parameter(P::RoadGrade) => p.road_grade,
+            Var::Parameter(P::RoadCrossSlope) => p.road_cross_slope,
+            Var::Parameter(P::BumpHeight) => p.bump_height,
+            Var::Parameter(P::BumpLength) => p.bump_length,
             Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile) => {
                 return Err(format!("{} is not a Real of this model", var.name))
             }
@@ -241,7 +269,15 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Integrator) => p.integrator,
             Var::Parameter(P::SlipModel) => p.slip_model,
             Var::Parameter(P::Road) => p.road,
-            Var::Parameter(P::InitialSpeed | P::InternalStep | P::VehicleFile)
+            Var::Parameter(
+                P::InitialSpeed
+                | P::InternalStep
+                | P::VehicleFile
+                | P::RoadGrade
+                | P::RoadCrossSlope
+                | P::BumpHeight
+                | P::BumpLength,
+            )
             | Var::Input(_)
             | Var::Local(_)
             | Var::Output => return Err(format!("{} is not an Integer of this model", var.name)),
@@ -258,7 +294,14 @@ impl FmuModel for VehicleModel {
     fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
         match var.var {
             Var::Input(i) => match input_slot(i) {
-                InputSlot::Rack => self.rack = value,
+                InputSlot::Rack => {
+                    // The rack's travel limit (vehicle data): known once the simulation is built; a start
+                    // value set before is checked when it is (`initialize`).
+                    if let Some(limit) = self.sim.as_ref().map(|s| s.vehicle().rack.travel_limit) {
+                        check_rack(value, limit)?;
+                    }
+                    self.rack = value
+                }
                 InputSlot::Drive(c) => self.drive[c] = value,
                 InputSlot::Brake(c) => {
                     if value < 0.0 {
@@ -279,6 +322,27 @@ impl FmuModel for VehicleModel {
                 }
                 self.params.internal_step = value;
             }
+            Var::Parameter(P::RoadGrade | P::RoadCrossSlope) => {
+                if !(value.abs() <= SLOPE_MAX) {
+                    return Err(format!("{} must be in [-{SLOPE_MAX}, {SLOPE_MAX}] (rise over run)", var.name));
+                }
+                match var.var {
+                    Var::Parameter(P::RoadGrade) => self.params.road_grade = value,
+                    _ => self.params.road_cross_slope = value,
+                }
+            }
+            Var::Parameter(P::BumpHeight) => {
+                if !(0.0..=BUMP_HEIGHT_MAX).contains(&value) {
+                    return Err(format!("bump_height must be in [0, {BUMP_HEIGHT_MAX}] m"));
+                }
+                self.params.bump_height = value;
+            }
+            Var::Parameter(P::BumpLength) => {
+                if !(BUMP_LENGTH_MIN..=BUMP_LENGTH_MAX).contains(&value) {
+                    return Err(format!("bump_length must be in [{BUMP_LENGTH_MIN}, {BUMP_LENGTH_MAX}] m"));
+                }
+                self.params.bump_length = value;
+            }
             Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile)
             | Var::Local(_)
             | Var::Output => return Err(format!("{} is not a settable Real of this model", var.name)),
@@ -294,7 +358,15 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Integrator) => integrator(value).map(|_| p.integrator = value),
             Var::Parameter(P::SlipModel) => slip_model(value).map(|_| p.slip_model = value),
             Var::Parameter(P::Road) => road(value).map(|_| p.road = value),
-            Var::Parameter(P::InitialSpeed | P::InternalStep | P::VehicleFile)
+            Var::Parameter(
+                P::InitialSpeed
+                | P::InternalStep
+                | P::VehicleFile
+                | P::RoadGrade
+                | P::RoadCrossSlope
+                | P::BumpHeight
+                | P::BumpLength,
+            )
             | Var::Input(_)
             | Var::Local(_)
             | Var::Output => Err(format!("{} is not a settable Integer of this model", var.name)),
@@ -336,6 +408,7 @@ impl FmuModel for VehicleModel {
             log.event(&format!("vehicle data: {w}"));
         }
         log.event(&format!("configuration: {config:?}"));
+        check_rack(self.rack, vehicle.rack.travel_limit_m)?;
         let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
         self.sim = Some(sim);
         self.monitor_reported = false;

@@ -90,6 +90,9 @@ pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), EvalError> {
     let mut cache = KinematicsCache::default();
     let mut statics = v.clone();
     statics.speed_mode = SpeedMode::Coast;
+    // At rest every slip velocity is zero: the tire has no shear force with undeflected slip states
+    // (ξ = 0). Steady slip is not defined at standstill, so the static problem is posed with them.
+    statics.slip = crate::model::tire::SlipModel::Relaxation;
     let layout = statics.layout();
     let mut dx = vec![0.0; layout.dim];
     newton(
@@ -121,6 +124,9 @@ pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), EvalError> {
 pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Vec<f64>, EvalError> {
     let mut statics = v.clone();
     statics.speed_mode = SpeedMode::Coast;
+    // At rest every slip velocity is zero: the tire has no shear force with undeflected slip states
+    // (ξ = 0). Steady slip is not defined at standstill, so the static problem is posed with them.
+    statics.slip = crate::model::tire::SlipModel::Relaxation;
     let layout = statics.layout();
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let mut dx = vec![0.0; layout.dim];

@@ -88,8 +88,8 @@ pub enum RoadModel {
 }
 
 /// Bump geometry of the paper's course [P, physics.md §8.3].
-const PAPER_BUMP_LENGTH_M: f64 = 0.5;
-const PAPER_BUMP_HEIGHT_M: f64 = 0.05;
+pub const PAPER_BUMP_LENGTH_M: f64 = 0.5;
+pub const PAPER_BUMP_HEIGHT_M: f64 = 0.05;
 /// Leading edges, measured from the initial front wheel centres: left wheels, then right wheels.
 const PAPER_BUMPS_LEFT_M: [f64; 2] = [10.0, 14.0];
 const PAPER_BUMPS_RIGHT_M: [f64; 2] = [11.0, 15.0];
@@ -98,12 +98,12 @@ impl RoadModel {
     /// The paper's unsymmetric bump course: 0.5 m long, 5 cm high; left wheels at 10 m and 14 m, right at
     /// 11 m and 15 m, leading edges measured from `front_wheel_x0` (the initial front wheel centres).
     pub fn paper_bump_course(front_wheel_x0: f64) -> RoadModel {
-        let bump = |offset: f64, side: f64| HalfSineBump {
-            x_start: front_wheel_x0 + offset,
-            length: PAPER_BUMP_LENGTH_M,
-            height: PAPER_BUMP_HEIGHT_M,
-            side,
-        };
+        RoadModel::bump_course(front_wheel_x0, PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M)
+    }
+
+    /// The paper's course (bump positions and sides) with bumps of another height and length.
+    pub fn bump_course(front_wheel_x0: f64, height: f64, length: f64) -> RoadModel {
+        let bump = |offset: f64, side: f64| HalfSineBump { x_start: front_wheel_x0 + offset, length, height, side };
         let left = PAPER_BUMPS_LEFT_M.iter().map(|&x| bump(x, 1.0));
         let right = PAPER_BUMPS_RIGHT_M.iter().map(|&x| bump(x, -1.0));
         RoadModel::Bumps(left.chain(right).collect())

@@ -235,6 +235,10 @@ pub struct Vehicle {
     pub gravity: f64,
     pub switches: ForceSwitches,
     pub total_mass: f64,
+    /// Road slope, rise over run (longitudinal, cross), modelled by tilting gravity: the road stays the
+    /// plane z = 0 of the model's ground frame, which is the road frame (x along the road, z normal to it).
+    #[serde(default)]
+    pub slope: [f64; 2],
     /// Keep the states the options leave unused (`Layout::FULL`): only to verify that leaving them out
     /// changes nothing (tests/pruning.rs).
     #[serde(default)]
@@ -309,6 +313,7 @@ impl Vehicle {
             gravity: data.gravity_m_s2,
             switches: ForceSwitches::default(),
             total_mass,
+            slope: [0.0; 2],
             keep_unused_states: false,
         };
         v.rack.sign = if v
@@ -321,6 +326,16 @@ impl Vehicle {
             1.0
         };
         Ok(v)
+    }
+
+    /// Gravity in the road frame: -g (s, c, 1)/√(1 + s² + c²) for the slope (s, c): its normal part is
+    /// -g cos θ and its part along the road g sin θ down the steepest descent (exactly -g ẑ on the level).
+    pub fn gravity_vector(&self) -> V3 {
+        let [s, c] = self.slope;
+        if s == 0.0 && c == 0.0 {
+            return V3::new(0.0, 0.0, -self.gravity);
+        }
+        -self.gravity * V3::new(s, c, 1.0) / (1.0 + s * s + c * c).sqrt()
     }
 
     /// The state layout this vehicle's options give.
@@ -507,7 +522,7 @@ impl Vehicle {
     ) -> Result<(), EvalError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
-        let g = if self.switches.gravity { V3::new(0.0, 0.0, -self.gravity) } else { V3::zeros() };
+        let g = if self.switches.gravity { self.gravity_vector() } else { V3::zeros() };
 
         // Chassis (ρ0 = 0 after the origin shift) and rack (§4.7).
         let j0 = a0 * self.chassis.inertia * a0.transpose();
@@ -678,7 +693,8 @@ impl Vehicle {
                     }
                     SlipModel::Steady if blend < 1.0 => {
                         return Err(EvalError(format!(
-                            "wheel {}: forward speed {:.3} m/s is below {} m/s, where steady slip does not hold                              (it divides by the speed); use relaxation slip (slip_model = 1), which covers                              standstill",
+                            "wheel {}: forward speed {:.3} m/s is below {} m/s, where steady slip does not hold (it divides by \
+                             the speed); use relaxation slip (slip_model = 1), which covers standstill",
                             CORNERS[i],
                             slip.vx.abs(),
                             self.tire.low_speed_blend_m_s[1]
@@ -926,7 +942,7 @@ impl Vehicle {
     ) -> Result<MechanicalSummary, EvalError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
-        let gz = if self.switches.gravity { self.gravity } else { 0.0 };
+        let g = if self.switches.gravity { self.gravity_vector() } else { V3::zeros() };
         let mut p = V3::zeros();
         let mut h = V3::zeros();
         let mut t = 0.0;
@@ -936,7 +952,7 @@ impl Vehicle {
             p += rdot * m;
             h += r.cross(&(rdot * m)) + j * w;
             t += 0.5 * m * rdot.norm_squared() + 0.5 * w.dot(&(j * w));
-            v += m * gz * r.z;
+            v -= m * g.dot(&r);
         };
         let j0 = a0 * self.chassis.inertia * a0.transpose();
         add_body(self.chassis.mass, &V3::zeros(), &j0, &v0, &w0);

@@ -75,6 +75,16 @@ pub enum RackProfile {
 }
 
 impl RackProfile {
+    /// The largest |u| the profile reaches, m (the blends of the double sine stay within its amplitude).
+    pub fn peak(&self) -> f64 {
+        match *self {
+            RackProfile::Zero => 0.0,
+            RackProfile::Step { amplitude, .. }
+            | RackProfile::DoubleSine { amplitude, .. }
+            | RackProfile::Sine { amplitude, .. } => amplitude.abs(),
+        }
+    }
+
     pub fn at(&self, t: f64) -> RackMotion {
         let j = match *self {
             RackProfile::Zero => Jet::default(),

@@ -17,7 +17,7 @@ use crate::integrate::{substeps, AnyIntegrator, EvalError, Integrator, Integrato
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
 use crate::model::equilibrium::{retune_ride_height, steady_rolling};
 use crate::model::params::VehicleData;
-use crate::model::road::RoadModel;
+use crate::model::road::{RoadModel, PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M};
 use crate::model::tire::SlipModel;
 use crate::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Layout, Vehicle};
 use serde::{Deserialize, Serialize};
@@ -48,7 +48,26 @@ pub struct SimConfig {
     pub initial_speed: f64,
     /// Retune spring free lengths so that the design position is the static equilibrium (default on).
     pub ride_height_retune: bool,
+    /// Road slope, rise over run: longitudinal (positive uphill towards +x) and cross (positive: +y side
+    /// higher). Gravity is tilted (`Vehicle::slope`); the car starts from its level equilibrium.
+    #[serde(default)]
+    pub slope: [f64; 2],
+    /// Height and length of the bumps of the bump course, m.
+    #[serde(default = "paper_bump")]
+    pub bump: [f64; 2],
 }
+
+fn paper_bump() -> [f64; 2] {
+    [PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M]
+}
+
+/// Largest road slope (either direction), rise over run: 45°.
+pub const SLOPE_MAX: f64 = 1.0;
+/// Bump height range, m (0.3 m: two thirds of the tire radius).
+pub const BUMP_HEIGHT_MAX: f64 = 0.3;
+/// Bump length range, m.
+pub const BUMP_LENGTH_MIN: f64 = 0.1;
+pub const BUMP_LENGTH_MAX: f64 = 10.0;
 
 /// The range of the internal step, s. Below 1 µs a step buys no accuracy (round-off dominates RK4 there:
 /// docs/integrators.md) and only costs time; above 0.1 s no integrator here is stable for this vehicle.
@@ -74,6 +93,21 @@ impl SimConfig {
             return Err(SimError(format!(
                 "initial speed {} m/s is outside [0, {INITIAL_SPEED_MAX}] m/s",
                 self.initial_speed
+            )));
+        }
+        if !self.slope.iter().all(|s| s.abs() <= SLOPE_MAX) {
+            return Err(SimError(format!(
+                "road slope {:?} (rise over run) is outside [-{SLOPE_MAX}, {SLOPE_MAX}]",
+                self.slope
+            )));
+        }
+        let [height, length] = self.bump;
+        if !(0.0..=BUMP_HEIGHT_MAX).contains(&height) {
+            return Err(SimError(format!("bump height {height} m is outside [0, {BUMP_HEIGHT_MAX}] m")));
+        }
+        if !(BUMP_LENGTH_MIN..=BUMP_LENGTH_MAX).contains(&length) {
+            return Err(SimError(format!(
+                "bump length {length} m is outside [{BUMP_LENGTH_MIN}, {BUMP_LENGTH_MAX}] m"
             )));
         }
         Ok(())
@@ -115,6 +149,8 @@ impl Default for SimConfig {
             speed_mode: SpeedMode::Hold,
             initial_speed: 100.0 / 3.6,
             ride_height_retune: true,
+            slope: [0.0; 2],
+            bump: paper_bump(),
         }
     }
 }
@@ -230,8 +266,10 @@ impl Start {
             * (0..2).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
             + state[idx::R0];
         if config.road == RoadChoice::PaperBumps {
-            v.road = RoadModel::paper_bump_course(front_wheel_x0);
+            v.road = RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]);
         }
+        // The car is put on the slope from its level equilibrium (it settles in its first second).
+        v.slope = config.slope;
         Ok(Start { vehicle: v, state, cache, front_wheel_x0 })
     }
 }

@@ -119,7 +119,22 @@ impl Scene {
         SimConfig { initial_speed: self.speed, road: self.road, ..base.clone() }
     }
 
+    /// The rack input must stay within the rack's travel limit (the sine's amplitude is 10/8 of the
+    /// J-turn's).
+    pub fn check_rack(&self, travel_limit: f64) -> Result<(), SimError> {
+        let peak = self.rack.peak();
+        if peak > travel_limit {
+            return Err(SimError(format!(
+                "the {} scene's rack input reaches {peak:.4} m, beyond the rack's travel limit of ±{travel_limit} m \
+                 (vehicle data rack.travel_limit_m)",
+                self.kind.name()
+            )));
+        }
+        Ok(())
+    }
+
     pub fn start(&self, vehicle: VehicleData, base: &SimConfig) -> Result<Simulation, SimError> {
+        self.check_rack(vehicle.rack.travel_limit_m)?;
         let mut sim = Simulation::new(vehicle, self.config(base))?;
         sim.set_rack_profile(self.rack);
         Ok(sim)

@@ -19,9 +19,9 @@ pub use crate::model::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
 pub use slip::{
-    damped_slip, effective_rolling_radius, low_speed_blend, sliding_limits, penetration_rate, reference_speed, relaxation_rates, slip_velocities,
-    steady_slip, SlipStateContext, SlipVelocities, DAHL_SLIP_SPEED_M_S, LIFT_OFF_RELAXATION_TIME_S,
-    SMOOTH_MAX_WIDTH_M_S,
+    damped_slip, effective_rolling_radius, low_speed_blend, penetration_rate, reference_speed, relaxation_rates,
+    sliding_limits, slip_velocities, steady_slip, SlipStateContext, SlipVelocities, DAHL_SLIP_SPEED_M_S,
+    LIFT_OFF_RELAXATION_TIME_S, SMOOTH_MAX_WIDTH_M_S,
 };
 
 /// Single-point contact of a disc wheel with the local road plane (physics.md §6.2), all in the ground

@@ -128,7 +128,14 @@ pub fn damped_slip(p: &TireParams, fz: f64, xi: [f64; 2], slip: &SlipVelocities,
 /// car on a grade without creeping. Between, the two relaxation speeds blend by b.
 ///
 /// Out of contact the states relax to 0 with a 0.05 s time constant.
-pub fn relaxation_rates(p: &TireParams, vx: f64, vsx: f64, vsy: f64, xi: [f64; 2], context: &SlipStateContext) -> [f64; 2] {
+pub fn relaxation_rates(
+    p: &TireParams,
+    vx: f64,
+    vsx: f64,
+    vsy: f64,
+    xi: [f64; 2],
+    context: &SlipStateContext,
+) -> [f64; 2] {
     if !context.in_contact {
         return xi.map(|x| -x / LIFT_OFF_RELAXATION_TIME_S);
     }
