@@ -1,6 +1,6 @@
 //! No heap allocation per step, counted: this test binary installs a counting global allocator (it only
 //! affects this binary) and asserts that, once the scratch is sized by the first step, further steps of
-//! every integrator allocate nothing — including AB3 restarts and ROS2 Jacobian refreshes.
+//! every integrator allocate nothing — including AB3 restarts.
 use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 use rt_vehicle::integrate::{AnyIntegrator, EvalError, Integrator, IntegratorKind, OdeSystem};
 
@@ -39,7 +39,7 @@ fn steps_do_not_allocate() {
     assert!(allocations() > a0);
     drop(probe);
 
-    for kind in [IntegratorKind::Rk4, IntegratorKind::Ab3, IntegratorKind::Ros2] {
+    for kind in [IntegratorKind::Rk4, IntegratorKind::Ab3] {
         let mut integ = AnyIntegrator::new(kind);
         let mut sys = Chain;
         let mut x: Vec<f64> = (0..33).map(|i| 0.1 * i as f64).collect();
@@ -47,7 +47,7 @@ fn steps_do_not_allocate() {
         let before = allocations();
         let mut t = 0.002;
         for k in 0..200 {
-            // Change the step now and then: AB3 restarts, ROS2 switches its Jacobian policy.
+            // Change the step now and then: AB3 restarts.
             let h = if k % 50 < 25 { 0.002 } else { 0.005 };
             integ.step(&mut sys, t, h, &mut x).unwrap();
             t += h;

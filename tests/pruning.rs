@@ -1,9 +1,8 @@
 //! Leaving out what the options do not need is exact: a run with the unused states left out (steady slip:
 //! no relaxation states; coasting: no speed-hold integral) gives the same outputs as the same run carrying
 //! them (`Vehicle::keep_unused_states`), bit for bit with RK4 (the left-out states only ever had zero
-//! derivatives and were never read), and ROS2 spends fewer evaluations on its Jacobian.
+//! derivatives and were never read).
 
-use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::tire::SlipModel;
 use rt_vehicle::model::vehicle::{idx, Vehicle};
@@ -38,28 +37,4 @@ fn leaving_out_unused_states_changes_nothing() {
             assert_eq!(pruned, full, "{kind:?} {slip:?} {speed:?}: outputs differ");
         }
     }
-}
-
-#[test]
-fn ros2_builds_smaller_jacobians_with_fewer_states() {
-    let config = SimConfig {
-        slip: SlipModel::Steady,
-        speed_mode: SpeedMode::Coast,
-        integrator: IntegratorKind::Ros2,
-        internal_step: 0.005, // a Jacobian every step at this step (docs/integrators.md)
-        ..SimConfig::default()
-    };
-    let (pruned, _, evals) = run_scene(SceneKind::JTurn, &config, false);
-    let (full, _, evals_full) = run_scene(SceneKind::JTurn, &config, true);
-    println!("ROS2 evaluations: {evals} with {} states, {evals_full} with {}", idx::CORE, idx::DIM);
-    // 400 steps, each 2 stages (the first one also the Jacobian's base point) + one Jacobian column per
-    // state, and 201 output evaluations.
-    assert_eq!(evals_full, 400 * (2 + idx::DIM as u64) + 201);
-    assert_eq!(evals, 400 * (2 + idx::CORE as u64) + 201);
-    // The same method on the same dynamics: the pruned Jacobian is the full one without rows and columns
-    // that are identically zero, so the results agree to round-off (here: bit for bit).
-    let peak = full.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-    let diff = pruned.iter().flatten().zip(full.iter().flatten()).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    println!("ROS2 pruned vs full: evaluations {evals} vs {evals_full}, max difference {diff:.2e} (peak {peak:.2e})");
-    assert!(diff <= 1e-9 * peak, "{diff:e}");
 }

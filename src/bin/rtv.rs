@@ -20,14 +20,15 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage:
-  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|ros2]
+  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4]
             [--step S] [--end T] [--output-interval DT] [--speed coast|hold] [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
             [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
-  rtv calibrate [--vehicle FILE.json]";
+  rtv calibrate [--vehicle FILE.json]
+  rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT]";
 
 struct Failure {
     message: String,
@@ -215,9 +216,6 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         sim.evaluations(),
         cpu.as_secs_f64() * 1e6 / sim.evaluations() as f64
     );
-    for w in sim.warnings() {
-        eprintln!("warning: {w}");
-    }
     result.map_err(|e| failed(format!("simulation stopped: {}", e.0)))
 }
 
@@ -373,6 +371,41 @@ fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The stability suite (docs/stability.md): every case × integrator × step, classified.
+fn cmd_stability(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::sim::stability;
+    let opts = options(args, &["out", "threads", "case"])?;
+    let threads = number(&opts, "threads", 2.0)?;
+    if !(1.0..=64.0).contains(&threads) {
+        return Err(bad("--threads must be in 1..=64"));
+    }
+    let filter = opts.get("case").cloned().unwrap_or_default();
+    let started = Instant::now();
+    let mut reports = Vec::new();
+    for case in stability::cases().iter().filter(|c| c.name.contains(filter.as_str())) {
+        let t = Instant::now();
+        let report = stability::evaluate(case, threads as usize);
+        let wrong = report.wrong();
+        eprintln!(
+            "{}: {:.1} s, reference change {:.1e}, {wrong} wrong",
+            case.name,
+            t.elapsed().as_secs_f64(),
+            report.reference_change
+        );
+        reports.push(report);
+    }
+    let command = "cargo run --release --bin rtv -- stability --out docs/stability.md";
+    let md = stability::markdown(&reports, command, started.elapsed().as_secs_f64());
+    let mut out = csv_writer(opts.get("out"))?;
+    out.write_all(md.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
+    out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
+    let wrong: usize = reports.iter().map(|r| r.wrong()).sum();
+    if wrong > 0 {
+        return Err(failed(format!("{wrong} runs finished silently wrong (see the table)")));
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -380,6 +413,7 @@ fn main() -> ExitCode {
         Some("kinematics") => cmd_kinematics(&args[1..]),
         Some("steering") => cmd_steering(&args[1..]),
         Some("calibrate") => cmd_calibrate(&args[1..]),
+        Some("stability") => cmd_stability(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

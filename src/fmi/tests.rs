@@ -986,17 +986,6 @@ fn a_step_too_long_for_one_call_is_refused_before_any_work() {
     assert_eq!(vehicle_step(&inst, 0.01), (OK, 0.01));
 }
 
-#[test]
-fn the_work_limit_counts_the_integrator_cost() {
-    // ROS2 costs up to 3 + 34 evaluations a step: the same interval that RK4 may take is refused.
-    let rec = Recorder::default();
-    let inst = Inst::<VehicleModel>::new(&rec, None);
-    assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[3]), OK);
-    inst.init(0.0);
-    assert_eq!(vehicle_step(&inst, 10.0).0, ERROR);
-    assert!(rec.last().contains("2702 one call may take"), "{}", rec.last());
-}
-
 /// Serialize the current state of `inst` to JSON text.
 fn serialized(inst: &Inst<VehicleModel>) -> String {
     let mut state: fmi2FMUstate = std::ptr::null_mut();

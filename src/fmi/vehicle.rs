@@ -162,9 +162,6 @@ pub struct VehicleModel {
     pub drive: [f64; 4],
     pub brake: [f64; 4],
     pub sim: Option<Simulation>,
-    /// The slip monitor's warning was logged (it is logged once, when it first fires).
-    #[serde(default)]
-    pub monitor_reported: bool,
     /// Wall-clock seconds of the last `fmi2DoStep` (diagnostic, not deterministic).
     pub step_cpu_time: f64,
 }
@@ -234,7 +231,6 @@ impl FmuModel for VehicleModel {
             drive: [0.0; 4],
             brake: [0.0; 4],
             sim: None,
-            monitor_reported: false,
             step_cpu_time: 0.0,
         }
     }
@@ -411,7 +407,6 @@ impl FmuModel for VehicleModel {
         check_rack(self.rack, vehicle.rack.travel_limit_m)?;
         let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
         self.sim = Some(sim);
-        self.monitor_reported = false;
         self.step_cpu_time = 0.0;
         Ok(())
     }
@@ -448,7 +443,7 @@ impl FmuModel for VehicleModel {
         sim.validate_restored(&data, elapsed).map_err(|e| e.to_string())
     }
 
-    fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure> {
+    fn do_step(&mut self, t: f64, h: f64, _log: &Logger) -> Result<(), StepFailure> {
         let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
         // Too much work for one call: refused before anything changes (the inputs stay for the next try).
         sim.config().plan(h).map_err(|e| StepFailure::Refused(e.to_string()))?;
@@ -462,11 +457,6 @@ impl FmuModel for VehicleModel {
         let clock = std::time::Instant::now();
         let result = sim.advance(h);
         self.step_cpu_time = clock.elapsed().as_secs_f64();
-        if !self.monitor_reported && sim.monitor.first_flagged.is_some() {
-            // Numerical instability is reported when it starts, never silent (physics.md §7.4).
-            self.monitor_reported = true;
-            sim.warnings().iter().for_each(|w| log.warning(w));
-        }
         result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))
     }
 

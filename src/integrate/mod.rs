@@ -32,16 +32,6 @@ pub trait OdeSystem {
     fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError>;
     /// Called after every accepted step (e.g. renormalise a quaternion). Default: nothing.
     fn project(&self, _x: &mut [f64]) {}
-    /// Whether finite-difference Jacobians should use `jacobian_derivative` (a smoothed model) instead of
-    /// `derivative`. Default: no.
-    fn has_jacobian_model(&self) -> bool {
-        false
-    }
-    /// The model seen by finite-difference Jacobians, for systems whose right-hand side has kinks that a
-    /// perturbation could straddle. Default: `derivative`.
-    fn jacobian_derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError> {
-        self.derivative(t, x, dxdt)
-    }
 }
 
 /// The integration schemes, selectable at run time.
@@ -51,25 +41,22 @@ pub enum IntegratorKind {
     Ab3,
     /// Classic 4-stage Runge–Kutta (the default).
     Rk4,
-    /// ROS2: linearly implicit (Rosenbrock-W), L-stable, order 2, for stiff or extreme cases (§7.5).
-    Ros2,
 }
 
 pub mod ab3;
 pub mod rk4;
-pub mod ros2;
+pub mod stability;
 
 pub use ab3::Ab3;
 pub use rk4::Rk4;
-pub use ros2::Ros2;
 
 impl IntegratorKind {
     /// The most derivative evaluations one step can cost for a system of dimension `dim` (RK4's 4 stages;
-    /// AB3's RK4 start; ROS2's 2 stages, f(x) and a finite-difference Jacobian of `dim` columns).
+    /// AB3's RK4 start).
     pub fn max_evaluations_per_step(self, dim: usize) -> u64 {
+        let _ = dim;
         match self {
             IntegratorKind::Rk4 | IntegratorKind::Ab3 => 4,
-            IntegratorKind::Ros2 => 3 + dim as u64,
         }
     }
 }
@@ -86,16 +73,14 @@ pub trait Integrator {
 pub enum AnyIntegrator {
     Rk4(Rk4),
     Ab3(Ab3),
-    Ros2(Ros2),
 }
 
 impl AnyIntegrator {
-    /// A fresh scheme of the given kind (ROS2 with its default Jacobian refresh policy).
+    /// A fresh scheme of the given kind.
     pub fn new(kind: IntegratorKind) -> Self {
         match kind {
             IntegratorKind::Rk4 => AnyIntegrator::Rk4(Rk4::new()),
             IntegratorKind::Ab3 => AnyIntegrator::Ab3(Ab3::new()),
-            IntegratorKind::Ros2 => AnyIntegrator::Ros2(Ros2::new()),
         }
     }
 
@@ -103,7 +88,6 @@ impl AnyIntegrator {
         match self {
             AnyIntegrator::Rk4(_) => IntegratorKind::Rk4,
             AnyIntegrator::Ab3(_) => IntegratorKind::Ab3,
-            AnyIntegrator::Ros2(_) => IntegratorKind::Ros2,
         }
     }
 }
@@ -114,7 +98,6 @@ impl AnyIntegrator {
         match self {
             AnyIntegrator::Rk4(_) => Ok(()),
             AnyIntegrator::Ab3(i) => i.validate(dim),
-            AnyIntegrator::Ros2(i) => i.validate(dim),
         }
     }
 }
@@ -136,14 +119,12 @@ impl Integrator for AnyIntegrator {
         match self {
             AnyIntegrator::Rk4(i) => i.step(sys, t, h, x),
             AnyIntegrator::Ab3(i) => i.step(sys, t, h, x),
-            AnyIntegrator::Ros2(i) => i.step(sys, t, h, x),
         }
     }
     fn restart(&mut self) {
         match self {
             AnyIntegrator::Rk4(i) => i.restart(),
             AnyIntegrator::Ab3(i) => i.restart(),
-            AnyIntegrator::Ros2(i) => i.restart(),
         }
     }
 }
@@ -187,7 +168,6 @@ pub(crate) fn fit(v: &mut Vec<f64>, n: usize) {
 /// pattern (u64), so that any serde format round-trips it bit-identically. (serde_json without its
 /// `float_roundtrip` feature parses ~30 % of f64 values 1 ulp off; see docs/integrators.md.)
 pub(crate) mod exact {
-    use nalgebra::DMatrix;
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
     pub mod f64_bits {
@@ -207,29 +187,6 @@ pub(crate) mod exact {
         }
         pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
             Ok(Vec::<u64>::deserialize(d)?.into_iter().map(f64::from_bits).collect())
-        }
-    }
-
-    #[derive(Serialize, Deserialize)]
-    struct Matrix {
-        rows: usize,
-        cols: usize,
-        /// Column-major.
-        data: Vec<u64>,
-    }
-
-    pub mod matrix_bits {
-        use super::*;
-        pub fn serialize<S: Serializer>(m: &DMatrix<f64>, s: S) -> Result<S::Ok, S::Error> {
-            let data = m.as_slice().iter().map(|x| x.to_bits()).collect();
-            Matrix { rows: m.nrows(), cols: m.ncols(), data }.serialize(s)
-        }
-        pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<DMatrix<f64>, D::Error> {
-            let m = Matrix::deserialize(d)?;
-            if m.data.len() != m.rows * m.cols {
-                return Err(serde::de::Error::custom("matrix data length != rows * cols"));
-            }
-            Ok(DMatrix::from_iterator(m.rows, m.cols, m.data.into_iter().map(f64::from_bits)))
         }
     }
 }

@@ -1,7 +1,5 @@
 //! Verification of the integrators (docs/integrators.md lists what each test shows).
-use super::ros2::{lu_in_place, lu_solve};
 use super::*;
-use nalgebra::{DMatrix, DVector};
 
 // ---------------------------------------------------------------------------------------------
 // Test systems
@@ -56,23 +54,6 @@ impl OdeSystem for Linear {
         self.evals += 1;
         for i in 0..x.len() {
             d[i] = self.a[i] * x[i];
-        }
-        Ok(())
-    }
-}
-
-/// x' = M x with a full matrix M.
-struct Dense {
-    m: DMatrix<f64>,
-}
-
-impl OdeSystem for Dense {
-    fn dim(&self) -> usize {
-        self.m.nrows()
-    }
-    fn derivative(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
-        for i in 0..x.len() {
-            d[i] = (0..x.len()).map(|j| self.m[(i, j)] * x[j]).sum();
         }
         Ok(())
     }
@@ -201,30 +182,6 @@ fn observed_order_ab3() {
     assert_order("AB3", e, s, 3.0);
 }
 
-#[test]
-fn observed_order_ros2() {
-    let xref = reference();
-    // h = 0.02, 0.01, 0.005 s; default refresh policy (every step at h ≥ 4 ms).
-    let (e, s) = orders(&|| AnyIntegrator::new(IntegratorKind::Ros2), 200, &xref);
-    assert_order("ROS2 (FD J)", e, s, 2.0);
-    // Below 4 ms the default refreshes J only every 5 steps (stale J): h = 3.125, 1.5625, 0.78 ms.
-    let (e, s) = orders(&|| AnyIntegrator::new(IntegratorKind::Ros2), 1280, &xref);
-    assert_order("ROS2 (FD J every 5 steps)", e, s, 2.0);
-}
-
-#[test]
-fn ros2_is_a_w_method() {
-    let xref = reference();
-    let (e, s) = orders(&|| AnyIntegrator::Ros2(Ros2::new().with_jacobian_scale(0.0)), 200, &xref);
-    assert_order("ROS2 (zero J)", e, s, 2.0);
-    let (e, s) = orders(&|| AnyIntegrator::Ros2(Ros2::new().with_jacobian_scale(3.0)), 200, &xref);
-    assert_order("ROS2 (3 x J)", e, s, 2.0);
-    let (e, s) = orders(&|| AnyIntegrator::Ros2(Ros2::new().with_jacobian_scale(-1.0)), 200, &xref);
-    assert_order("ROS2 (-J)", e, s, 2.0);
-    let (e, s) = orders(&|| AnyIntegrator::Ros2(Ros2::with_jacobian_interval(1_000_000)), 200, &xref);
-    assert_order("ROS2 (J from t = 0 only)", e, s, 2.0);
-}
-
 // ---------------------------------------------------------------------------------------------
 // Stability (§7.4): λ = −1000 at h = 0.01, hλ = −10, outside RK4's [−2.785, 0] and AB3's [−0.545, 0].
 // ---------------------------------------------------------------------------------------------
@@ -261,31 +218,13 @@ fn explicit_schemes_diverge_on_stiff_problem_and_report_it() {
     }
 }
 
-#[test]
-fn ros2_is_stable_on_stiff_problem() {
-    // With (nearly) exact J, R(z) = (1 + (1−2γ)z)/(1−γz)² (γ² − 2γ + ½ = 0), R(−10) ≈ 0.077; R(−0.01) ≈ e^{−0.01}.
-    let mut sys = Linear { a: vec![-1000.0, -1.0], evals: 0 };
-    let mut x = vec![1.0, 1.0];
-    let mut integ = Ros2::new();
-    let h = 0.01;
-    let mut prev = x.clone();
-    for k in 0..200 {
-        integ.step(&mut sys, k as f64 * h, h, &mut x).unwrap();
-        assert!(x[0].abs() <= 0.08 * prev[0].abs(), "stiff component must decay by |R(−10)| ≈ 0.077 per step");
-        assert!(x[1].abs() < prev[1].abs());
-        prev.copy_from_slice(&x);
-    }
-    // The slow component is still accurate (order 2, error ≈ h² t e^{−t}/6 · … ≪ 1e-4).
-    assert!((x[1] - (-2.0f64).exp()).abs() < 1e-4, "x1 = {} vs {}", x[1], (-2.0f64).exp());
-}
-
 // ---------------------------------------------------------------------------------------------
 // Divergence and evaluation failures leave x unchanged
 // ---------------------------------------------------------------------------------------------
 
 #[test]
 fn failed_evaluation_leaves_state_unchanged() {
-    for kind in [IntegratorKind::Rk4, IntegratorKind::Ab3, IntegratorKind::Ros2] {
+    for kind in [IntegratorKind::Rk4, IntegratorKind::Ab3] {
         for nan in [false, true] {
             for fail_at in 1..=12 {
                 let mut sys = Faulty { evals: 0, fail_at, nan };
@@ -426,8 +365,8 @@ fn ab3_clone_and_continue_is_bit_identical() {
 
 #[test]
 fn serde_json_round_trip_mid_run_is_bit_identical() {
-    for kind in [IntegratorKind::Ab3, IntegratorKind::Ros2, IntegratorKind::Rk4] {
-        let h = 0.003; // < 4 ms: ROS2 has a stale J mid-run, which must be saved too
+    for kind in [IntegratorKind::Ab3, IntegratorKind::Rk4] {
+        let h = 0.003;
         let mut x = pendula_x0();
         let mut sys = Pendula { evals: 0 };
         let mut a = AnyIntegrator::new(kind);
@@ -535,75 +474,6 @@ fn ab3_history_survives_fmpy_style_communication_steps() {
 // ROS2 internals
 // ---------------------------------------------------------------------------------------------
 
-#[test]
-fn ros2_jacobian_refresh_cadence() {
-    let dim = 4;
-    let steps = 20;
-    // h < 4 ms: J every 5 steps → 2 evals per step + dim evals at steps 0, 5, 10, 15.
-    let mut sys = Linear { a: vec![-1.0; dim], evals: 0 };
-    run(&mut Ros2::new(), &mut sys, &mut vec![1.0; dim], 0.002, steps);
-    assert_eq!(sys.evals, 2 * steps + 4 * dim);
-    // h ≥ 4 ms: every step.
-    let mut sys = Linear { a: vec![-1.0; dim], evals: 0 };
-    run(&mut Ros2::new(), &mut sys, &mut vec![1.0; dim], 0.004, steps);
-    assert_eq!(sys.evals, (2 + dim) * steps);
-    // Configured N_J = 7, and a restart forces a refresh.
-    let mut sys = Linear { a: vec![-1.0; dim], evals: 0 };
-    let mut r = Ros2::with_jacobian_interval(7);
-    let mut x = vec![1.0; dim];
-    run(&mut r, &mut sys, &mut x, 0.01, 10); // J at steps 0, 7
-    assert_eq!(sys.evals, 2 * 10 + 2 * dim);
-    r.restart();
-    r.step(&mut sys, 0.1, 0.01, &mut x).unwrap();
-    assert_eq!(sys.evals, 2 * 11 + 3 * dim);
-    // Zero J: no finite differences at all.
-    let mut sys = Linear { a: vec![-1.0; dim], evals: 0 };
-    run(&mut Ros2::new().with_jacobian_scale(0.0), &mut sys, &mut vec![1.0; dim], 0.01, steps);
-    assert_eq!(sys.evals, 2 * steps);
-}
-
-#[test]
-fn ros2_finite_difference_jacobian_matches_linear_system() {
-    let n = 6;
-    let m = DMatrix::from_fn(n, n, |i, j| ((i * 7 + j * 3) % 5) as f64 - 2.0 + if i == j { -10.0 } else { 0.0 });
-    let mut sys = Dense { m: m.clone() };
-    let mut r = Ros2::new();
-    let mut x: Vec<f64> = (0..n).map(|i| 1.0 + 100.0 * i as f64).collect();
-    r.step(&mut sys, 0.0, 0.01, &mut x).unwrap();
-    // Tolerance: for a linear f the difference quotient has no truncation error, only round-off:
-    // |ΔJ_ij| ≲ 2ε·max|f| / δ_j with max|f| ≤ max|M|·Σ|x| ≈ 12·1.5e3 and δ_j = √ε·max(|x_j|,1) ≥ 1.5e-8,
-    // i.e. ≲ 2.7e-4 at worst; 1e-3 leaves margin, and is still 1e-4 of the entries' size (~10).
-    let tol = 1e-3;
-    let err = (r.jacobian() - &m).abs().max();
-    eprintln!("FD Jacobian max error {err:e}");
-    assert!(err < tol, "J error {err:e}");
-}
-
-#[test]
-fn lu_in_place_matches_nalgebra() {
-    let n = 12;
-    let mut s = 12345u64;
-    let mut rnd = || {
-        s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let a = DMatrix::from_fn(n, n, |_, _| rnd());
-    let b = DVector::from_fn(n, |_, _| rnd());
-    let expected = a.clone().lu().solve(&b).unwrap();
-    let mut m = a.clone();
-    let mut piv = vec![0; n];
-    lu_in_place(&mut m, &mut piv).unwrap();
-    let mut x = b.as_slice().to_vec();
-    lu_solve(&m, &piv, &mut x);
-    // Both are backward stable: agreement to ~cond(A)·ε; cond of a random 12×12 is ≲ 1e3.
-    assert!(max_diff(&x, expected.as_slice()) < 1e-10);
-    let resid = (&a * DVector::from_column_slice(&x) - &b).abs().max();
-    assert!(resid < 1e-13, "residual {resid:e}");
-    // Singular: Err, not NaN.
-    let mut z = DMatrix::from_fn(3, 3, |i, _| i as f64);
-    assert!(lu_in_place(&mut z, &mut [0; 3]).is_err());
-}
-
 // ---------------------------------------------------------------------------------------------
 // No allocation per step (scratch capacities stable; tests/integrators.rs counts allocations)
 // ---------------------------------------------------------------------------------------------
@@ -629,13 +499,5 @@ fn scratch_is_reused_between_steps() {
     for k in 1..20 {
         a.step(&mut sys, k as f64 * h, h * if k == 10 { 2.0 } else { 1.0 }, &mut x).unwrap();
         assert_eq!(a.capacities(), c);
-    }
-
-    let mut o = Ros2::new();
-    o.step(&mut sys, 0.0, h, &mut x).unwrap();
-    let c = o.capacities();
-    for k in 1..20 {
-        o.step(&mut sys, k as f64 * h, h, &mut x).unwrap();
-        assert_eq!(o.capacities(), c);
     }
 }

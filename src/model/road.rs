@@ -60,9 +60,9 @@ impl HalfSineBump {
     }
 }
 
-/// A road seen through a moving average of `width` along x: C¹ edges for the finite-difference Jacobian of
-/// a linearly implicit integrator, which would otherwise straddle a C⁰ edge and see an arbitrarily large
-/// slope. (The integration itself always uses the exact road.)
+/// A road seen through a moving average of `width` along x: C¹ edges for finite-difference derivatives
+/// (the simulation's fast-mode check), which would otherwise straddle a C⁰ edge and see an arbitrarily
+/// large slope. (The integration itself uses the road as it is.)
 pub struct EdgeAveraged<'a> {
     pub road: &'a RoadModel,
     pub width: f64,
@@ -72,12 +72,17 @@ impl Road for EdgeAveraged<'_> {
     fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
         match self.road {
             RoadModel::Flat => (0.0, [0.0, 0.0]),
-            RoadModel::Bumps(bumps) => bumps.iter().fold((0.0, [0.0, 0.0]), |(h, [hx, hy]), bump| {
-                let (bh, [bx, by]) = bump.averaged(x, y, self.width);
-                (h + bh, [hx + bx, hy + by])
-            }),
+            RoadModel::Bumps(bumps) => sum_averaged(bumps, x, y, self.width),
+            RoadModel::AveragedBumps(..) => self.road.height_and_gradient(x, y),
         }
     }
+}
+
+fn sum_averaged(bumps: &[HalfSineBump], x: f64, y: f64, width: f64) -> (f64, [f64; 2]) {
+    bumps.iter().fold((0.0, [0.0, 0.0]), |(h, [hx, hy]), bump| {
+        let (bh, [bx, by]) = bump.averaged(x, y, width);
+        (h + bh, [hx + bx, hy + by])
+    })
 }
 
 /// The roads the model ships (an enum so a simulation stays plain data).
@@ -85,6 +90,9 @@ impl Road for EdgeAveraged<'_> {
 pub enum RoadModel {
     Flat,
     Bumps(Vec<HalfSineBump>),
+    /// Bumps seen through a moving average of the given width along x, m: C¹ edges (a crude stand-in for
+    /// a tire's enveloping, used where a converged reference is needed, e.g. docs/stability.md).
+    AveragedBumps(Vec<HalfSineBump>, f64),
 }
 
 /// Bump geometry of the paper's course [P, physics.md §8.3].
@@ -119,6 +127,7 @@ impl Road for RoadModel {
                 let (bh, [bx, by]) = bump.height_and_gradient(x, y);
                 (h + bh, [hx + bx, hy + by])
             }),
+            RoadModel::AveragedBumps(bumps, width) => sum_averaged(bumps, x, y, *width),
         }
     }
 }

@@ -18,9 +18,6 @@ use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{SMatrix, Vector4, Vector6};
 use serde::{Deserialize, Serialize};
 
-/// Window of the road average seen by finite-difference Jacobians, m (see `Vehicle::jacobian_derivative`).
-pub const JACOBIAN_ROAD_AVERAGING: f64 = 0.002;
-
 impl From<crate::model::suspension::sla::KinematicsError> for EvalError {
     fn from(e: crate::model::suspension::sla::KinematicsError) -> Self {
         EvalError(e.0)
@@ -172,18 +169,6 @@ pub struct KinematicsCache {
     /// The terms of the latest evaluation (scratch, written in place).
     #[serde(skip)]
     pub assembly: Assembly,
-    /// Per wheel, the slip, load and drive torque of the latest evaluation: what the simulation's slip
-    /// monitor reads after each step without an evaluation of its own (scratch).
-    #[serde(skip)]
-    pub wheels: WheelSample,
-}
-
-/// Slip ratio κ, normal load F_z (N) and drive torque (N·m) per wheel, from one evaluation.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct WheelSample {
-    pub kappa: [f64; 4],
-    pub fz: [f64; 4],
-    pub drive_torque: [f64; 4],
 }
 
 impl PartialEq for KinematicsCache {
@@ -391,7 +376,7 @@ impl Vehicle {
             let guess = cache.corners[i].predict(u, s);
             let p = &mut cache.positions[i];
             c.solve_positions_into(u, s, &guess, p)
-                .map_err(|e| EvalError(format!("corner {}: {}", CORNERS[i], e.0)))?;
+                .map_err(|e| EvalError(format!("mechanism range: corner {}: {}", CORNERS[i], e.0)))?;
             // The tangent of the constraint manifold at the solution: the next solve's start.
             cache.corners[i] =
                 WarmStart { v: [p.q[1], p.q[2], p.q[3], p.q[4]], u, s, dv_du: p.dv_du.into(), dv_ds: p.dv_ds.into() };
@@ -412,17 +397,16 @@ impl Vehicle {
         self.derivative_on(&self.road, x, inputs, cache, dxdt, diag)
     }
 
-    /// The derivative for a finite-difference Jacobian: the same model on the road averaged over
-    /// `JACOBIAN_ROAD_AVERAGING` along x, so that a perturbation never straddles a C⁰ road edge (the
-    /// paper's bumps). A linearly implicit W-method stays second order with any Jacobian.
-    pub fn jacobian_derivative(
+    /// The derivative on the road rounded at its C⁰ edges (`EdgeAveraged`, 2 mm): for finite-difference
+    /// derivatives, which must not straddle an edge.
+    pub fn derivative_on_rounded_road(
         &self,
         x: &[f64],
         inputs: &Inputs,
         cache: &mut KinematicsCache,
         dxdt: &mut [f64],
     ) -> Result<(), EvalError> {
-        let road = EdgeAveraged { road: &self.road, width: JACOBIAN_ROAD_AVERAGING };
+        let road = EdgeAveraged { road: &self.road, width: 0.002 };
         self.derivative_on(&road, x, inputs, cache, dxdt, None)
     }
 
@@ -446,8 +430,6 @@ impl Vehicle {
         }
         let mut local = Diagnostics::default();
         self.assemble_on(road, x, inputs, cache, &mut local)?;
-        cache.wheels =
-            WheelSample { kappa: local.kappa, fz: local.tire_force.map(|f| f[2]), drive_torque: local.drive_torque };
         let assembly = &cache.assembly;
         // λ feeds neither ẋ nor any output: never computed here (dynamics::Multipliers::Compute gives it).
         let acc = self.accelerations(assembly, Multipliers::Skip)?;
@@ -693,7 +675,8 @@ impl Vehicle {
                     }
                     SlipModel::Steady if blend < 1.0 => {
                         return Err(EvalError(format!(
-                            "wheel {}: forward speed {:.3} m/s is below {} m/s, where steady slip does not hold (it divides by \
+                            "model validity: wheel {}: forward speed {:.3} m/s is below {} m/s, where steady slip does not \
+                             hold (it divides by \
                              the speed); use relaxation slip (slip_model = 1), which covers standstill",
                             CORNERS[i],
                             slip.vx.abs(),

@@ -82,7 +82,6 @@ pub const INTEGRATORS: Table<IntegratorKind> = Table {
     choices: &[
         Choice { value: IntegratorKind::Ab3, code: 1, name: "ab3", description: "AB3 (RK4 start)" },
         Choice { value: IntegratorKind::Rk4, code: 2, name: "rk4", description: "RK4" },
-        Choice { value: IntegratorKind::Ros2, code: 3, name: "ros2", description: "ROS2 (linearly implicit)" },
     ],
 };
 

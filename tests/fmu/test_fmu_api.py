@@ -49,7 +49,8 @@ def test_variables(md):
         assert by_name[f"brake_torque_{c}"].unit == "N.m"
     params = {v.name: v for v in md.modelVariables if v.causality == "parameter"}
     assert set(params) == {"initial_speed", "speed_mode", "formulation", "integrator", "internal_step",
-                           "slip_model", "road", "vehicle_file"}
+                           "slip_model", "road", "vehicle_file", "road_grade", "road_cross_slope", "bump_height",
+                           "bump_length"}
     for p in params.values():
         assert p.variability == "fixed" and p.initial in (None, "exact") and p.start is not None
     outputs = [v for v in md.modelVariables if v.causality == "output"]
@@ -148,7 +149,9 @@ def test_non_finite_reals_are_rejected_and_the_old_value_kept(make, bad):
     ("initial_speed", -0.1), ("initial_speed", 60.01),
     ("brake_torque_fl", -1.0), ("brake_torque_rr", -1e-9),
     ("speed_mode", 0), ("speed_mode", 3), ("formulation", 0), ("formulation", 4),
-    ("integrator", 0), ("integrator", 4), ("slip_model", 3), ("road", 0), ("road", 3),
+    ("integrator", 0), ("integrator", 3), ("slip_model", 3), ("road", 0), ("road", 3),
+    ("road_grade", 1.01), ("road_cross_slope", -1.01), ("bump_height", -0.01), ("bump_height", 0.31),
+    ("bump_length", 0.09), ("bump_length", 10.01),
 ])
 def test_out_of_range_values_are_errors(make, name, value):
     s = make()
@@ -164,6 +167,18 @@ def test_in_range_edge_values_are_accepted(make):
     s.set(internal_step=0.1, initial_speed=0.0, brake_torque_fl=0.0, formulation=2, integrator=1, slip_model=2,
           road=2, speed_mode=1)
     s.set(initial_speed=60.0, formulation=1)
+
+
+def test_rack_beyond_its_travel_limit_is_an_error_and_keeps_the_old_value(make):
+    """The rack's travel limit (vehicle data rack.travel_limit_m = 0.0699 m) holds for the FMU's input as
+    for the CLI's scenes: fmi2Error with a logged message, the old value kept, the instance usable."""
+    s = make()
+    s.init()
+    s.set(rack_displacement=0.01)
+    assert status(s.set, rack_displacement=0.08) == ERROR
+    assert status(s.set, rack_displacement=-0.0700) == ERROR
+    assert s.fmu.getReal([s.vr["rack_displacement"]]) == [0.01]
+    assert status(s.fmu.doStep, s.t, 0.01) == OK
 
 
 def test_calls_in_the_wrong_state(make):

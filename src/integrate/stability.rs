@@ -1,0 +1,120 @@
+//! Linear stability regions of the fixed-step schemes: is y' = λy stable under step h (z = hλ)?
+//!
+//! - RK4: |R(z)| ≤ 1 with R(z) = 1 + z + z²/2 + z³/6 + z⁴/24 (its stability polynomial).
+//! - AB3: every root of ζ³ − (1 + 23z/12) ζ² + (16z/12) ζ − 5z/12 has |ζ| ≤ 1 (the root condition).
+//!
+//! The simulation checks the fast modes of the vehicle against these (`sim::Simulation`): a mode outside
+//! the region grows from round-off at every step, so the run is refused with its cause instead of being
+//! left to diverge or, worse, to finish with a plausible but wrong result.
+
+use super::IntegratorKind;
+use nalgebra::Complex;
+
+type C = Complex<f64>;
+
+/// Whether hλ = `z` lies in the scheme's region of absolute stability.
+pub fn is_stable(kind: IntegratorKind, z: C) -> bool {
+    growth(kind, z) <= 1.0 + 1e-12
+}
+
+/// The amplification of one step: |R(z)| (RK4) or the largest root modulus (AB3).
+pub fn growth(kind: IntegratorKind, z: C) -> f64 {
+    match kind {
+        IntegratorKind::Rk4 => {
+            (C::new(1.0, 0.0) + z * (C::new(1.0, 0.0) + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))).norm()
+        }
+        IntegratorKind::Ab3 => {
+            let twelfth = z / 12.0;
+            // Monic cubic ζ³ + a ζ² + b ζ + c.
+            let a = -(C::new(1.0, 0.0) + twelfth * 23.0);
+            let b = twelfth * 16.0;
+            let c = -twelfth * 5.0;
+            cubic_roots(a, b, c).iter().map(|r| r.norm()).fold(0.0, f64::max)
+        }
+    }
+}
+
+/// The largest step h ≤ `h_max` with hλ stable for every step in (0, h] (bisection on the first loss of
+/// stability along the ray from 0; both regions contain a neighbourhood of the negative real axis near 0).
+pub fn largest_stable_step(kind: IntegratorKind, lambda: C, h_max: f64) -> f64 {
+    if lambda.norm() == 0.0 || is_stable(kind, lambda * h_max) && stable_along(kind, lambda, h_max) {
+        return h_max;
+    }
+    let (mut lo, mut hi) = (0.0, h_max);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if stable_along(kind, lambda, mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// Stable at 32 points of (0, h] along the ray hλ.
+fn stable_along(kind: IntegratorKind, lambda: C, h: f64) -> bool {
+    (1..=32).all(|k| is_stable(kind, lambda * (h * k as f64 / 32.0)))
+}
+
+/// Roots of ζ³ + a ζ² + b ζ + c by the Durand–Kerner (Weierstrass) iteration: simple and robust for a
+/// cubic whose roots are well separated or not (it converges for any start not on a symmetry line).
+fn cubic_roots(a: C, b: C, c: C) -> [C; 3] {
+    let p = |x: C| ((x + a) * x + b) * x + c;
+    let seed = C::new(0.4, 0.9);
+    let mut r = [C::new(1.0, 0.0), seed, seed * seed];
+    for _ in 0..200 {
+        let mut change = 0.0f64;
+        for i in 0..3 {
+            let mut denominator = C::new(1.0, 0.0);
+            for j in 0..3 {
+                if i != j {
+                    denominator *= r[i] - r[j];
+                }
+            }
+            if denominator.norm() == 0.0 {
+                continue;
+            }
+            let delta = p(r[i]) / denominator;
+            r[i] -= delta;
+            change = change.max(delta.norm());
+        }
+        if change < 1e-14 {
+            break;
+        }
+    }
+    r
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rk4_region_on_the_axes() {
+        // Real axis: stable down to z ≈ -2.785; imaginary axis up to |z| = 2√2.
+        assert!(is_stable(IntegratorKind::Rk4, C::new(-2.78, 0.0)));
+        assert!(!is_stable(IntegratorKind::Rk4, C::new(-2.80, 0.0)));
+        assert!(is_stable(IntegratorKind::Rk4, C::new(0.0, 2.82)));
+        assert!(!is_stable(IntegratorKind::Rk4, C::new(0.0, 2.84)));
+        assert!(!is_stable(IntegratorKind::Rk4, C::new(0.01, 0.0)), "growth for Re λ > 0");
+    }
+
+    #[test]
+    fn ab3_region_on_the_axes() {
+        // AB3: real-axis interval (-6/11, 0] and imaginary-axis extent ≈ 0.72 (Hairer–Wanner, Fig. V.1.1).
+        assert!(is_stable(IntegratorKind::Ab3, C::new(-0.54, 0.0)));
+        assert!(!is_stable(IntegratorKind::Ab3, C::new(-0.55, 0.0)));
+        assert!(is_stable(IntegratorKind::Ab3, C::new(-0.01, 0.70)));
+        assert!(!is_stable(IntegratorKind::Ab3, C::new(0.0, 0.75)));
+    }
+
+    #[test]
+    fn largest_stable_step_bisects_the_boundary() {
+        let h = largest_stable_step(IntegratorKind::Rk4, C::new(-1000.0, 0.0), 0.01);
+        assert!((h - 2.785_293e-3).abs() < 1e-6, "{h}");
+        let h = largest_stable_step(IntegratorKind::Ab3, C::new(-1000.0, 0.0), 0.01);
+        assert!((h - 6.0 / 11.0 * 1e-3).abs() < 1e-7, "{h}");
+        assert_eq!(largest_stable_step(IntegratorKind::Rk4, C::new(-10.0, 0.0), 0.01), 0.01);
+    }
+}

@@ -1,0 +1,511 @@
+//! The stability suite (`rtv stability`, docs/stability.md): stiff, low-speed and extreme cases, each run
+//! with each integrator at a ladder of steps, and each run classified against a converged run of the same
+//! case.
+//!
+//! A run is
+//! - **OK** when it finishes and its channels stay within `TOLERANCE` of the reference run (max over time
+//!   of |y − y_ref|, over the channel's excursion, for each of the case's channels);
+//! - **error** when it stops with an error that names its cause (`Cause`);
+//! - **wrong** otherwise: it finished, said nothing, and is off. No run may be wrong.
+//!
+//! The reference is RK4 at `REFERENCE_STEP`; it counts as converged when halving its step changes it by
+//! less than a tenth of `TOLERANCE` (the check is reported with the table).
+//!
+//! Steps are 1/120 s (the paper's 8.3 ms) halved three times, so that every run samples its outputs at
+//! the same instants (every 1/120 s) as the reference.
+
+use super::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
+use super::{RackProfile, RoadChoice, SimConfig, SimError, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::integrate::IntegratorKind;
+use crate::model::params::VehicleData;
+
+/// The bump cases round the bumps' C⁰ edges by a moving average over 0.1 m (about a contact patch): the
+/// paper's sharp edges converge at first order only, so no reference would be converged to the tolerance.
+pub const BUMP_AVERAGING: f64 = 0.1;
+
+/// Largest error of an OK run, relative to each channel's excursion.
+pub const TOLERANCE: f64 = 1e-2;
+/// Output interval of every run, s (the paper's step).
+pub const SAMPLE: f64 = 1.0 / 120.0;
+/// Steps of the ladder, s: 1/120 s halved.
+pub const STEPS: [f64; 4] = [1.0 / 120.0, 1.0 / 240.0, 1.0 / 480.0, 1.0 / 960.0];
+/// The reference: RK4 at 1/3840 s, checked against 1/7680 s.
+pub const REFERENCE_STEP: f64 = 1.0 / 3840.0;
+
+/// A channel compared between runs, with the smallest excursion it is measured against (its units:
+/// a channel that hardly moves in a case is judged against this floor, not against its noise).
+#[derive(Debug, Clone, Copy)]
+pub struct Channel {
+    pub name: &'static str,
+    pub floor: f64,
+}
+
+const fn ch(name: &'static str, floor: f64) -> Channel {
+    Channel { name, floor }
+}
+
+const RIDE: &[Channel] = &[
+    ch("roll_rate", 0.01),
+    ch("pitch_rate", 0.01),
+    ch("az", 0.1),
+    ch("wheel_z_fl", 0.001),
+    ch("wheel_z_fr", 0.001),
+    ch("wheel_z_rl", 0.001),
+    ch("wheel_z_rr", 0.001),
+];
+const CREEP: &[Channel] = &[ch("x", 0.001), ch("vx", 0.01), ch("pitch", 0.001)];
+const HANDLING: &[Channel] = &[ch("ay", 0.1), ch("yaw_rate", 0.01), ch("roll_rate", 0.01), ch("vx", 0.1)];
+const BRAKING: &[Channel] = &[ch("x", 0.01), ch("vx", 0.1), ch("yaw_rate", 0.01), ch("pitch", 0.001)];
+
+/// One case of the suite.
+#[derive(Clone)]
+pub struct Case {
+    pub name: &'static str,
+    pub group: &'static str,
+    /// Changes to the vehicle data (stiff cases).
+    pub data: fn(&mut VehicleData),
+    pub config: SimConfig,
+    pub rack: RackProfile,
+    pub drive: [f64; 4],
+    pub brake: [f64; 4],
+    pub duration: f64,
+    pub channels: &'static [Channel],
+}
+
+fn unchanged(_: &mut VehicleData) {}
+
+fn stiff_tire_10(d: &mut VehicleData) {
+    d.tire.vertical_stiffness_N_per_m *= 10.0;
+}
+
+fn stiff_tire_100(d: &mut VehicleData) {
+    d.tire.vertical_stiffness_N_per_m *= 100.0;
+}
+
+fn light_unsprung(d: &mut VehicleData) {
+    for axle in [&mut d.front, &mut d.rear] {
+        for body in [&mut axle.lower_arm, &mut axle.upper_arm, &mut axle.upright, &mut axle.spindle] {
+            body.mass_kg /= 10.0;
+            body.inertia_moments_kg_m2.iter_mut().for_each(|j| *j /= 10.0);
+        }
+        axle.axle_shaft_spin_inertia_kg_m2 /= 10.0;
+    }
+    d.wheel.mass_kg /= 10.0;
+    d.wheel.inertia_kg_m2.iter_mut().for_each(|j| *j /= 10.0);
+    d.tire.mass_kg /= 10.0;
+    d.tire.inertia_kg_m2.iter_mut().for_each(|j| *j /= 10.0);
+}
+
+fn stiff_dampers(d: &mut VehicleData) {
+    for axle in [&mut d.front, &mut d.rear] {
+        let c = &mut axle.damper;
+        c.midstroke_compression_Ns_per_m *= 10.0;
+        c.midstroke_rebound_Ns_per_m *= 10.0;
+        c.bumpstop_compression_Ns_per_m *= 10.0;
+        c.bumpstop_rebound_Ns_per_m *= 10.0;
+    }
+}
+
+/// Every case of docs/stability.md.
+pub fn cases() -> Vec<Case> {
+    let bump = Scene::new(SceneKind::Bump, Amplitude::Calibrated);
+    let base = SimConfig::default();
+    let coast =
+        |speed_kmh: f64| SimConfig { speed_mode: SpeedMode::Coast, initial_speed: speed_kmh / 3.6, ..base.clone() };
+    let hold = |speed_kmh: f64| SimConfig { initial_speed: speed_kmh / 3.6, ..base.clone() };
+    let jturn = |amplitude: f64| RackProfile::Step { amplitude, start: 1.0, ramp: 0.1 };
+    let a = calibrated_jturn_amplitude();
+    let stiff = |name, data: fn(&mut VehicleData)| Case {
+        name,
+        group: "stiff",
+        data,
+        config: SimConfig { bump_averaging: BUMP_AVERAGING, ..bump.config(&base) },
+        rack: RackProfile::Zero,
+        drive: [0.0; 4],
+        brake: [0.0; 4],
+        duration: bump.duration,
+        channels: RIDE,
+    };
+    let case = |name, group, config: SimConfig, rack, drive, brake, duration, channels| Case {
+        name,
+        group,
+        data: unchanged,
+        config,
+        rack,
+        drive,
+        brake,
+        duration,
+        channels,
+    };
+    let zero = [0.0; 4];
+    vec![
+        stiff("paper's bump, tire k_z x10", stiff_tire_10),
+        stiff("paper's bump, tire k_z x100", stiff_tire_100),
+        stiff("paper's bump, unsprung masses /10", light_unsprung),
+        stiff("paper's bump, dampers x10", stiff_dampers),
+        case("at rest", "low speed", coast(0.0), RackProfile::Zero, zero, zero, 5.0, CREEP),
+        case("rolling at 1 km/h", "low speed", coast(1.0), RackProfile::Zero, zero, zero, 5.0, CREEP),
+        case(
+            "start from rest (400 N m per wheel)",
+            "low speed",
+            coast(0.0),
+            RackProfile::Zero,
+            [400.0; 4],
+            zero,
+            5.0,
+            CREEP,
+        ),
+        case(
+            "reverse from rest (-400 N m per wheel)",
+            "low speed",
+            coast(0.0),
+            RackProfile::Zero,
+            [-400.0; 4],
+            zero,
+            5.0,
+            CREEP,
+        ),
+        case(
+            "brake to a stop from 60 km/h (4 kN m per wheel), stand",
+            "low speed",
+            coast(60.0),
+            RackProfile::Zero,
+            zero,
+            [4000.0; 4],
+            8.5,
+            BRAKING,
+        ),
+        case(
+            "hold on a 20 % grade (3 kN m per wheel)",
+            "low speed",
+            SimConfig { slope: [0.2, 0.0], ..coast(0.0) },
+            RackProfile::Zero,
+            zero,
+            [3000.0; 4],
+            6.0,
+            CREEP,
+        ),
+        case("J-turn at 150 km/h", "extreme", hold(150.0), jturn(a), zero, zero, 4.0, HANDLING),
+        case("J-turn at 150 km/h, 3x amplitude", "extreme", hold(150.0), jturn(3.0 * a), zero, zero, 4.0, HANDLING),
+        case("full lock at 100 km/h", "extreme", hold(100.0), jturn(0.0699), zero, zero, 4.0, HANDLING),
+        case(
+            "wheel lock at 100 km/h (10 kN m per wheel)",
+            "extreme",
+            coast(100.0),
+            RackProfile::Zero,
+            zero,
+            [1e4; 4],
+            5.0,
+            BRAKING,
+        ),
+        case(
+            "one front brake at 1e6 N m, 100 km/h",
+            "extreme",
+            coast(100.0),
+            RackProfile::Zero,
+            zero,
+            [1e6, 0.0, 0.0, 0.0],
+            4.0,
+            BRAKING,
+        ),
+        case(
+            "spin-up (3 kN m on the rear wheels at 20 km/h)",
+            "extreme",
+            coast(20.0),
+            RackProfile::Zero,
+            [0.0, 0.0, 3000.0, 3000.0],
+            zero,
+            3.0,
+            BRAKING,
+        ),
+        case(
+            "20 cm bump at 60 km/h",
+            "extreme",
+            SimConfig { road: RoadChoice::PaperBumps, bump: [0.2, 0.5], bump_averaging: BUMP_AVERAGING, ..coast(60.0) },
+            RackProfile::Zero,
+            zero,
+            zero,
+            4.0,
+            RIDE,
+        ),
+    ]
+}
+
+/// How one run ended.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Outcome {
+    /// Finished; the largest error relative to the channels' excursions, and any warnings.
+    Finished { error: f64, warnings: Vec<String> },
+    /// Stopped with this message.
+    Failed(String),
+}
+
+/// One run of a case: the samples every `SAMPLE` of the case's channels, and its cost.
+pub struct Run {
+    pub samples: Vec<Vec<f64>>,
+    pub evaluations: u64,
+    pub result: Result<(), SimError>,
+    pub warnings: Vec<String>,
+}
+
+/// Run `case` with `integrator` at step `h`.
+pub fn run_case(case: &Case, integrator: IntegratorKind, h: f64) -> Run {
+    let mut data = VehicleData::default_hmmwv();
+    (case.data)(&mut data);
+    let config = SimConfig { integrator, internal_step: h, ..case.config.clone() };
+    let columns: Vec<usize> = case
+        .channels
+        .iter()
+        .map(|c| OUTPUT_NAMES.iter().position(|n| *n == c.name).expect("a channel is an output"))
+        .collect();
+    let mut samples = Vec::new();
+    let mut sim = match Simulation::new(data, config) {
+        Ok(s) => s,
+        Err(e) => return Run { samples, evaluations: 0, result: Err(e), warnings: Vec::new() },
+    };
+    sim.set_rack_profile(case.rack);
+    sim.set_wheel_torques(case.drive, case.brake);
+    let n = (case.duration / SAMPLE).round() as usize;
+    let mut result = Ok(());
+    for k in 0..=n {
+        if k > 0 {
+            if let Err(e) = sim.advance(SAMPLE) {
+                result = Err(e);
+                break;
+            }
+        }
+        match sim.outputs() {
+            Ok(o) => samples.push(columns.iter().map(|&c| o.values[c]).collect()),
+            Err(e) => {
+                result = Err(e);
+                break;
+            }
+        }
+    }
+    Run { samples, evaluations: sim.evaluations(), result, warnings: Vec::new() }
+}
+
+/// The largest difference of `run` from `reference` over the channels, each relative to its excursion
+/// in the reference (floored by the channel's floor). Samples beyond the shorter run are not compared.
+pub fn relative_error(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> f64 {
+    let mut worst = 0.0f64;
+    for (c, channel) in case.channels.iter().enumerate() {
+        let start = reference[0][c];
+        let excursion = reference.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(channel.floor);
+        let diff = run.iter().zip(reference).map(|(a, b)| (a[c] - b[c]).abs()).fold(0.0, f64::max);
+        worst = worst.max(diff / excursion);
+    }
+    worst
+}
+
+/// The integrators the suite runs.
+pub const INTEGRATORS: [IntegratorKind; 2] = [IntegratorKind::Rk4, IntegratorKind::Ab3];
+
+/// A run's classification and cost.
+#[derive(Debug, Clone)]
+pub struct Classified {
+    pub integrator: IntegratorKind,
+    pub step: f64,
+    pub outcome: Outcome,
+    pub evaluations: u64,
+    pub cpu_seconds: f64,
+}
+
+impl Classified {
+    /// OK: finished within `tolerance` of the reference.
+    pub fn ok(&self, tolerance: f64) -> bool {
+        matches!(&self.outcome, Outcome::Finished { error, .. } if *error <= tolerance)
+    }
+
+    /// Wrong: finished, off by more than `tolerance`, and no warning said so.
+    pub fn silently_wrong(&self, tolerance: f64) -> bool {
+        matches!(&self.outcome, Outcome::Finished { error, warnings } if *error > tolerance && warnings.is_empty())
+    }
+}
+
+/// A case's reference check and its runs.
+pub struct CaseReport {
+    pub case: Case,
+    /// The reference's change when its step is halved, relative (as `relative_error`).
+    pub reference_change: f64,
+    /// The reference failed (a case that cannot be run at all): its message.
+    pub reference_failure: Option<String>,
+    pub runs: Vec<Classified>,
+}
+
+impl CaseReport {
+    /// The tolerance the case's runs are judged at: `TOLERANCE`, or ten times the reference's own change
+    /// when its step is halved if that is larger (a run cannot be judged closer than the reference is
+    /// known: the cases with wheels leaving and hitting the road converge at low order).
+    pub fn tolerance(&self) -> f64 {
+        TOLERANCE.max(10.0 * self.reference_change)
+    }
+
+    pub fn wrong(&self) -> usize {
+        self.runs.iter().filter(|r| r.silently_wrong(self.tolerance())).count()
+    }
+}
+
+/// Run every integrator × step of `case` and classify each against the reference. `threads` workers.
+pub fn evaluate(case: &Case, threads: usize) -> CaseReport {
+    let timed = |integrator: IntegratorKind, h: f64| {
+        let t = std::time::Instant::now();
+        let run = run_case(case, integrator, h);
+        (run, t.elapsed().as_secs_f64())
+    };
+    let mut jobs: Vec<(IntegratorKind, f64)> =
+        vec![(IntegratorKind::Rk4, REFERENCE_STEP), (IntegratorKind::Rk4, REFERENCE_STEP / 2.0)];
+    for integrator in INTEGRATORS {
+        for h in STEPS {
+            jobs.push((integrator, h));
+        }
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results: Vec<std::sync::Mutex<Option<(Run, f64)>>> = jobs.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1) {
+            s.spawn(|| loop {
+                let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(&(integrator, h)) = jobs.get(k) else { break };
+                *results[k].lock().expect("no worker panics") = Some(timed(integrator, h));
+            });
+        }
+    });
+    let mut results: Vec<(Run, f64)> =
+        results.into_iter().map(|m| m.into_inner().expect("no worker panics").expect("every job ran")).collect();
+    let runs_part = results.split_off(2);
+    let (reference, _) = &results[0];
+    let (check, _) = &results[1];
+    let reference_failure = reference.result.as_ref().err().map(|e| e.0.clone());
+    let reference_change = relative_error(case, &check.samples, &reference.samples);
+    let runs = jobs[2..]
+        .iter()
+        .zip(runs_part)
+        .map(|(&(integrator, step), (run, cpu))| {
+            let outcome = match &run.result {
+                Err(e) => Outcome::Failed(e.0.clone()),
+                Ok(()) => Outcome::Finished {
+                    error: relative_error(case, &run.samples, &reference.samples),
+                    warnings: run.warnings.clone(),
+                },
+            };
+            Classified { integrator, step, outcome, evaluations: run.evaluations, cpu_seconds: cpu }
+        })
+        .collect();
+    CaseReport { case: case.clone(), reference_change, reference_failure, runs }
+}
+
+fn step_label(h: f64) -> String {
+    format!("{:.2} ms", h * 1e3)
+}
+
+/// One table cell: OK with its error, the error's cause, or a finished run that is off.
+fn cell(run: &Classified, tolerance: f64) -> String {
+    match &run.outcome {
+        Outcome::Finished { error, warnings } if *error <= tolerance && warnings.is_empty() => {
+            format!("OK {error:.0e}")
+        }
+        Outcome::Finished { error, .. } if *error <= tolerance => format!("OK {error:.0e}, warned"),
+        Outcome::Finished { error, warnings } if !warnings.is_empty() => format!("warned, off {error:.0e}"),
+        Outcome::Finished { error, .. } => format!("**WRONG** {error:.0e}"),
+        Outcome::Failed(message) => format!("error: {}", cause_of(message)),
+    }
+}
+
+/// The named cause at the head of an error message ("step-size instability: …"), or "unnamed".
+pub fn cause_of(message: &str) -> &'static str {
+    CAUSES.iter().find(|c| message.contains(*c)).copied().unwrap_or("unnamed")
+}
+
+/// The causes an error may name (`Simulation` messages start their explanation with one).
+pub const CAUSES: [&str; 4] = ["step-size instability", "physical event", "mechanism range", "model validity"];
+
+/// docs/stability.md from the case reports.
+pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
+    let mut md = String::new();
+    md += "# Stability suite\n\n";
+    md += &format!(
+        "Regenerate with `{command}` ({seconds:.0} s here). Every case runs with each integrator at steps of \
+         1/120 s (the paper's 8.3 ms) halved three times; outputs are compared every 1/120 s with the reference, RK4 \
+         at {:.3} ms, whose change when its step is halved is given (it must stay below a tenth of the tolerance). A \
+         run is **OK** when each channel stays within {:.0} % of its excursion in the reference (max over time of \
+         |y − y_ref| over max |y_ref − y_ref(0)|, floored per channel; or within ten times the reference's own \
+         change, if that is larger: a run is not judged closer than its reference is known), an **error** when it stops with a message \
+         naming its cause ({}), and **WRONG** when it finishes off without a word: there must be none. Code: \
+         `src/sim/stability.rs`; `tests/stability.rs` asserts the classification.\n\n",
+        REFERENCE_STEP * 1e3,
+        TOLERANCE * 100.0,
+        CAUSES.join(", ")
+    );
+    let mut header = String::from("| case | reference change | tolerance |");
+    let mut rule = String::from("|---|---|---|");
+    for integrator in INTEGRATORS {
+        for h in STEPS {
+            header += &format!(" {integrator:?} {} |", step_label(h));
+            rule += "---|";
+        }
+    }
+    for group in ["stiff", "low speed", "extreme"] {
+        md += &format!("## {group}\n\n{header}\n{rule}\n");
+        for r in reports.iter().filter(|r| r.case.group == group) {
+            let reference = match &r.reference_failure {
+                Some(m) => format!("fails: {m}"),
+                None => format!("{:.0e}", r.reference_change),
+            };
+            md += &format!("| {} | {reference} | {:.0e} |", r.case.name, r.tolerance());
+            for run in &r.runs {
+                md += &format!(" {} |", cell(run, r.tolerance()));
+            }
+            md += "\n";
+        }
+        md += "\n";
+    }
+    md += "## Largest stable and largest OK step\n\n";
+    md +=
+        "Stable: finished, finite, no solver failure and no divergence guard. OK: stable and within the tolerance.\n\n";
+    md += "| case |";
+    for integrator in INTEGRATORS {
+        md += &format!(" {integrator:?} stable | {integrator:?} OK |");
+    }
+    md += "\n|---|";
+    md += &"---|---|".repeat(INTEGRATORS.len());
+    md += "\n";
+    for r in reports {
+        md += &format!("| {} |", r.case.name);
+        for integrator in INTEGRATORS {
+            let runs: Vec<&Classified> = r.runs.iter().filter(|c| c.integrator == integrator).collect();
+            let largest = |pred: &dyn Fn(&Classified) -> bool| {
+                runs.iter()
+                    .filter(|c| pred(c))
+                    .map(|c| c.step)
+                    .fold(None, |m: Option<f64>, h| Some(m.map_or(h, |m| m.max(h))))
+            };
+            let stable = largest(&|c| matches!(c.outcome, Outcome::Finished { .. }));
+            let ok = largest(&|c| c.ok(r.tolerance()));
+            let show = |h: Option<f64>| h.map_or("none".to_string(), step_label);
+            md += &format!(" {} | {} |", show(stable), show(ok));
+        }
+        md += "\n";
+    }
+    md += "\n## Messages\n\n";
+    for r in reports {
+        let mut seen: Vec<String> = Vec::new();
+        for run in &r.runs {
+            let text = match &run.outcome {
+                Outcome::Failed(m) => m.clone(),
+                Outcome::Finished { warnings, .. } if !warnings.is_empty() => {
+                    format!("warning: {}", warnings.join("; "))
+                }
+                _ => continue,
+            };
+            let line = format!("- {:?} {}: {}", run.integrator, step_label(run.step), text);
+            if !seen.iter().any(|l| l == &line) {
+                seen.push(line);
+            }
+        }
+        if !seen.is_empty() {
+            md += &format!("**{}**\n\n{}\n\n", r.case.name, seen.join("\n"));
+        }
+    }
+    md
+}
