@@ -276,6 +276,9 @@ impl Start {
     }
 }
 
+/// The head of a divergence-guard message: `advance` names its cause (step size, or a physical event).
+const DIVERGENCE_GUARD: &str = "state bound exceeded";
+
 /// Bounds no vehicle on a road reaches (a finite but absurd state is a diverged integration): speed
 /// 300 m/s, rates 100 rad/s (chassis) and 2000 rad/s (wheels), slip states 100. A chassis rolled beyond
 /// 90° is a rollover: a physical event the model (tires on the road, no body contact) ends at.
@@ -292,22 +295,24 @@ fn check_divergence(x: &[f64], layout: &Layout, t: f64) -> Result<(), EvalError>
             pitch.to_degrees()
         )));
     }
+    let spinning = (0..4).find(|&i| x[idx::SPIN + i].abs() > 2000.0);
     let bad = if norm3(idx::V0) > 300.0 {
-        Some("chassis speed above 300 m/s")
+        Some("the chassis speed went above 300 m/s".to_string())
     } else if norm3(idx::W0) > 100.0 {
-        Some("chassis angular rate above 100 rad/s")
-    } else if x[idx::SPIN..idx::SPIN + 4].iter().any(|w| w.abs() > 2000.0) {
-        Some("wheel spin above 2000 rad/s")
+        Some("the chassis angular rate went above 100 rad/s".to_string())
+    } else if let Some(i) = spinning {
+        Some(format!(
+            "wheel spin-up: wheel {} spins above 2000 rad/s (a driven wheel off the ground, or a drive torque beyond \
+             what its tire can take)",
+            crate::model::vehicle::CORNERS[i]
+        ))
     } else if layout.xi.is_some_and(|k| x[k..k + 8].iter().any(|s| s.abs() > 100.0)) {
-        Some("tire slip state above 100")
+        Some("a tire slip state went above 100".to_string())
     } else {
         None
     };
     match bad {
-        Some(why) => Err(EvalError(format!(
-            "step-size instability: integration diverged at t = {t:.4} s ({why}); the step is too large for this \
-             integrator (physics.md §7.4)"
-        ))),
+        Some(why) => Err(EvalError(format!("{DIVERGENCE_GUARD} at t = {t:.4} s: {why}"))),
         None => Ok(()),
     }
 }
@@ -606,10 +611,12 @@ impl Simulation {
                 self.restore(&before);
                 // A failure that is not already a step-size finding: if a fast mode at the last good
                 // state is outside the scheme's stability region, that is the cause.
+                // A state bound with every fast mode stable is a physical event (a wheel spun up in the air).
                 let message = match e.0.starts_with("step-size instability") {
                     true => e.0,
                     false => match self.check_fast_modes(hs) {
                         Err(unstable) => format!("{} (the run then failed: {})", unstable.0, e.0),
+                        Ok(()) if e.0.starts_with(DIVERGENCE_GUARD) => format!("physical event: {}", e.0),
                         Ok(()) => e.0,
                     },
                 };

@@ -96,6 +96,10 @@ fn light_unsprung(d: &mut VehicleData) {
     d.tire.inertia_kg_m2.iter_mut().for_each(|j| *j /= 10.0);
 }
 
+fn high_friction(d: &mut VehicleData) {
+    d.tire.sti.mu0 = 1.6;
+}
+
 fn stiff_dampers(d: &mut VehicleData) {
     for axle in [&mut d.front, &mut d.rear] {
         let c = &mut axle.damper;
@@ -218,6 +222,20 @@ pub fn cases() -> Vec<Case> {
             3.0,
             BRAKING,
         ),
+        case("full lock at 150 km/h (lift-off)", "extreme", hold(150.0), jturn(0.0699), zero, zero, 4.0, HANDLING),
+        Case {
+            data: high_friction,
+            ..case(
+                "rollover: full lock at 100 km/h, friction 1.6",
+                "extreme",
+                hold(100.0),
+                jturn(0.0699),
+                zero,
+                zero,
+                4.0,
+                HANDLING,
+            )
+        },
         case(
             "20 cm bump at 60 km/h",
             "extreme",
@@ -236,8 +254,8 @@ pub fn cases() -> Vec<Case> {
 pub enum Outcome {
     /// Finished; the largest error relative to the channels' excursions, and any warnings.
     Finished { error: f64, warnings: Vec<String> },
-    /// Stopped with this message.
-    Failed(String),
+    /// Stopped with this message; `error` as for a finished run, over the samples before the stop.
+    Failed { message: String, error: f64 },
 }
 
 /// One run of a case: the samples every `SAMPLE` of the case's channels, and its cost.
@@ -317,9 +335,13 @@ impl Classified {
         matches!(&self.outcome, Outcome::Finished { error, .. } if *error <= tolerance)
     }
 
-    /// Wrong: finished, off by more than `tolerance`, and no warning said so.
+    /// Wrong: finished, off by more than `tolerance`, and no warning said so; or ended in a physical event
+    /// (as the reference may: a rollover) after being off by more than `tolerance` on the way there.
     pub fn silently_wrong(&self, tolerance: f64) -> bool {
-        matches!(&self.outcome, Outcome::Finished { error, warnings } if *error > tolerance && warnings.is_empty())
+        match &self.outcome {
+            Outcome::Finished { error, warnings } => *error > tolerance && warnings.is_empty(),
+            Outcome::Failed { message, error } => cause_of(message) == "physical event" && *error > tolerance,
+        }
     }
 }
 
@@ -383,7 +405,10 @@ pub fn evaluate(case: &Case, threads: usize) -> CaseReport {
         .zip(runs_part)
         .map(|(&(integrator, step), (run, cpu))| {
             let outcome = match &run.result {
-                Err(e) => Outcome::Failed(e.0.clone()),
+                Err(e) => Outcome::Failed {
+                    message: e.0.clone(),
+                    error: relative_error(case, &run.samples, &reference.samples),
+                },
                 Ok(()) => Outcome::Finished {
                     error: relative_error(case, &run.samples, &reference.samples),
                     warnings: run.warnings.clone(),
@@ -408,7 +433,10 @@ fn cell(run: &Classified, tolerance: f64) -> String {
         Outcome::Finished { error, .. } if *error <= tolerance => format!("OK {error:.0e}, warned"),
         Outcome::Finished { error, warnings } if !warnings.is_empty() => format!("warned, off {error:.0e}"),
         Outcome::Finished { error, .. } => format!("**WRONG** {error:.0e}"),
-        Outcome::Failed(message) => format!("error: {}", cause_of(message)),
+        Outcome::Failed { message, error } if cause_of(message) == "physical event" && *error > tolerance => {
+            format!("**WRONG** {error:.0e} before: {}", cause_of(message))
+        }
+        Outcome::Failed { message, .. } => format!("error: {}", cause_of(message)),
     }
 }
 
@@ -492,7 +520,7 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
         let mut seen: Vec<String> = Vec::new();
         for run in &r.runs {
             let text = match &run.outcome {
-                Outcome::Failed(m) => m.clone(),
+                Outcome::Failed { message, .. } => message.clone(),
                 Outcome::Finished { warnings, .. } if !warnings.is_empty() => {
                     format!("warning: {}", warnings.join("; "))
                 }

@@ -1,0 +1,107 @@
+//! The stability suite (docs/stability.md, `rtv stability`) and the low-speed criteria of the issue that
+//! introduced the standstill tire and the holding brake.
+
+use rt_vehicle::integrate::IntegratorKind;
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::sim::stability::{cases, cause_of, evaluate, Outcome, STEPS};
+use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+
+fn column(name: &str) -> usize {
+    OUTPUT_NAMES.iter().position(|n| *n == name).unwrap()
+}
+
+#[test]
+fn every_run_of_the_suite_is_ok_or_a_clean_error() {
+    for case in cases() {
+        let report = evaluate(&case, 2);
+        let tolerance = report.tolerance();
+        // A case is judged at 1 %, or at ten times its reference's change when its step is halved (the
+        // bump cases with wheels leaving and striking the road converge at low order); a reference known
+        // only to 1 % could judge nothing: the judged tolerance stays ≤ 10 %.
+        assert!(tolerance <= 0.1, "{}: reference not converged ({:.1e})", case.name, report.reference_change);
+        for run in &report.runs {
+            let label = format!("{} {:?} {:.2} ms", case.name, run.integrator, run.step * 1e3);
+            assert!(!run.silently_wrong(tolerance), "{label}: silently wrong {:?}", run.outcome);
+            match &run.outcome {
+                Outcome::Failed { message, .. } => assert_ne!(cause_of(message), "unnamed", "{label}: {message}"),
+                Outcome::Finished { warnings, .. } => assert!(warnings.is_empty(), "{label}: {warnings:?}"),
+            }
+        }
+        // RK4 at 1/480 s (about the default 2 ms) runs every case on a level road through, or ends where
+        // the reference ends, in a physical event.
+        if case.group != "stiff" && case.name != "20 cm bump at 60 km/h" {
+            let rk4 = report.runs.iter().find(|r| r.integrator == IntegratorKind::Rk4 && r.step == STEPS[2]).unwrap();
+            let fine = rk4.ok(tolerance)
+                || matches!(&rk4.outcome, Outcome::Failed { message, .. } if cause_of(message) == "physical event");
+            assert!(fine, "{}: RK4 at 2.08 ms: {:?}", case.name, rk4.outcome);
+        }
+    }
+}
+
+/// Chassis x, v_x and the front-left relative wheel spin, every 2 ms, for a run with constant torques.
+fn trace(config: SimConfig, brake: [f64; 4], end: f64) -> Vec<[f64; 4]> {
+    let mut sim = Simulation::new(VehicleData::default_hmmwv(), config).unwrap();
+    sim.set_wheel_torques([0.0; 4], brake);
+    let (x, vx, spin) = (column("x"), column("vx"), column("wheel_spin_fl"));
+    let mut rows = Vec::new();
+    for _ in 0..(end / 0.002).round() as usize {
+        sim.advance(0.002).unwrap();
+        let o = sim.outputs().unwrap();
+        rows.push([sim.time(), o.values[x], o.values[vx], o.values[spin]]);
+    }
+    rows
+}
+
+#[test]
+fn a_braked_stop_stands_still() {
+    // 60 km/h, coasting, 4 kN m on each wheel: the wheels lock, the car slides to a stop and stands.
+    let config = SimConfig { speed_mode: SpeedMode::Coast, initial_speed: 60.0 / 3.6, ..SimConfig::default() };
+    let rows = trace(config, [4000.0; 4], 9.0);
+    let stop = rows.iter().find(|r| r[2] < 0.01).expect("the car stops")[0];
+    let window: Vec<f64> = rows.iter().filter(|r| r[0] >= stop + 1.0 && r[0] <= stop + 6.0).map(|r| r[1]).collect();
+    let span = window.iter().cloned().fold(f64::MIN, f64::max) - window.iter().cloned().fold(f64::MAX, f64::min);
+    let after: Vec<&[f64; 4]> = rows.iter().filter(|r| r[0] >= stop).collect();
+    let min_vx = after.iter().map(|r| r[2]).fold(f64::MAX, f64::min);
+    let x_stop = after[0][1];
+    let rock_back = after.iter().map(|r| x_stop - r[1]).fold(0.0, f64::max);
+    let settled_vx = after.iter().filter(|r| r[0] >= stop + 0.5).map(|r| r[2]).fold(f64::MAX, f64::min);
+    println!(
+        "stop at {stop:.3} s; CM moves {:.3} mm over [stop + 1, stop + 6] s; rock-back {:.1} mm, min v_x {min_vx:.3} \
+         m/s (after stop + 0.5 s: {settled_vx:.4} m/s)",
+        span * 1e3,
+        rock_back * 1e3
+    );
+    // The issue's criterion: less than 1 mm over the 5 s that start 1 s after the stop.
+    assert!(span < 1e-3, "the car creeps: {span} m");
+    // The wheels are held: no backwards rolling (relative spin, rad/s; 0.1 rad/s is 5 cm/s at the rim).
+    assert!(after.iter().all(|r| r[3] > -0.1), "a held wheel turned backwards");
+    // The car rocks back on its tires by the elastic release of the tread deflection stored at the
+    // friction limit, at most 2 L_x μ0 / c_s = 27 mm (Dahl: the deflection unwinds at twice the
+    // displacement), then stands: v_x ≥ −0.1 m/s once the rock-back is over.
+    let t = &VehicleData::default_hmmwv().tire;
+    assert!(rock_back < 2.0 * t.relaxation_length_x_m * t.sti.mu0 / t.sti.cs, "rock-back {rock_back} m");
+    assert!(settled_vx >= -0.1, "v_x {settled_vx} after the rock-back");
+}
+
+#[test]
+fn braked_on_a_20_percent_grade_the_car_holds() {
+    let config =
+        SimConfig { speed_mode: SpeedMode::Coast, initial_speed: 0.0, slope: [0.2, 0.0], ..SimConfig::default() };
+    let rows = trace(config, [3000.0; 4], 6.0);
+    let at = |t: f64| rows.iter().find(|r| r[0] >= t - 1e-9).unwrap()[1];
+    let drift = (at(6.0) - at(1.0)).abs() / 5.0;
+    println!("drift on the grade after settling: {:.2e} m/s", drift);
+    assert!(drift < 1e-3, "drift {drift} m/s");
+}
+
+#[test]
+fn steady_slip_below_its_speed_range_is_a_named_error() {
+    let config = SimConfig {
+        slip: rt_vehicle::model::tire::SlipModel::Steady,
+        speed_mode: SpeedMode::Coast,
+        initial_speed: 1.0,
+        ..SimConfig::default()
+    };
+    let e = Simulation::new(VehicleData::default_hmmwv(), config).err().expect("refused");
+    assert!(e.0.contains("model validity") && e.0.contains("relaxation slip"), "{}", e.0);
+}
