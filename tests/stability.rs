@@ -102,6 +102,6 @@ fn steady_slip_below_its_speed_range_is_a_named_error() {
         initial_speed: 1.0,
         ..SimConfig::default()
     };
-    let e = Simulation::new(VehicleData::default_hmmwv(), config).err().expect("refused");
+    let e = Simulation::new(VehicleData::default_hmmwv(), config).expect_err("refused");
     assert!(e.0.contains("model validity") && e.0.contains("relaxation slip"), "{}", e.0);
 }
