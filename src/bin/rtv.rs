@@ -216,6 +216,9 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         sim.evaluations(),
         cpu.as_secs_f64() * 1e6 / sim.evaluations() as f64
     );
+    for event in &sim.events.messages {
+        eprintln!("event: {event}");
+    }
     result.map_err(|e| failed(format!("simulation stopped: {}", e.0)))
 }
 

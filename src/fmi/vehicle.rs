@@ -164,6 +164,9 @@ pub struct VehicleModel {
     pub sim: Option<Simulation>,
     /// Wall-clock seconds of the last `fmi2DoStep` (diagnostic, not deterministic).
     pub step_cpu_time: f64,
+    /// How many of the simulation's physical events were logged.
+    #[serde(default)]
+    pub events_logged: usize,
 }
 
 impl VehicleModel {
@@ -232,6 +235,7 @@ impl FmuModel for VehicleModel {
             brake: [0.0; 4],
             sim: None,
             step_cpu_time: 0.0,
+            events_logged: 0,
         }
     }
 
@@ -408,6 +412,7 @@ impl FmuModel for VehicleModel {
         let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
         self.sim = Some(sim);
         self.step_cpu_time = 0.0;
+        self.events_logged = 0;
         Ok(())
     }
 
@@ -460,12 +465,18 @@ impl FmuModel for VehicleModel {
         result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))
     }
 
-    fn refresh(&mut self, var: &Variable, _log: &Logger) -> Result<(), StepFailure> {
+    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), StepFailure> {
         let Some(sim) = self.sim.as_mut() else { return Ok(()) };
         if var.causality != Causality::Output {
             return Ok(());
         }
-        if let Err(e) = sim.output(OUTPUT_SLOTS[var.index]) {
+        let read = sim.output(OUTPUT_SLOTS[var.index]);
+        // Physical events (a wheel off the road, locked, spun up) are information, logged once each.
+        for event in sim.events.messages.iter().skip(self.events_logged) {
+            log.event(&format!("physical event: {event}"));
+        }
+        self.events_logged = sim.events.messages.len();
+        if let Err(e) = read {
             // The step reached a state its stages never visited and the model cannot be evaluated at (e.g. a
             // suspension beyond its range): undo that step, as if it had failed, so that what is served
             // belongs to the time the run ends at.

@@ -351,6 +351,47 @@ impl Fresh {
     }
 }
 
+/// Physical events seen at output points: not errors, but what explains a run (a wheel off the road, a
+/// wheel locked by its brake, a wheel spun up by its drive). The first of each kind per wheel is kept.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Events {
+    /// Bit (kind × 4 + wheel) set once the event was seen.
+    seen: u16,
+    pub messages: Vec<String>,
+}
+
+/// |κ| beyond which a driven wheel counts as spun up, or a braked one as locked (the STI force peaks near
+/// κ = 0.11: beyond 0.5 the tread slides).
+pub const EVENT_SLIP: f64 = 0.5;
+
+impl Events {
+    fn note(&mut self, kind: usize, wheel: usize, message: impl FnOnce() -> String) {
+        let bit = 1u16 << (kind * 4 + wheel);
+        if self.seen & bit == 0 {
+            self.seen |= bit;
+            self.messages.push(message());
+        }
+    }
+
+    /// Look at one output evaluation: loads, slips and torques per wheel at time t.
+    fn observe(&mut self, t: f64, d: &Diagnostics, brake: &[f64; 4]) {
+        use crate::model::vehicle::CORNERS;
+        for i in 0..4 {
+            if d.tire_force[i][2] <= 0.0 {
+                self.note(0, i, || format!("t = {t:.3} s: wheel {} left the road", CORNERS[i]));
+            } else if d.kappa[i] < -EVENT_SLIP && brake[i] > 0.0 {
+                self.note(1, i, || {
+                    format!("t = {t:.3} s: wheel {} locked by its brake (κ = {:.2})", CORNERS[i], d.kappa[i])
+                });
+            } else if d.kappa[i] > EVENT_SLIP && d.drive_torque[i] > 0.0 {
+                self.note(2, i, || {
+                    format!("t = {t:.3} s: wheel {} spun up by its drive (κ = {:.2})", CORNERS[i], d.kappa[i])
+                });
+            }
+        }
+    }
+}
+
 /// Simulated time between two checks of the fast modes against the step, s: an unstable mode needs many
 /// steps to grow, and six evaluations every 0.1 s cost 1.5 % of an RK4 run at 2 ms.
 pub const MODE_CHECK_INTERVAL: f64 = 0.1;
@@ -438,6 +479,9 @@ pub struct Simulation {
     /// Time of the last check of the fast modes against the step (`check_fast_modes`).
     #[serde(default)]
     last_mode_check: Option<f64>,
+    /// Physical events seen at output points.
+    #[serde(default)]
+    pub events: Events,
     evaluations: u64,
     /// x of the initial front wheel centres (where the bump course is measured from).
     front_wheel_x0: f64,
@@ -472,6 +516,7 @@ impl Simulation {
             state_before: Vec::with_capacity(idx::DIM), // the largest layout: no allocation per step
             before: None,
             last_mode_check: None,
+            events: Events::default(),
             evaluations: 0,
             front_wheel_x0,
         };
@@ -860,6 +905,7 @@ impl Simulation {
             d.tire_force.iter().for_each(|f| push(f[c]));
         }
         d.kappa.iter().for_each(|s| push(*s));
+        self.events.observe(self.time, &d, &self.brake);
         d.tan_alpha.iter().for_each(|t| push(t.atan()));
         push(d.max_residual);
         push(d.newton_iterations as f64);
