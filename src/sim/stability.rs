@@ -440,6 +440,15 @@ fn cell(run: &Classified, tolerance: f64) -> String {
     }
 }
 
+/// The largest step a step-check refusal names ("use h ≤ X s" or "stable up to h = X s"), s.
+fn allowed_step(message: &str) -> Option<f64> {
+    ["use h ≤ ", "stable up to h = "].iter().find_map(|key| {
+        let at = message.find(key)? + key.len();
+        let number = message[at..].split(' ').next()?;
+        number.trim_end_matches(|c: char| !c.is_ascii_digit()).parse().ok()
+    })
+}
+
 /// The named cause at the head of an error message ("step-size instability: …"), or "unnamed".
 pub fn cause_of(message: &str) -> &'static str {
     CAUSES.iter().find(|c| message.contains(*c)).copied().unwrap_or("unnamed")
@@ -489,14 +498,16 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
         md += "\n";
     }
     md += "## Largest stable and largest OK step\n\n";
-    md +=
-        "Stable: finished, finite, no solver failure and no divergence guard. OK: stable and within the tolerance.\n\n";
+    md += "Of the ladder's steps. Stable: finite, no solver failure and no divergence guard (a run that ends in a \
+           physical event, as its reference does, counts). OK: stable and within the tolerance. Check: the largest \
+           step the step check allowed when it refused one (from its message), below the ladder where it refused \
+           them all.\n\n";
     md += "| case |";
     for integrator in INTEGRATORS {
-        md += &format!(" {integrator:?} stable | {integrator:?} OK |");
+        md += &format!(" {integrator:?} stable | {integrator:?} OK | {integrator:?} check |");
     }
     md += "\n|---|";
-    md += &"---|---|".repeat(INTEGRATORS.len());
+    md += &"---|---|---|".repeat(INTEGRATORS.len());
     md += "\n";
     for r in reports {
         md += &format!("| {} |", r.case.name);
@@ -508,10 +519,21 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
                     .map(|c| c.step)
                     .fold(None, |m: Option<f64>, h| Some(m.map_or(h, |m| m.max(h))))
             };
-            let stable = largest(&|c| matches!(c.outcome, Outcome::Finished { .. }));
+            let stable = largest(&|c| match &c.outcome {
+                Outcome::Finished { .. } => true,
+                Outcome::Failed { message, .. } => cause_of(message) == "physical event",
+            });
             let ok = largest(&|c| c.ok(r.tolerance()));
+            let allowed = runs
+                .iter()
+                .filter_map(|c| match &c.outcome {
+                    Outcome::Failed { message, .. } => allowed_step(message),
+                    _ => None,
+                })
+                .fold(None, |m: Option<f64>, h| Some(m.map_or(h, |m| m.min(h))));
             let show = |h: Option<f64>| h.map_or("none".to_string(), step_label);
-            md += &format!(" {} | {} |", show(stable), show(ok));
+            let check = allowed.map_or("-".to_string(), step_label);
+            md += &format!(" {} | {} | {check} |", show(stable), show(ok));
         }
         md += "\n";
     }
