@@ -41,11 +41,60 @@ fn bad_arguments_get_a_message_and_exit_2() {
         (vec!["scene", "jturn", "--ride-height", "low"], "--ride-height"),
         (vec!["kinematics"], "--axle"),
         (vec!["fly"], "unknown command"),
+        (vec!["scene", "jturn", "--amplitude", "0.08"], "travel limit"),
+        (vec!["scene", "sine", "--amplitude", "0.06"], "travel limit"), // the sine's is 10/8 of it
+        (vec!["scene", "bump", "--bump-height", "0.5"], "bump height"),
+        (vec!["scene", "bump", "--bump-length", "0.01"], "bump length"),
+        (vec!["scene", "jturn", "--grade", "2"], "slope"),
+        (vec!["scene", "jturn", "--cross-slope", "nan"], "not a number"),
+        (vec!["scene", "jturn", "--initial-speed", "100"], "initial speed"),
+        (vec!["scene", "jturn", "--brake", "-3"], "brake torque"),
+        (vec!["stability", "--threads", "0"], "--threads"),
     ] {
         let (code, _, err) = rtv(&args);
         assert_eq!(code, 2, "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn a_run_that_cannot_go_on_names_its_cause() {
+    // AB3 at the paper's 8.3 ms at rest: the spin-tread mode is outside AB3's stability region.
+    let (code, _, err) = rtv(&[
+        "scene",
+        "jturn",
+        "--integrator",
+        "ab3",
+        "--step",
+        "0.0083",
+        "--output-interval",
+        "0.0083",
+        "--initial-speed",
+        "0",
+        "--speed",
+        "coast",
+        "--end",
+        "0.1",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("step-size instability") && err.contains("stable up to h ="), "{err}");
+    // A braked stop reports the locked wheels as events, and succeeds.
+    let (code, _, err) = rtv(&[
+        "scene",
+        "jturn",
+        "--amplitude",
+        "0",
+        "--speed",
+        "coast",
+        "--initial-speed",
+        "16.67",
+        "--brake",
+        "4000",
+        "--end",
+        "1",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("event: ") && err.contains("locked by its brake"), "{err}");
 }
 
 #[test]
