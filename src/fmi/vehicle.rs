@@ -22,7 +22,7 @@ pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
 /// Limits of the Real parameters (also declared in the model description as min/max).
 pub use crate::sim::{
     BUMP_HEIGHT_MAX, BUMP_LENGTH_MAX, BUMP_LENGTH_MIN, INITIAL_SPEED_MAX, INTERNAL_STEP_MAX, INTERNAL_STEP_MIN,
-    SLOPE_MAX,
+    SLOPE_MAX, TOLERANCE_MAX, TOLERANCE_MIN,
 };
 
 /// What an input drives: the rack, or a wheel's drive or brake torque (corners FL, FR, RL, RR).
@@ -102,6 +102,19 @@ pub struct Parameters {
     pub bump_height: f64,
     #[serde(default)]
     pub bump_length: f64,
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    #[serde(default = "default_contact")]
+    pub contact: i32,
+}
+
+/// What a state saved before these parameters existed had: the default tolerance and the point contact.
+fn default_tolerance() -> f64 {
+    crate::sim::DEFAULT_TOLERANCE
+}
+
+fn default_contact() -> i32 {
+    1
 }
 
 impl Parameters {
@@ -116,6 +129,8 @@ impl Parameters {
             initial_speed: self.initial_speed,
             slope: [self.road_grade, self.road_cross_slope],
             bump: [self.bump_height, self.bump_length],
+            tolerance: self.tolerance,
+            contact: modes::CONTACTS.by_code(self.contact)?,
             ..SimConfig::default()
         })
     }
@@ -167,6 +182,10 @@ pub struct VehicleModel {
     pub monitor_reported: bool,
     /// Wall-clock seconds of the last `fmi2DoStep` (diagnostic, not deterministic).
     pub step_cpu_time: f64,
+    /// The tolerance of `fmi2SetupExperiment` when the master defined one: it takes the place of the
+    /// `tolerance` parameter for the error-controlled integrator.
+    #[serde(default)]
+    pub experiment_tolerance: Option<f64>,
 }
 
 impl VehicleModel {
@@ -217,6 +236,16 @@ impl VehicleModel {
         })
     }
 
+    /// The simulation's configuration: the parameters, with the experiment's tolerance in place of the
+    /// `tolerance` parameter when the master defined one.
+    fn config(&self) -> Result<SimConfig, String> {
+        let mut config = self.params.config()?;
+        if let Some(t) = self.experiment_tolerance {
+            config.tolerance = t;
+        }
+        Ok(config)
+    }
+
     fn output(&self, var: &Variable) -> Result<f64, String> {
         let sim =
             self.sim.as_ref().ok_or_else(|| format!("{} is available once the model is initialized", var.name))?;
@@ -236,7 +265,22 @@ impl FmuModel for VehicleModel {
             sim: None,
             monitor_reported: false,
             step_cpu_time: 0.0,
+            experiment_tolerance: None,
         }
+    }
+
+    fn experiment_tolerance(&mut self, tolerance: f64) -> Result<String, String> {
+        if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&tolerance) {
+            return Err(format!(
+                "fmi2SetupExperiment: tolerance {tolerance} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}], the range \
+                 in which it means what it says (docs/fmu.md); the tolerance parameter stays in force"
+            ));
+        }
+        self.experiment_tolerance = Some(tolerance);
+        Ok(format!(
+            "tolerance {tolerance}: used by the error-controlled integrator (integrator = 4) instead of the tolerance \
+             parameter; the fixed-step integrators (1, 2, 3) ignore it and step at internal_step"
+        ))
     }
 
     fn get_real(&self, var: &Variable) -> Result<f64, String> {
@@ -253,9 +297,10 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::RoadCrossSlope) => p.road_cross_slope,
             Var::Parameter(P::BumpHeight) => p.bump_height,
             Var::Parameter(P::BumpLength) => p.bump_length,
-            Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile) => {
-                return Err(format!("{} is not a Real of this model", var.name))
-            }
+            Var::Parameter(P::Tolerance) => p.tolerance,
+            Var::Parameter(
+                P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
+            ) => return Err(format!("{} is not a Real of this model", var.name)),
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
             Var::Output => self.output(var)?,
         })
@@ -269,6 +314,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Integrator) => p.integrator,
             Var::Parameter(P::SlipModel) => p.slip_model,
             Var::Parameter(P::Road) => p.road,
+            Var::Parameter(P::Contact) => p.contact,
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -276,7 +322,8 @@ impl FmuModel for VehicleModel {
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
-                | P::BumpLength,
+                | P::BumpLength
+                | P::Tolerance,
             )
             | Var::Input(_)
             | Var::Local(_)
@@ -343,7 +390,15 @@ impl FmuModel for VehicleModel {
                 }
                 self.params.bump_length = value;
             }
-            Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile)
+            Var::Parameter(P::Tolerance) => {
+                if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&value) {
+                    return Err(format!("tolerance must be in [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]"));
+                }
+                self.params.tolerance = value;
+            }
+            Var::Parameter(
+                P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
+            )
             | Var::Local(_)
             | Var::Output => return Err(format!("{} is not a settable Real of this model", var.name)),
         }
@@ -358,6 +413,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Integrator) => integrator(value).map(|_| p.integrator = value),
             Var::Parameter(P::SlipModel) => slip_model(value).map(|_| p.slip_model = value),
             Var::Parameter(P::Road) => road(value).map(|_| p.road = value),
+            Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|_| p.contact = value),
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -365,7 +421,8 @@ impl FmuModel for VehicleModel {
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
-                | P::BumpLength,
+                | P::BumpLength
+                | P::Tolerance,
             )
             | Var::Input(_)
             | Var::Local(_)
@@ -401,7 +458,7 @@ impl FmuModel for VehicleModel {
 
     fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String> {
         let _ = start_time; // the simulation's clock starts at 0; the generic layer keeps the FMU time
-        let config = self.params.config()?;
+        let config = self.config()?;
         let vehicle = self.vehicle_data(context, log)?;
         // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
         for w in vehicle.warnings() {
@@ -417,7 +474,12 @@ impl FmuModel for VehicleModel {
     }
 
     fn validate_restored(&mut self, context: &ModelContext, initialized: bool, elapsed: f64) -> Result<(), String> {
-        let config = self.params.config()?;
+        if let Some(t) = self.experiment_tolerance {
+            if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&t) {
+                return Err(format!("experiment tolerance {t} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]"));
+            }
+        }
+        let config = self.config()?;
         config.validate().map_err(|e| format!("parameters: {e}"))?;
         let finite =
             |name: &str, v: f64| if v.is_finite() { Ok(()) } else { Err(format!("{name} = {v} is not finite")) };

@@ -32,6 +32,11 @@ pub trait OdeSystem {
     fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError>;
     /// Called after every accepted step (e.g. renormalise a quaternion). Default: nothing.
     fn project(&self, _x: &mut [f64]) {}
+    /// Absolute scales of the state's components for an error-controlled scheme: its error norm is the
+    /// largest |error_i| / (tolerance · scale_i). Default: 1 for every component.
+    fn error_scale(&self, scale: &mut [f64]) {
+        scale.fill(1.0);
+    }
     /// Whether finite-difference Jacobians should use `jacobian_derivative` (a smoothed model) instead of
     /// `derivative`. Default: no.
     fn has_jacobian_model(&self) -> bool {
@@ -53,13 +58,17 @@ pub enum IntegratorKind {
     Rk4,
     /// ROS2: linearly implicit (Rosenbrock-W), L-stable, order 2, for stiff or extreme cases (§7.5).
     Ros2,
+    /// Dormand–Prince 5(4) with error control: the one scheme that takes a tolerance.
+    Dopri5,
 }
 
 pub mod ab3;
+pub mod dopri5;
 pub mod rk4;
 pub mod ros2;
 
 pub use ab3::Ab3;
+pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 pub use ros2::Ros2;
 
@@ -70,7 +79,13 @@ impl IntegratorKind {
         match self {
             IntegratorKind::Rk4 | IntegratorKind::Ab3 => 4,
             IntegratorKind::Ros2 => 3 + dim as u64,
+            IntegratorKind::Dopri5 => dopri5::EVALUATIONS_PER_STEP,
         }
+    }
+
+    /// Whether the scheme controls its error (takes a tolerance) rather than stepping at a fixed size.
+    pub fn is_error_controlled(self) -> bool {
+        self == IntegratorKind::Dopri5
     }
 }
 
@@ -87,6 +102,7 @@ pub enum AnyIntegrator {
     Rk4(Rk4),
     Ab3(Ab3),
     Ros2(Ros2),
+    Dopri5(Dopri5),
 }
 
 impl AnyIntegrator {
@@ -96,6 +112,7 @@ impl AnyIntegrator {
             IntegratorKind::Rk4 => AnyIntegrator::Rk4(Rk4::new()),
             IntegratorKind::Ab3 => AnyIntegrator::Ab3(Ab3::new()),
             IntegratorKind::Ros2 => AnyIntegrator::Ros2(Ros2::new()),
+            IntegratorKind::Dopri5 => AnyIntegrator::Dopri5(Dopri5::new()),
         }
     }
 
@@ -104,6 +121,7 @@ impl AnyIntegrator {
             AnyIntegrator::Rk4(_) => IntegratorKind::Rk4,
             AnyIntegrator::Ab3(_) => IntegratorKind::Ab3,
             AnyIntegrator::Ros2(_) => IntegratorKind::Ros2,
+            AnyIntegrator::Dopri5(_) => IntegratorKind::Dopri5,
         }
     }
 }
@@ -115,6 +133,7 @@ impl AnyIntegrator {
             AnyIntegrator::Rk4(_) => Ok(()),
             AnyIntegrator::Ab3(i) => i.validate(dim),
             AnyIntegrator::Ros2(i) => i.validate(dim),
+            AnyIntegrator::Dopri5(i) => i.validate(),
         }
     }
 }
@@ -137,6 +156,7 @@ impl Integrator for AnyIntegrator {
             AnyIntegrator::Rk4(i) => i.step(sys, t, h, x),
             AnyIntegrator::Ab3(i) => i.step(sys, t, h, x),
             AnyIntegrator::Ros2(i) => i.step(sys, t, h, x),
+            AnyIntegrator::Dopri5(i) => i.step(sys, t, h, x),
         }
     }
     fn restart(&mut self) {
@@ -144,6 +164,7 @@ impl Integrator for AnyIntegrator {
             AnyIntegrator::Rk4(i) => i.restart(),
             AnyIntegrator::Ab3(i) => i.restart(),
             AnyIntegrator::Ros2(i) => i.restart(),
+            AnyIntegrator::Dopri5(i) => i.restart(),
         }
     }
 }

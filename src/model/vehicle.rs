@@ -239,6 +239,9 @@ pub struct Vehicle {
     /// plane z = 0 of the model's ground frame, which is the road frame (x along the road, z normal to it).
     #[serde(default)]
     pub slope: [f64; 2],
+    /// The enveloping contact's half-length, m (`None`: the single-point contact; model::road_envelope).
+    #[serde(default)]
+    pub envelope: Option<f64>,
     /// Keep the states the options leave unused (`Layout::FULL`): only to verify that leaving them out
     /// changes nothing (tests/pruning.rs).
     #[serde(default)]
@@ -314,6 +317,7 @@ impl Vehicle {
             switches: ForceSwitches::default(),
             total_mass,
             slope: [0.0; 2],
+            envelope: None,
             keep_unused_states: false,
         };
         v.rack.sign = if v
@@ -409,7 +413,13 @@ impl Vehicle {
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
     ) -> Result<(), EvalError> {
-        self.derivative_on(&self.road, x, inputs, cache, dxdt, diag)
+        match self.envelope {
+            None => self.derivative_on(&self.road, x, inputs, cache, dxdt, diag),
+            Some(half_length) => {
+                let road = crate::model::road_envelope::Enveloped { road: &self.road, half_length };
+                self.derivative_on(&road, x, inputs, cache, dxdt, diag)
+            }
+        }
     }
 
     /// The derivative for a finite-difference Jacobian: the same model on the road averaged over
