@@ -68,6 +68,9 @@ pub const H_MIN_RELATIVE: f64 = 1e-12;
 /// Evaluations of one attempted step: six new stages, plus the first when it is not carried over (FSAL).
 pub const EVALUATIONS_PER_STEP: u64 = 7;
 
+/// A check of every accepted state (t, x): the simulation's divergence bounds.
+pub type StepCheck<'a> = dyn FnMut(f64, &[f64]) -> Result<(), EvalError> + 'a;
+
 /// What one stretch of integration is allowed and told.
 #[derive(Debug, Clone, Copy)]
 pub struct Control {
@@ -142,7 +145,7 @@ impl Dopri5 {
         t1: f64,
         x: &mut [f64],
         control: Control,
-        check: &mut dyn FnMut(f64, &[f64]) -> Result<(), EvalError>,
+        check: &mut StepCheck<'_>,
     ) -> Result<u64, EvalError> {
         let n = x.len();
         self.fit(n);

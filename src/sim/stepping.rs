@@ -11,7 +11,7 @@
 
 use super::inputs::Breakpoints;
 use super::{SimConfig, MAX_EVALUATIONS_PER_ADVANCE};
-use crate::integrate::dopri5::Control;
+use crate::integrate::dopri5::{Control, StepCheck};
 use crate::integrate::{substeps, AnyIntegrator, EvalError, Integrator, OdeSystem};
 use crate::model::vehicle::{idx, Layout};
 
@@ -59,7 +59,7 @@ pub(super) fn integrate(
     h: f64,
     plan: (usize, f64),
     x: &mut [f64],
-    check: &mut dyn FnMut(f64, &[f64]) -> Result<(), EvalError>,
+    check: &mut StepCheck<'_>,
 ) -> Result<(), EvalError> {
     let t1 = t0 + h;
     let eps = BREAKPOINT_TIME_TOL * t0.abs().max(t1.abs()).max(1.0);

@@ -114,6 +114,21 @@ pub fn cases() -> Vec<Case> {
             note: "bump course, 10 km/h, enveloping contact (`--contact envelope`): the rates and the wheel travel"
                 .into(),
         },
+        Case {
+            name: "bump-3cm".into(),
+            scene: scene(SceneKind::Bump),
+            base: SimConfig { bump: [0.03, 0.5], ..SimConfig::default() },
+            channels: wheels.to_vec(),
+            note: "bump course with 3 cm bumps (`--bump-height 0.03`), single-point contact: no wheel leaves the road"
+                .into(),
+        },
+        Case {
+            name: "bump-3cm-envelope".into(),
+            scene: scene(SceneKind::Bump),
+            base: SimConfig { bump: [0.03, 0.5], contact: super::ContactModel::Envelope, ..SimConfig::default() },
+            channels: wheels.to_vec(),
+            note: "bump course with 3 cm bumps, enveloping contact: no wheel leaves the road".into(),
+        },
     ]
 }
 
@@ -228,22 +243,47 @@ pub fn reference(case: &Case) -> Result<Reference, SimError> {
 /// grid points the trace has divided by the channel's scale; `None` when the run did not finish or left the
 /// stability bound.
 pub fn error(reference: &Reference, trace: &Trace) -> (Option<f64>, Vec<f64>) {
+    let (worst, per, _) = errors(reference, trace);
+    (worst, per)
+}
+
+/// As `error`, with the error at each grid point (largest over channels) as well.
+pub fn errors(reference: &Reference, trace: &Trace) -> (Option<f64>, Vec<f64>, Vec<(usize, f64)>) {
     let nch = reference.scale.len();
     let mut per = vec![0.0f64; nch];
+    let mut at = Vec::with_capacity(trace.samples.len());
     let mut bounded = trace.failure.is_none();
     let by_index: std::collections::HashMap<usize, &Vec<f64>> =
         reference.trace.samples.iter().map(|(k, v)| (*k, v)).collect();
     for (k, values) in &trace.samples {
         if let Some(r) = by_index.get(k) {
+            let mut here = 0.0f64;
             for c in 0..nch {
                 let e = (values[c] - r[c]).abs() / reference.scale[c];
-                per[c] = per[c].max(if e.is_nan() { f64::INFINITY } else { e });
+                let e = if e.is_nan() { f64::INFINITY } else { e };
+                per[c] = per[c].max(e);
+                here = here.max(e);
                 bounded &= values[c].abs() <= STABLE_WITHIN_PEAKS * reference.peak[c];
             }
+            at.push((*k, here));
         }
     }
     let worst = per.iter().copied().fold(0.0, f64::max);
-    (bounded.then_some(worst), per)
+    (bounded.then_some(worst), per, at)
+}
+
+/// The largest error of a point over the grid indices in `common` (sorted).
+fn error_on(point: &Point, common: &[usize]) -> f64 {
+    point.at.iter().filter(|(k, _)| common.binary_search(k).is_ok()).map(|(_, e)| *e).fold(0.0, f64::max)
+}
+
+/// The grid indices every one of `points` was compared at.
+fn common_indices(points: &[&Point]) -> Vec<usize> {
+    let mut common: Vec<usize> = points.first().map_or(Vec::new(), |p| p.at.iter().map(|(k, _)| *k).collect());
+    for p in points.iter().skip(1) {
+        common.retain(|k| p.at.iter().any(|(j, _)| j == k));
+    }
+    common
 }
 
 /// A setting of the study.
@@ -290,6 +330,8 @@ pub struct Point {
     /// `None`: unstable (failed or left the bound).
     pub error: Option<f64>,
     pub per_channel: Vec<f64>,
+    /// The error at each grid point compared (largest over channels).
+    pub at: Vec<(usize, f64)>,
     pub evaluations: u64,
     pub cpu: f64,
     pub steps: Option<(u64, u64)>,
@@ -302,12 +344,13 @@ pub fn measure(case: &Case, reference: &Reference, setting: Setting) -> Result<P
         Setting::Tolerance { tolerance, interval } => (tolerance_config(case, tolerance, interval), interval),
     };
     let trace = simulate(case, &config, interval)?;
-    let (error, per_channel) = error(reference, &trace);
+    let (error, per_channel, at) = errors(reference, &trace);
     Ok(Point {
         case: case.name.clone(),
         setting,
         error,
         per_channel,
+        at,
         evaluations: trace.evaluations,
         cpu: trace.cpu,
         steps: trace.steps,
@@ -366,15 +409,23 @@ pub fn largest_stable_step(case: &Case, reference: &Reference, kind: IntegratorK
 
 /// Observed orders between consecutive stable points of a fixed-step ladder whose errors are both above
 /// `floor` (10× the reference's own check): (h1, h2, order).
+/// Each pair is compared on the grid points both runs landed on.
 pub fn orders(points: &[&Point], floor: f64) -> Vec<(f64, f64, f64)> {
-    let usable: Vec<(f64, f64)> = points
+    let usable: Vec<(f64, &Point)> = points
         .iter()
         .filter_map(|p| match (p.setting, p.error) {
-            (Setting::Fixed { step, .. }, Some(e)) if e > floor => Some((step, e)),
+            (Setting::Fixed { step, .. }, Some(e)) if e > floor => Some((step, *p)),
             _ => None,
         })
         .collect();
-    usable.windows(2).map(|w| (w[0].0, w[1].0, (w[0].1 / w[1].1).ln() / (w[0].0 / w[1].0).ln())).collect()
+    usable
+        .windows(2)
+        .map(|w| {
+            let common = common_indices(&[w[0].1, w[1].1]);
+            let (e0, e1) = (error_on(w[0].1, &common), error_on(w[1].1, &common));
+            (w[0].0, w[1].0, (e0 / e1).ln() / (w[0].0 / w[1].0).ln())
+        })
+        .collect()
 }
 
 /// The cheapest measured setting (fewest evaluations) within `target`.
@@ -416,26 +467,18 @@ impl CaseResult {
     /// The least-squares slope of log error against log step over the stable points with steps up to
     /// `ORDER_FIT_MAX_STEP` and errors above the floor.
     pub fn fitted_order(&self, kind: IntegratorKind) -> Option<f64> {
-        let pts: Vec<(f64, f64)> = self
-            .fixed(kind)
+        let fixed = self.fixed(kind);
+        let chosen: Vec<&Point> = fixed
             .iter()
-            .filter_map(|p| match (p.setting, p.error) {
-                (Setting::Fixed { step, .. }, Some(e))
-                    if step <= ORDER_FIT_MAX_STEP + 1e-12 && e > self.floor() && e < ORDER_FIT_MAX_ERROR =>
-                {
-                    Some((step.ln(), e.ln()))
+            .copied()
+            .filter(|p| match (p.setting, p.error) {
+                (Setting::Fixed { step, .. }, Some(e)) => {
+                    step <= ORDER_FIT_MAX_STEP + 1e-12 && e > self.floor() && e < ORDER_FIT_MAX_ERROR
                 }
-                _ => None,
+                _ => false,
             })
             .collect();
-        if pts.len() < 2 {
-            return None;
-        }
-        let n = pts.len() as f64;
-        let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
-        let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-        let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-        Some(sxy / sxx)
+        fitted_order(&chosen)
     }
 
     /// The largest ratio achieved / requested over the tolerance ladder, and the smallest.
@@ -493,31 +536,18 @@ fn cheapest_cell(points: &[&Point], target: f64) -> String {
     }
 }
 
-/// The default internal step this study supports: the largest RK4 step of the ladder within 1e-3 on every
-/// case and at most half the smallest largest-stable step. (step, worst error at it, stability limit)
-pub fn default_step(results: &[CaseResult]) -> Option<(f64, f64, f64)> {
-    let limit = results
+/// Per case, the largest RK4 step of the ladder within 1e-3 of peak and at most half the case's largest
+/// stable step (`None`: no step of the ladder is).
+pub fn rk4_step_for_1e3(result: &CaseResult) -> Option<f64> {
+    let limit = result.stable.iter().find(|(k, _)| *k == IntegratorKind::Rk4).and_then(|(_, h)| *h)?;
+    result
+        .fixed(IntegratorKind::Rk4)
         .iter()
-        .filter_map(|r| r.stable.iter().find(|(k, _)| *k == IntegratorKind::Rk4).and_then(|(_, h)| *h))
-        .fold(f64::INFINITY, f64::min);
-    STEPS
-        .iter()
-        .copied()
-        .filter(|&h| h <= 0.5 * limit)
-        .filter_map(|h| {
-            let worst = results
-                .iter()
-                .map(|r| {
-                    r.fixed(IntegratorKind::Rk4)
-                        .iter()
-                        .find(|p| matches!(p.setting, Setting::Fixed { step, .. } if step == h))
-                        .and_then(|p| p.error)
-                        .unwrap_or(f64::INFINITY)
-                })
-                .fold(0.0, f64::max);
-            (worst <= 1e-3).then_some((h, worst, limit))
+        .filter_map(|p| match (p.setting, p.error) {
+            (Setting::Fixed { step, .. }, Some(e)) if e <= 1e-3 && step <= 0.5 * limit => Some(step),
+            _ => None,
         })
-        .fold(None, |best: Option<(f64, f64, f64)>, c| if best.is_none_or(|b| c.0 > b.0) { Some(c) } else { best })
+        .fold(None, |best: Option<f64>, h| Some(best.map_or(h, |b| b.max(h))))
 }
 
 /// The report as markdown (docs/work_precision.md).
@@ -563,8 +593,9 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
     ));
     w(format!(
         "- **Observed order**: the least-squares slope of log error against log step over the stable steps up \
-         to {} ms whose errors lie between the floor and {ORDER_FIT_MAX_ERROR:e} (the asymptotic range); the \
-         pairwise orders are in the per-case tables.\n",
+         to {} ms whose errors lie between the floor and {ORDER_FIT_MAX_ERROR:e} (the asymptotic range), each \
+         error taken over the grid points all of these runs landed on (every 120 ms: one set of times for \
+         the fit); the pairwise orders in the per-case tables compare each pair on the points both landed on.\n",
         ORDER_FIT_MAX_STEP * 1e3
     ));
     w("## Headline\n".into());
@@ -598,16 +629,29 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
         ));
     }
     w(String::new());
-    match default_step(results) {
-        Some((h, worst, limit)) => w(format!(
-            "**Default internal step**: the cheapest RK4 step of the ladder that keeps every case within 1e-3 of \
-             peak and stays at most half the smallest largest-stable step ({:.1} ms) is **{} ms** (worst error \
-             {worst:.2e}).\n",
-            limit * 1e3,
-            fmt_ms(h)
-        )),
-        None => w("**Default internal step**: no RK4 step of the ladder keeps every case within 1e-3.\n".into()),
+    w("**Default internal step** (RK4): per case, the largest step of the ladder that keeps the case within \
+       1e-3 of peak and is at most half the case's largest stable step:\n"
+        .into());
+    w("| case | RK4 step within 1e-3, ≤ ½ stable | its error | largest stable step |".into());
+    w("|---|---|---|---|".into());
+    for r in results {
+        let h = rk4_step_for_1e3(r);
+        let e = h.and_then(|h| {
+            r.fixed(IntegratorKind::Rk4)
+                .into_iter()
+                .find(|p| matches!(p.setting, Setting::Fixed { step, .. } if step == h))
+                .and_then(|p| p.error)
+        });
+        let limit = r.stable.iter().find(|(k, _)| *k == IntegratorKind::Rk4).and_then(|(_, h)| *h);
+        w(format!(
+            "| {} | {} | {} | {} |",
+            r.case.name,
+            h.map_or("none of the ladder (0.5 ms and up)".into(), |h| format!("{} ms", fmt_ms(h))),
+            e.map_or("–".into(), |e| format!("{e:.2e}")),
+            limit.map_or("–".into(), |l| format!("{:.1} ms", l * 1e3))
+        ));
     }
+    w(String::new());
     for r in results {
         w(format!("## {}\n", r.case.name));
         w(format!(
@@ -671,4 +715,26 @@ pub fn csv(results: &[CaseResult]) -> String {
         }
     }
     s
+}
+
+/// The least-squares slope of log error against log step of fixed-step points, each error taken over the
+/// grid points all of them landed on (one set of times for the fit). `None` with fewer than two points.
+pub fn fitted_order(points: &[&Point]) -> Option<f64> {
+    let common = common_indices(points);
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .filter_map(|p| match p.setting {
+            Setting::Fixed { step, .. } => Some((step.ln(), error_on(p, &common).ln())),
+            _ => None,
+        })
+        .filter(|(_, e)| e.is_finite())
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let (mx, my) = (pts.iter().map(|p| p.0).sum::<f64>() / n, pts.iter().map(|p| p.1).sum::<f64>() / n);
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    Some(sxy / sxx)
 }
