@@ -564,6 +564,12 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
         .into());
     w(format!("The whole study took {total_cpu:.0} s of CPU.\n"));
     w("![error against evaluations](work_precision.png)\n".into());
+    w(format!(
+        "Cases: {}. The stiff cases of the stability suite (issue 9) are a slot: each is one more entry of \
+         `work_precision::cases()` (a scene, its options and the channels compared), and every table and the \
+         figure take it up.\n",
+        results.iter().map(|r| format!("`{}`", r.case.name)).collect::<Vec<_>>().join(", ")
+    ));
     w("## How it is measured\n".into());
     w(format!(
         "- **Error**: per channel, max |run − reference| over the comparison grid (every {} ms the run lands \
