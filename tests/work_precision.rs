@@ -89,3 +89,18 @@ fn the_error_controlled_integrator_keeps_within_ten_times_its_tolerance() {
         }
     }
 }
+
+#[test]
+fn the_error_controlled_integrator_keeps_within_ten_times_its_tolerance_on_the_bump_course() {
+    // The paper's bumps (C⁰ edges, wheels that leave the road) with either contact; 6.5 s: the four bumps
+    // and 0.9 s after.
+    for name in ["bump", "bump-envelope"] {
+        let c = case(name, 6.5);
+        let reference = wp::reference(&c).unwrap();
+        for tolerance in [1e-3, 1e-5] {
+            let p = wp::measure(&c, &reference, Setting::Tolerance { tolerance, interval: 0.04 }).unwrap();
+            eprintln!("{name}: tolerance {tolerance:e}: error {:.2e}, steps {:?}", p.error.unwrap(), p.steps);
+            assert!(p.error.unwrap() <= 10.0 * tolerance, "{name}: {:?} at {tolerance}", p.error);
+        }
+    }
+}

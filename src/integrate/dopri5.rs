@@ -159,7 +159,7 @@ impl Dopri5 {
         let mut last_failure: Option<EvalError> = None;
         while t < t1 {
             let remaining = t1 - t;
-            h = h.min(control.h_max);
+            h = h.min(control.h_max).min(sys.step_limit());
             // Land on t1: a step that reaches it ends exactly there; one that would leave a sliver is halved.
             let (step, last) = if h >= remaining * (1.0 - 1e-12) {
                 (remaining, true)
@@ -407,6 +407,37 @@ mod tests {
         assert!(d.rejected > 0, "the jump costs rejected steps");
         assert!((x[0] - 0.63).abs() < 1e-6, "x(1) = 0.63, got {}", x[0]);
         assert!(d.proposed_step() > 0.0 && d.proposed_step() <= 0.1);
+    }
+
+    /// The smooth system with a step limit (as the vehicle sets one while a wheel is near lift-off).
+    struct Limited(Smooth);
+
+    impl OdeSystem for Limited {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+            self.0.derivative(t, x, d)
+        }
+        fn step_limit(&self) -> f64 {
+            0.01
+        }
+    }
+
+    #[test]
+    fn the_systems_step_limit_caps_every_step() {
+        let mut d = Dopri5::new();
+        let mut x = X0;
+        let (mut last, mut longest) = (0.0, 0.0f64);
+        let control = Control { tolerance: 1e-3, h_max: 1.0, max_evaluations: u64::MAX };
+        d.integrate(&mut Limited(Smooth { evals: 0 }), 0.0, 1.0, &mut x, control, &mut |t, _| {
+            longest = longest.max(t - last);
+            last = t;
+            Ok(())
+        })
+        .unwrap();
+        assert!(longest <= 0.01 * (1.0 + 1e-12), "longest step {longest}");
+        assert!((100..=101).contains(&d.accepted), "{} steps", d.accepted); // the last may be split in two
     }
 
     #[test]

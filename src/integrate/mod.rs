@@ -37,6 +37,12 @@ pub trait OdeSystem {
     fn error_scale(&self, scale: &mut [f64]) {
         scale.fill(1.0);
     }
+    /// The longest step an error-controlled scheme should take from the state of the last evaluation: a
+    /// system that knows of brief events a long step could pass between its stages (a wheel about to leave
+    /// the road) says so here. Default: no limit.
+    fn step_limit(&self) -> f64 {
+        f64::INFINITY
+    }
     /// Whether finite-difference Jacobians should use `jacobian_derivative` (a smoothed model) instead of
     /// `derivative`. Default: no.
     fn has_jacobian_model(&self) -> bool {

@@ -260,6 +260,10 @@ impl OdeSystem for VehicleOde<'_> {
     fn error_scale(&self, scale: &mut [f64]) {
         stepping::error_scale(&self.vehicle.layout(), scale);
     }
+
+    fn step_limit(&self) -> f64 {
+        stepping::step_limit(&self.cache.wheels.fz)
+    }
 }
 
 /// The vehicle of a simulation, or the error of one read back from a saved state and not yet validated.
