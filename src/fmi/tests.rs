@@ -1145,7 +1145,10 @@ fn check_mode_table<T: Copy + PartialEq + std::fmt::Debug>(table: &crate::sim::m
     let codes: Vec<i32> = table.choices.iter().map(|c| c.code).collect();
     let (min, max) = (*codes.iter().min().unwrap(), *codes.iter().max().unwrap());
     assert_eq!((var.min, var.max), (Some(min as f64), Some(max as f64)), "{}: model description", table.parameter);
-    assert_eq!(codes.len() as i32, max - min + 1, "{}: codes are consecutive", table.parameter);
+    // A code within [min, max] that no choice has (a retired one) is refused, not read as another choice.
+    for code in (min..=max).filter(|c| !codes.contains(c)) {
+        assert!(table.by_code(code).is_err(), "{}: code {code} has no choice", table.parameter);
+    }
     for c in table.choices {
         assert_eq!(table.by_code(c.code).unwrap(), c.value);
         assert_eq!(table.by_name(c.name).unwrap(), c.value);
