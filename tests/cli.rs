@@ -134,3 +134,35 @@ fn ride_height_switch_turns_the_retune_off() {
     // The data's free lengths leave the chassis CM ~0.1 m higher (the wheels hang on their arms).
     assert!(z("data") - z("retuned") > 0.05, "{} vs {}", z("data"), z("retuned"));
 }
+
+#[test]
+fn a_tolerance_selects_error_control_and_the_summary_counts_its_steps() {
+    let (code, out, err) = rtv(&["scene", "sine", "--tolerance", "1e-4", "--end", "0.2", "--output-interval", "0.04"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 7, "header + samples at 0, 0.04, ..., 0.2");
+    assert!(
+        err.contains("error control at tolerance 1e-4") && err.contains("steps accepted") && err.contains("rejected"),
+        "{err}"
+    );
+    // The same by name, with the default tolerance; and the enveloping contact.
+    let (code, _, err) = rtv(&["scene", "bump", "--integrator", "dopri5", "--contact", "envelope", "--end", "0.1"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("error control at tolerance 1e-3"), "{err}");
+}
+
+#[test]
+fn bad_tolerances_and_contacts_get_a_message_and_exit_2() {
+    for (args, needle) in [
+        (vec!["scene", "jturn", "--tolerance", "0"], "tolerance 0 is outside"),
+        (vec!["scene", "jturn", "--tolerance", "-1e-3"], "outside"),
+        (vec!["scene", "jturn", "--tolerance", "NaN"], "not a number"),
+        (vec!["scene", "jturn", "--tolerance", "1e-12"], "outside"),
+        (vec!["scene", "jturn", "--tolerance", "1e-3", "--integrator", "rk4"], "only the error-controlled"),
+        (vec!["scene", "jturn", "--contact", "patch"], "--contact"),
+        (vec!["work-precision", "--cases", "slalom"], "--cases"),
+    ] {
+        let (code, _, err) = rtv(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}

@@ -4,6 +4,7 @@
 //!   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
 //!   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
 //!   rtv calibrate                                         J-turn amplitude for 0.400 g → resources/
+//!   rtv work-precision                                    error against run time → docs/work_precision.md
 //!
 //! Bad arguments get a clear message and exit code 2; a failed run exits with 1.
 
@@ -20,15 +21,17 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage:
-  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4]
-            [--step S] [--end T] [--output-interval DT] [--speed coast|hold] [--slip relaxation|steady]
+  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|dopri5]
+            [--tolerance TOL] [--step S] [--end T] [--output-interval DT] [--speed coast|hold]
+            [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
-            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--out FILE.csv]
+            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv calibrate [--vehicle FILE.json]
-  rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT]";
+  rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT]
+  rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]";
 
 struct Failure {
     message: String,
@@ -101,6 +104,9 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
     if let Some(s) = opts.get("speed") {
         c.speed_mode = modes::SPEED_MODES.by_name(s).map_err(bad)?;
     }
+    if let Some(s) = opts.get("contact") {
+        c.contact = modes::CONTACTS.by_name(s).map_err(bad)?;
+    }
     if let Some(s) = opts.get("slip") {
         c.slip = modes::SLIP_MODELS.by_name(s).map_err(bad)?;
     }
@@ -117,7 +123,21 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
     if !(interval > 0.0) {
         return Err(bad("--output-interval must be positive"));
     }
-    c.internal_step = number(opts, "step", c.internal_step)?;
+    if let Some(t) = opts.get("tolerance") {
+        // A tolerance selects the error-controlled integrator; a fixed-step one named with it is a conflict.
+        if opts.get("integrator").is_some_and(|i| i != "dopri5") {
+            return Err(bad(format!(
+                "--tolerance {t}: only the error-controlled integrator (dopri5) takes a tolerance; the fixed-step \
+                 ones step at --step"
+            )));
+        }
+        c.integrator = rt_vehicle::integrate::IntegratorKind::Dopri5;
+        c.tolerance = number(opts, "tolerance", c.tolerance)?;
+    }
+    // The error-controlled integrator's largest step defaults to the output interval (each interval ends on
+    // an output point anyway); the fixed-step ones default to the internal step.
+    let default_step = if c.integrator.is_error_controlled() { interval } else { c.internal_step };
+    c.internal_step = number(opts, "step", default_step)?;
     c.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
     c.bump = [number(opts, "bump-height", c.bump[0])?, number(opts, "bump-length", c.bump[1])?];
     c.validate().map_err(|e| bad(e.0))?;
@@ -147,6 +167,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         &[
             "formulation",
             "integrator",
+            "tolerance",
             "step",
             "end",
             "output-interval",
@@ -162,6 +183,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "cross-slope",
             "brake",
             "drive",
+            "contact",
             "out",
         ],
     )?;
@@ -216,6 +238,13 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         sim.evaluations(),
         cpu.as_secs_f64() * 1e6 / sim.evaluations() as f64
     );
+    if let Some((accepted, rejected)) = sim.step_counts() {
+        eprintln!(
+            "{}: error control at tolerance {:e}: {accepted} steps accepted, {rejected} rejected",
+            kind.name(),
+            config.tolerance
+        );
+    }
     for event in &sim.events.messages {
         eprintln!("event: {event}");
     }
@@ -409,6 +438,37 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The work-precision study (src/sim/work_precision.rs): the markdown report and the CSV of its figure.
+fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::sim::work_precision as wp;
+    let opts = options(args, &["out", "csv", "cases"])?;
+    let mut cases = wp::cases();
+    if let Some(list) = opts.get("cases") {
+        let wanted: Vec<&str> = list.split(',').collect();
+        if let Some(unknown) = wanted.iter().find(|w| !cases.iter().any(|c| c.name == **w)) {
+            let names: Vec<String> = cases.iter().map(|c| c.name.clone()).collect();
+            return Err(bad(format!("--cases: '{unknown}' is not one of {}", names.join(", "))));
+        }
+        cases.retain(|c| wanted.contains(&c.name.as_str()));
+    }
+    let started = Instant::now();
+    let mut results = Vec::new();
+    for case in cases {
+        results.push(wp::measure_case(case, &mut |line| eprintln!("work-precision: {line}")).map_err(|e| failed(e.0))?);
+    }
+    let md = wp::markdown(&results, started.elapsed().as_secs_f64());
+    let md_path = opts.get("out").cloned().unwrap_or_else(|| "docs/work_precision.md".into());
+    let csv_path = opts.get("csv").cloned().unwrap_or_else(|| "out/work_precision.csv".into());
+    for (path, text) in [(&md_path, md), (&csv_path, wp::csv(&results))] {
+        if let Some(dir) = std::path::Path::new(path).parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| failed(format!("cannot create {}: {e}", dir.display())))?;
+        }
+        std::fs::write(path, text).map_err(|e| failed(format!("cannot write {path}: {e}")))?;
+    }
+    eprintln!("work-precision: written {md_path} and {csv_path} in {:.0} s", started.elapsed().as_secs_f64());
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -417,6 +477,7 @@ fn main() -> ExitCode {
         Some("steering") => cmd_steering(&args[1..]),
         Some("calibrate") => cmd_calibrate(&args[1..]),
         Some("stability") => cmd_stability(&args[1..]),
+        Some("work-precision") => cmd_work_precision(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;
@@ -449,6 +510,7 @@ mod tests {
             modes::INTEGRATORS.names(),
             modes::SPEED_MODES.names(),
             modes::SLIP_MODELS.names(),
+            modes::CONTACTS.names(),
         ] {
             assert!(USAGE.contains(&names), "the usage lacks {names}");
         }

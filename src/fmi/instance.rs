@@ -188,9 +188,8 @@ impl<M: FmuModel> Instance<M> {
                     "fmi2SetupExperiment: tolerance {tol} must be finite and positive"
                 )));
             }
-            self.logger.event(&format!(
-                "tolerance {tol} ignored: fixed-step integration with internal_step as the largest step"
-            ));
+            let message = self.core.model.experiment_tolerance(tol).map_err(Failure::error)?;
+            self.logger.event(&message);
         }
         self.core.start_time = start;
         self.core.time = start;

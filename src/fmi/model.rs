@@ -64,6 +64,13 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
     }
     fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String>;
 
+    /// The tolerance of `fmi2SetupExperiment` (`toleranceDefined = fmi2True`; finite and positive, checked by
+    /// the caller). `Ok(message)` is logged; `Err` is the call's fmi2Error (the model keeps what it had).
+    /// Default: the model steps at fixed sizes and ignores it.
+    fn experiment_tolerance(&mut self, tolerance: f64) -> Result<String, String> {
+        Ok(format!("tolerance {tolerance} ignored: fixed-step integration with internal_step as the largest step"))
+    }
+
     /// `fmi2SetRealInputDerivatives` for a Real input, order ≥ 1; applies to the next step only.
     fn set_real_input_derivative(&mut self, var: &Variable, order: i32, value: f64) -> Result<(), String>;
 

@@ -486,7 +486,7 @@ fn bad_values_are_errors_and_keep_the_old_value() {
         (vr::SPEED_MODE, 0),
         (vr::SPEED_MODE, 3),
         (vr::FORMULATION, 4),
-        (vr::INTEGRATOR, 4),
+        (vr::INTEGRATOR, 5),
         (vr::SLIP_MODEL, 0),
         (vr::ROAD, 3),
     ] {
@@ -955,7 +955,7 @@ fn internal_step_has_a_range() {
     let inst = Inst::<VehicleModel>::new(&rec, None);
     for bad in [1e-9, 5e-324, 0.0, -1.0, 0.2] {
         assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[bad]), ERROR, "{bad}");
-        assert!(rec.last().contains("internal_step must be in [1e-6, 0.1]"), "{}", rec.last());
+        assert!(rec.last().contains("internal_step must be in [1e-6, 1e-1] s"), "{}", rec.last());
     }
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[1e-6]), OK);
     unsafe {
@@ -981,7 +981,7 @@ fn a_step_too_long_for_one_call_is_refused_before_any_work() {
     assert!(rec.last().contains("refused, nothing changed") && rec.last().contains("split it"), "{}", rec.last());
     assert_eq!(inst.outputs(), before);
     assert_eq!(inst.mode(), Mode::StepComplete, "still usable");
-    // The largest interval allowed at 2 ms with RK4: (1e5 - 1) / 4 steps = 49.998 s; just above it is refused.
+    // The largest interval allowed at 2 ms with RK4: (1e5 - 1) / 4 - 6 steps = 49.986 s; 50 s is refused.
     assert_eq!(vehicle_step(&inst, 50.0).0, ERROR);
     assert_eq!(vehicle_step(&inst, 0.01), (OK, 0.01));
 }
@@ -1133,7 +1133,10 @@ fn check_mode_table<T: Copy + PartialEq + std::fmt::Debug>(table: &crate::sim::m
     let codes: Vec<i32> = table.choices.iter().map(|c| c.code).collect();
     let (min, max) = (*codes.iter().min().unwrap(), *codes.iter().max().unwrap());
     assert_eq!((var.min, var.max), (Some(min as f64), Some(max as f64)), "{}: model description", table.parameter);
-    assert_eq!(codes.len() as i32, max - min + 1, "{}: codes are consecutive", table.parameter);
+    // A code within [min, max] that no choice has (a retired one) is refused, not read as another choice.
+    for code in (min..=max).filter(|c| !codes.contains(c)) {
+        assert!(table.by_code(code).is_err(), "{}: code {code} has no choice", table.parameter);
+    }
     for c in table.choices {
         assert_eq!(table.by_code(c.code).unwrap(), c.value);
         assert_eq!(table.by_name(c.name).unwrap(), c.value);
@@ -1150,6 +1153,7 @@ fn every_mode_table_agrees_with_the_docs_and_the_model_description() {
     check_mode_table(&SPEED_MODES);
     check_mode_table(&SLIP_MODELS);
     check_mode_table(&ROADS);
+    check_mode_table(&CONTACTS);
 }
 
 #[test]
@@ -1177,4 +1181,86 @@ fn a_state_is_refused_when_its_vehicle_file_changed() {
     assert_eq!(deserialize(&inst, &text, &mut other), ERROR);
     assert!(rec.last().contains("vehicle differs"), "{}", rec.last());
     std::fs::remove_dir_all(&tmp).ok();
+}
+
+// ---- the tolerance (integrator 4) and the contact ---------------------------------------------------
+
+fn vehicle_model<'a>(inst: &'a Inst<VehicleModel>) -> &'a VehicleModel {
+    unsafe { &(*(inst.c as *mut super::instance::Instance<VehicleModel>)).core.model }
+}
+
+#[test]
+fn the_tolerance_and_contact_parameters_refuse_bad_values_and_keep_the_old_ones() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    let tolerance = |inst: &Inst<VehicleModel>| vehicle_model(inst).params.tolerance;
+    assert_eq!(tolerance(&inst), 1e-3, "start value");
+    for bad in [0.0, -1e-3, 1e-10, 0.2, f64::NAN, f64::INFINITY] {
+        assert_eq!(inst.set_real(&[vr::TOLERANCE], &[bad]), ERROR, "{bad}");
+    }
+    assert_eq!(tolerance(&inst), 1e-3, "the old value is kept");
+    assert_eq!(inst.set_real(&[vr::TOLERANCE], &[1e-9]), OK);
+    assert_eq!(inst.set_real(&[vr::TOLERANCE], &[0.1]), OK);
+    for bad in [0, 3, -1] {
+        assert_eq!(inst.set_integer(&[vr::CONTACT], &[bad]), ERROR, "{bad}");
+    }
+    assert_eq!(inst.set_integer(&[vr::CONTACT], &[2]), OK);
+    for bad in [0, 5] {
+        assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[bad]), ERROR, "{bad}");
+    }
+    let var = Variable::by_name("tolerance").unwrap();
+    assert_eq!((var.min, var.max), (Some(crate::sim::TOLERANCE_MIN), Some(crate::sim::TOLERANCE_MAX)));
+}
+
+#[test]
+fn the_experiment_tolerance_drives_integrator_4_and_a_bad_one_is_refused() {
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::new(&rec, None);
+    assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[4]), OK);
+    assert_eq!(inst.set_real(&[vr::TOLERANCE], &[1e-2]), OK);
+    unsafe {
+        // Not finite, not positive (the generic check), outside the model's range: fmi2Error, nothing kept.
+        for bad in [f64::NAN, 0.0, -1.0, 1e-12, 1.0] {
+            assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, 1, bad, 0.0, 0, 0.0), ERROR, "{bad}");
+        }
+        assert!(rec.last().contains("outside [1e-9, 0.1]"), "{}", rec.last());
+        assert_eq!(vehicle_model(&inst).experiment_tolerance, None);
+        assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, 1, 1e-5, 0.0, 0, 0.0), OK);
+        assert_eq!(api::enter_initialization_mode::<VehicleModel>(inst.c), OK);
+        assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last());
+    }
+    let config = vehicle_model(&inst).sim.as_ref().unwrap().config().clone();
+    assert_eq!((config.integrator, config.tolerance), (crate::integrate::IntegratorKind::Dopri5, 1e-5));
+    for k in 0..5 {
+        assert_eq!(inst.step(0.01 * k as f64, 0.01), OK, "{}", rec.last());
+    }
+    let (accepted, _) = vehicle_model(&inst).sim.as_ref().unwrap().step_counts().unwrap();
+    assert!(accepted >= 5, "at least one step per communication step");
+    // A saved and restored state keeps the experiment tolerance (and is accepted with it).
+    let text = serialized(&inst);
+    let mut slot: fmi2FMUstate = std::ptr::null_mut();
+    assert_eq!(deserialize(&inst, &text, &mut slot), OK, "{}", rec.last());
+}
+
+#[test]
+fn a_fixed_step_integrator_ignores_the_experiment_tolerance() {
+    // RK4 with and without an experiment tolerance: bit-identical runs.
+    let run = |tolerance: Option<f64>| {
+        let rec = Recorder::default();
+        let inst = Inst::<VehicleModel>::new(&rec, None);
+        unsafe {
+            let (defined, tol) = tolerance.map_or((0, 0.0), |t| (1, t));
+            assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, defined, tol, 0.0, 0, 0.0), OK);
+            assert_eq!(api::enter_initialization_mode::<VehicleModel>(inst.c), OK);
+            assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last());
+        }
+        assert_eq!(inst.set_real(&[vr::RACK_DISPLACEMENT], &[0.002]), OK);
+        for k in 0..5 {
+            assert_eq!(inst.step(0.01 * k as f64, 0.01), OK, "{}", rec.last());
+        }
+        let sim = vehicle_model(&inst).sim.as_ref().unwrap();
+        assert!(sim.step_counts().is_none());
+        sim.state().iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+    };
+    assert_eq!(run(Some(1e-6)), run(None));
 }

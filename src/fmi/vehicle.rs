@@ -22,7 +22,7 @@ pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
 /// Limits of the Real parameters (also declared in the model description as min/max).
 pub use crate::sim::{
     BUMP_HEIGHT_MAX, BUMP_LENGTH_MAX, BUMP_LENGTH_MIN, INITIAL_SPEED_MAX, INTERNAL_STEP_MAX, INTERNAL_STEP_MIN,
-    SLOPE_MAX,
+    SLOPE_MAX, TOLERANCE_MAX, TOLERANCE_MIN,
 };
 
 /// What an input drives: the rack, or a wheel's drive or brake torque (corners FL, FR, RL, RR).
@@ -102,6 +102,19 @@ pub struct Parameters {
     pub bump_height: f64,
     #[serde(default)]
     pub bump_length: f64,
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    #[serde(default = "default_contact")]
+    pub contact: i32,
+}
+
+/// What a state saved before these parameters existed had: the default tolerance and the point contact.
+fn default_tolerance() -> f64 {
+    crate::sim::DEFAULT_TOLERANCE
+}
+
+fn default_contact() -> i32 {
+    1
 }
 
 impl Parameters {
@@ -116,8 +129,19 @@ impl Parameters {
             initial_speed: self.initial_speed,
             slope: [self.road_grade, self.road_cross_slope],
             bump: [self.bump_height, self.bump_length],
+            tolerance: self.tolerance,
+            contact: modes::CONTACTS.by_code(self.contact)?,
             ..SimConfig::default()
         })
+    }
+}
+
+/// `value` if it lies in [lo, hi] (the range the model description declares), else the message naming it.
+fn ranged(var: &Variable, value: f64, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
+    if (lo..=hi).contains(&value) {
+        Ok(value)
+    } else {
+        Err(format!("{} must be in [{lo:e}, {hi:e}] {unit}", var.name))
     }
 }
 
@@ -167,6 +191,10 @@ pub struct VehicleModel {
     /// How many of the simulation's physical events were logged.
     #[serde(default)]
     pub events_logged: usize,
+    /// The tolerance of `fmi2SetupExperiment` when the master defined one: it takes the place of the
+    /// `tolerance` parameter for the error-controlled integrator.
+    #[serde(default)]
+    pub experiment_tolerance: Option<f64>,
 }
 
 impl VehicleModel {
@@ -217,6 +245,16 @@ impl VehicleModel {
         })
     }
 
+    /// The simulation's configuration: the parameters, with the experiment's tolerance in place of the
+    /// `tolerance` parameter when the master defined one.
+    fn config(&self) -> Result<SimConfig, String> {
+        let mut config = self.params.config()?;
+        if let Some(t) = self.experiment_tolerance {
+            config.tolerance = t;
+        }
+        Ok(config)
+    }
+
     fn output(&self, var: &Variable) -> Result<f64, String> {
         let sim =
             self.sim.as_ref().ok_or_else(|| format!("{} is available once the model is initialized", var.name))?;
@@ -236,7 +274,22 @@ impl FmuModel for VehicleModel {
             sim: None,
             step_cpu_time: 0.0,
             events_logged: 0,
+            experiment_tolerance: None,
         }
+    }
+
+    fn experiment_tolerance(&mut self, tolerance: f64) -> Result<String, String> {
+        if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&tolerance) {
+            return Err(format!(
+                "fmi2SetupExperiment: tolerance {tolerance} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}], the range \
+                 in which it means what it says (docs/fmu.md); the tolerance parameter stays in force"
+            ));
+        }
+        self.experiment_tolerance = Some(tolerance);
+        Ok(format!(
+            "tolerance {tolerance}: used by the error-controlled integrator (integrator = 4) instead of the tolerance \
+             parameter; the fixed-step integrators (1, 2, 3) ignore it and step at internal_step"
+        ))
     }
 
     fn get_real(&self, var: &Variable) -> Result<f64, String> {
@@ -253,9 +306,10 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::RoadCrossSlope) => p.road_cross_slope,
             Var::Parameter(P::BumpHeight) => p.bump_height,
             Var::Parameter(P::BumpLength) => p.bump_length,
-            Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile) => {
-                return Err(format!("{} is not a Real of this model", var.name))
-            }
+            Var::Parameter(P::Tolerance) => p.tolerance,
+            Var::Parameter(
+                P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
+            ) => return Err(format!("{} is not a Real of this model", var.name)),
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
             Var::Output => self.output(var)?,
         })
@@ -269,6 +323,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Integrator) => p.integrator,
             Var::Parameter(P::SlipModel) => p.slip_model,
             Var::Parameter(P::Road) => p.road,
+            Var::Parameter(P::Contact) => p.contact,
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -276,7 +331,8 @@ impl FmuModel for VehicleModel {
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
-                | P::BumpLength,
+                | P::BumpLength
+                | P::Tolerance,
             )
             | Var::Input(_)
             | Var::Local(_)
@@ -311,39 +367,25 @@ impl FmuModel for VehicleModel {
                 }
             },
             Var::Parameter(P::InitialSpeed) => {
-                if !(0.0..=INITIAL_SPEED_MAX).contains(&value) {
-                    return Err(format!("initial_speed must be in [0, {INITIAL_SPEED_MAX}] m/s"));
-                }
-                self.params.initial_speed = value;
+                self.params.initial_speed = ranged(var, value, 0.0, INITIAL_SPEED_MAX, "m/s")?
             }
             Var::Parameter(P::InternalStep) => {
-                if !(INTERNAL_STEP_MIN..=INTERNAL_STEP_MAX).contains(&value) {
-                    return Err(format!("internal_step must be in [{INTERNAL_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s"));
-                }
-                self.params.internal_step = value;
+                self.params.internal_step = ranged(var, value, INTERNAL_STEP_MIN, INTERNAL_STEP_MAX, "s")?
             }
-            Var::Parameter(P::RoadGrade | P::RoadCrossSlope) => {
-                if !(value.abs() <= SLOPE_MAX) {
-                    return Err(format!("{} must be in [-{SLOPE_MAX}, {SLOPE_MAX}] (rise over run)", var.name));
-                }
-                match var.var {
-                    Var::Parameter(P::RoadGrade) => self.params.road_grade = value,
-                    _ => self.params.road_cross_slope = value,
-                }
+            Var::Parameter(P::RoadGrade) => self.params.road_grade = ranged(var, value, -SLOPE_MAX, SLOPE_MAX, "")?,
+            Var::Parameter(P::RoadCrossSlope) => {
+                self.params.road_cross_slope = ranged(var, value, -SLOPE_MAX, SLOPE_MAX, "")?
             }
-            Var::Parameter(P::BumpHeight) => {
-                if !(0.0..=BUMP_HEIGHT_MAX).contains(&value) {
-                    return Err(format!("bump_height must be in [0, {BUMP_HEIGHT_MAX}] m"));
-                }
-                self.params.bump_height = value;
-            }
+            Var::Parameter(P::BumpHeight) => self.params.bump_height = ranged(var, value, 0.0, BUMP_HEIGHT_MAX, "m")?,
             Var::Parameter(P::BumpLength) => {
-                if !(BUMP_LENGTH_MIN..=BUMP_LENGTH_MAX).contains(&value) {
-                    return Err(format!("bump_length must be in [{BUMP_LENGTH_MIN}, {BUMP_LENGTH_MAX}] m"));
-                }
-                self.params.bump_length = value;
+                self.params.bump_length = ranged(var, value, BUMP_LENGTH_MIN, BUMP_LENGTH_MAX, "m")?
             }
-            Var::Parameter(P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile)
+            Var::Parameter(P::Tolerance) => {
+                self.params.tolerance = ranged(var, value, TOLERANCE_MIN, TOLERANCE_MAX, "")?
+            }
+            Var::Parameter(
+                P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
+            )
             | Var::Local(_)
             | Var::Output => return Err(format!("{} is not a settable Real of this model", var.name)),
         }
@@ -358,6 +400,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Integrator) => integrator(value).map(|_| p.integrator = value),
             Var::Parameter(P::SlipModel) => slip_model(value).map(|_| p.slip_model = value),
             Var::Parameter(P::Road) => road(value).map(|_| p.road = value),
+            Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|_| p.contact = value),
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -365,7 +408,8 @@ impl FmuModel for VehicleModel {
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
-                | P::BumpLength,
+                | P::BumpLength
+                | P::Tolerance,
             )
             | Var::Input(_)
             | Var::Local(_)
@@ -401,7 +445,7 @@ impl FmuModel for VehicleModel {
 
     fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String> {
         let _ = start_time; // the simulation's clock starts at 0; the generic layer keeps the FMU time
-        let config = self.params.config()?;
+        let config = self.config()?;
         let vehicle = self.vehicle_data(context, log)?;
         // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
         for w in vehicle.warnings() {
@@ -417,7 +461,12 @@ impl FmuModel for VehicleModel {
     }
 
     fn validate_restored(&mut self, context: &ModelContext, initialized: bool, elapsed: f64) -> Result<(), String> {
-        let config = self.params.config()?;
+        if let Some(t) = self.experiment_tolerance {
+            if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&t) {
+                return Err(format!("experiment tolerance {t} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]"));
+            }
+        }
+        let config = self.config()?;
         config.validate().map_err(|e| format!("parameters: {e}"))?;
         let finite =
             |name: &str, v: f64| if v.is_finite() { Ok(()) } else { Err(format!("{name} = {v} is not finite")) };

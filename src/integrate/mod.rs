@@ -32,6 +32,17 @@ pub trait OdeSystem {
     fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError>;
     /// Called after every accepted step (e.g. renormalise a quaternion). Default: nothing.
     fn project(&self, _x: &mut [f64]) {}
+    /// Absolute scales of the state's components for an error-controlled scheme: its error norm is the
+    /// largest |error_i| / (tolerance · scale_i). Default: 1 for every component.
+    fn error_scale(&self, scale: &mut [f64]) {
+        scale.fill(1.0);
+    }
+    /// The longest step an error-controlled scheme should take from the state of the last evaluation: a
+    /// system that knows of brief events a long step could pass between its stages (a wheel about to leave
+    /// the road) says so here. Default: no limit.
+    fn step_limit(&self) -> f64 {
+        f64::INFINITY
+    }
 }
 
 /// The integration schemes, selectable at run time.
@@ -41,13 +52,17 @@ pub enum IntegratorKind {
     Ab3,
     /// Classic 4-stage Runge–Kutta (the default).
     Rk4,
+    /// Dormand–Prince 5(4) with error control: the one scheme that takes a tolerance.
+    Dopri5,
 }
 
 pub mod ab3;
+pub mod dopri5;
 pub mod rk4;
 pub mod stability;
 
 pub use ab3::Ab3;
+pub use dopri5::Dopri5;
 pub use rk4::Rk4;
 
 impl IntegratorKind {
@@ -57,7 +72,13 @@ impl IntegratorKind {
         let _ = dim;
         match self {
             IntegratorKind::Rk4 | IntegratorKind::Ab3 => 4,
+            IntegratorKind::Dopri5 => dopri5::EVALUATIONS_PER_STEP,
         }
+    }
+
+    /// Whether the scheme controls its error (takes a tolerance) rather than stepping at a fixed size.
+    pub fn is_error_controlled(self) -> bool {
+        self == IntegratorKind::Dopri5
     }
 }
 
@@ -73,6 +94,7 @@ pub trait Integrator {
 pub enum AnyIntegrator {
     Rk4(Rk4),
     Ab3(Ab3),
+    Dopri5(Dopri5),
 }
 
 impl AnyIntegrator {
@@ -81,6 +103,7 @@ impl AnyIntegrator {
         match kind {
             IntegratorKind::Rk4 => AnyIntegrator::Rk4(Rk4::new()),
             IntegratorKind::Ab3 => AnyIntegrator::Ab3(Ab3::new()),
+            IntegratorKind::Dopri5 => AnyIntegrator::Dopri5(Dopri5::new()),
         }
     }
 
@@ -88,6 +111,7 @@ impl AnyIntegrator {
         match self {
             AnyIntegrator::Rk4(_) => IntegratorKind::Rk4,
             AnyIntegrator::Ab3(_) => IntegratorKind::Ab3,
+            AnyIntegrator::Dopri5(_) => IntegratorKind::Dopri5,
         }
     }
 }
@@ -98,6 +122,7 @@ impl AnyIntegrator {
         match self {
             AnyIntegrator::Rk4(_) => Ok(()),
             AnyIntegrator::Ab3(i) => i.validate(dim),
+            AnyIntegrator::Dopri5(i) => i.validate(),
         }
     }
 }
@@ -119,12 +144,14 @@ impl Integrator for AnyIntegrator {
         match self {
             AnyIntegrator::Rk4(i) => i.step(sys, t, h, x),
             AnyIntegrator::Ab3(i) => i.step(sys, t, h, x),
+            AnyIntegrator::Dopri5(i) => i.step(sys, t, h, x),
         }
     }
     fn restart(&mut self) {
         match self {
             AnyIntegrator::Rk4(i) => i.restart(),
             AnyIntegrator::Ab3(i) => i.restart(),
+            AnyIntegrator::Dopri5(i) => i.restart(),
         }
     }
 }

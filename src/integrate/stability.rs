@@ -17,9 +17,11 @@ pub fn is_stable(kind: IntegratorKind, z: C) -> bool {
     growth(kind, z) <= 1.0 + 1e-12
 }
 
-/// The amplification of one step: |R(z)| (RK4) or the largest root modulus (AB3).
+/// The amplification of one step: |R(z)| (RK4) or the largest root modulus (AB3). DOPRI5 chooses its own
+/// steps by its error estimate, which keeps hλ inside its region: it is never refused (growth 0).
 pub fn growth(kind: IntegratorKind, z: C) -> f64 {
     match kind {
+        IntegratorKind::Dopri5 => 0.0,
         IntegratorKind::Rk4 => {
             (C::new(1.0, 0.0) + z * (C::new(1.0, 0.0) + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))).norm()
         }

@@ -6,6 +6,7 @@ pub mod equilibrium;
 pub mod forces;
 pub mod params;
 pub mod road;
+pub mod road_envelope;
 pub mod steering;
 pub mod suspension;
 pub mod tire;

@@ -73,7 +73,6 @@ impl Road for EdgeAveraged<'_> {
         match self.road {
             RoadModel::Flat => (0.0, [0.0, 0.0]),
             RoadModel::Bumps(bumps) => sum_averaged(bumps, x, y, self.width),
-            RoadModel::AveragedBumps(..) => self.road.height_and_gradient(x, y),
         }
     }
 }
@@ -90,9 +89,6 @@ fn sum_averaged(bumps: &[HalfSineBump], x: f64, y: f64, width: f64) -> (f64, [f6
 pub enum RoadModel {
     Flat,
     Bumps(Vec<HalfSineBump>),
-    /// Bumps seen through a moving average of the given width along x, m: C¹ edges (a crude stand-in for
-    /// a tire's enveloping, used where a converged reference is needed, e.g. docs/stability.md).
-    AveragedBumps(Vec<HalfSineBump>, f64),
 }
 
 /// Bump geometry of the paper's course [P, physics.md §8.3].
@@ -127,7 +123,6 @@ impl Road for RoadModel {
                 let (bh, [bx, by]) = bump.height_and_gradient(x, y);
                 (h + bh, [hx + bx, hy + by])
             }),
-            RoadModel::AveragedBumps(bumps, width) => sum_averaged(bumps, x, y, *width),
         }
     }
 }

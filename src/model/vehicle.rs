@@ -169,6 +169,10 @@ pub struct KinematicsCache {
     /// The terms of the latest evaluation (scratch, written in place).
     #[serde(skip)]
     pub assembly: Assembly,
+    /// The normal load of each tire in the latest evaluation, N (scratch: the error-controlled
+    /// integrator's step limit near lift-off reads it, `sim::stepping::step_limit`).
+    #[serde(skip)]
+    pub tire_loads: [f64; 4],
 }
 
 impl PartialEq for KinematicsCache {
@@ -224,6 +228,9 @@ pub struct Vehicle {
     /// plane z = 0 of the model's ground frame, which is the road frame (x along the road, z normal to it).
     #[serde(default)]
     pub slope: [f64; 2],
+    /// The enveloping contact's half-length, m (`None`: the single-point contact; model::road_envelope).
+    #[serde(default)]
+    pub envelope: Option<f64>,
     /// Keep the states the options leave unused (`Layout::FULL`): only to verify that leaving them out
     /// changes nothing (tests/pruning.rs).
     #[serde(default)]
@@ -299,6 +306,7 @@ impl Vehicle {
             switches: ForceSwitches::default(),
             total_mass,
             slope: [0.0; 2],
+            envelope: None,
             keep_unused_states: false,
         };
         v.rack.sign = if v
@@ -394,7 +402,13 @@ impl Vehicle {
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
     ) -> Result<(), EvalError> {
-        self.derivative_on(&self.road, x, inputs, cache, dxdt, diag)
+        match self.envelope {
+            None => self.derivative_on(&self.road, x, inputs, cache, dxdt, diag),
+            Some(half_length) => {
+                let road = crate::model::road_envelope::Enveloped { road: &self.road, half_length };
+                self.derivative_on(&road, x, inputs, cache, dxdt, diag)
+            }
+        }
     }
 
     /// The derivative on the road rounded at its C⁰ edges (`EdgeAveraged`, 2 mm): for finite-difference
@@ -430,6 +444,7 @@ impl Vehicle {
         }
         let mut local = Diagnostics::default();
         self.assemble_on(road, x, inputs, cache, &mut local)?;
+        cache.tire_loads = local.tire_force.map(|f| f[2]);
         let assembly = &cache.assembly;
         // λ feeds neither ẋ nor any output: never computed here (dynamics::Multipliers::Compute gives it).
         let acc = self.accelerations(assembly, Multipliers::Skip)?;

@@ -85,6 +85,26 @@ impl RackProfile {
         }
     }
 
+    /// Where the profile's pieces meet (see `Breakpoints`): the two ends of the J-turn's ramp; the two ends
+    /// of each of the double sine's three blends; none for the plain sine and zero.
+    pub fn breakpoints(&self) -> Breakpoints {
+        match *self {
+            RackProfile::Zero | RackProfile::Sine { .. } => Breakpoints::default(),
+            RackProfile::Step { start, ramp, .. } => Breakpoints::of(&[start, start + ramp]),
+            RackProfile::DoubleSine { start, period, blend, .. } => {
+                let h = 0.5 * blend;
+                Breakpoints::of(&[
+                    start - h,
+                    start + h,
+                    start + period - h,
+                    start + period + h,
+                    start + 2.0 * period - h,
+                    start + 2.0 * period + h,
+                ])
+            }
+        }
+    }
+
     pub fn at(&self, t: f64) -> RackMotion {
         let j = match *self {
             RackProfile::Zero => Jet::default(),
@@ -108,6 +128,43 @@ impl RackProfile {
             }
         };
         RackMotion { position: j.v, velocity: j.d1, acceleration: j.d2 }
+    }
+}
+
+/// The most breakpoints one profile has (the double sine: three blends, each with two ends).
+pub const MAX_BREAKPOINTS: usize = 6;
+
+/// The times where an input's pieces meet, in increasing order: its derivatives jump there (the J-turn's
+/// smootherstep has a jump in its third derivative at each end, so the acceleration s̈ the model sees has a
+/// kink). A step that straddles one loses order (RK4 drops from 4 to about 3 over that step; AB3's history
+/// mixes the two pieces), so the simulation ends internal steps exactly on them (docs/integrators.md,
+/// "Input breakpoints"). A fixed-size list: no allocation per step.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Breakpoints {
+    times: [f64; MAX_BREAKPOINTS],
+    len: usize,
+}
+
+impl Breakpoints {
+    fn of(times: &[f64]) -> Breakpoints {
+        let mut b = Breakpoints::default();
+        b.times[..times.len()].copy_from_slice(times);
+        b.len = times.len();
+        b
+    }
+
+    pub fn as_slice(&self) -> &[f64] {
+        &self.times[..self.len]
+    }
+
+    /// The first breakpoint in (t + eps, end − eps), if any.
+    pub fn first_inside(&self, t: f64, end: f64, eps: f64) -> Option<f64> {
+        self.as_slice().iter().copied().find(|&b| b > t + eps && b < end - eps)
+    }
+
+    /// Whether a breakpoint lies within `eps` of `t`.
+    pub fn near(&self, t: f64, eps: f64) -> bool {
+        self.as_slice().iter().any(|&b| (b - t).abs() <= eps)
     }
 }
 
@@ -142,6 +199,15 @@ pub enum RackSource {
 }
 
 impl RackSource {
+    /// The breakpoints of a profile. An external signal has none inside a communication step (it is one
+    /// polynomial there); its pieces meet at the communication points, where every step ends anyway.
+    pub fn breakpoints(&self) -> Breakpoints {
+        match self {
+            RackSource::Profile(p) => p.breakpoints(),
+            RackSource::External { .. } | RackSource::PendingRamp { .. } => Breakpoints::default(),
+        }
+    }
+
     pub fn at(&self, t: f64) -> RackMotion {
         match *self {
             RackSource::Profile(p) => p.at(t),
@@ -185,6 +251,37 @@ mod tests {
         assert!((p.at(3.2).position - 0.003).abs() < 1e-15);
         assert!((p.at(3.05).position - 0.0015).abs() < 1e-15);
         check_derivatives(p, 2.95, 3.15);
+    }
+
+    #[test]
+    fn breakpoints_are_where_the_pieces_meet() {
+        // The third derivative jumps at each breakpoint and nowhere else: check by differences of the
+        // acceleration on either side (one-sided slopes over 1e-6 s differ by the jump there, by O(1e-6)
+        // of the scale elsewhere).
+        let jump = |p: RackProfile, t: f64| {
+            let h = 1e-6;
+            let a = |t: f64| p.at(t).acceleration;
+            ((a(t + h) - a(t)) - (a(t) - a(t - h))).abs() / h
+        };
+        let step = RackProfile::Step { amplitude: 0.003, start: 3.0, ramp: 0.1 };
+        assert_eq!(step.breakpoints().as_slice(), &[3.0, 3.1]);
+        let sine = RackProfile::DoubleSine { amplitude: 0.004, start: 1.0, period: 2.0, blend: 0.02 };
+        assert_eq!(sine.breakpoints().as_slice(), &[0.99, 1.01, 2.99, 3.01, 4.99, 5.01]);
+        // The jumps are 60 A/w³ (J-turn) and about 60 A/b³ · sin(π b/2) (the sine's blends of width b);
+        // 1.7 ms beside a breakpoint the difference is only the smooth fourth derivative times 1e-6 s.
+        for p in [step, sine] {
+            for &b in p.breakpoints().as_slice() {
+                let at = jump(p, b);
+                assert!(at > 100.0, "{p:?}: no jump at {b} ({at})");
+                assert!(jump(p, b + 0.0017) < 1e-3 * at, "{p:?}: a jump beside {b}");
+                assert!(jump(p, b - 0.0017) < 1e-3 * at, "{p:?}: a jump beside {b}");
+            }
+        }
+        assert!(RackProfile::Sine { amplitude: 1.0, period: 1.0 }.breakpoints().as_slice().is_empty());
+        let bp = sine.breakpoints();
+        assert_eq!(bp.first_inside(0.98, 1.0, 1e-9), Some(0.99));
+        assert_eq!(bp.first_inside(0.99, 1.0, 1e-9), None, "one at the start of the interval is not inside");
+        assert!(bp.near(0.99 + 1e-12, 1e-9) && !bp.near(0.995, 1e-9));
     }
 
     #[test]

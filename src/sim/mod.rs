@@ -13,6 +13,8 @@ pub mod modes;
 pub mod outputs;
 pub mod scenes;
 pub mod stability;
+pub mod stepping;
+pub mod work_precision;
 
 use crate::integrate::stability::{is_stable, largest_stable_step};
 use crate::integrate::{substeps, AnyIntegrator, EvalError, Integrator, IntegratorKind, OdeSystem};
@@ -25,10 +27,11 @@ use crate::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Layout, V
 use nalgebra::Complex;
 use serde::{Deserialize, Serialize};
 
-pub use inputs::{RackProfile, RackSample, RackSource};
+pub use inputs::{Breakpoints, RackProfile, RackSample, RackSource};
 
 pub use outputs::{Outputs, CSV_COLUMNS, OUTPUT_NAMES};
 
+pub use crate::model::road_envelope::ContactModel;
 pub use crate::model::vehicle::{Formulation, SpeedMode};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -58,10 +61,26 @@ pub struct SimConfig {
     /// Height and length of the bumps of the bump course, m.
     #[serde(default = "paper_bump")]
     pub bump: [f64; 2],
-    /// Width of a moving average that rounds the bumps' C⁰ edges, m (0: the paper's sharp edges).
+    /// The error-controlled integrator's tolerance: the largest over a_y, yaw rate and roll rate of
+    /// max |error| / peak that a run should keep (docs/integrators.md, "Error control"). The fixed-step
+    /// integrators ignore it.
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
+    /// How the tires meet the road: the paper's single point, or the enveloping contact.
     #[serde(default)]
-    pub bump_averaging: f64,
+    pub contact: ContactModel,
 }
+
+fn default_tolerance() -> f64 {
+    DEFAULT_TOLERANCE
+}
+
+/// The default tolerance of the error-controlled integrator (0.1 % of peak).
+pub const DEFAULT_TOLERANCE: f64 = 1e-3;
+/// The range of the tolerance: below 1e-9 of peak the Newton solves' 1e-12 and the outputs' round-off are
+/// no longer far below it; above 0.1 a run is not worth calling accurate.
+pub const TOLERANCE_MIN: f64 = 1e-9;
+pub const TOLERANCE_MAX: f64 = 0.1;
 
 fn paper_bump() -> [f64; 2] {
     [PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M]
@@ -107,8 +126,11 @@ impl SimConfig {
                 self.slope
             )));
         }
-        if !(0.0..=1.0).contains(&self.bump_averaging) {
-            return Err(SimError(format!("bump averaging {} m is outside [0, 1] m", self.bump_averaging)));
+        if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&self.tolerance) {
+            return Err(SimError(format!(
+                "tolerance {} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]",
+                self.tolerance
+            )));
         }
         let [height, length] = self.bump;
         if !(0.0..=BUMP_HEIGHT_MAX).contains(&height) {
@@ -130,8 +152,8 @@ impl SimConfig {
         }
         // The largest layout: a bound that holds whatever states the options keep.
         let per_step = self.integrator.max_evaluations_per_step(idx::DIM);
-        // One evaluation is left for the outputs.
-        let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step;
+        // One evaluation is left for the outputs; every input breakpoint inside the interval may add a step.
+        let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step - inputs::MAX_BREAKPOINTS as u64;
         // Compare before converting: ceil(h / internal_step) may not fit a usize.
         if h / self.internal_step > max_steps as f64 {
             return Err(SimError(format!(
@@ -160,7 +182,8 @@ impl Default for SimConfig {
             ride_height_retune: true,
             slope: [0.0; 2],
             bump: paper_bump(),
-            bump_averaging: 0.0,
+            tolerance: DEFAULT_TOLERANCE,
+            contact: ContactModel::Point,
         }
     }
 }
@@ -225,6 +248,14 @@ impl OdeSystem for VehicleOde<'_> {
         let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
         e.iter_mut().for_each(|v| *v /= n);
     }
+
+    fn error_scale(&self, scale: &mut [f64]) {
+        stepping::error_scale(&self.vehicle.layout(), scale);
+    }
+
+    fn step_limit(&self) -> f64 {
+        stepping::step_limit(&self.cache.tire_loads)
+    }
 }
 
 /// The vehicle of a simulation, or the error of one read back from a saved state and not yet validated.
@@ -266,9 +297,15 @@ impl Start {
             + state[idx::R0];
         if config.road == RoadChoice::PaperBumps {
             v.road = RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]);
-            if let (RoadModel::Bumps(bumps), true) = (&v.road, config.bump_averaging > 0.0) {
-                v.road = RoadModel::AveragedBumps(bumps.clone(), config.bump_averaging);
-            }
+        }
+        if config.contact == ContactModel::Envelope {
+            // The static half contact length at a quarter of the weight on the level.
+            let load = 0.25 * v.total_mass * v.gravity;
+            v.envelope = Some(crate::model::road_envelope::static_half_contact_length(
+                v.tire.unloaded_radius_m,
+                v.tire.vertical_stiffness_N_per_m,
+                load,
+            ));
         }
         // The car is put on the slope from its level equilibrium (it settles in its first second).
         v.slope = config.slope;
@@ -403,6 +440,8 @@ pub fn hop_resolution(kind: IntegratorKind) -> f64 {
     match kind {
         IntegratorKind::Rk4 => 0.5,
         IntegratorKind::Ab3 => 0.15,
+        // Its error control resolves what the road excites.
+        IntegratorKind::Dopri5 => f64::INFINITY,
     }
 }
 
@@ -696,6 +735,7 @@ impl Simulation {
         let t0 = self.time;
         let vehicle = attached(&self.vehicle)?;
         let layout = vehicle.layout();
+        let breakpoints = self.rack.breakpoints();
         let mut ode = VehicleOde {
             vehicle,
             rack: &self.rack,
@@ -704,14 +744,33 @@ impl Simulation {
             cache: &mut self.cache,
             evaluations: 0,
         };
-        for k in 0..n {
-            self.integrator.step(&mut ode, t0 + k as f64 * hs, hs, &mut self.state)?;
-            check_divergence(&self.state, &layout, t0 + (k + 1) as f64 * hs)?;
-        }
+        let config = &self.config;
+        let mut check = |t: f64, x: &[f64]| check_divergence(x, &layout, t);
+        let result = stepping::integrate(
+            &mut self.integrator,
+            &mut ode,
+            config,
+            breakpoints,
+            t0,
+            h,
+            (n, hs),
+            &mut self.state,
+            &mut check,
+        );
         self.evaluations += ode.evaluations;
+        result?;
         self.time = t0 + h;
         self.fresh = Fresh::None; // outputs are computed when read
         Ok(())
+    }
+
+    /// Accepted and rejected steps of the error-controlled integrator so far (`None` for the fixed-step
+    /// ones).
+    pub fn step_counts(&self) -> Option<(u64, u64)> {
+        match &self.integrator {
+            AnyIntegrator::Dopri5(d) => Some((d.accepted, d.rejected)),
+            _ => None,
+        }
     }
 
     /// The fast modes of the vehicle at the current state, estimated per corner from finite-difference
@@ -820,7 +879,7 @@ impl Simulation {
     /// resolved, not only stable: |hλ| ≤ `HOP_RESOLUTION`. (On a level road only the body's slow motions
     /// reach it, and a stable step is accurate: docs/stability.md.)
     fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64) -> Result<(), EvalError> {
-        let bumpy = matches!(attached(&self.vehicle)?.road, RoadModel::Bumps(_) | RoadModel::AveragedBumps(..));
+        let bumpy = matches!(attached(&self.vehicle)?.road, RoadModel::Bumps(_));
         let bound = hop_resolution(self.config.integrator);
         let worst = modes
             .iter()

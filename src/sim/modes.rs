@@ -2,7 +2,7 @@
 //! a description. The FMU adapter, the CLI and the docs all read these tables (a test checks that
 //! docs/fmu.md and the model description's min/max agree with them).
 
-use super::RoadChoice;
+use super::{ContactModel, RoadChoice};
 use crate::integrate::IntegratorKind;
 use crate::model::tire::SlipModel;
 use crate::model::vehicle::{Formulation, SpeedMode};
@@ -82,6 +82,12 @@ pub const INTEGRATORS: Table<IntegratorKind> = Table {
     choices: &[
         Choice { value: IntegratorKind::Ab3, code: 1, name: "ab3", description: "AB3 (RK4 start)" },
         Choice { value: IntegratorKind::Rk4, code: 2, name: "rk4", description: "RK4" },
+        Choice {
+            value: IntegratorKind::Dopri5,
+            code: 4,
+            name: "dopri5",
+            description: "Dormand–Prince 5(4) with error control (takes the tolerance)",
+        },
     ],
 };
 
@@ -109,5 +115,19 @@ pub const ROADS: Table<RoadChoice> = Table {
     choices: &[
         Choice { value: RoadChoice::Flat, code: 1, name: "flat", description: "flat" },
         Choice { value: RoadChoice::PaperBumps, code: 2, name: "bumps", description: "the paper's bump course" },
+    ],
+};
+
+pub const CONTACTS: Table<ContactModel> = Table {
+    parameter: "contact",
+    option: Some("contact"),
+    choices: &[
+        Choice { value: ContactModel::Point, code: 1, name: "point", description: "single point (the paper's)" },
+        Choice {
+            value: ContactModel::Envelope,
+            code: 2,
+            name: "envelope",
+            description: "enveloping: the road averaged over the contact length",
+        },
     ],
 };

@@ -50,7 +50,7 @@ def test_variables(md):
     params = {v.name: v for v in md.modelVariables if v.causality == "parameter"}
     assert set(params) == {"initial_speed", "speed_mode", "formulation", "integrator", "internal_step",
                            "slip_model", "road", "vehicle_file", "road_grade", "road_cross_slope", "bump_height",
-                           "bump_length"}
+                           "bump_length", "tolerance", "contact"}
     for p in params.values():
         assert p.variability == "fixed" and p.initial in (None, "exact") and p.start is not None
     outputs = [v for v in md.modelVariables if v.causality == "output"]
@@ -149,9 +149,10 @@ def test_non_finite_reals_are_rejected_and_the_old_value_kept(make, bad):
     ("initial_speed", -0.1), ("initial_speed", 60.01),
     ("brake_torque_fl", -1.0), ("brake_torque_rr", -1e-9),
     ("speed_mode", 0), ("speed_mode", 3), ("formulation", 0), ("formulation", 4),
-    ("integrator", 0), ("integrator", 3), ("slip_model", 3), ("road", 0), ("road", 3),
+    ("integrator", 0), ("integrator", 3), ("integrator", 5), ("slip_model", 3), ("road", 0), ("road", 3),
     ("road_grade", 1.01), ("road_cross_slope", -1.01), ("bump_height", -0.01), ("bump_height", 0.31),
     ("bump_length", 0.09), ("bump_length", 10.01),
+    ("tolerance", 0.0), ("tolerance", -1e-3), ("tolerance", 1e-10), ("tolerance", 0.2), ("contact", 0), ("contact", 3),
 ])
 def test_out_of_range_values_are_errors(make, name, value):
     s = make()
@@ -483,3 +484,37 @@ def test_a_run_started_at_a_nonzero_time(make):
         s.step(0.05)
     assert s.fmu.getRealStatus(fmi2LastSuccessfulTime) == pytest.approx(10.5)
     assert status(s.fmu.doStep, s.t, 0.05) == ERROR  # beyond stopTime
+
+
+# ---- the tolerance of the error-controlled integrator (integrator = 4) ---------------------------------
+
+
+def test_the_experiment_tolerance_is_taken_by_integrator_4_and_a_bad_one_refused(make):
+    """(steps) fmi2SetupExperiment's tolerance drives integrator 4; one outside [1e-9, 0.1] is fmi2Error."""
+    s = make()
+    s.set(integrator=4, internal_step=0.01, contact=2, rack_displacement=0.002)
+    f = s.fmu
+    for bad in (0.0, -1.0, 1e-12, 2.0):
+        assert status(f.fmi2SetupExperiment, f.component, 1, bad, 0.0, 0, 0.0) == ERROR
+    assert status(f.fmi2SetupExperiment, f.component, 1, 1e-5, 0.0, 0, 0.0) == OK
+    f.enterInitializationMode()
+    f.exitInitializationMode()
+    for k in range(10):
+        assert status(f.doStep, currentCommunicationPoint=0.01 * k, communicationStepSize=0.01) == OK
+    assert math.isfinite(s.get("ay"))
+
+
+def test_a_fixed_step_integrator_ignores_the_experiment_tolerance(make):
+    """(steps) RK4 with and without an experiment tolerance: the same outputs to the bit."""
+    def run(tolerance):
+        s = make()
+        f = s.fmu
+        defined, value = (1, tolerance) if tolerance else (0, 0.0)
+        assert status(f.fmi2SetupExperiment, f.component, defined, value, 0.0, 0, 0.0) == OK
+        f.enterInitializationMode()
+        s.set(rack_displacement=0.002)
+        f.exitInitializationMode()
+        for k in range(5):
+            f.doStep(currentCommunicationPoint=0.01 * k, communicationStepSize=0.01)
+        return [s.get(n) for n in ("ay", "yaw_rate", "roll_rate", "y")]
+    assert run(1e-6) == run(None)
