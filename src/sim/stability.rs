@@ -321,7 +321,7 @@ pub fn relative_error(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> 
 }
 
 /// The integrators the suite runs.
-pub const INTEGRATORS: [IntegratorKind; 2] = [IntegratorKind::Rk4, IntegratorKind::Ab3];
+pub const INTEGRATORS: [IntegratorKind; 3] = [IntegratorKind::Rk4, IntegratorKind::Ab3, IntegratorKind::Dopri5];
 
 /// A run's classification and cost.
 #[derive(Debug, Clone)]
@@ -432,7 +432,7 @@ fn step_label(h: f64) -> String {
 fn cell(run: &Classified, tolerance: f64) -> String {
     match &run.outcome {
         Outcome::Finished { error, warnings } if *error <= tolerance && warnings.is_empty() => {
-            format!("OK {error:.0e}")
+            format!("OK {error:.0e} ({:.1}k ev.)", run.evaluations as f64 / 1e3)
         }
         Outcome::Finished { error, .. } if *error <= tolerance => format!("OK {error:.0e}, warned"),
         Outcome::Finished { error, warnings } if !warnings.is_empty() => format!("warned, off {error:.0e}"),
@@ -472,7 +472,9 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
          run is **OK** when each channel stays within {:.0} % of its excursion in the reference (max over time of \
          |y − y_ref| over max |y_ref − y_ref(0)|, floored per channel; or within ten times the reference's own \
          change, if that is larger: a run is not judged closer than its reference is known), an **error** when it stops with a message \
-         naming its cause ({}), and **WRONG** when it finishes off without a word: there must be none. Code: \
+         naming its cause ({}), and **WRONG** when it finishes off without a word: there must be none. An OK cell \
+         gives the run's error and its cost in derivative evaluations (the step check's included); DOPRI5 runs at \
+         its default tolerance 1e-3 with the ladder's step as its largest step. Code: \
          `src/sim/stability.rs`; `tests/stability.rs` asserts the classification. The bump cases use the enveloping \
          contact (`--contact envelope`): with the single-point contact the paper's sharp bump edges converge at first \
          order only, and no reference would be converged to the tolerance.\n\n",
