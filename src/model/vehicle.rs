@@ -49,7 +49,7 @@ pub mod idx {
 /// Where the optional states are, decided by the options: the eight relaxation slip states exist only
 /// with relaxation slip (steady slip has no slip dynamics), the speed-hold integral only with the speed
 /// hold (coasting has no controller). Leaving them out is exact: they would only carry zero derivatives,
-/// never read; it saves integrator work and, for ROS2, finite-difference Jacobian columns.
+/// never read; it saves integrator work.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Layout {
     /// Index of ξ_x of the front-left corner (then ξ_y, then the next corner), if present.
