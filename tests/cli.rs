@@ -50,6 +50,8 @@ fn bad_arguments_get_a_message_and_exit_2() {
         (vec!["scene", "jturn", "--initial-speed", "100"], "initial speed"),
         (vec!["scene", "jturn", "--brake", "-3"], "brake torque"),
         (vec!["stability", "--threads", "0"], "--threads"),
+        (vec!["manoeuvre", "slalom"], "unknown manoeuvre"),
+        (vec!["manoeuvre", "step-steer", "--initial-speed", "0"], "--initial-speed"),
     ] {
         let (code, _, err) = rtv(&args);
         assert_eq!(code, 2, "{args:?}: {err}");

@@ -31,6 +31,8 @@ const USAGE: &str = "usage:
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv calibrate [--vehicle FILE.json]
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT]
+  rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
+            [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]";
 
 struct Failure {
@@ -403,6 +405,44 @@ fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// A standard manoeuvre (docs/manoeuvres.md): writes its channels, prints its metrics.
+fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::sim::manoeuvres::{run, Manoeuvre};
+    let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
+    let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
+    let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
+    let opts = options(&args[1..], &["initial-speed", "vehicle", "out"])?;
+    let speed = match opts.get("initial-speed") {
+        Some(_) => {
+            let v = number(&opts, "initial-speed", 0.0)?;
+            if !(v > 1.0 && v <= rt_vehicle::sim::INITIAL_SPEED_MAX) {
+                return Err(bad(format!("--initial-speed must be in (1, {}] m/s", rt_vehicle::sim::INITIAL_SPEED_MAX)));
+            }
+            Some(v)
+        }
+        None => None,
+    };
+    let data = vehicle_data(&opts)?;
+    let report = run(m, &data, speed).map_err(|e| failed(format!("{}: {}", m.name(), e.0)))?;
+    let mut out = csv_writer(opts.get("out"))?;
+    let mut text = OUTPUT_NAMES[..CSV_COLUMNS].join(",") + "\n";
+    for row in &report.rows {
+        text += &row.values[..CSV_COLUMNS].iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(",");
+        text += "\n";
+    }
+    out.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
+    out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
+    eprintln!("{} at {:.1} km/h, rack amplitude {:.2} mm:", m.name(), report.speed * 3.6, report.amplitude * 1e3);
+    for metric in &report.metrics {
+        let verdict = match metric.criterion {
+            Some((criterion, met)) => format!("  [{criterion}: {}]", if met { "pass" } else { "FAIL" }),
+            None => String::new(),
+        };
+        eprintln!("  {}: {:.3} {}{verdict}", metric.name, metric.value, metric.unit);
+    }
+    Ok(())
+}
+
 /// The stability suite (docs/stability.md): every case × integrator × step, classified.
 fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::sim::stability;
@@ -477,6 +517,7 @@ fn main() -> ExitCode {
         Some("steering") => cmd_steering(&args[1..]),
         Some("calibrate") => cmd_calibrate(&args[1..]),
         Some("stability") => cmd_stability(&args[1..]),
+        Some("manoeuvre") => cmd_manoeuvre(&args[1..]),
         Some("work-precision") => cmd_work_precision(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");

@@ -72,6 +72,27 @@ pub enum RackProfile {
         amplitude: f64,
         period: f64,
     },
+    /// Two smootherstep moves: from 0 to `first` over [start, start + ramp], then from `first` to `second`
+    /// over [counter, counter + counter_ramp] (a step steer with `second` = `first`; a fishhook with the
+    /// opposite sign).
+    TwoMoves {
+        first: f64,
+        start: f64,
+        ramp: f64,
+        second: f64,
+        counter: f64,
+        counter_ramp: f64,
+    },
+    /// FMVSS 126's sine with dwell: u = A sin(2πfτ), τ = t − start, up to its second peak (τ = 3/(4f)), held
+    /// there for `dwell`, then the last quarter period back to 0. The velocity kinks at the start and the
+    /// end are rounded by C² windows of width `blend`, as for the double sine.
+    SineWithDwell {
+        amplitude: f64,
+        frequency: f64,
+        start: f64,
+        dwell: f64,
+        blend: f64,
+    },
 }
 
 impl RackProfile {
@@ -81,7 +102,9 @@ impl RackProfile {
             RackProfile::Zero => 0.0,
             RackProfile::Step { amplitude, .. }
             | RackProfile::DoubleSine { amplitude, .. }
-            | RackProfile::Sine { amplitude, .. } => amplitude.abs(),
+            | RackProfile::Sine { amplitude, .. }
+            | RackProfile::SineWithDwell { amplitude, .. } => amplitude.abs(),
+            RackProfile::TwoMoves { first, second, .. } => first.abs().max(second.abs()),
         }
     }
 
@@ -91,6 +114,15 @@ impl RackProfile {
         match *self {
             RackProfile::Zero | RackProfile::Sine { .. } => Breakpoints::default(),
             RackProfile::Step { start, ramp, .. } => Breakpoints::of(&[start, start + ramp]),
+            RackProfile::TwoMoves { start, ramp, counter, counter_ramp, .. } => {
+                Breakpoints::of(&[start, start + ramp, counter, counter + counter_ramp])
+            }
+            RackProfile::SineWithDwell { frequency, start, dwell, blend, .. } => {
+                let (h, period) = (0.5 * blend, 1.0 / frequency);
+                let peak = start + 0.75 * period;
+                let end = start + period + dwell;
+                Breakpoints::of(&[start - h, start + h, peak, peak + dwell, end - h, end + h])
+            }
             RackProfile::DoubleSine { start, period, blend, .. } => {
                 let h = 0.5 * blend;
                 Breakpoints::of(&[
@@ -125,6 +157,26 @@ impl RackProfile {
             RackProfile::Sine { amplitude, period } => {
                 let w = std::f64::consts::TAU / period;
                 Jet { v: (w * t).sin(), d1: w * (w * t).cos(), d2: -w * w * (w * t).sin() }.scale(amplitude)
+            }
+            RackProfile::TwoMoves { first, start, ramp, second, counter, counter_ramp } => {
+                let a = smootherstep(t, start, ramp).scale(first);
+                let b = smootherstep(t, counter, counter_ramp).scale(second - first);
+                Jet { v: a.v + b.v, d1: a.d1 + b.d1, d2: a.d2 + b.d2 }
+            }
+            RackProfile::SineWithDwell { amplitude, frequency, start, dwell, blend } => {
+                let w = std::f64::consts::TAU * frequency;
+                let period = 1.0 / frequency;
+                let tau = t - start;
+                let sine = |x: f64| Jet { v: (w * x).sin(), d1: w * (w * x).cos(), d2: -w * w * (w * x).sin() };
+                let j = if tau < 0.75 * period {
+                    sine(tau).mul(smootherstep(tau, -0.5 * blend, blend))
+                } else if tau < 0.75 * period + dwell {
+                    Jet::constant(-1.0)
+                } else {
+                    let off = smootherstep(tau - dwell, period - 0.5 * blend, blend).scale(-1.0);
+                    sine(tau - dwell).mul(Jet { v: 1.0 + off.v, ..off })
+                };
+                j.scale(amplitude)
             }
         };
         RackMotion { position: j.v, velocity: j.d1, acceleration: j.d2 }

@@ -9,6 +9,7 @@
 //! - `outputs()`: every CLI column by name (`OUTPUT_NAMES`), plus diagnostics.
 
 pub mod inputs;
+pub mod manoeuvres;
 pub mod modes;
 pub mod outputs;
 pub mod scenes;

@@ -1,0 +1,257 @@
+//! Standard open-loop manoeuvres with their metrics (`rtv manoeuvre`, docs/manoeuvres.md):
+//!
+//! - ISO 7401 step steer: yaw-rate and lateral-acceleration response times, peak response time, overshoot;
+//! - FMVSS 126 sine with dwell: yaw-rate ratios 1.0 s and 1.75 s after the steer ends, lateral
+//!   displacement 1.07 s after it begins;
+//! - ISO 4138 steady-state circular driving, constant-speed method: understeer gradient;
+//! - NHTSA fishhook (fixed timing): roll angle and wheel lift.
+//!
+//! Steering amplitudes are set from the vehicle itself, as the standards do: the rack displacement that
+//! gives a steady lateral acceleration at the test speed is measured by a short steady-state run (the
+//! response is linear there) and scaled.
+
+use super::scenes::calibrated_jturn_amplitude;
+use super::{Outputs, RackProfile, SimConfig, SimError, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::model::params::VehicleData;
+
+/// The manoeuvres.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Manoeuvre {
+    StepSteer,
+    SineWithDwell,
+    SteadyState,
+    Fishhook,
+}
+
+impl Manoeuvre {
+    pub const ALL: [Manoeuvre; 4] =
+        [Manoeuvre::StepSteer, Manoeuvre::SineWithDwell, Manoeuvre::SteadyState, Manoeuvre::Fishhook];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Manoeuvre::StepSteer => "step-steer",
+            Manoeuvre::SineWithDwell => "sine-with-dwell",
+            Manoeuvre::SteadyState => "steady-state",
+            Manoeuvre::Fishhook => "fishhook",
+        }
+    }
+
+    pub fn parse(name: &str) -> Option<Manoeuvre> {
+        Manoeuvre::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// One metric: name, value, unit, and the criterion it is judged by where a standard gives one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Metric {
+    pub name: &'static str,
+    pub value: f64,
+    pub unit: &'static str,
+    /// (the criterion in words, whether it is met)
+    pub criterion: Option<(&'static str, bool)>,
+}
+
+/// A manoeuvre's run: its samples every `SAMPLE` s and its metrics.
+pub struct Report {
+    pub manoeuvre: Manoeuvre,
+    pub speed: f64,
+    pub amplitude: f64,
+    pub rows: Vec<Outputs>,
+    pub metrics: Vec<Metric>,
+}
+
+/// Output interval of the manoeuvre runs, s.
+pub const SAMPLE: f64 = 0.005;
+
+fn column(name: &str) -> usize {
+    OUTPUT_NAMES.iter().position(|n| *n == name).expect("an output")
+}
+
+fn series(rows: &[Outputs], name: &str) -> Vec<f64> {
+    let c = column(name);
+    rows.iter().map(|r| r.values[c]).collect()
+}
+
+/// Run `profile` from steady rolling at `speed` for `duration`, sampling every `SAMPLE`.
+fn simulate(
+    data: &VehicleData,
+    speed: f64,
+    speed_mode: SpeedMode,
+    profile: RackProfile,
+    duration: f64,
+) -> Result<Vec<Outputs>, SimError> {
+    let config = SimConfig { initial_speed: speed, speed_mode, ..SimConfig::default() };
+    let mut sim = Simulation::new(data.clone(), config)?;
+    sim.set_rack_profile(profile);
+    let mut rows = vec![sim.outputs()?];
+    for _ in 0..(duration / SAMPLE).round() as usize {
+        sim.advance(SAMPLE)?;
+        rows.push(sim.outputs()?);
+    }
+    Ok(rows)
+}
+
+/// The rack displacement that gives a steady lateral acceleration `ay` (m/s²) at `speed`: a 3 s run at
+/// the calibrated J-turn amplitude, scaled linearly from its mean a_y over the last second.
+pub fn rack_for_lateral_acceleration(data: &VehicleData, speed: f64, ay: f64) -> Result<f64, SimError> {
+    let a0 = calibrated_jturn_amplitude();
+    let rows = simulate(data, speed, SpeedMode::Hold, RackProfile::Step { amplitude: a0, start: 0.2, ramp: 0.3 }, 3.0)?;
+    let tail = &series(&rows, "ay")[rows.len() - (1.0 / SAMPLE) as usize..];
+    let mean = tail.iter().sum::<f64>() / tail.len() as f64;
+    Ok(a0 * ay / mean)
+}
+
+/// The first time t ≥ from at which `y` reaches `level` (linear interpolation between samples).
+fn first_crossing(t: &[f64], y: &[f64], level: f64, from: f64) -> Option<f64> {
+    (1..t.len()).filter(|&k| t[k - 1] >= from).find_map(|k| {
+        let (a, b) = (y[k - 1] - level, y[k] - level);
+        (a.signum() != b.signum() || b == 0.0).then(|| t[k - 1] + (t[k] - t[k - 1]) * a / (a - b))
+    })
+}
+
+fn metric(name: &'static str, value: f64, unit: &'static str) -> Metric {
+    Metric { name, value, unit, criterion: None }
+}
+
+/// Run a manoeuvre at its standard speed (or `speed`, m/s) and compute its metrics.
+pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Report, SimError> {
+    let g = data.gravity_m_s2;
+    match m {
+        Manoeuvre::StepSteer => {
+            // ISO 7401:2011 §6.2: 80 km/h, steady lateral acceleration 4 m/s², steering as fast as possible
+            // (here a 0.1 s smootherstep), response measured from 50 % of the steering input.
+            let v = speed.unwrap_or(80.0 / 3.6);
+            let a = rack_for_lateral_acceleration(data, v, 4.0)?;
+            let (start, ramp) = (0.5, 0.1);
+            let rows = simulate(data, v, SpeedMode::Hold, RackProfile::Step { amplitude: a, start, ramp }, 4.5)?;
+            let t = series(&rows, "time");
+            let t50 = start + 0.5 * ramp; // the smootherstep is half-way at half its ramp
+            let mut metrics = Vec::new();
+            for (channel, label_rt, label_peak, label_os) in [
+                ("yaw_rate", "yaw-rate response time", Some("yaw-rate peak response time"), "yaw-rate overshoot"),
+                // a_y rises without a peak here: no peak response time (ISO 7401 defines it for a peak).
+                ("ay", "lateral-acceleration response time", None, "lateral-acceleration overshoot"),
+            ] {
+                let y = series(&rows, channel);
+                let steady = y[y.len() - (1.0 / SAMPLE) as usize..].iter().sum::<f64>() / (1.0 / SAMPLE);
+                let response = first_crossing(&t, &y, 0.9 * steady, t50).unwrap_or(f64::NAN) - t50;
+                let (k_peak, peak) =
+                    y.iter().enumerate().fold((0, 0.0f64), |m, (k, v)| if v.abs() > m.1.abs() { (k, *v) } else { m });
+                metrics.push(metric(label_rt, response, "s"));
+                if let Some(label) = label_peak {
+                    metrics.push(metric(label, t[k_peak] - t50, "s"));
+                }
+                metrics.push(metric(label_os, (peak / steady - 1.0) * 100.0, "%"));
+                if channel == "yaw_rate" {
+                    metrics.push(metric("steady yaw rate", steady.to_degrees(), "deg/s"));
+                } else {
+                    metrics.push(metric("steady lateral acceleration", steady, "m/s2"));
+                }
+            }
+            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+        }
+        Manoeuvre::SineWithDwell => {
+            // FMVSS 126 S7.9: 80 km/h coasting, 0.7 Hz sine with a 500 ms dwell at its second peak,
+            // amplitude 6.5 × the steering that gives 0.3 g (S7.6, slowly increasing steer: here the
+            // linear steady-state measurement). Left turn first.
+            let v = speed.unwrap_or(80.0 / 3.6);
+            let a = 6.5 * rack_for_lateral_acceleration(data, v, 0.3 * g)?;
+            let (f, start, dwell) = (0.7, 0.5, 0.5);
+            let profile = RackProfile::SineWithDwell { amplitude: a, frequency: f, start, dwell, blend: 0.02 };
+            let rows = simulate(data, v, SpeedMode::Coast, profile, 5.0)?;
+            let (t, r, y) = (series(&rows, "time"), series(&rows, "yaw_rate"), series(&rows, "y"));
+            let end = start + 1.0 / f + dwell; // completion of steer (COS)
+                                               // The first peak of yaw rate opposite to the first steer (S7.9.1: the second peak, after the
+                                               // counter-steer), and its value at COS + 1.0 s and + 1.75 s.
+            let peak = t.iter().zip(&r).filter(|(tt, _)| **tt > start + 0.25 / f).map(|(_, v)| *v).fold(0.0, f64::min);
+            let at = |time: f64| {
+                let k = ((time / SAMPLE).round() as usize).min(r.len() - 1);
+                r[k]
+            };
+            let (yrr1, yrr175) = (at(end + 1.0) / peak * 100.0, at(end + 1.75) / peak * 100.0);
+            // Lateral displacement at BOS + 1.07 s (S7.11), of the CM, from its start.
+            let k = ((start + 1.07) / SAMPLE).round() as usize;
+            let lateral = y[k] - y[0];
+            let metrics = vec![
+                Metric {
+                    criterion: Some(("≤ 35 % (S5.2.1)", yrr1 <= 35.0)),
+                    ..metric("yaw-rate ratio at COS + 1.0 s", yrr1, "%")
+                },
+                Metric {
+                    criterion: Some(("≤ 20 % (S5.2.2)", yrr175 <= 20.0)),
+                    ..metric("yaw-rate ratio at COS + 1.75 s", yrr175, "%")
+                },
+                Metric {
+                    criterion: Some(("≥ 1.83 m for GVWR ≤ 3500 kg (S5.2.3)", lateral >= 1.83)),
+                    ..metric("lateral displacement at BOS + 1.07 s", lateral, "m")
+                },
+                metric("peak yaw rate after the counter-steer", peak.to_degrees(), "deg/s"),
+            ];
+            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+        }
+        Manoeuvre::SteadyState => {
+            // ISO 4138:2021 constant-speed method (§6.2.3): 100 km/h, the steering increased slowly (here a
+            // 30 s smootherstep to the rack for 0.55 g); understeer gradient from the mean front road-wheel
+            // steer against lateral acceleration, δ = L/R + K a_y with R = V²/a_y: K = dδ/da_y − L/V².
+            let v = speed.unwrap_or(100.0 / 3.6);
+            let a = rack_for_lateral_acceleration(data, v, 0.55 * g)?;
+            let rows =
+                simulate(data, v, SpeedMode::Hold, RackProfile::Step { amplitude: a, start: 0.5, ramp: 30.0 }, 31.0)?;
+            let (ay, fl, fr) = (series(&rows, "ay"), series(&rows, "steer_fl"), series(&rows, "steer_fr"));
+            // Least squares over the linear range, 0.5–3 m/s² (ISO 4138 reports the gradient at low a_y).
+            let points: Vec<(f64, f64)> = ay
+                .iter()
+                .zip(fl.iter().zip(&fr))
+                .filter(|(a, _)| (0.5..=3.0).contains(*a))
+                .map(|(a, (l, r))| (*a, 0.5 * (l + r)))
+                .collect();
+            let n = points.len() as f64;
+            let (sx, sy) = points.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0, s.1 + p.1));
+            let (sxx, sxy) = points.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 * p.0, s.1 + p.0 * p.1));
+            let slope = (n * sxy - sx * sy) / (n * sxx - sx * sx); // rad per m/s²
+            let wheelbase = data.front.hardpoints_chassis_frame_m["SPINDLE"][0]
+                - data.rear.hardpoints_chassis_frame_m["SPINDLE"][0];
+            let gradient = (slope - wheelbase / (v * v)) * g;
+            let max_ay = ay.iter().cloned().fold(0.0, f64::max);
+            let metrics = vec![
+                metric("understeer gradient (front road-wheel steer)", gradient.to_degrees(), "deg/g"),
+                metric("Ackermann gradient L g / V²", (wheelbase * g / (v * v)).to_degrees(), "deg/g"),
+                metric("largest lateral acceleration reached", max_ay / g, "g"),
+                metric("points in the fit (0.5–3 m/s²)", n, ""),
+            ];
+            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+        }
+        Manoeuvre::Fishhook => {
+            // NHTSA fishhook (fixed timing, 49 CFR 575.106 test procedure): 80 km/h coasting, steer to
+            // 6.5 × the 0.3 g steering in 0.25 s (720 °/s at the hand wheel for a typical ratio), hold,
+            // counter-steer to the opposite amplitude in 0.5 s, hold 3 s. Tip-up: both wheels of one side
+            // off the road by 2 in (5.1 cm) at the same time.
+            let v = speed.unwrap_or(80.0 / 3.6);
+            let a = (6.5 * rack_for_lateral_acceleration(data, v, 0.3 * g)?).min(data.rack.travel_limit_m);
+            let profile =
+                RackProfile::TwoMoves { first: a, start: 0.5, ramp: 0.25, second: -a, counter: 1.0, counter_ramp: 0.5 };
+            let rows = simulate(data, v, SpeedMode::Coast, profile, 4.5)?;
+            let roll = series(&rows, "roll");
+            let r0 = data.tire.unloaded_radius_m;
+            let lift = |c: &str| -> Vec<f64> {
+                let (z, fz) = (series(&rows, &format!("wheel_z_{c}")), series(&rows, &format!("tire_fz_{c}")));
+                z.iter().zip(&fz).map(|(z, f)| if *f <= 0.0 { z - r0 } else { 0.0 }).collect()
+            };
+            let sides = [(lift("fl"), lift("rl")), (lift("fr"), lift("rr"))];
+            let two_wheel = sides
+                .iter()
+                .map(|(f, r)| f.iter().zip(r).map(|(a, b)| a.min(*b)).fold(0.0, f64::max))
+                .fold(0.0, f64::max);
+            let max_lift = sides.iter().flat_map(|(f, r)| f.iter().chain(r)).cloned().fold(0.0, f64::max);
+            let metrics = vec![
+                metric("largest roll angle", roll.iter().map(|r| r.abs()).fold(0.0, f64::max).to_degrees(), "deg"),
+                metric("largest wheel lift", max_lift * 100.0, "cm"),
+                Metric {
+                    criterion: Some(("< 5.1 cm: no tip-up", two_wheel < 0.051)),
+                    ..metric("two-wheel lift (both wheels of one side)", two_wheel * 100.0, "cm")
+                },
+            ];
+            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+        }
+    }
+}
