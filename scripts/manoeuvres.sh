@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh >/dev/null
 cargo build --release --bin rtv
 mkdir -p out
-for m in step-steer sine-with-dwell steady-state fishhook; do
+for m in step-steer sine-with-dwell steady-state fishhook double-lane-change; do
     ./target/release/rtv manoeuvre "$m" --out "out/$m.csv"
 done
 .venv/bin/python scripts/plot_manoeuvres.py out

@@ -19,7 +19,7 @@ def load(path):
 
 d = sys.argv[1]
 deg = 180 / math.pi
-fig, ax = plt.subplots(2, 2, figsize=(12, 8))
+fig, ax = plt.subplots(3, 2, figsize=(12, 11))
 s = load(f"{d}/step-steer.csv")
 a = ax[0][0]
 a.plot(s["time"], [v * deg for v in s["yaw_rate"]], label="yaw rate [deg/s]")
@@ -51,6 +51,21 @@ for wname in ["fl", "fr", "rl", "rr"]:
 a.set_title("NHTSA fishhook (fixed timing), 80 km/h, coasting")
 a.set_xlabel("time [s]")
 a.legend(fontsize=7)
+l = load(f"{d}/double-lane-change.csv")
+a = ax[2][0]
+x0, y0 = l["x"][0], l["y"][0]
+a.plot([x - x0 - 30 for x in l["x"]], [y - y0 for y in l["y"]], label="CM path")
+b = 2.16
+w1, w3, w5 = 1.1 * b + 0.25, b + 1.0, min(1.3 * b + 0.25, 3.0)
+for (x_from, x_to, lo, hi) in [(0, 12, -w1 / 2, w1 / 2), (25.5, 36.5, w1 / 2 + 1, w1 / 2 + 1 + w3),
+                               (49, 61, -w1 / 2, -w1 / 2 + w5)]:
+    for yy in (lo, hi):
+        a.plot([x_from, x_to], [yy, yy], "k.", ms=4)
+a.set_title("ISO 3888-2 double lane change at 80 km/h (cones; the CM)")
+a.set_xlabel("x from the entry [m]")
+a.set_ylabel("y [m]")
+a.legend()
+ax[2][1].axis("off")
 fig.tight_layout()
 fig.savefig("docs/manoeuvres.png", dpi=110)
 print("wrote docs/manoeuvres.png")

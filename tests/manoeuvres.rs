@@ -62,3 +62,19 @@ fn sine_with_dwell_and_fishhook_give_their_metrics() {
         println!("fishhook: {} {:.3} {}", m.name, m.value, m.unit);
     }
 }
+
+#[test]
+fn the_closed_loop_driver_takes_the_iso_3888_2_course_at_low_speed() {
+    // At 30 km/h the lanes ask little of the tires: the pure-pursuit driver must keep every tire's outer
+    // edge inside every lane. (The highest speed passed is a result, printed, not asserted.)
+    let data = VehicleData::default_hmmwv();
+    let slow = run(Manoeuvre::DoubleLaneChange, &data, Some(30.0 / 3.6)).unwrap();
+    for m in &slow.metrics {
+        println!("double lane change at 30 km/h: {} {:.3} {}", m.name, m.value, m.unit);
+    }
+    let verdict = slow.metrics[0].criterion.unwrap();
+    assert!(verdict.1, "clearance {}", slow.metrics[0].value);
+    // It did steer: the course's side lane is 3.6 m to the left of the entry lane's centre.
+    let y: Vec<f64> = column(&slow, "y");
+    assert!(y.iter().cloned().fold(f64::MIN, f64::max) - y[0] > 3.0);
+}

@@ -21,11 +21,17 @@ pub enum Manoeuvre {
     SineWithDwell,
     SteadyState,
     Fishhook,
+    DoubleLaneChange,
 }
 
 impl Manoeuvre {
-    pub const ALL: [Manoeuvre; 4] =
-        [Manoeuvre::StepSteer, Manoeuvre::SineWithDwell, Manoeuvre::SteadyState, Manoeuvre::Fishhook];
+    pub const ALL: [Manoeuvre; 5] = [
+        Manoeuvre::StepSteer,
+        Manoeuvre::SineWithDwell,
+        Manoeuvre::SteadyState,
+        Manoeuvre::Fishhook,
+        Manoeuvre::DoubleLaneChange,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -33,6 +39,7 @@ impl Manoeuvre {
             Manoeuvre::SineWithDwell => "sine-with-dwell",
             Manoeuvre::SteadyState => "steady-state",
             Manoeuvre::Fishhook => "fishhook",
+            Manoeuvre::DoubleLaneChange => "double-lane-change",
         }
     }
 
@@ -253,5 +260,162 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
             ];
             Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
         }
+        Manoeuvre::DoubleLaneChange => {
+            // ISO 3888-2's nominal entry speed is 80 km/h; the figure of merit is the highest speed passed:
+            // the course is run from 30 to 80 km/h in steps of 5 km/h.
+            let mut report = double_lane_change(data, speed.unwrap_or(80.0 / 3.6))?;
+            let mut highest = None;
+            for kmh in (30..=80).step_by(5) {
+                let run = double_lane_change(data, kmh as f64 / 3.6)?;
+                if run.metrics[0].criterion.is_some_and(|c| c.1) {
+                    highest = Some(kmh as f64);
+                }
+            }
+            report.metrics.push(metric(
+                "highest entry speed passed (30–80 km/h, 5 km/h steps)",
+                highest.unwrap_or(f64::NAN),
+                "km/h",
+            ));
+            Ok(report)
+        }
     }
+}
+
+/// Vehicle width b of the ISO 3888-2 lane widths, m (HMMWV M1025: 2.16 m).
+pub const VEHICLE_WIDTH_M: f64 = 2.16;
+/// Tire width for the footprint, m (37×12.50R16.5: 12.5 in; the vehicle data has no tire width).
+pub const TIRE_WIDTH_M: f64 = 0.3175;
+/// Run-up from the start to the course's entry, m.
+const RUN_UP_M: f64 = 30.0;
+
+/// One lane section of the course: x range from the entry and the lateral bounds (y_min, y_max).
+#[derive(Debug, Clone, Copy)]
+struct Lane {
+    from: f64,
+    to: f64,
+    y: (f64, f64),
+}
+
+/// ISO 3888-2:2011 (obstacle avoidance) for width b: lane 1 (12 m, 1.1 b + 0.25 wide), a 13.5 m gap, lane 3
+/// (11 m, b + 1 wide, its right edge 1 m left of lane 1's left edge), a 12.5 m gap, lane 5 (12 m,
+/// 1.3 b + 0.25 wide, at most 3 m, its right edge in line with lane 1's).
+fn iso_3888_2(b: f64) -> [Lane; 3] {
+    let w1 = 1.1 * b + 0.25;
+    let w3 = b + 1.0;
+    let w5 = (1.3 * b + 0.25).min(3.0);
+    [
+        Lane { from: 0.0, to: 12.0, y: (-0.5 * w1, 0.5 * w1) },
+        Lane { from: 25.5, to: 36.5, y: (0.5 * w1 + 1.0, 0.5 * w1 + 1.0 + w3) },
+        Lane { from: 49.0, to: 61.0, y: (-0.5 * w1, -0.5 * w1 + w5) },
+    ]
+}
+
+/// The driver's path: in each lane a line `PATH_MARGIN_M` inside the edge nearest the next lane (the shortest
+/// lateral travel), joined by smootherstep curves that start `PATH_LEAD_M` before a lane ends and finish
+/// `PATH_LAG_M` after the next begins, as a driver cuts across a gap.
+fn lane_change_path(lanes: &[Lane; 3], entry: f64, half_width: f64) -> super::driver::Path {
+    let inside = half_width + PATH_MARGIN_M;
+    let target = [0.5 * (lanes[0].y.0 + lanes[0].y.1), lanes[1].y.0 + inside, lanes[2].y.1 - inside];
+    let y_at = |x: f64| {
+        let blend = |k: usize| {
+            let (from, to) = (lanes[k].to - PATH_LEAD_M, lanes[k + 1].from + PATH_LAG_M);
+            let tau = ((x - from) / (to - from)).clamp(0.0, 1.0);
+            let s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+            target[k] + s * (target[k + 1] - target[k])
+        };
+        if x < 0.5 * (lanes[1].from + lanes[1].to) {
+            blend(0)
+        } else {
+            blend(1)
+        }
+    };
+    let points = (0..=400).map(|k| -RUN_UP_M - 10.0 + 0.5 * k as f64).map(|x| [entry + x, y_at(x)]).collect();
+    super::driver::Path { points }
+}
+
+/// The driver's line: how far inside a lane edge, how long before a lane's end it starts across, and how far
+/// into the next lane it arrives, m (chosen by hand for this vehicle; docs/manoeuvres.md).
+const PATH_MARGIN_M: f64 = 0.35;
+const PATH_LEAD_M: f64 = 4.0;
+const PATH_LAG_M: f64 = 2.0;
+
+/// ISO 3888-2 double lane change, closed loop: the pure-pursuit driver (`sim::driver`) steers, the speed hold
+/// keeps the entry speed. The footprint checked against the lanes is the four tires' outer edges (track/2 +
+/// half the tire width, at the axles), every sample. Pass: inside every lane throughout.
+fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
+    use super::driver::PurePursuit;
+    let config = SimConfig { initial_speed: v, ..SimConfig::default() };
+    let mut sim = Simulation::new(data.clone(), config)?;
+    let vehicle = sim.vehicle();
+    let gain = vehicle.steering_gain_per_rack_metre().map_err(|e| SimError(e.0))? * vehicle.rack.sign;
+    let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
+    let (front, rear) = (spindle(&data.front), spindle(&data.rear));
+    let com_x = data.chassis.com_m[0];
+    let driver = PurePursuit {
+        preview_time: 0.6,
+        min_preview: 4.0,
+        wheelbase: front[0] - rear[0],
+        steering_gain: gain,
+        rack_limit: data.rack.travel_limit_m,
+        cm_ahead: com_x - rear[0],
+        yaw_rate_gain: 0.3,
+    };
+    let lanes = iso_3888_2(VEHICLE_WIDTH_M);
+    let first = sim.outputs()?;
+    let (x0, y0) = (first.get("x").unwrap_or(0.0), first.get("y").unwrap_or(0.0));
+    let entry = x0 + RUN_UP_M;
+    // Outer tire edges in the chassis frame, relative to the CM: (x, ±y).
+    let half_width = front[1] + 0.5 * TIRE_WIDTH_M;
+    let path = lane_change_path(&lanes, entry, half_width);
+    let corners = [
+        (front[0] - com_x, half_width),
+        (front[0] - com_x, -half_width),
+        (rear[0] - com_x, half_width),
+        (rear[0] - com_x, -half_width),
+    ];
+    let mut clearance = [f64::INFINITY; 3];
+    let mut rows = vec![first];
+    let control = 0.01;
+    let end = entry + lanes[2].to + 10.0;
+    while rows.last().and_then(|o| o.get("x")).unwrap_or(end) < end && rows.len() < 3000 {
+        let o = rows.last().expect("a row");
+        let value = |name: &str| o.get(name).expect("an output");
+        let motion = super::driver::Motion {
+            x: value("x"),
+            y: value("y") - y0,
+            yaw: value("yaw"),
+            speed: value("vx"),
+            yaw_rate: value("yaw_rate"),
+        };
+        let rack = driver.rack(&path, &motion);
+        sim.set_external_rack(super::RackSample { value: rack, first_derivative: None, second_derivative: None });
+        sim.advance(control)?;
+        let o = sim.outputs()?;
+        let (x, y, yaw) = (o.get("x").unwrap(), o.get("y").unwrap() - y0, o.get("yaw").unwrap());
+        for (cx, cy) in corners {
+            let (px, py) = (x + cx * yaw.cos() - cy * yaw.sin() - entry, y + cx * yaw.sin() + cy * yaw.cos());
+            for (k, lane) in lanes.iter().enumerate() {
+                if (lane.from..=lane.to).contains(&px) {
+                    clearance[k] = clearance[k].min(py - lane.y.0).min(lane.y.1 - py);
+                }
+            }
+        }
+        rows.push(o);
+    }
+    let pass = clearance.iter().all(|c| *c >= 0.0);
+    let peak = |name: &str| rows.iter().map(|r| r.get(name).unwrap().abs()).fold(0.0, f64::max);
+    let metrics = vec![
+        Metric {
+            criterion: Some(("inside every lane", pass)),
+            ..metric("smallest clearance to a lane edge", clearance.iter().cloned().fold(f64::INFINITY, f64::min), "m")
+        },
+        metric("clearance in lane 1 (entry)", clearance[0], "m"),
+        metric("clearance in lane 3 (side lane)", clearance[1], "m"),
+        metric("clearance in lane 5 (exit)", clearance[2], "m"),
+        metric("exit speed", rows.last().and_then(|r| r.get("vx")).unwrap_or(f64::NAN) * 3.6, "km/h"),
+        metric("peak lateral acceleration", peak("ay") / data.gravity_m_s2, "g"),
+        metric("peak rack displacement", peak("rack_displacement") * 1e3, "mm"),
+    ];
+    let amplitude = peak("rack_displacement");
+    Ok(Report { manoeuvre: Manoeuvre::DoubleLaneChange, speed: v, amplitude, rows, metrics })
 }
