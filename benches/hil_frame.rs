@@ -12,7 +12,7 @@
 use fmi_sys::fmi2::fmi2Status_fmi2OK;
 use rt_vehicle::fmi::exports::{fmi2GetReal, fmi2SetReal};
 use rt_vehicle::fmi::native::NativeInstance;
-use rt_vehicle::fmi::variables::{vr, Causality, Variable, VARIABLES};
+use rt_vehicle::fmi::variables::{vr, Causality, Variable, DESCRIPTION, VARIABLES};
 use std::time::Instant;
 
 const FRAME: f64 = 1e-3;
@@ -50,7 +50,7 @@ fn frames(outputs: &[u32]) -> Vec<f64> {
 fn main() {
     let all: Vec<u32> = VARIABLES.iter().filter(|v| v.causality == Causality::Output).map(|v| v.vr).collect();
     let pose = ["x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vz", "roll_rate", "pitch_rate", "yaw_rate"];
-    let pose: Vec<u32> = pose.iter().map(|n| Variable::by_name(n).expect("output").vr).collect();
+    let pose: Vec<u32> = pose.iter().map(|n| DESCRIPTION.by_name(n).expect("output").vr).collect();
     println!("1 kHz HIL frame: set rack, fmi2DoStep 1 ms (one RK4 step), get outputs; 20000 frames");
     for (label, outputs) in
         [("every output (47)", &all[..]), ("pose and velocities (12)", &pose[..]), ("none", &[][..])]

@@ -8,7 +8,7 @@ use super::api;
 use super::instance::{times_match, Mode};
 use super::logger;
 use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
-use super::variables::{vr, Causality, Initial, Start, VarType, Variable, GUID, LOG_CATEGORIES, VARIABLES};
+use super::variables::{vr, Causality, Initial, Start, VarType, Variable, DESCRIPTION, GUID, LOG_CATEGORIES, VARIABLES};
 use super::vehicle::VehicleModel;
 use crate::sim::OUTPUT_NAMES;
 use fmi_sys::fmi2::*;
@@ -197,6 +197,12 @@ struct Mock {
 }
 
 impl FmuModel for Mock {
+    type Var = super::variables::Var;
+
+    fn description() -> &'static fmi_layer::variables::Description<Self::Var> {
+        &super::variables::DESCRIPTION
+    }
+
     fn new(_: &ModelContext) -> Self {
         let n = VARIABLES.len();
         Mock {
@@ -253,7 +259,7 @@ impl FmuModel for Mock {
         Ok(())
     }
     fn do_step(&mut self, _t: f64, h: f64, _: &logger::Logger) -> Result<(), StepFailure> {
-        let u = self.reals[Variable::lookup(vr::RACK_DISPLACEMENT, VarType::Real).unwrap().index];
+        let u = self.reals[DESCRIPTION.lookup(vr::RACK_DISPLACEMENT, VarType::Real).unwrap().index];
         if u == 666.0 {
             panic!("mock panic");
         }
@@ -278,7 +284,7 @@ impl FmuModel for Mock {
 #[test]
 fn every_output_name_is_an_output_of_the_model_description() {
     for name in OUTPUT_NAMES.iter().filter(|n| !matches!(**n, "time" | "rack_displacement")) {
-        let var = Variable::by_name(name).unwrap_or_else(|| panic!("output {name} missing from modelDescription.xml"));
+        let var = DESCRIPTION.by_name(name).unwrap_or_else(|| panic!("output {name} missing from modelDescription.xml"));
         assert_eq!(var.causality, Causality::Output, "{name}");
         assert_eq!(var.ty, VarType::Real, "{name}");
         assert_eq!(var.initial, Initial::Calculated, "{name}");
@@ -293,7 +299,7 @@ fn every_output_name_is_an_output_of_the_model_description() {
 #[test]
 fn the_table_matches_the_brief() {
     let expect = |name: &str, c: Causality, start: Start| {
-        let v = Variable::by_name(name).unwrap_or_else(|| panic!("{name} missing"));
+        let v = DESCRIPTION.by_name(name).unwrap_or_else(|| panic!("{name} missing"));
         assert_eq!(v.causality, c, "{name}");
         assert_eq!(v.start, Some(start), "{name}");
     };
@@ -310,8 +316,8 @@ fn the_table_matches_the_brief() {
     expect("slip_model", Causality::Parameter, Start::Integer(1));
     expect("road", Causality::Parameter, Start::Integer(1));
     expect("vehicle_file", Causality::Parameter, Start::String(""));
-    assert_eq!(Variable::by_name("step_cpu_time").unwrap().causality, Causality::Local);
-    assert!(Variable::by_name("time").is_none(), "no independent time variable (libcosim)");
+    assert_eq!(DESCRIPTION.by_name("step_cpu_time").unwrap().causality, Causality::Local);
+    assert!(DESCRIPTION.by_name("time").is_none(), "no independent time variable (libcosim)");
     assert_eq!(LOG_CATEGORIES.len(), 6);
     for v in VARIABLES {
         assert_eq!(super::variables::variable_index(v.vr), Some(v.index));
@@ -964,7 +970,7 @@ fn internal_step_has_a_range() {
     }
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[5e-324]), ERROR);
     assert_eq!(inst.real(vr::INTERNAL_STEP), 1e-6, "the old value is kept");
-    let var = Variable::by_name("internal_step").unwrap();
+    let var = DESCRIPTION.by_name("internal_step").unwrap();
     assert_eq!((var.min, var.max), (Some(1e-6), Some(0.1)), "the model description declares the range");
 }
 
@@ -1129,7 +1135,7 @@ fn check_mode_table<T: Copy + PartialEq + std::fmt::Debug>(table: &crate::sim::m
         .find(|l| l.starts_with(&format!("| `{}` |", table.parameter)))
         .unwrap_or_else(|| panic!("docs/fmu.md has no row for {}", table.parameter));
     assert!(row.contains(&table.describe()), "docs/fmu.md: {row}\nexpected: {}", table.describe());
-    let var = Variable::by_name(table.parameter).unwrap();
+    let var = DESCRIPTION.by_name(table.parameter).unwrap();
     let codes: Vec<i32> = table.choices.iter().map(|c| c.code).collect();
     let (min, max) = (*codes.iter().min().unwrap(), *codes.iter().max().unwrap());
     assert_eq!((var.min, var.max), (Some(min as f64), Some(max as f64)), "{}: model description", table.parameter);
@@ -1208,7 +1214,7 @@ fn the_tolerance_and_contact_parameters_refuse_bad_values_and_keep_the_old_ones(
     for bad in [0, 5] {
         assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[bad]), ERROR, "{bad}");
     }
-    let var = Variable::by_name("tolerance").unwrap();
+    let var = DESCRIPTION.by_name("tolerance").unwrap();
     assert_eq!((var.min, var.max), (Some(crate::sim::TOLERANCE_MIN), Some(crate::sim::TOLERANCE_MAX)));
 }
 

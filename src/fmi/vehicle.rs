@@ -264,6 +264,12 @@ impl VehicleModel {
 }
 
 impl FmuModel for VehicleModel {
+    type Var = super::variables::Var;
+
+    fn description() -> &'static fmi_layer::variables::Description<Self::Var> {
+        &super::variables::DESCRIPTION
+    }
+
     fn new(_context: &ModelContext) -> Self {
         VehicleModel {
             params: Parameters::default(),

@@ -5,7 +5,7 @@
 //! and with finite reals. The model validates ranges and does the work.
 
 use super::logger::Logger;
-use super::variables::Variable;
+use super::variables::{Description, Variable};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -44,25 +44,31 @@ pub enum StepFailure {
 /// A model as the generic FMI layer drives it. `Clone + Serialize + Deserialize`: the whole value is the
 /// FMU state (get/set by clone, serialize by serde_json), so it must hold everything a replay needs.
 pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
+    /// The model's generated `Var` (which input, parameter or local a variable is).
+    type Var: Copy + std::fmt::Debug + 'static;
+
+    /// The model description generated from the FMU's XML (`DESCRIPTION` of its `variables` module).
+    fn description() -> &'static Description<Self::Var>;
+
     /// A model before any start value is applied; the generic layer then sets every input and parameter
     /// to its start value from the model description through the setters below.
     fn new(context: &ModelContext) -> Self;
 
-    fn get_real(&self, var: &Variable) -> Result<f64, String>;
-    fn get_integer(&self, var: &Variable) -> Result<i32, String>;
-    fn get_boolean(&self, var: &Variable) -> Result<bool, String> {
+    fn get_real(&self, var: &Variable<Self::Var>) -> Result<f64, String>;
+    fn get_integer(&self, var: &Variable<Self::Var>) -> Result<i32, String>;
+    fn get_boolean(&self, var: &Variable<Self::Var>) -> Result<bool, String> {
         Err(format!("{} is not a Boolean served by this model", var.name))
     }
-    fn get_string(&self, var: &Variable) -> Result<String, String>;
+    fn get_string(&self, var: &Variable<Self::Var>) -> Result<String, String>;
 
     /// Setters: reject out-of-range values with a message (the old value is then kept).
-    fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String>;
-    fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String>;
-    fn set_boolean(&mut self, var: &Variable, value: bool) -> Result<(), String> {
+    fn set_real(&mut self, var: &Variable<Self::Var>, value: f64) -> Result<(), String>;
+    fn set_integer(&mut self, var: &Variable<Self::Var>, value: i32) -> Result<(), String>;
+    fn set_boolean(&mut self, var: &Variable<Self::Var>, value: bool) -> Result<(), String> {
         let _ = value;
         Err(format!("{} is not a Boolean served by this model", var.name))
     }
-    fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String>;
+    fn set_string(&mut self, var: &Variable<Self::Var>, value: &str) -> Result<(), String>;
 
     /// The tolerance of `fmi2SetupExperiment` (`toleranceDefined = fmi2True`; finite and positive, checked by
     /// the caller). `Ok(message)` is logged; `Err` is the call's fmi2Error (the model keeps what it had).
@@ -72,7 +78,7 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
     }
 
     /// `fmi2SetRealInputDerivatives` for a Real input, order ≥ 1; applies to the next step only.
-    fn set_real_input_derivative(&mut self, var: &Variable, order: i32, value: f64) -> Result<(), String>;
+    fn set_real_input_derivative(&mut self, var: &Variable<Self::Var>, order: i32, value: f64) -> Result<(), String>;
 
     /// Compute the initial state from the parameters (called when leaving initialization mode, and in
     /// initialization mode before calculated values are read after a change). `start_time` is the
@@ -89,7 +95,7 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
     /// model keeps every value current. `Err(Terminate)`: the last step reached a state the model cannot
     /// be evaluated at; the model has undone that step, and the run ends at its start as if it had failed
     /// (fmi2Discard, `fmi2Terminated`). `Err(Error)` or `Err(Refused)`: fmi2Error.
-    fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), StepFailure> {
+    fn refresh(&mut self, var: &Variable<Self::Var>, log: &Logger) -> Result<(), StepFailure> {
         let _ = (var, log);
         Ok(())
     }

@@ -4,7 +4,6 @@
 //! a file name must not make the importer's printf read garbage).
 
 use super::status::Status;
-use super::variables::LOG_CATEGORIES;
 use fmi_sys::fmi2::{fmi2CallbackLogger, fmi2ComponentEnvironment};
 use std::ffi::CString;
 
@@ -30,7 +29,9 @@ pub struct Logger {
     callback: fmi2CallbackLogger,
     environment: fmi2ComponentEnvironment,
     instance_name: CString,
-    /// One flag per entry of `LOG_CATEGORIES`.
+    /// The model's declared log categories.
+    categories: &'static [&'static str],
+    /// One flag per entry of `categories`.
     enabled: Vec<bool>,
 }
 
@@ -42,15 +43,16 @@ impl Logger {
         callback: fmi2CallbackLogger,
         environment: fmi2ComponentEnvironment,
         instance_name: &str,
+        categories: &'static [&'static str],
         logging_on: bool,
     ) -> Logger {
-        let enabled = LOG_CATEGORIES.iter().map(|c| logging_on || !matches!(*c, EVENTS | CALLS)).collect();
-        Logger { callback, environment, instance_name: c_string(instance_name), enabled }
+        let enabled = categories.iter().map(|c| logging_on || !matches!(*c, EVENTS | CALLS)).collect();
+        Logger { callback, environment, instance_name: c_string(instance_name), categories, enabled }
     }
 
     /// A logger that drops everything (tests, and instances created without callbacks).
     pub fn silent() -> Logger {
-        Logger::new(None, std::ptr::null_mut(), "", false)
+        Logger::new(None, std::ptr::null_mut(), "", &[], false)
     }
 
     pub fn instance_name(&self) -> &str {
@@ -59,7 +61,7 @@ impl Logger {
 
     pub fn is_enabled(&self, category: &str) -> bool {
         self.callback.is_some()
-            && LOG_CATEGORIES.iter().position(|c| *c == category).map(|i| self.enabled[i]).unwrap_or(false)
+            && self.categories.iter().position(|c| *c == category).map(|i| self.enabled[i]).unwrap_or(false)
     }
 
     /// `fmi2SetDebugLogging`: `categories` empty means all of them. Unknown names are an error (nothing
@@ -71,12 +73,12 @@ impl Logger {
         }
         let mut indices = Vec::with_capacity(categories.len());
         for c in categories {
-            match LOG_CATEGORIES.iter().position(|k| k == c) {
+            match self.categories.iter().position(|k| k == c) {
                 Some(i) => indices.push(i),
                 None => {
                     return Err(format!(
                         "fmi2SetDebugLogging: unknown log category {c:?} (declared: {})",
-                        LOG_CATEGORIES.join(", ")
+                        self.categories.join(", ")
                     ))
                 }
             }

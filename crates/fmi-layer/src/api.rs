@@ -6,7 +6,6 @@ use super::instance::Instance;
 use super::logger::{self, Logger};
 use super::model::{FmuModel, ModelContext, ResourceLocation};
 use super::status::{Failure, FmiResult, Status};
-use super::variables::{GUID, MODEL_IDENTIFIER};
 use fmi_sys::fmi2::*;
 use std::ffi::CStr;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -201,7 +200,10 @@ pub unsafe fn instantiate<M: FmuModel>(
     let result = catch_unwind(AssertUnwindSafe(|| {
         let Some(functions) = functions.as_ref() else { return std::ptr::null_mut() };
         let name = string(instance_name).unwrap_or("");
-        let logger = Logger::new(functions.logger, functions.componentEnvironment, name, logging_on != 0);
+        let description = M::description();
+        let (guid_expected, model_identifier) = (description.guid, description.model_identifier);
+        let categories = description.log_categories;
+        let logger = Logger::new(functions.logger, functions.componentEnvironment, name, categories, logging_on != 0);
         let fail = |msg: String| {
             logger.log(Status::Error, logger::ERROR, &format!("fmi2Instantiate: {msg}"));
             std::ptr::null_mut()
@@ -210,22 +212,24 @@ pub unsafe fn instantiate<M: FmuModel>(
             return fail("instanceName is NULL".into());
         }
         if fmu_type != fmi2Type_fmi2CoSimulation {
-            return fail(format!("{MODEL_IDENTIFIER} supports Co-Simulation only (fmuType = {fmu_type})"));
+            return fail(format!("{model_identifier} supports Co-Simulation only (fmuType = {fmu_type})"));
         }
         match string(guid) {
-            Some(g) if g == GUID => {}
-            other => return fail(format!("GUID mismatch: the importer passed {other:?}, this binary is {GUID}")),
+            Some(g) if g == guid_expected => {}
+            other => {
+                return fail(format!("GUID mismatch: the importer passed {other:?}, this binary is {guid_expected}"))
+            }
         }
         let resources = parse_resource_location(string(resource_location));
         let context = ModelContext { instance_name: name.to_string(), resources: resources.clone() };
         match Instance::<M>::new(context, logger) {
             Ok(inst) => {
-                inst.logger.event(&format!("instantiated {MODEL_IDENTIFIER} ({GUID}), resources: {resources:?}"));
+                inst.logger.event(&format!("instantiated {model_identifier} ({guid_expected}), resources: {resources:?}"));
                 Box::into_raw(Box::new(inst)) as fmi2Component
             }
             Err(e) => {
                 // The logger moved into the failed construction: report through a fresh one.
-                let logger = Logger::new(functions.logger, functions.componentEnvironment, name, true);
+                let logger = Logger::new(functions.logger, functions.componentEnvironment, name, categories, true);
                 logger.log(Status::Error, logger::ERROR, &format!("fmi2Instantiate: {e}"));
                 std::ptr::null_mut()
             }

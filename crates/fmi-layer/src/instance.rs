@@ -6,7 +6,7 @@
 use super::logger::{self, Logger};
 use super::model::{FmuModel, ModelContext, StepFailure};
 use super::status::{Failure, FmiResult, Status};
-use super::variables::{Causality, Initial, Start, VarType, Variable, GUID, VARIABLES};
+use super::variables::{Causality, Initial, Start, VarType, Variable};
 use serde::{Deserialize, Serialize};
 use std::ffi::{c_void, CString};
 
@@ -242,8 +242,8 @@ impl<M: FmuModel> Instance<M> {
 
     // ---- values ----------------------------------------------------------------------------------
 
-    fn lookup(&self, function: &str, vr: u32, ty: VarType) -> FmiResult<&'static Variable> {
-        Variable::lookup(vr, ty)
+    fn lookup(&self, function: &str, vr: u32, ty: VarType) -> FmiResult<&'static Variable<M::Var>> {
+        M::description().lookup(vr, ty)
             .ok_or_else(|| Failure::error(format!("{function}: unknown value reference {vr} for type {ty:?}")))
     }
 
@@ -319,7 +319,7 @@ impl<M: FmuModel> Instance<M> {
         vrs: &[u32],
         ty: VarType,
         values: &[T],
-        set: impl Fn(&mut M, &Variable, T) -> Result<(), String>,
+        set: impl Fn(&mut M, &Variable<M::Var>, T) -> Result<(), String>,
     ) -> FmiResult {
         for (&vr, &value) in vrs.iter().zip(values) {
             let var = self.lookup(function, vr, ty)?;
@@ -556,7 +556,7 @@ impl<M: FmuModel> Instance<M> {
     pub fn serialize_state(&self, function: &str, handle: *const c_void) -> FmiResult<Vec<u8>> {
         self.require(function, ANY_BUT_FATAL)?;
         let core = self.saved(function, handle)?;
-        serde_json::to_vec(&SerialOut { format: SERIAL_FORMAT, guid: GUID, core })
+        serde_json::to_vec(&SerialOut { format: SERIAL_FORMAT, guid: M::description().guid, core })
             .map_err(|e| Failure::error(format!("{function}: {e}")))
     }
 
@@ -571,10 +571,12 @@ impl<M: FmuModel> Instance<M> {
         let end = bytes.iter().rposition(|&b| b != 0).map_or(0, |i| i + 1);
         let parsed: SerialIn<M> = serde_json::from_slice(&bytes[..end])
             .map_err(|e| Failure::error(format!("{F}: not a serialized state of this FMU: {e}")))?;
-        if parsed.format != SERIAL_FORMAT || parsed.guid != GUID {
+        if parsed.format != SERIAL_FORMAT || parsed.guid != M::description().guid {
             return Err(Failure::error(format!(
-                "{F}: state of format {:?} and guid {:?}, expected {SERIAL_FORMAT:?} and {GUID:?}",
-                parsed.format, parsed.guid
+                "{F}: state of format {:?} and guid {:?}, expected {SERIAL_FORMAT:?} and {:?}",
+                parsed.format,
+                parsed.guid,
+                M::description().guid
             )));
         }
         let mut core = parsed.core;
@@ -627,7 +629,7 @@ impl<M: FmuModel> Core<M> {
 
 fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
     let mut model = M::new(context);
-    for var in VARIABLES.iter().filter(|v| matches!(v.causality, Causality::Input | Causality::Parameter)) {
+    for var in M::description().variables.iter().filter(|v| matches!(v.causality, Causality::Input | Causality::Parameter)) {
         let result = match var.start {
             Some(Start::Real(x)) => model.set_real(var, x),
             Some(Start::Integer(i)) => model.set_integer(var, i),

@@ -1,0 +1,93 @@
+//! A model description's variables, as the generic layer reads them. Each FMU crate generates its table
+//! from its `modelDescription.xml` at build time (`codegen`, called by the crate's `build.rs`): the XML is
+//! the one source of names, value references, causalities, types and start values.
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    Input,
+    Output,
+    Parameter,
+    CalculatedParameter,
+    Local,
+    Independent,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variability {
+    Constant,
+    Fixed,
+    Tunable,
+    Discrete,
+    Continuous,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Initial {
+    Exact,
+    Approx,
+    Calculated,
+    /// No `initial` attribute applies (inputs, independent).
+    None,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VarType {
+    Real,
+    Integer,
+    Boolean,
+    String,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Start {
+    Real(f64),
+    Integer(i32),
+    Boolean(bool),
+    String(&'static str),
+}
+
+/// One ScalarVariable of the model description. `K` is the model's own generated `Var` (which input,
+/// parameter or local this is), so that a model's `match` over its variables is exhaustive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Variable<K: 'static> {
+    /// Position in the description's `variables` (the XML index minus one).
+    pub index: usize,
+    pub name: &'static str,
+    pub vr: u32,
+    pub causality: Causality,
+    pub variability: Variability,
+    pub initial: Initial,
+    pub ty: VarType,
+    pub start: Option<Start>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub unit: Option<&'static str>,
+    /// Which variable this is, for exhaustive matches.
+    pub var: K,
+}
+
+/// What the generic layer needs of a model description (generated from the XML by `codegen`).
+#[derive(Debug)]
+pub struct Description<K: 'static> {
+    /// The `guid` attribute, checked in fmi2Instantiate and in serialized states.
+    pub guid: &'static str,
+    pub model_identifier: &'static str,
+    /// The declared `LogCategories`, in order.
+    pub log_categories: &'static [&'static str],
+    /// Every ScalarVariable, in XML order.
+    pub variables: &'static [Variable<K>],
+    /// The index in `variables` of a value reference (a generated `match`), `None` if unknown.
+    pub index_of: fn(u32) -> Option<usize>,
+}
+
+impl<K> Description<K> {
+    /// Look a variable up by value reference and type (FMI value references are unique per type; ours
+    /// are unique overall, and a reference asked for with the wrong type is an error).
+    pub fn lookup(&self, vr: u32, ty: VarType) -> Option<&'static Variable<K>> {
+        (self.index_of)(vr).map(|i| &self.variables[i]).filter(|v| v.ty == ty)
+    }
+
+    pub fn by_name(&self, name: &str) -> Option<&'static Variable<K>> {
+        self.variables.iter().find(|v| v.name == name)
+    }
+}
