@@ -14,7 +14,7 @@ use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
 use crate::sim::{modes, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The vehicle data file inside the FMU's `resources/`.
 pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
@@ -204,22 +204,7 @@ impl VehicleModel {
     pub fn vehicle_path(&self, context: &ModelContext) -> Result<Option<PathBuf>, String> {
         let file = self.params.vehicle_file.trim();
         if !file.is_empty() {
-            if file.to_ascii_lowercase().starts_with("file:") {
-                return match super::api::parse_resource_location(Some(file)) {
-                    ResourceLocation::Dir(p) => Ok(Some(p)),
-                    _ => Err(format!("vehicle_file {file:?} is not a local file URI")),
-                };
-            }
-            let path = Path::new(file);
-            if path.is_relative() {
-                if let ResourceLocation::Dir(dir) = &context.resources {
-                    let candidate = dir.join(path);
-                    if candidate.exists() {
-                        return Ok(Some(candidate));
-                    }
-                }
-            }
-            return Ok(Some(path.to_path_buf()));
+            return fmi_layer::resources::locate("vehicle_file", file, context).map(Some);
         }
         match &context.resources {
             ResourceLocation::Dir(dir) => Ok(Some(dir.join(VEHICLE_RESOURCE))),
@@ -317,7 +302,7 @@ impl FmuModel for VehicleModel {
                 P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
             ) => return Err(format!("{} is not a Real of this model", var.name)),
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
-            Var::Output => self.output(var)?,
+            Var::Output(_) => self.output(var)?,
         })
     }
 
@@ -342,7 +327,7 @@ impl FmuModel for VehicleModel {
             )
             | Var::Input(_)
             | Var::Local(_)
-            | Var::Output => return Err(format!("{} is not an Integer of this model", var.name)),
+            | Var::Output(_) => return Err(format!("{} is not an Integer of this model", var.name)),
         })
     }
 
@@ -393,7 +378,7 @@ impl FmuModel for VehicleModel {
                 P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
             )
             | Var::Local(_)
-            | Var::Output => return Err(format!("{} is not a settable Real of this model", var.name)),
+            | Var::Output(_) => return Err(format!("{} is not a settable Real of this model", var.name)),
         }
         Ok(())
     }
@@ -419,7 +404,7 @@ impl FmuModel for VehicleModel {
             )
             | Var::Input(_)
             | Var::Local(_)
-            | Var::Output => Err(format!("{} is not a settable Integer of this model", var.name)),
+            | Var::Output(_) => Err(format!("{} is not a settable Integer of this model", var.name)),
         }
     }
 

@@ -226,26 +226,8 @@ impl VehicleData {
     /// Reads a vehicle file: a regular file of at most `MAX_FILE_BYTES` (a FIFO would block the caller, a
     /// device such as /dev/zero would be read until memory runs out: both are refused before opening).
     pub fn from_file(path: &Path) -> Result<VehicleData, DataError> {
-        use std::io::Read as _;
-        let fail = |why: String| err(path.display().to_string(), why);
-        let meta = std::fs::metadata(path).map_err(|e| fail(format!("cannot read the vehicle file: {e}")))?;
-        if !meta.is_file() {
-            return Err(fail("the vehicle file is not a regular file (a directory, FIFO or device)".into()));
-        }
-        if meta.len() > MAX_FILE_BYTES {
-            return Err(fail(format!(
-                "the vehicle file has {} bytes, more than the {MAX_FILE_BYTES} allowed",
-                meta.len()
-            )));
-        }
-        // The size may change between the check and the read: never read more than the limit.
-        let mut text = String::new();
-        std::fs::File::open(path)
-            .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_string(&mut text))
-            .map_err(|e| fail(format!("cannot read the vehicle file: {e}")))?;
-        if text.len() as u64 > MAX_FILE_BYTES {
-            return Err(fail(format!("the vehicle file grew beyond the {MAX_FILE_BYTES} bytes allowed")));
-        }
+        let text = fmi_layer::resources::read_bounded(path, MAX_FILE_BYTES, "the vehicle file")
+            .map_err(|why| err(path.display().to_string(), why))?;
         VehicleData::from_json(&text)
     }
 

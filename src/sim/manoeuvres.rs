@@ -281,92 +281,43 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
     }
 }
 
-/// Vehicle width b of the ISO 3888-2 lane widths, m (HMMWV M1025: 2.16 m).
-pub const VEHICLE_WIDTH_M: f64 = 2.16;
-/// Tire width for the footprint, m (37×12.50R16.5: 12.5 in; the vehicle data has no tire width).
-pub const TIRE_WIDTH_M: f64 = 0.3175;
 /// Run-up from the start to the course's entry, m.
 const RUN_UP_M: f64 = 30.0;
 
-/// One lane section of the course: x range from the entry and the lateral bounds (y_min, y_max).
-#[derive(Debug, Clone, Copy)]
-struct Lane {
-    from: f64,
-    to: f64,
-    y: (f64, f64),
-}
-
-/// ISO 3888-2:2011 (obstacle avoidance) for width b: lane 1 (12 m, 1.1 b + 0.25 wide), a 13.5 m gap, lane 3
-/// (11 m, b + 1 wide, its right edge 1 m left of lane 1's left edge), a 12.5 m gap, lane 5 (12 m,
-/// 1.3 b + 0.25 wide, at most 3 m, its right edge in line with lane 1's).
-fn iso_3888_2(b: f64) -> [Lane; 3] {
-    let w1 = 1.1 * b + 0.25;
-    let w3 = b + 1.0;
-    let w5 = (1.3 * b + 0.25).min(3.0);
-    [
-        Lane { from: 0.0, to: 12.0, y: (-0.5 * w1, 0.5 * w1) },
-        Lane { from: 25.5, to: 36.5, y: (0.5 * w1 + 1.0, 0.5 * w1 + 1.0 + w3) },
-        Lane { from: 49.0, to: 61.0, y: (-0.5 * w1, -0.5 * w1 + w5) },
-    ]
-}
-
-/// The driver's path: in each lane a line `PATH_MARGIN_M` inside the edge nearest the next lane (the shortest
-/// lateral travel), joined by smootherstep curves that start `PATH_LEAD_M` before a lane ends and finish
-/// `PATH_LAG_M` after the next begins, as a driver cuts across a gap.
-fn lane_change_path(lanes: &[Lane; 3], entry: f64, half_width: f64) -> super::driver::Path {
-    let inside = half_width + PATH_MARGIN_M;
-    let target = [0.5 * (lanes[0].y.0 + lanes[0].y.1), lanes[1].y.0 + inside, lanes[2].y.1 - inside];
-    let y_at = |x: f64| {
-        let blend = |k: usize| {
-            let (from, to) = (lanes[k].to - PATH_LEAD_M, lanes[k + 1].from + PATH_LAG_M);
-            let tau = ((x - from) / (to - from)).clamp(0.0, 1.0);
-            let s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
-            target[k] + s * (target[k + 1] - target[k])
-        };
-        if x < 0.5 * (lanes[1].from + lanes[1].to) {
-            blend(0)
-        } else {
-            blend(1)
-        }
-    };
-    let points = (0..=400).map(|k| -RUN_UP_M - 10.0 + 0.5 * k as f64).map(|x| [entry + x, y_at(x)]).collect();
-    super::driver::Path { points }
-}
-
-/// The driver's line: how far inside a lane edge, how long before a lane's end it starts across, and how far
-/// into the next lane it arrives, m (chosen by hand for this vehicle; docs/manoeuvres.md).
-const PATH_MARGIN_M: f64 = 0.35;
-const PATH_LEAD_M: f64 = 4.0;
-const PATH_LAG_M: f64 = 2.0;
-
-/// ISO 3888-2 double lane change, closed loop: the pure-pursuit driver (`sim::driver`) steers, the speed hold
-/// keeps the entry speed. The footprint checked against the lanes is the four tires' outer edges (track/2 +
-/// half the tire width, at the axles), every sample. Pass: inside every lane throughout.
-fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
-    use super::driver::PurePursuit;
-    let config = SimConfig { initial_speed: v, ..SimConfig::default() };
-    let mut sim = Simulation::new(data.clone(), config)?;
-    let vehicle = sim.vehicle();
+/// The pure-pursuit driver of the double lane change, with this vehicle's geometry and steering gain (the
+/// driver FMU's defaults are these values for the HMMWV: tests/manoeuvres.rs checks them).
+pub fn dlc_driver(data: &VehicleData, vehicle: &crate::model::vehicle::Vehicle) -> Result<rtv_driver::PurePursuit, SimError> {
     let gain = vehicle.steering_gain_per_rack_metre().map_err(|e| SimError(e.0))? * vehicle.rack.sign;
     let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear) = (spindle(&data.front), spindle(&data.rear));
-    let com_x = data.chassis.com_m[0];
-    let driver = PurePursuit {
+    Ok(rtv_driver::PurePursuit {
         preview_time: 0.6,
         min_preview: 4.0,
         wheelbase: front[0] - rear[0],
         steering_gain: gain,
         rack_limit: data.rack.travel_limit_m,
-        cm_ahead: com_x - rear[0],
+        cm_ahead: data.chassis.com_m[0] - rear[0],
         yaw_rate_gain: 0.3,
-    };
-    let lanes = iso_3888_2(VEHICLE_WIDTH_M);
+    })
+}
+
+/// ISO 3888-2 double lane change, closed loop: the pure-pursuit driver (`rtv_driver`) steers, the speed hold
+/// keeps the entry speed. The footprint checked against the lanes is the four tires' outer edges (track/2 +
+/// half the tire width, at the axles), every sample. Pass: inside every lane throughout.
+fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
+    use rtv_driver::iso3888::{Course, HMMWV_TIRE_WIDTH_M, HMMWV_WIDTH_M};
+    let config = SimConfig { initial_speed: v, ..SimConfig::default() };
+    let mut sim = Simulation::new(data.clone(), config)?;
+    let driver = dlc_driver(data, sim.vehicle())?;
     let first = sim.outputs()?;
     let (x0, y0) = (first.get("x").unwrap_or(0.0), first.get("y").unwrap_or(0.0));
-    let entry = x0 + RUN_UP_M;
+    let course = Course::new(HMMWV_WIDTH_M, x0 + RUN_UP_M);
     // Outer tire edges in the chassis frame, relative to the CM: (x, ±y).
-    let half_width = front[1] + 0.5 * TIRE_WIDTH_M;
-    let path = lane_change_path(&lanes, entry, half_width);
+    let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
+    let (front, rear, com_x) = (spindle(&data.front), spindle(&data.rear), data.chassis.com_m[0]);
+    let half_width = front[1] + 0.5 * HMMWV_TIRE_WIDTH_M;
+    let end = course.exit() + 10.0;
+    let path = course.driver_line(half_width, v, x0 - 10.0, end + 100.0);
     let corners = [
         (front[0] - com_x, half_width),
         (front[0] - com_x, -half_width),
@@ -376,11 +327,10 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
     let mut clearance = [f64::INFINITY; 3];
     let mut rows = vec![first];
     let control = 0.01;
-    let end = entry + lanes[2].to + 10.0;
     while rows.last().and_then(|o| o.get("x")).unwrap_or(end) < end && rows.len() < 3000 {
         let o = rows.last().expect("a row");
         let value = |name: &str| o.get(name).expect("an output");
-        let motion = super::driver::Motion {
+        let motion = rtv_driver::Motion {
             x: value("x"),
             y: value("y") - y0,
             yaw: value("yaw"),
@@ -392,14 +342,8 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
         sim.advance(control)?;
         let o = sim.outputs()?;
         let (x, y, yaw) = (o.get("x").unwrap(), o.get("y").unwrap() - y0, o.get("yaw").unwrap());
-        for (cx, cy) in corners {
-            let (px, py) = (x + cx * yaw.cos() - cy * yaw.sin() - entry, y + cx * yaw.sin() + cy * yaw.cos());
-            for (k, lane) in lanes.iter().enumerate() {
-                if (lane.from..=lane.to).contains(&px) {
-                    clearance[k] = clearance[k].min(py - lane.y.0).min(lane.y.1 - py);
-                }
-            }
-        }
+        let footprint = corners.map(|(cx, cy)| [x + cx * yaw.cos() - cy * yaw.sin(), y + cx * yaw.sin() + cy * yaw.cos()]);
+        course.update_clearance(&footprint, &mut clearance);
         rows.push(o);
     }
     let pass = clearance.iter().all(|c| *c >= 0.0);

@@ -53,8 +53,8 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
     let mut rows = String::new();
     let mut consts = String::new();
     let mut lookup = String::new();
-    // One variant per input, parameter and local (outputs are served by column): `Var` below.
-    let (mut inputs, mut parameters, mut locals) = (String::new(), String::new(), String::new());
+    // One variant per input, parameter, output and local: `Var` below.
+    let (mut inputs, mut parameters, mut outputs, mut locals) = (String::new(), String::new(), String::new(), String::new());
     let mut vrs = HashSet::new();
     let mut names = HashSet::new();
     for (index, sv) in vars.children().filter(|n| n.has_tag_name("ScalarVariable")).enumerate() {
@@ -121,7 +121,10 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
                 writeln!(locals, "    {variant},").unwrap();
                 format!("Var::Local(Local::{variant})")
             }
-            "output" => "Var::Output".to_string(),
+            "output" => {
+                writeln!(outputs, "    {variant},").unwrap();
+                format!("Var::Output(Output::{variant})")
+            }
             other => return Err(format!("{name}: causality {other} is not served by this FMU's code")),
         };
         writeln!(
@@ -151,9 +154,9 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
     writeln!(code, "pub type Variable = ::fmi_layer::variables::Variable<Var>;").unwrap();
     writeln!(
         code,
-        "/// A variable by role: each input, parameter and local by name; outputs all alike (served by column).\n\
+        "/// A variable by role and name.\n\
          #[derive(Debug, Clone, Copy, PartialEq, Eq)]\npub enum Var {{\n    Input(Input),\n    Parameter(Parameter),\n    \
-         Output,\n    Local(Local),\n}}"
+         Output(Output),\n    Local(Local),\n}}"
     )
     .unwrap();
     writeln!(code, "/// The `guid` attribute of the model description, checked in fmi2Instantiate.").unwrap();
@@ -170,6 +173,8 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
     writeln!(code, "{derive}\npub enum Input {{\n{inputs}}}").unwrap();
     writeln!(code, "/// The parameters, one variant each.").unwrap();
     writeln!(code, "{derive}\npub enum Parameter {{\n{parameters}}}").unwrap();
+    writeln!(code, "/// The outputs, one variant each.").unwrap();
+    writeln!(code, "{derive}\npub enum Output {{\n{outputs}}}").unwrap();
     writeln!(code, "/// The locals, one variant each.").unwrap();
     writeln!(code, "{derive}\npub enum Local {{\n{locals}}}").unwrap();
     writeln!(code, "/// Every ScalarVariable, in XML order (`index` is the XML index minus one).").unwrap();

@@ -16,6 +16,7 @@ mod exports;
 pub mod instance;
 pub mod logger;
 pub mod model;
+pub mod resources;
 pub mod status;
 pub mod variables;
 

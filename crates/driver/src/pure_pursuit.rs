@@ -3,47 +3,14 @@
 //! drivers. It aims the rear axle's circle at the point of the path one preview distance ahead:
 //! δ = atan(2 L sin α / L_d), with α the angle between the heading and that point and L_d = v T_p. The
 //! road-wheel angle is turned into rack travel by the vehicle's steering gain at design, and clamped at the
-//! rack's travel limit. Pure data, so that it can serve a driver FMU as well as the CLI.
+//! rack's travel limit.
 
-/// A path in the ground plane: a polyline of (x, y) points with increasing arc length.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Path {
-    pub points: Vec<[f64; 2]>,
-}
-
-impl Path {
-    /// The point of the path at distance `ahead` beyond the point closest to `p` (the last point beyond
-    /// the end: the driver then aims straight along the last segment's extension).
-    fn look_ahead(&self, p: [f64; 2], ahead: f64) -> [f64; 2] {
-        let pts = &self.points;
-        let (mut best, mut best_d) = (0usize, f64::INFINITY);
-        for (k, q) in pts.iter().enumerate() {
-            let d = (q[0] - p[0]).hypot(q[1] - p[1]);
-            if d < best_d {
-                best = k;
-                best_d = d;
-            }
-        }
-        let mut left = ahead;
-        for k in best..pts.len() - 1 {
-            let (a, b) = (pts[k], pts[k + 1]);
-            let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-            if len >= left {
-                let f = left / len;
-                return [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])];
-            }
-            left -= len;
-        }
-        // Beyond the end: extend the last segment.
-        let (a, b) = (pts[pts.len() - 2], pts[pts.len() - 1]);
-        let len = (b[0] - a[0]).hypot(b[1] - a[1]);
-        [b[0] + left * (b[0] - a[0]) / len, b[1] + left * (b[1] - a[1]) / len]
-    }
-}
+use crate::path::Path;
+use serde::{Deserialize, Serialize};
 
 /// What the driver sees of the vehicle: CM position (x, y) in the ground frame, m; yaw ψ, rad; forward speed,
 /// m/s; yaw rate, rad/s.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Motion {
     pub x: f64,
     pub y: f64,
@@ -53,7 +20,7 @@ pub struct Motion {
 }
 
 /// The driver's constants.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct PurePursuit {
     /// Preview time T_p, s.
     pub preview_time: f64,
@@ -78,7 +45,7 @@ impl PurePursuit {
         let Motion { x, y, yaw, speed, yaw_rate } = *m;
         let rear = [x - self.cm_ahead * yaw.cos(), y - self.cm_ahead * yaw.sin()];
         let preview = (speed.abs() * self.preview_time).max(self.min_preview);
-        let target = path.look_ahead(rear, preview);
+        let target = path.point_at(path.project(rear).s + preview);
         let (dx, dy) = (target[0] - rear[0], target[1] - rear[1]);
         let alpha = dy.atan2(dx) - yaw;
         let distance = dx.hypot(dy).max(1e-6);
@@ -94,7 +61,7 @@ mod tests {
 
     #[test]
     fn on_a_straight_path_it_steers_back_towards_it() {
-        let path = Path { points: vec![[0.0, 0.0], [100.0, 0.0]] };
+        let path = Path::at_speed(vec![[0.0, 0.0], [100.0, 0.0]], 20.0).unwrap();
         let d = PurePursuit {
             preview_time: 0.7,
             min_preview: 3.0,

@@ -1,0 +1,114 @@
+//! The ISO 3888-2:2011 double lane change (obstacle avoidance) and the line a driver takes through it.
+//!
+//! The course, for a vehicle of width b: lane 1 (12 m long, 1.1 b + 0.25 wide), a 13.5 m gap, lane 3 (11 m,
+//! b + 1 wide, its right edge 1 m left of lane 1's left edge), a 12.5 m gap, lane 5 (12 m, 1.3 b + 0.25 wide,
+//! at most 3 m, its right edge in line with lane 1's). Positions are in the ground frame: x along the
+//! approach, y to the left, the course's entry at `entry` and lane 1 centred on y = 0.
+
+use crate::path::Path;
+
+/// Vehicle width b of the lane widths, m (HMMWV M1025: 2.16 m).
+pub const HMMWV_WIDTH_M: f64 = 2.16;
+/// Tire width for the footprint, m (37×12.50R16.5: 12.5 in; the vehicle data has no tire width).
+pub const HMMWV_TIRE_WIDTH_M: f64 = 0.3175;
+
+/// The driver's line: how far inside a lane edge, how long before a lane's end it starts across, and how far
+/// into the next lane it arrives, m (chosen by hand for the HMMWV; docs/manoeuvres.md).
+const PATH_MARGIN_M: f64 = 0.35;
+const PATH_LEAD_M: f64 = 4.0;
+const PATH_LAG_M: f64 = 2.0;
+
+/// One lane section: x range (ground frame) and lateral bounds (y_min, y_max), m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lane {
+    pub from: f64,
+    pub to: f64,
+    pub y: (f64, f64),
+}
+
+/// The three lanes of the course.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Course {
+    pub lanes: [Lane; 3],
+}
+
+impl Course {
+    /// The course for a vehicle of width `b`, its entry at x = `entry`.
+    pub fn new(b: f64, entry: f64) -> Course {
+        let w1 = 1.1 * b + 0.25;
+        let w3 = b + 1.0;
+        let w5 = (1.3 * b + 0.25).min(3.0);
+        let lane = |from: f64, to: f64, y| Lane { from: entry + from, to: entry + to, y };
+        Course {
+            lanes: [
+                lane(0.0, 12.0, (-0.5 * w1, 0.5 * w1)),
+                lane(25.5, 36.5, (0.5 * w1 + 1.0, 0.5 * w1 + 1.0 + w3)),
+                lane(49.0, 61.0, (-0.5 * w1, -0.5 * w1 + w5)),
+            ],
+        }
+    }
+
+    /// Where the course ends (lane 5's exit), m.
+    pub fn exit(&self) -> f64 {
+        self.lanes[2].to
+    }
+
+    /// The driver's line at speed `speed`, from `start` to `end` (x, m): in each lane a line `PATH_MARGIN_M`
+    /// inside the edge nearest the next lane (the shortest lateral travel) for a vehicle whose outer tire
+    /// edges are `half_width` from its centre line, joined by smootherstep curves that start `PATH_LEAD_M`
+    /// before a lane ends and finish `PATH_LAG_M` after the next begins, as a driver cuts across a gap.
+    pub fn driver_line(&self, half_width: f64, speed: f64, start: f64, end: f64) -> Path {
+        let lanes = &self.lanes;
+        let inside = half_width + PATH_MARGIN_M;
+        let target = [0.5 * (lanes[0].y.0 + lanes[0].y.1), lanes[1].y.0 + inside, lanes[2].y.1 - inside];
+        let y_at = |x: f64| {
+            let blend = |k: usize| {
+                let (from, to) = (lanes[k].to - PATH_LEAD_M, lanes[k + 1].from + PATH_LAG_M);
+                let tau = ((x - from) / (to - from)).clamp(0.0, 1.0);
+                let s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+                target[k] + s * (target[k + 1] - target[k])
+            };
+            if x < 0.5 * (lanes[1].from + lanes[1].to) {
+                blend(0)
+            } else {
+                blend(1)
+            }
+        };
+        let n = ((end - start) / 0.5).ceil().max(1.0) as usize;
+        let points = (0..=n).map(|k| start + (end - start) * k as f64 / n as f64).map(|x| [x, y_at(x)]).collect();
+        Path::at_speed(points, speed).expect("a course line has increasing x")
+    }
+
+    /// Lower each lane's clearance in `clearance` (m; negative: a cone is hit) by the points `footprint`
+    /// (ground frame) that lie within the lane's length.
+    pub fn update_clearance(&self, footprint: &[[f64; 2]], clearance: &mut [f64; 3]) {
+        for p in footprint {
+            for (k, lane) in self.lanes.iter().enumerate() {
+                if (lane.from..=lane.to).contains(&p[0]) {
+                    clearance[k] = clearance[k].min(p[1] - lane.y.0).min(lane.y.1 - p[1]);
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn course_dimensions_for_the_hmmwv() {
+        let c = Course::new(HMMWV_WIDTH_M, 30.0);
+        let w = |l: &Lane| l.y.1 - l.y.0;
+        assert!((w(&c.lanes[0]) - 2.626).abs() < 1e-12);
+        assert!((w(&c.lanes[1]) - 3.16).abs() < 1e-12);
+        assert!((w(&c.lanes[2]) - 3.0).abs() < 1e-12, "lane 5 is capped at 3 m");
+        assert_eq!((c.lanes[1].from, c.exit()), (55.5, 91.0));
+        // The line of a point vehicle runs inside every lane (it starts across before a lane ends and cuts
+        // into the next lane's start, so there it comes nearer an edge than the margin).
+        let line = c.driver_line(0.0, 10.0, 0.0, 100.0);
+        let mut clearance = [f64::INFINITY; 3];
+        c.update_clearance(line.points(), &mut clearance);
+        assert!(clearance.iter().all(|&m| m > 0.2), "{clearance:?}");
+    }
+}
