@@ -78,3 +78,44 @@ fn the_closed_loop_driver_takes_the_iso_3888_2_course_at_low_speed() {
     let y: Vec<f64> = column(&slow, "y");
     assert!(y.iter().cloned().fold(f64::MIN, f64::max) - y[0] > 3.0);
 }
+
+/// The driver FMU's defaults (crates/driver-fmu/modelDescription/modelDescription.xml) are the HMMWV's: the
+/// same driver as `rtv manoeuvre double-lane-change`, the vehicle's mass, wheel radius and speed-hold gains;
+/// and the course laid out in the ground frame from the origin matches the vehicle's start there.
+#[test]
+fn the_driver_fmu_defaults_are_this_vehicles() {
+    use rt_vehicle::model::vehicle::Vehicle;
+    use rt_vehicle::sim::{SimConfig, Simulation};
+    let data = VehicleData::default_hmmwv();
+    let vehicle = Vehicle::new(&data).unwrap();
+    let driver = rt_vehicle::sim::manoeuvres::dlc_driver(&data, &vehicle).unwrap();
+    let xml = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/crates/driver-fmu/modelDescription/modelDescription.xml"))
+        .unwrap();
+    let start = |name: &str| -> f64 {
+        let at = xml.find(&format!("name=\"{name}\"")).unwrap_or_else(|| panic!("{name} not in the driver XML"));
+        let rest = &xml[at..];
+        let s = &rest[rest.find("start=\"").unwrap() + 7..];
+        s[..s.find('"').unwrap()].parse().unwrap()
+    };
+    // The XML keeps 7 significant digits: 1e-6 relative.
+    let close = |name: &str, want: f64| {
+        let got = start(name);
+        assert!((got - want).abs() <= 1e-6 * want.abs().max(1e-3), "{name}: XML {got}, vehicle {want}");
+    };
+    close("preview_time", driver.preview_time);
+    close("min_preview", driver.min_preview);
+    close("yaw_rate_gain", driver.yaw_rate_gain);
+    close("wheelbase", driver.wheelbase);
+    close("cm_ahead", driver.cm_ahead);
+    close("steering_gain", driver.steering_gain);
+    close("rack_limit", driver.rack_limit);
+    close("vehicle_mass", vehicle.total_mass);
+    close("wheel_radius", vehicle.tire.unloaded_radius_m);
+    close("speed_kp", data.speed_hold.kp_per_s);
+    close("speed_ki", data.speed_hold.ki_per_s2);
+    let half_track = data.front.hardpoints_chassis_frame_m["SPINDLE"][1];
+    assert!((half_track - rtv_driver::iso3888::HMMWV_HALF_TRACK_M).abs() < 1e-6);
+    let mut sim = Simulation::new(data.clone(), SimConfig::default()).unwrap();
+    let o = sim.outputs().unwrap();
+    assert_eq!((o.get("x"), o.get("y")), (Some(0.0), Some(0.0)), "the course assumes the CM starts at the origin");
+}

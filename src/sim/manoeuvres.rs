@@ -281,9 +281,6 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
     }
 }
 
-/// Run-up from the start to the course's entry, m.
-const RUN_UP_M: f64 = 30.0;
-
 /// The pure-pursuit driver of the double lane change, with this vehicle's geometry and steering gain (the
 /// driver FMU's defaults are these values for the HMMWV: tests/manoeuvres.rs checks them).
 pub fn dlc_driver(data: &VehicleData, vehicle: &crate::model::vehicle::Vehicle) -> Result<rtv_driver::PurePursuit, SimError> {
@@ -305,19 +302,18 @@ pub fn dlc_driver(data: &VehicleData, vehicle: &crate::model::vehicle::Vehicle) 
 /// keeps the entry speed. The footprint checked against the lanes is the four tires' outer edges (track/2 +
 /// half the tire width, at the axles), every sample. Pass: inside every lane throughout.
 fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
-    use rtv_driver::iso3888::{Course, HMMWV_TIRE_WIDTH_M, HMMWV_WIDTH_M};
+    use rtv_driver::iso3888::{hmmwv_course_and_line, HMMWV_TIRE_WIDTH_M};
     let config = SimConfig { initial_speed: v, ..SimConfig::default() };
     let mut sim = Simulation::new(data.clone(), config)?;
     let driver = dlc_driver(data, sim.vehicle())?;
     let first = sim.outputs()?;
-    let (x0, y0) = (first.get("x").unwrap_or(0.0), first.get("y").unwrap_or(0.0));
-    let course = Course::new(HMMWV_WIDTH_M, x0 + RUN_UP_M);
+    // The course is laid out from the CM's start at the origin (tests/manoeuvres.rs checks it starts there).
+    let (course, path) = hmmwv_course_and_line(v);
     // Outer tire edges in the chassis frame, relative to the CM: (x, ±y).
     let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear, com_x) = (spindle(&data.front), spindle(&data.rear), data.chassis.com_m[0]);
     let half_width = front[1] + 0.5 * HMMWV_TIRE_WIDTH_M;
     let end = course.exit() + 10.0;
-    let path = course.driver_line(half_width, v, x0 - 10.0, end + 100.0);
     let corners = [
         (front[0] - com_x, half_width),
         (front[0] - com_x, -half_width),
@@ -332,7 +328,7 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
         let value = |name: &str| o.get(name).expect("an output");
         let motion = rtv_driver::Motion {
             x: value("x"),
-            y: value("y") - y0,
+            y: value("y"),
             yaw: value("yaw"),
             speed: value("vx"),
             yaw_rate: value("yaw_rate"),
@@ -341,7 +337,7 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
         sim.set_external_rack(super::RackSample { value: rack, first_derivative: None, second_derivative: None });
         sim.advance(control)?;
         let o = sim.outputs()?;
-        let (x, y, yaw) = (o.get("x").unwrap(), o.get("y").unwrap() - y0, o.get("yaw").unwrap());
+        let (x, y, yaw) = (o.get("x").unwrap(), o.get("y").unwrap(), o.get("yaw").unwrap());
         let footprint = corners.map(|(cx, cy)| [x + cx * yaw.cos() - cy * yaw.sin(), y + cx * yaw.sin() + cy * yaw.cos()]);
         course.update_clearance(&footprint, &mut clearance);
         rows.push(o);

@@ -12,6 +12,25 @@ pub const HMMWV_WIDTH_M: f64 = 2.16;
 /// Tire width for the footprint, m (37×12.50R16.5: 12.5 in; the vehicle data has no tire width).
 pub const HMMWV_TIRE_WIDTH_M: f64 = 0.3175;
 
+/// Half the HMMWV's front track, m (the spindle's lateral position; rt-vehicle's tests check it against the
+/// vehicle data).
+pub const HMMWV_HALF_TRACK_M: f64 = 0.909701;
+/// Run-up from the start (the vehicle's CM at x = 0, y = 0) to the course's entry, m.
+pub const RUN_UP_M: f64 = 30.0;
+/// The HMMWV's entry speed of the double lane change as a system of FMUs (`target/ssp/DoubleLaneChange.ssp`):
+/// the highest of 30..80 km/h in 5 km/h steps at which `rtv manoeuvre double-lane-change` passes.
+pub const SSP_ENTRY_SPEED_KMH: f64 = 40.0;
+
+/// The course and the driver's line of the HMMWV, run up from x = 0 at `speed`, m/s: what `rtv manoeuvre
+/// double-lane-change` drives and what the driver FMU follows in the SSP. The line runs 100 m past where the
+/// manoeuvre ends (10 m after the course's exit), so that the driver's preview stays on it.
+pub fn hmmwv_course_and_line(speed: f64) -> (Course, Path) {
+    let course = Course::new(HMMWV_WIDTH_M, RUN_UP_M);
+    let half_width = HMMWV_HALF_TRACK_M + 0.5 * HMMWV_TIRE_WIDTH_M;
+    let line = course.driver_line(half_width, speed, -10.0, course.exit() + 110.0);
+    (course, line)
+}
+
 /// The driver's line: how far inside a lane edge, how long before a lane's end it starts across, and how far
 /// into the next lane it arrives, m (chosen by hand for the HMMWV; docs/manoeuvres.md).
 const PATH_MARGIN_M: f64 = 0.35;
