@@ -1,4 +1,10 @@
-//! Builds `target/fmu/RtVehicle.fmu`: a portable linux64 build of the root crate's library, then a zip with
+//! Builds the project's FMUs and its system:
+//!
+//! - `target/fmu/RtVehicle.fmu`, the vehicle (the root crate's library);
+//! - `target/fmu/RtDriver.fmu`, the driver (`crates/driver-fmu`), with the ISO 3888-2 line as its default path;
+//! - `target/ssp/DoubleLaneChange.ssp`, the two connected for the double lane change (`ssp.rs`).
+//!
+//! Each FMU is a portable linux64 build of its library, then a zip with (for the vehicle)
 //!
 //! ```text
 //! modelDescription.xml
@@ -8,14 +14,14 @@
 //! documentation/index.html           (generated from the model description)
 //! ```
 //!
-//! The linux64 library is built with `cargo zigbuild --release --lib -p rt-vehicle --target
+//! The linux64 libraries are built with `cargo zigbuild --release --lib -p rt-vehicle -p rtv-driver-fmu --target
 //! x86_64-unknown-linux-gnu.2.17`: zig links it against glibc 2.17 symbol versions, so the FMU loads on any
 //! x86-64 Linux with glibc ≥ 2.17 (RHEL/CentOS 7 and newer), not only on machines as new as the build host.
 //! cargo-zigbuild and zig (PyPI's ziglang) come from the project's venv `.venv` (`bash scripts/setup.sh`).
 //!
 //! Usage: `cargo run --release -p packaging [-- [--no-build] [--binary PLATFORM=PATH]...]`
-//! (`--no-build` packages the existing library; `--binary win64=RtVehicle.dll` adds another platform's
-//! prebuilt binary, e.g. one built on Windows, to make a multi-platform FMU).
+//! (`--no-build` packages the existing libraries; `--binary win64=RtVehicle.dll` adds another platform's
+//! prebuilt vehicle binary, e.g. one built on Windows, to make a multi-platform vehicle FMU).
 
 use std::ffi::OsString;
 use std::fmt::Write as _;
@@ -24,8 +30,6 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 use zip::write::SimpleFileOptions;
-
-const LIB_STEM: &str = "rt_vehicle";
 
 /// The Rust target of the linux64 binary: x86-64 Linux, glibc symbol versions no newer than 2.17 (the
 /// manylinux2014 floor; Rust's standard library supports 2.17). cargo-zigbuild strips the `.2.17` suffix for
@@ -43,10 +47,14 @@ const FMI_PLATFORMS: [(&str, &str); 6] = [
     ("darwin64", "dylib"),
 ];
 
+mod ssp;
+
 fn main() -> ExitCode {
     match run() {
-        Ok(path) => {
-            println!("wrote {}", path.display());
+        Ok(paths) => {
+            for path in paths {
+                println!("wrote {}", path.display());
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -153,7 +161,7 @@ fn build_portable(root: &Path, target: &Path) -> Result<(), String> {
         path.push(p);
     }
     let status = Command::new(&zigbuild)
-        .args(["zigbuild", "--release", "--lib", "-p", "rt-vehicle", "--target", PORTABLE_TARGET])
+        .args(["zigbuild", "--release", "--lib", "-p", "rt-vehicle", "-p", "rtv-driver-fmu", "--target", PORTABLE_TARGET])
         .arg("--manifest-path")
         .arg(root.join("Cargo.toml"))
         .arg("--target-dir")
@@ -174,23 +182,62 @@ fn build_portable(root: &Path, target: &Path) -> Result<(), String> {
     Ok(())
 }
 
-fn run() -> Result<PathBuf, String> {
+/// One FMU to package: its model description, its library's file stem, its resources and its documentation.
+struct FmuSource {
+    xml: PathBuf,
+    lib_stem: &'static str,
+    /// (name under resources/, contents)
+    resources: Vec<(String, Vec<u8>)>,
+    doc: &'static DocText,
+}
+
+fn run() -> Result<Vec<PathBuf>, String> {
     let root = root();
     let options = parse_args(std::env::args().skip(1))?;
     let target = target_dir(&root);
     if options.build {
         build_portable(&root, &target)?;
     }
-    let xml_path = root.join("modelDescription/modelDescription.xml");
-    let xml = std::fs::read_to_string(&xml_path).map_err(|e| format!("{}: {e}", xml_path.display()))?;
-    let md = ModelDescription::parse(&xml)?;
+    let mut vehicle_resources = Vec::new();
+    let mut files = Vec::new();
+    collect_files(&root.join("resources"), Path::new(""), &mut files)?;
+    files.sort();
+    for rel in &files {
+        let data = std::fs::read(root.join("resources").join(rel)).map_err(|e| format!("{}: {e}", rel.display()))?;
+        // Zip names use '/' on every platform.
+        let name = rel.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/");
+        vehicle_resources.push((name, data));
+    }
+    let vehicle = FmuSource {
+        xml: root.join("modelDescription/modelDescription.xml"),
+        lib_stem: "rt_vehicle",
+        resources: vehicle_resources,
+        doc: &VEHICLE_DOC,
+    };
+    let (_, line) = rtv_driver::iso3888::hmmwv_course_and_line(ssp::ENTRY_SPEED_M_S);
+    let driver = FmuSource {
+        xml: root.join("crates/driver-fmu/modelDescription/modelDescription.xml"),
+        lib_stem: "rtv_driver_fmu",
+        resources: vec![("double_lane_change.csv".to_string(), line.to_csv().into_bytes())],
+        doc: &DRIVER_DOC,
+    };
+    let vehicle_fmu = package(&target, &vehicle, &options.binaries)?;
+    let driver_fmu = package(&target, &driver, &[])?;
+    let system = ssp::write(&target.join("ssp"), &vehicle_fmu, &driver_fmu)?;
+    Ok(vec![vehicle_fmu, driver_fmu, system])
+}
 
-    let lib = target.join(PORTABLE_TARGET_DIR).join("release").join(format!("lib{LIB_STEM}.so"));
+/// Writes `target/fmu/<modelIdentifier>.fmu` from `fmu`'s linux64 library (built by `build_portable`) and
+/// any prebuilt `binaries` of other platforms.
+fn package(target: &Path, fmu: &FmuSource, binaries_given: &[(String, PathBuf)]) -> Result<PathBuf, String> {
+    let xml = std::fs::read_to_string(&fmu.xml).map_err(|e| format!("{}: {e}", fmu.xml.display()))?;
+    let md = ModelDescription::parse(&xml)?;
+    let lib = target.join(PORTABLE_TARGET_DIR).join("release").join(format!("lib{}.so", fmu.lib_stem));
     let linux64 = std::fs::read(&lib).map_err(|e| {
         format!("{}: {e} (build it with `cargo run --release -p packaging`, without --no-build)", lib.display())
     })?;
     let mut binaries = vec![("linux64".to_string(), "so", linux64)];
-    for (platform, path) in &options.binaries {
+    for (platform, path) in binaries_given {
         let ext = FMI_PLATFORMS.iter().find(|(p, _)| p == platform).expect("checked by parse_binary").1;
         let data = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
         binaries.push((platform.clone(), ext, data));
@@ -199,32 +246,34 @@ fn run() -> Result<PathBuf, String> {
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
     let fmu_path = out_dir.join(format!("{}.fmu", md.model_identifier));
-    let tmp_path = out_dir.join(format!(".{}.fmu.tmp", md.model_identifier));
+    let mut entries: Vec<(String, Vec<u8>, u32)> = vec![("modelDescription.xml".into(), xml.clone().into_bytes(), 0o644)];
+    for (platform, ext, data) in binaries.iter() {
+        entries.push((format!("binaries/{platform}/{}.{ext}", md.model_identifier), data.clone(), 0o755));
+    }
+    for (name, data) in &fmu.resources {
+        entries.push((format!("resources/{name}"), data.clone(), 0o644));
+    }
+    let names: Vec<&str> = fmu.resources.iter().map(|(n, _)| n.as_str()).collect();
+    let platforms: Vec<&str> = binaries.iter().map(|(p, _, _)| p.as_str()).collect();
+    let doc = documentation(&md, &names, &platforms, fmu.doc);
+    entries.push(("documentation/index.html".into(), doc.into_bytes(), 0o644));
+    write_zip(&fmu_path, &entries)?;
+    Ok(fmu_path)
+}
+
+/// Writes a zip of `entries` (name, contents, unix mode) to `path`, through a temporary file so that a
+/// failure never leaves a half-written archive under the final name.
+fn write_zip(path: &Path, entries: &[(String, Vec<u8>, u32)]) -> Result<(), String> {
+    let tmp_path = path.with_extension("tmp");
     let file = File::create(&tmp_path).map_err(|e| format!("{}: {e}", tmp_path.display()))?;
     let mut zip = zip::ZipWriter::new(file);
     let deflate = SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
-    let mut add = |name: &str, data: &[u8], mode: u32| -> Result<(), String> {
-        zip.start_file(name, deflate.unix_permissions(mode)).map_err(|e| format!("{name}: {e}"))?;
-        zip.write_all(data).map_err(|e| format!("{name}: {e}"))
-    };
-    add("modelDescription.xml", xml.as_bytes(), 0o644)?;
-    for (platform, ext, data) in &binaries {
-        add(&format!("binaries/{platform}/{}.{ext}", md.model_identifier), data, 0o755)?;
+    for (name, data, mode) in entries {
+        zip.start_file(name.as_str(), deflate.unix_permissions(*mode)).map_err(|e| format!("{name}: {e}"))?;
+        zip.write_all(data).map_err(|e| format!("{name}: {e}"))?;
     }
-    let mut resources = Vec::new();
-    collect_files(&root.join("resources"), Path::new(""), &mut resources)?;
-    resources.sort();
-    for rel in &resources {
-        let data = std::fs::read(root.join("resources").join(rel)).map_err(|e| format!("{}: {e}", rel.display()))?;
-        // Zip names use '/' on every platform.
-        let name = rel.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/");
-        add(&format!("resources/{name}"), &data, 0o644)?;
-    }
-    let platforms: Vec<&str> = binaries.iter().map(|(p, _, _)| p.as_str()).collect();
-    add("documentation/index.html", documentation(&md, &resources, &platforms).as_bytes(), 0o644)?;
     zip.finish().map_err(|e| format!("zip: {e}"))?;
-    std::fs::rename(&tmp_path, &fmu_path).map_err(|e| format!("{}: {e}", fmu_path.display()))?;
-    Ok(fmu_path)
+    std::fs::rename(&tmp_path, path).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn collect_files(base: &Path, rel: &Path, out: &mut Vec<PathBuf>) -> Result<(), String> {
@@ -339,7 +388,101 @@ fn esc(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
-fn documentation(md: &ModelDescription, resources: &[PathBuf], platforms: &[&str]) -> String {
+/// The model-specific parts of an FMU's documentation page (HTML).
+struct DocText {
+    /// What the model is (after the header).
+    about: &'static str,
+    /// How to use it (after the variables).
+    usage: &'static str,
+    /// A note on its resource files.
+    files: &'static str,
+}
+
+const VEHICLE_DOC: DocText = DocText {
+    about: r#"<h2>The model</h2>
+<p>A real-time multibody model of the HMMWV after Oh &amp; Kim (KSME Trans. A, 2001): a chassis, four SLA (double
+wishbone) suspension subsystems and a kinematically driven steering rack (14 degrees of freedom), with STI tires on
+a flat road or the paper's bump course. The equations of motion are solved by the subsystem synthesis method
+(generalized coordinate partitioning per subsystem), or, as a cross-check, by the conventional recursive
+formulation (one dense 42&times;42 system). Time integration: RK4 (default), AB3 with an RK4 start, or Dormand&ndash;Prince 5(4) with error control (<code>integrator</code> = 4, taking the experiment's tolerance), in equal
+internal sub-steps no larger than <code>internal_step</code>: a communication step H is split into
+n = max(1, &lceil;H/h<sub>max</sub> &minus; 10<sup>&minus;9</sup>&rceil;) sub-steps of H/n, so any communication step
+(shorter than, or not a multiple of, the internal step) ends exactly at the communication point.</p>
+<p>Axes follow ISO 8855 (x forward, y left, z up). Units are SI. The run starts from the static equilibrium at
+<code>initial_speed</code>, in steady rolling. With <code>speed_mode</code> = 2 a PI drive torque holds the initial
+speed; the inputs <code>drive_torque_*</code> and <code>brake_torque_*</code> add to it.</p>
+<p>The steering input is the rack displacement (left turn positive). The FMU interpolates it within a step with the
+input derivatives of order 1 and 2 set by <code>fmi2SetRealInputDerivatives</code> (e.g. fmpy's
+<code>set_input_derivatives=True</code>); without them it ramps linearly from the previous value to the new one
+over the step (a documented one-step lag, but no jump). Derivatives apply to the next <code>fmi2DoStep</code>
+only. Wheel torques are held constant over a step.</p>"#,
+    usage: r#"<h2>Scenes</h2>
+<ul>
+<li><b>J-turn</b> (ISO 7401-like step steer): 100 km/h, speed hold, rack s(t) = A&middot;S((t &minus; 3.0)/0.1) with the
+smootherstep S(&tau;) = 10&tau;<sup>3</sup> &minus; 15&tau;<sup>4</sup> + 6&tau;<sup>5</sup> on [0, 1], A calibrated for a steady
+lateral acceleration of 0.4 g (<code>resources/calibration.json</code>, key <code>jturn_amplitude_m</code>, when present).
+Watch <code>ay</code> and <code>yaw_rate</code>.</li>
+<li><b>Bump run</b>: <code>road</code> = 2, <code>initial_speed</code> = 10/3.6 m/s, no steering: the left wheels cross
+half-sine bumps (0.5 m long, 0.05 m high) at 10 m and 14 m, the right wheels at 11 m and 15 m. Watch <code>roll_rate</code>,
+<code>az</code> and <code>wheel_z_*</code> minus their initial values.</li>
+<li><b>Sine steer</b>: <code>initial_speed</code> = 60/3.6 m/s, two single-sine rack inputs of period 2 s (a lane change out
+and back). Watch <code>roll_rate</code>, <code>yaw_rate</code>, <code>x</code>, <code>y</code>.</li>
+</ul>
+
+<h2>Driving it from fmpy</h2>
+<pre>import numpy as np
+from fmpy import simulate_fmu
+
+def smootherstep(tau):
+    tau = np.clip(tau, 0.0, 1.0)
+    return tau**3 * (10 - 15 * tau + 6 * tau**2)
+
+t = np.arange(0.0, 8.0 + 1e-9, 0.01)
+rack = 0.003 * smootherstep((t - 3.0) / 0.1)          # m, left turn positive
+# fmpy needs every continuous input in the table when set_input_derivatives=True (torques: zero)
+inputs = ["rack_displacement"] + [f"{k}_torque_{c}" for k in ("drive", "brake") for c in ("fl", "fr", "rl", "rr")]
+signals = np.zeros(len(t), dtype=[("time", float)] + [(n, float) for n in inputs])
+signals["time"], signals["rack_displacement"] = t, rack
+
+result = simulate_fmu("RtVehicle.fmu", start_time=0.0, stop_time=8.0, output_interval=0.01,
+                      input=signals, set_input_derivatives=True,
+                      start_values={"initial_speed": 100 / 3.6, "speed_mode": 2},
+                      output=["ay", "yaw_rate", "roll_rate"])
+print(result["ay"][-1] / 9.80665, "g")</pre>
+<p>With fmpy's low-level API (<code>fmpy.fmi2.FMU2Slave</code>) call <code>setReal</code> for the inputs and
+<code>setRealInputDerivatives([vr], [1], [ds/dt])</code> (and order 2) before each <code>doStep</code>. A step that
+diverges returns <code>fmi2Discard</code> with <code>fmi2GetBooleanStatus(fmi2Terminated)</code> = true and
+<code>fmi2GetRealStatus(fmi2LastSuccessfulTime)</code> at the last good point; fmpy's <code>simulate_fmu</code> then
+stops the run cleanly. The outputs keep their last good values (never NaN).</p>"#,
+    files: "<p>The vehicle data are read from <code>resources/hmmwv.json</code> unless the parameter <code>vehicle_file</code> \
+            names another file (absolute, or relative to <code>resources/</code>).</p>",
+};
+
+const DRIVER_DOC: DocText = DocText {
+    about: r#"<h2>The model</h2>
+<p>A path-following test driver for the RtVehicle FMU. Lateral: pure pursuit (Coulter 1992) on the rack, aiming the
+rear axle at the point of the path one preview distance ahead (L<sub>d</sub> = max(v T<sub>p</sub>, min_preview)),
+&delta; = atan(L &kappa;) + K<sub>r</sub>(v &kappa; &minus; r), rack = &delta; / steering_gain, clamped at &plusmn;rack_limit.
+Longitudinal: T = m R<sub>0</sub> [k<sub>p</sub>(V* &minus; V) + k<sub>i</sub> z], &zdot; = V* &minus; V (held while the
+torque is at a limit); a positive T drives the four wheels equally, a negative one brakes them equally. V* is the path
+file's speed at the vehicle's nearest point of the path.</p>
+<p>The path and its speed profile come from the CSV file named by <code>path_file</code> (columns <code>x</code>,
+<code>y</code> in m in the vehicle FMU's ground frame, <code>v</code> in m/s). Beyond the path's end the driver follows
+the last segment's extension at the last speed: straight steering, speed held, no error.</p>
+<p>Inputs and outputs carry the names of the vehicle FMU's outputs and inputs they connect to. The outputs are
+computed from the inputs when read (direct feedthrough); a step advances the speed integral with the inputs held.
+The defaults of the vehicle constants are the HMMWV of the RtVehicle FMU.</p>
+"#,
+    usage: r#"<h2>In a system</h2>
+<p><code>DoubleLaneChange.ssp</code> (built beside this FMU) connects it to RtVehicle for the ISO 3888-2 double lane
+change: vehicle <code>x, y, yaw, vx, yaw_rate</code> &rarr; driver; driver <code>rack_displacement, drive_torque_*,
+brake_torque_*</code> &rarr; vehicle, 10 ms communication steps.</p>
+"#,
+    files: "<p>The default path, <code>resources/double_lane_change.csv</code>, is the ISO 3888-2 line of the SSP's \
+            manoeuvre. <code>path_file</code> names another file (absolute, or relative to <code>resources/</code>).</p>",
+};
+
+fn documentation(md: &ModelDescription, resources: &[&str], platforms: &[&str], text: &DocText) -> String {
     let mut h = String::new();
     let title = esc(&md.model_name);
     writeln!(
@@ -355,24 +498,7 @@ th {{ background: #eee; }} code, pre {{ background: #f4f4f4; }} pre {{ padding: 
 <p>{desc}</p>
 <p>Version {version}, GUID <code>{guid}</code>, model identifier <code>{id}</code>. Default experiment: {de}.</p>
 
-<h2>The model</h2>
-<p>A real-time multibody model of the HMMWV after Oh &amp; Kim (KSME Trans. A, 2001): a chassis, four SLA (double
-wishbone) suspension subsystems and a kinematically driven steering rack (14 degrees of freedom), with STI tires on
-a flat road or the paper's bump course. The equations of motion are solved by the subsystem synthesis method
-(generalized coordinate partitioning per subsystem), or, as a cross-check, by the conventional recursive
-formulation (one dense 42&times;42 system). Time integration: RK4 (default), AB3 with an RK4 start, or ROS2 (linearly implicit), in equal
-internal sub-steps no larger than <code>internal_step</code>: a communication step H is split into
-n = max(1, &lceil;H/h<sub>max</sub> &minus; 10<sup>&minus;9</sup>&rceil;) sub-steps of H/n, so any communication step
-(shorter than, or not a multiple of, the internal step) ends exactly at the communication point.</p>
-<p>Axes follow ISO 8855 (x forward, y left, z up). Units are SI. The run starts from the static equilibrium at
-<code>initial_speed</code>, in steady rolling. With <code>speed_mode</code> = 2 a PI drive torque holds the initial
-speed; the inputs <code>drive_torque_*</code> and <code>brake_torque_*</code> add to it.</p>
-<p>The steering input is the rack displacement (left turn positive). The FMU interpolates it within a step with the
-input derivatives of order 1 and 2 set by <code>fmi2SetRealInputDerivatives</code> (e.g. fmpy's
-<code>set_input_derivatives=True</code>); without them it ramps linearly from the previous value to the new one
-over the step (a documented one-step lag, but no jump). Derivatives apply to the next <code>fmi2DoStep</code>
-only. Wheel torques are held constant over a step.</p>
-
+{about}
 <h2>Capabilities</h2>
 <table><tr><th>attribute</th><th>value</th></tr>"#,
         desc = esc(&md.description),
@@ -380,6 +506,7 @@ only. Wheel torques are held constant over a step.</p>
         guid = esc(&md.guid),
         id = esc(&md.model_identifier),
         de = esc(&md.default_experiment),
+        about = text.about,
     )
     .unwrap();
     for (k, v) in &md.capabilities {
@@ -421,47 +548,10 @@ only. Wheel torques are held constant over a step.</p>
 
     writeln!(
         h,
-        r#"<h2>Scenes</h2>
-<ul>
-<li><b>J-turn</b> (ISO 7401-like step steer): 100 km/h, speed hold, rack s(t) = A&middot;S((t &minus; 3.0)/0.1) with the
-smootherstep S(&tau;) = 10&tau;<sup>3</sup> &minus; 15&tau;<sup>4</sup> + 6&tau;<sup>5</sup> on [0, 1], A calibrated for a steady
-lateral acceleration of 0.4 g (<code>resources/calibration.json</code>, key <code>jturn_amplitude_m</code>, when present).
-Watch <code>ay</code> and <code>yaw_rate</code>.</li>
-<li><b>Bump run</b>: <code>road</code> = 2, <code>initial_speed</code> = 10/3.6 m/s, no steering: the left wheels cross
-half-sine bumps (0.5 m long, 0.05 m high) at 10 m and 14 m, the right wheels at 11 m and 15 m. Watch <code>roll_rate</code>,
-<code>az</code> and <code>wheel_z_*</code> minus their initial values.</li>
-<li><b>Sine steer</b>: <code>initial_speed</code> = 60/3.6 m/s, two single-sine rack inputs of period 2 s (a lane change out
-and back). Watch <code>roll_rate</code>, <code>yaw_rate</code>, <code>x</code>, <code>y</code>.</li>
-</ul>
-
-<h2>Driving it from fmpy</h2>
-<pre>import numpy as np
-from fmpy import simulate_fmu
-
-def smootherstep(tau):
-    tau = np.clip(tau, 0.0, 1.0)
-    return tau**3 * (10 - 15 * tau + 6 * tau**2)
-
-t = np.arange(0.0, 8.0 + 1e-9, 0.01)
-rack = 0.003 * smootherstep((t - 3.0) / 0.1)          # m, left turn positive
-# fmpy needs every continuous input in the table when set_input_derivatives=True (torques: zero)
-inputs = ["rack_displacement"] + [f"{{k}}_torque_{{c}}" for k in ("drive", "brake") for c in ("fl", "fr", "rl", "rr")]
-signals = np.zeros(len(t), dtype=[("time", float)] + [(n, float) for n in inputs])
-signals["time"], signals["rack_displacement"] = t, rack
-
-result = simulate_fmu("RtVehicle.fmu", start_time=0.0, stop_time=8.0, output_interval=0.01,
-                      input=signals, set_input_derivatives=True,
-                      start_values={{"initial_speed": 100 / 3.6, "speed_mode": 2}},
-                      output=["ay", "yaw_rate", "roll_rate"])
-print(result["ay"][-1] / 9.80665, "g")</pre>
-<p>With fmpy's low-level API (<code>fmpy.fmi2.FMU2Slave</code>) call <code>setReal</code> for the inputs and
-<code>setRealInputDerivatives([vr], [1], [ds/dt])</code> (and order 2) before each <code>doStep</code>. A step that
-diverges returns <code>fmi2Discard</code> with <code>fmi2GetBooleanStatus(fmi2Terminated)</code> = true and
-<code>fmi2GetRealStatus(fmi2LastSuccessfulTime)</code> at the last good point; fmpy's <code>simulate_fmu</code> then
-stops the run cleanly. The outputs keep their last good values (never NaN).</p>
-
+        r#"{usage}
 <h2>Logging</h2>
-<table><tr><th>category</th><th>description</th></tr>"#
+<table><tr><th>category</th><th>description</th></tr>"#,
+        usage = text.usage,
     )
     .unwrap();
     for (k, v) in &md.categories {
@@ -471,14 +561,9 @@ stops the run cleanly. The outputs keep their last good values (never NaN).</p>
         <code>loggingOn</code>. <code>fmi2SetDebugLogging</code> switches any of them.</p>").unwrap();
     writeln!(h, "<h2>Files</h2>\n<ul>").unwrap();
     for r in resources {
-        writeln!(h, "<li><code>resources/{}</code></li>", esc(&r.to_string_lossy())).unwrap();
+        writeln!(h, "<li><code>resources/{}</code></li>", esc(r)).unwrap();
     }
-    writeln!(
-        h,
-        "</ul>\n<p>The vehicle data are read from <code>resources/hmmwv.json</code> unless the parameter <code>vehicle_file</code> names \
-         another file (absolute, or relative to <code>resources/</code>).</p>"
-    )
-    .unwrap();
+    writeln!(h, "</ul>\n{}", text.files).unwrap();
     writeln!(h, "<h2>Platforms</h2>\n<p>Binaries: {}. The linux64 binary runs on any x86-64 CPU and needs glibc &ge; 2.17.</p>\n</body></html>",
         platforms.iter().map(|p| format!("<code>{}</code>", esc(p))).collect::<Vec<_>>().join(", "))
     .unwrap();
