@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what the build and the tests need on a fresh Debian machine (idempotent, quiet when all is there):
 # libclang for fmi-sys's bindgen, valgrind for the memcheck run, and a Python venv (.venv) with fmpy, numpy,
-# matplotlib, pytest, pyelftools (the GLIBC check) and cargo-zigbuild + ziglang (the portable linux64 FMU binary).
+# matplotlib, pytest, pyelftools (the GLIBC check), libcosimpy (libcosim, the second importer of the SSP) and
+# cargo-zigbuild + ziglang (the portable linux64 FMU binary).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/libclang.sh
@@ -25,6 +26,6 @@ if [ ! -x .venv/bin/python ]; then
 fi
 # packaging/ runs .venv/bin/cargo-zigbuild, which finds zig as `python -m ziglang` in the same venv. Both are
 # pinned to the pair the portable build was tested with (zig's command line and paths change between releases).
-{ .venv/bin/python -c "import fmpy, numpy, matplotlib, pytest, elftools, ziglang" 2>/dev/null \
+{ .venv/bin/python -c "import fmpy, numpy, matplotlib, pytest, elftools, ziglang, libcosimpy" 2>/dev/null \
     && [ -x .venv/bin/cargo-zigbuild ]; } || \
-    .venv/bin/pip install -q fmpy numpy matplotlib pytest pyelftools cargo-zigbuild==0.24.0 ziglang==0.17.1
+    .venv/bin/pip install -q fmpy numpy matplotlib pytest pyelftools libcosimpy==0.0.6 cargo-zigbuild==0.24.0 ziglang==0.17.1

@@ -115,6 +115,8 @@ fn the_driver_fmu_defaults_are_this_vehicles() {
     close("speed_ki", data.speed_hold.ki_per_s2);
     let half_track = data.front.hardpoints_chassis_frame_m["SPINDLE"][1];
     assert!((half_track - rtv_driver::iso3888::HMMWV_HALF_TRACK_M).abs() < 1e-6);
+    assert!((driver.wheelbase - rtv_driver::iso3888::HMMWV_WHEELBASE_M).abs() < 1e-6);
+    assert!((driver.cm_ahead - rtv_driver::iso3888::HMMWV_CM_AHEAD_M).abs() < 1e-6);
     let mut sim = Simulation::new(data.clone(), SimConfig::default()).unwrap();
     let o = sim.outputs().unwrap();
     assert_eq!((o.get("x"), o.get("y")), (Some(0.0), Some(0.0)), "the course assumes the CM starts at the origin");

@@ -6,6 +6,7 @@
 //! SystemStructure.ssd
 //! resources/RtVehicle.fmu, resources/RtDriver.fmu
 //! resources/vehicle.ssv, resources/driver.ssv
+//! resources/course.json      (the lanes and the HMMWV's tire footprint, for checking a run: not read by importers)
 //! ```
 //!
 //! Parameter names in the .ssv files are the FMUs' variable names, without a prefix: libcosim applies a
@@ -109,6 +110,27 @@ fn system_structure() -> String {
     out
 }
 
+/// The course's lanes (ground frame, m) and the corners of the HMMWV's tire footprint relative to its CM in the
+/// chassis frame (the outer tire edges at the axles), so that a script can judge a run pass or fail without
+/// restating the course.
+fn course_json() -> String {
+    use rtv_driver::iso3888::*;
+    let (front, rear) = (HMMWV_WHEELBASE_M - HMMWV_CM_AHEAD_M, -HMMWV_CM_AHEAD_M);
+    let w = HMMWV_HALF_TRACK_M + 0.5 * HMMWV_TIRE_WIDTH_M;
+    let (course, _) = hmmwv_course_and_line(ENTRY_SPEED_M_S);
+    let lanes: Vec<String> = course
+        .lanes
+        .iter()
+        .map(|l| format!("{{\"from\": {:?}, \"to\": {:?}, \"y_min\": {:?}, \"y_max\": {:?}}}", l.from, l.to, l.y.0, l.y.1))
+        .collect();
+    format!(
+        "{{\n  \"entry_speed_m_s\": {ENTRY_SPEED_M_S:?},\n  \"lanes\": [{}],\n  \"footprint\": [[{front:?}, {w:?}], [{front:?}, {:?}], [{rear:?}, {w:?}], [{rear:?}, {:?}]]\n}}\n",
+        lanes.join(", "),
+        -w,
+        -w
+    )
+}
+
 /// Writes `dir/DoubleLaneChange.ssp` holding the two FMUs.
 pub fn write(dir: &Path, vehicle_fmu: &Path, driver_fmu: &Path) -> Result<PathBuf, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -124,6 +146,7 @@ pub fn write(dir: &Path, vehicle_fmu: &Path, driver_fmu: &Path) -> Result<PathBu
         &[("preview_time", Value::Real(0.6)), ("min_preview", Value::Real(4.0)), ("yaw_rate_gain", Value::Real(0.3))],
     );
     let entries = vec![
+        ("resources/course.json".to_string(), course_json().into_bytes(), 0o644),
         ("SystemStructure.ssd".to_string(), system_structure().into_bytes(), 0o644),
         ("resources/RtVehicle.fmu".to_string(), read(vehicle_fmu)?, 0o644),
         ("resources/RtDriver.fmu".to_string(), read(driver_fmu)?, 0o644),

@@ -193,3 +193,45 @@ def pytest_terminal_summary(terminalreporter):
         terminalreporter.section("FMU vs reference (error, run time)")
         for line in SUMMARY:
             terminalreporter.write_line(line)
+
+
+# ---- the driver FMU and the system -------------------------------------------------------------------
+
+DRIVER_PATH = ROOT / "target" / "fmu" / "RtDriver.fmu"
+SSP_PATH = ROOT / "target" / "ssp" / "DoubleLaneChange.ssp"
+
+
+@pytest.fixture(scope="session")
+def driver_path():
+    if not DRIVER_PATH.is_file():
+        pytest.fail(f"{DRIVER_PATH} does not exist: run `cargo run --release -p packaging` first")
+    return str(DRIVER_PATH)
+
+
+@pytest.fixture(scope="session")
+def driver_md(driver_path):
+    return read_model_description(driver_path)
+
+
+@pytest.fixture(scope="session")
+def driver_unzipdir(driver_path):
+    d = extract(driver_path)
+    yield d
+    shutil.rmtree(d, ignore_errors=True)
+
+
+@pytest.fixture
+def make_driver(driver_md, driver_unzipdir):
+    created = []
+
+    def _make(**kwargs):
+        s = Slave(driver_md, driver_unzipdir, **kwargs)
+        created.append(s)
+        return s
+
+    yield _make
+    for s in created:
+        try:
+            s.free()
+        except Exception:
+            pass

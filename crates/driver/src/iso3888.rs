@@ -15,6 +15,9 @@ pub const HMMWV_TIRE_WIDTH_M: f64 = 0.3175;
 /// Half the HMMWV's front track, m (the spindle's lateral position; rt-vehicle's tests check it against the
 /// vehicle data).
 pub const HMMWV_HALF_TRACK_M: f64 = 0.909701;
+/// The HMMWV's wheelbase and how far its CM is ahead of the rear axle, m (checked as the half track is).
+pub const HMMWV_WHEELBASE_M: f64 = 3.301984;
+pub const HMMWV_CM_AHEAD_M: f64 = 1.709405;
 /// Run-up from the start (the vehicle's CM at x = 0, y = 0) to the course's entry, m.
 pub const RUN_UP_M: f64 = 30.0;
 /// The HMMWV's entry speed of the double lane change as a system of FMUs (`target/ssp/DoubleLaneChange.ssp`):
@@ -27,15 +30,23 @@ pub const SSP_ENTRY_SPEED_KMH: f64 = 40.0;
 pub fn hmmwv_course_and_line(speed: f64) -> (Course, Path) {
     let course = Course::new(HMMWV_WIDTH_M, RUN_UP_M);
     let half_width = HMMWV_HALF_TRACK_M + 0.5 * HMMWV_TIRE_WIDTH_M;
-    let line = course.driver_line(half_width, speed, -10.0, course.exit() + 110.0);
+    let line = course.driver_line(&HMMWV_LINE, half_width, speed, -10.0, course.exit() + 110.0);
     (course, line)
 }
 
-/// The driver's line: how far inside a lane edge, how long before a lane's end it starts across, and how far
-/// into the next lane it arrives, m (chosen by hand for the HMMWV; docs/manoeuvres.md).
-const PATH_MARGIN_M: f64 = 0.35;
-const PATH_LEAD_M: f64 = 4.0;
-const PATH_LAG_M: f64 = 2.0;
+/// The shape of the driver's line through the lanes, m.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LineShape {
+    /// How far inside a lane's edge nearest the next lane the footprint's edge runs.
+    pub margin: f64,
+    /// How long before a lane's end the line starts across.
+    pub lead: f64,
+    /// How far into the next lane it arrives.
+    pub lag: f64,
+}
+
+/// The HMMWV's line (docs/manoeuvres.md says how it was chosen).
+pub const HMMWV_LINE: LineShape = LineShape { margin: 0.15, lead: 2.0, lag: 0.0 };
 
 /// One lane section: x range (ground frame) and lateral bounds (y_min, y_max), m.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,17 +83,17 @@ impl Course {
         self.lanes[2].to
     }
 
-    /// The driver's line at speed `speed`, from `start` to `end` (x, m): in each lane a line `PATH_MARGIN_M`
+    /// The driver's line at speed `speed`, from `start` to `end` (x, m): in each lane a line `shape.margin`
     /// inside the edge nearest the next lane (the shortest lateral travel) for a vehicle whose outer tire
-    /// edges are `half_width` from its centre line, joined by smootherstep curves that start `PATH_LEAD_M`
-    /// before a lane ends and finish `PATH_LAG_M` after the next begins, as a driver cuts across a gap.
-    pub fn driver_line(&self, half_width: f64, speed: f64, start: f64, end: f64) -> Path {
+    /// edges are `half_width` from its centre line, joined by smootherstep curves that start `shape.lead`
+    /// before a lane ends and finish `shape.lag` after the next begins, as a driver cuts across a gap.
+    pub fn driver_line(&self, shape: &LineShape, half_width: f64, speed: f64, start: f64, end: f64) -> Path {
         let lanes = &self.lanes;
-        let inside = half_width + PATH_MARGIN_M;
+        let inside = half_width + shape.margin;
         let target = [0.5 * (lanes[0].y.0 + lanes[0].y.1), lanes[1].y.0 + inside, lanes[2].y.1 - inside];
         let y_at = |x: f64| {
             let blend = |k: usize| {
-                let (from, to) = (lanes[k].to - PATH_LEAD_M, lanes[k + 1].from + PATH_LAG_M);
+                let (from, to) = (lanes[k].to - shape.lead, lanes[k + 1].from + shape.lag);
                 let tau = ((x - from) / (to - from)).clamp(0.0, 1.0);
                 let s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
                 target[k] + s * (target[k + 1] - target[k])
@@ -125,9 +136,9 @@ mod tests {
         assert_eq!((c.lanes[1].from, c.exit()), (55.5, 91.0));
         // The line of a point vehicle runs inside every lane (it starts across before a lane ends and cuts
         // into the next lane's start, so there it comes nearer an edge than the margin).
-        let line = c.driver_line(0.0, 10.0, 0.0, 100.0);
+        let line = c.driver_line(&HMMWV_LINE, 0.0, 10.0, 0.0, 100.0);
         let mut clearance = [f64::INFINITY; 3];
         c.update_clearance(line.points(), &mut clearance);
-        assert!(clearance.iter().all(|&m| m > 0.2), "{clearance:?}");
+        assert!(clearance.iter().all(|&m| m > 0.1), "{clearance:?}");
     }
 }
