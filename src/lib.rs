@@ -18,3 +18,4 @@ pub mod integrate;
 pub mod math;
 pub mod model;
 pub mod sim;
+pub mod simd;

@@ -191,3 +191,29 @@ fn steady_rolling_stays_steady() {
     // f(x0) = 0 to the Newton tolerance (1e-10), so RK4 keeps the state to ~1e-10·t²: 1e-9 bounds it.
     assert!(dz < 1e-9 && dv < 1e-9);
 }
+
+/// The evaluation compiled for AVX2 + FMA (used when the CPU has them: `rt_vehicle::simd`) and the baseline
+/// x86-64 one compute the same derivative, bit for bit: Rust never contracts a multiply and an add into an
+/// FMA on its own, and both call the same libm, so the wider instructions change the speed, not the
+/// arithmetic. Every derivative component is compared, at random admissible states. (On a CPU without AVX2
+/// both calls run the baseline code and the test shows nothing; CI's machines have AVX2.)
+#[test]
+fn the_avx2_fma_evaluation_agrees_with_the_baseline_one() {
+    let v = vehicle();
+    let base = static_equilibrium(&v, &mut KinematicsCache::default()).unwrap();
+    let mut rng = Rng(0x2545F4914F6CDD1D);
+    println!("AVX2 + FMA evaluation in use: {}", rt_vehicle::simd::avx2_fma());
+    for case in 0..150 {
+        let x = random_state(&mut rng, &base);
+        let inputs = Inputs {
+            rack: RackMotion { position: rng.uniform(-0.06, 0.06), velocity: rng.uniform(-0.3, 0.3), acceleration: 0.0 },
+            drive: [rng.uniform(-500.0, 500.0); 4],
+            brake: [0.0; 4],
+        };
+        let (mut fast, mut portable) = (vec![0.0; idx::DIM], vec![0.0; idx::DIM]);
+        v.derivative(&x, &inputs, &mut KinematicsCache::default(), &mut fast, None).unwrap();
+        v.derivative_portable(&x, &inputs, &mut KinematicsCache::default(), &mut portable).unwrap();
+        let same = fast.iter().zip(&portable).all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "case {case}: the two evaluations differ:\n{fast:?}\n{portable:?}");
+    }
+}

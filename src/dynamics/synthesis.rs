@@ -105,7 +105,7 @@ fn reduce(
 /// Solves the chassis equation (M̂₀ + M̂_R + Σ M̄ᵢ) Ẏ₀ = Q̂₀ + Q̂*_R + Σ P̄ᵢ by a 6×6 Cholesky (§4.4, §4.9 step 4):
 /// M = L Lᵀ (lower triangle of M read), L y = F, Lᵀ Ẏ₀ = y. 6 square roots, ≈ 90 multiplications (§4.10).
 /// Fails when a pivot is not positive (M not positive definite) or not finite.
-#[inline]
+#[inline(always)]
 fn chassis_solve(mass: &Matrix6<f64>, force: &Vector6<f64>, solver: &str) -> Result<Vector6<f64>, SolveError> {
     let mut l = Matrix6::<f64>::zeros();
     let mut inv_diag = [0.0f64; 6];
@@ -163,6 +163,7 @@ pub fn solve_synthesis_gcp<const K: usize>(
 /// inertia M̄ᵢ; then one 6×6 Cholesky for the chassis and the back-substitution
 /// ü = (p̃ − 𝔪ᵀẎ₀)/m̃, q̈ = 𝒱ü + 𝒞. Fails when some Φ_v is singular (θ_L is then not a valid independent
 /// coordinate), when the chassis matrix is not positive definite, or on non-finite input or result.
+#[inline(always)]
 pub fn solve_synthesis_gcp_with<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],

@@ -376,6 +376,7 @@ impl Vehicle {
 
     /// Solve the dependent coordinates of every corner into `cache.positions` (in place) from the warm
     /// starts, and update the warm starts.
+    #[inline(always)]
     pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<(), EvalError> {
         for i in 0..4 {
             let s = self.rack_translation(i, rack_u);
@@ -425,6 +426,52 @@ impl Vehicle {
     }
 
     fn derivative_on(
+        &self,
+        road: &dyn Road,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        dxdt: &mut [f64],
+        diag: Option<&mut Diagnostics>,
+    ) -> Result<(), EvalError> {
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::avx2_fma() {
+            // SAFETY: the CPU has AVX2 and FMA, checked at run time.
+            return unsafe { self.derivative_on_avx2_fma(road, x, inputs, cache, dxdt, diag) };
+        }
+        self.derivative_on_any_cpu(road, x, inputs, cache, dxdt, diag)
+    }
+
+    /// `derivative` on the baseline x86-64 code whatever the CPU (tests compare it with the dispatched one).
+    #[cfg(any(test, feature = "test-support"))]
+    pub fn derivative_portable(
+        &self,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        dxdt: &mut [f64],
+    ) -> Result<(), EvalError> {
+        self.derivative_on_any_cpu(&self.road, x, inputs, cache, dxdt, None)
+    }
+
+    /// The evaluation compiled for AVX2 and FMA: everything it calls in the hot path is `#[inline(always)]`
+    /// so that it is compiled here again with these features (a `target_feature` does not reach callees).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn derivative_on_avx2_fma(
+        &self,
+        road: &dyn Road,
+        x: &[f64],
+        inputs: &Inputs,
+        cache: &mut KinematicsCache,
+        dxdt: &mut [f64],
+        diag: Option<&mut Diagnostics>,
+    ) -> Result<(), EvalError> {
+        self.derivative_on_any_cpu(road, x, inputs, cache, dxdt, diag)
+    }
+
+    #[inline(always)]
+    fn derivative_on_any_cpu(
         &self,
         road: &dyn Road,
         x: &[f64],
@@ -487,6 +534,7 @@ impl Vehicle {
 
     /// Accelerations from the assembled terms by the selected formulation (§4.9 steps 3f–5, or the
     /// 42x42 of §4.3): what the paper's Table 1 calls the acceleration evaluation.
+    #[inline(always)]
     pub fn accelerations(&self, a: &Assembly, multipliers: Multipliers) -> Result<Accelerations<4>, EvalError> {
         match self.formulation {
             Formulation::Synthesis => dynamics::solve_synthesis_gcp_with(&a.chassis, &a.terms, multipliers),
@@ -509,6 +557,7 @@ impl Vehicle {
         Ok(cache.assembly)
     }
 
+    #[inline(always)]
     fn assemble_on(
         &self,
         road: &dyn Road,
@@ -590,6 +639,7 @@ impl Vehicle {
 
     /// Global kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6).
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn corner_terms(
         &self,
         road: &dyn Road,
@@ -818,6 +868,7 @@ impl CornerKinematics {
 }
 
 impl Vehicle {
+    #[inline(always)]
     pub fn corner_kinematics(
         &self,
         i: usize,

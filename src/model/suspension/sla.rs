@@ -261,6 +261,7 @@ impl SlaGeometry {
     }
 
     /// As `evaluate`, written in place (the evaluation pipeline keeps one `SlaPositions` per corner).
+    #[inline(always)]
     pub fn evaluate_into(&self, q: &Vector5f, s: f64, pos: &mut SlaPositions) {
         // The five angles' sines and cosines, once (A, G and, later, Ġφ̇ share the Bryant ones).
         let (sl, cl) = q[0].sin_cos();
@@ -343,6 +344,7 @@ impl SlaGeometry {
     }
 
     /// As `solve_positions`, written in place; on `Err`, `pos` holds the last iterate.
+    #[inline(always)]
     pub fn solve_positions_into(
         &self,
         theta_l: f64,
@@ -380,6 +382,7 @@ impl SlaGeometry {
     }
 
     /// q̇ from u̇ = θ̇_L and the rack rate: v̇ = −Φ_v⁻¹(Φ_u u̇ + Φ_s ṡ) = ∂v/∂u u̇ + ∂v/∂s ṡ (physics.md §3.3).
+    #[inline(always)]
     pub fn velocities(&self, pos: &SlaPositions, theta_l_dot: f64, s_dot: f64) -> Vector5f {
         let vd = pos.dv_du * theta_l_dot + pos.dv_ds * s_dot;
         Vector5f::new(theta_l_dot, vd[0], vd[1], vd[2], vd[3])
@@ -394,6 +397,7 @@ impl SlaGeometry {
     }
 
     /// γ̄ of Φ_q q̈ = γ̄ := γ − Φ_s s̈ (physics.md §3.3), same row scaling as Φ.
+    #[inline(always)]
     pub fn gamma_bar(&self, pos: &SlaPositions, qd: &Vector5f, s_dot: f64, s_ddot: f64) -> Vector4<f64> {
         let phid = V3::new(qd[1], qd[2], qd[3]);
         let (w_l, w_u, w_k) = self.relative_angular_velocities(pos, qd);
