@@ -58,6 +58,7 @@ impl MassHatSum {
         MassHatSum { mass: 0.0, first_moment: V3::zeros(), inertia_about_origin: M3::zeros() }
     }
 
+    #[inline(always)]
     pub fn add(&mut self, m: f64, rho: &V3, j: &M3) {
         self.mass += m;
         self.first_moment += rho * m;

@@ -16,7 +16,7 @@ pub struct Lu<const N: usize> {
 
 impl<const N: usize> Lu<N> {
     /// Factors `a`; `Err` when it is numerically singular or not finite.
-    #[inline]
+    #[inline(always)]
     pub fn new(a: &SMatrix<f64, N, N>) -> Result<Lu<N>, &'static str> {
         let mut lu = Lu { factors: *a, piv: [0; N] };
         factor(&mut lu.factors, &mut lu.piv)?;
@@ -29,7 +29,7 @@ impl<const N: usize> Lu<N> {
     }
 
     /// Solves A X = B in place.
-    #[inline]
+    #[inline(always)]
     pub fn solve<const M: usize>(&self, b: &mut SMatrix<f64, N, M>) {
         solve(&self.factors, &self.piv, b)
     }
@@ -49,7 +49,7 @@ impl<const N: usize> Lu<N> {
 /// Factors P A = L U in place (L unit lower, U upper, both stored in `a`); `piv[k]` is the row swapped with
 /// row k at step k (LAPACK convention). Fails when a pivot is not larger than n·ε·max|A| (numerically
 /// singular) or is not finite.
-#[inline]
+#[inline(always)]
 pub(crate) fn factor<const N: usize>(a: &mut SMatrix<f64, N, N>, piv: &mut [usize; N]) -> Result<(), &'static str> {
     let scale = a.amax();
     if !scale.is_finite() {

@@ -172,6 +172,7 @@ pub fn solve_synthesis_gcp_with<const K: usize>(
     explained(chassis, subs, gcp(chassis, subs, multipliers))
 }
 
+#[inline(always)]
 fn gcp<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],

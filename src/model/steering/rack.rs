@@ -68,6 +68,7 @@ impl Rack {
 
     /// The rack's share of the chassis equation (§4.7): M̂_R and Q̂*_R = Q̂_R − M̂_R (B_R s̈ + D_R), with
     /// B_R = [e_y; 0] and D_R = [ω0 × e_y ṡ; 0].
+    #[inline(always)]
     pub fn chassis_terms(&self, a0: &M3, y0: &Vector6<f64>, g: &V3, s: &RackMotion) -> (Matrix6<f64>, Vector6<f64>) {
         let (v0, w0) = (lin(y0), V3::new(y0[3], y0[4], y0[5]));
         let (rho, rdot, j) = self.state(a0, &v0, &w0, s);

@@ -11,6 +11,7 @@ const MIN_NORMAL_ALONG_DOWN: f64 = 0.1;
 /// ABSOLUTE ground position: the road is queried at (centre.x, centre.y), and the returned contact point is
 /// absolute too. `axle` need not be normalized. `None` when the wheel has lifted off (δ <= 0), when it lies
 /// nearly flat on the road (|n·d| < 0.1), or when the axle is zero or not finite.
+#[inline(always)]
 pub fn contact(road: &dyn Road, centre: &Vector3<f64>, axle: &Vector3<f64>, unloaded_radius: f64) -> Option<Contact> {
     let axle = axle.try_normalize(f64::MIN_POSITIVE)?;
     let (height, [hx, hy]) = road.height_and_gradient(centre.x, centre.y);

@@ -55,6 +55,7 @@ struct CompositeSlip {
     saturation: f64,
 }
 
+#[inline(always)]
 fn composite_slip(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, length_ratio: f64) -> CompositeSlip {
     let s = &p.sti;
     let c_alpha = cornering_stiffness(p, fz);
