@@ -4,11 +4,11 @@
  * Two instances, parameters (one bad), initialization, 0.3 s of a ramped input with every output read,
  * FMU states got, set, serialized, deserialized (also into a slot that holds a state) and some left alive
  * at fmi2FreeInstance, reset, terminate, free; then, on a third instance, the hostile calls of issue 7 (an
- * array length of 2^32 with NULL arrays, /dev/zero as the data file, a step of 1e5 s). The hostile calls
- * come last, after the first two instances are freed and their state pointers dropped (for the driver, whose
- * steps are cheap, the 1e5 s step is taken, not refused): a binary that
- * aborts or hangs on them still has its leaks of the lifecycle reported as "definitely lost" (valgrind
- * runs the leak check when the process dies from a signal; before issue 7: 4 states, 19,520 bytes).
+ * array length of 2^32 with NULL arrays, /dev/zero, a binary and an XML file as the data file, a step of
+ * 1e5 s, which the vehicle refuses and the driver, whose steps are cheap, takes). The hostile calls come
+ * last, after the first two instances are freed and their state pointers dropped: a binary that aborts or
+ * hangs on them still has its leaks of the lifecycle reported as "definitely lost" (valgrind runs the leak
+ * check when the process dies from a signal; the vehicle before issue 7: 4 states, 19,520 bytes).
  * Exits 1 if a call that must succeed does not. The prototypes are FMI 2.0's (fmi2FunctionTypes.h). */
 #include <dlfcn.h>
 #include <stdarg.h>
@@ -185,6 +185,20 @@ int main(int argc, char **argv) {
     expect(setup(c, 0, 0.0, 0.0, 0, 0.0) == OK && enter(c) == OK, "initialize c");
     expect(set_string(c, &file_vr, 1, &dev_zero) == OK, "data file = /dev/zero");
     expect(exit_init(c) == ERROR, "/dev/zero refused");
+    /* Files read and then refused: this program (not UTF-8) and the FMU's modelDescription.xml (text of
+     * another format), found from the library's path FMU/binaries/linux64/X.so. */
+    char description[4096];
+    snprintf(description, sizeof description, "%s", argv[1]);
+    for (int up = 0; up < 3; up++) {
+        char *slash = strrchr(description, '/');
+        if (slash) *slash = '\0';
+    }
+    strncat(description, "/modelDescription.xml", sizeof description - strlen(description) - 1);
+    const char *unreadable[2] = {argv[0], description};
+    for (int k = 0; k < 2; k++) {
+        expect(set_string(c, &file_vr, 1, &unreadable[k]) == OK, "data file = a file of another format");
+        expect(exit_init(c) == ERROR, "a file of another format refused");
+    }
     expect(set_string(c, &file_vr, 1, &file) == OK && exit_init(c) == OK, "a good data file and exit");
     expect(do_step(c, 0.0, 1e5, 1) == m->huge_step, "a step of 1e5 s (refused by the vehicle)");
     double tc = -1.0;
