@@ -1,22 +1,31 @@
-"""Randomized, type-correct FMI 2.0 call sequences against the FMU's shared library (ctypes).
+"""Randomized, type-correct FMI 2.0 call sequences against an FMU's shared library (ctypes): the vehicle
+(RtVehicle) or the driver (RtDriver), which share the generic FMI layer.
 
 Run by tests/fmu/test_c_api_fuzz.py in child processes, so that a crash is reported, not fatal:
 
     python fuzz_driver.py LIBRARY RESOURCES_URI WORKDIR FIRST_SEED COUNT
 
+LIBRARY is FMU_DIR/binaries/linux64/<modelIdentifier>.so of an unzipped FMU: the GUID, the value references,
+the outputs, the String parameter naming a data file (vehicle_file, path_file) and the parameters' ranges
+come from FMU_DIR/modelDescription.xml; what the model description cannot say (a good data file, hostile
+data files of the model's format, the layout of the model's part of a serialized state and the edits that
+make it invalid) from PROFILES, by modelIdentifier.
+
 Each seed is one sequence: one or two instances, 40 calls drawn from the whole API with arguments that are
 of the right C type but otherwise hostile (unknown value references, NULL arrays with nvr > 0, nvr = 2^32,
-NaN, inf, denormal and absurd reals, odd integers, FIFO/device/directory/huge vehicle files, mutated
-serialized states, freed state pointers, calls in the wrong state, every other entry point with NULL
-outputs and odd status kinds, fmi2Instantiate with a wrong GUID, type, name or callbacks), then the
-instances are freed (states left alive half of the time). Checks, per call: it returns within HANG_SECONDS
-(a watchdog thread, faulthandler, ends the process with "Timeout" on stderr when a call does not return:
-a hang is reported after HANG_SECONDS, not at the batch timeout); a status other than fmi2OK was explained
-by a log message of that instance during the call; after an fmi2OK fmi2DoStep, every Real output read
-with fmi2OK is finite; a bad fmi2Instantiate returns NULL and says why; a serialized state edited to be
-invalid (a parameter out of range, times out of order, a state vector of the wrong length) is refused. Prints one JSON line per
-sequence: {"seed", "calls", "slowest", "problems"}; before each call, the call's description goes to
-stderr (the parent reads the last one when the process dies).
+NaN, inf, denormal and absurd reals, odd integers, FIFO/device/directory/huge/broken data files and, for the
+driver, path files at the edges of what it accepts, mutated serialized states, freed state pointers, calls
+in the wrong state, every other entry point with NULL outputs and odd status kinds, fmi2Instantiate with a
+wrong GUID, type, name or callbacks), then the instances are freed (states left alive half of the time).
+Checks, per call: it returns within HANG_SECONDS (a watchdog thread, faulthandler, ends the process with
+"Timeout" on stderr when a call does not return: a hang is reported after HANG_SECONDS, not at the batch
+timeout); a status other than fmi2OK was explained by a log message of that instance during the call; after
+an fmi2OK fmi2DoStep, every Real output read with fmi2OK is finite, and the read is not refused (fmi2Error:
+the layer refuses to hand out a non-finite value); a bad fmi2Instantiate returns NULL and says why; a
+serialized state edited to be invalid (a parameter out of range, times out of order, a vector of the wrong
+length, a non-finite number, ...) is refused. Prints one JSON line per sequence: {"seed", "calls",
+"ok_steps", "slowest", "problems"}; before each call, the call's description goes to stderr (the parent
+reads the last one when the process dies).
 """
 
 import ctypes as C
@@ -49,12 +58,14 @@ class Callbacks(C.Structure):
 
 
 LOG = {}  # instance name -> number of messages
+LAST = {}  # instance name -> its last message (the FMU logs with the format "%s": `message` is the text)
 
 
 def _log(env, name, status, category, fmt, message):
     key = (name or b"").decode("utf-8", "replace")
     LOG[key] = LOG.get(key, 0) + 1
     LOG[ANY] = LOG.get(ANY, 0) + 1
+    LAST[key] = (message or b"").decode("utf-8", "replace")
 
 
 ANY = None  # LOG[ANY]: messages of every instance (fmi2Instantiate's refusals name no instance yet)
@@ -114,12 +125,16 @@ def load(path):
 
 
 def model_description(path):
+    """(guid, modelIdentifier, variables, attributes): variables as (name, vr, type, causality) in the XML's
+    order; attributes: name -> {"start", "min", "max"} as strings (absent when not declared)."""
     root = ET.parse(path).getroot()
-    variables = []
+    variables, attributes = [], {}
     for sv in root.iter("ScalarVariable"):
-        kind = next(c.tag for c in sv if c.tag in ("Real", "Integer", "Boolean", "String"))
-        variables.append((sv.get("name"), int(sv.get("valueReference")), kind, sv.get("causality")))
-    return root.get("guid"), variables
+        typed = next(c for c in sv if c.tag in ("Real", "Integer", "Boolean", "String"))
+        variables.append((sv.get("name"), int(sv.get("valueReference")), typed.tag, sv.get("causality")))
+        attributes[sv.get("name")] = {k: typed.get(k) for k in ("start", "min", "max") if typed.get(k) is not None}
+    identifier = root.find("CoSimulation").get("modelIdentifier")
+    return root.get("guid"), identifier, variables, attributes
 
 
 REALS = [0.0, 1.0, -1.0, 0.002, 0.001, 1e-6, 1e-9, 5e-324, 1e300, -5.0, 20.0, 27.7778, 0.0699, 0.08, 4000.0,
@@ -128,20 +143,173 @@ INTS = [-1, 0, 1, 2, 3, 4, 5, 2**31 - 1, -2**31]
 STEPS = [1e-3, 0.01, 0.01, 0.0083, 0.05, 0.1, 1e5, 1e-300, 0.0, -0.01, float("nan"), float("inf")]
 
 
+def vehicle_invalid(seq, state, what):
+    """The vehicle's edits of invalid_blob (RtVehicle: params, brake torques, the simulation's state vector)."""
+    r = seq.rng
+    core, model = state["core"], state["core"]["model"]
+    if what.startswith("internal_step"):
+        v = float(what.split()[1])
+        model["params"]["internal_step"] = v
+        seq.edit(model, "internal_step", v, share=1.0)
+    elif what == "brake torque -5":
+        model["brake"][r.randrange(4)] = -5.0
+        if isinstance(model["sim"].get("brake"), list):
+            model["sim"]["brake"] = list(model["brake"])
+    elif what in ("formulation 5", "integrator 0"):
+        key, v = what.split()
+        model["params"][key] = int(v)
+    elif what == "state vector +1":
+        model["sim"]["state"].append(0.0)
+    elif what == "state vector -1":
+        model["sim"]["state"].pop()
+    elif what == "initial_speed 1e9":
+        model["params"]["initial_speed"] = 1e9
+    else:
+        core_invalid(seq, state, what)
+        if what == "stop_time < time":
+            model["sim"]["time"] = core["time"]
+    return what
+
+
+def driver_invalid(seq, state, what):
+    """The driver's edits of invalid_blob (RtDriver's DriverModel: path_file, the Real parameters `reals` in
+    the model description's order of parameters, the `inputs`, the `speed_integral`)."""
+    r = seq.rng
+    core, model = state["core"], state["core"]["model"]
+    if what in ("parameter below its min", "parameter above its max"):
+        # Any Real parameter with that bound, one step beyond it (preview_time -1, rack_limit 2, ...).
+        end = "min" if "min" in what else "max"
+        bounded = [(k, name) for k, (name, _, kind, _) in enumerate(seq.fmu.parameters)
+                   if kind == "Real" and end in seq.fmu.attributes[name]]
+        k, name = r.choice(bounded)
+        bound = float(seq.fmu.attributes[name][end])
+        v = bound - max(1.0, abs(bound)) if end == "min" else bound + max(1.0, abs(bound))
+        model["reals"][k] = v
+        return f"{name} {v:g}"
+    if what == "reals +1":
+        model["reals"].append(1.0)
+    elif what == "reals -1":
+        model["reals"].pop()
+    elif what == "inputs +1":
+        model["inputs"].append(0.0)
+    elif what == "input null":
+        model["inputs"][r.randrange(len(model["inputs"]))] = None
+    elif what == "input 1e999":
+        model["inputs"][r.randrange(len(model["inputs"]))] = INFINITE
+    elif what == "speed_integral 1e999":
+        model["speed_integral"] = INFINITE
+    elif what == "speed_integral null":
+        model["speed_integral"] = None
+    elif what == "path_file missing":
+        # An initialized state reads its path again: a missing file cannot be restored.
+        model["path_file"] = os.path.join(seq.workdir, "missing.csv")
+        core["needs_init"] = False
+    else:
+        core_invalid(seq, state, what)
+    return what
+
+
+def core_invalid(seq, state, what):
+    """The FMI layer's own fields (the same for every model)."""
+    core = state["core"]
+    if what == "stop_time < time":
+        core["time"] = max(core["time"], 0.5)
+        core["stop_time"] = core["time"] - 0.25
+    elif what == "mode Fatal":
+        core["mode"] = "Fatal"
+    elif what == "time NaN":
+        core["time"] = "NaN"  # not a number at all: serde must refuse it
+    else:
+        raise ValueError(what)
+
+
+INFINITE = "INFINITE"  # written as the JSON number 1e999 (json.dumps has no way to)
+
+# What the model description does not say, per modelIdentifier: a good data file for the String parameter
+# (None: its start value), the extension and content of the broken and oversized data files, further hostile
+# data files (name -> content), the serialized-state edits of mutated_blob (accepted or not) and those of
+# invalid_blob (which must be refused) with the function that makes them and a test of the JSON's shape.
+PROFILES = {
+    "RtVehicle": {
+        "good_file": "hmmwv.json", "ext": "json", "broken": '{"name": ', "big": 2 << 20, "more_files": {},
+        "edits": [("internal_step", -1.0), ("formulation", 5), ("initial_speed", 1e9), ("time", -3.0),
+                  ("stop_time", 0.0), ("mode", "Fatal"), ("needs_init", True), ("terminated", True)],
+        "invalid": ["internal_step -1", "internal_step 1e-9", "internal_step 5e-324", "brake torque -5",
+                    "formulation 5", "integrator 0", "stop_time < time", "state vector +1", "state vector -1",
+                    "initial_speed 1e9", "time NaN"],
+        "make_invalid": vehicle_invalid,
+        "fits": lambda fmu, model: isinstance(model["params"], dict) and isinstance(model["sim"]["state"], list),
+    },
+    "RtDriver": {
+        "good_file": None, "ext": "csv", "broken": "x,y,v\n0,0,10\n1,", "big": 5 << 20,  # over its 4 MiB
+        "more_files": {
+            "one_point.csv": "x,y,v\n0,0,10\n",
+            "coincident.csv": "x,y,v\n0,0,10\n0,0,10\n5,0,10\n",
+            "nan.csv": "x,y,v\n0,0,10\nnan,0,10\n",
+            "inf.csv": "x,y,v\n0,0,10\n5,0,inf\n",
+            "negative_speed.csv": "x,y,v\n0,0,10\n5,0,-1\n",
+            "header_only.csv": "x,y,v\n",
+            "no_v.csv": "x,y,speed\n0,0,10\n5,0,10\n",
+            "ragged.csv": "x,y,v\n0,0,10\n5,0\n",
+            "huge.csv": "x,y,v\n-1e308,0,10\n1e308,0,10\n",  # finite points, an infinite length
+            "far.csv": "x,y,v\n1e300,1e300,10\n-1e300,1e300,10\n",
+            "tiny.csv": "x,y,v\n0,0,10\n5e-324,0,10\n",  # a segment of the smallest length
+            "fast.csv": "x,y,v\n0,0,1e308\n5,0,1e308\n",
+            "crlf.csv": "x,y,v\r\n0,0,10\r\n5,0,10\r\n",
+            "long.csv": "x,y,v\n" + "".join(f"{k},0,10\n" for k in range(100_000)),  # the most points allowed
+            "too_long.csv": "x,y,v\n" + "".join(f"{k},0,10\n" for k in range(100_001)),
+        },
+        "edits": [("speed_integral", -50.0), ("speed_integral", 1e300), ("path_file", "missing.csv"),
+                  ("inputs", [1e300, -1e300, 1e300, 1e300, -1e300]), ("time", -3.0), ("stop_time", 0.0),
+                  ("mode", "Fatal"), ("needs_init", True), ("needs_init", False), ("terminated", True)],
+        "invalid": ["parameter below its min", "parameter above its max", "reals +1", "reals -1", "inputs +1",
+                    "input null", "input 1e999", "speed_integral 1e999", "speed_integral null",
+                    "path_file missing", "stop_time < time", "time NaN", "mode Fatal"],
+        "make_invalid": driver_invalid,
+        "fits": lambda fmu, model: (isinstance(model["reals"], list) and len(model["reals"]) == len(fmu.parameters)
+                                    and isinstance(model["inputs"], list) and len(model["inputs"]) == len(fmu.inputs)),
+    },
+}
+
+
+class Fmu:
+    """An FMU's model description as the fuzz uses it, and its profile (PROFILES)."""
+
+    def __init__(self, path):
+        self.guid, self.identifier, self.vars, self.attributes = model_description(path)
+        self.profile = PROFILES[self.identifier]
+        self.parameters = [v for v in self.vars if v[3] == "parameter"]
+        self.inputs = [v for v in self.vars if v[3] == "input"]
+        self.outputs = [vr for (_, vr, _, c) in self.vars if c == "output"]
+        # The String parameter (a data file: the vehicle's vehicle_file, the driver's path_file).
+        string = next(v for v in self.parameters if v[2] == "String")
+        self.file_vr = string[1]
+        self.good_file = self.profile["good_file"] or self.attributes[string[0]]["start"]
+        # Value references besides the outputs for the calls with zeroed arrays: the first input, the first
+        # Real parameter that 0 is out of range for (the vehicle's internal_step, the driver's
+        # preview_time) and the String parameter.
+        zero_refused = next(vr for (name, vr, kind, _) in self.parameters
+                            if kind == "Real" and float(self.attributes[name].get("min", "-inf")) > 0.0)
+        self.probe_vrs = [self.inputs[0][1], zero_refused, self.file_vr]
+
+
 class Sequence:
-    def __init__(self, lib, guid, variables, resources, workdir, seed):
-        self.lib, self.guid, self.vars, self.resources, self.workdir = lib, guid, variables, resources, workdir
+    def __init__(self, lib, fmu, resources, workdir, seed):
+        self.lib, self.fmu, self.resources, self.workdir = lib, fmu, resources, workdir
+        self.guid, self.vars, self.profile = fmu.guid, fmu.vars, fmu.profile
         self.rng = random.Random(seed)
         self.seed = seed
         self.calls, self.slowest, self.problems = 0, (0.0, ""), []
         self.ok_steps = 0
-        self.outputs = [vr for (_, vr, kind, c) in variables if c == "output"]
+        self.outputs = fmu.outputs
         self.instances = []  # [handle, name, time]
         self.states = []  # (instance index, c_void_p value) handed out, possibly freed
         self.blobs = []  # serialized states
-        self.files = [b"", b"hmmwv.json", b"/dev/zero", os.path.join(workdir, "fifo").encode(), workdir.encode(),
-                      os.path.join(workdir, "missing.json").encode(), os.path.join(workdir, "big.json").encode(),
-                      os.path.join(workdir, "broken.json").encode()]
+        ext = self.profile["ext"]
+        self.files = [b"", fmu.good_file.encode(), b"/dev/zero", os.path.join(workdir, "fifo").encode(), workdir.encode(),
+                      os.path.join(workdir, f"missing.{ext}").encode(), os.path.join(workdir, f"big.{ext}").encode(),
+                      os.path.join(workdir, f"broken.{ext}").encode()]
+        self.files += [os.path.join(workdir, name).encode() for name in self.profile["more_files"]]
 
     # -- plumbing --------------------------------------------------------------------------------------
     def timed(self, label, fn, *args):
@@ -183,7 +351,7 @@ class Sequence:
         if self.rng.random() < 0.15:
             if self.bad_instantiate(name):
                 return
-            # Odd resource locations are allowed at instantiation (the vehicle file is read later).
+            # Odd resource locations are allowed at instantiation (the data file is read later).
             resources = self.rng.choice(["", "http://example.com/resources", "file:///nonexistent/resources",
                                          "file://otherhost/r", "not a uri", "file:///%zz", self.resources])
         c = self.timed(f"fmi2Instantiate({name!r}, resources={resources!r})", self.lib.fmi2Instantiate,
@@ -235,6 +403,9 @@ class Sequence:
             g = self.call(i, "fmi2GetReal(outputs)", self.lib.fmi2GetReal, c, vrs, len(self.outputs), out)
             if g == OK and not all(math.isfinite(v) for v in out):
                 self.problems.append(f"non-finite output after an OK step of h = {h}")
+            elif g == ERROR:  # the FMU refuses to hand out a non-finite output: as bad, but not silent
+                self.problems.append(f"fmi2GetReal(outputs) failed after an OK step of h = {h}: "
+                                     f"{LAST.get(self.instances[i][1])}")
 
     def one(self, i=None):
         r = self.rng
@@ -264,7 +435,7 @@ class Sequence:
             vals = [r.choice(INTS) for _ in vrs]
             self.call(i, f"fmi2SetInteger({vrs}, {vals})", lib.fmi2SetInteger, c, self.arr(C.c_uint, vrs), len(vrs), self.arr(C.c_int, vals))
         elif k == 10:
-            vrs = [107] if r.random() < 0.8 else self.vrs("String")
+            vrs = [self.fmu.file_vr] if r.random() < 0.8 else self.vrs("String")
             vals = [r.choice(self.files) for _ in vrs]
             self.call(i, f"fmi2SetString({vrs}, {vals})", lib.fmi2SetString, c, self.arr(C.c_uint, vrs), len(vrs), self.arr(C.c_char_p, vals))
         elif k == 11:
@@ -394,7 +565,7 @@ class Sequence:
         if n > 4:
             arrays = [None, None, None] if fn is lib.fmi2SetRealInputDerivatives else [None, None]
         else:
-            vr = self.arr(C.c_uint, [r.choice(self.outputs + [1, 104, 107]) for _ in range(n)])
+            vr = self.arr(C.c_uint, [r.choice(self.outputs + self.fmu.probe_vrs) for _ in range(n)])
             vals = (ctype * n)()
             if "SetString" in name:
                 vals = self.arr(C.c_char_p, [b""] * n)
@@ -481,9 +652,7 @@ class Sequence:
             state = json.loads(text)
         except ValueError:
             return bytes(blob)
-        edits = [("internal_step", -1.0), ("formulation", 5), ("initial_speed", 1e9), ("time", -3.0), ("stop_time", 0.0),
-                 ("mode", "Fatal"), ("needs_init", True), ("terminated", True)]
-        key, value = r.choice(edits)
+        key, value = r.choice(self.profile["edits"])
         self.edit(state, key, value)
         if r.random() < 0.3:
             sim = state.get("core", {}).get("model", {}).get("sim")
@@ -506,50 +675,24 @@ class Sequence:
         self.call(i, "fmi2FreeFMUstate (snapshot)", lib.fmi2FreeFMUstate, c, C.byref(slot))
 
     def invalid_blob(self):
-        """(bytes, what): a serialized state of this run with one edit that makes it invalid (a parameter
-        or input out of its range, times out of order, a state vector of the wrong length), which
-        fmi2DeSerializeFMUstate must refuse; (a mutated blob, None) when there is no state to edit."""
+        """(bytes, what): a serialized state of this run with one edit that makes it invalid (the profile's
+        `invalid`: a parameter or input out of its range, times out of order, a vector of the wrong length,
+        ...), which fmi2DeSerializeFMUstate must refuse; (a mutated blob, None) when there is no state to
+        edit."""
         r = self.rng
         states = []
         for blob in self.blobs:
             try:
                 state = json.loads(blob.rstrip(b"\0"))
-                model = state["core"]["model"]
-                if isinstance(model["params"], dict) and isinstance(model["sim"]["state"], list):
+                if self.profile["fits"](self.fmu, state["core"]["model"]):
                     states.append(state)
             except (ValueError, KeyError, TypeError):
                 pass
         if not states:
             return self.mutated_blob(), None
         state = r.choice(states)
-        core, model = state["core"], state["core"]["model"]
-        what = r.choice(["internal_step -1", "internal_step 1e-9", "internal_step 5e-324", "brake torque -5",
-                         "formulation 5", "integrator 0", "stop_time < time", "state vector +1", "state vector -1",
-                         "initial_speed 1e9", "time NaN"])
-        if what.startswith("internal_step"):
-            v = float(what.split()[1])
-            model["params"]["internal_step"] = v
-            self.edit(model, "internal_step", v, share=1.0)
-        elif what == "brake torque -5":
-            model["brake"][r.randrange(4)] = -5.0
-            if isinstance(model["sim"].get("brake"), list):
-                model["sim"]["brake"] = list(model["brake"])
-        elif what in ("formulation 5", "integrator 0"):
-            key, v = what.split()
-            model["params"][key] = int(v)
-        elif what == "stop_time < time":
-            core["time"] = max(core["time"], 0.5)
-            model["sim"]["time"] = core["time"]
-            core["stop_time"] = core["time"] - 0.25
-        elif what == "state vector +1":
-            model["sim"]["state"].append(0.0)
-        elif what == "state vector -1":
-            model["sim"]["state"].pop()
-        elif what == "initial_speed 1e9":
-            model["params"]["initial_speed"] = 1e9
-        else:
-            core["time"] = "NaN"  # not a number at all: serde must refuse it
-        return json.dumps(state).encode(), what
+        what = self.profile["make_invalid"](self, state, r.choice(self.profile["invalid"]))
+        return json.dumps(state).replace(f'"{INFINITE}"', "1e999").encode(), what
 
     def edit(self, node, key, value, share=0.7):
         """Set `key` to `value` wherever it occurs in the JSON tree, at each place with probability `share`
@@ -579,24 +722,28 @@ class Sequence:
                 "problems": self.problems}
 
 
-def prepare(workdir):
+def prepare(workdir, profile):
     fifo = os.path.join(workdir, "fifo")
     if not os.path.exists(fifo):
         os.mkfifo(fifo)
-    with open(os.path.join(workdir, "big.json"), "wb") as f:
-        f.truncate(2 << 20)
-    with open(os.path.join(workdir, "broken.json"), "w") as f:
-        f.write('{"name": ')
+    ext = profile["ext"]
+    with open(os.path.join(workdir, f"big.{ext}"), "wb") as f:
+        f.truncate(profile["big"])
+    with open(os.path.join(workdir, f"broken.{ext}"), "w") as f:
+        f.write(profile["broken"])
+    for name, text in profile["more_files"].items():
+        with open(os.path.join(workdir, name), "w", newline="") as f:
+            f.write(text)
 
 
 def main():
     library, resources, workdir, first, count = sys.argv[1:6]
     fmu_dir = os.path.dirname(os.path.dirname(os.path.dirname(library)))
-    guid, variables = model_description(os.path.join(fmu_dir, "modelDescription.xml"))
-    prepare(workdir)
+    fmu = Fmu(os.path.join(fmu_dir, "modelDescription.xml"))
+    prepare(workdir, fmu.profile)
     lib = load(library)
     for seed in range(int(first), int(first) + int(count)):
-        print(json.dumps(Sequence(lib, guid, variables, resources, workdir, seed).run()), flush=True)
+        print(json.dumps(Sequence(lib, fmu, resources, workdir, seed).run()), flush=True)
 
 
 if __name__ == "__main__":

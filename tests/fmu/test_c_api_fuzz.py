@@ -1,13 +1,17 @@
 """A fuzz test of the C API (issue 7): randomized, type-correct FMI call sequences against the packaged
-binary (tests/fmu/fuzz_driver.py), each batch in a child process so that a crash or a hang is reported with
-the sequence and the call that caused it instead of ending the test run.
+binaries of both FMUs, the vehicle (RtVehicle.fmu) and the driver (RtDriver.fmu), which share the FMI layer
+(tests/fmu/fuzz_driver.py: value references and the String parameter read from each model description,
+what it cannot say in its PROFILES), each batch in a child process so that a crash or a hang is reported
+with the sequence and the call that caused it instead of ending the test run.
 
-Fixed seeds: 5,000 sequences (about 50 calls each) in the normal run; RTV_FUZZ_SEQUENCES=100000 runs more.
-Checks: no crash, no call over 10 s (the child's watchdog ends it then), every status other than fmi2OK
-logged by its instance, every Real output finite after an fmi2OK step, bad fmi2Instantiate arguments
-refused with a message, serialized states edited to be invalid (internal_step -1, 1e-9 or 5e-324, a brake
-torque of -5, formulation 5, stop_time < time, a state vector one number longer or shorter, ...) refused
-by fmi2DeSerializeFMUstate.
+Fixed seeds: 5,000 sequences (about 50 calls each) per FMU in the normal run; RTV_FUZZ_SEQUENCES=100000
+runs more. Checks: no crash, no call over 10 s (the child's watchdog ends it then), every status other than
+fmi2OK logged by its instance, every Real output finite (and not refused as non-finite) after an fmi2OK
+step, bad fmi2Instantiate arguments refused with a message, serialized states edited to be invalid refused
+by fmi2DeSerializeFMUstate (the vehicle: internal_step -1, 1e-9 or 5e-324, a brake torque of -5,
+formulation 5, stop_time < time, a state vector one number longer or shorter, ...; the driver: a Real
+parameter beyond its min or max, parameter or input arrays of the wrong length, an input or the speed
+integral null or 1e999, an initialized state whose path file is missing, stop_time < time, mode Fatal, ...).
 
 When a child dies (signal, exit status, watchdog), the last call it announced names the seed and the call;
 that seed is run again alone in a fresh child (does it reproduce without the sequences before it in the
@@ -25,9 +29,10 @@ import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
 
+import pytest
 from fmpy import extract
 
-from conftest import FMU_PATH
+from conftest import DRIVER_PATH, FMU_PATH
 
 SEQUENCES = int(os.environ.get("RTV_FUZZ_SEQUENCES", "5000"))
 BATCH = 250
@@ -93,7 +98,7 @@ def run_batch(library, resources, first, count):
     return results, findings
 
 
-def describe(f):
+def describe(f, identifier):
     if f["call"] is None:
         return f"{f['how']} (after {MAX_FINDINGS_PER_BATCH} findings in the batch)"
     detail = "; ".join(f["detail"])
@@ -101,13 +106,17 @@ def describe(f):
     shown = (["…"] if len(before) > 8 else []) + before[-8:]
     return (f"seed {f['seed']}: {f['how']} in {f['call']} ({f['alone']}){': ' + detail if detail else ''}\n"
             f"    after: {' | '.join(shown) or '(nothing)'}\n"
-            f"    replay: python tests/fmu/fuzz_driver.py FMU_DIR/binaries/linux64/RtVehicle.so file://FMU_DIR/resources "
+            f"    replay: python tests/fmu/fuzz_driver.py FMU_DIR/binaries/linux64/{identifier}.so file://FMU_DIR/resources "
             f"$(mktemp -d) {f['seed']} 1")
 
 
-def test_random_call_sequences_never_crash_hang_or_fail_silently(tmp_path, capsys):
-    unzipped = extract(str(FMU_PATH), unzipdir=str(tmp_path / "fmu"))
-    library = str(pathlib.Path(unzipped) / "binaries" / "linux64" / "RtVehicle.so")
+@pytest.mark.parametrize("fmu", [FMU_PATH, DRIVER_PATH], ids=lambda p: p.stem)
+def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, tmp_path, capsys):
+    if not fmu.is_file():
+        pytest.fail(f"{fmu} does not exist: run `cargo run --release -p packaging` first")
+    identifier = fmu.stem  # the modelIdentifier: RtVehicle, RtDriver
+    unzipped = extract(str(fmu), unzipdir=str(tmp_path / "fmu"))
+    library = str(pathlib.Path(unzipped) / "binaries" / "linux64" / f"{identifier}.so")
     resources = (pathlib.Path(unzipped) / "resources").as_uri()
     batches = [(first, min(BATCH, SEQUENCES - first)) for first in range(0, SEQUENCES, BATCH)]
     t0 = time.perf_counter()
@@ -121,9 +130,9 @@ def test_random_call_sequences_never_crash_hang_or_fail_silently(tmp_path, capsy
     slowest = max((r["slowest"] for r in results), default=(0.0, ""))
     steps = sum(r["ok_steps"] for r in results)
     with capsys.disabled():
-        print(f"\nfuzz: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} fmi2OK steps) "
+        print(f"\nfuzz {identifier}: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} fmi2OK steps) "
               f"in {elapsed:.1f} s; slowest call {slowest[0]:.3f} s ({slowest[1]}); "
               f"{len([f for f in findings if f['call']])} crashes or hangs, {len(problems)} other problems")
-    assert not findings, "\n".join(map(describe, findings))
+    assert not findings, "\n".join(describe(f, identifier) for f in findings)
     assert not problems, problems[:20]
     assert len(results) == SEQUENCES

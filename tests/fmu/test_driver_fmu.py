@@ -153,6 +153,24 @@ def test_a_missing_or_broken_path_file_is_an_error_naming_it(make_driver, tmp_pa
     s.step(0.01)
 
 
+def test_extreme_but_finite_paths_give_finite_outputs_or_are_refused(make_driver, tmp_path):
+    """Found by the C-API fuzz (test_c_api_fuzz.py): a path of finite points 2e308 apart was accepted and
+    every output read was then refused as NaN; so was every output on a path whose last segment is 5e-324 m
+    long, driven fast (its preview point beyond the end was NaN)."""
+    s = make_driver()
+    s.set(path_file=write_path(tmp_path, [(-1e308, 0, 10), (1e308, 0, 10)], "huge.csv"))
+    s.fmu.setupExperiment(startTime=0.0)
+    s.fmu.enterInitializationMode()
+    assert status(s.fmu.exitInitializationMode) == ERROR
+    assert any("overflows" in m for m in messages(s.name))
+    s.set(path_file=write_path(tmp_path, [(0, 0, 10), (5e-324, 0, 10)], "tiny.csv"))
+    s.fmu.exitInitializationMode()
+    for pose in [(0.0, 0.0, 0.0, 1e300, 0.0), (1e300, 1e300, 0.0, 20.0, 1e300)]:
+        drive(s, pose)
+        s.step(0.01)
+        assert all(math.isfinite(v) for v in s.get_outputs())
+
+
 def test_wrong_types_and_outputs_are_not_settable(make_driver):
     s = make_driver()
     assert status(s.fmu.setReal, [s.vr["rack_displacement"]], [0.0]) == ERROR

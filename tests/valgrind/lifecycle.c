@@ -1,11 +1,14 @@
-/* A small FMI 2.0 master over the whole lifecycle, for valgrind's memcheck (tests/valgrind/run.sh):
- * two instances, parameters (one bad), initialization, 0.3 s of a ramped rack with every output read,
+/* A small FMI 2.0 master over the whole lifecycle, for valgrind's memcheck (tests/valgrind/run.sh), of either
+ * FMU of the workspace (they share the FMI layer): the vehicle (RtVehicle) or the driver (RtDriver), chosen by
+ * the third argument; what differs between them (GUID, value references, the data file) is in MODELS.
+ * Two instances, parameters (one bad), initialization, 0.3 s of a ramped input with every output read,
  * FMU states got, set, serialized, deserialized (also into a slot that holds a state) and some left alive
  * at fmi2FreeInstance, reset, terminate, free; then, on a third instance, the hostile calls of issue 7 (an
- * array length of 2^32 with NULL arrays, /dev/zero as the vehicle file, a step of 1e5 s). The hostile calls
- * come last, after the first two instances are freed and their state pointers dropped: a binary that
- * aborts or hangs on them still has its leaks of the lifecycle reported as "definitely lost" (valgrind
- * runs the leak check when the process dies from a signal; before issue 7: 4 states, 19,520 bytes).
+ * array length of 2^32 with NULL arrays, /dev/zero, a binary and an XML file as the data file, a step of
+ * 1e5 s, which the vehicle refuses and the driver, whose steps are cheap, takes). The hostile calls come
+ * last, after the first two instances are freed and their state pointers dropped: a binary that aborts or
+ * hangs on them still has its leaks of the lifecycle reported as "definitely lost" (valgrind runs the leak
+ * check when the process dies from a signal; the vehicle before issue 7: 4 states, 19,520 bytes).
  * Exits 1 if a call that must succeed does not. The prototypes are FMI 2.0's (fmi2FunctionTypes.h). */
 #include <dlfcn.h>
 #include <stdarg.h>
@@ -43,11 +46,38 @@ static void expect(int ok, const char *what) {
     if (!ok) { fprintf(stderr, "unexpected status: %s\n", what); failures++; }
 }
 
-#define GUID "{8d3f6a52-4c1e-4b7a-9e2d-5f0a7c31b6e4}"
 enum { OK = 0, ERROR = 3 };
 
+typedef struct {
+    const char *name, *guid;
+    fmi2ValueReference checked_vr; /* a Real parameter: bad_value is refused, good_value accepted */
+    double bad_value, good_value;
+    fmi2ValueReference integer_vr; /* an Integer parameter set to integer_value on b (0: none) */
+    int integer_value;
+    fmi2ValueReference file_vr; /* the String parameter naming the data file, and a good value of it */
+    const char *file;
+    fmi2ValueReference input_vr; /* the Real input ramped over the run */
+    fmi2ValueReference first_output;
+    int outputs; /* the outputs: first_output .. first_output + outputs - 1 */
+    fmi2Status huge_step; /* the status of a step of 1e5 s */
+} Model;
+
+static const Model MODELS[] = {
+    /* internal_step 1e-9 / 0.002, formulation 2 (conventional), vehicle_file "" (the built-in HMMWV),
+     * rack_displacement, the 47 outputs; a step of 1e5 s is too much work for one call (refused). */
+    {"vehicle", "{8d3f6a52-4c1e-4b7a-9e2d-5f0a7c31b6e4}", 104, 1e-9, 0.002, 102, 2, 107, "", 1, 200, 47, ERROR},
+    /* preview_time -1 / 0.6, no Integer parameter, path_file (its default, in resources/), the input x, the
+     * 13 outputs; the driver takes a step of 1e5 s. */
+    {"driver", "{a7bf5af0-9c23-40af-a1cf-97a140c912c1}", 101, -1.0, 0.6, 0, 0, 100, "double_lane_change.csv", 1, 200, 13, OK},
+};
+#define MAX_OUTPUTS 47
+
 int main(int argc, char **argv) {
-    if (argc != 3) { fprintf(stderr, "usage: lifecycle LIBRARY RESOURCES_URI\n"); return 2; }
+    const Model *m = NULL;
+    for (size_t k = 0; k < sizeof MODELS / sizeof MODELS[0]; k++)
+        if (argc == 4 && strcmp(argv[3], MODELS[k].name) == 0) m = &MODELS[k];
+    if (!m) { fprintf(stderr, "usage: lifecycle LIBRARY RESOURCES_URI vehicle|driver\n"); return 2; }
+    const char *guid = m->guid;
     lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
     if (!lib) { fprintf(stderr, "%s\n", dlerror()); return 2; }
     fmi2Component (*instantiate)(const char *, int, const char *, const char *, const Callbacks *, int, int) = sym("fmi2Instantiate");
@@ -73,43 +103,43 @@ int main(int argc, char **argv) {
     fmi2Status (*set_derivatives)(fmi2Component, const fmi2ValueReference *, size_t, const int *, const double *) = sym("fmi2SetRealInputDerivatives");
 
     Callbacks cb = {logger, calloc, free, NULL, NULL};
-    fmi2Component a = instantiate("a", 1, GUID, argv[2], &cb, 0, 1);
-    fmi2Component b = instantiate("b", 1, GUID, argv[2], &cb, 0, 0);
+    fmi2Component a = instantiate("a", 1, guid, argv[2], &cb, 0, 1);
+    fmi2Component b = instantiate("b", 1, guid, argv[2], &cb, 0, 0);
     expect(a && b, "instantiate");
     expect(instantiate("bad guid", 1, "{nope}", argv[2], &cb, 0, 0) == NULL, "instantiate with a wrong GUID");
 
-    /* Parameters: one bad value (kept out), then good ones; a bad vehicle file first on b. */
-    fmi2ValueReference step_vr = 104, formulation_vr = 102, file_vr = 107, rack_vr = 1;
-    double bad_step = 1e-9, step = 0.002;
-    int conventional = 2;
-    expect(set_real(a, &step_vr, 1, &bad_step) == ERROR, "internal_step 1e-9 refused");
-    expect(set_real(a, &step_vr, 1, &step) == OK, "internal_step");
-    expect(set_integer(b, &formulation_vr, 1, &conventional) == OK, "formulation");
-    const char *dev_zero = "/dev/zero", *empty = "";
+    /* Parameters: one bad value (kept out), then good ones. */
+    fmi2ValueReference checked_vr = m->checked_vr, integer_vr = m->integer_vr, file_vr = m->file_vr, input_vr = m->input_vr;
+    expect(set_real(a, &checked_vr, 1, &m->bad_value) == ERROR, "a bad Real parameter refused");
+    expect(set_real(a, &checked_vr, 1, &m->good_value) == OK, "a Real parameter");
+    if (integer_vr) expect(set_integer(b, &integer_vr, 1, &m->integer_value) == OK, "an Integer parameter");
+    else expect(set_integer(b, &checked_vr, 1, &m->integer_value) == ERROR, "an Integer for a Real refused");
+    const char *dev_zero = "/dev/zero", *file = m->file;
     fmi2Component insts[2] = {a, b};
     for (int i = 0; i < 2; i++) {
         expect(setup(insts[i], 0, 0.0, 0.0, 1, 10.0) == OK, "setup");
         expect(enter(insts[i]) == OK, "enter");
     }
-    expect(set_string(b, &file_vr, 1, &empty) == OK, "vehicle_file = ''");
+    expect(set_string(b, &file_vr, 1, &file) == OK, "set the data file");
     const char *got = NULL;
-    expect(get_string(b, &file_vr, 1, &got) == OK && got && strcmp(got, "") == 0, "get vehicle_file");
+    expect(get_string(b, &file_vr, 1, &got) == OK && got && strcmp(got, file) == 0, "get the data file");
     for (int i = 0; i < 2; i++) expect(exit_init(insts[i]) == OK, "exit");
 
-    /* 0.3 s of a rack ramp, every output read, a state saved at 0.1 s. */
-    fmi2ValueReference outputs[47];
-    for (int k = 0; k < 47; k++) outputs[k] = 200 + k;
-    double values[47], t = 0.0, h = 0.01;
+    /* 0.3 s of an input ramp (the vehicle's rack), every output read, a state saved at 0.1 s. */
+    fmi2ValueReference outputs[MAX_OUTPUTS];
+    size_t n_out = (size_t)m->outputs;
+    for (size_t k = 0; k < n_out; k++) outputs[k] = m->first_output + (fmi2ValueReference)k;
+    double values[MAX_OUTPUTS], t = 0.0, h = 0.01;
     fmi2FMUstate saved = NULL, spare = NULL, left_alive = NULL;
     for (int n = 0; n < 30; n++) {
-        double rack = 0.003 * (t > 0.1 ? (t - 0.1 < 0.1 ? (t - 0.1) / 0.1 : 1.0) : 0.0);
+        double ramp = 0.003 * (t > 0.1 ? (t - 0.1 < 0.1 ? (t - 0.1) / 0.1 : 1.0) : 0.0);
         double slope = (t > 0.1 && t < 0.2) ? 0.03 : 0.0;
         int order = 1;
         for (int i = 0; i < 2; i++) {
-            expect(set_real(insts[i], &rack_vr, 1, &rack) == OK, "set rack");
-            expect(set_derivatives(insts[i], &rack_vr, 1, &order, &slope) == OK, "rack derivative");
+            expect(set_real(insts[i], &input_vr, 1, &ramp) == OK, "set the input");
+            expect(set_derivatives(insts[i], &input_vr, 1, &order, &slope) == OK, "the input's derivative");
             expect(do_step(insts[i], t, h, 1) == OK, "doStep");
-            expect(get_real(insts[i], outputs, 47, values) == OK, "get outputs");
+            expect(get_real(insts[i], outputs, n_out, values) == OK, "get outputs");
         }
         t += h;
         if (n == 10) expect(get_state(a, &saved) == OK && get_state(a, &spare) == OK, "get states");
@@ -134,7 +164,7 @@ int main(int argc, char **argv) {
     double now = -1.0;
     expect(real_status(a, 2 /* fmi2LastSuccessfulTime */, &now) == OK && now > 0.2 && now < 0.22, "time restored");
     expect(do_step(a, now, h, 1) == OK, "step after restoring");
-    expect(get_real(a, outputs, 47, values) == OK, "outputs after restoring");
+    expect(get_real(a, outputs, n_out, values) == OK, "outputs after restoring");
     expect(get_state(b, &left_alive) == OK, "a state of b left alive");
     expect(free_state(b, &restored) == OK, "free a state");
 
@@ -149,20 +179,37 @@ int main(int argc, char **argv) {
     saved = spare = left_alive = NULL; /* freed with their instances: nothing of the driver points to them */
 
     /* The hostile calls, on a fresh instance. */
-    fmi2Component c = instantiate("c", 1, GUID, argv[2], &cb, 0, 0);
+    fmi2Component c = instantiate("c", 1, guid, argv[2], &cb, 0, 0);
     expect(c != NULL, "instantiate c");
     expect(set_string(c, NULL, (size_t)1 << 32, NULL) == ERROR, "fmi2SetString(NULL, 2^32) refused");
     expect(setup(c, 0, 0.0, 0.0, 0, 0.0) == OK && enter(c) == OK, "initialize c");
-    expect(set_string(c, &file_vr, 1, &dev_zero) == OK, "vehicle_file = /dev/zero");
+    expect(set_string(c, &file_vr, 1, &dev_zero) == OK, "data file = /dev/zero");
     expect(exit_init(c) == ERROR, "/dev/zero refused");
-    expect(set_string(c, &file_vr, 1, &empty) == OK && exit_init(c) == OK, "vehicle_file = '' and exit");
-    expect(do_step(c, 0.0, 1e5, 1) == ERROR, "a step of 1e5 s refused");
-    expect(do_step(c, 0.0, h, 1) == OK, "a step after the refused one");
+    /* Files read and then refused: this program (not UTF-8) and the FMU's modelDescription.xml (text of
+     * another format), found from the library's path FMU/binaries/linux64/X.so. */
+    char description[4096];
+    snprintf(description, sizeof description, "%s", argv[1]);
+    for (int up = 0; up < 3; up++) {
+        char *slash = strrchr(description, '/');
+        if (slash) *slash = '\0';
+    }
+    strncat(description, "/modelDescription.xml", sizeof description - strlen(description) - 1);
+    const char *unreadable[2] = {argv[0], description};
+    for (int k = 0; k < 2; k++) {
+        expect(set_string(c, &file_vr, 1, &unreadable[k]) == OK, "data file = a file of another format");
+        expect(exit_init(c) == ERROR, "a file of another format refused");
+    }
+    expect(set_string(c, &file_vr, 1, &file) == OK && exit_init(c) == OK, "a good data file and exit");
+    expect(do_step(c, 0.0, 1e5, 1) == m->huge_step, "a step of 1e5 s (refused by the vehicle)");
+    double tc = -1.0;
+    expect(real_status(c, 2, &tc) == OK && tc == (m->huge_step == OK ? 1e5 : 0.0), "time after it");
+    expect(do_step(c, tc, h, 1) == OK, "a step after it");
+    expect(get_real(c, outputs, n_out, values) == OK, "outputs of c");
     free_instance(c);
     free(bytes);
     free(broken);
     dlclose(lib);
-    printf("lifecycle: %d logged messages, %d unexpected statuses\n", messages, failures);
+    printf("lifecycle (%s): %d logged messages, %d unexpected statuses\n", m->name, messages, failures);
     fflush(stdout);
     return failures ? 1 : 0;
 }

@@ -29,7 +29,9 @@ pub struct Projection {
 
 impl Path {
     /// A path through `points` with the speed `speeds[k]` at each. Refused with a reason: fewer than two
-    /// points, a length mismatch, non-finite values, a negative speed, two consecutive equal points.
+    /// points, a length mismatch, non-finite values, a negative speed, two consecutive equal points, a
+    /// length that is not a finite number (finite points up to ±1.8e308 apart: every distance along the
+    /// path would be infinite and the driver's outputs NaN).
     pub fn new(points: Vec<[f64; 2]>, speeds: Vec<f64>) -> Result<Path, String> {
         if points.len() < 2 {
             return Err(format!("a path needs at least two points, it has {}", points.len()));
@@ -55,7 +57,11 @@ impl Path {
             if len <= 0.0 {
                 return Err(format!("points {} and {} coincide: a path's segments need a length", k, k + 1));
             }
-            arc.push(arc[k - 1] + len);
+            let s = arc[k - 1] + len;
+            if !s.is_finite() {
+                return Err(format!("the path's length up to point {} overflows ({s} m): coordinates too large", k + 1));
+            }
+            arc.push(s);
         }
         Ok(Path { points, speeds, arc })
     }
@@ -141,8 +147,10 @@ impl Path {
     pub fn point_at(&self, s: f64) -> [f64; 2] {
         let k = self.segment(s);
         let (a, b) = (self.points[k], self.points[k + 1]);
-        let f = (s - self.arc[k]) / (self.arc[k + 1] - self.arc[k]);
-        [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])]
+        // Along the segment's unit direction (not a fraction of it: beyond the end of a very short last
+        // segment the fraction overflows to inf, and inf × 0 is NaN).
+        let (len, along) = (self.arc[k + 1] - self.arc[k], s - self.arc[k]);
+        [a[0] + along * ((b[0] - a[0]) / len), a[1] + along * ((b[1] - a[1]) / len)]
     }
 
     /// The speed to hold at arc length `s`: linear between points, the last speed beyond the end.
@@ -196,6 +204,16 @@ mod tests {
     }
 
     #[test]
+    fn far_beyond_a_very_short_last_segment_points_stay_finite() {
+        // Found by the C-API fuzz of the driver FMU (a path file with a segment of 5e-324 m and a fast
+        // vehicle: the preview point was NaN, and so was every output).
+        let p = Path::at_speed(vec![[0.0, 0.0], [5e-324, 0.0]], 10.0).unwrap();
+        assert_eq!(p.point_at(1e301), [1e301, 0.0]);
+        let q = Path::at_speed(vec![[0.0, 0.0], [0.0, 1e-300]], 10.0).unwrap();
+        assert_eq!(q.point_at(2.0), [0.0, 2.0]);
+    }
+
+    #[test]
     fn csv_round_trip_and_errors_name_the_line() {
         let p = l_path();
         assert_eq!(Path::from_csv(&p.to_csv()).unwrap(), p);
@@ -210,6 +228,7 @@ mod tests {
             ("x,y,v\n0,0,1\n1,0,-1\n", "negative"),
             ("x,y,v\n0,0,1\n1,0,inf\n", "finite"),
             ("x,y,v\n0,0,1\n1,0\n", "2 columns"),
+            ("x,y,v\n-1e308,0,1\n1e308,0,1\n", "overflows"),
         ] {
             let e = Path::from_csv(text).unwrap_err();
             assert!(e.contains(why), "{text:?}: {e}");
