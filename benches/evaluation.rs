@@ -63,6 +63,13 @@ fn main() {
             b.iter(|| v.derivative(black_box(&x), &inputs, &mut cache, &mut dx, None).unwrap())
         });
     }
+    // The same evaluation on the baseline x86-64 code (the dispatch above picks AVX2 + FMA where the CPU has
+    // them: rt_vehicle::simd).
+    let mut cache = KinematicsCache::default();
+    let mut dx = vec![0.0; idx::DIM];
+    c.bench_function("function evaluation/synthesis, baseline x86-64 code", |b| {
+        b.iter(|| vehicle.derivative_portable(black_box(&x), &inputs, &mut cache, &mut dx).unwrap())
+    });
     let mut cache = KinematicsCache::default();
     c.bench_function("assembly (shared terms, §4.9 steps 1-3e)", |b| {
         b.iter(|| vehicle.assemble(black_box(&x), &inputs, &mut cache, &mut Diagnostics::default()).unwrap())

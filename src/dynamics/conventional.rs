@@ -35,7 +35,7 @@ pub fn assemble_conventional(
 }
 
 /// The nonzero blocks of §4.3 into an already zeroed `a` (every entry of `b` is written).
-#[inline]
+#[inline(always)]
 fn fill_nonzero(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; 4],
@@ -64,10 +64,12 @@ fn fill_nonzero(
 /// (n³/3 − n/3 ≈ 24 682 multiplications + n² = 1 764 for the solve, §4.10). The matrix (14 KiB) lives on
 /// the stack. Fails when the matrix is numerically singular or on non-finite input or result. It does not
 /// test the chassis matrix for positive definiteness (an LU does not need it).
+#[inline(always)]
 pub fn solve_conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
     explained(chassis, subs, conventional(chassis, subs))
 }
 
+#[inline(always)]
 fn conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
     let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
     let mut b = SMatrix::<f64, NCONV, 1>::zeros();

@@ -215,6 +215,7 @@ fn gcp<const K: usize>(
 /// P̄ᵢ = P_0 − [M_0q 0] x. Chassis: (M̂₀ + M̂_R + Σ M̄ᵢ) Ẏ₀ = Q̂₀ + Q̂*_R + Σ P̄ᵢ by Cholesky.
 /// Back-substitution (eq. 3): [q̈; λ] = x − X Ẏ₀. Fails when some 𝐒 is singular (Φ_q rank-deficient),
 /// when the chassis matrix is not positive definite, or on non-finite input or result.
+#[inline(always)]
 pub fn solve_synthesis_augmented<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
@@ -222,6 +223,7 @@ pub fn solve_synthesis_augmented<const K: usize>(
     explained(chassis, subs, augmented(chassis, subs))
 }
 
+#[inline(always)]
 fn augmented<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
