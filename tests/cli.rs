@@ -25,6 +25,18 @@ fn scene_writes_the_documented_columns() {
 }
 
 #[test]
+fn a_scene_writes_what_it_computes_and_keep_all_writes_every_column() {
+    // The sine reads only channels of the state (its declaration): no evaluated channel is written.
+    let (code, out, err) = rtv(&["scene", "sine", "--end", "0.02"]);
+    assert_eq!(code, 0, "{err}");
+    let header = out.lines().next().unwrap();
+    assert_eq!(header, "time,x,y,z,roll,pitch,yaw,vx,vy,vz,roll_rate,pitch_rate,yaw_rate,rack_displacement");
+    let (code, out, err) = rtv(&["scene", "sine", "--end", "0.02", "--keep-all"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().next().unwrap().split(',').count(), 47);
+}
+
+#[test]
 fn bad_arguments_get_a_message_and_exit_2() {
     for (args, needle) in [
         (vec!["scene", "slalom"], "unknown scene"),

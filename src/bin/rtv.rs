@@ -13,7 +13,7 @@
 
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::suspension::sla::{Side, SlaGeometry};
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::scenes::{run, run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{modes, Formulation, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -26,7 +26,8 @@ const USAGE: &str = "usage:
             [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
-            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--out FILE.csv]
+            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
+            [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv calibrate [--vehicle FILE.json]
@@ -95,8 +96,9 @@ fn csv_writer(path: Option<&String>) -> Result<Box<dyn Write>, Failure> {
     }
 }
 
-fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Failure> {
-    let mut c = SimConfig::default();
+/// The run options: `base` (the scene's declaration) with the options given on top.
+fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(SimConfig, f64), Failure> {
+    let mut c = base;
     if let Some(f) = opts.get("formulation") {
         c.formulation = modes::FORMULATIONS.by_name(f).map_err(bad)?;
     }
@@ -164,8 +166,11 @@ const MAX_ROWS: f64 = 1e7;
 fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let name = args.first().ok_or_else(|| bad("scene: which scene? bump, jturn or sine"))?;
     let kind = SceneKind::parse(name).ok_or_else(|| bad(format!("unknown scene '{name}': bump, jturn or sine")))?;
+    // --keep-all (a switch, no value): run without leaving out what the scene does not need, to compare.
+    let keep_all = args[1..].iter().any(|a| a == "--keep-all");
+    let rest: Vec<String> = args[1..].iter().filter(|a| *a != "--keep-all").cloned().collect();
     let opts = options(
-        &args[1..],
+        &rest,
         &[
             "formulation",
             "integrator",
@@ -189,7 +194,6 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "out",
         ],
     )?;
-    let (mut config, interval) = scene_config(&opts)?;
     let amplitude = match opts.get("amplitude") {
         Some(a) => Amplitude::parse(a).ok_or_else(|| {
             bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1"))
@@ -197,6 +201,11 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         None => Amplitude::Calibrated,
     };
     let mut scene = Scene::new(kind, amplitude);
+    // The scene's declaration decides the configuration; options given override it.
+    let (mut config, interval) = scene_config(&opts, scene.config_for(&SimConfig::default()))?;
+    if opts.contains_key("brake") || opts.contains_key("drive") {
+        scene.needs = scene.needs.with_torques();
+    }
     scene.speed = number(&opts, "initial-speed", scene.speed)?;
     config.initial_speed = scene.speed;
     config.validate().map_err(|e| bad(format!("--initial-speed: {e}")))?;
@@ -215,15 +224,17 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let data = vehicle_data(&opts)?;
     scene.check_rack(data.rack.travel_limit_m).map_err(|e| bad(format!("--amplitude: {e}")))?;
     let started = Instant::now();
-    let mut sim = scene.start(data, &config).map_err(|e| failed(e.0))?;
+    let mut sim = scene.start_keeping(data, &config, keep_all).map_err(|e| failed(e.0))?;
     sim.set_wheel_torques([drive; 4], [brake; 4]);
     let setup = started.elapsed();
     let mut out = csv_writer(opts.get("out"))?;
-    let header = OUTPUT_NAMES[..CSV_COLUMNS].join(",");
+    let columns = scene.columns(keep_all);
+    let header = columns.iter().map(|&i| OUTPUT_NAMES[i]).collect::<Vec<_>>().join(",");
     let mut lines = vec![header];
+    let evaluate = keep_all || scene.needs.evaluates_outputs();
     let t = Instant::now();
-    let result = run(&mut sim, end, interval, |o| {
-        lines.push(o.values[..CSV_COLUMNS].iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(","));
+    let result = run_columns(&mut sim, end, interval, &columns, evaluate, |row| {
+        lines.push(row.iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(","));
     });
     let cpu = t.elapsed();
     for l in &lines {
