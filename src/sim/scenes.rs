@@ -76,8 +76,9 @@ pub const SINE_KINK_BLEND: f64 = 0.02;
 
 /// What a scene needs of the model: the one place that decides its pruned configuration
 /// (`Scene::config_for`, `Scene::columns`). What it does not name is left out: the states of the other
-/// slip model and speed mode (`model::vehicle::Layout`), and the output evaluation at each output point
-/// when every channel it reads comes straight from the state. Leaving them out is exact
+/// slip model and speed mode (`model::vehicle::Layout`), the output evaluation at each output point
+/// when every channel it reads comes straight from the state, and the CSV columns it does not read
+/// (but those of the state). Leaving them out is exact
 /// (tests/pruning.rs); docs/results.md gives the cost with and without.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SceneNeeds {
@@ -191,12 +192,12 @@ impl Scene {
     }
 
     /// The output channels (indices into `OUTPUT_NAMES`) a run writes: with `keep_all` every CSV column;
-    /// otherwise what the run computes anyway. That is every CSV column when the needs evaluate the
-    /// outputs (the evaluation gives them all at once), else the channels straight from the state.
+    /// otherwise the channels the scene reads and those straight from the state (pose and velocities: they
+    /// cost no evaluation). The others are left out too: a CSV value costs about 1.7 k instructions to
+    /// format, a twenty-fourth of an evaluation (callgrind, docs/results.md).
     pub fn columns(&self, keep_all: bool) -> Vec<usize> {
-        (0..super::CSV_COLUMNS)
-            .filter(|&i| keep_all || self.needs.evaluates_outputs() || outputs::from_state(i))
-            .collect()
+        let read = |i: usize| self.needs.outputs.contains(&super::OUTPUT_NAMES[i]);
+        (0..super::CSV_COLUMNS).filter(|&i| keep_all || outputs::from_state(i) || read(i)).collect()
     }
 
     /// The rack input must stay within the rack's travel limit (the sine's amplitude is 10/8 of the
@@ -249,10 +250,13 @@ pub fn run_columns(
     let mut row = vec![0.0; columns.len()];
     every_interval(sim, end, interval, |sim| {
         if evaluate {
-            sim.outputs()?;
-        }
-        for (value, &i) in row.iter_mut().zip(columns) {
-            *value = sim.output(i)?;
+            let o = sim.outputs()?;
+            row.iter_mut().zip(columns).for_each(|(value, &i)| *value = o.values[i]);
+        } else {
+            // Each channel as it needs: no evaluation for those of the state.
+            for (value, &i) in row.iter_mut().zip(columns) {
+                *value = sim.output(i)?;
+            }
         }
         sample(&row);
         Ok(())
