@@ -2,7 +2,8 @@
 //! each starting from steady rolling at its speed, and a runner that samples the outputs. Each scene
 //! declares what it needs (`SceneNeeds`); `rtv scene` runs with that and leaves the rest out.
 
-use super::{outputs, Outputs, RackProfile, RoadChoice, SimConfig, SimError, Simulation, SpeedMode};
+use super::{outputs, Outputs, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
+use crate::error::{Cause, ModelError};
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
 use crate::model::vehicle::Vehicle;
@@ -202,19 +203,22 @@ impl Scene {
 
     /// The rack input must stay within the rack's travel limit (the sine's amplitude is 10/8 of the
     /// J-turn's).
-    pub fn check_rack(&self, travel_limit: f64) -> Result<(), SimError> {
+    pub fn check_rack(&self, travel_limit: f64) -> Result<(), ModelError> {
         let peak = self.rack.peak();
         if peak > travel_limit {
-            return Err(SimError(format!(
-                "the {} scene's rack input reaches {peak:.4} m, beyond the rack's travel limit of ±{travel_limit} m \
-                 (vehicle data rack.travel_limit_m)",
-                self.kind.name()
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!(
+                    "the {} scene's rack input reaches {peak:.4} m, beyond the rack's travel limit of ±{travel_limit} m \
+                     (vehicle data rack.travel_limit_m)",
+                    self.kind.name()
+                ),
+            ));
         }
         Ok(())
     }
 
-    pub fn start(&self, vehicle: VehicleData, base: &SimConfig) -> Result<Simulation, SimError> {
+    pub fn start(&self, vehicle: VehicleData, base: &SimConfig) -> Result<Simulation, ModelError> {
         self.start_keeping(vehicle, base, false)
     }
 
@@ -225,7 +229,7 @@ impl Scene {
         vehicle: VehicleData,
         base: &SimConfig,
         keep_unused_states: bool,
-    ) -> Result<Simulation, SimError> {
+    ) -> Result<Simulation, ModelError> {
         self.check_rack(vehicle.rack.travel_limit_m)?;
         let mut v = Vehicle::new(&vehicle)?;
         v.keep_unused_states = keep_unused_states;
@@ -246,7 +250,7 @@ pub fn run_columns(
     columns: &[usize],
     evaluate: bool,
     mut sample: impl FnMut(&[f64]),
-) -> Result<(), SimError> {
+) -> Result<(), ModelError> {
     let mut row = vec![0.0; columns.len()];
     every_interval(sim, end, interval, |sim| {
         if evaluate {
@@ -265,7 +269,7 @@ pub fn run_columns(
 
 /// Step `sim` to `end`, calling `sample` at t = 0 and every `interval` (each interval is one `advance`,
 /// split into equal sub-steps by the one rule of §7.2).
-pub fn run(sim: &mut Simulation, end: f64, interval: f64, mut sample: impl FnMut(&Outputs)) -> Result<(), SimError> {
+pub fn run(sim: &mut Simulation, end: f64, interval: f64, mut sample: impl FnMut(&Outputs)) -> Result<(), ModelError> {
     every_interval(sim, end, interval, |sim| {
         sample(&sim.outputs()?);
         Ok(())
@@ -277,8 +281,8 @@ fn every_interval(
     sim: &mut Simulation,
     end: f64,
     interval: f64,
-    mut at: impl FnMut(&mut Simulation) -> Result<(), SimError>,
-) -> Result<(), SimError> {
+    mut at: impl FnMut(&mut Simulation) -> Result<(), ModelError>,
+) -> Result<(), ModelError> {
     at(sim)?;
     let n = (end / interval - 1e-9).ceil().max(0.0) as usize;
     let t0 = sim.time();
