@@ -104,4 +104,5 @@ fn steady_slip_below_its_speed_range_is_a_named_error() {
     };
     let e = Simulation::new(VehicleData::default_hmmwv(), config).expect_err("refused");
     assert!(e.to_string().contains("model validity") && e.to_string().contains("relaxation slip"), "{e}");
+    assert_eq!(e.cause(), rt_vehicle::error::Cause::ModelValidity);
 }
