@@ -96,7 +96,8 @@ pub struct SceneNeeds {
     /// Whether the run watches the physical events (a wheel off the road, locked or spun up: `Events`),
     /// which are seen only by the output evaluation. The bump course can lift a wheel and torques can
     /// lock or spin one; on a level road with the rack alone the sine lifts none (tests/pruning.rs
-    /// checks that the full run records none).
+    /// checks that the full run records none; nor with the paper's amplitude or 15 mm of rack, by
+    /// `rtv scene sine --keep-all --amplitude 0.015`).
     pub events: bool,
 }
 
