@@ -1,6 +1,7 @@
 //! Newton iterations and cost per evaluation in a running scene (RK4, 2 ms): how good the warm start is.
 //! `cargo run --release --example newton_count`
-use rt_vehicle::integrate::{EvalError, Integrator, OdeSystem, Rk4};
+use rt_vehicle::error::ModelError;
+use rt_vehicle::integrate::{Integrator, OdeSystem, Rk4};
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Vehicle};
 use rt_vehicle::sim::scenes::{Amplitude, Scene, SceneKind};
@@ -18,7 +19,7 @@ impl OdeSystem for Counting<'_> {
     fn dim(&self) -> usize {
         idx::DIM
     }
-    fn derivative(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), EvalError> {
+    fn derivative(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), ModelError> {
         let mut d = Diagnostics::default();
         let inputs = Inputs { rack: self.rack.at(t), drive: [0.0; 4], brake: [0.0; 4] };
         let r = self.vehicle.derivative(x, &inputs, &mut self.cache, dx, Some(&mut d));

@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # Regenerates tests/reference/{bump,jturn,sine}.csv: conventional formulation, RK4 at 0.1 ms, 0.01 s output
-# interval (physics.md §9.12), and shows convergence against RK4 at 0.05 ms (tests/reference/README.md).
+# interval (physics.md §9.12), every channel (--keep-all), and shows convergence against RK4 at 0.05 ms (tests/reference/README.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bin rtv
 mkdir -p tests/reference out/reference
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 for scene in bump jturn sine; do
-    ./target/release/rtv scene "$scene" --formulation conventional --integrator rk4 --step 0.0001 \
+    ./target/release/rtv scene "$scene" --formulation conventional --integrator rk4 --step 0.0001 --keep-all \
         --out "tests/reference/$scene.csv" 2>&1 | grep -v triangle
-    ./target/release/rtv scene "$scene" --formulation conventional --integrator rk4 --step 0.00005 \
+    ./target/release/rtv scene "$scene" --formulation conventional --integrator rk4 --step 0.00005 --keep-all \
         --out "out/reference/${scene}_half.csv" 2>&1 | grep -v triangle
 done
 python3 scripts/convergence.py "$commit" > tests/reference/README.md

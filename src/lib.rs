@@ -4,7 +4,8 @@
 //!
 //! Layers (arrows point down only, see docs/architecture.md):
 //! `fmi` (C API, generic) → `sim` (scenes, stepping) → `model` (vehicle) → `dynamics` (solvers),
-//! with `integrate` (time integrators) beside `sim`.
+//! with `integrate` (time integrators) beside `sim`; `error` (`ModelError`, the one error of these layers)
+//! imports none of them.
 
 // `!(x > 0.0)` is deliberate throughout: it rejects NaN too. Index loops over the four corners read better
 // than zipped iterators when several per-corner arrays are involved.
@@ -13,6 +14,7 @@
 #[cfg(any(test, feature = "test-support"))]
 pub mod alloc_count;
 pub mod dynamics;
+pub mod error;
 pub mod fmi;
 pub mod integrate;
 pub mod math;

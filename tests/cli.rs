@@ -13,7 +13,7 @@ fn rtv(args: &[&str]) -> (i32, String, String) {
 
 #[test]
 fn scene_writes_the_documented_columns() {
-    let (code, out, err) = rtv(&["scene", "jturn", "--end", "0.05", "--output-interval", "0.01"]);
+    let (code, out, err) = rtv(&["scene", "jturn", "--end", "0.05", "--output-interval", "0.01", "--keep-all"]);
     assert_eq!(code, 0, "{err}");
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines.len(), 7, "header + samples at 0, 0.01, ..., 0.05");
@@ -22,6 +22,24 @@ fn scene_writes_the_documented_columns() {
     ));
     assert!(lines[0].ends_with("alpha_fl,alpha_fr,alpha_rl,alpha_rr"));
     assert_eq!(lines[0].split(',').count(), 47);
+}
+
+#[test]
+fn a_scene_writes_what_it_reads_and_keep_all_writes_every_column() {
+    // Each scene writes the channels of the state and those its declaration reads.
+    let state = "time,x,y,z,roll,pitch,yaw,vx,vy,vz,roll_rate,pitch_rate,yaw_rate";
+    for (scene, header) in [
+        ("sine", format!("{state},rack_displacement")),
+        ("jturn", format!("{state},ay,rack_displacement")),
+        ("bump", format!("{state},az,rack_displacement,wheel_z_fl,wheel_z_fr,wheel_z_rl,wheel_z_rr")),
+    ] {
+        let (code, out, err) = rtv(&["scene", scene, "--end", "0.02"]);
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(out.lines().next().unwrap(), header);
+        let (code, out, err) = rtv(&["scene", scene, "--end", "0.02", "--keep-all"]);
+        assert_eq!(code, 0, "{err}");
+        assert_eq!(out.lines().next().unwrap().split(',').count(), 47);
+    }
 }
 
 #[test]

@@ -2,7 +2,8 @@
 //! affects this binary) and asserts that, once the scratch is sized by the first step, further steps of
 //! every integrator allocate nothing — including AB3 restarts.
 use rt_vehicle::alloc_count::{allocations, CountingAllocator};
-use rt_vehicle::integrate::{AnyIntegrator, EvalError, Integrator, IntegratorKind, OdeSystem};
+use rt_vehicle::error::ModelError;
+use rt_vehicle::integrate::{AnyIntegrator, Integrator, IntegratorKind, OdeSystem};
 
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;
@@ -14,7 +15,7 @@ impl OdeSystem for Chain {
     fn dim(&self) -> usize {
         33
     }
-    fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+    fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
         let n = x.len();
         for i in 0..n {
             let next = x[(i + 1) % n];

@@ -115,7 +115,7 @@ fn integrate(v: &Vehicle, x: &mut [f64], h: f64, steps: usize) {
         VehicleOde { vehicle: v, rack: &rack, drive: [0.0; 4], brake: [0.0; 4], cache: &mut cache, evaluations: 0 };
     let mut rk4 = Rk4::new();
     for k in 0..steps {
-        rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {}", e.0));
+        rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {e}"));
     }
 }
 

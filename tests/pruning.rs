@@ -1,12 +1,13 @@
 //! Leaving out what the options do not need is exact: a run with the unused states left out (steady slip:
 //! no relaxation states; coasting: no speed-hold integral) gives the same outputs as the same run carrying
 //! them (`Vehicle::keep_unused_states`), bit for bit with RK4 (the left-out states only ever had zero
-//! derivatives and were never read).
+//! derivatives and were never read). A scene run as its declaration (`SceneNeeds`) asks gives the channels
+//! it reads bit for bit as the run that keeps everything.
 
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::tire::SlipModel;
 use rt_vehicle::model::vehicle::{idx, Vehicle};
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::scenes::{run, run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode};
 
 /// Outputs every 0.01 s, the state dimension and the evaluation count of a 2 s run.
@@ -36,5 +37,48 @@ fn leaving_out_unused_states_changes_nothing() {
             assert_eq!(evals, evals_full, "RK4 evaluates as often");
             assert_eq!(pruned, full, "{kind:?} {slip:?} {speed:?}: outputs differ");
         }
+    }
+}
+
+/// `rtv scene` with and without `--keep-all`: the same channels, bit for bit, over the whole 8 s scene.
+#[test]
+fn a_scene_run_as_declared_reads_what_the_full_run_reads() {
+    for kind in [SceneKind::Bump, SceneKind::JTurn, SceneKind::Sine] {
+        let scene = Scene::new(kind, Amplitude::Calibrated);
+        let base = scene.config_for(&SimConfig::default());
+        let data = VehicleData::default_hmmwv();
+
+        let mut full = scene.start_keeping(data.clone(), &base, true).unwrap();
+        let mut full_rows = Vec::new();
+        run(&mut full, scene.duration, 0.01, |o| full_rows.push(o.values)).unwrap();
+
+        let mut pruned = scene.start_keeping(data, &base, false).unwrap();
+        let columns = scene.columns(false);
+        let evaluate = scene.needs.evaluates_outputs();
+        let mut rows = Vec::new();
+        run_columns(&mut pruned, scene.duration, 0.01, &columns, evaluate, |r| rows.push(r.to_vec())).unwrap();
+
+        assert_eq!(rows.len(), full_rows.len());
+        for name in scene.needs.outputs {
+            let i = rt_vehicle::sim::Outputs::index(name).unwrap();
+            let k = columns.iter().position(|&c| c == i).unwrap_or_else(|| panic!("{kind:?}: {name} not written"));
+            for (row, full_row) in rows.iter().zip(&full_rows) {
+                assert_eq!(row[k].to_bits(), full_row[i].to_bits(), "{kind:?}: {name} at t = {}", full_row[0]);
+            }
+        }
+        assert_eq!(pruned.events, full.events, "{kind:?}: the same events");
+        // The sine reads only channels of the state: no evaluation at its output points after t = 0 (the
+        // start evaluates the outputs at t = 0 either way).
+        let saved = full.evaluations() - pruned.evaluations();
+        let expected = if evaluate { 0 } else { rows.len() as u64 - 1 };
+        assert_eq!(saved, expected, "{kind:?}: evaluations left out");
+        println!(
+            "{}: {} states, {} evaluations as declared, {} keeping everything ({} states)",
+            kind.name(),
+            pruned.state().len(),
+            pruned.evaluations(),
+            full.evaluations(),
+            full.state().len()
+        );
     }
 }

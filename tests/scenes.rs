@@ -192,7 +192,9 @@ fn paper_integrator_configuration_is_reported_unstable_and_the_default_is_not() 
         }
     }
     println!("AB3 at 8.3 ms: failure {failed:?}");
-    assert!(failed.is_some_and(|e| e.0.contains("step-size instability")), "instability went unreported");
+    let e = failed.expect("instability went unreported");
+    assert!(e.to_string().contains("step-size instability"), "{e}");
+    assert_eq!(e.cause(), rt_vehicle::error::Cause::StepSizeInstability, "the cause is typed as its message says");
     // The default (RK4, 2 ms, relaxation) runs every scene through: `samples` asserts it.
     for kind in [SceneKind::Bump, SceneKind::JTurn, SceneKind::Sine] {
         samples(kind, Amplitude::Calibrated, &SimConfig::default());

@@ -103,5 +103,6 @@ fn steady_slip_below_its_speed_range_is_a_named_error() {
         ..SimConfig::default()
     };
     let e = Simulation::new(VehicleData::default_hmmwv(), config).expect_err("refused");
-    assert!(e.0.contains("model validity") && e.0.contains("relaxation slip"), "{}", e.0);
+    assert!(e.to_string().contains("model validity") && e.to_string().contains("relaxation slip"), "{e}");
+    assert_eq!(e.cause(), rt_vehicle::error::Cause::ModelValidity);
 }

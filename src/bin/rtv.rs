@@ -11,9 +11,10 @@
 // `!(x > 0.0)` is deliberate: it rejects NaN too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::error::ModelError;
+use rt_vehicle::model::params::{DataError, VehicleData};
 use rt_vehicle::model::suspension::sla::{Side, SlaGeometry};
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::scenes::{run, run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{modes, Formulation, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -26,7 +27,8 @@ const USAGE: &str = "usage:
             [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
-            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--out FILE.csv]
+            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
+            [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv calibrate [--vehicle FILE.json]
@@ -38,6 +40,20 @@ const USAGE: &str = "usage:
 struct Failure {
     message: String,
     usage: bool,
+}
+
+/// A run that failed (exit code 1) with the model's message.
+impl From<ModelError> for Failure {
+    fn from(e: ModelError) -> Failure {
+        failed(e.to_string())
+    }
+}
+
+/// Vehicle data that cannot be used (exit code 1).
+impl From<DataError> for Failure {
+    fn from(e: DataError) -> Failure {
+        failed(e.to_string())
+    }
 }
 
 fn bad(message: impl Into<String>) -> Failure {
@@ -76,7 +92,7 @@ fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f6
 
 fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure> {
     let data = match opts.get("vehicle") {
-        Some(path) => VehicleData::from_file(std::path::Path::new(path)).map_err(|e| failed(e.to_string()))?,
+        Some(path) => VehicleData::from_file(std::path::Path::new(path))?,
         None => VehicleData::default_hmmwv(),
     };
     for w in data.warnings() {
@@ -95,8 +111,9 @@ fn csv_writer(path: Option<&String>) -> Result<Box<dyn Write>, Failure> {
     }
 }
 
-fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Failure> {
-    let mut c = SimConfig::default();
+/// The run options: `base` (the scene's declaration) with the options given on top.
+fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(SimConfig, f64), Failure> {
+    let mut c = base;
     if let Some(f) = opts.get("formulation") {
         c.formulation = modes::FORMULATIONS.by_name(f).map_err(bad)?;
     }
@@ -142,7 +159,7 @@ fn scene_config(opts: &BTreeMap<String, String>) -> Result<(SimConfig, f64), Fai
     c.internal_step = number(opts, "step", default_step)?;
     c.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
     c.bump = [number(opts, "bump-height", c.bump[0])?, number(opts, "bump-length", c.bump[1])?];
-    c.validate().map_err(|e| bad(e.0))?;
+    c.validate().map_err(|e| bad(e.to_string()))?;
     // The step asked for is the step taken: it must divide the output interval.
     let ratio = interval / c.internal_step;
     if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
@@ -164,8 +181,11 @@ const MAX_ROWS: f64 = 1e7;
 fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let name = args.first().ok_or_else(|| bad("scene: which scene? bump, jturn or sine"))?;
     let kind = SceneKind::parse(name).ok_or_else(|| bad(format!("unknown scene '{name}': bump, jturn or sine")))?;
+    // --keep-all (a switch, no value): run without leaving out what the scene does not need, to compare.
+    let keep_all = args[1..].iter().any(|a| a == "--keep-all");
+    let rest: Vec<String> = args[1..].iter().filter(|a| *a != "--keep-all").cloned().collect();
     let opts = options(
-        &args[1..],
+        &rest,
         &[
             "formulation",
             "integrator",
@@ -189,7 +209,6 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "out",
         ],
     )?;
-    let (mut config, interval) = scene_config(&opts)?;
     let amplitude = match opts.get("amplitude") {
         Some(a) => Amplitude::parse(a).ok_or_else(|| {
             bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1"))
@@ -197,6 +216,11 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         None => Amplitude::Calibrated,
     };
     let mut scene = Scene::new(kind, amplitude);
+    // The scene's declaration decides the configuration; options given override it.
+    let (mut config, interval) = scene_config(&opts, scene.config_for(&SimConfig::default()))?;
+    if opts.contains_key("brake") || opts.contains_key("drive") {
+        scene.needs = scene.needs.with_torques();
+    }
     scene.speed = number(&opts, "initial-speed", scene.speed)?;
     config.initial_speed = scene.speed;
     config.validate().map_err(|e| bad(format!("--initial-speed: {e}")))?;
@@ -215,15 +239,17 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let data = vehicle_data(&opts)?;
     scene.check_rack(data.rack.travel_limit_m).map_err(|e| bad(format!("--amplitude: {e}")))?;
     let started = Instant::now();
-    let mut sim = scene.start(data, &config).map_err(|e| failed(e.0))?;
+    let mut sim = scene.start_keeping(data, &config, keep_all)?;
     sim.set_wheel_torques([drive; 4], [brake; 4]);
     let setup = started.elapsed();
     let mut out = csv_writer(opts.get("out"))?;
-    let header = OUTPUT_NAMES[..CSV_COLUMNS].join(",");
+    let columns = scene.columns(keep_all);
+    let header = columns.iter().map(|&i| OUTPUT_NAMES[i]).collect::<Vec<_>>().join(",");
     let mut lines = vec![header];
+    let evaluate = keep_all || scene.needs.evaluates_outputs();
     let t = Instant::now();
-    let result = run(&mut sim, end, interval, |o| {
-        lines.push(o.values[..CSV_COLUMNS].iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(","));
+    let result = run_columns(&mut sim, end, interval, &columns, evaluate, |row| {
+        lines.push(row.iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(","));
     });
     let cpu = t.elapsed();
     for l in &lines {
@@ -250,7 +276,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     for event in &sim.events.messages {
         eprintln!("event: {event}");
     }
-    result.map_err(|e| failed(format!("simulation stopped: {}", e.0)))
+    result.map_err(|e| failed(format!("simulation stopped: {e}")))
 }
 
 /// The most points a kinematics or steering sweep computes.
@@ -279,8 +305,8 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
         _ => return Err(bad(format!("--axle: '{axle_name}' is not front or rear"))),
     };
     let (from, inc, n) = sweep(&opts, -0.15, 0.10, 0.005)?;
-    let left = SlaGeometry::from_data(&data, axle, Side::Left).map_err(|e| failed(e.to_string()))?;
-    let right = SlaGeometry::from_data(&data, axle, Side::Right).map_err(|e| failed(e.to_string()))?;
+    let left = SlaGeometry::from_data(&data, axle, Side::Left)?;
+    let right = SlaGeometry::from_data(&data, axle, Side::Right)?;
     let mut out = csv_writer(opts.get("out"))?;
     let mut text = String::from("travel_m,camber_l_deg,camber_r_deg,steer_l_deg,steer_r_deg,wheel_lateral_l_m,spring_length_l_m,damper_length_l_m\n");
     for k in 0..=n {
@@ -311,14 +337,14 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
 /// Newton on θ_L using dz/dθ_L by a central difference.
 fn wheel_at_travel(c: &SlaGeometry, travel: f64) -> Result<rt_vehicle::model::suspension::sla::SlaPositions, String> {
     let z = |u: f64| -> Result<f64, String> {
-        let p = c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.0)?;
+        let p = c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.to_string())?;
         Ok(c.on_carrier(&p, &c.w0).z - c.w0.z)
     };
     let mut u = travel / 0.45;
     for _ in 0..30 {
         let f = z(u).map_err(|e| format!("travel {travel:+.3} m is beyond what the linkage allows ({e})"))? - travel;
         if f.abs() < 1e-12 {
-            return c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.0);
+            return c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.to_string());
         }
         let h = 1e-6;
         let slope = (z(u + h).map_err(|e| e.to_string())? - z(u - h).map_err(|e| e.to_string())?) / (2.0 * h);
@@ -337,7 +363,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["from", "to", "increment", "vehicle", "out"])?;
     let data = vehicle_data(&opts)?;
     let (from, inc, n) = sweep(&opts, -0.06, 0.06, 0.002)?;
-    let v = rt_vehicle::model::vehicle::Vehicle::new(&data).map_err(|e| failed(e.to_string()))?;
+    let v = rt_vehicle::model::vehicle::Vehicle::new(&data)?;
     let mut text = String::from("rack_displacement_m,steer_l_deg,steer_r_deg\n");
     for k in 0..=n {
         let u = from + k as f64 * inc;
@@ -350,7 +376,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
         let mut angles = [0.0; 2];
         for (i, a) in angles.iter_mut().enumerate() {
             let c = &v.corners[i];
-            let p = c.solve_positions(0.0, v.rack.sign * u, &[0.0; 4]).map_err(|e| failed(e.0))?;
+            let p = c.solve_positions(0.0, v.rack.sign * u, &[0.0; 4])?;
             *a = c.steer_angle(&p).to_degrees();
         }
         text += &format!("{u:.6},{:.6},{:.6}\n", angles[0], angles[1]);
@@ -363,7 +389,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
 fn steady_ay(data: &VehicleData, a: f64) -> Result<f64, Failure> {
     let scene = Scene::new(SceneKind::JTurn, Amplitude::Metres(a));
     let config = SimConfig { formulation: Formulation::Conventional, internal_step: 1e-4, ..SimConfig::default() };
-    let mut sim = scene.start(data.clone(), &config).map_err(|e| failed(e.0))?;
+    let mut sim = scene.start(data.clone(), &config)?;
     let iy = rt_vehicle::sim::Outputs::index("ay").unwrap();
     let (mut sum, mut n) = (0.0, 0);
     run(&mut sim, 8.0, 0.01, |o| {
@@ -371,8 +397,7 @@ fn steady_ay(data: &VehicleData, a: f64) -> Result<f64, Failure> {
             sum += o.values[iy];
             n += 1;
         }
-    })
-    .map_err(|e| failed(e.0))?;
+    })?;
     Ok(sum / n as f64)
 }
 
@@ -423,7 +448,7 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
         None => None,
     };
     let data = vehicle_data(&opts)?;
-    let report = run(m, &data, speed).map_err(|e| failed(format!("{}: {}", m.name(), e.0)))?;
+    let report = run(m, &data, speed).map_err(|e| failed(format!("{}: {e}", m.name())))?;
     let mut out = csv_writer(opts.get("out"))?;
     let mut text = OUTPUT_NAMES[..CSV_COLUMNS].join(",") + "\n";
     for row in &report.rows {
@@ -494,7 +519,7 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
     let started = Instant::now();
     let mut results = Vec::new();
     for case in cases {
-        results.push(wp::measure_case(case, &mut |line| eprintln!("work-precision: {line}")).map_err(|e| failed(e.0))?);
+        results.push(wp::measure_case(case, &mut |line| eprintln!("work-precision: {line}"))?);
     }
     let md = wp::markdown(&results, started.elapsed().as_secs_f64());
     let md_path = opts.get("out").cloned().unwrap_or_else(|| "docs/work_precision.md".into());

@@ -2,9 +2,10 @@
 //! eq. 1). This is the baseline of the paper's Table 1: it is filled and factorized densely, with no sparsity
 //! exploited, by the same LU with partial pivoting that the synthesis solvers use.
 
+use crate::error::{Cause, ModelError};
 use nalgebra::{SMatrix, SVector};
 
-use super::{check_result, explained, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
+use super::{check_result, explained, lu, Accelerations, ChassisTerms, SubsystemTerms};
 
 /// Size of the conventional system: 6 + 4·(5 + 4) = 42.
 pub const NCONV: usize = 6 + 4 * (super::NQ + super::NC);
@@ -65,17 +66,18 @@ fn fill_nonzero(
 /// the stack. Fails when the matrix is numerically singular or on non-finite input or result. It does not
 /// test the chassis matrix for positive definiteness (an LU does not need it).
 #[inline(always)]
-pub fn solve_conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
+pub fn solve_conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, ModelError> {
     explained(chassis, subs, conventional(chassis, subs))
 }
 
 #[inline(always)]
-fn conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, SolveError> {
+fn conventional(chassis: &ChassisTerms, subs: &[SubsystemTerms; 4]) -> Result<Accelerations<4>, ModelError> {
     let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
     let mut b = SMatrix::<f64, NCONV, 1>::zeros();
     fill_nonzero(chassis, subs, &mut a, &mut b);
     let mut piv = [0usize; NCONV];
-    lu::factor(&mut a, &mut piv).map_err(|e| SolveError(format!("conventional: 42x42 matrix {e}")))?;
+    lu::factor(&mut a, &mut piv)
+        .map_err(|e| ModelError::new(Cause::Solve, format!("conventional: 42x42 matrix {e}")))?;
     lu::solve(&a, &piv, &mut b);
 
     let mut acc = Accelerations::<4>::zeros();

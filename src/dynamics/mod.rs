@@ -19,6 +19,7 @@
 //! All three work on the stack only (nalgebra static matrices and an in-place LU); nothing allocates.
 //! The module does not know the vehicle: it never imports `crate::model` (architecture rule).
 
+use crate::error::{Cause, ModelError};
 use nalgebra::{Matrix6, SMatrix, Vector4, Vector5, Vector6};
 
 pub mod body;
@@ -95,18 +96,6 @@ impl<const K: usize> Accelerations<K> {
     }
 }
 
-/// A solver failure: singular matrix, chassis matrix not positive definite, non-finite input or result.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SolveError(pub String);
-
-impl std::fmt::Display for SolveError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "dynamics solve failed: {}", self.0)
-    }
-}
-
-impl std::error::Error for SolveError {}
-
 /// True when every entry is finite. Branch-free (x·0 is ±0 for finite x and NaN otherwise; 4 accumulators
 /// so that it vectorizes): the check costs a few ns instead of one branch per entry.
 #[inline]
@@ -132,8 +121,8 @@ fn finite(s: &[f64]) -> bool {
 pub(crate) fn explained<T>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms],
-    result: Result<T, SolveError>,
-) -> Result<T, SolveError> {
+    result: Result<T, ModelError>,
+) -> Result<T, ModelError> {
     match result {
         Ok(v) => Ok(v),
         Err(e) => {
@@ -144,12 +133,12 @@ pub(crate) fn explained<T>(
 }
 
 /// Rejects non-finite inputs with a message naming the offending term. No allocation on success.
-pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> Result<(), SolveError> {
+pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> Result<(), ModelError> {
     if !finite(chassis.mass.as_slice()) {
-        return Err(SolveError("non-finite input: chassis mass".into()));
+        return Err(ModelError::new(Cause::Solve, "non-finite input: chassis mass"));
     }
     if !finite(chassis.force.as_slice()) {
-        return Err(SolveError("non-finite input: chassis force".into()));
+        return Err(ModelError::new(Cause::Solve, "non-finite input: chassis force"));
     }
     for (i, s) in subs.iter().enumerate() {
         let fields: [(&str, &[f64]); 7] = [
@@ -163,7 +152,7 @@ pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> R
         ];
         for (name, v) in fields {
             if !finite(v) {
-                return Err(SolveError(format!("non-finite input: subsystem {i} {name}")));
+                return Err(ModelError::new(Cause::Solve, format!("non-finite input: subsystem {i} {name}")));
             }
         }
     }
@@ -171,10 +160,10 @@ pub(crate) fn check_inputs(chassis: &ChassisTerms, subs: &[SubsystemTerms]) -> R
 }
 
 /// Rejects a non-finite result (overflow from a nearly singular matrix).
-pub(crate) fn check_result<const K: usize>(acc: &Accelerations<K>, solver: &str) -> Result<(), SolveError> {
+pub(crate) fn check_result<const K: usize>(acc: &Accelerations<K>, solver: &str) -> Result<(), ModelError> {
     if acc.is_finite() {
         Ok(())
     } else {
-        Err(SolveError(format!("{solver}: non-finite result (ill-conditioned system)")))
+        Err(ModelError::new(Cause::Solve, format!("{solver}: non-finite result (ill-conditioned system)")))
     }
 }

@@ -2,9 +2,10 @@
 //! inertia M̄ᵢ and an effective force P̄ᵢ, the 6×6 chassis system is solved by Cholesky, and the subsystem
 //! accelerations follow by back-substitution.
 
+use crate::error::{Cause, ModelError};
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector5, Vector6};
 
-use super::{check_result, explained, lu, Accelerations, ChassisTerms, SolveError, SubsystemTerms};
+use super::{check_result, explained, lu, Accelerations, ChassisTerms, SubsystemTerms};
 use nalgebra::Matrix6;
 
 /// Whether [`solve_synthesis_gcp_with`] computes the cut-constraint multipliers λ.
@@ -56,14 +57,15 @@ fn reduce(
     g: &mut Gcp,
     mass: &mut Matrix6<f64>,
     force: &mut Vector6<f64>,
-) -> Result<(), SolveError> {
+) -> Result<(), ModelError> {
     // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4), unless the kinematics factored it.
     match &s.phi_v_lu {
         Some(f) => (g.lu, g.piv) = (f.factors, f.piv),
         None => {
             g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
-            lu::factor(&mut g.lu, &mut g.piv)
-                .map_err(|e| SolveError(format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}")))?;
+            lu::factor(&mut g.lu, &mut g.piv).map_err(|e| {
+                ModelError::new(Cause::Solve, format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}"))
+            })?;
         }
     }
     let (lu, piv) = (&g.lu, &g.piv);
@@ -84,7 +86,10 @@ fn reduce(
     g.mt = mt;
     #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails too
     if !(mt > 0.0) || !mt.is_finite() {
-        return Err(SolveError(format!("GCP: subsystem {i}: reduced inertia m~ = {mt:e} is not positive")));
+        return Err(ModelError::new(
+            Cause::Solve,
+            format!("GCP: subsystem {i}: reduced inertia m~ = {mt:e} is not positive"),
+        ));
     }
     // 𝔪 = M_0q 𝒱 = M_q0ᵀ 𝒱 (6×1).
     g.m = s.m_q0.tr_mul(v);
@@ -106,7 +111,7 @@ fn reduce(
 /// M = L Lᵀ (lower triangle of M read), L y = F, Lᵀ Ẏ₀ = y. 6 square roots, ≈ 90 multiplications (§4.10).
 /// Fails when a pivot is not positive (M not positive definite) or not finite.
 #[inline(always)]
-fn chassis_solve(mass: &Matrix6<f64>, force: &Vector6<f64>, solver: &str) -> Result<Vector6<f64>, SolveError> {
+fn chassis_solve(mass: &Matrix6<f64>, force: &Vector6<f64>, solver: &str) -> Result<Vector6<f64>, ModelError> {
     let mut l = Matrix6::<f64>::zeros();
     let mut inv_diag = [0.0f64; 6];
     for j in 0..6 {
@@ -116,9 +121,12 @@ fn chassis_solve(mass: &Matrix6<f64>, force: &Vector6<f64>, solver: &str) -> Res
         }
         #[allow(clippy::neg_cmp_op_on_partial_ord)] // NaN fails too
         if !(d > 0.0) || !d.is_finite() {
-            return Err(SolveError(format!(
-                "{solver}: chassis effective mass (M0 + M_R + sum Mbar_i) is not positive definite (pivot {j}: {d:e})"
-            )));
+            return Err(ModelError::new(
+                Cause::Solve,
+                format!(
+                    "{solver}: chassis effective mass (M0 + M_R + sum Mbar_i) is not positive definite (pivot {j}: {d:e})"
+                ),
+            ));
         }
         let ljj = d.sqrt();
         l[(j, j)] = ljj;
@@ -153,7 +161,7 @@ fn chassis_solve(mass: &Matrix6<f64>, force: &Vector6<f64>, solver: &str) -> Res
 pub fn solve_synthesis_gcp<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
-) -> Result<Accelerations<K>, SolveError> {
+) -> Result<Accelerations<K>, ModelError> {
     solve_synthesis_gcp_with(chassis, subs, Multipliers::Compute)
 }
 
@@ -168,7 +176,7 @@ pub fn solve_synthesis_gcp_with<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
     multipliers: Multipliers,
-) -> Result<Accelerations<K>, SolveError> {
+) -> Result<Accelerations<K>, ModelError> {
     explained(chassis, subs, gcp(chassis, subs, multipliers))
 }
 
@@ -177,7 +185,7 @@ fn gcp<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
     multipliers: Multipliers,
-) -> Result<Accelerations<K>, SolveError> {
+) -> Result<Accelerations<K>, ModelError> {
     let mut mass = chassis.mass;
     let mut force = chassis.force;
     let mut red = [Gcp::ZERO; K];
@@ -219,7 +227,7 @@ fn gcp<const K: usize>(
 pub fn solve_synthesis_augmented<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
-) -> Result<Accelerations<K>, SolveError> {
+) -> Result<Accelerations<K>, ModelError> {
     explained(chassis, subs, augmented(chassis, subs))
 }
 
@@ -227,7 +235,7 @@ pub fn solve_synthesis_augmented<const K: usize>(
 fn augmented<const K: usize>(
     chassis: &ChassisTerms,
     subs: &[SubsystemTerms; K],
-) -> Result<Accelerations<K>, SolveError> {
+) -> Result<Accelerations<K>, ModelError> {
     let mut mass = chassis.mass;
     let mut force = chassis.force;
     let mut sol = [SMatrix::<f64, 9, 7>::zeros(); K];
@@ -244,7 +252,10 @@ fn augmented<const K: usize>(
         b.fixed_view_mut::<4, 1>(5, 6).copy_from(&s.gamma_bar);
         let mut piv = [0usize; 9];
         lu::factor(&mut sm, &mut piv).map_err(|e| {
-            SolveError(format!("augmented: subsystem {i}: 9x9 matrix [[M_qq, Phi_q^T], [Phi_q, 0]] {e}"))
+            ModelError::new(
+                Cause::Solve,
+                format!("augmented: subsystem {i}: 9x9 matrix [[M_qq, Phi_q^T], [Phi_q, 0]] {e}"),
+            )
         })?;
         lu::solve(&sm, &piv, b);
         // M̄ᵢ = M_00 − M_0q X_q;  P̄ᵢ = P_0 − M_0q x_q  (X_q, x_q: rows 0..5 of the solution)

@@ -8,7 +8,8 @@
 //! - Restart (history discarded) on `restart()`, on a change of `sys.dim()`, and automatically when
 //!   |h − h_hist| > 1e-9·max(|h|, |h_hist|) (masters' step sizes carry rounding noise; fmi.md).
 //! - Stable for hλ ∈ [−0.545, 0] on the real axis and |hλ| ≤ 0.724 on the imaginary axis (§7.4).
-use super::{commit, eval, fit, EvalError, Integrator, OdeSystem, Rk4};
+use super::{commit, eval, fit, Integrator, OdeSystem, Rk4};
+use crate::error::ModelError;
 use serde::{Deserialize, Serialize};
 
 /// Relative tolerance on the step size below which the AB3 history is kept.
@@ -90,7 +91,7 @@ impl Ab3 {
 }
 
 impl Integrator for Ab3 {
-    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError> {
         let n = x.len();
         if self.f1.len() != n || self.f2.len() != n {
             fit(&mut self.f1, n);

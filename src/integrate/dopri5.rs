@@ -19,7 +19,8 @@
 //! failure; a stage the model cannot evaluate (a suspension driven out of its range by too long a trial
 //! step) is a rejection too, with the step quartered. What does fail, with a message: the step falling
 //! below `H_MIN_RELATIVE` of the time, or the stretch needing more derivative evaluations than its budget.
-use super::{commit, eval, fit, EvalError, Integrator, OdeSystem};
+use super::{commit, eval, fit, Integrator, OdeSystem};
+use crate::error::{Cause, ModelError};
 use serde::{Deserialize, Serialize};
 
 const C2: f64 = 1.0 / 5.0;
@@ -69,7 +70,7 @@ pub const H_MIN_RELATIVE: f64 = 1e-12;
 pub const EVALUATIONS_PER_STEP: u64 = 7;
 
 /// A check of every accepted state (t, x): the simulation's divergence bounds.
-pub type StepCheck<'a> = dyn FnMut(f64, &[f64]) -> Result<(), EvalError> + 'a;
+pub type StepCheck<'a> = dyn FnMut(f64, &[f64]) -> Result<(), ModelError> + 'a;
 
 /// What one stretch of integration is allowed and told.
 #[derive(Debug, Clone, Copy)]
@@ -146,7 +147,7 @@ impl Dopri5 {
         x: &mut [f64],
         control: Control,
         check: &mut StepCheck<'_>,
-    ) -> Result<u64, EvalError> {
+    ) -> Result<u64, ModelError> {
         let n = x.len();
         self.fit(n);
         sys.error_scale(&mut self.scale);
@@ -156,7 +157,7 @@ impl Dopri5 {
         let mut h = if self.h_next > 0.0 { self.h_next } else { FIRST_STEP };
         let mut fsal = false;
         let mut just_rejected = false;
-        let mut last_failure: Option<EvalError> = None;
+        let mut last_failure: Option<ModelError> = None;
         while t < t1 {
             let remaining = t1 - t;
             h = h.min(control.h_max).min(sys.step_limit());
@@ -169,19 +170,25 @@ impl Dopri5 {
                 (h, false)
             };
             if step < H_MIN_RELATIVE * t.abs().max(1.0) {
-                return Err(EvalError(format!(
-                    "error control: the step fell to {step:.3e} s at t = {t:.6} s (tolerance {tol:e}): the model \
+                return Err(ModelError::new(
+                    Cause::ErrorControl,
+                    format!(
+                        "error control: the step fell to {step:.3e} s at t = {t:.6} s (tolerance {tol:e}): the model \
                      cannot be integrated to this tolerance here{}",
-                    last_failure.map(|e| format!(" (last failed stage: {e})")).unwrap_or_default()
-                )));
+                        last_failure.map(|e| format!(" (last failed stage: {e})")).unwrap_or_default()
+                    ),
+                ));
             }
             if evaluations + EVALUATIONS_PER_STEP > control.max_evaluations {
-                return Err(EvalError(format!(
-                    "error control: the interval [{t0}, {t1}] s needs more than {} derivative evaluations at \
+                return Err(ModelError::new(
+                    Cause::ErrorControl,
+                    format!(
+                        "error control: the interval [{t0}, {t1}] s needs more than {} derivative evaluations at \
                      tolerance {tol:e} (at t = {t:.6} s, step {step:.3e} s): split the interval or loosen the \
                      tolerance",
-                    control.max_evaluations
-                )));
+                        control.max_evaluations
+                    ),
+                ));
             }
             let t_new = if last { t1 } else { t + step };
             if !fsal {
@@ -199,7 +206,10 @@ impl Dopri5 {
                 }
             };
             if err.is_nan() {
-                return Err(EvalError(format!("error control: the error estimate is not finite at t = {t}")));
+                return Err(ModelError::new(
+                    Cause::ErrorControl,
+                    format!("error control: the error estimate is not finite at t = {t}"),
+                ));
             }
             let fac11 = err.powf(EXPO);
             if err <= 1.0 {
@@ -248,7 +258,7 @@ impl Dopri5 {
         h: f64,
         x: &[f64],
         evaluations: &mut u64,
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         let n = x.len();
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
         let xs = &mut self.xs;
@@ -280,7 +290,7 @@ impl Dopri5 {
             xs[i] = x[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]);
         }
         if !xs.iter().all(|v| v.is_finite()) {
-            return Err(EvalError(format!("non-finite candidate at t = {}", t + h)));
+            return Err(ModelError::new(Cause::NonFinite, format!("non-finite candidate at t = {}", t + h)));
         }
         stage(1.0, xs, k7)
     }
@@ -289,7 +299,7 @@ impl Dopri5 {
 impl Integrator for Dopri5 {
     /// One stretch [t, t + h] under error control at tolerance 1e-6 with steps up to h and no evaluation
     /// budget (tests and generic callers; the simulation calls `integrate` with its own control).
-    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError> {
         let control = Control { tolerance: 1e-6, h_max: h, max_evaluations: u64::MAX };
         self.integrate(sys, t, t + h, x, control, &mut |_, _| Ok(())).map(|_| ())
     }
@@ -312,7 +322,7 @@ mod tests {
         fn dim(&self) -> usize {
             3
         }
-        fn derivative(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+        fn derivative(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
             self.evals += 1;
             d[0] = x[1];
             d[1] = -x[0];
@@ -386,7 +396,7 @@ mod tests {
         fn dim(&self) -> usize {
             1
         }
-        fn derivative(&mut self, t: f64, _x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+        fn derivative(&mut self, t: f64, _x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
             d[0] = if t < 0.37 { 0.0 } else { 1.0 };
             Ok(())
         }
@@ -416,7 +426,7 @@ mod tests {
         fn dim(&self) -> usize {
             3
         }
-        fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+        fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
             self.0.derivative(t, x, d)
         }
         fn step_limit(&self) -> f64 {
@@ -446,7 +456,7 @@ mod tests {
         let mut x = X0;
         let control = Control { tolerance: 1e-9, h_max: 1.0, max_evaluations: 50 };
         let e = d.integrate(&mut Smooth { evals: 0 }, 0.0, 4.0, &mut x, control, &mut |_, _| Ok(())).unwrap_err();
-        assert!(e.0.contains("needs more than 50 derivative evaluations"), "{e}");
+        assert!(e.to_string().contains("needs more than 50 derivative evaluations"), "{e}");
     }
 
     #[test]

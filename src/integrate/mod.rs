@@ -12,24 +12,13 @@
 //! finite (or whose derivative evaluation fails) returns `Err` and leaves `x` exactly as it was.
 //! See docs/integrators.md.
 
+use crate::error::{Cause, ModelError};
 use serde::{Deserialize, Serialize};
-
-/// Why a derivative could not be evaluated (e.g. a suspension outside its mechanism range).
-#[derive(Debug, Clone, PartialEq)]
-pub struct EvalError(pub String);
-
-impl std::fmt::Display for EvalError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for EvalError {}
 
 /// A first-order system dx/dt = f(t, x). `&mut self` because evaluations may update warm-start caches.
 pub trait OdeSystem {
     fn dim(&self) -> usize;
-    fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError>;
+    fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), ModelError>;
     /// Called after every accepted step (e.g. renormalise a quaternion). Default: nothing.
     fn project(&self, _x: &mut [f64]) {}
     /// Absolute scales of the state's components for an error-controlled scheme: its error norm is the
@@ -84,7 +73,7 @@ impl IntegratorKind {
 
 /// One step of size h from t; `x` is updated in place.
 pub trait Integrator {
-    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError>;
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError>;
     /// Forget any history (multistep schemes restart with their starter).
     fn restart(&mut self);
 }
@@ -140,7 +129,7 @@ impl Default for AnyIntegrator {
 }
 
 impl Integrator for AnyIntegrator {
-    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError> {
         match self {
             AnyIntegrator::Rk4(i) => i.step(sys, t, h, x),
             AnyIntegrator::Ab3(i) => i.step(sys, t, h, x),
@@ -157,12 +146,12 @@ impl Integrator for AnyIntegrator {
 }
 
 /// Evaluate f(t, x) into `out`; a failed or non-finite evaluation is an `Err` (never NaN handed on).
-pub(crate) fn eval(sys: &mut dyn OdeSystem, t: f64, x: &[f64], out: &mut [f64]) -> Result<(), EvalError> {
+pub(crate) fn eval(sys: &mut dyn OdeSystem, t: f64, x: &[f64], out: &mut [f64]) -> Result<(), ModelError> {
     sys.derivative(t, x, out)?;
     if out.iter().all(|v| v.is_finite()) {
         Ok(())
     } else {
-        Err(EvalError(format!("non-finite derivative at t = {t}")))
+        Err(ModelError::new(Cause::NonFinite, format!("non-finite derivative at t = {t}")))
     }
 }
 
@@ -173,13 +162,13 @@ pub(crate) fn commit(
     t_new: f64,
     candidate: &mut [f64],
     x: &mut [f64],
-) -> Result<(), EvalError> {
+) -> Result<(), ModelError> {
     sys.project(candidate);
     if candidate.iter().all(|v| v.is_finite()) {
         x.copy_from_slice(candidate);
         Ok(())
     } else {
-        Err(EvalError(format!("integration diverged: non-finite state at t = {t_new}")))
+        Err(ModelError::new(Cause::NonFinite, format!("integration diverged: non-finite state at t = {t_new}")))
     }
 }
 

@@ -1,6 +1,7 @@
 //! Classic 4-stage Runge–Kutta (physics.md §7.2). Four evaluations per step; stable for
 //! hλ ∈ [−2.785, 0] on the real axis and |hλ| ≤ 2.828 on the imaginary axis (§7.4).
-use super::{commit, eval, fit, EvalError, Integrator, OdeSystem};
+use super::{commit, eval, fit, Integrator, OdeSystem};
+use crate::error::ModelError;
 use serde::{Deserialize, Serialize};
 
 /// RK4. Holds only scratch (no history): serializing it saves nothing but its type.
@@ -45,7 +46,7 @@ impl Rk4 {
         t: f64,
         h: f64,
         x: &mut [f64],
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         let h2 = 0.5 * h;
         for i in 0..x.len() {
             self.xs[i] = x[i] + h2 * self.k1[i];
@@ -68,7 +69,7 @@ impl Rk4 {
 }
 
 impl Integrator for Rk4 {
-    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), EvalError> {
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError> {
         self.fit(x.len());
         eval(sys, t, x, &mut self.k1)?;
         self.step_from_k1(sys, t, h, x)

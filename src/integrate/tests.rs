@@ -1,5 +1,6 @@
 //! Verification of the integrators (docs/integrators.md lists what each test shows).
 use super::*;
+use crate::error::{Cause, ModelError};
 
 // ---------------------------------------------------------------------------------------------
 // Test systems
@@ -17,7 +18,7 @@ impl OdeSystem for Pendula {
     fn dim(&self) -> usize {
         2 * NP
     }
-    fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+    fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
         self.evals += 1;
         let k = 0.7;
         for i in 0..NP {
@@ -50,7 +51,7 @@ impl OdeSystem for Linear {
     fn dim(&self) -> usize {
         self.a.len()
     }
-    fn derivative(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+    fn derivative(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
         self.evals += 1;
         for i in 0..x.len() {
             d[i] = self.a[i] * x[i];
@@ -69,7 +70,7 @@ impl OdeSystem for Rotation {
     fn dim(&self) -> usize {
         2
     }
-    fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+    fn derivative(&mut self, t: f64, x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
         self.seen.push((t, [x[0], x[1]]));
         d[0] = -x[1];
         d[1] = x[0];
@@ -93,7 +94,7 @@ impl OdeSystem for Faulty {
     fn dim(&self) -> usize {
         3
     }
-    fn derivative(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), EvalError> {
+    fn derivative(&mut self, _t: f64, x: &[f64], d: &mut [f64]) -> Result<(), ModelError> {
         self.evals += 1;
         for i in 0..3 {
             d[i] = -x[i] + 0.1 * i as f64;
@@ -102,7 +103,7 @@ impl OdeSystem for Faulty {
             if self.nan {
                 d[1] = f64::NAN;
             } else {
-                return Err(EvalError("outside mechanism range".into()));
+                return Err(ModelError::new(Cause::Kinematics, "outside mechanism range"));
             }
         }
         Ok(())

@@ -3,7 +3,7 @@
 //! finite-difference Jacobian on residuals taken from the derivative function itself, so the initial
 //! state is an equilibrium of exactly the model that is integrated.
 
-use crate::integrate::EvalError;
+use crate::error::{Cause, ModelError};
 use crate::math::{quat_from_euler, quat_to_matrix, V3};
 use crate::model::vehicle::{idx, Inputs, KinematicsCache, Layout, SpeedMode, Vehicle};
 use nalgebra::{DMatrix, DVector};
@@ -17,9 +17,9 @@ pub fn newton<F>(
     mut residual: F,
     tolerance: f64,
     max_iterations: usize,
-) -> Result<usize, EvalError>
+) -> Result<usize, ModelError>
 where
-    F: FnMut(&[f64], &mut [f64]) -> Result<(), EvalError>,
+    F: FnMut(&[f64], &mut [f64]) -> Result<(), ModelError>,
 {
     let n = unknowns.len();
     let mut r = vec![0.0; n];
@@ -44,7 +44,7 @@ where
         let step = jac
             .lu()
             .solve(&DVector::from_column_slice(&r))
-            .ok_or_else(|| EvalError("equilibrium Jacobian is singular".into()))?;
+            .ok_or_else(|| ModelError::new(Cause::Solve, "equilibrium Jacobian is singular"))?;
         for j in 0..n {
             unknowns[j] -= step[j];
         }
@@ -55,7 +55,7 @@ where
     if norm < tolerance {
         Ok(max_iterations)
     } else {
-        Err(EvalError(format!("equilibrium did not converge (residual {norm:.3e})")))
+        Err(ModelError::new(Cause::Solve, format!("equilibrium did not converge (residual {norm:.3e})")))
     }
 }
 
@@ -77,14 +77,14 @@ pub fn design_height_guess(v: &Vehicle) -> f64 {
     v.tire.unloaded_radius_m - deflection - front.w0.z
 }
 
-fn evaluate(v: &Vehicle, x: &[f64], cache: &mut KinematicsCache, dx: &mut [f64]) -> Result<(), EvalError> {
+fn evaluate(v: &Vehicle, x: &[f64], cache: &mut KinematicsCache, dx: &mut [f64]) -> Result<(), ModelError> {
     v.derivative(x, &Inputs::default(), cache, dx, None)
 }
 
 /// Ride-height retune (§8.1 step 1): choose the front and rear spring free-length offsets so that the
 /// design position (all arm angles zero) is the static equilibrium. Returns (ΔL_front, ΔL_rear) and
 /// leaves them applied to `v`.
-pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), EvalError> {
+pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), ModelError> {
     let base: Vec<f64> = v.corner_forces.iter().map(|f| f.spring_free_length).collect();
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0];
     let mut cache = KinematicsCache::default();
@@ -121,7 +121,7 @@ pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), EvalError> {
 
 /// Static equilibrium (§8.1 step 2): height, roll, pitch and the four arm angles with every
 /// acceleration zero; x, y and yaw are free and set to zero. The state is in `v`'s layout.
-pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Vec<f64>, EvalError> {
+pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Vec<f64>, ModelError> {
     let mut statics = v.clone();
     statics.speed_mode = SpeedMode::Coast;
     // At rest every slip velocity is zero: the tire has no shear force with undeflected slip states
@@ -151,7 +151,7 @@ pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Ve
 /// attitude, arm angles, spin rates, longitudinal slip states and (hold) the speed-hold integral so that
 /// the first step is already an equilibrium: no ringing of the lightly damped spin–slip mode.
 /// In coast mode the vehicle decelerates by rolling resistance, so the longitudinal balance is left out.
-pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> Result<Vec<f64>, EvalError> {
+pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> Result<Vec<f64>, ModelError> {
     let mut x = static_equilibrium(v, cache)?;
     if speed == 0.0 {
         return Ok(x);

@@ -208,6 +208,12 @@ impl std::fmt::Display for DataError {
 
 impl std::error::Error for DataError {}
 
+impl From<DataError> for crate::error::ModelError {
+    fn from(e: DataError) -> Self {
+        crate::error::ModelError::new(crate::error::Cause::Data, e.to_string())
+    }
+}
+
 fn err(field: impl Into<String>, message: impl Into<String>) -> DataError {
     DataError { field: field.into(), message: message.into() }
 }

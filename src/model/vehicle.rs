@@ -7,7 +7,7 @@
 
 use crate::dynamics::body::{ang, body_force, lin, mass_hat, mass_hat_times, point_force, wrench, MassHatSum};
 use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, SubsystemTerms};
-use crate::integrate::EvalError;
+use crate::error::{Cause, Context, ModelError};
 use crate::math::{quat_rate, quat_to_matrix, skew, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
@@ -17,12 +17,6 @@ use crate::model::suspension::sla::{BodyInertia, Side, SlaGeometry, SlaPositions
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{SMatrix, Vector4, Vector6};
 use serde::{Deserialize, Serialize};
-
-impl From<crate::model::suspension::sla::KinematicsError> for EvalError {
-    fn from(e: crate::model::suspension::sla::KinematicsError) -> Self {
-        EvalError(e.0)
-    }
-}
 
 /// Corner order everywhere: front left, front right, rear left, rear right.
 pub const CORNERS: [&str; 4] = ["fl", "fr", "rl", "rr"];
@@ -311,7 +305,7 @@ impl Vehicle {
         };
         v.rack.sign = if v
             .steering_gain_per_rack_metre()
-            .map_err(|e| DataError { field: "front.hardpoints_chassis_frame_m".into(), message: e.0 })?
+            .map_err(|e| DataError { field: "front.hardpoints_chassis_frame_m".into(), message: e.to_string() })?
             < 0.0
         {
             -1.0
@@ -341,9 +335,9 @@ impl Vehicle {
     }
 
     /// ∂δ̄/∂s at design (mean of the two front wheels), rad per metre of rack translation along +y_C.
-    pub fn steering_gain_per_rack_metre(&self) -> Result<f64, EvalError> {
+    pub fn steering_gain_per_rack_metre(&self) -> Result<f64, ModelError> {
         let h = 1e-5;
-        let mean = |s: f64| -> Result<f64, EvalError> {
+        let mean = |s: f64| -> Result<f64, ModelError> {
             let mut sum = 0.0;
             for c in &self.corners[0..2] {
                 let p = c.solve_positions(0.0, s, &[0.0; 4])?;
@@ -369,7 +363,7 @@ impl Vehicle {
         x: &[f64],
         rack_u: f64,
         cache: &mut KinematicsCache,
-    ) -> Result<[SlaPositions; 4], EvalError> {
+    ) -> Result<[SlaPositions; 4], ModelError> {
         self.solve_corners(x, rack_u, cache)?;
         Ok(cache.positions.clone())
     }
@@ -377,7 +371,7 @@ impl Vehicle {
     /// Solve the dependent coordinates of every corner into `cache.positions` (in place) from the warm
     /// starts, and update the warm starts.
     #[inline(always)]
-    pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<(), EvalError> {
+    pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<(), ModelError> {
         for i in 0..4 {
             let s = self.rack_translation(i, rack_u);
             let c = &self.corners[i];
@@ -385,7 +379,7 @@ impl Vehicle {
             let guess = cache.corners[i].predict(u, s);
             let p = &mut cache.positions[i];
             c.solve_positions_into(u, s, &guess, p)
-                .map_err(|e| EvalError(format!("mechanism range: corner {}: {}", CORNERS[i], e.0)))?;
+                .map_err(|e| ModelError::new(Cause::MechanismRange, format!("corner {}: {e}", CORNERS[i])))?;
             // The tangent of the constraint manifold at the solution: the next solve's start.
             cache.corners[i] =
                 WarmStart { v: [p.q[1], p.q[2], p.q[3], p.q[4]], u, s, dv_du: p.dv_du.into(), dv_ds: p.dv_ds.into() };
@@ -402,7 +396,7 @@ impl Vehicle {
         cache: &mut KinematicsCache,
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         match self.envelope {
             None => self.derivative_on(&self.road, x, inputs, cache, dxdt, diag),
             Some(half_length) => {
@@ -420,7 +414,7 @@ impl Vehicle {
         inputs: &Inputs,
         cache: &mut KinematicsCache,
         dxdt: &mut [f64],
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         let road = EdgeAveraged { road: &self.road, width: 0.002 };
         self.derivative_on(&road, x, inputs, cache, dxdt, None)
     }
@@ -433,7 +427,7 @@ impl Vehicle {
         cache: &mut KinematicsCache,
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         #[cfg(target_arch = "x86_64")]
         if crate::simd::avx2_fma() {
             // SAFETY: the CPU has AVX2 and FMA, checked at run time.
@@ -450,7 +444,7 @@ impl Vehicle {
         inputs: &Inputs,
         cache: &mut KinematicsCache,
         dxdt: &mut [f64],
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         self.derivative_on_any_cpu(&self.road, x, inputs, cache, dxdt, None)
     }
 
@@ -466,7 +460,7 @@ impl Vehicle {
         cache: &mut KinematicsCache,
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         self.derivative_on_any_cpu(road, x, inputs, cache, dxdt, diag)
     }
 
@@ -479,15 +473,18 @@ impl Vehicle {
         cache: &mut KinematicsCache,
         dxdt: &mut [f64],
         diag: Option<&mut Diagnostics>,
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         let layout = self.layout();
         if x.len() != layout.dim || dxdt.len() != layout.dim {
-            return Err(EvalError(format!(
-                "state of {} and derivative of {} numbers, the layout of these options has {}",
-                x.len(),
-                dxdt.len(),
-                layout.dim
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!(
+                    "state of {} and derivative of {} numbers, the layout of these options has {}",
+                    x.len(),
+                    dxdt.len(),
+                    layout.dim
+                ),
+            ));
         }
         let mut local = Diagnostics::default();
         self.assemble_on(road, x, inputs, cache, &mut local)?;
@@ -523,7 +520,7 @@ impl Vehicle {
             };
         }
         if !dxdt.iter().all(|v| v.is_finite()) {
-            return Err(EvalError("non-finite state derivative".into()));
+            return Err(ModelError::new(Cause::NonFinite, "non-finite state derivative"));
         }
         if let Some(d) = diag {
             local.chassis_acceleration = rdd;
@@ -535,13 +532,13 @@ impl Vehicle {
     /// Accelerations from the assembled terms by the selected formulation (§4.9 steps 3f–5, or the
     /// 42x42 of §4.3): what the paper's Table 1 calls the acceleration evaluation.
     #[inline(always)]
-    pub fn accelerations(&self, a: &Assembly, multipliers: Multipliers) -> Result<Accelerations<4>, EvalError> {
+    pub fn accelerations(&self, a: &Assembly, multipliers: Multipliers) -> Result<Accelerations<4>, ModelError> {
         match self.formulation {
             Formulation::Synthesis => dynamics::solve_synthesis_gcp_with(&a.chassis, &a.terms, multipliers),
             Formulation::SynthesisAugmented => dynamics::solve_synthesis_augmented(&a.chassis, &a.terms),
             Formulation::Conventional => dynamics::solve_conventional(&a.chassis, &a.terms),
         }
-        .map_err(|e| EvalError(format!("acceleration solve failed: {}", e.0)))
+        .context("acceleration solve failed")
     }
 
     /// Everything before the equation solving (§4.9 steps 1–3e): kinematics, forces and the chassis and
@@ -552,7 +549,7 @@ impl Vehicle {
         inputs: &Inputs,
         cache: &mut KinematicsCache,
         local: &mut Diagnostics,
-    ) -> Result<Assembly, EvalError> {
+    ) -> Result<Assembly, ModelError> {
         self.assemble_on(&self.road, x, inputs, cache, local)?;
         Ok(cache.assembly)
     }
@@ -565,7 +562,7 @@ impl Vehicle {
         inputs: &Inputs,
         cache: &mut KinematicsCache,
         local: &mut Diagnostics,
-    ) -> Result<(), EvalError> {
+    ) -> Result<(), ModelError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
         let g = if self.switches.gravity { self.gravity_vector() } else { V3::zeros() };
@@ -654,7 +651,7 @@ impl Vehicle {
         wheel: &WheelState,
         diag: &mut Diagnostics,
         terms: &mut SubsystemTerms,
-    ) -> Result<CornerOutput, EvalError> {
+    ) -> Result<CornerOutput, ModelError> {
         let WheelState { spin, xi, drive_torque, brake_torque } = *wheel;
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
@@ -739,14 +736,17 @@ impl Vehicle {
                         tire::damped_slip(&self.tire, fz, xi, &slip, blend)
                     }
                     SlipModel::Steady if blend < 1.0 => {
-                        return Err(EvalError(format!(
-                            "model validity: wheel {}: forward speed {:.3} m/s is below {} m/s, where steady slip does not \
+                        return Err(ModelError::new(
+                            Cause::ModelValidity,
+                            format!(
+                                "wheel {}: forward speed {:.3} m/s is below {} m/s, where steady slip does not \
                              hold (it divides by \
                              the speed); use relaxation slip (slip_model = 1), which covers standstill",
-                            CORNERS[i],
-                            slip.vx.abs(),
-                            self.tire.low_speed_blend_m_s[1]
-                        )))
+                                CORNERS[i],
+                                slip.vx.abs(),
+                                self.tire.low_speed_blend_m_s[1]
+                            ),
+                        ))
                     }
                     SlipModel::Steady => tire::steady_slip(&self.tire, slip.vx, slip.vsx, slip.vsy),
                 };
@@ -988,7 +988,7 @@ impl Vehicle {
         x: &[f64],
         rack: &RackMotion,
         cache: &mut KinematicsCache,
-    ) -> Result<MechanicalSummary, EvalError> {
+    ) -> Result<MechanicalSummary, ModelError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
         let g = if self.switches.gravity { self.gravity_vector() } else { V3::zeros() };

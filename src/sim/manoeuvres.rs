@@ -11,7 +11,8 @@
 //! response is linear there) and scaled.
 
 use super::scenes::calibrated_jturn_amplitude;
-use super::{Outputs, RackProfile, SimConfig, SimError, Simulation, SpeedMode, OUTPUT_NAMES};
+use super::{Outputs, RackProfile, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::error::ModelError;
 use crate::model::params::VehicleData;
 
 /// The manoeuvres.
@@ -86,7 +87,7 @@ fn simulate(
     speed_mode: SpeedMode,
     profile: RackProfile,
     duration: f64,
-) -> Result<Vec<Outputs>, SimError> {
+) -> Result<Vec<Outputs>, ModelError> {
     let config = SimConfig { initial_speed: speed, speed_mode, ..SimConfig::default() };
     let mut sim = Simulation::new(data.clone(), config)?;
     sim.set_rack_profile(profile);
@@ -100,7 +101,7 @@ fn simulate(
 
 /// The rack displacement that gives a steady lateral acceleration `ay` (m/s²) at `speed`: a 3 s run at
 /// the calibrated J-turn amplitude, scaled linearly from its mean a_y over the last second.
-pub fn rack_for_lateral_acceleration(data: &VehicleData, speed: f64, ay: f64) -> Result<f64, SimError> {
+pub fn rack_for_lateral_acceleration(data: &VehicleData, speed: f64, ay: f64) -> Result<f64, ModelError> {
     let a0 = calibrated_jturn_amplitude();
     let rows = simulate(data, speed, SpeedMode::Hold, RackProfile::Step { amplitude: a0, start: 0.2, ramp: 0.3 }, 3.0)?;
     let tail = &series(&rows, "ay")[rows.len() - (1.0 / SAMPLE) as usize..];
@@ -121,7 +122,7 @@ fn metric(name: &'static str, value: f64, unit: &'static str) -> Metric {
 }
 
 /// Run a manoeuvre at its standard speed (or `speed`, m/s) and compute its metrics.
-pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Report, SimError> {
+pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Report, ModelError> {
     let g = data.gravity_m_s2;
     match m {
         Manoeuvre::StepSteer => {
@@ -283,8 +284,8 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
 
 /// The pure-pursuit driver of the double lane change, with this vehicle's geometry and steering gain (the
 /// driver FMU's defaults are these values for the HMMWV: tests/manoeuvres.rs checks them).
-pub fn dlc_driver(data: &VehicleData, vehicle: &crate::model::vehicle::Vehicle) -> Result<rtv_driver::PurePursuit, SimError> {
-    let gain = vehicle.steering_gain_per_rack_metre().map_err(|e| SimError(e.0))? * vehicle.rack.sign;
+pub fn dlc_driver(data: &VehicleData, vehicle: &crate::model::vehicle::Vehicle) -> Result<rtv_driver::PurePursuit, ModelError> {
+    let gain = vehicle.steering_gain_per_rack_metre()? * vehicle.rack.sign;
     let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear) = (spindle(&data.front), spindle(&data.rear));
     Ok(rtv_driver::PurePursuit {
@@ -301,7 +302,7 @@ pub fn dlc_driver(data: &VehicleData, vehicle: &crate::model::vehicle::Vehicle) 
 /// ISO 3888-2 double lane change, closed loop: the pure-pursuit driver (`rtv_driver`) steers, the speed hold
 /// keeps the entry speed. The footprint checked against the lanes is the four tires' outer edges (track/2 +
 /// half the tire width, at the axles), every sample. Pass: inside every lane throughout.
-fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, SimError> {
+fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, ModelError> {
     use rtv_driver::iso3888::{hmmwv_course_and_line, HMMWV_TIRE_WIDTH_M};
     let config = SimConfig { initial_speed: v, ..SimConfig::default() };
     let mut sim = Simulation::new(data.clone(), config)?;

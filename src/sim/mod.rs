@@ -17,8 +17,9 @@ pub mod stability;
 pub mod stepping;
 pub mod work_precision;
 
+use crate::error::{Cause, Context, ModelError};
 use crate::integrate::stability::{is_stable, largest_stable_step};
-use crate::integrate::{substeps, AnyIntegrator, EvalError, Integrator, IntegratorKind, OdeSystem};
+use crate::integrate::{substeps, AnyIntegrator, Integrator, IntegratorKind, OdeSystem};
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
 use crate::model::equilibrium::{retune_ride_height, steady_rolling};
 use crate::model::params::VehicleData;
@@ -108,48 +109,55 @@ pub const MAX_EVALUATIONS_PER_ADVANCE: u64 = 100_000;
 
 impl SimConfig {
     /// The ranges every entry point (CLI, FMU parameters, restored FMU states) enforces.
-    pub fn validate(&self) -> Result<(), SimError> {
+    pub fn validate(&self) -> Result<(), ModelError> {
         if !(INTERNAL_STEP_MIN..=INTERNAL_STEP_MAX).contains(&self.internal_step) {
-            return Err(SimError(format!(
-                "internal step {} s is outside [{INTERNAL_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s",
-                self.internal_step
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!(
+                    "internal step {} s is outside [{INTERNAL_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s",
+                    self.internal_step
+                ),
+            ));
         }
         if !(0.0..=INITIAL_SPEED_MAX).contains(&self.initial_speed) {
-            return Err(SimError(format!(
-                "initial speed {} m/s is outside [0, {INITIAL_SPEED_MAX}] m/s",
-                self.initial_speed
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!("initial speed {} m/s is outside [0, {INITIAL_SPEED_MAX}] m/s", self.initial_speed),
+            ));
         }
         if !self.slope.iter().all(|s| s.abs() <= SLOPE_MAX) {
-            return Err(SimError(format!(
-                "road slope {:?} (rise over run) is outside [-{SLOPE_MAX}, {SLOPE_MAX}]",
-                self.slope
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!("road slope {:?} (rise over run) is outside [-{SLOPE_MAX}, {SLOPE_MAX}]", self.slope),
+            ));
         }
         if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&self.tolerance) {
-            return Err(SimError(format!(
-                "tolerance {} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]",
-                self.tolerance
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!("tolerance {} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]", self.tolerance),
+            ));
         }
         let [height, length] = self.bump;
         if !(0.0..=BUMP_HEIGHT_MAX).contains(&height) {
-            return Err(SimError(format!("bump height {height} m is outside [0, {BUMP_HEIGHT_MAX}] m")));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!("bump height {height} m is outside [0, {BUMP_HEIGHT_MAX}] m"),
+            ));
         }
         if !(BUMP_LENGTH_MIN..=BUMP_LENGTH_MAX).contains(&length) {
-            return Err(SimError(format!(
-                "bump length {length} m is outside [{BUMP_LENGTH_MIN}, {BUMP_LENGTH_MAX}] m"
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!("bump length {length} m is outside [{BUMP_LENGTH_MIN}, {BUMP_LENGTH_MAX}] m"),
+            ));
         }
         Ok(())
     }
 
     /// The sub-steps that cover an interval `h`, or an error if they would cost more than
     /// `MAX_EVALUATIONS_PER_ADVANCE` derivative evaluations (nothing is done then).
-    pub fn plan(&self, h: f64) -> Result<(usize, f64), SimError> {
+    pub fn plan(&self, h: f64) -> Result<(usize, f64), ModelError> {
         if !(h > 0.0 && h.is_finite()) {
-            return Err(SimError(format!("step must be positive and finite, got {h}")));
+            return Err(ModelError::new(Cause::Input, format!("step must be positive and finite, got {h}")));
         }
         // The largest layout: a bound that holds whatever states the options keep.
         let per_step = self.integrator.max_evaluations_per_step(idx::DIM);
@@ -157,14 +165,17 @@ impl SimConfig {
         let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step - inputs::MAX_BREAKPOINTS as u64;
         // Compare before converting: ceil(h / internal_step) may not fit a usize.
         if h / self.internal_step > max_steps as f64 {
-            return Err(SimError(format!(
-                "an interval of {h} s needs {:.3e} internal steps of {} s, more than the {max_steps} one call may \
+            return Err(ModelError::new(
+                Cause::Input,
+                format!(
+                    "an interval of {h} s needs {:.3e} internal steps of {} s, more than the {max_steps} one call may \
                  take (at most {MAX_EVALUATIONS_PER_ADVANCE} evaluations, about 1 s): split it into intervals of \
                  at most {} s",
-                (h / self.internal_step).ceil(),
-                self.internal_step,
-                max_steps as f64 * self.internal_step
-            )));
+                    (h / self.internal_step).ceil(),
+                    self.internal_step,
+                    max_steps as f64 * self.internal_step
+                ),
+            ));
         }
         Ok(substeps(h, self.internal_step))
     }
@@ -189,40 +200,6 @@ impl Default for SimConfig {
     }
 }
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct SimError(pub String);
-
-impl std::fmt::Display for SimError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for SimError {}
-
-impl From<EvalError> for SimError {
-    fn from(e: EvalError) -> Self {
-        SimError(e.0)
-    }
-}
-
-impl From<crate::model::params::DataError> for SimError {
-    fn from(e: crate::model::params::DataError) -> Self {
-        SimError(e.to_string())
-    }
-}
-
-/// `result.context("what")`: a failure of any layer as a `SimError` that says what was being done.
-pub(crate) trait Context<T> {
-    fn context(self, what: &str) -> Result<T, SimError>;
-}
-
-impl<T, E: std::fmt::Display> Context<T> for Result<T, E> {
-    fn context(self, what: &str) -> Result<T, SimError> {
-        self.map_err(|e| SimError(format!("{what}: {e}")))
-    }
-}
-
 /// The vehicle as an ODE for the integrators: inputs from the rack source and the torques.
 pub struct VehicleOde<'a> {
     pub vehicle: &'a Vehicle,
@@ -238,7 +215,7 @@ impl OdeSystem for VehicleOde<'_> {
         self.vehicle.layout().dim
     }
 
-    fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), EvalError> {
+    fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), ModelError> {
         self.evaluations += 1;
         let inputs = Inputs { rack: self.rack.at(t), drive: self.drive, brake: self.brake };
         self.vehicle.derivative(x, &inputs, self.cache, dxdt, None)
@@ -260,8 +237,10 @@ impl OdeSystem for VehicleOde<'_> {
 }
 
 /// The vehicle of a simulation, or the error of one read back from a saved state and not yet validated.
-fn attached(vehicle: &Option<Vehicle>) -> Result<&Vehicle, EvalError> {
-    vehicle.as_ref().ok_or_else(|| EvalError("a restored simulation has no vehicle until validate_restored".into()))
+fn attached(vehicle: &Option<Vehicle>) -> Result<&Vehicle, ModelError> {
+    vehicle
+        .as_ref()
+        .ok_or_else(|| ModelError::new(Cause::Input, "a restored simulation has no vehicle until validate_restored"))
 }
 
 /// FNV-1a (64 bit) of the vehicle's serialized form: a saved state names its vehicle by this.
@@ -280,7 +259,7 @@ struct Start {
 }
 
 impl Start {
-    fn new(mut v: Vehicle, config: &SimConfig) -> Result<Start, SimError> {
+    fn new(mut v: Vehicle, config: &SimConfig) -> Result<Start, ModelError> {
         config.validate()?;
         v.formulation = config.formulation;
         v.slip = config.slip;
@@ -314,24 +293,28 @@ impl Start {
     }
 }
 
-/// The head of a divergence-guard message: `advance` names its cause (step size, or a physical event).
+/// The head of a state-bound message (`Cause::StateBound`): `advance` names its cause (step size, or a
+/// physical event).
 const DIVERGENCE_GUARD: &str = "state bound exceeded";
 
 /// Bounds no vehicle on a road reaches (a finite but absurd state is a diverged integration): speed
 /// 300 m/s, rates 100 rad/s (chassis) and 2000 rad/s (wheels), slip states 100. A chassis rolled beyond
 /// 90° is a rollover: a physical event the model (tires on the road, no body contact) ends at.
-fn check_divergence(x: &[f64], layout: &Layout, t: f64) -> Result<(), EvalError> {
+fn check_divergence(x: &[f64], layout: &Layout, t: f64) -> Result<(), ModelError> {
     let norm3 = |k: usize| (x[k] * x[k] + x[k + 1] * x[k + 1] + x[k + 2] * x[k + 2]).sqrt();
     // The body z axis below the horizon: rolled (or pitched) over.
     let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
     if a0[(2, 2)] < 0.0 {
         let (roll, pitch, _) = euler_from_matrix(&a0);
-        return Err(EvalError(format!(
-            "physical event: rollover at t = {t:.3} s (roll {:.0}°, pitch {:.0}°): the model has no body-ground \
+        return Err(ModelError::new(
+            Cause::PhysicalEvent,
+            format!(
+                "rollover at t = {t:.3} s (roll {:.0}°, pitch {:.0}°): the model has no body-ground \
              contact, so the run ends here",
-            roll.to_degrees(),
-            pitch.to_degrees()
-        )));
+                roll.to_degrees(),
+                pitch.to_degrees()
+            ),
+        ));
     }
     let spinning = (0..4).find(|&i| x[idx::SPIN + i].abs() > 2000.0);
     let bad = if norm3(idx::V0) > 300.0 {
@@ -350,7 +333,7 @@ fn check_divergence(x: &[f64], layout: &Layout, t: f64) -> Result<(), EvalError>
         None
     };
     match bad {
-        Some(why) => Err(EvalError(format!("{DIVERGENCE_GUARD} at t = {t:.4} s: {why}"))),
+        Some(why) => Err(ModelError::new(Cause::StateBound, format!("{DIVERGENCE_GUARD} at t = {t:.4} s: {why}"))),
         None => Ok(()),
     }
 }
@@ -530,13 +513,13 @@ pub struct Simulation {
 impl Simulation {
     /// Build the vehicle, retune the ride height (if asked), and start in steady rolling at the initial
     /// speed from the computed equilibrium (physics.md §8.1).
-    pub fn new(vehicle: VehicleData, config: SimConfig) -> Result<Simulation, SimError> {
+    pub fn new(vehicle: VehicleData, config: SimConfig) -> Result<Simulation, ModelError> {
         let v = Vehicle::new(&vehicle)?;
         Simulation::from_vehicle(v, config)
     }
 
     /// As `new`, from an already built vehicle (tests switch force elements or tire models first).
-    pub fn from_vehicle(v: Vehicle, config: SimConfig) -> Result<Simulation, SimError> {
+    pub fn from_vehicle(v: Vehicle, config: SimConfig) -> Result<Simulation, ModelError> {
         let Start { vehicle: v, state, cache, front_wheel_x0 } = Start::new(v, &config)?;
         let vehicle_fingerprint = fingerprint(&v);
         let mut sim = Simulation {
@@ -568,8 +551,8 @@ impl Simulation {
     /// vehicle must be the one `new(data, config)` builds (rebuilt here and compared exactly), and its
     /// state, integrator history and inputs must be of the right shape, finite and within the divergence
     /// bounds; `elapsed` is the master's time since the start, which must be the simulation's.
-    pub fn validate_restored(&mut self, data: &VehicleData, elapsed: f64) -> Result<(), SimError> {
-        let bad = |why: String| Err(SimError(format!("simulation: {why}")));
+    pub fn validate_restored(&mut self, data: &VehicleData, elapsed: f64) -> Result<(), ModelError> {
+        let bad = |why: String| Err(ModelError::new(Cause::Input, format!("simulation: {why}")));
         self.config.validate()?;
         let built = Start::new(Vehicle::new(data)?, &self.config)?;
         if fingerprint(&built.vehicle) != self.vehicle_fingerprint || built.front_wheel_x0 != self.front_wheel_x0 {
@@ -591,7 +574,7 @@ impl Simulation {
         if self.integrator.kind() != self.config.integrator {
             return bad("the integrator differs from the configured one".into());
         }
-        self.integrator.validate(layout.dim).context("simulation")?;
+        self.integrator.validate(layout.dim).map_err(|e| ModelError::new(Cause::Input, format!("simulation: {e}")))?;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         if !finite(&self.drive) || !self.brake.iter().all(|b| *b >= 0.0 && b.is_finite()) {
             return bad("wheel torques must be finite, brake torques >= 0".into());
@@ -666,7 +649,7 @@ impl Simulation {
     /// No heap allocation once the first step has sized the integrator's scratch.
     /// An interval that would cost more than `MAX_EVALUATIONS_PER_ADVANCE` is refused before any work
     /// (`SimConfig::plan`).
-    pub fn advance(&mut self, h: f64) -> Result<(), SimError> {
+    pub fn advance(&mut self, h: f64) -> Result<(), ModelError> {
         let (n, hs) = self.config.plan(h)?;
         // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
         self.state_before.clear();
@@ -697,15 +680,17 @@ impl Simulation {
                 // A failure that is not already a step-size finding: if a fast mode at the last good
                 // state is outside the scheme's stability region, that is the cause.
                 // A state bound with every fast mode stable is a physical event (a wheel spun up in the air).
-                let message = match e.0.starts_with("step-size instability") {
-                    true => e.0,
-                    false => match self.check_fast_modes(hs) {
-                        Err(unstable) => format!("{} (the run then failed: {})", unstable.0, e.0),
-                        Ok(()) if e.0.starts_with(DIVERGENCE_GUARD) => format!("physical event: {}", e.0),
-                        Ok(()) => e.0,
+                let e = match e.cause() {
+                    Cause::StepSizeInstability => e,
+                    _ => match self.check_fast_modes(hs) {
+                        Err(unstable) => unstable.note(format_args!(" (the run then failed: {e})")),
+                        Ok(()) if e.cause() == Cause::StateBound => {
+                            ModelError::new(Cause::PhysicalEvent, e.to_string())
+                        }
+                        Ok(()) => e,
                     },
                 };
-                Err(SimError(format!("t = {:.6} s: {message}", self.time)))
+                Err(e.context(format_args!("t = {:.6} s", self.time)))
             }
         }
     }
@@ -713,8 +698,8 @@ impl Simulation {
     /// Undo the last successful `advance` (for a state the step reached but the model cannot be
     /// evaluated at, found when its outputs are read). `Err` when there is nothing to undo (no step since
     /// the start or since the simulation was restored, or already undone).
-    pub fn undo_last_advance(&mut self) -> Result<(), SimError> {
-        let before = self.before.take().ok_or_else(|| SimError("no interval to undo".into()))?;
+    pub fn undo_last_advance(&mut self) -> Result<(), ModelError> {
+        let before = self.before.take().ok_or_else(|| ModelError::new(Cause::Input, "no interval to undo"))?;
         self.restore(&before);
         self.fresh = Fresh::None; // the stored outputs may have been overwritten since
         Ok(())
@@ -732,7 +717,7 @@ impl Simulation {
         self.integrator.restart();
     }
 
-    fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), EvalError> {
+    fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), ModelError> {
         let t0 = self.time;
         let vehicle = attached(&self.vehicle)?;
         let layout = vehicle.layout();
@@ -779,7 +764,7 @@ impl Simulation {
     /// θ̇_L: tire, spring, damper and stops on the unsprung mass), spin–tread (ξ_x, Ω: the tread spring
     /// against the wheel's spin inertia, the brake's hold) and the lateral tread (ξ_y). Six evaluations;
     /// the Newton warm starts are left as they were. No heap allocation.
-    pub fn fast_modes(&mut self) -> Result<[FastMode; 12], EvalError> {
+    pub fn fast_modes(&mut self) -> Result<[FastMode; 12], ModelError> {
         let vehicle = attached(&self.vehicle)?;
         let layout = vehicle.layout();
         let n = layout.dim;
@@ -802,7 +787,7 @@ impl Simulation {
                 (0..4).for_each(|i| xp[at(i)] += delta);
                 evaluate(&xp[..n], &mut out[..n])?;
                 (0..n).for_each(|k| out[k] = (out[k] - f0[k]) / delta);
-                Ok::<(), EvalError>(())
+                Ok::<(), ModelError>(())
             };
             let (mut du, mut dud, mut dxi, mut dspin, mut dxiy) =
                 ([0.0; idx::DIM], [0.0; idx::DIM], [0.0; idx::DIM], [0.0; idx::DIM], [0.0; idx::DIM]);
@@ -846,7 +831,7 @@ impl Simulation {
     /// region: such a mode grows at every step and the run would diverge or, worse, finish wrong. The
     /// error names the mode, its eigenvalue and the largest stable step. Modes with Re λ > 0 grow
     /// physically whatever the step and are judged by their imaginary part alone.
-    pub fn check_fast_modes(&mut self, h: f64) -> Result<(), EvalError> {
+    pub fn check_fast_modes(&mut self, h: f64) -> Result<(), ModelError> {
         self.last_mode_check = Some(self.time);
         let kind = self.config.integrator;
         let modes = self.fast_modes()?;
@@ -858,20 +843,23 @@ impl Simulation {
             })
             .min_by(|a, b| a.2.total_cmp(&b.2));
         match worst {
-            Some((m, lambda, h_max)) if !is_stable(kind, lambda * h) => Err(EvalError(format!(
-                "step-size instability: the {} mode of wheel {} has eigenvalue {:.0}{:+.0}i 1/s at t = {:.3} s; \
+            Some((m, lambda, h_max)) if !is_stable(kind, lambda * h) => Err(ModelError::new(
+                Cause::StepSizeInstability,
+                format!(
+                    "the {} mode of wheel {} has eigenvalue {:.0}{:+.0}i 1/s at t = {:.3} s; \
                  {:?} at h = {:.3e} s puts hλ outside its stability region (stable up to h = {:.3e} s): use a \
                  smaller internal step{}",
-                m.kind.name(),
-                crate::model::vehicle::CORNERS[m.corner],
-                m.lambda.re,
-                m.lambda.im,
-                self.time,
-                kind,
-                h,
-                h_max,
-                if kind == IntegratorKind::Ab3 { " or RK4, whose region is about five times larger" } else { "" }
-            ))),
+                    m.kind.name(),
+                    crate::model::vehicle::CORNERS[m.corner],
+                    m.lambda.re,
+                    m.lambda.im,
+                    self.time,
+                    kind,
+                    h,
+                    h_max,
+                    if kind == IntegratorKind::Ab3 { " or RK4, whose region is about five times larger" } else { "" }
+                ),
+            )),
             _ => self.check_hop_resolution(&modes, h),
         }
     }
@@ -879,7 +867,7 @@ impl Simulation {
     /// On a road with bumps the road drives the wheel hop at its own frequency, so the mode must be
     /// resolved, not only stable: |hλ| ≤ `HOP_RESOLUTION`. (On a level road only the body's slow motions
     /// reach it, and a stable step is accurate: docs/stability.md.)
-    fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64) -> Result<(), EvalError> {
+    fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64) -> Result<(), ModelError> {
         let bumpy = matches!(attached(&self.vehicle)?.road, RoadModel::Bumps(_));
         let bound = hop_resolution(self.config.integrator);
         let worst = modes
@@ -887,18 +875,21 @@ impl Simulation {
             .filter(|m| m.kind == ModeKind::WheelHop)
             .max_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()));
         match worst {
-            Some(m) if bumpy && m.lambda.norm() * h > bound => Err(EvalError(format!(
-                "step-size instability: the wheel-hop mode of wheel {} (eigenvalue {:.0}{:+.0}i 1/s) is under-resolved \
+            Some(m) if bumpy && m.lambda.norm() * h > bound => Err(ModelError::new(
+                Cause::StepSizeInstability,
+                format!(
+                    "the wheel-hop mode of wheel {} (eigenvalue {:.0}{:+.0}i 1/s) is under-resolved \
                  on a road with bumps, which excite it: |hλ| = {:.2} at h = {:.3e} s, more than {bound} for {:?}; use \
                  h ≤ {:.3e} s",
-                crate::model::vehicle::CORNERS[m.corner],
-                m.lambda.re,
-                m.lambda.im,
-                m.lambda.norm() * h,
-                h,
-                self.config.integrator,
-                bound / m.lambda.norm()
-            ))),
+                    crate::model::vehicle::CORNERS[m.corner],
+                    m.lambda.re,
+                    m.lambda.im,
+                    m.lambda.norm() * h,
+                    h,
+                    self.config.integrator,
+                    bound / m.lambda.norm()
+                ),
+            )),
             _ => Ok(()),
         }
     }
@@ -933,7 +924,7 @@ impl Simulation {
 
     /// Evaluate the model at the current state for the other outputs. The evaluation leaves the Newton
     /// warm starts as they were: reading outputs never changes the run.
-    fn evaluate_outputs(&mut self) -> Result<(), EvalError> {
+    fn evaluate_outputs(&mut self) -> Result<(), ModelError> {
         self.write_state_outputs();
         let vehicle = attached(&self.vehicle)?;
         let mut dx = [0.0; idx::DIM]; // the largest layout
@@ -971,10 +962,10 @@ impl Simulation {
         push(d.newton_iterations as f64);
         debug_assert_eq!(k, OUTPUT_NAMES.len());
         if let Some(i) = self.outputs_values.iter().position(|v| !v.is_finite()) {
-            return Err(EvalError(format!(
-                "output {} is {} at t = {}",
-                OUTPUT_NAMES[i], self.outputs_values[i], self.time
-            )));
+            return Err(ModelError::new(
+                Cause::NonFinite,
+                format!("output {} is {} at t = {}", OUTPUT_NAMES[i], self.outputs_values[i], self.time),
+            ));
         }
         self.fresh = Fresh::All;
 
@@ -983,7 +974,7 @@ impl Simulation {
 
     /// Output `index` (of `OUTPUT_NAMES`) at the current state, computed when first read after a step:
     /// the state outputs cost no evaluation, the others one evaluation for all of them.
-    pub fn output(&mut self, index: usize) -> Result<f64, SimError> {
+    pub fn output(&mut self, index: usize) -> Result<f64, ModelError> {
         let needed = Fresh::needed_for(index);
         if self.fresh < needed {
             if needed == Fresh::State {
@@ -1001,7 +992,7 @@ impl Simulation {
     }
 
     /// Every output at the current state (one evaluation if they are not yet computed).
-    pub fn outputs(&mut self) -> Result<Outputs, SimError> {
+    pub fn outputs(&mut self) -> Result<Outputs, ModelError> {
         if self.fresh < Fresh::All {
             self.evaluate_outputs().context("outputs")?;
         }

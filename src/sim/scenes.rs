@@ -1,8 +1,12 @@
 //! The paper's three scenes (physics.md §8.3): the unsymmetric bump run, the J-turn and the sine steer,
-//! each starting from steady rolling at its speed, and a runner that samples the outputs.
+//! each starting from steady rolling at its speed, and a runner that samples the outputs. Each scene
+//! declares what it needs (`SceneNeeds`); `rtv scene` runs with that and leaves the rest out.
 
-use super::{Outputs, RackProfile, RoadChoice, SimConfig, SimError, Simulation};
+use super::{outputs, Outputs, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
+use crate::error::{Cause, ModelError};
 use crate::model::params::VehicleData;
+use crate::model::tire::SlipModel;
+use crate::model::vehicle::Vehicle;
 use serde::Deserialize;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,14 +75,57 @@ pub const PAPER_JTURN_AMPLITUDE: f64 = 0.008;
 /// Width of the C² blends at the sine's velocity kinks (physics.md §8.3).
 pub const SINE_KINK_BLEND: f64 = 0.02;
 
+/// What a scene needs of the model: the one place that decides its pruned configuration
+/// (`Scene::config_for`, `Scene::columns`). What it does not name is left out: the states of the other
+/// slip model and speed mode (`model::vehicle::Layout`), the output evaluation at each output point
+/// when every channel it reads comes straight from the state, and the CSV columns it does not read
+/// (but those of the state). Leaving them out is exact
+/// (tests/pruning.rs); docs/results.md gives the cost with and without.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SceneNeeds {
+    /// Live inputs besides the rack profile: wheel drive and brake torques. No scene drives them; a run
+    /// that adds them (`rtv scene --brake`, `--drive`) makes them live (`with_torques`).
+    pub torques: bool,
+    pub road: RoadChoice,
+    /// The slip model and the speed mode (physics.md §8.2: hold for every scene, relaxation slip); they
+    /// decide the states.
+    pub slip: SlipModel,
+    pub speed_mode: SpeedMode,
+    /// The output channels its summary and its plot read (physics.md §8.3, scripts/plot_scenes.py).
+    pub outputs: &'static [&'static str],
+    /// Whether the run watches the physical events (a wheel off the road, locked or spun up: `Events`),
+    /// which are seen only by the output evaluation. The bump course can lift a wheel and torques can
+    /// lock or spin one; on a level road with the rack alone the sine lifts none (tests/pruning.rs
+    /// checks that the full run records none; nor with the paper's amplitude or 15 mm of rack, by
+    /// `rtv scene sine --keep-all --amplitude 0.015`).
+    pub events: bool,
+}
+
+impl SceneNeeds {
+    /// The needs with wheel torques live (and so the events they cause watched).
+    pub fn with_torques(self) -> SceneNeeds {
+        SceneNeeds { torques: true, events: true, ..self }
+    }
+
+    /// Whether a run needs the model evaluated at its output points: for an output that is not read
+    /// straight from the state, or to watch the events.
+    pub fn evaluates_outputs(&self) -> bool {
+        self.events || self.outputs.iter().any(|name| !outputs::from_state(output_index(name)))
+    }
+}
+
+fn output_index(name: &str) -> usize {
+    Outputs::index(name).unwrap_or_else(|| panic!("a scene reads '{name}', which is no output"))
+}
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scene {
     pub kind: SceneKind,
     /// m/s
     pub speed: f64,
-    pub road: RoadChoice,
     pub rack: RackProfile,
     pub duration: f64,
+    pub needs: SceneNeeds,
 }
 
 impl Scene {
@@ -88,21 +135,40 @@ impl Scene {
             Amplitude::Paper => PAPER_JTURN_AMPLITUDE,
             Amplitude::Metres(a) => a,
         };
+        let needs = SceneNeeds {
+            torques: false,
+            road: RoadChoice::Flat,
+            slip: SlipModel::Relaxation,
+            speed_mode: SpeedMode::Hold,
+            outputs: &[],
+            events: false,
+        };
         match kind {
-            SceneKind::Bump => {
-                Scene { kind, speed: 10.0 / 3.6, road: RoadChoice::PaperBumps, rack: RackProfile::Zero, duration: 8.0 }
-            }
+            SceneKind::Bump => Scene {
+                kind,
+                speed: 10.0 / 3.6,
+                rack: RackProfile::Zero,
+                duration: 8.0,
+                needs: SceneNeeds {
+                    road: RoadChoice::PaperBumps,
+                    // Figs. 9-10: wheel-centre travel, chassis vertical acceleration, roll rate.
+                    outputs: &["time", "wheel_z_fl", "wheel_z_fr", "wheel_z_rl", "wheel_z_rr", "az", "roll_rate"],
+                    events: true,
+                    ..needs
+                },
+            },
             SceneKind::JTurn => Scene {
                 kind,
                 speed: 100.0 / 3.6,
-                road: RoadChoice::Flat,
                 rack: RackProfile::Step { amplitude: jturn, start: 3.0, ramp: 0.1 },
                 duration: 8.0,
+                // Figs. 11-12: lateral acceleration and yaw rate (a_y needs the evaluation anyway, so the
+                // events cost nothing more).
+                needs: SceneNeeds { outputs: &["time", "ay", "yaw_rate"], events: true, ..needs },
             },
             SceneKind::Sine => Scene {
                 kind,
                 speed: 60.0 / 3.6,
-                road: RoadChoice::Flat,
                 rack: RackProfile::DoubleSine {
                     amplitude: SINE_TO_JTURN * jturn,
                     start: 1.0,
@@ -110,47 +176,121 @@ impl Scene {
                     blend: SINE_KINK_BLEND,
                 },
                 duration: 8.0,
+                // Figs. 13-15: roll rate, yaw rate and the trajectory, all straight from the state.
+                needs: SceneNeeds { outputs: &["time", "roll_rate", "yaw_rate", "x", "y"], ..needs },
             },
         }
     }
 
     /// The scene's speed and road on top of the run options.
     pub fn config(&self, base: &SimConfig) -> SimConfig {
-        SimConfig { initial_speed: self.speed, road: self.road, ..base.clone() }
+        SimConfig { initial_speed: self.speed, road: self.needs.road, ..base.clone() }
+    }
+
+    /// The run options of the scene's declaration on top of `base` (its slip model, speed mode, road and
+    /// speed); a caller overrides them afterwards if it asks for others.
+    pub fn config_for(&self, base: &SimConfig) -> SimConfig {
+        SimConfig { slip: self.needs.slip, speed_mode: self.needs.speed_mode, ..self.config(base) }
+    }
+
+    /// The output channels (indices into `OUTPUT_NAMES`) a run writes: with `keep_all` every CSV column;
+    /// otherwise the channels the scene reads and those straight from the state (pose and velocities: they
+    /// cost no evaluation). The others are left out too: a CSV value costs about 1.7 k instructions to
+    /// format, a twenty-fourth of an evaluation (callgrind, docs/results.md).
+    pub fn columns(&self, keep_all: bool) -> Vec<usize> {
+        let read = |i: usize| self.needs.outputs.contains(&super::OUTPUT_NAMES[i]);
+        (0..super::CSV_COLUMNS).filter(|&i| keep_all || outputs::from_state(i) || read(i)).collect()
     }
 
     /// The rack input must stay within the rack's travel limit (the sine's amplitude is 10/8 of the
     /// J-turn's).
-    pub fn check_rack(&self, travel_limit: f64) -> Result<(), SimError> {
+    pub fn check_rack(&self, travel_limit: f64) -> Result<(), ModelError> {
         let peak = self.rack.peak();
         if peak > travel_limit {
-            return Err(SimError(format!(
-                "the {} scene's rack input reaches {peak:.4} m, beyond the rack's travel limit of ±{travel_limit} m \
-                 (vehicle data rack.travel_limit_m)",
-                self.kind.name()
-            )));
+            return Err(ModelError::new(
+                Cause::Input,
+                format!(
+                    "the {} scene's rack input reaches {peak:.4} m, beyond the rack's travel limit of ±{travel_limit} m \
+                     (vehicle data rack.travel_limit_m)",
+                    self.kind.name()
+                ),
+            ));
         }
         Ok(())
     }
 
-    pub fn start(&self, vehicle: VehicleData, base: &SimConfig) -> Result<Simulation, SimError> {
+    pub fn start(&self, vehicle: VehicleData, base: &SimConfig) -> Result<Simulation, ModelError> {
+        self.start_keeping(vehicle, base, false)
+    }
+
+    /// As `start`; with `keep_unused_states` the run carries the states its options leave out
+    /// (`Vehicle::keep_unused_states`: only to compare, as `rtv scene --keep-all` and tests/pruning.rs do).
+    pub fn start_keeping(
+        &self,
+        vehicle: VehicleData,
+        base: &SimConfig,
+        keep_unused_states: bool,
+    ) -> Result<Simulation, ModelError> {
         self.check_rack(vehicle.rack.travel_limit_m)?;
-        let mut sim = Simulation::new(vehicle, self.config(base))?;
+        let mut v = Vehicle::new(&vehicle)?;
+        v.keep_unused_states = keep_unused_states;
+        let mut sim = Simulation::from_vehicle(v, self.config(base))?;
         sim.set_rack_profile(self.rack);
         Ok(sim)
     }
 }
 
+/// As `run`, but reading only the output channels `columns` (indices into `OUTPUT_NAMES`), in that
+/// order, into the slice `sample` gets: the model is evaluated at an output point only if one of them
+/// needs it or `evaluate` asks (to watch the events). Reading outputs never changes the run, so the
+/// channels read are those `run` gives.
+pub fn run_columns(
+    sim: &mut Simulation,
+    end: f64,
+    interval: f64,
+    columns: &[usize],
+    evaluate: bool,
+    mut sample: impl FnMut(&[f64]),
+) -> Result<(), ModelError> {
+    let mut row = vec![0.0; columns.len()];
+    every_interval(sim, end, interval, |sim| {
+        if evaluate {
+            let o = sim.outputs()?;
+            row.iter_mut().zip(columns).for_each(|(value, &i)| *value = o.values[i]);
+        } else {
+            // Each channel as it needs: no evaluation for those of the state.
+            for (value, &i) in row.iter_mut().zip(columns) {
+                *value = sim.output(i)?;
+            }
+        }
+        sample(&row);
+        Ok(())
+    })
+}
+
 /// Step `sim` to `end`, calling `sample` at t = 0 and every `interval` (each interval is one `advance`,
 /// split into equal sub-steps by the one rule of §7.2).
-pub fn run(sim: &mut Simulation, end: f64, interval: f64, mut sample: impl FnMut(&Outputs)) -> Result<(), SimError> {
-    sample(&sim.outputs()?);
+pub fn run(sim: &mut Simulation, end: f64, interval: f64, mut sample: impl FnMut(&Outputs)) -> Result<(), ModelError> {
+    every_interval(sim, end, interval, |sim| {
+        sample(&sim.outputs()?);
+        Ok(())
+    })
+}
+
+/// Call `at` at t = 0 and after each `advance` of `interval` up to `end`.
+fn every_interval(
+    sim: &mut Simulation,
+    end: f64,
+    interval: f64,
+    mut at: impl FnMut(&mut Simulation) -> Result<(), ModelError>,
+) -> Result<(), ModelError> {
+    at(sim)?;
     let n = (end / interval - 1e-9).ceil().max(0.0) as usize;
     let t0 = sim.time();
     for k in 1..=n {
         let target = (t0 + k as f64 * interval).min(t0 + end);
         sim.advance(target - sim.time())?;
-        sample(&sim.outputs()?);
+        at(sim)?;
     }
     Ok(())
 }

@@ -15,7 +15,8 @@
 //! the same instants (every 1/120 s) as the reference.
 
 use super::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
-use super::{ContactModel, RackProfile, RoadChoice, SimConfig, SimError, Simulation, SpeedMode, OUTPUT_NAMES};
+use super::{ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::error::ModelError;
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 
@@ -266,7 +267,7 @@ pub enum Outcome {
 pub struct Run {
     pub samples: Vec<Vec<f64>>,
     pub evaluations: u64,
-    pub result: Result<(), SimError>,
+    pub result: Result<(), ModelError>,
     pub warnings: Vec<String>,
 }
 
@@ -402,7 +403,7 @@ pub fn evaluate(case: &Case, threads: usize) -> CaseReport {
     let runs_part = results.split_off(2);
     let (reference, _) = &results[0];
     let (check, _) = &results[1];
-    let reference_failure = reference.result.as_ref().err().map(|e| e.0.clone());
+    let reference_failure = reference.result.as_ref().err().map(|e| e.to_string());
     let reference_change = relative_error(case, &check.samples, &reference.samples);
     let runs = jobs[2..]
         .iter()
@@ -410,7 +411,7 @@ pub fn evaluate(case: &Case, threads: usize) -> CaseReport {
         .map(|(&(integrator, step), (run, cpu))| {
             let outcome = match &run.result {
                 Err(e) => Outcome::Failed {
-                    message: e.0.clone(),
+                    message: e.to_string(),
                     error: relative_error(case, &run.samples, &reference.samples),
                 },
                 Ok(()) => Outcome::Finished {
@@ -459,7 +460,7 @@ pub fn cause_of(message: &str) -> &'static str {
 }
 
 /// The causes an error may name (`Simulation` messages start their explanation with one).
-pub const CAUSES: [&str; 4] = ["step-size instability", "physical event", "mechanism range", "model validity"];
+pub const CAUSES: [&str; 4] = crate::error::Cause::NAMES;
 
 /// docs/stability.md from the case reports.
 pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {

@@ -11,8 +11,9 @@
 
 use super::inputs::Breakpoints;
 use super::{SimConfig, MAX_EVALUATIONS_PER_ADVANCE};
+use crate::error::ModelError;
 use crate::integrate::dopri5::{Control, StepCheck};
-use crate::integrate::{substeps, AnyIntegrator, EvalError, Integrator, OdeSystem};
+use crate::integrate::{substeps, AnyIntegrator, Integrator, OdeSystem};
 use crate::model::vehicle::{idx, Layout};
 
 /// Two times closer than this, relative to max(|t|, 1), are the same time: a breakpoint that close to an
@@ -80,7 +81,7 @@ pub(super) fn integrate(
     plan: (usize, f64),
     x: &mut [f64],
     check: &mut StepCheck<'_>,
-) -> Result<(), EvalError> {
+) -> Result<(), ModelError> {
     let t1 = t0 + h;
     let eps = BREAKPOINT_TIME_TOL * t0.abs().max(t1.abs()).max(1.0);
     if let AnyIntegrator::Dopri5(scheme) = integrator {

@@ -12,7 +12,8 @@
 //! reference at the times of the `GRID` it lands on (every 10 ms to every 40 ms, depending on the step).
 
 use super::scenes::{Amplitude, Scene, SceneKind};
-use super::{Outputs, SimConfig, SimError, Simulation};
+use super::{Outputs, SimConfig, Simulation};
+use crate::error::{Cause, ModelError};
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 use std::time::Instant;
@@ -143,21 +144,21 @@ pub struct Trace {
     /// Accepted and rejected steps (error control only).
     pub steps: Option<(u64, u64)>,
     /// The error that ended the run early, if any.
-    pub failure: Option<String>,
+    pub failure: Option<ModelError>,
 }
 
 /// Run `case` with `config` in intervals of `interval` and sample its channels on the grid.
-pub fn simulate(case: &Case, config: &SimConfig, interval: f64) -> Result<Trace, SimError> {
+pub fn simulate(case: &Case, config: &SimConfig, interval: f64) -> Result<Trace, ModelError> {
     let mut sim = case.scene.start(VehicleData::default_hmmwv(), config)?;
     let columns: Vec<usize> = case
         .channels
         .iter()
-        .map(|c| Outputs::index(c.name).ok_or_else(|| SimError(format!("no output {}", c.name))))
+        .map(|c| Outputs::index(c.name).ok_or_else(|| ModelError::new(Cause::Input, format!("no output {}", c.name))))
         .collect::<Result<_, _>>()?;
     let mut trace = Trace::default();
     // Read the channels at a grid point; returns the evaluations the reads took (counted out of the
     // integration's).
-    let sample = |sim: &mut Simulation, trace: &mut Trace| -> Result<u64, SimError> {
+    let sample = |sim: &mut Simulation, trace: &mut Trace| -> Result<u64, ModelError> {
         let k = (sim.time() / GRID).round();
         let before = sim.evaluations();
         if (sim.time() - k * GRID).abs() <= 1e-9 {
@@ -176,14 +177,14 @@ pub fn simulate(case: &Case, config: &SimConfig, interval: f64) -> Result<Trace,
         let result = sim.advance(target - sim.time());
         trace.cpu += clock.elapsed().as_secs_f64();
         if let Err(e) = result {
-            trace.failure = Some(e.0);
+            trace.failure = Some(e);
             break;
         }
         match sample(&mut sim, &mut trace) {
             Ok(n) => output_evaluations += n,
             // A state the model cannot be evaluated at: the run failed there.
             Err(e) => {
-                trace.failure = Some(e.0);
+                trace.failure = Some(e);
                 break;
             }
         }
@@ -217,10 +218,10 @@ pub fn step_config(case: &Case, kind: IntegratorKind, step: f64) -> SimConfig {
     SimConfig { integrator: kind, internal_step: step, ..case.base.clone() }
 }
 
-pub fn reference(case: &Case) -> Result<Reference, SimError> {
+pub fn reference(case: &Case) -> Result<Reference, ModelError> {
     let trace = simulate(case, &tolerance_config(case, REFERENCE_TOLERANCE, GRID), GRID)?;
     if let Some(f) = &trace.failure {
-        return Err(SimError(format!("{}: the reference run failed: {f}", case.name)));
+        return Err(f.clone().context(format_args!("{}: the reference run failed", case.name)));
     }
     let nch = case.channels.len();
     let column = |c: usize| trace.samples.iter().map(move |(_, v)| v[c]);
@@ -334,10 +335,10 @@ pub struct Point {
     pub evaluations: u64,
     pub cpu: f64,
     pub steps: Option<(u64, u64)>,
-    pub failure: Option<String>,
+    pub failure: Option<ModelError>,
 }
 
-pub fn measure(case: &Case, reference: &Reference, setting: Setting) -> Result<Point, SimError> {
+pub fn measure(case: &Case, reference: &Reference, setting: Setting) -> Result<Point, ModelError> {
     let (config, interval) = match setting {
         Setting::Fixed { kind, step } => (step_config(case, kind, step), step),
         Setting::Tolerance { tolerance, interval } => (tolerance_config(case, tolerance, interval), interval),
@@ -496,7 +497,7 @@ impl CaseResult {
 }
 
 /// Measure one case (see the module documentation); `progress` gets a line per run.
-pub fn measure_case(case: Case, progress: &mut dyn FnMut(&str)) -> Result<CaseResult, SimError> {
+pub fn measure_case(case: Case, progress: &mut dyn FnMut(&str)) -> Result<CaseResult, ModelError> {
     progress(&format!("{}: reference", case.name));
     let reference = reference(&case)?;
     let mut points = Vec::new();

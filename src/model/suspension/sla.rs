@@ -11,6 +11,7 @@
 //! solved on its own (the subsystem synthesis method).
 
 use crate::dynamics::lu::Lu;
+use crate::error::{Cause, ModelError};
 use crate::math::{rotation_about_sc, BryantSinCos, M3, V3};
 use crate::model::params::{Axle, DataError, RigidBody, VehicleData};
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector5};
@@ -71,15 +72,6 @@ pub struct SlaGeometry {
     pub axle: V3,
     /// |det Φ_v| at the design position, the reference for the singularity guard.
     pub design_det: f64,
-}
-
-#[derive(Debug, Clone, PartialEq)]
-pub struct KinematicsError(pub String);
-
-impl std::fmt::Display for KinematicsError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
 }
 
 /// Converged positions of one subsystem: rotations, key points, Φ_q, the LU of Φ_v and the first-order
@@ -337,7 +329,7 @@ impl SlaGeometry {
     }
 
     /// Dependent coordinates by Newton from the warm start `v_guess` (physics.md §3.2), to ‖Φ‖∞ ≤ 1e-12 m.
-    pub fn solve_positions(&self, theta_l: f64, s: f64, v_guess: &[f64; 4]) -> Result<SlaPositions, KinematicsError> {
+    pub fn solve_positions(&self, theta_l: f64, s: f64, v_guess: &[f64; 4]) -> Result<SlaPositions, ModelError> {
         let mut pos = SlaPositions::default();
         self.solve_positions_into(theta_l, s, v_guess, &mut pos)?;
         Ok(pos)
@@ -351,23 +343,26 @@ impl SlaGeometry {
         s: f64,
         v_guess: &[f64; 4],
         pos: &mut SlaPositions,
-    ) -> Result<(), KinematicsError> {
+    ) -> Result<(), ModelError> {
         let mut q = Vector5f::new(theta_l, v_guess[0], v_guess[1], v_guess[2], v_guess[3]);
         for it in 0..=MAX_NEWTON_ITERATIONS {
             self.evaluate_into(&q, s, pos);
             let det = pos.lu_v.map_or(0.0, |lu| lu.determinant().abs());
             if !(det >= MIN_RELATIVE_DET * self.design_det) {
-                return Err(KinematicsError(format!(
-                    "suspension linkage singular (|det Φ_v| = {det:.3e}) at θ_L = {theta_l:.4} rad, rack {s:.4} m: \
-                     outside its mechanism range"
-                )));
+                return Err(ModelError::new(
+                    Cause::Kinematics,
+                    format!(
+                        "suspension linkage singular (|det Φ_v| = {det:.3e}) at θ_L = {theta_l:.4} rad, rack {s:.4} m: \
+                         outside its mechanism range"
+                    ),
+                ));
             }
             if pos.residual <= POSITION_TOLERANCE {
                 pos.iterations = it;
                 return Ok(());
             }
             let mut dv = -self.constraint_values(pos);
-            pos.lu_v.as_ref().ok_or_else(|| KinematicsError("Φ_v not invertible".into()))?.solve(&mut dv);
+            pos.lu_v.as_ref().ok_or_else(|| ModelError::new(Cause::Kinematics, "Φ_v not invertible"))?.solve(&mut dv);
             for i in 0..4 {
                 q[1 + i] += dv[i];
             }
@@ -375,10 +370,13 @@ impl SlaGeometry {
                 break;
             }
         }
-        Err(KinematicsError(format!(
-            "suspension position solve did not converge at θ_L = {theta_l:.4} rad, rack {s:.4} m: outside its \
-             mechanism range"
-        )))
+        Err(ModelError::new(
+            Cause::Kinematics,
+            format!(
+                "suspension position solve did not converge at θ_L = {theta_l:.4} rad, rack {s:.4} m: outside its \
+                 mechanism range"
+            ),
+        ))
     }
 
     /// q̇ from u̇ = θ̇_L and the rack rate: v̇ = −Φ_v⁻¹(Φ_u u̇ + Φ_s ṡ) = ∂v/∂u u̇ + ∂v/∂s ṡ (physics.md §3.3).
@@ -465,7 +463,7 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
     let rack = if axle.steered { data.rack.travel_limit_m } else { 0.0 };
     for (theta, s) in [(0.05, 0.0), (-0.05, 0.0), (0.0, rack), (0.0, -rack)] {
         if let Err(e) = g.solve_positions(theta, s, &[0.0; 4]) {
-            return Err(DataError { field, message: format!("suspension loop cannot close: {}", e.0) });
+            return Err(DataError { field, message: format!("suspension loop cannot close: {e}") });
         }
     }
     Ok(())
