@@ -12,7 +12,7 @@
 use fmi_sys::fmi2::fmi2Status_fmi2OK;
 use rt_vehicle::fmi::exports::{fmi2GetReal, fmi2SetReal};
 use rt_vehicle::fmi::native::NativeInstance;
-use rt_vehicle::fmi::variables::{vr, Causality, Variable, DESCRIPTION, VARIABLES};
+use rt_vehicle::fmi::variables::{vr, Causality, DESCRIPTION, VARIABLES};
 use std::time::Instant;
 
 const FRAME: f64 = 1e-3;
