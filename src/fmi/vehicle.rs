@@ -13,6 +13,7 @@ use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
 use crate::sim::{modes, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::sim::scenes::SceneNeeds;
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -238,6 +239,32 @@ impl VehicleModel {
             config.tolerance = t;
         }
         Ok(config)
+    }
+
+    /// Whether the wheel torque inputs are live in this step (any set non-zero).
+    fn torques_live(&self) -> bool {
+        self.drive.iter().chain(&self.brake).any(|&t| t != 0.0)
+    }
+
+    /// Physical events (a wheel off the road, locked, spun up) are information, logged once each.
+    fn log_events(&mut self, log: &Logger) {
+        if let Some(sim) = &self.sim {
+            for event in sim.events.messages.iter().skip(self.events_logged) {
+                log.event(&format!("physical event: {event}"));
+            }
+            self.events_logged = sim.events.messages.len();
+        }
+    }
+
+    /// The last step reached a state its stages never visited and the model cannot be evaluated at (e.g. a
+    /// suspension beyond its range): undo that step, as if it had failed, so that what is served belongs to
+    /// the time the run ends at.
+    fn end_at_last_good_state(&mut self, e: crate::error::ModelError) -> StepFailure {
+        let Some(sim) = self.sim.as_mut() else { return StepFailure::Error(e.to_string()) };
+        match sim.undo_last_advance().and_then(|()| sim.outputs()) {
+            Ok(_) => StepFailure::Terminate(format!("reached a state the model cannot be evaluated at ({e})")),
+            Err(_) => StepFailure::Error(format!("the outputs cannot be computed: {e}")),
+        }
     }
 
     fn output(&self, var: &Variable) -> Result<f64, String> {
@@ -488,7 +515,7 @@ impl FmuModel for VehicleModel {
         sim.validate_restored(&data, elapsed).map_err(|e| e.to_string())
     }
 
-    fn do_step(&mut self, t: f64, h: f64, _log: &Logger) -> Result<(), StepFailure> {
+    fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure> {
         let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
         // Too much work for one call: refused before anything changes (the inputs stay for the next try).
         sim.config().plan(h).map_err(|e| StepFailure::Refused(e.to_string()))?;
@@ -502,7 +529,19 @@ impl FmuModel for VehicleModel {
         let clock = std::time::Instant::now();
         let result = sim.advance(h);
         self.step_cpu_time = clock.elapsed().as_secs_f64();
-        result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))
+        result.map_err(|e| StepFailure::Terminate(format!("simulation error at t = {t}: {e}")))?;
+        // The physical events are seen by the output evaluation only: where they can happen, evaluate the
+        // outputs at every communication point whether or not the master reads them (a read then reuses it).
+        let torques_live = self.torques_live();
+        let sim = self.sim.as_mut().expect("stepped above");
+        if SceneNeeds::of_run(sim.config(), torques_live).events {
+            let watched = sim.outputs().map(|_| ());
+            self.log_events(log);
+            if let Err(e) = watched {
+                return Err(self.end_at_last_good_state(e));
+            }
+        }
+        Ok(())
     }
 
     fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), StepFailure> {
@@ -511,19 +550,9 @@ impl FmuModel for VehicleModel {
             return Ok(());
         }
         let read = sim.output(OUTPUT_SLOTS[var.index]);
-        // Physical events (a wheel off the road, locked, spun up) are information, logged once each.
-        for event in sim.events.messages.iter().skip(self.events_logged) {
-            log.event(&format!("physical event: {event}"));
-        }
-        self.events_logged = sim.events.messages.len();
+        self.log_events(log);
         if let Err(e) = read {
-            // The step reached a state its stages never visited and the model cannot be evaluated at (e.g. a
-            // suspension beyond its range): undo that step, as if it had failed, so that what is served
-            // belongs to the time the run ends at.
-            return match sim.undo_last_advance().and_then(|()| sim.outputs()) {
-                Ok(_) => Err(StepFailure::Terminate(format!("reached a state the model cannot be evaluated at ({e})"))),
-                Err(_) => Err(StepFailure::Error(format!("the outputs cannot be computed: {e}"))),
-            };
+            return Err(self.end_at_last_good_state(e));
         }
         Ok(())
     }

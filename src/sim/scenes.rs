@@ -102,6 +102,21 @@ pub struct SceneNeeds {
 }
 
 impl SceneNeeds {
+    /// The needs of a run that is not one of the scenes (the FMU's): its configuration gives the road, the
+    /// slip model and the speed mode; `torques` says whether wheel torques are live; the outputs are served
+    /// when read (none declared here). The physical events are watched where they can happen: on a road
+    /// with bumps (a wheel leaves the road) and with torques live (a wheel locks or spins up).
+    pub fn of_run(config: &super::SimConfig, torques: bool) -> SceneNeeds {
+        SceneNeeds {
+            torques,
+            road: config.road,
+            slip: config.slip,
+            speed_mode: config.speed_mode,
+            outputs: &[],
+            events: torques || config.road != RoadChoice::Flat,
+        }
+    }
+
     /// The needs with wheel torques live (and so the events they cause watched).
     pub fn with_torques(self) -> SceneNeeds {
         SceneNeeds { torques: true, events: true, ..self }

@@ -518,3 +518,24 @@ def test_a_fixed_step_integrator_ignores_the_experiment_tolerance(make):
             f.doStep(currentCommunicationPoint=0.01 * k, communicationStepSize=0.01)
         return [s.get(n) for n in ("ay", "yaw_rate", "roll_rate", "y")]
     assert run(1e-6) == run(None)
+
+
+def test_physical_events_are_logged_even_when_no_evaluated_output_is_read(make):
+    """(steps) The events (a wheel off the road, locked, spun up) are seen by the output evaluation. On a road
+    with bumps or with torques live the FMU evaluates the outputs at every communication point whether or not
+    the master reads them (sim::scenes::SceneNeeds::of_run), so a master reading only the pose still gets them."""
+    s = make(logging_on=True)
+    s.init(road=2, bump_height=0.15, initial_speed=11.0)
+    for _ in range(200):
+        s.step(0.01)
+        s.get("x")
+    events = [m for m in messages(s.name) if m.startswith("physical event")]
+    assert any("left the road" in m for m in events), events
+    # Locked by the brakes, read nothing at all.
+    b = make(logging_on=True)
+    b.init(road=1, initial_speed=16.67, speed_mode=1)
+    b.fmu.setReal([b.vr[f"brake_torque_{c}"] for c in ("fl", "fr", "rl", "rr")], [4000.0] * 4)
+    for _ in range(30):
+        b.step(0.01)
+    events = [m for m in messages(b.name) if m.startswith("physical event")]
+    assert any("locked by its brake" in m for m in events), events
