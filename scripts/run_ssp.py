@@ -38,7 +38,6 @@ def read_course(ssp):
 
 
 def stop_time(ssp):
-    from fmpy.ssp.ssd import read_ssd
     import xml.etree.ElementTree as ET
     with zipfile.ZipFile(ssp) as z:
         root = ET.fromstring(z.read("SystemStructure.ssd"))
@@ -79,12 +78,9 @@ def bindings(ssp):
 
     ssd = read_ssd(ssp)
     values = {}
-    with tempfile.TemporaryDirectory() as tmp:
-        with zipfile.ZipFile(ssp) as z:
-            z.extractall(tmp)
-        for component in ssd.system.elements:
-            values[component.name] = [(p.name, p.type, p.value) for binding in component.parameterBindings
-                                      for p in read_ssv(os.path.join(tmp, binding.source)).parameters]
+    for component in ssd.system.elements:
+        values[component.name] = [(p.name, p.type, p.value) for binding in component.parameterBindings
+                                  for p in read_ssv(ssp, resource=binding.source).parameters]
     return ssd, values
 
 
@@ -100,12 +96,13 @@ def run_fmpy_master(ssp, t_end):
     with tempfile.TemporaryDirectory() as tmp:
         with zipfile.ZipFile(ssp) as z:
             z.extractall(tmp)
-        fmus, variables, unzipped = {}, {}, []
+        fmus, variables = {}, {}
         for component in ssd.system.elements:
             path = os.path.join(tmp, component.source)
             md = read_model_description(path)
-            unzipped.append(extract(path))
-            fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped[-1], modelIdentifier=md.coSimulation.modelIdentifier,
+            # Unzipped inside the temporary directory, so that it goes with it.
+            unzipped = extract(path, unzipdir=os.path.join(tmp, component.name))
+            fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, modelIdentifier=md.coSimulation.modelIdentifier,
                             instanceName=component.name)
             fmu.instantiate()
             fmu.setupExperiment(startTime=0.0)

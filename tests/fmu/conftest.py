@@ -62,11 +62,40 @@ def messages(instance_name=None):
 # ---- the FMU ----------------------------------------------------------------------------------------
 
 
+def packaged(path):
+    """The path of a packaged artifact, or a failure that says how to build it."""
+    if not path.is_file():
+        pytest.fail(f"{path} does not exist: run `cargo run --release -p packaging` first")
+    return str(path)
+
+
+def unzipped(fmu):
+    """An FMU unzipped for the session, removed after it."""
+    d = extract(fmu)
+    yield d
+    shutil.rmtree(d, ignore_errors=True)
+
+
+def slave_maker(md, unzipdir):
+    """A factory of `Slave`s of one FMU; every instance it made is freed after the test."""
+    created = []
+
+    def _make(**kwargs):
+        s = Slave(md, unzipdir, **kwargs)
+        created.append(s)
+        return s
+
+    yield _make
+    for s in created:
+        try:
+            s.free()
+        except Exception:
+            pass
+
+
 @pytest.fixture(scope="session")
 def fmu_path():
-    if not FMU_PATH.is_file():
-        pytest.fail(f"{FMU_PATH} does not exist: run `cargo run --release -p packaging` first")
-    return str(FMU_PATH)
+    return packaged(FMU_PATH)
 
 
 @pytest.fixture(scope="session")
@@ -76,9 +105,7 @@ def md(fmu_path):
 
 @pytest.fixture(scope="session")
 def unzipdir(fmu_path):
-    d = extract(fmu_path)
-    yield d
-    shutil.rmtree(d, ignore_errors=True)
+    yield from unzipped(fmu_path)
 
 
 @pytest.fixture(scope="session")
@@ -168,19 +195,7 @@ def status(fn, *args, **kwargs):
 
 @pytest.fixture
 def make(md, unzipdir):
-    created = []
-
-    def _make(**kwargs):
-        s = Slave(md, unzipdir, **kwargs)
-        created.append(s)
-        return s
-
-    yield _make
-    for s in created:
-        try:
-            s.free()
-        except Exception:
-            pass
+    yield from slave_maker(md, unzipdir)
 
 
 # ---- a summary of physics errors and run times, printed at the end of the session ------------------
@@ -203,9 +218,7 @@ SSP_PATH = ROOT / "target" / "ssp" / "DoubleLaneChange.ssp"
 
 @pytest.fixture(scope="session")
 def driver_path():
-    if not DRIVER_PATH.is_file():
-        pytest.fail(f"{DRIVER_PATH} does not exist: run `cargo run --release -p packaging` first")
-    return str(DRIVER_PATH)
+    return packaged(DRIVER_PATH)
 
 
 @pytest.fixture(scope="session")
@@ -215,23 +228,9 @@ def driver_md(driver_path):
 
 @pytest.fixture(scope="session")
 def driver_unzipdir(driver_path):
-    d = extract(driver_path)
-    yield d
-    shutil.rmtree(d, ignore_errors=True)
+    yield from unzipped(driver_path)
 
 
 @pytest.fixture
 def make_driver(driver_md, driver_unzipdir):
-    created = []
-
-    def _make(**kwargs):
-        s = Slave(driver_md, driver_unzipdir, **kwargs)
-        created.append(s)
-        return s
-
-    yield _make
-    for s in created:
-        try:
-            s.free()
-        except Exception:
-            pass
+    yield from slave_maker(driver_md, driver_unzipdir)

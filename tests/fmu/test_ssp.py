@@ -11,7 +11,7 @@ import sys
 
 import pytest
 
-from conftest import ROOT, SSP_PATH
+from conftest import ROOT, SSP_PATH, packaged
 
 sys.path.insert(0, str(ROOT / "scripts"))
 import run_ssp  # noqa: E402
@@ -19,9 +19,7 @@ import run_ssp  # noqa: E402
 
 @pytest.fixture(scope="module")
 def runs():
-    if not SSP_PATH.is_file():
-        pytest.fail(f"{SSP_PATH} does not exist: run `cargo run --release -p packaging` first")
-    ssp = str(SSP_PATH)
+    ssp = packaged(SSP_PATH)
     t_end = run_ssp.stop_time(ssp)
     assert t_end <= 10.0, "the manoeuvre fits in 10 s of simulated time"
     return run_ssp.read_course(ssp), {
