@@ -91,11 +91,18 @@ impl DriverModel {
         Motion { x: i(I::X), y: i(I::Y), yaw: i(I::Yaw), speed: i(I::Vx), yaw_rate: i(I::YawRate) }
     }
 
+    /// Where the CM is with respect to the path, and the path's speed there.
+    fn nearest(&self) -> Result<(rtv_driver::path::Projection, f64), String> {
+        let path = self.path()?;
+        let m = self.motion();
+        let at = path.project([m.x, m.y]);
+        Ok((at, path.speed_at(at.s)))
+    }
+
     fn command(&self) -> Result<Command, String> {
         let path = self.path()?;
         let m = &self.motion();
-        let at = path.project([m.x, m.y]);
-        let target_speed = path.speed_at(at.s);
+        let (at, target_speed) = self.nearest()?;
         Ok(Command {
             rack: self.lateral().rack(path, m),
             torques: self.speed().torques(target_speed - m.speed, self.speed_integral),
@@ -251,8 +258,9 @@ impl FmuModel for DriverModel {
     }
 
     fn do_step(&mut self, _t: f64, h: f64, _log: &Logger) -> Result<(), StepFailure> {
-        let c = self.command().map_err(StepFailure::Error)?;
-        let error = c.target_speed - self.motion().speed;
+        // Only the speed law has a state: the target speed is all a step needs of the command.
+        let (_, target_speed) = self.nearest().map_err(StepFailure::Error)?;
+        let error = target_speed - self.motion().speed;
         self.speed_integral += h * self.speed().integral_rate(error, self.speed_integral);
         Ok(())
     }
