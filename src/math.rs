@@ -18,11 +18,24 @@ pub fn rotation_about(h: &V3, theta: f64) -> M3 {
     rotation_about_sc(h, s, c)
 }
 
-/// As `rotation_about`, from sin θ and cos θ.
+/// As `rotation_about`, from sin θ and cos θ, written out as c I + s h̃ + (1 − c) h hᵀ (equal to the form
+/// above for a unit h: h̃² = h hᵀ − I), with no 3×3 product.
 #[inline]
 pub fn rotation_about_sc(h: &V3, s: f64, c: f64) -> M3 {
-    let k = skew(h);
-    M3::identity() + k * s + k * k * (1.0 - c)
+    let t = 1.0 - c;
+    let (x, y, z) = (h.x, h.y, h.z);
+    let (txy, txz, tyz) = (t * x * y, t * x * z, t * y * z);
+    Matrix3::new(
+        c + t * x * x,
+        txy - s * z,
+        txz + s * y,
+        txy + s * z,
+        c + t * y * y,
+        tyz - s * x,
+        txz - s * y,
+        tyz + s * x,
+        c + t * z * z,
+    )
 }
 
 /// Sines and cosines of Bryant angles, computed once and shared by A(φ), G(φ) and Ġφ̇ (the evaluation
@@ -46,14 +59,22 @@ impl BryantSinCos {
         BryantSinCos { s1, c1, s2, c2, s3, c3 }
     }
 
-    /// A = Rx(φ1) Ry(φ2) Rz(φ3).
+    /// A = Rx(φ1) Ry(φ2) Rz(φ3), multiplied out (the test below checks it against the product).
     #[inline]
     pub fn rotation(&self) -> M3 {
         let BryantSinCos { s1, c1, s2, c2, s3, c3 } = *self;
-        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, c1, -s1, 0.0, s1, c1);
-        let ry = Matrix3::new(c2, 0.0, s2, 0.0, 1.0, 0.0, -s2, 0.0, c2);
-        let rz = Matrix3::new(c3, -s3, 0.0, s3, c3, 0.0, 0.0, 0.0, 1.0);
-        rx * ry * rz
+        let (s1s2, c1s2) = (s1 * s2, c1 * s2);
+        Matrix3::new(
+            c2 * c3,
+            -c2 * s3,
+            s2,
+            s1s2 * c3 + c1 * s3,
+            c1 * c3 - s1s2 * s3,
+            -s1 * c2,
+            s1 * s3 - c1s2 * c3,
+            c1s2 * s3 + s1 * c3,
+            c1 * c2,
+        )
     }
 
     /// G(φ): relative angular velocity (in the lower-arm frame) = G φ̇. Columns are the joint axes g_j.
@@ -89,6 +110,52 @@ pub fn bryant_rate_matrix(phi: &V3) -> M3 {
 #[inline]
 pub fn bryant_rate_quadratic(phi: &V3, phid: &V3) -> V3 {
     BryantSinCos::new(phi).rate_quadratic(phid)
+}
+
+/// The axes vectors are expressed in. The evaluation works in the chassis's own axes, where the chassis-fixed
+/// suspension data need no rotation and only the chassis velocities, gravity, the tire's road contact and the
+/// resulting accelerations are turned; momenta and tests work in the ground's (A0 given).
+pub trait Axes {
+    /// A chassis-frame vector in these axes.
+    fn vector(&self, v: &V3) -> V3;
+    /// A chassis-frame rotation (or a matrix of chassis-frame columns) in these axes.
+    fn matrix(&self, m: &M3) -> M3;
+    /// A chassis-frame inertia tensor J in these axes (A J Aᵀ).
+    fn inertia(&self, j: &M3) -> M3;
+}
+
+/// The chassis's own axes: chassis-frame quantities as they are.
+pub struct ChassisAxes;
+
+impl Axes for ChassisAxes {
+    #[inline(always)]
+    fn vector(&self, v: &V3) -> V3 {
+        *v
+    }
+    #[inline(always)]
+    fn matrix(&self, m: &M3) -> M3 {
+        *m
+    }
+    #[inline(always)]
+    fn inertia(&self, j: &M3) -> M3 {
+        *j
+    }
+}
+
+/// The ground axes, given by the chassis attitude A0.
+impl Axes for M3 {
+    #[inline(always)]
+    fn vector(&self, v: &V3) -> V3 {
+        self * v
+    }
+    #[inline(always)]
+    fn matrix(&self, m: &M3) -> M3 {
+        self * m
+    }
+    #[inline(always)]
+    fn inertia(&self, j: &M3) -> M3 {
+        self * j * self.transpose()
+    }
 }
 
 /// Rotation matrix of a (not necessarily normalised) quaternion stored as [w, x, y, z].
@@ -156,6 +223,23 @@ mod tests {
         let fd =
             (bryant_rate_matrix(&(phi + phid * h)) * phid - bryant_rate_matrix(&(phi - phid * h)) * phid) / (2.0 * h);
         assert!((fd - bryant_rate_quadratic(&phi, &phid)).norm() < 1e-8);
+    }
+
+    #[test]
+    fn written_out_rotations_equal_their_products() {
+        let phi = V3::new(0.31, -0.47, 1.23);
+        let (s1, c1) = phi.x.sin_cos();
+        let (s2, c2) = phi.y.sin_cos();
+        let (s3, c3) = phi.z.sin_cos();
+        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, c1, -s1, 0.0, s1, c1);
+        let ry = Matrix3::new(c2, 0.0, s2, 0.0, 1.0, 0.0, -s2, 0.0, c2);
+        let rz = Matrix3::new(c3, -s3, 0.0, s3, c3, 0.0, 0.0, 0.0, 1.0);
+        assert!((bryant(&phi) - rx * ry * rz).amax() < 1e-15);
+        let h = V3::new(0.3, -0.5, 0.8).normalize();
+        let (s, c) = 0.7f64.sin_cos();
+        let k = skew(&h);
+        let rodrigues = M3::identity() + k * s + k * k * (1.0 - c);
+        assert!((rotation_about(&h, 0.7) - rodrigues).amax() < 1e-15);
     }
 
     #[test]

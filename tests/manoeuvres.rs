@@ -89,8 +89,11 @@ fn the_driver_fmu_defaults_are_this_vehicles() {
     let data = VehicleData::default_hmmwv();
     let vehicle = Vehicle::new(&data).unwrap();
     let driver = rt_vehicle::sim::manoeuvres::dlc_driver(&data, &vehicle).unwrap();
-    let xml = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/crates/driver-fmu/modelDescription/modelDescription.xml"))
-        .unwrap();
+    let xml = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/crates/driver-fmu/modelDescription/modelDescription.xml"
+    ))
+    .unwrap();
     let start = |name: &str| -> f64 {
         let at = xml.find(&format!("name=\"{name}\"")).unwrap_or_else(|| panic!("{name} not in the driver XML"));
         let rest = &xml[at..];

@@ -206,7 +206,11 @@ fn the_avx2_fma_evaluation_agrees_with_the_baseline_one() {
     for case in 0..150 {
         let x = random_state(&mut rng, &base);
         let inputs = Inputs {
-            rack: RackMotion { position: rng.uniform(-0.06, 0.06), velocity: rng.uniform(-0.3, 0.3), acceleration: 0.0 },
+            rack: RackMotion {
+                position: rng.uniform(-0.06, 0.06),
+                velocity: rng.uniform(-0.3, 0.3),
+                acceleration: 0.0,
+            },
             drive: [rng.uniform(-500.0, 500.0); 4],
             brake: [0.0; 4],
         };

@@ -161,7 +161,17 @@ fn build_portable(root: &Path, target: &Path) -> Result<(), String> {
         path.push(p);
     }
     let status = Command::new(&zigbuild)
-        .args(["zigbuild", "--release", "--lib", "-p", "rt-vehicle", "-p", "rtv-driver-fmu", "--target", PORTABLE_TARGET])
+        .args([
+            "zigbuild",
+            "--release",
+            "--lib",
+            "-p",
+            "rt-vehicle",
+            "-p",
+            "rtv-driver-fmu",
+            "--target",
+            PORTABLE_TARGET,
+        ])
         .arg("--manifest-path")
         .arg(root.join("Cargo.toml"))
         .arg("--target-dir")
@@ -246,7 +256,8 @@ fn package(target: &Path, fmu: &FmuSource, binaries_given: &[(String, PathBuf)])
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
     let fmu_path = out_dir.join(format!("{}.fmu", md.model_identifier));
-    let mut entries: Vec<(String, Vec<u8>, u32)> = vec![("modelDescription.xml".into(), xml.clone().into_bytes(), 0o644)];
+    let mut entries: Vec<(String, Vec<u8>, u32)> =
+        vec![("modelDescription.xml".into(), xml.clone().into_bytes(), 0o644)];
     for (platform, ext, data) in binaries.iter() {
         entries.push((format!("binaries/{platform}/{}.{ext}", md.model_identifier), data.clone(), 0o755));
     }

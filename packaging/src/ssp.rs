@@ -68,7 +68,9 @@ fn component(name: &str, fmu: &str, inputs: &[&str], outputs: &[&str]) -> String
     );
     for (kind, names) in [("input", inputs), ("output", outputs)] {
         for n in names {
-            out.push_str(&format!("          <ssd:Connector name=\"{n}\" kind=\"{kind}\"><ssc:Real/></ssd:Connector>\n"));
+            out.push_str(&format!(
+                "          <ssd:Connector name=\"{n}\" kind=\"{kind}\"><ssc:Real/></ssd:Connector>\n"
+            ));
         }
     }
     out.push_str(&format!(
@@ -93,7 +95,9 @@ fn system_structure() -> String {
     out.push_str(&component("vehicle", "RtVehicle", &DRIVER_TO_VEHICLE, &vehicle_outputs));
     out.push_str(&component("driver", "RtDriver", &VEHICLE_TO_DRIVER, &driver_outputs));
     out.push_str("    </ssd:Elements>\n    <ssd:Connections>\n");
-    for (from, to, names) in [("vehicle", "driver", &VEHICLE_TO_DRIVER[..]), ("driver", "vehicle", &DRIVER_TO_VEHICLE[..])] {
+    for (from, to, names) in
+        [("vehicle", "driver", &VEHICLE_TO_DRIVER[..]), ("driver", "vehicle", &DRIVER_TO_VEHICLE[..])]
+    {
         for n in names {
             out.push_str(&format!(
                 "      <ssd:Connection startElement=\"{from}\" startConnector=\"{n}\" endElement=\"{to}\" endConnector=\"{n}\"/>\n"
@@ -121,7 +125,9 @@ fn course_json() -> String {
     let lanes: Vec<String> = course
         .lanes
         .iter()
-        .map(|l| format!("{{\"from\": {:?}, \"to\": {:?}, \"y_min\": {:?}, \"y_max\": {:?}}}", l.from, l.to, l.y.0, l.y.1))
+        .map(|l| {
+            format!("{{\"from\": {:?}, \"to\": {:?}, \"y_min\": {:?}, \"y_max\": {:?}}}", l.from, l.to, l.y.0, l.y.1)
+        })
         .collect();
     format!(
         "{{\n  \"entry_speed_m_s\": {ENTRY_SPEED_M_S:?},\n  \"lanes\": [{}],\n  \"footprint\": [[{front:?}, {w:?}], [{front:?}, {:?}], [{rear:?}, {w:?}], [{rear:?}, {:?}]]\n}}\n",
@@ -136,10 +142,8 @@ pub fn write(dir: &Path, vehicle_fmu: &Path, driver_fmu: &Path) -> Result<PathBu
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let read = |p: &Path| std::fs::read(p).map_err(|e| format!("{}: {e}", p.display()));
     // The vehicle coasts: the driver's torques hold the speed (speed_mode 1), from the entry speed.
-    let vehicle = parameter_set(
-        "vehicle",
-        &[("initial_speed", Value::Real(ENTRY_SPEED_M_S)), ("speed_mode", Value::Integer(1))],
-    );
+    let vehicle =
+        parameter_set("vehicle", &[("initial_speed", Value::Real(ENTRY_SPEED_M_S)), ("speed_mode", Value::Integer(1))]);
     // The driver's tuning, as in `rtv manoeuvre double-lane-change` (also its FMU's defaults).
     let driver = parameter_set(
         "driver",
@@ -169,7 +173,9 @@ mod tests {
         let kind = |element: &str, connector: &str| {
             doc.descendants()
                 .find(|n| n.has_tag_name("Component") && n.attribute("name") == Some(element))
-                .and_then(|c| c.descendants().find(|n| n.has_tag_name("Connector") && n.attribute("name") == Some(connector)))
+                .and_then(|c| {
+                    c.descendants().find(|n| n.has_tag_name("Connector") && n.attribute("name") == Some(connector))
+                })
                 .and_then(|n| n.attribute("kind"))
                 .map(str::to_string)
         };
@@ -180,6 +186,7 @@ mod tests {
             assert_eq!(kind(a("startElement"), a("startConnector")).as_deref(), Some("output"));
             assert_eq!(kind(a("endElement"), a("endConnector")).as_deref(), Some("input"));
         }
-        assert!(roxmltree::Document::parse(&parameter_set("p", &[("a", Value::Real(0.1)), ("b", Value::Integer(2))])).is_ok());
+        assert!(roxmltree::Document::parse(&parameter_set("p", &[("a", Value::Real(0.1)), ("b", Value::Integer(2))]))
+            .is_ok());
     }
 }

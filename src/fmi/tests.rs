@@ -8,7 +8,9 @@ use super::api;
 use super::instance::{times_match, Mode};
 use super::logger;
 use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
-use super::variables::{vr, Causality, Initial, Start, VarType, Variable, DESCRIPTION, GUID, LOG_CATEGORIES, VARIABLES};
+use super::variables::{
+    vr, Causality, Initial, Start, VarType, Variable, DESCRIPTION, GUID, LOG_CATEGORIES, VARIABLES,
+};
 use super::vehicle::VehicleModel;
 use crate::sim::OUTPUT_NAMES;
 use fmi_sys::fmi2::*;
@@ -284,7 +286,8 @@ impl FmuModel for Mock {
 #[test]
 fn every_output_name_is_an_output_of_the_model_description() {
     for name in OUTPUT_NAMES.iter().filter(|n| !matches!(**n, "time" | "rack_displacement")) {
-        let var = DESCRIPTION.by_name(name).unwrap_or_else(|| panic!("output {name} missing from modelDescription.xml"));
+        let var =
+            DESCRIPTION.by_name(name).unwrap_or_else(|| panic!("output {name} missing from modelDescription.xml"));
         assert_eq!(var.causality, Causality::Output, "{name}");
         assert_eq!(var.ty, VarType::Real, "{name}");
         assert_eq!(var.initial, Initial::Calculated, "{name}");

@@ -3,4 +3,3 @@
 //! and start values): `VARIABLES`, `DESCRIPTION`, `vr::…`, and the `Var` enums a model matches on.
 
 include!(concat!(env!("OUT_DIR"), "/model_description.rs"));
-

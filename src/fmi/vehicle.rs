@@ -12,8 +12,8 @@ use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, V
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
-use crate::sim::{modes, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use crate::sim::scenes::SceneNeeds;
+use crate::sim::{modes, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 

@@ -8,7 +8,7 @@
 use crate::dynamics::body::{ang, body_force, lin, mass_hat, mass_hat_times, point_force, wrench, MassHatSum};
 use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, SubsystemTerms};
 use crate::error::{Cause, Context, ModelError};
-use crate::math::{quat_rate, quat_to_matrix, skew, M3, V3};
+use crate::math::{quat_rate, quat_to_matrix, skew, Axes, ChassisAxes, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
@@ -493,10 +493,12 @@ impl Vehicle {
         // λ feeds neither ẋ nor any output: never computed here (dynamics::Multipliers::Compute gives it).
         let acc = self.accelerations(assembly, Multipliers::Skip)?;
 
-        // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang.
+        // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang, with Ẏ0 turned from
+        // the chassis axes the terms were assembled in to the ground's.
         let (v0, w0) = (vector_at(x, idx::V0), vector_at(x, idx::W0));
-        let rdd = lin(&acc.chassis) + w0.cross(&v0);
-        let wd = ang(&acc.chassis);
+        let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+        let rdd = a0 * lin(&acc.chassis) + w0.cross(&v0);
+        let wd = a0 * ang(&acc.chassis);
         let ed = quat_rate(&x[idx::E0..idx::E0 + 4], &w0);
         for k in 0..3 {
             dxdt[idx::R0 + k] = v0[k];
@@ -542,7 +544,9 @@ impl Vehicle {
     }
 
     /// Everything before the equation solving (§4.9 steps 1–3e): kinematics, forces and the chassis and
-    /// subsystem terms, shared by every formulation.
+    /// subsystem terms, shared by every formulation. The terms are in the chassis axes (`ChassisAxes`): every
+    /// vector of the equations turned by A0ᵀ at this instant, which leaves the equations as they are and
+    /// spares turning the chassis-fixed suspension data; Ẏ0 comes out in the same axes.
     pub fn assemble(
         &self,
         x: &[f64],
@@ -564,17 +568,20 @@ impl Vehicle {
         local: &mut Diagnostics,
     ) -> Result<(), ModelError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
-        let y0 = wrench(&v0, &w0);
         let g = if self.switches.gravity { self.gravity_vector() } else { V3::zeros() };
+        // The chassis velocities and gravity in the chassis axes, the terms' axes.
+        let (a0t, axes) = (a0.transpose(), ChassisAxes);
+        let y0 = wrench(&(a0t * v0), &(a0t * w0));
+        let g_chassis = a0t * g;
 
         // Chassis (ρ0 = 0 after the origin shift) and rack (§4.7).
-        let j0 = a0 * self.chassis.inertia * a0.transpose();
-        let mut chassis_mass = mass_hat(self.chassis.mass, &V3::zeros(), &j0);
-        let mut chassis_force = body_force(self.chassis.mass, &V3::zeros(), &j0, &w0, &v0, &g);
+        let j0 = &self.chassis.inertia;
+        let mut chassis_mass = mass_hat(self.chassis.mass, &V3::zeros(), j0);
+        let mut chassis_force = body_force(self.chassis.mass, &V3::zeros(), j0, &ang(&y0), &lin(&y0), &g_chassis);
         let rack = &inputs.rack;
         let s = self.rack.translation(rack);
         let (sd, sdd) = (s.velocity, s.acceleration);
-        let (rack_mass, rack_force) = self.rack.chassis_terms(&a0, &y0, &g, &s);
+        let (rack_mass, rack_force) = self.rack.chassis_terms(&axes, &y0, &g_chassis, &s);
         chassis_mass += rack_mass;
         chassis_force += rack_force;
 
@@ -620,7 +627,7 @@ impl Vehicle {
                 &a0,
                 &r0,
                 &y0,
-                &g,
+                &g_chassis,
                 &state,
                 local,
                 &mut assembly.terms[i],
@@ -634,7 +641,8 @@ impl Vehicle {
         Ok(())
     }
 
-    /// Global kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6).
+    /// Kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6) in the chassis axes: `y0`
+    /// and `g` are in them; A0 and r0 place the wheel on the road, which is in the ground's.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn corner_terms(
@@ -655,7 +663,7 @@ impl Vehicle {
         let WheelState { spin, xi, drive_torque, brake_torque } = *wheel;
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
-        let k = self.corner_kinematics(i, pos, qd, a0, y0);
+        let k = self.corner_kinematics(i, pos, qd, &ChassisAxes, y0);
         let [y_l, y_k, _] = k.velocity;
         let point_velocity = |y: &Vector6<f64>, rho: &V3| lin(y) + ang(y).cross(rho);
         let w_k = ang(&y_k);
@@ -671,8 +679,8 @@ impl Vehicle {
         // Spring, stops and damper between the chassis and the lower arm (§5.2–5.3).
         let f = &self.corner_forces[i];
         let mut line_element = |chassis_pt: &V3, arm_pt: &V3, kind: LineElement| {
-            let rho_c = a0 * chassis_pt;
-            let rho_a = a0 * c.on_lower(pos, arm_pt);
+            let rho_c = *chassis_pt;
+            let rho_a = c.on_lower(pos, arm_pt);
             let dvec = rho_a - rho_c;
             let length = dvec.norm();
             let e = dvec / length;
@@ -709,17 +717,20 @@ impl Vehicle {
         // Torque about the spin axis from everything but the brake: the drive, then the tire.
         let mut free_torque = drive_torque;
         let mut relaxation_rates = [0.0; 2];
-        let centre_abs = rho_w + r0;
+        // The road is in the ground axes: the tire works there, on the wheel turned by A0, and its loads are
+        // turned back.
+        let centre_abs = a0 * rho_w + r0;
+        let axle_ground = a0 * axle;
         diag.wheel_centre_z[i] = centre_abs.z;
         diag.wheel_spin_relative[i] = spin_rel;
         let contact = if self.switches.tires {
-            tire::contact(road, &centre_abs, &axle, self.tire.unloaded_radius_m)
+            tire::contact(road, &centre_abs, &axle_ground, self.tire.unloaded_radius_m)
         } else {
             None
         };
         match contact {
             Some(ct) => {
-                let v_c = point_velocity(&y_k, &(ct.point - r0));
+                let v_c = a0 * point_velocity(&y_k, &(a0.tr_mul(&(ct.point - r0))));
                 let fz = tire::normal_force(&self.tire, ct.penetration, tire::penetration_rate(&ct, &v_c));
                 let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
                 // 1 when rolling above the low-speed range (the model of §6.7 exactly), 0 at standstill.
@@ -756,8 +767,9 @@ impl Vehicle {
                     tire::shear_forces(self.tire_model, &self.tire, fz, kappa, tan_alpha, ct.inclination * blend);
                 let mz = shear.mz * blend;
                 let m_rr = tire::rolling_resistance_moment(&self.tire, fz, ct.loaded_radius, spin_rel);
-                let force = ct.force(fz, &shear);
-                let moment_w = ct.moment_about_centre(&axle, &force, mz, m_rr);
+                let force_ground = ct.force(fz, &shear);
+                let moment_ground = ct.moment_about_centre(&axle_ground, &force_ground, mz, m_rr);
+                let (force, moment_w) = (a0.tr_mul(&force_ground), a0.tr_mul(&moment_ground));
                 // The axial moment drives the spin (§4.8); the rest acts on the carrier at the wheel centre.
                 let axial = axle.dot(&moment_w);
                 q_k += wrench(&force, &(rho_w.cross(&force) + moment_w - axle * axial));
@@ -868,25 +880,27 @@ impl CornerKinematics {
 }
 
 impl Vehicle {
+    /// The corner's kinematics in the `axes` (the evaluation's: `ChassisAxes`; ground: A0), with the chassis
+    /// velocity state `y0` in the same axes.
     #[inline(always)]
     pub fn corner_kinematics(
         &self,
         i: usize,
         pos: &SlaPositions,
         qd: &Vector5f,
-        a0: &M3,
+        axes: &impl Axes,
         y0: &Vector6<f64>,
     ) -> CornerKinematics {
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
         let phid = V3::new(qd[1], qd[2], qd[3]);
         // Joint velocity matrices: revolute B = [ρ_p × h; h], spherical B_K = [ρ̃_b; I] A_L G.
-        let h_l = a0 * c.h_l;
-        let h_u = a0 * c.h_u;
-        let rho_pl = a0 * c.p_l;
-        let rho_pu = a0 * c.p_u;
-        let rho_b = a0 * pos.b;
-        let a_l_g = a0 * pos.rl_g;
+        let h_l = axes.vector(&c.h_l);
+        let h_u = axes.vector(&c.h_u);
+        let rho_pl = axes.vector(&c.p_l);
+        let rho_pu = axes.vector(&c.p_u);
+        let rho_b = axes.vector(&pos.b);
+        let a_l_g = axes.matrix(&pos.rl_g);
         let b_l = wrench(&rho_pl.cross(&h_l), &h_l);
         let b_u = wrench(&rho_pu.cross(&h_u), &h_u);
         let mut b_k = SMatrix::<f64, 6, 3>::zeros();
@@ -905,13 +919,13 @@ impl Vehicle {
         let d_u = revolute_rate(&rho_pu, &h_u, qd[4]);
         let omega_r = a_l_g * phid;
         let w_l = ang(&y_l);
-        let wv = w_l.cross(&omega_r) + a0 * pos.r_l * pos.bryant.rate_quadratic(&phid);
+        let wv = w_l.cross(&omega_r) + axes.vector(&(pos.r_l * pos.bryant.rate_quadratic(&phid)));
         let b_dot = lin(&y_l) + w_l.cross(&rho_b);
         let d_k = wrench(&(b_dot.cross(&omega_r) + rho_b.cross(&wv)), &wv);
 
-        let rot_l = a0 * pos.r_l;
-        let rot_u = a0 * pos.r_u;
-        let rot_k = a0 * pos.r_k;
+        let rot_l = axes.matrix(&pos.r_l);
+        let rot_u = axes.matrix(&pos.r_u);
+        let rot_k = axes.matrix(&pos.r_k);
         CornerKinematics {
             b_l,
             b_k,
@@ -920,9 +934,9 @@ impl Vehicle {
             velocity: [y_l, y_k, y_u],
             mass: [c.lower.mass, c.carrier.mass, c.upper.mass],
             com: [
-                a0 * c.on_lower(pos, &c.lower.com),
-                a0 * c.on_carrier(pos, &c.carrier.com),
-                a0 * c.on_upper(pos, &c.upper.com),
+                axes.vector(&c.on_lower(pos, &c.lower.com)),
+                axes.vector(&c.on_carrier(pos, &c.carrier.com)),
+                axes.vector(&c.on_upper(pos, &c.upper.com)),
             ],
             inertia: [
                 rot_l * c.lower.inertia * rot_l.transpose(),
@@ -930,7 +944,7 @@ impl Vehicle {
                 rot_u * c.upper.inertia * rot_u.transpose(),
             ],
             axle: rot_k * c.axle,
-            wheel_centre: a0 * c.on_carrier(pos, &c.w0),
+            wheel_centre: axes.vector(&c.on_carrier(pos, &c.w0)),
         }
     }
 }

@@ -284,7 +284,10 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
 
 /// The pure-pursuit driver of the double lane change, with this vehicle's geometry and steering gain (the
 /// driver FMU's defaults are these values for the HMMWV: tests/manoeuvres.rs checks them).
-pub fn dlc_driver(data: &VehicleData, vehicle: &crate::model::vehicle::Vehicle) -> Result<rtv_driver::PurePursuit, ModelError> {
+pub fn dlc_driver(
+    data: &VehicleData,
+    vehicle: &crate::model::vehicle::Vehicle,
+) -> Result<rtv_driver::PurePursuit, ModelError> {
     let gain = vehicle.steering_gain_per_rack_metre()? * vehicle.rack.sign;
     let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear) = (spindle(&data.front), spindle(&data.rear));
@@ -339,7 +342,8 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, ModelError> 
         sim.advance(control)?;
         let o = sim.outputs()?;
         let (x, y, yaw) = (o.get("x").unwrap(), o.get("y").unwrap(), o.get("yaw").unwrap());
-        let footprint = corners.map(|(cx, cy)| [x + cx * yaw.cos() - cy * yaw.sin(), y + cx * yaw.sin() + cy * yaw.cos()]);
+        let footprint =
+            corners.map(|(cx, cy)| [x + cx * yaw.cos() - cy * yaw.sin(), y + cx * yaw.sin() + cy * yaw.cos()]);
         course.update_clearance(&footprint, &mut clearance);
         rows.push(o);
     }

@@ -59,7 +59,10 @@ impl Path {
             }
             let s = arc[k - 1] + len;
             if !s.is_finite() {
-                return Err(format!("the path's length up to point {} overflows ({s} m): coordinates too large", k + 1));
+                return Err(format!(
+                    "the path's length up to point {} overflows ({s} m): coordinates too large",
+                    k + 1
+                ));
             }
             arc.push(s);
         }
@@ -75,7 +78,8 @@ impl Path {
     /// Parse the CSV text of a path file: a header naming the columns `x`, `y` and `v` (in any order, other
     /// columns ignored), then one row per point. Errors name the line.
     pub fn from_csv(text: &str) -> Result<Path, String> {
-        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
+        let mut lines =
+            text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
         let (_, header) = lines.next().ok_or("the path file is empty (expected a header `x,y,v` and rows)")?;
         let names: Vec<&str> = header.split(',').map(str::trim).collect();
         let column = |name: &str| {
@@ -91,7 +95,9 @@ impl Path {
             }
             let cells: Vec<&str> = line.split(',').map(str::trim).collect();
             let value = |c: usize| -> Result<f64, String> {
-                let cell = cells.get(c).ok_or_else(|| format!("line {}: {} columns, expected {}", i + 1, cells.len(), names.len()))?;
+                let cell = cells
+                    .get(c)
+                    .ok_or_else(|| format!("line {}: {} columns, expected {}", i + 1, cells.len(), names.len()))?;
                 cell.parse::<f64>().map_err(|e| format!("line {}: {cell:?} is not a number: {e}", i + 1))
             };
             points.push([value(cx)?, value(cy)?]);

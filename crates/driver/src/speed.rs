@@ -62,7 +62,8 @@ impl SpeedControl {
 mod tests {
     use super::*;
 
-    const C: SpeedControl = SpeedControl { mass: 2000.0, wheel_radius: 0.5, kp: 5.0, ki: 2.0, max_drive: 8000.0, max_brake: 20000.0 };
+    const C: SpeedControl =
+        SpeedControl { mass: 2000.0, wheel_radius: 0.5, kp: 5.0, ki: 2.0, max_drive: 8000.0, max_brake: 20000.0 };
 
     #[test]
     fn drives_when_slow_brakes_when_fast_and_saturates() {

@@ -224,7 +224,8 @@ pub unsafe fn instantiate<M: FmuModel>(
         let context = ModelContext { instance_name: name.to_string(), resources: resources.clone() };
         match Instance::<M>::new(context, logger) {
             Ok(inst) => {
-                inst.logger.event(&format!("instantiated {model_identifier} ({guid_expected}), resources: {resources:?}"));
+                inst.logger
+                    .event(&format!("instantiated {model_identifier} ({guid_expected}), resources: {resources:?}"));
                 Box::into_raw(Box::new(inst)) as fmi2Component
             }
             Err(e) => {

@@ -40,7 +40,15 @@ macro_rules! export_fmi2 {
             visible: fmi2Boolean,
             loggingOn: fmi2Boolean,
         ) -> fmi2Component {
-            $crate::api::instantiate::<$model>(instanceName, fmuType, fmuGUID, fmuResourceLocation, functions, visible, loggingOn)
+            $crate::api::instantiate::<$model>(
+                instanceName,
+                fmuType,
+                fmuGUID,
+                fmuResourceLocation,
+                functions,
+                visible,
+                loggingOn,
+            )
         }
 
         #[no_mangle]
@@ -57,7 +65,14 @@ macro_rules! export_fmi2 {
             stopTimeDefined: fmi2Boolean,
             stopTime: fmi2Real,
         ) -> fmi2Status {
-            $crate::api::setup_experiment::<$model>(c, toleranceDefined, tolerance, startTime, stopTimeDefined, stopTime)
+            $crate::api::setup_experiment::<$model>(
+                c,
+                toleranceDefined,
+                tolerance,
+                startTime,
+                stopTimeDefined,
+                stopTime,
+            )
         }
 
         #[no_mangle]
@@ -246,7 +261,12 @@ macro_rules! export_fmi2 {
             communicationStepSize: fmi2Real,
             noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
         ) -> fmi2Status {
-            $crate::api::do_step::<$model>(c, currentCommunicationPoint, communicationStepSize, noSetFMUStatePriorToCurrentPoint)
+            $crate::api::do_step::<$model>(
+                c,
+                currentCommunicationPoint,
+                communicationStepSize,
+                noSetFMUStatePriorToCurrentPoint,
+            )
         }
 
         #[no_mangle]
@@ -255,12 +275,20 @@ macro_rules! export_fmi2 {
         }
 
         #[no_mangle]
-        pub unsafe extern "C" fn fmi2GetStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Status) -> fmi2Status {
+        pub unsafe extern "C" fn fmi2GetStatus(
+            c: fmi2Component,
+            s: fmi2StatusKind,
+            value: *mut fmi2Status,
+        ) -> fmi2Status {
             $crate::api::get_status::<$model>(c, s, value)
         }
 
         #[no_mangle]
-        pub unsafe extern "C" fn fmi2GetRealStatus(c: fmi2Component, s: fmi2StatusKind, value: *mut fmi2Real) -> fmi2Status {
+        pub unsafe extern "C" fn fmi2GetRealStatus(
+            c: fmi2Component,
+            s: fmi2StatusKind,
+            value: *mut fmi2Real,
+        ) -> fmi2Status {
             $crate::api::get_real_status::<$model>(c, s, value)
         }
 

@@ -243,7 +243,8 @@ impl<M: FmuModel> Instance<M> {
     // ---- values ----------------------------------------------------------------------------------
 
     fn lookup(&self, function: &str, vr: u32, ty: VarType) -> FmiResult<&'static Variable<M::Var>> {
-        M::description().lookup(vr, ty)
+        M::description()
+            .lookup(vr, ty)
             .ok_or_else(|| Failure::error(format!("{function}: unknown value reference {vr} for type {ty:?}")))
     }
 
@@ -629,7 +630,9 @@ impl<M: FmuModel> Core<M> {
 
 fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
     let mut model = M::new(context);
-    for var in M::description().variables.iter().filter(|v| matches!(v.causality, Causality::Input | Causality::Parameter)) {
+    for var in
+        M::description().variables.iter().filter(|v| matches!(v.causality, Causality::Input | Causality::Parameter))
+    {
         let result = match var.start {
             Some(Start::Real(x)) => model.set_real(var, x),
             Some(Start::Integer(i)) => model.set_integer(var, i),

@@ -7,7 +7,7 @@
 //! front tie-rod constraints (`SlaGeometry::tie_rod_inner`).
 
 use crate::dynamics::body::{body_force, lin, mass_hat, wrench};
-use crate::math::{M3, V3};
+use crate::math::{Axes, M3, V3};
 use crate::model::params::{RigidBody, VehicleData};
 use crate::model::suspension::sla::BodyInertia;
 use nalgebra::{Matrix6, Vector6};
@@ -57,24 +57,31 @@ impl Rack {
         }
     }
 
-    /// CM position (from the chassis CM), CM velocity and inertia in the ground frame, for chassis
-    /// attitude A0, velocity ṙ0 and angular velocity ω0 and rack translation `s`.
-    pub fn state(&self, a0: &M3, v0: &V3, w0: &V3, s: &RackMotion) -> (V3, V3, M3) {
-        let ey = a0 * V3::y();
-        let rho = a0 * (self.body.com + V3::y() * s.position);
+    /// CM position (from the chassis CM), CM velocity and inertia in the `axes`, for chassis velocity ṙ0 and
+    /// angular velocity ω0 (in the same axes) and rack translation `s`.
+    #[inline(always)]
+    pub fn state(&self, axes: &impl Axes, v0: &V3, w0: &V3, s: &RackMotion) -> (V3, V3, M3) {
+        let ey = axes.vector(&V3::y());
+        let rho = axes.vector(&(self.body.com + V3::y() * s.position));
         let rdot = v0 + ey * s.velocity + w0.cross(&rho);
-        (rho, rdot, a0 * self.body.inertia * a0.transpose())
+        (rho, rdot, axes.inertia(&self.body.inertia))
     }
 
     /// The rack's share of the chassis equation (§4.7): M̂_R and Q̂*_R = Q̂_R − M̂_R (B_R s̈ + D_R), with
     /// B_R = [e_y; 0] and D_R = [ω0 × e_y ṡ; 0].
     #[inline(always)]
-    pub fn chassis_terms(&self, a0: &M3, y0: &Vector6<f64>, g: &V3, s: &RackMotion) -> (Matrix6<f64>, Vector6<f64>) {
+    pub fn chassis_terms(
+        &self,
+        axes: &impl Axes,
+        y0: &Vector6<f64>,
+        g: &V3,
+        s: &RackMotion,
+    ) -> (Matrix6<f64>, Vector6<f64>) {
         let (v0, w0) = (lin(y0), V3::new(y0[3], y0[4], y0[5]));
-        let (rho, rdot, j) = self.state(a0, &v0, &w0, s);
+        let (rho, rdot, j) = self.state(axes, &v0, &w0, s);
         let m_hat = mass_hat(self.body.mass, &rho, &j);
         let q_hat = body_force(self.body.mass, &rho, &j, &w0, &rdot, g);
-        let ey = a0 * V3::y();
+        let ey = axes.vector(&V3::y());
         let prescribed = wrench(&(ey * s.acceleration + w0.cross(&ey) * s.velocity), &V3::zeros());
         (m_hat, q_hat - m_hat * prescribed)
     }
