@@ -799,7 +799,8 @@ impl Vehicle {
         let mh = |b: usize, y: &Vector6<f64>| mass_hat_times(k.mass[b], &k.com[b], &k.inertia[b], y);
         let ml_bl = mh(BODY_L, &k.b_l);
         let mk_bl = mh(BODY_K, &k.b_l);
-        let mk_bk: [Vector6<f64>; 3] = std::array::from_fn(|j| mh(BODY_K, &k.b_k.column(j).into_owned()));
+        let mk_bk_j = |j: usize| mh(BODY_K, &k.b_k.column(j).into_owned());
+        let mk_bk = [mk_bk_j(0), mk_bk_j(1), mk_bk_j(2)];
         let mu_bu = mh(BODY_U, &k.b_u);
         let m_bl = ml_bl + mk_bl;
         let p_l = q_l - mh(BODY_L, &k.rate[BODY_L]);
