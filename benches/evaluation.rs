@@ -78,7 +78,7 @@ fn main() {
     // (the simulation reuses it; "GCP, reusing the kinematics' LU" below).
     let shared = vehicle.assemble(&x, &inputs, &mut KinematicsCache::default(), &mut Diagnostics::default()).unwrap();
     let mut assembly = shared;
-    assembly.terms.iter_mut().for_each(|t| t.phi_v_lu = None);
+    assembly.terms.iter_mut().for_each(|t| t.phi_v_solved = None);
     for (name, f) in [("synthesis GCP", Formulation::Synthesis), ("conventional 42x42", Formulation::Conventional)] {
         let v = with_formulation(&vehicle, f);
         c.bench_function(&format!("acceleration evaluation/{name}"), |b| {

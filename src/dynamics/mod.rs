@@ -59,9 +59,26 @@ pub struct SubsystemTerms {
     pub phi_q: SMatrix<f64, 4, 5>,
     /// Acceleration right-hand side: Φ_q q̈ = γ̄ (§3.3).
     pub gamma_bar: Vector4<f64>,
-    /// Φ_v (columns 1..5 of `phi_q`) already factored by the kinematics, if it was: GCP then reuses it
-    /// instead of factoring the same matrix again. `None`: GCP factors it.
-    pub phi_v_lu: Option<lu::Lu<NC>>,
+    /// Φ_v (columns 1..5 of `phi_q`) already factored by the kinematics, with Φ_v⁻¹Φ_u, if they were: GCP
+    /// then reuses both instead of factoring and solving the same matrix again. `None`: GCP does it.
+    pub phi_v_solved: Option<PhiVSolved>,
+}
+
+/// Φ_v factored, and Φ_v⁻¹Φ_u solved with these factors (the kinematics have both: their ∂v/∂u is −Φ_v⁻¹Φ_u).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhiVSolved {
+    pub lu: lu::Lu<NC>,
+    pub phi_v_inv_phi_u: Vector4<f64>,
+}
+
+impl PhiVSolved {
+    /// Factors Φ_v of `phi_q` and solves Φ_u with it, as GCP does (`None`: Φ_v numerically singular).
+    pub fn of(phi_q: &SMatrix<f64, NC, NQ>) -> Option<PhiVSolved> {
+        let lu = lu::Lu::new(&phi_q.fixed_columns::<4>(1).into_owned()).ok()?;
+        let mut phi_u = phi_q.column(0).into_owned();
+        lu.solve(&mut phi_u);
+        Some(PhiVSolved { lu, phi_v_inv_phi_u: phi_u })
+    }
 }
 
 /// The chassis's own terms: `mass` = M̂₀ + M̂_R, `force` = Q̂₀ + Q̂*_R (§4.2, §4.7).

@@ -58,23 +58,26 @@ fn reduce(
     mass: &mut Matrix6<f64>,
     force: &mut Vector6<f64>,
 ) -> Result<(), ModelError> {
-    // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4), unless the kinematics factored it.
-    match &s.phi_v_lu {
-        Some(f) => (g.lu, g.piv) = (f.factors, f.piv),
+    // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4) and Φ_v⁻¹Φ_u, unless the kinematics
+    // have them; then the second right-hand side (§4.6), Φ_v⁻¹γ̄.
+    let mut cv = s.gamma_bar;
+    let a = match &s.phi_v_solved {
+        Some(f) => {
+            (g.lu, g.piv) = (f.lu.factors, f.lu.piv);
+            lu::solve(&g.lu, &g.piv, &mut cv);
+            f.phi_v_inv_phi_u
+        }
         None => {
             g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
             lu::factor(&mut g.lu, &mut g.piv).map_err(|e| {
                 ModelError::new(Cause::Solve, format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}"))
             })?;
+            let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
+            lu::solve(&g.lu, &g.piv, &mut rhs);
+            cv = rhs.column(1).into_owned();
+            rhs.column(0).into_owned()
         }
-    }
-    let (lu, piv) = (&g.lu, &g.piv);
-
-    // Two right-hand sides (§4.6): [Φ_u | γ̄] → [Φ_v⁻¹Φ_u | Φ_v⁻¹γ̄].
-    let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
-    lu::solve(lu, piv, &mut rhs);
-    let a: Vector4<f64> = rhs.column(0).into_owned();
-    let cv: Vector4<f64> = rhs.column(1).into_owned();
+    };
 
     // §4.5: 𝒱 = [1; −Φ_v⁻¹Φ_u], 𝒞 = [0; Φ_v⁻¹γ̄], so that q̈ = 𝒱 ü + 𝒞.
     g.v = Vector5::new(1.0, -a[0], -a[1], -a[2], -a[3]);

@@ -166,7 +166,7 @@ pub fn random_subsystem(rng: &mut XorShift64, sx: f64, sy: f64) -> SubsystemTerm
     let p_q = Vector5::from_fn(|_, _| rng.range(-500.0, 500.0));
     let p_0 = Vector6::from_fn(|r, _| if r < 3 { rng.range(-3000.0, 3000.0) } else { rng.range(-2000.0, 2000.0) });
     let gamma_bar = Vector4::from_fn(|_, _| rng.range(-20.0, 20.0));
-    SubsystemTerms { m_qq, m_q0, m_00, p_q, p_0, phi_q, gamma_bar, phi_v_lu: None }
+    SubsystemTerms { m_qq, m_q0, m_00, p_q, p_0, phi_q, gamma_bar, phi_v_solved: None }
 }
 
 /// A random chassis: M̂₀ (2000 kg, inertias 1000–3500 kg m²) + M̂_R (5 kg rack off the CM); Q̂₀ with gravity.

@@ -360,13 +360,14 @@ fn overflowing_result_is_an_error_not_nan() {
 
 #[test]
 fn gcp_reusing_a_factored_phi_v_gives_the_same_solution() {
-    // The kinematics hand GCP their LU of Φ_v (`SubsystemTerms::phi_v_lu`); it must be the same solve.
+    // The kinematics hand GCP their LU of Φ_v and Φ_v⁻¹Φ_u (`SubsystemTerms::phi_v_solved`); it must be the
+    // same solve.
     for seed in 0..N_CASES {
         let (c, subs) = random_vehicle::<4>(seed);
         let own = solve_synthesis_gcp(&c, &subs).unwrap();
         let mut given = subs;
         for s in given.iter_mut() {
-            s.phi_v_lu = Some(lu::Lu::new(&s.phi_q.fixed_columns::<4>(1).into_owned()).unwrap());
+            s.phi_v_solved = Some(PhiVSolved::of(&s.phi_q).unwrap());
         }
         let shared = solve_synthesis_gcp(&c, &given).unwrap();
         assert_eq!(own, shared, "the same factors, the same arithmetic");

@@ -6,7 +6,7 @@
 //! chassis CM in every evaluation (§4.0), so all positions below are relative to r0.
 
 use crate::dynamics::body::{ang, body_force, lin, mass_hat, mass_hat_times, point_force, wrench, MassHatSum};
-use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, SubsystemTerms};
+use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, PhiVSolved, SubsystemTerms};
 use crate::error::{Cause, Context, ModelError};
 use crate::math::{quat_rate, quat_to_matrix, skew, Axes, ChassisAxes, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
@@ -837,7 +837,8 @@ impl Vehicle {
         terms.p_0 = p_l + p_k + p_u;
         terms.phi_q = pos.phi_q;
         terms.gamma_bar = *gamma_bar;
-        terms.phi_v_lu = pos.lu_v;
+        // ∂v/∂u = −Φ_v⁻¹Φ_u, solved with the same factors: the negation is exact, so GCP gets its own bits.
+        terms.phi_v_solved = pos.lu_v.map(|lu| PhiVSolved { lu, phi_v_inv_phi_u: -pos.dv_du });
         Ok(CornerOutput { chassis_wrench, spin_torque, relaxation_rates })
     }
 }
