@@ -111,8 +111,15 @@ fn tumbling_state(v: &Vehicle) -> Vec<f64> {
 fn integrate(v: &Vehicle, x: &mut [f64], h: f64, steps: usize) {
     let rack = RackSource::Profile(RackProfile::Zero);
     let mut cache = KinematicsCache::default();
-    let mut ode =
-        VehicleOde { vehicle: v, rack: &rack, drive: [0.0; 4], brake: [0.0; 4], cache: &mut cache, evaluations: 0 };
+    let mut ode = VehicleOde {
+        vehicle: v,
+        rack: &rack,
+        drive: [0.0; 4],
+        brake: [0.0; 4],
+        cache: &mut cache,
+        evaluations: 0,
+        first_stage: None,
+    };
     let mut rk4 = Rk4::new();
     for k in 0..steps {
         rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {e}"));
