@@ -3,9 +3,13 @@
 //! Three read patterns: every output; the pose and velocities only (what a motion platform or an image
 //! generator reads; read straight from the state, no evaluation); nothing. Prints the median, the 99th
 //! percentile and the maximum of the frame's cost, in µs and as a share of the 1 ms frame, over 20 s of
-//! a J-turn-like input (20,000 frames after 1,000 of warm-up).
+//! a J-turn-like input (20,000 frames after 1,000 of warm-up). The J-turn's rack holds after its ramp, so
+//! the output evaluation is the next step's first stage (`sim::FirstStage`); a fourth pattern reads every
+//! output with a rack that moves every frame (a driver's hands on the wheel: a 0.5 Hz sine), where it is not.
 //!
-//! `cargo bench --bench hil_frame`
+//! `cargo bench --bench hil_frame [-- PATTERN [FRAMES]]` (only the patterns whose name contains PATTERN;
+//! FRAMES measured frames instead of 20,000: instructions per frame, free of machine noise, are the callgrind
+//! totals of two frame counts, differenced: `valgrind --tool=callgrind <bench binary> "live" 2000`, then 4000).
 //! (A report, not a test: the machine's noise moves the tail; quote the median, and instruction counts
 //! from callgrind for comparisons.)
 
@@ -17,16 +21,15 @@ use std::time::Instant;
 
 const FRAME: f64 = 1e-3;
 
-fn frames(outputs: &[u32]) -> Vec<f64> {
+fn frames(outputs: &[u32], rack_at: fn(f64) -> f64, frames: usize) -> Vec<f64> {
     let mut inst = NativeInstance::initialized("hil").expect("instance");
     let mut values = vec![0.0; outputs.len()];
     let rack_vr = [vr::RACK_DISPLACEMENT];
-    let (warmup, frames) = (1_000usize, 20_000usize);
+    let warmup = 1_000usize;
     let mut cost = Vec::with_capacity(frames);
     for k in 0..warmup + frames {
         let t = inst.time();
-        // A 3 mm step steer ramped over 0.1 s from t = 0.5 s: the J-turn's input.
-        let rack = 0.003 * ((t - 0.5) / 0.1).clamp(0.0, 1.0);
+        let rack = rack_at(t);
         let clock = Instant::now();
         // SAFETY: a live instance; arrays of the stated lengths.
         unsafe {
@@ -51,11 +54,24 @@ fn main() {
     let all: Vec<u32> = VARIABLES.iter().filter(|v| v.causality == Causality::Output).map(|v| v.vr).collect();
     let pose = ["x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vz", "roll_rate", "pitch_rate", "yaw_rate"];
     let pose: Vec<u32> = pose.iter().map(|n| DESCRIPTION.by_name(n).expect("output").vr).collect();
-    println!("1 kHz HIL frame: set rack, fmi2DoStep 1 ms (one RK4 step), get outputs; 20000 frames");
-    for (label, outputs) in
-        [("every output (47)", &all[..]), ("pose and velocities (12)", &pose[..]), ("none", &[][..])]
-    {
-        let cost = frames(outputs);
+    // A 3 mm step steer ramped over 0.1 s from t = 0.5 s: the J-turn's input.
+    let jturn: fn(f64) -> f64 = |t| 0.003 * ((t - 0.5) / 0.1).clamp(0.0, 1.0);
+    let live: fn(f64) -> f64 = |t| 0.003 * (std::f64::consts::PI * t).sin();
+    // `cargo bench` passes `--bench`: the first other argument is the pattern, the next the frame count.
+    let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
+    let pattern = args.first().cloned().unwrap_or_default();
+    let n = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(20_000);
+    println!("1 kHz HIL frame: set rack, fmi2DoStep 1 ms (one RK4 step), get outputs; {n} frames");
+    for (label, outputs, rack) in [
+        ("every output (47)", &all[..], jturn),
+        ("pose and velocities (12)", &pose[..], jturn),
+        ("none", &[][..], jturn),
+        ("every output, live rack", &all[..], live),
+    ] {
+        if !label.contains(pattern.as_str()) {
+            continue;
+        }
+        let cost = frames(outputs, rack, n);
         let at = |q: f64| cost[((cost.len() - 1) as f64 * q).round() as usize];
         let share = |v: f64| 100.0 * v / (FRAME * 1e6);
         let (median, p99, max) = (at(0.5), at(0.99), *cost.last().unwrap());

@@ -70,13 +70,19 @@ impl MassHatSum {
     }
 
     pub fn matrix(&self) -> Matrix6<f64> {
-        let c = skew(&self.first_moment);
         let mut out = Matrix6::zeros();
+        self.write_into(&mut out);
+        out
+    }
+
+    /// `matrix()` written into `out` in place (every entry).
+    #[inline(always)]
+    pub fn write_into(&self, out: &mut Matrix6<f64>) {
+        let c = skew(&self.first_moment);
         out.fixed_view_mut::<3, 3>(0, 0).copy_from(&(M3::identity() * self.mass));
         out.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-c));
         out.fixed_view_mut::<3, 3>(3, 0).copy_from(&c);
         out.fixed_view_mut::<3, 3>(3, 3).copy_from(&self.inertia_about_origin);
-        out
     }
 }
 

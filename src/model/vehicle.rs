@@ -833,7 +833,7 @@ impl Vehicle {
         for b in [BODY_L, BODY_K, BODY_U] {
             m_00.add(k.mass[b], &k.com[b], &k.inertia[b]);
         }
-        terms.m_00 = m_00.matrix();
+        m_00.write_into(&mut terms.m_00);
         terms.p_0 = p_l + p_k + p_u;
         terms.phi_q = pos.phi_q;
         terms.gamma_bar = *gamma_bar;
