@@ -555,6 +555,9 @@ pub struct Simulation {
     /// The last output evaluation, for the next step's first stage (`FirstStage`; scratch).
     #[serde(skip)]
     first_stage: Option<FirstStage>,
+    /// Whether output evaluations are kept for that (`set_stage_reuse`).
+    #[serde(skip)]
+    stage_reuse_off: bool,
 }
 
 impl Simulation {
@@ -590,6 +593,7 @@ impl Simulation {
             evaluations: 0,
             front_wheel_x0,
             first_stage: None,
+            stage_reuse_off: false,
         };
         sim.evaluate_outputs()?;
         Ok(sim)
@@ -662,6 +666,16 @@ impl Simulation {
     /// Derivative evaluations so far (for cost reports).
     pub fn evaluations(&self) -> u64 {
         self.evaluations
+    }
+
+    /// Whether the next step's first stage may be the output evaluation already made at its start
+    /// (`FirstStage`; on by default). Off, every stage is evaluated: a measurement of what the integration
+    /// costs by itself (the work-precision report) turns it off.
+    pub fn set_stage_reuse(&mut self, on: bool) {
+        self.stage_reuse_off = !on;
+        if !on {
+            self.first_stage = None;
+        }
     }
 
     /// Drive the rack by an analytic profile from now on.
@@ -986,20 +1000,22 @@ impl Simulation {
         let warm_after = std::mem::replace(&mut self.cache.corners, warm_starts);
         evaluated?;
         self.evaluations += 1;
-        let stage = self.first_stage.get_or_insert_with(|| FirstStage {
-            dim: 0,
-            x: [0.0; idx::DIM],
-            inputs: Inputs::default(),
-            warm_before: Default::default(),
-            warm_after: Default::default(),
-            tire_loads: [0.0; 4],
-            dx: [0.0; idx::DIM],
-        });
-        stage.dim = dx.len();
-        stage.x[..dx.len()].copy_from_slice(&self.state);
-        stage.dx[..dx.len()].copy_from_slice(dx);
-        (stage.inputs, stage.warm_before, stage.warm_after) = (inputs, warm_starts, warm_after);
-        stage.tire_loads = self.cache.tire_loads;
+        if !self.stage_reuse_off {
+            let stage = self.first_stage.get_or_insert_with(|| FirstStage {
+                dim: 0,
+                x: [0.0; idx::DIM],
+                inputs: Inputs::default(),
+                warm_before: Default::default(),
+                warm_after: Default::default(),
+                tire_loads: [0.0; 4],
+                dx: [0.0; idx::DIM],
+            });
+            stage.dim = dx.len();
+            stage.x[..dx.len()].copy_from_slice(&self.state);
+            stage.dx[..dx.len()].copy_from_slice(dx);
+            (stage.inputs, stage.warm_before, stage.warm_after) = (inputs, warm_starts, warm_after);
+            stage.tire_loads = self.cache.tire_loads;
+        }
         let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;
         let o = &mut self.outputs_values;

@@ -150,6 +150,9 @@ pub struct Trace {
 /// Run `case` with `config` in intervals of `interval` and sample its channels on the grid.
 pub fn simulate(case: &Case, config: &SimConfig, interval: f64) -> Result<Trace, ModelError> {
     let mut sim = case.scene.start(VehicleData::default_hmmwv(), config)?;
+    // The cost measured is the integration's by itself, as if nobody read the compared outputs: no stage
+    // taken from an output evaluation (sim::FirstStage), whose own cost is counted out below.
+    sim.set_stage_reuse(false);
     let columns: Vec<usize> = case
         .channels
         .iter()
