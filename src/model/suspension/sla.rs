@@ -98,7 +98,7 @@ pub struct SlaPositions {
     pub phi_q: PhiQ,
     /// ∂Φ/∂s (only the tie-rod row, front).
     pub phi_s: Vector4<f64>,
-    /// Φ_v factored (`None`: numerically singular). The dynamics reuse it (`SubsystemTerms::phi_v_lu`).
+    /// Φ_v factored (`None`: numerically singular). The dynamics reuse it (`SubsystemTerms::phi_v_solved`).
     pub lu_v: Option<Lu<4>>,
     /// ∂v/∂u = −Φ_v⁻¹Φ_u and ∂v/∂s = −Φ_v⁻¹Φ_s: v̇ = ∂v/∂u u̇ + ∂v/∂s ṡ (§3.3), and the Newton warm start's
     /// tangent. Zero when Φ_v is singular.
