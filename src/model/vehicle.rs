@@ -847,7 +847,7 @@ pub const BODY_L: usize = 0;
 pub const BODY_K: usize = 1;
 pub const BODY_U: usize = 2;
 
-/// Global (ground-frame, origin at the chassis CM) kinematics of the three bodies of one corner, in the
+/// Kinematics (origin at the chassis CM, in the axes `Vehicle::corner_kinematics` is given) of the three bodies of one corner, in the
 /// order lower arm, carrier, upper arm: Y_b = Y0 + 𝔅_b q̇, Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b (§3.4).
 #[derive(Debug, Clone, Copy)]
 pub struct CornerKinematics {
