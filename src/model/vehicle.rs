@@ -847,8 +847,8 @@ pub const BODY_L: usize = 0;
 pub const BODY_K: usize = 1;
 pub const BODY_U: usize = 2;
 
-/// Kinematics (origin at the chassis CM, in the axes `Vehicle::corner_kinematics` is given) of the three bodies of one corner, in the
-/// order lower arm, carrier, upper arm: Y_b = Y0 + 𝔅_b q̇, Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b (§3.4).
+/// Kinematics of the three bodies of one corner (origin at the chassis CM, in the axes `corner_kinematics`
+/// is given), in the order lower arm, carrier, upper arm: Y_b = Y0 + 𝔅_b q̇, Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b (§3.4).
 #[derive(Debug, Clone, Copy)]
 pub struct CornerKinematics {
     /// The non-zero columns of the joint Jacobians 𝔅_b (6×5): 𝔅_L = [b_L 0 0 0 0], 𝔅_K = [b_L B_K 0],
