@@ -48,8 +48,8 @@ impl Gcp {
     };
 }
 
-/// GCP reduction of one subsystem (§4.5) into `g` (written in place: no large moves). Adds M̄ᵢ to `mass`
-/// and P̄ᵢ to `force`.
+/// GCP reduction of one subsystem (§4.5) into `g` (written in place: no large moves). Adds M̄ᵢ to the lower
+/// triangle of `mass` (all the chassis solve reads) and P̄ᵢ to `force`.
 #[inline]
 fn reduce(
     i: usize,
@@ -104,7 +104,12 @@ fn reduce(
 
     // M̄ᵢ = M_00 − 𝔪𝔪ᵀ/m̃ (rank-1 update);  P̄ᵢ = P_0 − M_0q 𝒞 − 𝔪 p̃/m̃.
     let sm = m / mt;
-    *mass += s.m_00 - sm * m.transpose();
+    // The lower triangle only: the chassis solve (Cholesky) reads no other entry.
+    for j in 0..6 {
+        for i in j..6 {
+            mass[(i, j)] += s.m_00[(i, j)] - sm[i] * m[j];
+        }
+    }
     let m0q_c: Vector6<f64> = s.m_q0.fixed_rows::<4>(1).tr_mul(&cv);
     *force += s.p_0 - m0q_c - sm * pt;
     Ok(())
