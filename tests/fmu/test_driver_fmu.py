@@ -177,3 +177,16 @@ def test_wrong_types_and_outputs_are_not_settable(make_driver):
     assert status(s.fmu.setReal, [s.vr["path_file"]], [0.0]) == ERROR
     assert status(s.fmu.setString, [s.vr["vx"]], ["fast"]) == ERROR
     assert status(s.fmu.setInteger, [s.vr["vx"]], [1]) == ERROR
+
+
+def test_a_command_read_is_kept_only_until_an_input_or_a_step_changes_it(make_driver):
+    """Outputs are computed when first read and kept until an input, a parameter or the speed integral
+    changes (the model's `command`): after a new input or a step the kept command must not be served."""
+    s = make_driver().init()
+    drive(s, (5.0, 0.0, 0.0, 10.0, 0.0))  # on the line, slower than the path's 40 km/h: drive
+    first = s.get("drive_torque_fl", "rack_displacement", "lateral_error")
+    assert s.get("drive_torque_fl", "rack_displacement", "lateral_error") == first
+    s.step(0.01)  # the speed integral grows with the speed error
+    assert s.get("drive_torque_fl") > first[0]
+    drive(s, (5.0, -1.0, 0.0, 10.0, 0.0))  # 1 m right of the line
+    assert s.get("lateral_error") == pytest.approx(-1.0) and s.get("rack_displacement") > first[1]

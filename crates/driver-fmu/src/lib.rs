@@ -4,8 +4,9 @@
 //! Inputs are the vehicle FMU's outputs of the same names (`x`, `y`, `yaw` in the ground frame, `vx` along the
 //! chassis x axis, `yaw_rate`); outputs are the vehicle FMU's inputs of the same names (`rack_displacement`,
 //! `drive_torque_*`, `brake_torque_*`), so that a system connects them name to name. The outputs are computed
-//! from the inputs when read (direct feedthrough, declared in the model structure); a step advances the
-//! speed law's integral with the inputs held over the step. See docs/fmu.md ("The driver FMU").
+//! from the inputs when first read and kept until an input, a parameter or the speed integral changes
+//! (direct feedthrough, declared in the model structure); a step advances the speed law's integral with the
+//! inputs held over the step. See docs/fmu.md ("The driver FMU").
 
 use fmi_layer::logger::Logger;
 use fmi_layer::{FmuModel, ModelContext, StepFailure};
@@ -44,9 +45,15 @@ pub struct DriverModel {
     speed_integral: f64,
     #[serde(skip)]
     path: Option<Path>,
+    /// The command for the current inputs, parameters and speed integral, computed when first read
+    /// (`refresh`) and kept until one of them changes (the Reference FMUs' `isDirtyValues`): reading all 13
+    /// outputs projects the position onto the path once, not 13 times.
+    #[serde(skip)]
+    command: Option<Command>,
 }
 
 /// What the driver commands for its current inputs.
+#[derive(Clone)]
 struct Command {
     rack: f64,
     torques: rtv_driver::WheelTorques,
@@ -147,6 +154,7 @@ impl FmuModel for DriverModel {
             inputs: [0.0; INPUTS],
             speed_integral: 0.0,
             path: None,
+            command: None,
         }
     }
 
@@ -156,7 +164,14 @@ impl FmuModel for DriverModel {
             Var::Parameter(P::PathFile) => return Err(format!("{} is not a Real", var.name)),
             Var::Parameter(p) => self.reals[p as usize],
             Var::Output(o) => {
-                let c = self.command()?;
+                let computed;
+                let c = match &self.command {
+                    Some(c) => c,
+                    None => {
+                        computed = self.command()?;
+                        &computed
+                    }
+                };
                 match o {
                     O::RackDisplacement => c.rack,
                     O::DriveTorqueFl => c.torques.drive[0],
@@ -189,6 +204,7 @@ impl FmuModel for DriverModel {
     }
 
     fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
+        self.command = None;
         match var.var {
             Var::Input(i) => self.inputs[i as usize] = value,
             Var::Parameter(P::PathFile) => return Err(format!("{} is not a Real", var.name)),
@@ -209,6 +225,7 @@ impl FmuModel for DriverModel {
         match var.var {
             Var::Parameter(P::PathFile) => {
                 self.path_file = value.to_string();
+                self.command = None;
                 Ok(())
             }
             _ => Err(format!("{} is not a settable String", var.name)),
@@ -236,6 +253,14 @@ impl FmuModel for DriverModel {
         ));
         self.path = Some(path);
         self.speed_integral = 0.0;
+        self.command = None;
+        Ok(())
+    }
+
+    fn refresh(&mut self, var: &Variable, _log: &Logger) -> Result<(), StepFailure> {
+        if matches!(var.var, Var::Output(_)) && self.command.is_none() {
+            self.command = Some(self.command().map_err(StepFailure::Refused)?);
+        }
         Ok(())
     }
 
@@ -254,6 +279,7 @@ impl FmuModel for DriverModel {
             return Err(format!("the speed integral {} is not finite", self.speed_integral));
         }
         self.path = if initialized { Some(self.read_path(context)?.0) } else { None };
+        self.command = None;
         Ok(())
     }
 
@@ -262,6 +288,7 @@ impl FmuModel for DriverModel {
         let (_, target_speed) = self.nearest().map_err(StepFailure::Error)?;
         let error = target_speed - self.motion().speed;
         self.speed_integral += h * self.speed().integral_rate(error, self.speed_integral);
+        self.command = None;
         Ok(())
     }
 }
