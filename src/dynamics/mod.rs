@@ -72,12 +72,14 @@ pub struct PhiVSolved {
 }
 
 impl PhiVSolved {
-    /// Factors Φ_v of `phi_q` and solves Φ_u with it, as GCP does (`None`: Φ_v numerically singular).
-    pub fn of(phi_q: &SMatrix<f64, NC, NQ>) -> Option<PhiVSolved> {
-        let lu = lu::Lu::new(&phi_q.fixed_columns::<4>(1).into_owned()).ok()?;
+    /// Factors Φ_v of `phi_q` and solves Φ_u with it (GCP's own when the kinematics hand it none); `Err`
+    /// when Φ_v is numerically singular or not finite.
+    #[inline(always)]
+    pub fn of(phi_q: &SMatrix<f64, NC, NQ>) -> Result<PhiVSolved, &'static str> {
+        let lu = lu::Lu::new(&phi_q.fixed_columns::<4>(1).into_owned())?;
         let mut phi_u = phi_q.column(0).into_owned();
         lu.solve(&mut phi_u);
-        Some(PhiVSolved { lu, phi_v_inv_phi_u: phi_u })
+        Ok(PhiVSolved { lu, phi_v_inv_phi_u: phi_u })
     }
 }
 

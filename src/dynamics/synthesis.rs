@@ -5,7 +5,7 @@
 use crate::error::{Cause, ModelError};
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector5, Vector6};
 
-use super::{check_result, explained, lu, Accelerations, ChassisTerms, SubsystemTerms};
+use super::{check_result, explained, lu, Accelerations, ChassisTerms, PhiVSolved, SubsystemTerms};
 use nalgebra::Matrix6;
 
 /// Whether [`solve_synthesis_gcp_with`] computes the cut-constraint multipliers λ.
@@ -60,24 +60,20 @@ fn reduce(
 ) -> Result<(), ModelError> {
     // §4.5: Φ_q = [Φ_u | Φ_v] with u = θ_L (column 0); LU of Φ_v (4×4) and Φ_v⁻¹Φ_u, unless the kinematics
     // have them; then the second right-hand side (§4.6), Φ_v⁻¹γ̄.
-    let mut cv = s.gamma_bar;
-    let a = match &s.phi_v_solved {
-        Some(f) => {
-            (g.lu, g.piv) = (f.lu.factors, f.lu.piv);
-            lu::solve(&g.lu, &g.piv, &mut cv);
-            f.phi_v_inv_phi_u
-        }
+    let own;
+    let f = match &s.phi_v_solved {
+        Some(f) => f,
         None => {
-            g.lu = s.phi_q.fixed_columns::<4>(1).into_owned();
-            lu::factor(&mut g.lu, &mut g.piv).map_err(|e| {
+            own = PhiVSolved::of(&s.phi_q).map_err(|e| {
                 ModelError::new(Cause::Solve, format!("GCP: subsystem {i}: Phi_v (dependent-coordinate Jacobian) {e}"))
             })?;
-            let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[s.phi_q.column(0).into_owned(), s.gamma_bar]);
-            lu::solve(&g.lu, &g.piv, &mut rhs);
-            cv = rhs.column(1).into_owned();
-            rhs.column(0).into_owned()
+            &own
         }
     };
+    (g.lu, g.piv) = (f.lu.factors, f.lu.piv);
+    let a = f.phi_v_inv_phi_u;
+    let mut cv = s.gamma_bar;
+    lu::solve(&g.lu, &g.piv, &mut cv);
 
     // §4.5: 𝒱 = [1; −Φ_v⁻¹Φ_u], 𝒞 = [0; Φ_v⁻¹γ̄], so that q̈ = 𝒱 ü + 𝒞.
     g.v = Vector5::new(1.0, -a[0], -a[1], -a[2], -a[3]);

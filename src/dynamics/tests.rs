@@ -360,14 +360,20 @@ fn overflowing_result_is_an_error_not_nan() {
 
 #[test]
 fn gcp_reusing_a_factored_phi_v_gives_the_same_solution() {
-    // The kinematics hand GCP their LU of Φ_v and Φ_v⁻¹Φ_u (`SubsystemTerms::phi_v_solved`); it must be the
-    // same solve.
+    // The kinematics hand GCP their LU of Φ_v and Φ_v⁻¹Φ_u (`SubsystemTerms::phi_v_solved`), the latter as
+    // −∂v/∂u, which they solve from −Φ_u beside −Φ_s (`SlaGeometry::evaluate_into`): it must be GCP's own solve
+    // to the bit (negating a right-hand side negates each operation's result exactly).
     for seed in 0..N_CASES {
         let (c, subs) = random_vehicle::<4>(seed);
         let own = solve_synthesis_gcp(&c, &subs).unwrap();
         let mut given = subs;
         for s in given.iter_mut() {
-            s.phi_v_solved = Some(PhiVSolved::of(&s.phi_q).unwrap());
+            let lu = lu::Lu::new(&s.phi_q.fixed_columns::<4>(1).into_owned()).unwrap();
+            let phi_s = Vector4::new(0.0, 0.0, 0.0, 0.37);
+            let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[-s.phi_q.column(0), -phi_s]);
+            lu.solve(&mut rhs);
+            let dv_du: Vector4<f64> = rhs.column(0).into_owned();
+            s.phi_v_solved = Some(PhiVSolved { lu, phi_v_inv_phi_u: -dv_du });
         }
         let shared = solve_synthesis_gcp(&c, &given).unwrap();
         assert_eq!(own, shared, "the same factors, the same arithmetic");
