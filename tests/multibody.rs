@@ -49,6 +49,19 @@ fn random_state(rng: &mut Rng, base: &[f64]) -> Vec<f64> {
     x
 }
 
+/// Rack motion and wheel torques within the ranges a run sees (drive and brake on every wheel).
+fn random_inputs(rng: &mut Rng) -> Inputs {
+    Inputs {
+        rack: RackMotion {
+            position: rng.uniform(-0.06, 0.06),
+            velocity: rng.uniform(-0.3, 0.3),
+            acceleration: rng.uniform(-5.0, 5.0),
+        },
+        drive: [rng.uniform(-500.0, 500.0); 4],
+        brake: [rng.uniform(0.0, 500.0); 4],
+    }
+}
+
 #[test]
 fn formulations_agree_at_random_admissible_states() {
     let mut v = vehicle();
@@ -57,15 +70,7 @@ fn formulations_agree_at_random_admissible_states() {
     let mut worst: f64 = 0.0;
     for case in 0..150 {
         let x = random_state(&mut rng, &base);
-        let inputs = Inputs {
-            rack: RackMotion {
-                position: rng.uniform(-0.06, 0.06),
-                velocity: rng.uniform(-0.3, 0.3),
-                acceleration: rng.uniform(-5.0, 5.0),
-            },
-            drive: [rng.uniform(-500.0, 500.0); 4],
-            brake: [rng.uniform(0.0, 500.0); 4],
-        };
+        let inputs = random_inputs(&mut rng);
         let mut results = Vec::new();
         for f in [Formulation::Synthesis, Formulation::SynthesisAugmented, Formulation::Conventional] {
             v.formulation = f;
@@ -212,15 +217,7 @@ fn the_avx2_fma_evaluation_agrees_with_the_baseline_one() {
     println!("AVX2 + FMA evaluation in use: {}", rt_vehicle::simd::avx2_fma());
     for case in 0..150 {
         let x = random_state(&mut rng, &base);
-        let inputs = Inputs {
-            rack: RackMotion {
-                position: rng.uniform(-0.06, 0.06),
-                velocity: rng.uniform(-0.3, 0.3),
-                acceleration: 0.0,
-            },
-            drive: [rng.uniform(-500.0, 500.0); 4],
-            brake: [0.0; 4],
-        };
+        let inputs = random_inputs(&mut rng);
         let (mut fast, mut portable) = (vec![0.0; idx::DIM], vec![0.0; idx::DIM]);
         v.derivative(&x, &inputs, &mut KinematicsCache::default(), &mut fast, None).unwrap();
         v.derivative_portable(&x, &inputs, &mut KinematicsCache::default(), &mut portable).unwrap();
