@@ -1,23 +1,40 @@
-//! SLA subsystem kinematics against finite differences and against the data set's derived geometry
-//! (physics.md §9.1–§9.2).
+//! Suspension kinematics of every template against finite differences, and the HMMWV's against the data
+//! set's derived geometry (physics.md §9.1–§9.2). Every shipped vehicle is checked: the HMMWV (double
+//! wishbones, rack) and the Chrono imports in `resources/vehicles/` (double wishbones and MacPherson
+//! struts, Pitman arm).
 
 use nalgebra::Vector4;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::suspension::sla::{Side, SlaGeometry, Vector5f};
+use rt_vehicle::model::suspension::{Corner, CornerPositions, Vector5f};
 use rt_vehicle::model::vehicle::Vehicle;
 
-fn corners() -> Vec<(String, SlaGeometry)> {
-    let data = VehicleData::default_hmmwv();
+/// The HMMWV and every vehicle file shipped in resources/vehicles.
+fn vehicles() -> Vec<(String, VehicleData)> {
+    let mut out = vec![("hmmwv".to_string(), VehicleData::default_hmmwv())];
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles");
+    let mut files: Vec<_> =
+        std::fs::read_dir(&dir).map(|d| d.flatten().map(|e| e.path()).collect()).unwrap_or_default();
+    files.sort();
+    for f in files.into_iter().filter(|f| f.extension().is_some_and(|e| e == "json")) {
+        let data = VehicleData::from_file(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        out.push((f.file_stem().unwrap().to_string_lossy().into_owned(), data));
+    }
+    out
+}
+
+/// Every corner of every shipped vehicle, with its steering drive and the vehicle's steering limit.
+fn corners() -> Vec<(String, Corner)> {
     let mut out = Vec::new();
-    for (name, axle) in data.axles() {
-        for side in [Side::Left, Side::Right] {
-            out.push((format!("{name} {side:?}"), SlaGeometry::from_data(&data, axle, side).unwrap()));
+    for (vehicle, data) in vehicles() {
+        let v = Vehicle::new(&data).unwrap();
+        for (i, c) in v.corners.iter().enumerate() {
+            out.push((format!("{vehicle} {}", rt_vehicle::model::vehicle::CORNERS[i]), c.clone()));
         }
     }
     out
 }
 
-fn phi(c: &SlaGeometry, q: &Vector5f, s: f64) -> Vector4<f64> {
+fn phi(c: &Corner, q: &Vector5f, s: f64) -> Vector4<f64> {
     c.constraint_values(&c.evaluate(q, s))
 }
 
@@ -80,20 +97,23 @@ fn dependent_velocities_match_the_motion_of_solved_positions() {
 
 #[test]
 fn position_residual_across_travel_and_rack_range() {
-    let data = VehicleData::default_hmmwv();
-    let limit = data.rack.travel_limit_m;
     let mut worst: f64 = 0.0;
-    for (name, c) in corners() {
-        // Wheel travel between the stops is about −0.11..+0.2 m: θ_L from −0.25 to +0.35 rad covers it.
-        let mut warm = [0.0; 4];
-        for k in 0..=60 {
-            let u = -0.25 + 0.6 * k as f64 / 60.0;
-            for r in -4..=4 {
-                let s = if c.steered { limit * r as f64 / 4.0 } else { 0.0 };
-                let pos = c.solve_positions(u, s, &warm).unwrap_or_else(|e| panic!("{name}: {e}"));
-                warm = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
-                assert!(pos.residual <= 1e-10, "{name}: residual {:e}", pos.residual);
-                worst = worst.max(pos.residual);
+    for (vehicle, data) in vehicles() {
+        let limit = data.steering_limit();
+        let v = Vehicle::new(&data).unwrap();
+        for (i, c) in v.corners.iter().enumerate() {
+            let name = format!("{vehicle} {i}");
+            // Wheel travel between the stops is about −0.11..+0.2 m: θ_L from −0.25 to +0.35 rad covers it.
+            let mut warm = [0.0; 4];
+            for k in 0..=60 {
+                let u = -0.25 + 0.6 * k as f64 / 60.0;
+                for r in -4..=4 {
+                    let s = if c.steered { limit * r as f64 / 4.0 } else { 0.0 };
+                    let pos = c.solve_positions(u, s, &warm).unwrap_or_else(|e| panic!("{name}: {e}"));
+                    warm = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
+                    assert!(pos.residual <= 1e-10, "{name}: residual {:e}", pos.residual);
+                    worst = worst.max(pos.residual);
+                }
             }
         }
     }
@@ -101,16 +121,12 @@ fn position_residual_across_travel_and_rack_range() {
 }
 
 /// Wheel-centre height (chassis frame) and derived quantities at θ_L for the left corner of an axle.
-fn left(axle: &str) -> SlaGeometry {
-    let data = VehicleData::default_hmmwv();
-    let a = if axle == "front" { &data.front } else { &data.rear };
-    SlaGeometry::from_data(&data, a, Side::Left).unwrap()
+fn left(axle: &str) -> Corner {
+    let v = Vehicle::new(&VehicleData::default_hmmwv()).unwrap();
+    v.corners[if axle == "front" { 0 } else { 2 }].clone()
 }
 
-fn derivative_wrt_travel(
-    c: &SlaGeometry,
-    f: impl Fn(&SlaGeometry, &rt_vehicle::model::suspension::sla::SlaPositions) -> f64,
-) -> f64 {
+fn derivative_wrt_travel(c: &Corner, f: impl Fn(&Corner, &CornerPositions) -> f64) -> f64 {
     let h = 1e-5;
     let at = |u: f64| {
         let p = c.solve_positions(u, 0.0, &[0.0; 4]).unwrap();
@@ -131,8 +147,8 @@ fn suspension_kinematics_match_the_data_set() {
     };
     for (axle_name, axle) in data.axles() {
         let c = left(axle_name);
-        let r = &axle.reference_kinematics;
-        let k = c.u0 - c.b0;
+        let r = axle.reference_kinematics.as_ref().expect("the HMMWV data set has reference kinematics");
+        let k = c.solve_positions(0.0, 0.0, &[0.0; 4]).unwrap().upper_joint - c.b0;
         check(
             &format!("{axle_name} kingpin inclination deg"),
             (-k.y).atan2(k.z).to_degrees(),
@@ -143,13 +159,13 @@ fn suspension_kinematics_match_the_data_set() {
         check(&format!("{axle_name} camber gain deg/m"), camber, r.camber_gain_deg_per_m);
         let toe = derivative_wrt_travel(&c, |c, p| c.steer_angle(p).to_degrees());
         check(&format!("{axle_name} bump steer deg/m"), toe, r.bump_steer_deg_per_m);
-        let ratio = -derivative_wrt_travel(&c, |c, p| (c.on_lower(p, &c.spring_arm) - c.spring_chassis).norm());
+        let ratio = -derivative_wrt_travel(&c, |c, p| (c.mount_point(p, &c.spring) - c.spring.chassis).norm());
         check(&format!("{axle_name} spring motion ratio"), ratio, r.spring_motion_ratio_dLspring_dzwheel);
     }
     let v = Vehicle::new(&data).unwrap();
-    let gain = (v.steering_gain_per_rack_metre().unwrap() * v.rack.sign).to_degrees();
-    check("steering gain deg/m of rack (left-turn input)", gain, data.rack.reference_gain_deg_per_m);
-    assert_eq!(v.rack.sign, -1.0, "steering arms behind the axle: left turn moves the rack to −y");
+    let gain = (v.steering_gain_per_rack_metre().unwrap() * v.steering.sign).to_degrees();
+    check("steering gain deg/m of rack (left-turn input)", gain, data.rack.as_ref().unwrap().reference_gain_deg_per_m);
+    assert_eq!(v.steering.sign, -1.0, "steering arms behind the axle: left turn moves the rack to −y");
 }
 
 /// Body velocity states and their rates against finite differences along a trajectory of the chassis

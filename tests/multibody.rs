@@ -98,7 +98,7 @@ fn free_flight_vehicle(gravity: bool, springs: bool) -> Vehicle {
     // flung to the end of their travel (no stops, no tires in free flight).
     for i in 0..4 {
         let c = &v.corners[i];
-        v.corner_forces[i].spring_free_length = (c.spring_arm - c.spring_chassis).norm();
+        v.corner_forces[i].spring_free_length = (c.spring.moving - c.spring.chassis).norm();
     }
     v
 }

@@ -12,8 +12,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use rt_vehicle::error::ModelError;
-use rt_vehicle::model::params::{DataError, VehicleData};
-use rt_vehicle::model::suspension::sla::{Side, SlaGeometry};
+use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
+use rt_vehicle::model::suspension::{Corner, Side};
 use rt_vehicle::sim::scenes::{run, run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{modes, Formulation, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
 use std::collections::BTreeMap;
@@ -237,7 +237,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         )));
     }
     let data = vehicle_data(&opts)?;
-    scene.check_rack(data.rack.travel_limit_m).map_err(|e| bad(format!("--amplitude: {e}")))?;
+    scene.check_rack(data.steering_limit()).map_err(|e| bad(format!("--amplitude: {e}")))?;
     let started = Instant::now();
     let mut sim = scene.start_keeping(data, &config, keep_all)?;
     sim.set_wheel_torques([drive; 4], [brake; 4]);
@@ -305,8 +305,9 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
         _ => return Err(bad(format!("--axle: '{axle_name}' is not front or rear"))),
     };
     let (from, inc, n) = sweep(&opts, -0.15, 0.10, 0.005)?;
-    let left = SlaGeometry::from_data(&data, axle, Side::Left)?;
-    let right = SlaGeometry::from_data(&data, axle, Side::Right)?;
+    let drive = rt_vehicle::model::steering::tie_rod_drive(&data)?;
+    let left = Corner::from_data(&data, axle, Side::Left, drive)?;
+    let right = Corner::from_data(&data, axle, Side::Right, drive)?;
     let mut out = csv_writer(opts.get("out"))?;
     let mut text = String::from("travel_m,camber_l_deg,camber_r_deg,steer_l_deg,steer_r_deg,wheel_lateral_l_m,spring_length_l_m,damper_length_l_m\n");
     for k in 0..=n {
@@ -325,8 +326,8 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
             left.steer_angle(pl).to_degrees(),
             right.steer_angle(pr).to_degrees(),
             wheel.y - left.w0.y,
-            (left.on_lower(pl, &left.spring_arm) - left.spring_chassis).norm(),
-            (left.on_lower(pl, &left.shock_arm) - left.shock_chassis).norm(),
+            (left.mount_point(pl, &left.spring) - left.spring.chassis).norm(),
+            (left.mount_point(pl, &left.shock) - left.shock.chassis).norm(),
         );
     }
     out.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
@@ -335,7 +336,7 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
 
 /// Positions with the wheel centre `travel` above its design height (chassis fixed, rack centred):
 /// Newton on θ_L using dz/dθ_L by a central difference.
-fn wheel_at_travel(c: &SlaGeometry, travel: f64) -> Result<rt_vehicle::model::suspension::sla::SlaPositions, String> {
+fn wheel_at_travel(c: &Corner, travel: f64) -> Result<rt_vehicle::model::suspension::CornerPositions, String> {
     let z = |u: f64| -> Result<f64, String> {
         let p = c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.to_string())?;
         Ok(c.on_carrier(&p, &c.w0).z - c.w0.z)
@@ -364,19 +365,27 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     let data = vehicle_data(&opts)?;
     let (from, inc, n) = sweep(&opts, -0.06, 0.06, 0.002)?;
     let v = rt_vehicle::model::vehicle::Vehicle::new(&data)?;
-    let mut text = String::from("rack_displacement_m,steer_l_deg,steer_r_deg\n");
+    let input = data.steering_input();
+    let column = match input {
+        SteeringInput::RackDisplacement => "rack_displacement_m",
+        SteeringInput::PitmanArmAngle => "pitman_arm_angle_rad",
+    };
+    let mut text = format!("{column},steer_l_deg,steer_r_deg\n");
     for k in 0..=n {
         let u = from + k as f64 * inc;
-        if u.abs() > data.rack.travel_limit_m + 1e-12 {
+        if u.abs() > data.steering_limit() + 1e-12 {
             return Err(failed(format!(
-                "rack displacement {u:+.4} m is beyond the travel limit ±{} m",
-                data.rack.travel_limit_m
+                "{} {u:+.4} {} is beyond the steering limit ±{} {}",
+                input.name(),
+                input.unit(),
+                data.steering_limit(),
+                input.unit()
             )));
         }
         let mut angles = [0.0; 2];
         for (i, a) in angles.iter_mut().enumerate() {
             let c = &v.corners[i];
-            let p = c.solve_positions(0.0, v.rack.sign * u, &[0.0; 4])?;
+            let p = c.solve_positions(0.0, v.steering.sign * u, &[0.0; 4])?;
             *a = c.steer_angle(&p).to_degrees();
         }
         text += &format!("{u:.6},{:.6},{:.6}\n", angles[0], angles[1]);

@@ -371,7 +371,7 @@ impl FmuModel for VehicleModel {
                 InputSlot::Rack => {
                     // The rack's travel limit (vehicle data): known once the simulation is built; a start
                     // value set before is checked when it is (`initialize`).
-                    if let Some(limit) = self.sim.as_ref().map(|s| s.vehicle().rack.travel_limit) {
+                    if let Some(limit) = self.sim.as_ref().map(|s| s.vehicle().steering.travel_limit) {
                         check_rack(value, limit)?;
                     }
                     self.rack = value
@@ -470,7 +470,7 @@ impl FmuModel for VehicleModel {
             log.event(&format!("vehicle data: {w}"));
         }
         log.event(&format!("configuration: {config:?}"));
-        check_rack(self.rack, vehicle.rack.travel_limit_m)?;
+        check_rack(self.rack, vehicle.steering_limit())?;
         let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
         self.sim = Some(sim);
         self.step_cpu_time = 0.0;

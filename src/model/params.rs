@@ -60,9 +60,25 @@ pub struct Spring {
     /// Odd cubic law F = k1 x + k3 x^3, x = L - free length (the data's `derived_cubic_fit`).
     pub k1_N_per_m: f64,
     pub k3_N_per_m3: f64,
-    /// Bump stop acts below this spring length, rebound stop above `stop_max_length_m`.
+    /// Bump stop acts below this spring length, rebound stop above `stop_max_length_m` (absent: no stop;
+    /// the stop force follows `stop_table`).
+    #[serde(default = "no_bump_stop", skip_serializing_if = "is_no_bump_stop")]
     pub stop_min_length_m: f64,
+    #[serde(default = "no_rebound_stop", skip_serializing_if = "is_no_rebound_stop")]
     pub stop_max_length_m: f64,
+}
+
+fn no_bump_stop() -> f64 {
+    f64::NEG_INFINITY
+}
+fn no_rebound_stop() -> f64 {
+    f64::INFINITY
+}
+fn is_no_bump_stop(v: &f64) -> bool {
+    *v == f64::NEG_INFINITY
+}
+fn is_no_rebound_stop(v: &f64) -> bool {
+    *v == f64::INFINITY
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -89,16 +105,58 @@ pub struct ReferenceKinematics {
     pub tierod_length_m: f64,
 }
 
+/// The suspension template of an axle (`src/model/suspension/`; docs/vehicle_file.md lists each one's
+/// hardpoints and bodies).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SuspensionTemplate {
+    /// Short-long arm (SLA): lower and upper control arms on revolute joints, ball joints to the upright,
+    /// spring and damper on the lower arm (Chrono's `DoubleWishbone`).
+    #[default]
+    DoubleWishbone,
+    /// Lower control arm on a revolute joint, ball joint to the upright, the strut a cylindrical pair
+    /// between the upright and a universal joint at the chassis top mount; spring and damper along the
+    /// strut, between chassis and upright (Chrono's `MacPhersonStrut`).
+    MacphersonStrut,
+}
+
+impl SuspensionTemplate {
+    pub fn name(self) -> &'static str {
+        match self {
+            SuspensionTemplate::DoubleWishbone => "double_wishbone",
+            SuspensionTemplate::MacphersonStrut => "macpherson_strut",
+        }
+    }
+
+    /// The hardpoints an axle of this template must name (left side, chassis reference frame).
+    pub fn hardpoints(self) -> &'static [&'static str] {
+        match self {
+            SuspensionTemplate::DoubleWishbone => &HARDPOINTS,
+            SuspensionTemplate::MacphersonStrut => &MACPHERSON_HARDPOINTS,
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Axle {
-    /// Front tie rods end on the rack; rear toe links end on the chassis.
+    /// The suspension template (default: double wishbone, the HMMWV's).
+    #[serde(default)]
+    pub template: SuspensionTemplate,
+    /// Front tie rods end on the steering (rack or Pitman-arm link); rear toe links end on the chassis.
     pub steered: bool,
     /// Left-side hardpoints in the chassis reference frame (the right side mirrors y).
     pub hardpoints_chassis_frame_m: BTreeMap<String, [f64; 3]>,
     /// Inertia in the arm frame (x = unit(F - B), z normal to the arm plane), rotated at load.
     pub lower_arm: RigidBody,
-    pub upper_arm: RigidBody,
+    /// Double wishbone only (same frame convention as the lower arm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub upper_arm: Option<RigidBody>,
+    /// MacPherson strut only: the strut (rod) body between the top mount and the upright. Its mass and
+    /// inertia (axes parallel to the chassis, CM midway between SPRING_C and SPRING_U) are carried by the
+    /// chassis: the rod swings by a few degrees about its top mount.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strut: Option<RigidBody>,
     /// Inertia in axes parallel to the chassis.
     pub upright: RigidBody,
     /// Inertia [Ixx, Iyy(spin), Izz] parallel to the chassis.
@@ -106,7 +164,9 @@ pub struct Axle {
     pub axle_shaft_spin_inertia_kg_m2: f64,
     pub spring: Spring,
     pub damper: Damper,
-    pub reference_kinematics: ReferenceKinematics,
+    /// Published kinematic figures the model is checked against (the HMMWV's data set; optional).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_kinematics: Option<ReferenceKinematics>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -171,6 +231,32 @@ pub struct SpeedHold {
     pub ki_per_s2: f64,
 }
 
+/// Pitman-arm steering (Chrono's `PitmanArm`), driven kinematically by the Pitman arm's angle: the arm
+/// turns about its pivot axis, the steering (drag) link hangs from it by a universal joint and from the
+/// idler arm, which turns about its own chassis axis. The front tie rods end on the link (their TIEROD_C
+/// points move with it). Points and axes in the chassis reference frame. The arm and link masses are
+/// carried by the chassis (their driven motion is a few centimetres).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PitmanArm {
+    pub arm: RigidBody,
+    pub arm_com_m: [f64; 3],
+    pub link: RigidBody,
+    pub link_com_m: [f64; 3],
+    /// Revolute joint of the Pitman arm on the chassis: a point on its axis and the axis direction
+    /// (+ angle about it turns the vehicle left once the vehicle has measured its sign).
+    pub arm_pivot_m: [f64; 3],
+    pub arm_axis: [f64; 3],
+    /// Universal joint between arm and link.
+    pub arm_link_joint_m: [f64; 3],
+    /// Idler arm: its pivot point and axis on the chassis, and its joint with the link.
+    pub idler_pivot_m: [f64; 3],
+    pub idler_axis: [f64; 3],
+    pub idler_link_joint_m: [f64; 3],
+    /// Largest Pitman-arm angle (either way) the steering accepts, rad.
+    pub max_angle_rad: f64,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleData {
@@ -178,7 +264,15 @@ pub struct VehicleData {
     pub provenance: String,
     pub gravity_m_s2: f64,
     pub chassis: Chassis,
-    pub rack: Rack,
+    /// Exactly one steering: a rack (input `rack_displacement`, m) or a Pitman arm (input
+    /// `pitman_arm_angle`, rad).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rack: Option<Rack>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pitman_arm: Option<PitmanArm>,
+    /// The driver's eye point in the chassis reference frame (ride tests read accelerations there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub driver_position_m: Option<[f64; 3]>,
     pub front: Axle,
     pub rear: Axle,
     pub stop_table: StopTable,
@@ -187,11 +281,44 @@ pub struct VehicleData {
     pub speed_hold: SpeedHold,
 }
 
-/// The hardpoints every axle must name.
+/// The hardpoints a MacPherson-strut axle must name (Chrono's names: the strut runs from SPRING_U on the
+/// upright to its top mount SPRING_C on the chassis; the damper acts from SHOCK_U to SHOCK_C).
+pub const MACPHERSON_HARDPOINTS: [&str; 12] = [
+    "SPINDLE", "UPRIGHT", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C", "SHOCK_U", "SPRING_C", "SPRING_U",
+    "TIEROD_C", "TIEROD_U",
+];
+
+/// The hardpoints a double-wishbone axle must name.
 pub const HARDPOINTS: [&str; 16] = [
     "SPINDLE", "UPRIGHT", "UCA_F", "UCA_B", "UCA_U", "UCA_CM", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C",
     "SHOCK_A", "SPRING_C", "SPRING_A", "TIEROD_C", "TIEROD_U",
 ];
+
+/// The steering input a vehicle takes: each steering template has its own (FMU input and CLI unit).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SteeringInput {
+    /// Rack and pinion: rack displacement, m (+ = left turn).
+    RackDisplacement,
+    /// Pitman arm: the arm's angle, rad (+ = left turn).
+    PitmanArmAngle,
+}
+
+impl SteeringInput {
+    /// The FMU input's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            SteeringInput::RackDisplacement => "rack_displacement",
+            SteeringInput::PitmanArmAngle => "pitman_arm_angle",
+        }
+    }
+
+    pub fn unit(self) -> &'static str {
+        match self {
+            SteeringInput::RackDisplacement => "m",
+            SteeringInput::PitmanArmAngle => "rad",
+        }
+    }
+}
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct DataError {
@@ -263,30 +390,99 @@ impl VehicleData {
                 inertia_products_kg_m2: self.chassis.inertia_products_kg_m2,
             },
         )?;
-        positive("rack.mass_kg", self.rack.mass_kg)?;
-        positive("rack.travel_limit_m", self.rack.travel_limit_m)?;
-        pos_def(
-            "rack.inertia",
-            &RigidBody {
-                mass_kg: self.rack.mass_kg,
-                inertia_moments_kg_m2: self.rack.inertia_moments_kg_m2,
-                inertia_products_kg_m2: self.rack.inertia_products_kg_m2,
-            },
-        )?;
+        match (&self.rack, &self.pitman_arm) {
+            (Some(rack), None) => {
+                positive("rack.mass_kg", rack.mass_kg)?;
+                positive("rack.travel_limit_m", rack.travel_limit_m)?;
+                finite3("rack.com_m", &rack.com_m)?;
+                pos_def(
+                    "rack.inertia",
+                    &RigidBody {
+                        mass_kg: rack.mass_kg,
+                        inertia_moments_kg_m2: rack.inertia_moments_kg_m2,
+                        inertia_products_kg_m2: rack.inertia_products_kg_m2,
+                    },
+                )?;
+            }
+            (None, Some(p)) => {
+                for (body, b) in [("pitman_arm.arm", &p.arm), ("pitman_arm.link", &p.link)] {
+                    positive(&format!("{body}.mass_kg"), b.mass_kg)?;
+                    pos_def(&format!("{body}.inertia"), b)?;
+                }
+                for (k, v) in [
+                    ("arm_com_m", &p.arm_com_m),
+                    ("link_com_m", &p.link_com_m),
+                    ("arm_pivot_m", &p.arm_pivot_m),
+                    ("arm_link_joint_m", &p.arm_link_joint_m),
+                    ("idler_pivot_m", &p.idler_pivot_m),
+                    ("idler_link_joint_m", &p.idler_link_joint_m),
+                ] {
+                    finite3(&format!("pitman_arm.{k}"), v)?;
+                }
+                for (k, v) in [("arm_axis", &p.arm_axis), ("idler_axis", &p.idler_axis)] {
+                    finite3(&format!("pitman_arm.{k}"), v)?;
+                    if Vector3::from(*v).norm() < 1e-9 {
+                        return Err(err(format!("pitman_arm.{k}"), "axis direction of zero length"));
+                    }
+                }
+                positive("pitman_arm.max_angle_rad", p.max_angle_rad)?;
+                if p.max_angle_rad >= std::f64::consts::FRAC_PI_2 {
+                    return Err(err("pitman_arm.max_angle_rad", "must be below π/2 (90°)"));
+                }
+            }
+            (Some(_), Some(_)) => {
+                return Err(err("rack", "a vehicle has one steering: give either `rack` or `pitman_arm`, not both"))
+            }
+            (None, None) => return Err(err("rack", "missing steering: give `rack` (rack and pinion) or `pitman_arm`")),
+        }
+        if let Some(d) = &self.driver_position_m {
+            finite3("driver_position_m", d)?;
+        }
         for (name, axle) in self.axles() {
-            for p in HARDPOINTS {
+            for p in axle.template.hardpoints() {
                 let v = axle
                     .hardpoints_chassis_frame_m
-                    .get(p)
+                    .get(*p)
                     .ok_or_else(|| err(format!("{name}.hardpoints_chassis_frame_m.{p}"), "missing hardpoint"))?;
                 finite3(&format!("{name}.hardpoints_chassis_frame_m.{p}"), v)?;
             }
-            for (body, b) in [
-                ("lower_arm", &axle.lower_arm),
-                ("upper_arm", &axle.upper_arm),
-                ("upright", &axle.upright),
-                ("spindle", &axle.spindle),
-            ] {
+            for (k, v) in &axle.hardpoints_chassis_frame_m {
+                if !axle.template.hardpoints().contains(&k.as_str()) {
+                    return Err(err(
+                        format!("{name}.hardpoints_chassis_frame_m.{k}"),
+                        format!(
+                            "not a hardpoint of the {} template (it has: {})",
+                            axle.template.name(),
+                            axle.template.hardpoints().join(", ")
+                        ),
+                    ));
+                }
+                finite3(&format!("{name}.hardpoints_chassis_frame_m.{k}"), v)?;
+            }
+            match axle.template {
+                SuspensionTemplate::DoubleWishbone => {
+                    if axle.upper_arm.is_none() {
+                        return Err(err(format!("{name}.upper_arm"), "missing: a double wishbone has an upper arm"));
+                    }
+                    if axle.strut.is_some() {
+                        return Err(err(format!("{name}.strut"), "a double wishbone has no strut body"));
+                    }
+                }
+                SuspensionTemplate::MacphersonStrut => {
+                    if axle.upper_arm.is_some() {
+                        return Err(err(format!("{name}.upper_arm"), "a MacPherson strut has no upper arm"));
+                    }
+                }
+            }
+            let mut bodies =
+                vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
+            if let Some(b) = &axle.upper_arm {
+                bodies.push(("upper_arm", b));
+            }
+            if let Some(b) = &axle.strut {
+                bodies.push(("strut", b));
+            }
+            for (body, b) in bodies {
                 positive(&format!("{name}.{body}.mass_kg"), b.mass_kg)?;
                 pos_def(&format!("{name}.{body}.inertia"), b)?;
             }
@@ -295,7 +491,14 @@ impl VehicleData {
             positive(&format!("{name}.spring.free_length_m"), s.free_length_m)?;
             nonneg(&format!("{name}.spring.k1_N_per_m"), s.k1_N_per_m)?;
             nonneg(&format!("{name}.spring.k3_N_per_m3"), s.k3_N_per_m3)?;
-            if !(s.stop_min_length_m > 0.0 && s.stop_min_length_m < s.stop_max_length_m) {
+            // Absent stops are ∓∞ (serde defaults); a given one must be a positive length.
+            let stop_ok = |v: f64| v.is_infinite() || (v.is_finite() && v > 0.0);
+            if !(stop_ok(s.stop_min_length_m)
+                && stop_ok(s.stop_max_length_m)
+                && s.stop_min_length_m < s.stop_max_length_m
+                && s.stop_min_length_m != f64::INFINITY
+                && s.stop_max_length_m != f64::NEG_INFINITY)
+            {
                 return Err(err(
                     format!("{name}.spring.stop_min_length_m"),
                     "stop lengths must satisfy 0 < stop_min_length_m < stop_max_length_m",
@@ -316,7 +519,7 @@ impl VehicleData {
                     "must be below engagement_max_length_m",
                 ));
             }
-            crate::model::suspension::sla::check_loop_closes(self, name, axle)?;
+            crate::model::suspension::check_loop_closes(self, name, axle)?;
         }
         let t = &self.stop_table;
         if t.deflection_m.len() != t.force_N.len() || t.deflection_m.len() < 2 {
@@ -378,9 +581,11 @@ impl VehicleData {
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
         for (name, axle) in self.axles() {
-            for (body, b) in
-                [("lower_arm", &axle.lower_arm), ("upper_arm", &axle.upper_arm), ("upright", &axle.upright)]
-            {
+            let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright)];
+            if let Some(b) = &axle.upper_arm {
+                bodies.push(("upper_arm", b));
+            }
+            for (body, b) in bodies {
                 let e = b.inertia().symmetric_eigenvalues();
                 let (a, bb, c) = (e[0], e[1], e[2]);
                 if a > bb + c || bb > a + c || c > a + bb {
@@ -392,6 +597,78 @@ impl VehicleData {
             }
         }
         out
+    }
+
+    /// Bodies the chassis carries rigidly besides its own: the MacPherson strut rods (CM midway between
+    /// SPRING_C and SPRING_U, both sides) and the Pitman arm and steering link. Each as (mass, CM in the
+    /// chassis reference frame, inertia about its CM in chassis axes).
+    pub fn carried_bodies(&self) -> Vec<(f64, Vector3<f64>, Matrix3<f64>)> {
+        let mut out = Vec::new();
+        for (_, axle) in self.axles() {
+            if let (Some(strut), SuspensionTemplate::MacphersonStrut) = (&axle.strut, axle.template) {
+                let c = 0.5 * (Self::point(axle, "SPRING_C") + Self::point(axle, "SPRING_U"));
+                let mirror = Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 1.0));
+                out.push((strut.mass_kg, c, strut.inertia()));
+                out.push((strut.mass_kg, Vector3::new(c.x, -c.y, c.z), mirror * strut.inertia() * mirror));
+            }
+        }
+        if let Some(p) = &self.pitman_arm {
+            out.push((p.arm.mass_kg, Vector3::from(p.arm_com_m), p.arm.inertia()));
+            out.push((p.link.mass_kg, Vector3::from(p.link_com_m), p.link.inertia()));
+        }
+        out
+    }
+
+    /// The sprung body's CM (chassis and the bodies it carries), chassis reference frame: the origin of
+    /// every position in the model.
+    pub fn sprung_com(&self) -> Vector3<f64> {
+        let c = Vector3::from(self.chassis.com_m);
+        let carried = self.carried_bodies();
+        if carried.is_empty() {
+            return c;
+        }
+        let mass = self.chassis.mass_kg + carried.iter().map(|b| b.0).sum::<f64>();
+        (c * self.chassis.mass_kg + carried.iter().map(|b| b.1 * b.0).sum::<Vector3<f64>>()) / mass
+    }
+
+    /// The sprung body's mass and inertia about `sprung_com` (chassis axes).
+    pub fn sprung_inertia(&self) -> (f64, Matrix3<f64>) {
+        let chassis = RigidBody {
+            mass_kg: self.chassis.mass_kg,
+            inertia_moments_kg_m2: self.chassis.inertia_moments_kg_m2,
+            inertia_products_kg_m2: self.chassis.inertia_products_kg_m2,
+        };
+        let carried = self.carried_bodies();
+        if carried.is_empty() {
+            return (chassis.mass_kg, chassis.inertia());
+        }
+        let c0 = self.sprung_com();
+        let steiner = |m: f64, r: Vector3<f64>| (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * m;
+        let mut mass = chassis.mass_kg;
+        let mut j = chassis.inertia() + steiner(chassis.mass_kg, Vector3::from(self.chassis.com_m) - c0);
+        for (m, c, jb) in carried {
+            mass += m;
+            j += jb + steiner(m, c - c0);
+        }
+        (mass, j)
+    }
+
+    /// The steering input's limit (either way): rack travel, m, or Pitman-arm angle, rad.
+    pub fn steering_limit(&self) -> f64 {
+        match (&self.rack, &self.pitman_arm) {
+            (Some(r), _) => r.travel_limit_m,
+            (None, Some(p)) => p.max_angle_rad,
+            (None, None) => 0.0,
+        }
+    }
+
+    /// The steering input's name and unit: `rack_displacement` (m) or `pitman_arm_angle` (rad).
+    pub fn steering_input(&self) -> SteeringInput {
+        if self.pitman_arm.is_some() {
+            SteeringInput::PitmanArmAngle
+        } else {
+            SteeringInput::RackDisplacement
+        }
     }
 
     pub fn point(axle: &Axle, name: &str) -> Vector3<f64> {

@@ -12,8 +12,8 @@ use crate::math::{quat_rate, quat_to_matrix, skew, Axes, ChassisAxes, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
-use crate::model::steering::rack::Rack;
-use crate::model::suspension::sla::{BodyInertia, Side, SlaGeometry, SlaPositions, Vector5f};
+use crate::model::steering::{tie_rod_drive, Steering};
+use crate::model::suspension::{BodyInertia, Corner, CornerPositions, LineMount, MountBody, Side, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{SMatrix, Vector4, Vector6};
 use serde::{Deserialize, Serialize};
@@ -123,7 +123,7 @@ impl Default for ForceSwitches {
     }
 }
 
-pub use crate::model::steering::rack::RackMotion;
+pub use crate::model::steering::RackMotion;
 
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Inputs {
@@ -159,7 +159,7 @@ impl WarmStart {
 pub struct KinematicsCache {
     pub corners: [WarmStart; 4],
     #[serde(skip)]
-    pub positions: [SlaPositions; 4],
+    pub positions: [CornerPositions; 4],
     /// The terms of the latest evaluation (scratch, written in place).
     #[serde(skip)]
     pub assembly: Assembly,
@@ -202,11 +202,11 @@ pub struct CornerForces {
 /// The vehicle model: geometry, inertia, force laws and modes. Immutable during a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Vehicle {
-    pub corners: [SlaGeometry; 4],
+    pub corners: [Corner; 4],
     pub corner_forces: [CornerForces; 4],
     pub stops: StopCurve,
     pub chassis: BodyInertia,
-    pub rack: Rack,
+    pub steering: Steering,
     pub tire: TireParams,
     pub tire_model: TireModel,
     pub slip: SlipModel,
@@ -262,32 +262,34 @@ impl Vehicle {
         data.validate()?;
         let axles = [&data.front, &data.front, &data.rear, &data.rear];
         let sides = [Side::Left, Side::Right, Side::Left, Side::Right];
+        let drive = tie_rod_drive(data)?;
         let mut corners = Vec::with_capacity(4);
         for i in 0..4 {
-            corners.push(SlaGeometry::from_data(data, axles[i], sides[i])?);
+            let axle_name = if i < 2 { "front" } else { "rear" };
+            corners.push(
+                Corner::from_data(data, axles[i], sides[i], drive)
+                    .map_err(|e| DataError { field: format!("{axle_name}.{}", e.field), message: e.message })?,
+            );
         }
-        let corners: [SlaGeometry; 4] = corners.try_into().expect("four corners");
+        let corners: [Corner; 4] = corners.try_into().expect("four corners");
         let corner_forces = axles.map(|a| CornerForces {
             spring: a.spring.clone(),
             spring_free_length: a.spring.free_length_m,
             damper: a.damper.clone(),
         });
-        let chassis_inertia = crate::model::params::RigidBody {
-            mass_kg: data.chassis.mass_kg,
-            inertia_moments_kg_m2: data.chassis.inertia_moments_kg_m2,
-            inertia_products_kg_m2: data.chassis.inertia_products_kg_m2,
-        };
-        let chassis = BodyInertia { mass: data.chassis.mass_kg, com: V3::zeros(), inertia: chassis_inertia.inertia() };
-        let rack = Rack::from_data(data);
+        // The sprung body: the chassis and what it carries rigidly (strut rods, Pitman arm and link).
+        let (sprung_mass, sprung_inertia) = data.sprung_inertia();
+        let chassis = BodyInertia { mass: sprung_mass, com: V3::zeros(), inertia: sprung_inertia };
+        let steering = Steering::from_data(data);
         let total_mass = chassis.mass
-            + rack.body.mass
+            + steering.body.mass
             + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>();
         let mut v = Vehicle {
             corners,
             corner_forces,
             stops: StopCurve::new(&data.stop_table),
             chassis,
-            rack,
+            steering,
             tire: data.tire.clone(),
             tire_model: TireModel::Sti,
             slip: SlipModel::Relaxation,
@@ -303,7 +305,7 @@ impl Vehicle {
             envelope: None,
             keep_unused_states: false,
         };
-        v.rack.sign = if v
+        v.steering.sign = if v
             .steering_gain_per_rack_metre()
             .map_err(|e| DataError { field: "front.hardpoints_chassis_frame_m".into(), message: e.to_string() })?
             < 0.0
@@ -348,10 +350,10 @@ impl Vehicle {
         Ok((mean(h)? - mean(-h)?) / (2.0 * h))
     }
 
-    /// Rack translation for corner i (rear toe links ignore it).
+    /// Steering coordinate for corner i (rear toe links ignore it).
     fn rack_translation(&self, i: usize, u: f64) -> f64 {
         if self.corners[i].steered {
-            self.rack.sign * u
+            self.steering.sign * u
         } else {
             0.0
         }
@@ -363,7 +365,7 @@ impl Vehicle {
         x: &[f64],
         rack_u: f64,
         cache: &mut KinematicsCache,
-    ) -> Result<[SlaPositions; 4], ModelError> {
+    ) -> Result<[CornerPositions; 4], ModelError> {
         self.solve_corners(x, rack_u, cache)?;
         Ok(cache.positions.clone())
     }
@@ -579,11 +581,13 @@ impl Vehicle {
         let mut chassis_mass = mass_hat(self.chassis.mass, &V3::zeros(), j0);
         let mut chassis_force = body_force(self.chassis.mass, &V3::zeros(), j0, &ang(&y0), &lin(&y0), &g_chassis);
         let rack = &inputs.rack;
-        let s = self.rack.translation(rack);
+        let s = self.steering.translation(rack);
         let (sd, sdd) = (s.velocity, s.acceleration);
-        let (rack_mass, rack_force) = self.rack.chassis_terms(&axes, &y0, &g_chassis, &s);
-        chassis_mass += rack_mass;
-        chassis_force += rack_force;
+        if self.steering.has_moving_body() {
+            let (rack_mass, rack_force) = self.steering.chassis_terms(&axes, &y0, &g_chassis, &s);
+            chassis_mass += rack_mass;
+            chassis_force += rack_force;
+        }
 
         // Speed hold: T_d = m R0 [kp (V* − Vx) + ki z_v], split equally (§8.2). Vx is the speed along the
         // horizontal heading (not the pitched body x axis), so that steady rolling with the static pitch
@@ -649,7 +653,7 @@ impl Vehicle {
         &self,
         road: &dyn Road,
         i: usize,
-        pos: &SlaPositions,
+        pos: &CornerPositions,
         qd: &Vector5f,
         gamma_bar: &Vector4<f64>,
         a0: &M3,
@@ -676,11 +680,15 @@ impl Vehicle {
         let q_u = body_wrench(BODY_U);
         let mut chassis_wrench = Vector6::zeros();
 
-        // Spring, stops and damper between the chassis and the lower arm (§5.2–5.3).
+        // Spring, stops and damper between the chassis and the lower arm or the upright (§5.2–5.3).
         let f = &self.corner_forces[i];
-        let mut line_element = |chassis_pt: &V3, arm_pt: &V3, kind: LineElement| {
-            let rho_c = *chassis_pt;
-            let rho_a = c.on_lower(pos, arm_pt);
+        let mut line_element = |mount: &LineMount, kind: LineElement| {
+            let rho_c = mount.chassis;
+            let rho_a = c.mount_point(pos, mount);
+            let y_a = match mount.body {
+                MountBody::LowerArm => &y_l,
+                MountBody::Carrier => &y_k,
+            };
             let dvec = rho_a - rho_c;
             let length = dvec.norm();
             let e = dvec / length;
@@ -694,18 +702,21 @@ impl Vehicle {
                     spring_force(&spring, f.spring_free_length, &self.stops, length)
                 }
                 LineElement::Damper => {
-                    let rate = e.dot(&(point_velocity(&y_l, &rho_a) - (v0 + w0.cross(&rho_c))));
+                    let rate = e.dot(&(point_velocity(y_a, &rho_a) - (v0 + w0.cross(&rho_c))));
                     damper_force(&f.damper, length, rate)
                 }
             };
-            q_l += point_force(&(e * magnitude), &rho_a);
+            match mount.body {
+                MountBody::LowerArm => q_l += point_force(&(e * magnitude), &rho_a),
+                MountBody::Carrier => q_k += point_force(&(e * magnitude), &rho_a),
+            }
             chassis_wrench += point_force(&(-e * magnitude), &rho_c);
         };
         if self.switches.springs {
-            line_element(&c.spring_chassis, &c.spring_arm, LineElement::Spring);
+            line_element(&c.spring, LineElement::Spring);
         }
         if self.switches.dampers {
-            line_element(&c.shock_chassis, &c.shock_arm, LineElement::Damper);
+            line_element(&c.shock, LineElement::Damper);
         }
 
         // Wheel: tire on the road, spin decoupled exactly (§4.8, §6).
@@ -888,7 +899,7 @@ impl Vehicle {
     pub fn corner_kinematics(
         &self,
         i: usize,
-        pos: &SlaPositions,
+        pos: &CornerPositions,
         qd: &Vector5f,
         axes: &impl Axes,
         y0: &Vector6<f64>,
@@ -897,10 +908,12 @@ impl Vehicle {
         let (v0, w0) = (lin(y0), ang(y0));
         let phid = V3::new(qd[1], qd[2], qd[3]);
         // Joint velocity matrices: revolute B = [ρ_p × h; h], spherical B_K = [ρ̃_b; I] A_L G.
+        // The body of q[4]: the upper arm's revolute, or (the strut slide) no body: B_U = 0, D_U = 0.
+        let (p_u, h_u) = c.upper_revolute().unwrap_or((V3::zeros(), V3::zeros()));
         let h_l = axes.vector(&c.h_l);
-        let h_u = axes.vector(&c.h_u);
+        let h_u = axes.vector(&h_u);
         let rho_pl = axes.vector(&c.p_l);
-        let rho_pu = axes.vector(&c.p_u);
+        let rho_pu = axes.vector(&p_u);
         let rho_b = axes.vector(&pos.b);
         let a_l_g = axes.matrix(&pos.rl_g);
         let b_l = wrench(&rho_pl.cross(&h_l), &h_l);
@@ -1021,10 +1034,10 @@ impl Vehicle {
         };
         let j0 = a0 * self.chassis.inertia * a0.transpose();
         add_body(self.chassis.mass, &V3::zeros(), &j0, &v0, &w0);
-        let s = self.rack.translation(rack);
+        let s = self.steering.translation(rack);
         let sd = s.velocity;
-        let (rho_r, rdot_r, j_r) = self.rack.state(&a0, &v0, &w0, &s);
-        add_body(self.rack.body.mass, &rho_r, &j_r, &rdot_r, &w0);
+        let (rho_r, rdot_r, j_r) = self.steering.state(&a0, &v0, &w0, &s);
+        add_body(self.steering.body.mass, &rho_r, &j_r, &rdot_r, &w0);
         let positions = self.corner_positions(x, rack.position, cache)?;
         let mut spin_terms = Vec::new();
         let mut spring_potential = 0.0;
@@ -1041,7 +1054,7 @@ impl Vehicle {
             spin_terms.push((k.axle, x[idx::SPIN + i], c.spin_inertia));
             if self.switches.springs {
                 let f = &self.corner_forces[i];
-                let length = (c.on_lower(pos, &c.spring_arm) - c.spring_chassis).norm();
+                let length = (c.mount_point(pos, &c.spring) - c.spring.chassis).norm();
                 let xs = length - f.spring_free_length;
                 spring_potential += 0.5 * f.spring.k1_N_per_m * xs * xs + 0.25 * f.spring.k3_N_per_m3 * xs.powi(4);
             }

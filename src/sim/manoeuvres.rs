@@ -235,7 +235,7 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
             // counter-steer to the opposite amplitude in 0.5 s, hold 3 s. Tip-up: both wheels of one side
             // off the road by 2 in (5.1 cm) at the same time.
             let v = speed.unwrap_or(80.0 / 3.6);
-            let a = (6.5 * rack_for_lateral_acceleration(data, v, 0.3 * g)?).min(data.rack.travel_limit_m);
+            let a = (6.5 * rack_for_lateral_acceleration(data, v, 0.3 * g)?).min(data.steering_limit());
             let profile =
                 RackProfile::TwoMoves { first: a, start: 0.5, ramp: 0.25, second: -a, counter: 1.0, counter_ramp: 0.5 };
             let rows = simulate(data, v, SpeedMode::Coast, profile, 4.5)?;
@@ -288,7 +288,7 @@ pub fn dlc_driver(
     data: &VehicleData,
     vehicle: &crate::model::vehicle::Vehicle,
 ) -> Result<rtv_driver::PurePursuit, ModelError> {
-    let gain = vehicle.steering_gain_per_rack_metre()? * vehicle.rack.sign;
+    let gain = vehicle.steering_gain_per_rack_metre()? * vehicle.steering.sign;
     let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear) = (spindle(&data.front), spindle(&data.rear));
     Ok(rtv_driver::PurePursuit {
@@ -296,7 +296,7 @@ pub fn dlc_driver(
         min_preview: 4.0,
         wheelbase: front[0] - rear[0],
         steering_gain: gain,
-        rack_limit: data.rack.travel_limit_m,
+        rack_limit: data.steering_limit(),
         cm_ahead: data.chassis.com_m[0] - rear[0],
         yaw_rate_gain: 0.3,
     })

@@ -246,7 +246,7 @@ impl Scene {
         base: &SimConfig,
         keep_unused_states: bool,
     ) -> Result<Simulation, ModelError> {
-        self.check_rack(vehicle.rack.travel_limit_m)?;
+        self.check_rack(vehicle.steering_limit())?;
         let mut v = Vehicle::new(&vehicle)?;
         v.keep_unused_states = keep_unused_states;
         let mut sim = Simulation::from_vehicle(v, self.config(base))?;

@@ -84,7 +84,9 @@ fn stiff_tire_100(d: &mut VehicleData) {
 
 fn light_unsprung(d: &mut VehicleData) {
     for axle in [&mut d.front, &mut d.rear] {
-        for body in [&mut axle.lower_arm, &mut axle.upper_arm, &mut axle.upright, &mut axle.spindle] {
+        let mut bodies = vec![&mut axle.lower_arm, &mut axle.upright, &mut axle.spindle];
+        bodies.extend(axle.upper_arm.as_mut());
+        for body in bodies {
             body.mass_kg /= 10.0;
             body.inertia_moments_kg_m2.iter_mut().for_each(|j| *j /= 10.0);
         }

@@ -1,3 +1,666 @@
-//! Suspension subsystems. Each corner is one SLA (double wishbone) subsystem of the synthesis method.
+//! Suspension templates: each corner is one closed-loop subsystem of the synthesis method
+//! (physics.md §2, §3.2–§3.3).
+//!
+//! What the rest of the model needs from a corner is here, whatever the template: its dependent
+//! coordinates solved by Newton (`solve_positions_into`), q̇ (`velocities`), γ̄ (`gamma_bar`), its bodies
+//! and joints for the global kinematics (`CornerPositions`, `Corner::bodies`), the mounts of its line
+//! elements, the wheel carrier and the K&C quantities (steer, camber, steering axis). The dynamics never
+//! look inside (`dynamics/` does not import `model/`).
+//!
+//! Both templates share a tree: chassis →(revolute θ_L)→ lower arm L →(spherical, Bryant φ1..3)→ upright K
+//! (the carrier of the wheel), a massless tie rod from K to the steering (front) or the chassis (rear), and
+//! one more coordinate q[4] with the three equations that close the loop (`Closure`):
+//! - `double_wishbone.rs`: the upper arm on a revolute θ_U, its ball joint on the upright;
+//! - `macpherson.rs`: the strut slide ℓ, the upright's strut line through the chassis top mount.
+//!
+//! q = (θ_L, φ1, φ2, φ3, q4); θ_L is the independent coordinate, v = (φ1, φ2, φ3, q4) are solved from
+//! Φ(q, s) = 0 (4 equations). A third template with this tree (a strut with an upper link, a trailing arm
+//! with a toe link) is one `Closure` variant in a new file; docs/architecture.md says what a different tree
+//! (a solid axle, a five-link) needs.
+//!
+//! Everything here is in the chassis frame with the sprung CM as origin (x' = x^C − c0), so a subsystem's
+//! constraints do not depend on the chassis motion: that is what lets each subsystem be solved on its own.
 
-pub mod sla;
+pub mod double_wishbone;
+pub mod macpherson;
+
+use crate::dynamics::lu::Lu;
+use crate::error::{Cause, ModelError};
+use crate::math::{rotation_about_sc, BryantSinCos, M3, V3};
+use crate::model::params::{Axle, DataError, RigidBody, SuspensionTemplate, VehicleData};
+use double_wishbone::UpperArm;
+use macpherson::Strut;
+use nalgebra::{Matrix4, SMatrix, Vector4, Vector5};
+use serde::{Deserialize, Serialize};
+
+pub type Vector5f = Vector5<f64>;
+pub type PhiQ = SMatrix<f64, 4, 5>;
+
+/// Newton tolerance on ‖Φ‖∞ (m; the tie-rod row is ½(d·d − ℓ²), m², scaled by 1/ℓ below).
+pub const POSITION_TOLERANCE: f64 = 1e-12;
+pub const MAX_NEWTON_ITERATIONS: u32 = 12;
+/// |det Φ_v| below this fraction of its design value means the linkage is near a singular (locked or
+/// toggling) configuration: the mechanism has left its usable range.
+const MIN_RELATIVE_DET: f64 = 1e-8;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+impl Side {
+    /// A left-side point on this side (y → −y on the right).
+    pub fn mirror(self, v: V3) -> V3 {
+        match self {
+            Side::Left => v,
+            Side::Right => V3::new(v.x, -v.y, v.z),
+        }
+    }
+
+    /// An inertia tensor given for the left side, on this side (J → M J M).
+    pub fn mirror_inertia(self, m: M3) -> M3 {
+        match self {
+            Side::Left => m,
+            Side::Right => {
+                let mm = M3::from_diagonal(&V3::new(1.0, -1.0, 1.0));
+                mm * m * mm
+            }
+        }
+    }
+}
+
+/// A hinge axis on this side: h → −M h on the right, so that a positive angle is jounce on both sides.
+pub(crate) fn mirror_axis(side: Side, h: V3) -> V3 {
+    match side {
+        Side::Left => h,
+        Side::Right => -V3::new(h.x, -h.y, h.z),
+    }
+}
+
+/// Mass, CM and inertia of a body in the chassis-parallel design frame (CM-relative positions).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BodyInertia {
+    pub mass: f64,
+    pub com: V3,
+    pub inertia: M3,
+}
+
+impl BodyInertia {
+    /// No body (a coordinate whose motion carries no mass: the strut slide).
+    pub const NONE: BodyInertia = BodyInertia {
+        mass: 0.0,
+        com: V3::new(0.0, 0.0, 0.0),
+        inertia: M3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+    };
+}
+
+/// The three equations that close the loop beside the tie rod, and the body of q[4] (see the module doc).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Closure {
+    UpperArm(UpperArm),
+    Strut(Strut),
+}
+
+/// Which moving body a line element (spring, damper) acts on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum MountBody {
+    LowerArm,
+    Carrier,
+}
+
+/// A line element's ends: a chassis point and a point of a moving body (design positions).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct LineMount {
+    pub chassis: V3,
+    pub moving: V3,
+    pub body: MountBody,
+}
+
+/// What moves the inner end of the tie rod, as a function of the steering coordinate s (after the
+/// steering's sign): nothing (a rear toe link), a rack (s along +y_C, m) or the link of a parallelogram
+/// Pitman-arm steering (s the arm's angle, rad: the link translates on the circle its arm joint describes).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum TieRodDrive {
+    Chassis,
+    Rack,
+    PitmanLink {
+        /// The Pitman arm's pivot axis (unit) and the arm from its axis to the arm–link joint.
+        axis: V3,
+        arm: V3,
+    },
+}
+
+/// The inner tie-rod point's path at s: the point and its first and second derivatives with respect to s.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TieRodPath {
+    pub point: V3,
+    pub d_ds: V3,
+    pub d2_ds2: V3,
+}
+
+impl TieRodDrive {
+    #[inline(always)]
+    pub fn path(&self, design: &V3, s: f64) -> TieRodPath {
+        match *self {
+            TieRodDrive::Chassis => TieRodPath { point: *design, d_ds: V3::zeros(), d2_ds2: V3::zeros() },
+            TieRodDrive::Rack => {
+                TieRodPath { point: design + V3::new(0.0, s, 0.0), d_ds: V3::y(), d2_ds2: V3::zeros() }
+            }
+            TieRodDrive::PitmanLink { axis, arm } => {
+                let (sn, cs) = s.sin_cos();
+                let turned = rotation_about_sc(&axis, sn, cs) * arm;
+                let d_ds = axis.cross(&turned);
+                TieRodPath { point: design + turned - arm, d_ds, d2_ds2: axis.cross(&d_ds) }
+            }
+        }
+    }
+}
+
+/// Geometry and inertia of one corner, fixed at load time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Corner {
+    pub template: SuspensionTemplate,
+    pub side: Side,
+    /// Front: the tie rod ends on the steering (moves with s); rear: on the chassis.
+    pub steered: bool,
+    pub drive: TieRodDrive,
+    /// Lower arm hinge: a point on it and its axis.
+    pub p_l: V3,
+    pub h_l: V3,
+    /// Lower ball joint, outer and inner tie-rod points, wheel centre.
+    pub b0: V3,
+    pub t_k: V3,
+    pub t_r0: V3,
+    pub w0: V3,
+    pub tie_length: f64,
+    pub closure: Closure,
+    pub spring: LineMount,
+    pub shock: LineMount,
+    pub lower: BodyInertia,
+    /// The body of q[4]: the upper arm (double wishbone); none for the strut slide.
+    pub upper: BodyInertia,
+    /// Knuckle + spindle + wheel + tire without the spin inertia (physics.md §4.8).
+    pub carrier: BodyInertia,
+    /// Spin inertia I_s about the axle (spindle + wheel + tire + half-shaft).
+    pub spin_inertia: f64,
+    /// Axle direction in the knuckle's design frame (+y on both sides: Ω > 0 rolls forward).
+    pub axle: V3,
+    /// |det Φ_v| at the design position, the reference for the singularity guard.
+    pub design_det: f64,
+}
+
+/// Converged positions of one subsystem: rotations, key points, Φ_q, the LU of Φ_v and the first-order
+/// sensitivities of the dependent coordinates.
+#[derive(Debug, Clone)]
+pub struct CornerPositions {
+    pub q: Vector5f,
+    /// Sines and cosines of the Bryant angles q[1..4].
+    pub bryant: BryantSinCos,
+    pub s: f64,
+    pub r_l: M3,
+    /// Rotation of the body of q[4] (the upper arm; identity for the strut slide).
+    pub r_u: M3,
+    pub r_k: M3,
+    /// G(φ) in the lower-arm frame and R_L G (columns k_j, in the chassis frame).
+    pub g: M3,
+    pub rl_g: M3,
+    /// Lower ball joint b; the closure's chassis-side point (upper ball joint, or the strut top mount);
+    /// ρ_u, the upright's closure point from b (R_K(u0 − b0), or the strut point at the top mount);
+    /// ρ_t = R_K(t_K − b0); the tie-rod vector d.
+    pub b: V3,
+    pub upper_joint: V3,
+    pub rho_u: V3,
+    pub rho_t: V3,
+    pub d: V3,
+    /// ∂ρ_u/∂q4 in the upright (R_K a for the strut; zero for the upper arm, whose ρ_u does not move).
+    pub slide: V3,
+    /// The inner tie-rod point's path at s.
+    pub tie_rod: TieRodPath,
+    pub residual: f64,
+    pub phi_q: PhiQ,
+    /// ∂Φ/∂s (only the tie-rod row, front).
+    pub phi_s: Vector4<f64>,
+    /// Φ_v factored (`None`: numerically singular). The dynamics reuse it (`SubsystemTerms::phi_v_solved`).
+    pub lu_v: Option<Lu<4>>,
+    /// ∂v/∂u = −Φ_v⁻¹Φ_u and ∂v/∂s = −Φ_v⁻¹Φ_s: v̇ = ∂v/∂u u̇ + ∂v/∂s ṡ (§3.3), and the Newton warm start's
+    /// tangent. Zero when Φ_v is singular.
+    pub dv_du: Vector4<f64>,
+    pub dv_ds: Vector4<f64>,
+    pub iterations: u32,
+}
+
+impl Default for CornerPositions {
+    /// The design position's shape with identity rotations (a slot to be written by `evaluate_into`).
+    fn default() -> Self {
+        CornerPositions {
+            q: Vector5f::zeros(),
+            bryant: BryantSinCos::new(&V3::zeros()),
+            s: 0.0,
+            r_l: M3::identity(),
+            r_u: M3::identity(),
+            r_k: M3::identity(),
+            g: M3::identity(),
+            rl_g: M3::identity(),
+            b: V3::zeros(),
+            upper_joint: V3::zeros(),
+            rho_u: V3::zeros(),
+            rho_t: V3::zeros(),
+            d: V3::zeros(),
+            slide: V3::zeros(),
+            tie_rod: TieRodPath { point: V3::zeros(), d_ds: V3::zeros(), d2_ds2: V3::zeros() },
+            residual: 0.0,
+            phi_q: PhiQ::zeros(),
+            phi_s: Vector4::zeros(),
+            lu_v: Some(Lu::identity()),
+            dv_du: Vector4::zeros(),
+            dv_ds: Vector4::zeros(),
+            iterations: 0,
+        }
+    }
+}
+
+/// A control arm's inertia: Chrono gives it in the arm frame x = unit(F − B), z = unit((B − U) × (F − U)).
+pub(crate) fn arm_inertia(axle: &Axle, side: Side, c0: V3, body: &RigidBody, names: [&str; 4]) -> BodyInertia {
+    let [front, back, outer, cm] = names;
+    let (f, b, u) = (VehicleData::point(axle, front), VehicleData::point(axle, back), VehicleData::point(axle, outer));
+    let x = (f - b).normalize();
+    let z = (b - u).cross(&(f - u)).normalize();
+    let y = z.cross(&x);
+    let r = M3::from_columns(&[x, y, z]);
+    BodyInertia {
+        mass: body.mass_kg,
+        com: side.mirror(VehicleData::point(axle, cm) - c0),
+        inertia: side.mirror_inertia(r * body.inertia() * r.transpose()),
+    }
+}
+
+/// The composite carrier K (upright + the non-spin part of spindle, wheel and tire) and the spin inertia
+/// (spindle + wheel + tire + half-shaft about the axle), from the upright CM and the wheel centre on this side.
+pub(crate) fn carrier_inertia(data: &VehicleData, axle: &Axle, side: Side, c_up: V3, w0: V3) -> (BodyInertia, f64) {
+    let a = V3::new(0.0, 1.0, 0.0);
+    let m_up = axle.upright.mass_kg;
+    let m_w = axle.spindle.mass_kg + data.wheel.mass_kg + data.tire.mass_kg;
+    let i_t = axle.spindle.inertia_moments_kg_m2[0] + data.wheel.inertia_kg_m2[0] + data.tire.inertia_kg_m2[0];
+    let spin_inertia = axle.spindle.inertia_moments_kg_m2[1]
+        + data.wheel.inertia_kg_m2[1]
+        + data.tire.inertia_kg_m2[1]
+        + axle.axle_shaft_spin_inertia_kg_m2;
+    let m_k = m_up + m_w;
+    let c_k = (c_up * m_up + w0 * m_w) / m_k;
+    let steiner = |m: f64, r: V3| (M3::identity() * r.norm_squared() - r * r.transpose()) * m;
+    let j_k = side.mirror_inertia(axle.upright.inertia())
+        + steiner(m_up, c_up - c_k)
+        + (M3::identity() - a * a.transpose()) * i_t
+        + steiner(m_w, w0 - c_k);
+    (BodyInertia { mass: m_k, com: c_k, inertia: j_k }, spin_inertia)
+}
+
+impl Corner {
+    /// The corner of `axle` on `side` by its template; `drive` moves the inner tie-rod point.
+    pub fn from_data(data: &VehicleData, axle: &Axle, side: Side, drive: TieRodDrive) -> Result<Corner, DataError> {
+        let drive = if axle.steered { drive } else { TieRodDrive::Chassis };
+        match axle.template {
+            SuspensionTemplate::DoubleWishbone => double_wishbone::from_data(data, axle, side, drive),
+            SuspensionTemplate::MacphersonStrut => macpherson::from_data(data, axle, side, drive),
+        }
+    }
+
+    /// Assembles a corner from its template's parts and measures Φ_v at design.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        side: Side,
+        drive: TieRodDrive,
+        p_l: V3,
+        h_l: V3,
+        b0: V3,
+        t_k: V3,
+        t_r0: V3,
+        w0: V3,
+        closure: Closure,
+        spring: LineMount,
+        shock: LineMount,
+        [lower, upper, carrier]: [BodyInertia; 3],
+        spin_inertia: f64,
+    ) -> Result<Corner, DataError> {
+        let template = match closure {
+            Closure::UpperArm(_) => SuspensionTemplate::DoubleWishbone,
+            Closure::Strut(_) => SuspensionTemplate::MacphersonStrut,
+        };
+        let mut c = Corner {
+            template,
+            side,
+            steered: drive != TieRodDrive::Chassis,
+            drive,
+            p_l,
+            h_l,
+            b0,
+            t_k,
+            t_r0,
+            w0,
+            tie_length: (t_k - t_r0).norm(),
+            closure,
+            spring,
+            shock,
+            lower,
+            upper,
+            carrier,
+            spin_inertia,
+            axle: V3::new(0.0, 1.0, 0.0),
+            design_det: 1.0,
+        };
+        let design = c.evaluate(&Vector5f::zeros(), 0.0);
+        c.design_det = design.phi_q.fixed_columns::<4>(1).into_owned().determinant().abs();
+        Ok(c)
+    }
+
+    /// The hinge of the body of q[4] on the chassis (a point and the axis), if it is a revolute (the upper
+    /// arm); `None` for the strut slide, which carries no body.
+    #[inline(always)]
+    pub fn upper_revolute(&self) -> Option<(V3, V3)> {
+        match &self.closure {
+            Closure::UpperArm(arm) => Some((arm.p_u, arm.h_u)),
+            Closure::Strut(_) => None,
+        }
+    }
+
+    /// Point of the lower arm, given in design chassis coordinates.
+    pub fn on_lower(&self, pos: &CornerPositions, y: &V3) -> V3 {
+        self.p_l + pos.r_l * (y - self.p_l)
+    }
+
+    /// Point of the body of q[4] (the upper arm), given in design chassis coordinates.
+    pub fn on_upper(&self, pos: &CornerPositions, y: &V3) -> V3 {
+        match self.upper_revolute() {
+            Some((p_u, _)) => p_u + pos.r_u * (y - p_u),
+            None => *y,
+        }
+    }
+
+    pub fn on_carrier(&self, pos: &CornerPositions, y: &V3) -> V3 {
+        pos.b + pos.r_k * (y - self.b0)
+    }
+
+    /// A line element's moving end at these positions.
+    #[inline(always)]
+    pub fn mount_point(&self, pos: &CornerPositions, mount: &LineMount) -> V3 {
+        match mount.body {
+            MountBody::LowerArm => self.on_lower(pos, &mount.moving),
+            MountBody::Carrier => self.on_carrier(pos, &mount.moving),
+        }
+    }
+
+    /// Inner tie-rod point at steering coordinate s.
+    pub fn tie_rod_inner(&self, s: f64) -> V3 {
+        self.drive.path(&self.t_r0, s).point
+    }
+
+    /// Positions, Φ and Φ_q at q (no solve). The tie-rod row is scaled by 1/ℓ so that every row is in
+    /// metres and one tolerance fits all.
+    pub fn evaluate(&self, q: &Vector5f, s: f64) -> CornerPositions {
+        let mut pos = CornerPositions::default();
+        self.evaluate_into(q, s, &mut pos);
+        pos
+    }
+
+    /// As `evaluate`, written in place (the evaluation pipeline keeps one `CornerPositions` per corner).
+    #[inline(always)]
+    pub fn evaluate_into(&self, q: &Vector5f, s: f64, pos: &mut CornerPositions) {
+        // The angles' sines and cosines, once (A, G and, later, Ġφ̇ share the Bryant ones).
+        let (sl, cl) = q[0].sin_cos();
+        let bryant = BryantSinCos::new(&V3::new(q[1], q[2], q[3]));
+        let r_l = rotation_about_sc(&self.h_l, sl, cl);
+        let r_k = r_l * bryant.rotation();
+        let g = bryant.rate_matrix();
+        let rl_g = r_l * g;
+        let b = self.p_l + r_l * (self.b0 - self.p_l);
+        // The closure: its chassis-side point, the upright's point that meets it (from b), and ∂Φ/∂q4.
+        let (upper_joint, r_u, rho_u, slide, column_4) = match &self.closure {
+            Closure::UpperArm(arm) => {
+                let (joint, r_u, column) = arm.joint(q[4]);
+                (joint, r_u, r_k * (arm.u0 - self.b0), V3::zeros(), column)
+            }
+            Closure::Strut(strut) => {
+                let (rho, along) = strut.point(q[4], &self.b0, &r_k);
+                (strut.top, M3::identity(), rho, along, -along)
+            }
+        };
+        let rho_t = r_k * (self.t_k - self.b0);
+        let k_u0 = b + rho_u;
+        let k_tk = b + rho_t;
+        let tie_rod = self.drive.path(&self.t_r0, s);
+        let d = k_tk - tie_rod.point;
+        let inv_l = 1.0 / self.tie_length;
+
+        let phi_s3 = upper_joint - k_u0;
+        let phi_d = 0.5 * (d.dot(&d) - self.tie_length * self.tie_length) * inv_l;
+
+        let phi_q = &mut pos.phi_q;
+        // Column θ_L.
+        let c = -self.h_l.cross(&(k_u0 - self.p_l));
+        phi_q.fixed_view_mut::<3, 1>(0, 0).copy_from(&c);
+        phi_q[(3, 0)] = d.dot(&self.h_l.cross(&(k_tk - self.p_l))) * inv_l;
+        // Columns φ_j: ∂x_K/∂φ_j = k_j × (x − b), k_j = R_L g_j.
+        for j in 0..3 {
+            let k = rl_g.column(j).into_owned();
+            phi_q.fixed_view_mut::<3, 1>(0, 1 + j).copy_from(&(-k.cross(&rho_u)));
+            phi_q[(3, 1 + j)] = d.dot(&k.cross(&rho_t)) * inv_l;
+        }
+        // Column q4 (the tie rod does not depend on it).
+        phi_q.fixed_view_mut::<3, 1>(0, 4).copy_from(&column_4);
+        phi_q[(3, 4)] = 0.0;
+        pos.phi_s = Vector4::zeros();
+        if self.steered {
+            pos.phi_s[3] = -d.dot(&tie_rod.d_ds) * inv_l;
+        }
+        pos.residual = phi_s3.amax().max(phi_d.abs());
+        pos.lu_v = Lu::new(&pos.phi_q.fixed_columns::<4>(1).into_owned()).ok();
+        match &pos.lu_v {
+            Some(lu) => {
+                let mut rhs = SMatrix::<f64, 4, 2>::from_columns(&[-pos.phi_q.column(0), -pos.phi_s]);
+                lu.solve(&mut rhs);
+                pos.dv_du = rhs.column(0).into_owned();
+                pos.dv_ds = rhs.column(1).into_owned();
+            }
+            None => (pos.dv_du, pos.dv_ds) = (Vector4::zeros(), Vector4::zeros()),
+        }
+        pos.q = *q;
+        pos.bryant = bryant;
+        pos.s = s;
+        pos.r_l = r_l;
+        pos.r_u = r_u;
+        pos.r_k = r_k;
+        pos.g = g;
+        pos.rl_g = rl_g;
+        pos.b = b;
+        pos.upper_joint = upper_joint;
+        pos.rho_u = rho_u;
+        pos.rho_t = rho_t;
+        pos.d = d;
+        pos.slide = slide;
+        pos.tie_rod = tie_rod;
+        pos.iterations = 0;
+    }
+
+    pub fn constraint_values(&self, pos: &CornerPositions) -> Vector4<f64> {
+        let k_u0 = pos.b + pos.rho_u;
+        let e = pos.upper_joint - k_u0;
+        let phi_d = 0.5 * (pos.d.dot(&pos.d) - self.tie_length * self.tie_length) / self.tie_length;
+        Vector4::new(e.x, e.y, e.z, phi_d)
+    }
+
+    /// Dependent coordinates by Newton from the warm start `v_guess` (physics.md §3.2), to ‖Φ‖∞ ≤ 1e-12 m.
+    pub fn solve_positions(&self, theta_l: f64, s: f64, v_guess: &[f64; 4]) -> Result<CornerPositions, ModelError> {
+        let mut pos = CornerPositions::default();
+        self.solve_positions_into(theta_l, s, v_guess, &mut pos)?;
+        Ok(pos)
+    }
+
+    /// As `solve_positions`, written in place; on `Err`, `pos` holds the last iterate.
+    #[inline(always)]
+    pub fn solve_positions_into(
+        &self,
+        theta_l: f64,
+        s: f64,
+        v_guess: &[f64; 4],
+        pos: &mut CornerPositions,
+    ) -> Result<(), ModelError> {
+        let mut q = Vector5f::new(theta_l, v_guess[0], v_guess[1], v_guess[2], v_guess[3]);
+        for it in 0..=MAX_NEWTON_ITERATIONS {
+            self.evaluate_into(&q, s, pos);
+            let det = pos.lu_v.map_or(0.0, |lu| lu.determinant().abs());
+            if !(det >= MIN_RELATIVE_DET * self.design_det) {
+                return Err(ModelError::new(
+                    Cause::Kinematics,
+                    format!(
+                        "suspension linkage singular (|det Φ_v| = {det:.3e}) at θ_L = {theta_l:.4} rad, steering {s:.4}: \
+                         outside its mechanism range"
+                    ),
+                ));
+            }
+            if pos.residual <= POSITION_TOLERANCE {
+                pos.iterations = it;
+                return Ok(());
+            }
+            let mut dv = -self.constraint_values(pos);
+            pos.lu_v.as_ref().ok_or_else(|| ModelError::new(Cause::Kinematics, "Φ_v not invertible"))?.solve(&mut dv);
+            for i in 0..4 {
+                q[1 + i] += dv[i];
+            }
+            if !q.iter().all(|x| x.is_finite()) {
+                break;
+            }
+        }
+        Err(ModelError::new(
+            Cause::Kinematics,
+            format!(
+                "suspension position solve did not converge at θ_L = {theta_l:.4} rad, steering {s:.4}: outside its \
+                 mechanism range"
+            ),
+        ))
+    }
+
+    /// q̇ from u̇ = θ̇_L and the steering rate: v̇ = −Φ_v⁻¹(Φ_u u̇ + Φ_s ṡ) = ∂v/∂u u̇ + ∂v/∂s ṡ (physics.md §3.3).
+    #[inline(always)]
+    pub fn velocities(&self, pos: &CornerPositions, theta_l_dot: f64, s_dot: f64) -> Vector5f {
+        let vd = pos.dv_du * theta_l_dot + pos.dv_ds * s_dot;
+        Vector5f::new(theta_l_dot, vd[0], vd[1], vd[2], vd[3])
+    }
+
+    /// Relative angular velocities (chassis frame) of L, the body of q[4] and K.
+    pub fn relative_angular_velocities(&self, pos: &CornerPositions, qd: &Vector5f) -> (V3, V3, V3) {
+        let w_l = self.h_l * qd[0];
+        let w_u = match self.upper_revolute() {
+            Some((_, h_u)) => h_u * qd[4],
+            None => V3::zeros(),
+        };
+        let w_k = w_l + pos.rl_g * V3::new(qd[1], qd[2], qd[3]);
+        (w_l, w_u, w_k)
+    }
+
+    /// γ̄ of Φ_q q̈ = γ̄ := γ − Φ_s s̈ (physics.md §3.3), same row scaling as Φ.
+    #[inline(always)]
+    pub fn gamma_bar(&self, pos: &CornerPositions, qd: &Vector5f, s_dot: f64, s_ddot: f64) -> Vector4<f64> {
+        let phid = V3::new(qd[1], qd[2], qd[3]);
+        let (w_l, w_u, w_k) = self.relative_angular_velocities(pos, qd);
+        let b_rel = pos.b - self.p_l;
+        let a_b = w_l.cross(&w_l.cross(&b_rel));
+        let beta = w_l.cross(&(pos.rl_g * phid)) + pos.r_l * pos.bryant.rate_quadratic(&phid);
+        let a_k = |rho: &V3| a_b + beta.cross(rho) + w_k.cross(&w_k.cross(rho));
+        let gamma_s = match &self.closure {
+            Closure::UpperArm(arm) => {
+                let a_u = w_u.cross(&w_u.cross(&(pos.upper_joint - arm.p_u)));
+                -(a_u - a_k(&pos.rho_u))
+            }
+            // The top mount is fixed; the strut point slides along the upright (Coriolis 2 ω_K × R_K a ℓ̇).
+            Closure::Strut(_) => a_k(&pos.rho_u) + w_k.cross(&pos.slide) * (2.0 * qd[4]),
+        };
+        let steer_rate = if self.steered { s_dot } else { 0.0 };
+        let path = &pos.tie_rod;
+        let d_dot = w_l.cross(&b_rel) + w_k.cross(&pos.rho_t) - path.d_ds * steer_rate;
+        let inv_l = 1.0 / self.tie_length;
+        let path_curvature = pos.d.dot(&path.d2_ds2) * steer_rate * steer_rate;
+        let gamma_d =
+            (-d_dot.dot(&d_dot) - pos.d.dot(&a_k(&pos.rho_t)) + path_curvature) * inv_l - pos.phi_s[3] * s_ddot;
+        Vector4::new(gamma_s.x, gamma_s.y, gamma_s.z, gamma_d)
+    }
+
+    /// Axle direction of the wheel in the chassis frame.
+    pub fn axle_direction(&self, pos: &CornerPositions) -> V3 {
+        pos.r_k * self.axle
+    }
+
+    /// Road-wheel steer angle relative to the chassis: heading h = a × e_z, δ = atan2(h_y, h_x)
+    /// (+ = wheel heading left; physics.md §8.4).
+    pub fn steer_angle(&self, pos: &CornerPositions) -> f64 {
+        let h = self.axle_direction(pos).cross(&V3::z());
+        h.y.atan2(h.x)
+    }
+
+    /// Inclination relative to the chassis x-y plane, + = top of the wheel toward +y.
+    pub fn inclination(&self, pos: &CornerPositions) -> f64 {
+        -self.axle_direction(pos).z.asin()
+    }
+
+    /// Automotive camber, + = top of the wheel outboard.
+    pub fn camber(&self, pos: &CornerPositions) -> f64 {
+        match self.side {
+            Side::Left => self.inclination(pos),
+            Side::Right => -self.inclination(pos),
+        }
+    }
+
+    /// The steering (kingpin) axis at these positions: a point on it (the lower ball joint) and its unit
+    /// direction upward: through the upper ball joint (double wishbone) or along the strut's line through
+    /// the top mount (MacPherson), the axis the upright turns about when steered.
+    pub fn steering_axis(&self, pos: &CornerPositions) -> (V3, V3) {
+        let top = pos.upper_joint;
+        (pos.b, (top - pos.b).normalize())
+    }
+}
+
+/// Validation hook for the data loader: the loop must close at design and move through a small travel
+/// and (front) the steering range without hitting a singular configuration.
+pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<(), DataError> {
+    let field = format!("{name}.hardpoints_chassis_frame_m");
+    let mut hinges = vec![("LCA_F", "LCA_B")];
+    if axle.template == SuspensionTemplate::DoubleWishbone {
+        hinges.push(("UCA_F", "UCA_B"));
+    }
+    for (a, b) in hinges {
+        if (VehicleData::point(axle, a) - VehicleData::point(axle, b)).norm() < 1e-6 {
+            return Err(DataError { field: field.clone(), message: format!("{a} and {b} coincide: no hinge axis") });
+        }
+    }
+    let drive = crate::model::steering::tie_rod_drive(data)?;
+    let g = Corner::from_data(data, axle, Side::Left, drive)
+        .map_err(|e| DataError { field: format!("{name}.{}", e.field), message: e.message })?;
+    let closure_length = match &g.closure {
+        Closure::UpperArm(arm) => (arm.u0 - g.b0).norm(),
+        Closure::Strut(strut) => strut.length,
+    };
+    if g.tie_length < 1e-6 || closure_length < 1e-6 {
+        return Err(DataError { field, message: "tie rod, kingpin or strut of zero length".into() });
+    }
+    if !(g.design_det > 1e-12) {
+        return Err(DataError {
+            field,
+            message: format!(
+                "suspension loop cannot close: singular at the design position (|det Φ_v| = {:.3e})",
+                g.design_det
+            ),
+        });
+    }
+    let limit = if axle.steered { data.steering_limit() } else { 0.0 };
+    for (theta, s) in [(0.05, 0.0), (-0.05, 0.0), (0.0, limit), (0.0, -limit)] {
+        if let Err(e) = g.solve_positions(theta, s, &[0.0; 4]) {
+            return Err(DataError { field, message: format!("suspension loop cannot close: {e}") });
+        }
+    }
+    Ok(())
+}
+
+/// Φ_v as a matrix, for diagnostics and tests.
+pub fn phi_v(pos: &CornerPositions) -> Matrix4<f64> {
+    pos.phi_q.fixed_columns::<4>(1).into_owned()
+}
