@@ -59,8 +59,8 @@ fn bad_arguments_get_a_message_and_exit_2() {
         (vec!["scene", "jturn", "--ride-height", "low"], "--ride-height"),
         (vec!["kinematics"], "--axle"),
         (vec!["fly"], "unknown command"),
-        (vec!["scene", "jturn", "--amplitude", "0.08"], "travel limit"),
-        (vec!["scene", "sine", "--amplitude", "0.06"], "travel limit"), // the sine's is 10/8 of it
+        (vec!["scene", "jturn", "--amplitude", "0.08"], "steering's limit"),
+        (vec!["scene", "sine", "--amplitude", "0.06"], "steering's limit"), // the sine's is 10/8 of it
         (vec!["scene", "bump", "--bump-height", "0.5"], "bump height"),
         (vec!["scene", "bump", "--bump-length", "0.01"], "bump length"),
         (vec!["scene", "jturn", "--grade", "2"], "slope"),

@@ -3,6 +3,7 @@
 //!   rtv scene <bump|jturn|sine> [options] [--out FILE.csv]   run a scene, write the output channels
 //!   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
 //!   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
+//!   rtv kc [--vehicle FILE.json] [--out docs/kc/NAME.md]        K&C report, its CSVs and figures
 //!   rtv calibrate                                         J-turn amplitude for 0.400 g → resources/
 //!   rtv work-precision                                    error against run time → docs/work_precision.md
 //!
@@ -13,9 +14,11 @@
 
 use rt_vehicle::error::ModelError;
 use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
-use rt_vehicle::model::suspension::{Corner, Side};
-use rt_vehicle::sim::scenes::{run, run_columns, Amplitude, Scene, SceneKind};
-use rt_vehicle::sim::{modes, Formulation, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
+use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
+use rt_vehicle::sim::calibration;
+use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::{modes, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
+use rt_vehicle::studies::kc;
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::process::ExitCode;
@@ -31,6 +34,8 @@ const USAGE: &str = "usage:
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
+  rtv kc [--vehicle FILE.json] [--out docs/kc/NAME.md] [--from -0.10] [--to 0.10] [--increment 0.0025]
+            [--steering-points 81] [--plots auto|none]
   rtv calibrate [--vehicle FILE.json]
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
@@ -211,11 +216,23 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     )?;
     let amplitude = match opts.get("amplitude") {
         Some(a) => Amplitude::parse(a).ok_or_else(|| {
-            bad(format!("--amplitude: '{a}' is not calibrated, paper or a value in metres below 0.1"))
+            bad(format!(
+                "--amplitude: '{a}' is not calibrated, paper or a value below 1 in the vehicle's steering input (m \
+                 of rack or rad of Pitman arm)"
+            ))
         })?,
         None => Amplitude::Calibrated,
     };
-    let mut scene = Scene::new(kind, amplitude);
+    let data = vehicle_data(&opts)?;
+    if amplitude == Amplitude::Calibrated && kind != SceneKind::Bump && calibration::shipped(&data.name).is_none() {
+        eprintln!(
+            "scene: '{}' has no shipped calibration: calibrating its J-turn amplitude for {} g now ({})",
+            data.name,
+            calibration::TARGET_G,
+            calibration::Accuracy::Quick.describe()
+        );
+    }
+    let mut scene = Scene::for_vehicle(kind, amplitude, &data).map_err(|e| bad(format!("--amplitude: {e}")))?;
     // The scene's declaration decides the configuration; options given override it.
     let (mut config, interval) = scene_config(&opts, scene.config_for(&SimConfig::default()))?;
     if opts.contains_key("brake") || opts.contains_key("drive") {
@@ -236,7 +253,6 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "--end must be in (0, {MAX_END}] s with at most {MAX_ROWS:e} output rows (--end / --output-interval)"
         )));
     }
-    let data = vehicle_data(&opts)?;
     scene.check_rack(data.steering_limit()).map_err(|e| bad(format!("--amplitude: {e}")))?;
     let started = Instant::now();
     let mut sim = scene.start_keeping(data, &config, keep_all)?;
@@ -310,14 +326,15 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
     let right = Corner::from_data(&data, axle, Side::Right, drive)?;
     let mut out = csv_writer(opts.get("out"))?;
     let mut text = String::from("travel_m,camber_l_deg,camber_r_deg,steer_l_deg,steer_r_deg,wheel_lateral_l_m,spring_length_l_m,damper_length_l_m\n");
+    let mut last: [Option<CornerPositions>; 2] = [None, None];
     for k in 0..=n {
         let travel = from + k as f64 * inc;
-        let mut row = Vec::new();
-        for (c, side) in [(&left, "left"), (&right, "right")] {
-            let pos = wheel_at_travel(c, travel).map_err(|e| failed(format!("{side} wheel: {e}")))?;
-            row.push(pos);
+        for (i, (c, side)) in [(&left, "left"), (&right, "right")].into_iter().enumerate() {
+            let pos = kc::wheel_at_travel(c, travel, 0.0, last[i].as_ref())
+                .map_err(|e| failed(format!("{side} wheel: {e}")))?;
+            last[i] = Some(pos);
         }
-        let (pl, pr) = (&row[0], &row[1]);
+        let [Some(pl), Some(pr)] = &last else { unreachable!("both wheels solved") };
         let wheel = left.on_carrier(pl, &left.w0);
         text += &format!(
             "{travel:.6},{:.6},{:.6},{:.6},{:.6},{:.7},{:.7},{:.7}\n",
@@ -334,30 +351,82 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Positions with the wheel centre `travel` above its design height (chassis fixed, rack centred):
-/// Newton on θ_L using dz/dθ_L by a central difference.
-fn wheel_at_travel(c: &Corner, travel: f64) -> Result<rt_vehicle::model::suspension::CornerPositions, String> {
-    let z = |u: f64| -> Result<f64, String> {
-        let p = c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.to_string())?;
-        Ok(c.on_carrier(&p, &c.w0).z - c.w0.z)
-    };
-    let mut u = travel / 0.45;
-    for _ in 0..30 {
-        let f = z(u).map_err(|e| format!("travel {travel:+.3} m is beyond what the linkage allows ({e})"))? - travel;
-        if f.abs() < 1e-12 {
-            return c.solve_positions(u, 0.0, &[0.0; 4]).map_err(|e| e.to_string());
-        }
-        let h = 1e-6;
-        let slope = (z(u + h).map_err(|e| e.to_string())? - z(u - h).map_err(|e| e.to_string())?) / (2.0 * h);
-        if slope.abs() < 1e-3 {
-            break;
-        }
-        u -= f / slope;
-        if u.abs() > 1.2 {
-            break;
-        }
+/// `rtv kc`: the K&C report (`studies::kc`), its CSVs beside it and, where `.venv/bin/python` and
+/// `scripts/plot_kc.py` are at hand, its figures.
+fn cmd_kc(args: &[String]) -> Result<(), Failure> {
+    let opts = options(args, &["vehicle", "out", "from", "to", "increment", "steering-points", "plots"])?;
+    let data = vehicle_data(&opts)?;
+    let defaults = kc::KcOptions::default();
+    let points = number(&opts, "steering-points", defaults.steering_points as f64)?;
+    if !(points >= 3.0 && points <= 10_001.0 && points.fract() == 0.0 && points % 2.0 == 1.0) {
+        return Err(bad("--steering-points: an odd whole number from 3 to 10001"));
     }
-    Err(format!("travel {travel:+.3} m is beyond what the linkage allows"))
+    let options = kc::KcOptions {
+        travel_from: number(&opts, "from", defaults.travel_from)?,
+        travel_to: number(&opts, "to", defaults.travel_to)?,
+        travel_increment: number(&opts, "increment", defaults.travel_increment)?,
+        steering_points: points as usize,
+    };
+    if !(options.travel_increment > 0.0 && options.travel_from <= 0.0 && options.travel_to >= 0.0) {
+        return Err(bad("need --increment > 0 and --from ≤ 0 ≤ --to"));
+    }
+    let span = options.travel_to - options.travel_from;
+    if span / options.travel_increment >= MAX_SWEEP_POINTS {
+        return Err(bad(format!(
+            "--increment {} gives more than {MAX_SWEEP_POINTS:e} points",
+            options.travel_increment
+        )));
+    }
+    let plots = opts.get("plots").map_or("auto", String::as_str);
+    if !["auto", "none"].contains(&plots) {
+        return Err(bad(format!("--plots: '{plots}' is not auto or none")));
+    }
+    let stem = match opts.get("vehicle") {
+        Some(v) => std::path::Path::new(v).file_stem().map_or("vehicle".into(), |s| s.to_string_lossy().into_owned()),
+        None => "hmmwv".into(),
+    };
+    let out = std::path::PathBuf::from(opts.get("out").cloned().unwrap_or_else(|| format!("docs/kc/{stem}.md")));
+    let dir = out.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+    std::fs::create_dir_all(dir).map_err(|e| failed(format!("cannot create {}: {e}", dir.display())))?;
+    let files = kc::ReportFiles { stem: out.file_stem().map_or(stem, |s| s.to_string_lossy().into_owned()) };
+    let report = kc::KcReport::compute(&data, &options)?;
+    let write = |name: &std::path::Path, text: &str| {
+        std::fs::write(name, text).map_err(|e| failed(format!("cannot write {}: {e}", name.display())))
+    };
+    for a in &report.axles {
+        write(&dir.join(files.travel(a.name, "csv")), &kc::KcReport::travel_csv(a))?;
+    }
+    write(&dir.join(files.steering("csv")), &report.steering_csv())?;
+    // The figures: the plotting script of this checkout, run by its virtual environment's Python.
+    let prefix = dir.join(&files.stem);
+    let plot_command = format!(".venv/bin/python scripts/plot_kc.py {}", prefix.display());
+    let (python, script) = (std::path::Path::new(".venv/bin/python"), std::path::Path::new("scripts/plot_kc.py"));
+    let plotted = if plots == "none" {
+        Err(format!("`--plots none`; make them with `{plot_command}` (from the repository's root)."))
+    } else if !(python.exists() && script.exists()) {
+        Err(format!(
+            "no `.venv/bin/python` or `scripts/plot_kc.py` here; from the repository's root, `bash scripts/setup.sh` \
+             then `{plot_command}`."
+        ))
+    } else {
+        match std::process::Command::new(python).arg(script).arg(&prefix).status() {
+            Ok(status) if status.success() => Ok(()),
+            Ok(status) => Err(format!("`{plot_command}` failed ({status}); run it again once it works.")),
+            Err(e) => Err(format!("`{plot_command}` could not start ({e}).")),
+        }
+    };
+    if let Err(why) = &plotted {
+        eprintln!("kc: figures not made: {why}");
+    }
+    let mut command = String::from("rtv kc");
+    for a in args {
+        command += " ";
+        command += a;
+    }
+    let md = report.markdown(&files, &command, plotted.as_ref().map(|_| plot_command.as_str()).map_err(String::as_str));
+    write(&out, &md)?;
+    eprintln!("kc: written {}", out.display());
+    Ok(())
 }
 
 fn cmd_steering(args: &[String]) -> Result<(), Failure> {
@@ -394,48 +463,42 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Mean lateral acceleration over 6–8 s of the J-turn with amplitude `a` (the calibration configuration).
-fn steady_ay(data: &VehicleData, a: f64) -> Result<f64, Failure> {
-    let scene = Scene::new(SceneKind::JTurn, Amplitude::Metres(a));
-    let config = SimConfig { formulation: Formulation::Conventional, internal_step: 1e-4, ..SimConfig::default() };
-    let mut sim = scene.start(data.clone(), &config)?;
-    let iy = rt_vehicle::sim::Outputs::index("ay").unwrap();
-    let (mut sum, mut n) = (0.0, 0);
-    run(&mut sim, 8.0, 0.01, |o| {
-        if o.values[0] >= 6.0 - 1e-9 {
-            sum += o.values[iy];
-            n += 1;
-        }
-    })?;
-    Ok(sum / n as f64)
-}
-
 fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["vehicle", "out"])?;
     let data = vehicle_data(&opts)?;
-    let target = 0.4 * data.gravity_m_s2;
-    // Secant iteration on the amplitude (a_y rises monotonically with it, physics.md §9.7).
-    let (mut a0, mut a1) = (0.003, 0.0032);
-    let (mut f0, mut f1) = (steady_ay(&data, a0)? - target, steady_ay(&data, a1)? - target);
-    for it in 0..12 {
-        eprintln!("calibrate: iteration {it}: A = {a1:.7} m gives a_y = {:.5} g", (f1 + target) / data.gravity_m_s2);
-        if (f1 / target).abs() < 1e-5 {
-            break;
-        }
-        let a2 = a1 - f1 * (a1 - a0) / (f1 - f0);
-        (a0, f0) = (a1, f1);
-        a1 = a2;
-        f1 = steady_ay(&data, a1)? - target;
-    }
-    let g = (f1 + target) / data.gravity_m_s2;
-    let text = format!(
-        "{{\n \"jturn_amplitude_m\": {a1:.9},\n \"steady_lateral_acceleration_g\": {g:.6},\n \"target_lateral_acceleration_g\": 0.4,\n \
-         \"configuration\": \"conventional formulation, RK4 at 0.1 ms, hold, relaxation slip, 100 km/h; steady state = mean a_y over 6-8 s\",\n \
-         \"command\": \"cargo run --release --bin rtv -- calibrate --out resources/calibration.json\"\n}}\n"
-    );
+    let accuracy = calibration::Accuracy::Reference;
+    let c = calibration::calibrate(&data, accuracy)?;
+    let unit = data.steering_input().unit();
     let path = opts.get("out").cloned().unwrap_or_else(|| "resources/calibration.json".to_string());
+    // The table keeps every vehicle's entry: the default vehicle's at the top level, the others by name.
+    let mut table: serde_json::Value = match std::fs::read_to_string(&path) {
+        Ok(text) => serde_json::from_str(&text).map_err(|e| failed(format!("{path}: {e}")))?,
+        Err(_) => serde_json::json!({}),
+    };
+    let command = "cargo run --release --bin rtv -- calibrate [--vehicle FILE.json] --out resources/calibration.json";
+    table["target_lateral_acceleration_g"] = calibration::TARGET_G.into();
+    table["configuration"] = accuracy.describe().into();
+    table["command"] = command.into();
+    if data.name == VehicleData::default_hmmwv().name {
+        table["jturn_amplitude_m"] = c.amplitude.into();
+        table["steady_lateral_acceleration_g"] = c.steady_g.into();
+    } else {
+        if table.get("vehicles").is_none() {
+            table["vehicles"] = serde_json::json!({});
+        }
+        table["vehicles"][&data.name] = serde_json::json!({
+            "jturn_amplitude": c.amplitude,
+            "unit": unit,
+            "steering_input": data.steering_input().name(),
+            "steady_lateral_acceleration_g": c.steady_g,
+        });
+    }
+    let text = serde_json::to_string_pretty(&table).map_err(|e| failed(e.to_string()))? + "\n";
     std::fs::write(&path, text).map_err(|e| failed(format!("cannot write {path}: {e}")))?;
-    eprintln!("calibrate: A = {a1:.7} m gives {g:.5} g; written to {path} (rebuild to use it)");
+    eprintln!(
+        "calibrate: '{}': A = {:.7} {unit} gives {:.5} g after {} runs; written to {path} (rebuild to use it)",
+        data.name, c.amplitude, c.steady_g, c.iterations
+    );
     Ok(())
 }
 
@@ -480,15 +543,17 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
 /// The stability suite (docs/stability.md): every case × integrator × step, classified.
 fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::sim::stability;
-    let opts = options(args, &["out", "threads", "case"])?;
+    let opts = options(args, &["out", "threads", "case", "vehicle"])?;
     let threads = number(&opts, "threads", 2.0)?;
     if !(1.0..=64.0).contains(&threads) {
         return Err(bad("--threads must be in 1..=64"));
     }
     let filter = opts.get("case").cloned().unwrap_or_default();
+    let data = vehicle_data(&opts)?;
+    let (amplitude, _) = calibration::amplitude_for(&data)?;
     let started = Instant::now();
     let mut reports = Vec::new();
-    for case in stability::cases().iter().filter(|c| c.name.contains(filter.as_str())) {
+    for case in stability::cases_for(&data, amplitude).iter().filter(|c| c.name.contains(filter.as_str())) {
         let t = Instant::now();
         let report = stability::evaluate(case, threads as usize);
         let wrong = report.wrong();
@@ -500,8 +565,11 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
         );
         reports.push(report);
     }
-    let command = "cargo run --release --bin rtv -- stability --out docs/stability.md";
-    let md = stability::markdown(&reports, command, started.elapsed().as_secs_f64());
+    let command = match (opts.get("vehicle"), opts.get("out")) {
+        (Some(v), Some(out)) => format!("cargo run --release --bin rtv -- stability --vehicle {v} --out {out}"),
+        _ => "cargo run --release --bin rtv -- stability --out docs/stability.md".to_string(),
+    };
+    let md = stability::markdown(&reports, &command, started.elapsed().as_secs_f64());
     let mut out = csv_writer(opts.get("out"))?;
     out.write_all(md.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
@@ -543,16 +611,38 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json` (docs/vehicle_file.md).
+fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::model::import_chrono;
+    let (vehicle, rest) = args.split_first().ok_or_else(|| bad("import-chrono: name the Chrono vehicle file"))?;
+    let opts = options(rest, &["data-dir", "out"])?;
+    let dir = opts.get("data-dir").ok_or_else(|| {
+        bad("import-chrono: --data-dir DIR is needed (the folder the vehicle's file paths are relative to)")
+    })?;
+    let out = opts.get("out").ok_or_else(|| bad("import-chrono: --out FILE.json is needed"))?;
+    let import = import_chrono::import_vehicle(std::path::Path::new(vehicle), std::path::Path::new(dir))
+        .map_err(|e| failed(format!("import-chrono: {e}")))?;
+    for w in &import.warnings {
+        eprintln!("import-chrono: warning: {w}");
+    }
+    import_chrono::write_atomically(std::path::Path::new(out), &import.to_json())
+        .map_err(|e| failed(format!("import-chrono: cannot write {out}: {e}")))?;
+    eprintln!("import-chrono: wrote {out} ({})", import.data.name);
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("scene") => cmd_scene(&args[1..]),
         Some("kinematics") => cmd_kinematics(&args[1..]),
+        Some("kc") => cmd_kc(&args[1..]),
         Some("steering") => cmd_steering(&args[1..]),
         Some("calibrate") => cmd_calibrate(&args[1..]),
         Some("stability") => cmd_stability(&args[1..]),
         Some("manoeuvre") => cmd_manoeuvre(&args[1..]),
         Some("work-precision") => cmd_work_precision(&args[1..]),
+        Some("import-chrono") => cmd_import_chrono(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

@@ -10,6 +10,7 @@ use super::logger::Logger;
 use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
 use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, Variable, VARIABLES};
 use crate::integrate::IntegratorKind;
+use crate::model::params::SteeringInput;
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
 use crate::sim::scenes::SceneNeeds;
@@ -26,9 +27,10 @@ pub use crate::sim::{
     SLOPE_MAX, TOLERANCE_MAX, TOLERANCE_MIN,
 };
 
-/// What an input drives: the rack, or a wheel's drive or brake torque (corners FL, FR, RL, RR).
+/// What an input drives: the steering (the rack's or the Pitman arm's input: a vehicle takes one of them),
+/// or a wheel's drive or brake torque (corners FL, FR, RL, RR).
 enum InputSlot {
-    Rack,
+    Steering(SteeringInput),
     Drive(usize),
     Brake(usize),
 }
@@ -36,7 +38,8 @@ enum InputSlot {
 /// Exhaustive: an input added to the model description does not compile until it has a place here.
 fn input_slot(input: I) -> InputSlot {
     match input {
-        I::RackDisplacement => InputSlot::Rack,
+        I::RackDisplacement => InputSlot::Steering(SteeringInput::RackDisplacement),
+        I::PitmanArmAngle => InputSlot::Steering(SteeringInput::PitmanArmAngle),
         I::DriveTorqueFl => InputSlot::Drive(0),
         I::DriveTorqueFr => InputSlot::Drive(1),
         I::DriveTorqueRl => InputSlot::Drive(2),
@@ -146,12 +149,41 @@ fn ranged(var: &Variable, value: f64, lo: f64, hi: f64, unit: &str) -> Result<f6
     }
 }
 
-/// The rack input within the rack's travel limit (vehicle data `rack.travel_limit_m`).
-fn check_rack(value: f64, limit: f64) -> Result<(), String> {
+/// Slot of a steering input in `VehicleModel::steering`.
+fn steering_slot(input: SteeringInput) -> usize {
+    match input {
+        SteeringInput::RackDisplacement => 0,
+        SteeringInput::PitmanArmAngle => 1,
+    }
+}
+
+/// A value of steering input `input` for a vehicle that steers by `active` within its limit: the other
+/// input only at 0 (a master sets every input to its start value), the vehicle's own within its limit
+/// (vehicle data `rack.travel_limit_m` or `pitman_arm.max_angle_rad`).
+fn check_steering(input: SteeringInput, value: f64, active: SteeringInput, limit: f64) -> Result<(), String> {
+    if input != active {
+        if value != 0.0 {
+            return Err(format!(
+                "{} = {value} {}: this vehicle steers by {} ({}), not by {}; the old value is kept",
+                input.name(),
+                input.unit(),
+                active.name(),
+                active.unit(),
+                input.name()
+            ));
+        }
+        return Ok(());
+    }
     if value.abs() > limit {
+        let field = match active {
+            SteeringInput::RackDisplacement => "rack.travel_limit_m",
+            SteeringInput::PitmanArmAngle => "pitman_arm.max_angle_rad",
+        };
         return Err(format!(
-            "rack_displacement {value} m is beyond the rack's travel limit of ±{limit} m (vehicle data \
-             rack.travel_limit_m); the old value is kept"
+            "{} {value} {} is beyond the steering's limit of ±{limit} {} (vehicle data {field}); the old value is kept",
+            active.name(),
+            active.unit(),
+            active.unit()
         ));
     }
     Ok(())
@@ -181,9 +213,10 @@ fn road(i: i32) -> Result<RoadChoice, String> {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VehicleModel {
     pub params: Parameters,
-    pub rack: f64,
-    /// Rack input derivatives of order 1 and 2 for the next step only.
-    pub rack_derivatives: [Option<f64>; 2],
+    /// The steering inputs [rack_displacement, pitman_arm_angle]: the vehicle reads its own.
+    pub steering: [f64; 2],
+    /// Their derivatives of order 1 and 2 for the next step only.
+    pub steering_derivatives: [[Option<f64>; 2]; 2],
     pub drive: [f64; 4],
     pub brake: [f64; 4],
     pub sim: Option<Simulation>,
@@ -285,8 +318,8 @@ impl FmuModel for VehicleModel {
     fn new(_context: &ModelContext) -> Self {
         VehicleModel {
             params: Parameters::default(),
-            rack: 0.0,
-            rack_derivatives: [None, None],
+            steering: [0.0; 2],
+            steering_derivatives: [[None; 2]; 2],
             drive: [0.0; 4],
             brake: [0.0; 4],
             sim: None,
@@ -314,7 +347,7 @@ impl FmuModel for VehicleModel {
         let p = &self.params;
         Ok(match var.var {
             Var::Input(i) => match input_slot(i) {
-                InputSlot::Rack => self.rack,
+                InputSlot::Steering(input) => self.steering[steering_slot(input)],
                 InputSlot::Drive(c) => self.drive[c],
                 InputSlot::Brake(c) => self.brake[c],
             },
@@ -368,13 +401,13 @@ impl FmuModel for VehicleModel {
     fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
         match var.var {
             Var::Input(i) => match input_slot(i) {
-                InputSlot::Rack => {
-                    // The rack's travel limit (vehicle data): known once the simulation is built; a start
-                    // value set before is checked when it is (`initialize`).
-                    if let Some(limit) = self.sim.as_ref().map(|s| s.vehicle().steering.travel_limit) {
-                        check_rack(value, limit)?;
+                InputSlot::Steering(input) => {
+                    // The vehicle's steering and its limit (vehicle data): known once the simulation is built;
+                    // a start value set before is checked when it is (`initialize`).
+                    if let Some(steering) = self.sim.as_ref().map(|s| &s.vehicle().steering) {
+                        check_steering(input, value, steering.input, steering.travel_limit)?;
                     }
-                    self.rack = value
+                    self.steering[steering_slot(input)] = value
                 }
                 InputSlot::Drive(c) => self.drive[c] = value,
                 InputSlot::Brake(c) => {
@@ -451,7 +484,9 @@ impl FmuModel for VehicleModel {
         }
         match var.var {
             Var::Input(i) => match input_slot(i) {
-                InputSlot::Rack => self.rack_derivatives[order as usize - 1] = Some(value),
+                InputSlot::Steering(input) => {
+                    self.steering_derivatives[steering_slot(input)][order as usize - 1] = Some(value)
+                }
                 // The wheel torques are held over a step: their derivatives are accepted (fmpy sends them
                 // for every continuous input) and not used.
                 InputSlot::Drive(_) | InputSlot::Brake(_) => {}
@@ -470,7 +505,14 @@ impl FmuModel for VehicleModel {
             log.event(&format!("vehicle data: {w}"));
         }
         log.event(&format!("configuration: {config:?}"));
-        check_rack(self.rack, vehicle.steering_limit())?;
+        for input in [SteeringInput::RackDisplacement, SteeringInput::PitmanArmAngle] {
+            check_steering(
+                input,
+                self.steering[steering_slot(input)],
+                vehicle.steering_input(),
+                vehicle.steering_limit(),
+            )?;
+        }
         let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
         self.sim = Some(sim);
         self.step_cpu_time = 0.0;
@@ -488,9 +530,12 @@ impl FmuModel for VehicleModel {
         config.validate().map_err(|e| format!("parameters: {e}"))?;
         let finite =
             |name: &str, v: f64| if v.is_finite() { Ok(()) } else { Err(format!("{name} = {v} is not finite")) };
-        finite("rack_displacement", self.rack)?;
-        for d in self.rack_derivatives.iter().flatten() {
-            finite("a rack_displacement derivative", *d)?;
+        for input in [SteeringInput::RackDisplacement, SteeringInput::PitmanArmAngle] {
+            let k = steering_slot(input);
+            finite(input.name(), self.steering[k])?;
+            for d in self.steering_derivatives[k].iter().flatten() {
+                finite(&format!("a {} derivative", input.name()), *d)?;
+            }
         }
         for (i, (&d, &b)) in self.drive.iter().zip(&self.brake).enumerate() {
             finite(&format!("drive torque {i}"), d)?;
@@ -519,9 +564,10 @@ impl FmuModel for VehicleModel {
         let sim = self.sim.as_mut().ok_or_else(|| StepFailure::Error("the simulation was not initialized".into()))?;
         // Too much work for one call: refused before anything changes (the inputs stay for the next try).
         sim.config().plan(h).map_err(|e| StepFailure::Refused(e.to_string()))?;
-        let derivatives = std::mem::take(&mut self.rack_derivatives);
+        let active = steering_slot(sim.vehicle().steering.input);
+        let derivatives = std::mem::take(&mut self.steering_derivatives)[active];
         sim.set_external_rack(RackSample {
-            value: self.rack,
+            value: self.steering[active],
             first_derivative: derivatives[0],
             second_derivative: derivatives[1],
         });

@@ -8,6 +8,7 @@
 //!   divergence or a model evaluation failure (the state then is the last good one).
 //! - `outputs()`: every CLI column by name (`OUTPUT_NAMES`), plus diagnostics.
 
+pub mod calibration;
 pub mod inputs;
 pub mod manoeuvres;
 pub mod modes;

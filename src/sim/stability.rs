@@ -62,6 +62,8 @@ const BRAKING: &[Channel] = &[ch("x", 0.01), ch("vx", 0.1), ch("yaw_rate", 0.01)
 pub struct Case {
     pub name: &'static str,
     pub group: &'static str,
+    /// The vehicle the case runs (before `data` changes it).
+    pub vehicle: VehicleData,
     /// Changes to the vehicle data (stiff cases).
     pub data: fn(&mut VehicleData),
     pub config: SimConfig,
@@ -112,18 +114,25 @@ fn stiff_dampers(d: &mut VehicleData) {
     }
 }
 
-/// Every case of docs/stability.md.
+/// Every case of docs/stability.md, on the default vehicle (the HMMWV).
 pub fn cases() -> Vec<Case> {
+    cases_for(&VehicleData::default_hmmwv(), calibrated_jturn_amplitude())
+}
+
+/// Every case on `vehicle`, whose calibrated J-turn amplitude is `a` (in its steering input; `Scene::for_vehicle`
+/// or `sim::calibration` give it). Full lock is the steering's limit.
+pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
     let bump = Scene::new(SceneKind::Bump, Amplitude::Calibrated);
+    let lock = vehicle.steering_limit();
     let base = SimConfig::default();
     let coast =
         |speed_kmh: f64| SimConfig { speed_mode: SpeedMode::Coast, initial_speed: speed_kmh / 3.6, ..base.clone() };
     let hold = |speed_kmh: f64| SimConfig { initial_speed: speed_kmh / 3.6, ..base.clone() };
     let jturn = |amplitude: f64| RackProfile::Step { amplitude, start: 1.0, ramp: 0.1 };
-    let a = calibrated_jturn_amplitude();
     let stiff = |name, data: fn(&mut VehicleData)| Case {
         name,
         group: "stiff",
+        vehicle: vehicle.clone(),
         data,
         config: SimConfig { contact: ContactModel::Envelope, ..bump.config(&base) },
         rack: RackProfile::Zero,
@@ -135,6 +144,7 @@ pub fn cases() -> Vec<Case> {
     let case = |name, group, config: SimConfig, rack, drive, brake, duration, channels| Case {
         name,
         group,
+        vehicle: vehicle.clone(),
         data: unchanged,
         config,
         rack,
@@ -193,7 +203,7 @@ pub fn cases() -> Vec<Case> {
         ),
         case("J-turn at 150 km/h", "extreme", hold(150.0), jturn(a), zero, zero, 4.0, HANDLING),
         case("J-turn at 150 km/h, 3x amplitude", "extreme", hold(150.0), jturn(3.0 * a), zero, zero, 4.0, HANDLING),
-        case("full lock at 100 km/h", "extreme", hold(100.0), jturn(0.0699), zero, zero, 4.0, HANDLING),
+        case("full lock at 100 km/h", "extreme", hold(100.0), jturn(lock), zero, zero, 4.0, HANDLING),
         case(
             "wheel lock at 100 km/h (10 kN m per wheel)",
             "extreme",
@@ -224,14 +234,14 @@ pub fn cases() -> Vec<Case> {
             3.0,
             BRAKING,
         ),
-        case("full lock at 150 km/h (lift-off)", "extreme", hold(150.0), jturn(0.0699), zero, zero, 4.0, HANDLING),
+        case("full lock at 150 km/h (lift-off)", "extreme", hold(150.0), jturn(lock), zero, zero, 4.0, HANDLING),
         Case {
             data: high_friction,
             ..case(
                 "rollover: full lock at 100 km/h, friction 1.6",
                 "extreme",
                 hold(100.0),
-                jturn(0.0699),
+                jturn(lock),
                 zero,
                 zero,
                 4.0,
@@ -275,7 +285,7 @@ pub struct Run {
 
 /// Run `case` with `integrator` at step `h`.
 pub fn run_case(case: &Case, integrator: IntegratorKind, h: f64) -> Run {
-    let mut data = VehicleData::default_hmmwv();
+    let mut data = case.vehicle.clone();
     (case.data)(&mut data);
     let config = SimConfig { integrator, internal_step: h, ..case.config.clone() };
     let columns: Vec<usize> = case
