@@ -1,0 +1,1210 @@
+//! Import of a Chrono::Vehicle JSON vehicle (`rtv import-chrono`, docs/vehicle_file.md "Importing from
+//! Chrono").
+//!
+//! Reads a `WheeledVehicle` file and the subsystem files it names (paths relative to the data folder, as
+//! Chrono's `data/vehicle/`): a `RigidChassis`, two axles of `DoubleWishbone` or `MacPhersonStrut`, one
+//! steering (`PitmanArm` or `RackPinion`), `Wheel` and `BrakeSimple` files. Hardpoints are moved by each
+//! axle's `Suspension Location` (translation), the steering's points and axes by its `Location` and
+//! `Orientation`; spring and damper curves become the model's odd cubic spring and two-rate damper by least
+//! squares. What the model has no place for is listed as a warning; what it cannot represent (another
+//! template, an unknown key, camber or toe offsets, an anti-roll bar, different wheels) is an error that
+//! names the file and the key. The tire, the stop table, gravity and the speed hold are the HMMWV's
+//! (`VehicleData::default_hmmwv`): Chrono's vehicle files name no tire, and the model has the STI tire only.
+//!
+//! The result is checked by the loader (`VehicleData::from_json`: schema, inertias, loop closure) before
+//! anything is written, and written atomically (`write_atomically`).
+
+use crate::math::{M3, V3};
+use crate::model::params::{
+    Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SuspensionTemplate, VehicleData, WheelBody,
+    MAX_FILE_BYTES,
+};
+use nalgebra::{Quaternion, UnitQuaternion};
+use serde_json::{Map, Value};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// An import that failed: the Chrono file, the key in it (dotted path; empty for the whole file) and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImportError {
+    pub file: String,
+    pub key: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for ImportError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.key.is_empty() {
+            write!(f, "{}: {}", self.file, self.message)
+        } else {
+            write!(f, "{}: {}: {}", self.file, self.key, self.message)
+        }
+    }
+}
+
+impl std::error::Error for ImportError {}
+
+/// An imported vehicle and what the import left out or approximated (one line each, `FILE: KEY: why`).
+#[derive(Debug, Clone)]
+pub struct Import {
+    pub data: VehicleData,
+    pub warnings: Vec<String>,
+}
+
+impl Import {
+    /// The vehicle file's text, as `rtv import-chrono` writes it.
+    pub fn to_json(&self) -> String {
+        vehicle_json(&self.data)
+    }
+}
+
+/// Numbers are written with 12 significant digits: the sums of locations and hardpoints carry no binary
+/// noise, and the file reads as its source does.
+const SIGNIFICANT_DIGITS: usize = 12;
+/// Largest plausible coordinate or length, m, and body mass, kg: beyond them the file is not in SI units.
+const MAX_PLAUSIBLE_LENGTH_M: f64 = 50.0;
+const MAX_PLAUSIBLE_MASS_KG: f64 = 1e5;
+/// The damper's band limits of an imported (single-rate) damper: one band over any length.
+const DAMPER_ENGAGEMENT_M: [f64; 2] = [0.0, 10.0];
+
+/// A vehicle as the text of its file (pretty JSON, numbers rounded to `SIGNIFICANT_DIGITS`).
+pub fn vehicle_json(data: &VehicleData) -> String {
+    let mut value = serde_json::to_value(data).expect("vehicle data serialize");
+    round_numbers(&mut value);
+    let mut text = serde_json::to_string_pretty(&value).expect("JSON value serializes");
+    text.push('\n');
+    text
+}
+
+fn round_numbers(v: &mut Value) {
+    match v {
+        Value::Number(n) => {
+            if let (Some(x), false) = (n.as_f64(), n.is_i64() || n.is_u64()) {
+                let r: f64 = format!("{:.*e}", SIGNIFICANT_DIGITS - 1, x).parse().expect("formatted float parses");
+                if let Some(m) = serde_json::Number::from_f64(if r == 0.0 { 0.0 } else { r }) {
+                    *n = m;
+                }
+            }
+        }
+        Value::Array(a) => a.iter_mut().for_each(round_numbers),
+        Value::Object(o) => o.values_mut().for_each(round_numbers),
+        _ => {}
+    }
+}
+
+/// Writes `text` to `path` atomically: a temporary file in the same folder, flushed to disk, then renamed
+/// over `path`. On any error the temporary file is removed and `path` is left as it was.
+pub fn write_atomically(path: &Path, text: &str) -> std::io::Result<()> {
+    use std::io::Write as _;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path.file_name().ok_or_else(|| {
+        std::io::Error::new(std::io::ErrorKind::InvalidInput, format!("{} names no file", path.display()))
+    })?;
+    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// Imports the Chrono vehicle `vehicle`; the paths it names are relative to `data_dir`.
+pub fn import_vehicle(vehicle: &Path, data_dir: &Path) -> Result<Import, ImportError> {
+    Importer { data_dir: data_dir.to_path_buf(), warnings: Vec::new() }.vehicle(vehicle)
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Reading JSON objects with every key accounted for.
+
+/// One JSON object of a Chrono file, with the dotted path of its key in that file.
+#[derive(Clone)]
+struct Obj<'a> {
+    file: &'a str,
+    path: String,
+    map: &'a Map<String, Value>,
+}
+
+/// What the model does with a key it reads but has no place for.
+type Ignored<'k> = (&'k str, &'k str);
+
+const VISUAL: &str = "visualization only";
+
+impl<'a> Obj<'a> {
+    fn key(&self, k: &str) -> String {
+        if self.path.is_empty() {
+            k.to_string()
+        } else {
+            format!("{}.{k}", self.path)
+        }
+    }
+
+    fn err(&self, k: &str, message: impl Into<String>) -> ImportError {
+        ImportError { file: self.file.to_string(), key: self.key(k), message: message.into() }
+    }
+
+    fn has(&self, k: &str) -> bool {
+        self.map.contains_key(k)
+    }
+
+    fn get(&self, k: &str) -> Result<&'a Value, ImportError> {
+        self.map.get(k).ok_or_else(|| self.err(k, "missing"))
+    }
+
+    fn num(&self, k: &str) -> Result<f64, ImportError> {
+        number(self.get(k)?).ok_or_else(|| self.err(k, "must be a finite number"))
+    }
+
+    fn opt_num(&self, k: &str) -> Result<Option<f64>, ImportError> {
+        if self.has(k) {
+            self.num(k).map(Some)
+        } else {
+            Ok(None)
+        }
+    }
+
+    fn text(&self, k: &str) -> Result<&'a str, ImportError> {
+        self.get(k)?.as_str().ok_or_else(|| self.err(k, "must be a string"))
+    }
+
+    fn flag(&self, k: &str) -> Result<bool, ImportError> {
+        match self.map.get(k) {
+            None => Ok(false),
+            Some(v) => v.as_bool().ok_or_else(|| self.err(k, "must be true or false")),
+        }
+    }
+
+    fn array(&self, k: &str, n: usize) -> Result<Vec<f64>, ImportError> {
+        let a = self.get(k)?.as_array().ok_or_else(|| self.err(k, format!("must be an array of {n} numbers")))?;
+        let v: Vec<f64> = a.iter().filter_map(number).collect();
+        if a.len() != n || v.len() != n {
+            return Err(self.err(k, format!("must be an array of {n} finite numbers")));
+        }
+        Ok(v)
+    }
+
+    fn vec3(&self, k: &str) -> Result<V3, ImportError> {
+        Ok(V3::from_column_slice(&self.array(k, 3)?))
+    }
+
+    /// A point or location, m (checked to be plausible in metres).
+    fn point(&self, k: &str) -> Result<V3, ImportError> {
+        let p = self.vec3(k)?;
+        if p.amax() > MAX_PLAUSIBLE_LENGTH_M {
+            return Err(self.err(
+                k,
+                format!(
+                    "{p:?}: a coordinate beyond {MAX_PLAUSIBLE_LENGTH_M} m; Chrono files are in SI units (m, kg, s): \
+                     is this file in millimetres?"
+                ),
+            ));
+        }
+        Ok(p)
+    }
+
+    fn mass(&self, k: &str) -> Result<f64, ImportError> {
+        let m = self.num(k)?;
+        if !(m > 0.0) {
+            return Err(self.err(k, format!("a mass must be positive, got {m} kg")));
+        }
+        if m > MAX_PLAUSIBLE_MASS_KG {
+            return Err(self.err(
+                k,
+                format!("{m} kg is beyond {MAX_PLAUSIBLE_MASS_KG} kg: Chrono files are in SI units (kg), not grams"),
+            ));
+        }
+        Ok(m)
+    }
+
+    fn length(&self, k: &str) -> Result<f64, ImportError> {
+        let l = self.num(k)?;
+        if !(l > 0.0 && l <= MAX_PLAUSIBLE_LENGTH_M) {
+            return Err(self.err(k, format!("a length must be in (0, {MAX_PLAUSIBLE_LENGTH_M}] m, got {l}")));
+        }
+        Ok(l)
+    }
+
+    fn obj(&self, k: &str) -> Result<Obj<'a>, ImportError> {
+        let map = self.get(k)?.as_object().ok_or_else(|| self.err(k, "must be an object"))?;
+        Ok(Obj { file: self.file, path: self.key(k), map })
+    }
+
+    /// The `i`-th object of the array `k`.
+    fn item(&self, k: &str, i: usize, v: &'a Value) -> Result<Obj<'a>, ImportError> {
+        let path = format!("{k}[{i}]");
+        let map = v.as_object().ok_or_else(|| self.err(&path, "must be an object"))?;
+        Ok(Obj { file: self.file, path: self.key(&path), map })
+    }
+
+    /// Every key must be one the reader uses (`used`) or knows to leave out (`ignored`, each with the
+    /// reason, which becomes a warning); any other key is an error.
+    fn keys(&self, used: &[&str], ignored: &[Ignored], warnings: &mut Vec<String>) -> Result<(), ImportError> {
+        for k in self.map.keys() {
+            if used.contains(&k.as_str()) {
+                continue;
+            }
+            match ignored.iter().find(|(name, _)| name == k) {
+                Some((_, why)) => warnings.push(format!("{}: {}: ignored ({why})", self.file, self.key(k))),
+                None => {
+                    let mut known: Vec<&str> = used.to_vec();
+                    known.extend(ignored.iter().map(|(n, _)| *n));
+                    return Err(self.err(k, format!("unknown key (known here: {})", known.join(", "))));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn number(v: &Value) -> Option<f64> {
+    v.as_f64().filter(|x| x.is_finite())
+}
+
+/// Chrono's JSON files may carry comments (rapidjson `kParseCommentsFlag`); serde_json takes none.
+fn strip_comments(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut chars = text.chars().peekable();
+    let mut in_string = false;
+    while let Some(c) = chars.next() {
+        if in_string {
+            out.push(c);
+            match c {
+                '\\' => {
+                    if let Some(n) = chars.next() {
+                        out.push(n);
+                    }
+                }
+                '"' => in_string = false,
+                _ => {}
+            }
+            continue;
+        }
+        match (c, chars.peek()) {
+            ('"', _) => {
+                in_string = true;
+                out.push(c);
+            }
+            ('/', Some('/')) => {
+                for n in chars.by_ref() {
+                    if n == '\n' {
+                        out.push('\n');
+                        break;
+                    }
+                }
+            }
+            ('/', Some('*')) => {
+                chars.next();
+                let mut prev = ' ';
+                for n in chars.by_ref() {
+                    if prev == '*' && n == '/' {
+                        break;
+                    }
+                    if n == '\n' {
+                        out.push('\n');
+                    }
+                    prev = n;
+                }
+                out.push(' ');
+            }
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Conversions.
+
+/// A rotation from a Chrono quaternion [w, x, y, z] (normalized; an array far from unit length is refused).
+fn rotation(o: &Obj, k: &str) -> Result<M3, ImportError> {
+    let q = o.array(k, 4)?;
+    let q = Quaternion::new(q[0], q[1], q[2], q[3]);
+    if (q.norm() - 1.0).abs() > 1e-3 {
+        return Err(o.err(k, format!("a rotation quaternion [w, x, y, z] must have unit length, got {}", q.norm())));
+    }
+    Ok(UnitQuaternion::from_quaternion(q).to_rotation_matrix().into_inner())
+}
+
+fn tensor(moments: V3, products: V3) -> M3 {
+    M3::new(moments.x, products.x, products.y, products.x, moments.y, products.z, products.y, products.z, moments.z)
+}
+
+fn body_of(mass: f64, j: &M3) -> RigidBody {
+    RigidBody {
+        mass_kg: mass,
+        inertia_moments_kg_m2: [j[(0, 0)], j[(1, 1)], j[(2, 2)]],
+        inertia_products_kg_m2: [j[(0, 1)], j[(0, 2)], j[(1, 2)]],
+    }
+}
+
+/// A body's inertia tensor: `Inertia` (moments only) or `Moments of Inertia` with `Products of Inertia`
+/// (Chrono's convention, the loader's: the tensor holds the products as given).
+fn inertia_of(o: &Obj) -> Result<M3, ImportError> {
+    if o.has("Inertia") {
+        Ok(tensor(o.vec3("Inertia")?, V3::zeros()))
+    } else {
+        let products = if o.has("Products of Inertia") { o.vec3("Products of Inertia")? } else { V3::zeros() };
+        Ok(tensor(o.vec3("Moments of Inertia")?, products))
+    }
+}
+
+fn moments_positive(o: &Obj, j: &M3) -> Result<(), ImportError> {
+    if (0..3).all(|i| j[(i, i)] > 0.0) {
+        Ok(())
+    } else {
+        let k = if o.has("Inertia") { "Inertia" } else { "Moments of Inertia" };
+        Err(o.err(k, "moments of inertia must be positive (kg m²)"))
+    }
+}
+
+/// The arm frame the loader expects a control arm's inertia in (`suspension::arm_inertia`, Chrono's own):
+/// x = unit(F − B), z = unit((B − U) × (F − U)), y = z × x.
+fn arm_frame(o: &Obj, f: V3, b: V3, u: V3) -> Result<M3, ImportError> {
+    let x = f - b;
+    let z = (b - u).cross(&(f - u));
+    if x.norm() < 1e-6 {
+        return Err(o.err("Location Chassis Front", "coincides with Location Chassis Back: the arm has no hinge axis"));
+    }
+    if z.norm() < 1e-9 {
+        return Err(o.err("Location Upright", "lies on the arm's hinge axis: the arm has no plane"));
+    }
+    let (x, z) = (x.normalize(), z.normalize());
+    Ok(M3::from_columns(&[x, z.cross(&x), z]))
+}
+
+/// Least-squares odd cubic F = k1 x + k3 x³ through a spring curve [[x, F], …] (x = length − free length,
+/// m; F, N, positive in tension: Chrono's spring force is −F). Returns k1, k3 and the largest error in % of
+/// the curve's peak |F|. A negative k3 is refitted with k3 = 0 (the loader takes k3 ≥ 0).
+fn fit_spring(points: &[(f64, f64)]) -> (f64, f64, f64) {
+    let scale = points.iter().fold(0.0f64, |m, p| m.max(p.0.abs()));
+    let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(x, f) in points {
+        let s = x / scale;
+        let (s2, s3) = (s * s, s * s * s);
+        a11 += s2;
+        a12 += s * s3;
+        a22 += s3 * s3;
+        b1 += s * f;
+        b2 += s3 * f;
+    }
+    let det = a11 * a22 - a12 * a12;
+    let (mut c1, mut c3) = ((b1 * a22 - b2 * a12) / det, (a11 * b2 - a12 * b1) / det);
+    if !(c3 >= 0.0) || !det.is_finite() || det.abs() < 1e-12 * a11 * a22 {
+        c1 = b1 / a11;
+        c3 = 0.0;
+    }
+    let (k1, k3) = (c1 / scale, c3 / scale.powi(3));
+    let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
+    let error = points.iter().fold(0.0f64, |m, &(x, f)| m.max((k1 * x + k3 * x * x * x - f).abs()));
+    (k1, k3, 100.0 * error / peak)
+}
+
+/// Compression and rebound rates of a damper curve [[v, F], …] (v = length rate, m/s, > 0 extending; F,
+/// N, positive resisting extension): least squares through the origin on each side (a side without points
+/// takes the other's). Returns (compression, rebound, largest error in % of the peak |F|).
+fn fit_damper(points: &[(f64, f64)]) -> (f64, f64, f64) {
+    let rate = |side: f64| {
+        let (num, den) =
+            points.iter().filter(|p| p.0 * side > 0.0).fold((0.0, 0.0), |(n, d), &(v, f)| (n + v * f, d + v * v));
+        (den > 0.0).then(|| num / den)
+    };
+    let (c, r) = match (rate(-1.0), rate(1.0)) {
+        (Some(c), Some(r)) => (c, r),
+        (Some(c), None) => (c, c),
+        (None, Some(r)) => (r, r),
+        (None, None) => (0.0, 0.0),
+    };
+    let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
+    let error = points.iter().fold(0.0f64, |m, &(v, f)| m.max(((if v < 0.0 { c } else { r }) * v - f).abs()));
+    (c, r, 100.0 * error / peak)
+}
+
+/// A curve [[x, y], …] of at least two points with increasing x.
+fn curve(o: &Obj, k: &str) -> Result<Vec<(f64, f64)>, ImportError> {
+    let bad = || o.err(k, "must be an array of [x, y] pairs of finite numbers, x increasing, at least 2");
+    let a = o.get(k)?.as_array().ok_or_else(bad)?;
+    let mut out = Vec::with_capacity(a.len());
+    for p in a {
+        match p.as_array().map(|p| p.iter().filter_map(number).collect::<Vec<f64>>()) {
+            Some(v) if v.len() == 2 && p.as_array().map(Vec::len) == Some(2) => out.push((v[0], v[1])),
+            _ => return Err(bad()),
+        }
+    }
+    if out.len() < 2 || out.windows(2).any(|w| !(w[1].0 > w[0].0)) {
+        return Err(bad());
+    }
+    if out.iter().all(|p| p.1 == 0.0) {
+        return Err(o.err(k, "the curve's forces are all zero"));
+    }
+    Ok(out)
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The importer.
+
+struct Importer {
+    data_dir: PathBuf,
+    warnings: Vec<String>,
+}
+
+/// One parsed Chrono file: its name as shown in messages and its top-level object.
+struct File {
+    shown: String,
+    root: Map<String, Value>,
+}
+
+impl File {
+    fn obj(&self) -> Obj<'_> {
+        Obj { file: &self.shown, path: String::new(), map: &self.root }
+    }
+}
+
+/// The wheel as the model takes it (compared between the four wheels).
+#[derive(PartialEq)]
+struct Wheel {
+    mass: f64,
+    inertia: [f64; 3],
+}
+
+impl Importer {
+    fn read(&self, path: &Path, shown: &str, kind: &str) -> Result<File, ImportError> {
+        let fail = |message: String| ImportError { file: shown.to_string(), key: String::new(), message };
+        let text =
+            fmi_layer::resources::read_bounded(path, MAX_FILE_BYTES, &format!("the {kind} file")).map_err(&fail)?;
+        let value: Value = serde_json::from_str(&strip_comments(&text)).map_err(|e| fail(format!("not JSON: {e}")))?;
+        match value {
+            Value::Object(root) => {
+                let file = File { shown: shown.to_string(), root };
+                let o = file.obj();
+                let ty = o.text("Type")?;
+                if ty != kind {
+                    return Err(o.err("Type", format!("is '{ty}': this file should be a {kind} file")));
+                }
+                Ok(file)
+            }
+            _ => Err(fail("must hold a JSON object".into())),
+        }
+    }
+
+    /// A subsystem file named by `key` of `o` (relative to the data folder).
+    fn subsystem(&self, o: &Obj, key: &str, kind: &str) -> Result<File, ImportError> {
+        let rel = o.text(key)?;
+        let path = self.data_dir.join(rel);
+        if !path.exists() {
+            return Err(o.err(key, format!("{} does not exist (paths are relative to --data-dir)", path.display())));
+        }
+        self.read(&path, rel, kind)
+    }
+
+    fn template<'f>(o: &Obj<'f>, supported: &[&str]) -> Result<&'f str, ImportError> {
+        let t = o.text("Template")?;
+        if supported.contains(&t) {
+            Ok(t)
+        } else {
+            Err(o.err("Template", format!("template '{t}' is not supported (supported: {})", supported.join(", "))))
+        }
+    }
+
+    fn vehicle(mut self, path: &Path) -> Result<Import, ImportError> {
+        // Named relative to the data folder where it lies in it (the provenance then does not depend on
+        // where the folder is).
+        let canonical = |p: &Path| p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
+        let shown = match canonical(path).strip_prefix(canonical(&self.data_dir)) {
+            Ok(rel) => rel.display().to_string(),
+            Err(_) => path.display().to_string(),
+        };
+        let file = self.read(path, &shown, "Vehicle")?;
+        let v = file.obj();
+        Self::template(&v, &["WheeledVehicle"])?;
+        v.keys(
+            &["Name", "Type", "Template", "Chassis", "Axles", "Steering Subsystems"],
+            &[
+                ("Wheelbase", "the wheelbase follows from the hardpoints"),
+                ("Minimum Turning Radius", "a steering-angle limit: the steering input's limit is the steering's own"),
+                (
+                    "Maximum Steering Angle (deg)",
+                    "a steering-angle limit: the steering input's limit is the steering's own",
+                ),
+                ("Driveline", "the model has no driveline: drive torques are inputs per wheel"),
+                ("Output", "Chrono output settings"),
+            ],
+            &mut self.warnings,
+        )?;
+        let name = v.text("Name")?.to_string();
+
+        // Chassis.
+        let chassis_ref = v.obj("Chassis")?;
+        chassis_ref.keys(&["Input File"], &[], &mut self.warnings)?;
+        let chassis_file = self.subsystem(&chassis_ref, "Input File", "Chassis")?;
+        let (chassis, driver) = self.chassis(&chassis_file)?;
+
+        // Steering.
+        let steerings =
+            v.get("Steering Subsystems")?.as_array().ok_or_else(|| v.err("Steering Subsystems", "must be an array"))?;
+        if steerings.len() != 1 {
+            return Err(v.err(
+                "Steering Subsystems",
+                format!("has {} entries: the model takes exactly one steering", steerings.len()),
+            ));
+        }
+        let s = v.item("Steering Subsystems", 0, &steerings[0])?;
+        s.keys(&["Input File", "Location", "Orientation"], &[], &mut self.warnings)?;
+        let place =
+            (s.point("Location")?, if s.has("Orientation") { rotation(&s, "Orientation")? } else { M3::identity() });
+        let steering_file = self.subsystem(&s, "Input File", "Steering")?;
+        let (rack, pitman_arm) = self.steering(&steering_file, place)?;
+
+        // Axles.
+        let axles = v.get("Axles")?.as_array().ok_or_else(|| v.err("Axles", "must be an array"))?;
+        if axles.len() != 2 {
+            return Err(v.err("Axles", format!("has {} axles: the model has two (front and rear)", axles.len())));
+        }
+        let mut imported = Vec::new();
+        let mut wheels: Vec<(String, Wheel)> = Vec::new();
+        for (i, a) in axles.iter().enumerate() {
+            let a = v.item("Axles", i, a)?;
+            a.keys(
+                &[
+                    "Suspension Input File",
+                    "Suspension Location",
+                    "Steering Index",
+                    "Left Wheel Input File",
+                    "Right Wheel Input File",
+                    "Left Brake Input File",
+                    "Right Brake Input File",
+                ],
+                &[("Output", "Chrono output settings")],
+                &mut self.warnings,
+            )?;
+            for k in ["Antirollbar Input File", "Antirollbar Location", "Wheel Separation", "Subchassis Index"] {
+                if a.has(k) {
+                    return Err(a.err(k, "not supported: the model has no anti-roll bar, twin wheels or subchassis"));
+                }
+            }
+            let steered = match a.map.get("Steering Index") {
+                None => false,
+                Some(Value::Number(n)) if n.as_u64() == Some(0) => true,
+                Some(other) => {
+                    return Err(a.err("Steering Index", format!("{other}: the vehicle has one steering, index 0")))
+                }
+            };
+            let location = a.point("Suspension Location")?;
+            let suspension = self.subsystem(&a, "Suspension Input File", "Suspension")?;
+            let axle = self.suspension(&suspension, location, steered)?;
+            for side in ["Left", "Right"] {
+                let key = format!("{side} Wheel Input File");
+                let wheel_file = self.subsystem(&a, &key, "Wheel")?;
+                wheels.push((a.key(&key), self.wheel(&wheel_file)?));
+                let key = format!("{side} Brake Input File");
+                if a.has(&key) {
+                    let brake = self.subsystem(&a, &key, "Brake")?;
+                    self.brake(&brake)?;
+                }
+            }
+            imported.push((location.x, suspension.shown.clone(), axle));
+        }
+        // The model has one wheel body for all four corners: left and right, front and rear, must agree.
+        for (key, w) in &wheels[1..] {
+            if *w != wheels[0].1 {
+                return Err(ImportError {
+                    file: file.shown.clone(),
+                    key: key.clone(),
+                    message: format!(
+                        "this wheel (mass {} kg, inertia {:?}) differs from {} (mass {} kg, inertia {:?}): the model \
+                         takes one wheel for all four corners",
+                        w.mass, w.inertia, wheels[0].0, wheels[0].1.mass, wheels[0].1.inertia
+                    ),
+                });
+            }
+        }
+        if imported[0].0 < imported[1].0 {
+            imported.swap(0, 1);
+            self.warnings.push(format!(
+                "{}: Axles: the second axle is ahead of the first; it is the front axle here",
+                file.shown
+            ));
+        }
+        let rear = imported.pop().expect("two axles");
+        let front = imported.pop().expect("two axles");
+
+        let hmmwv = VehicleData::default_hmmwv();
+        let wheel = &wheels[0].1;
+        let data = VehicleData {
+            name,
+            provenance: format!(
+                "Imported by `rtv import-chrono` from Project Chrono's vehicle data ({shown}; BSD-3-Clause, see \
+                 resources/vehicles/LICENSE-chrono). Spring and damper curves fitted by least squares (odd cubic \
+                 spring, two-rate damper). The tire (STI), the stop table, gravity and the speed hold are the \
+                 HMMWV's (resources/hmmwv.json): Chrono's vehicle files name no tire and the model has the STI \
+                 tire only."
+            ),
+            gravity_m_s2: hmmwv.gravity_m_s2,
+            chassis,
+            rack,
+            pitman_arm,
+            driver_position_m: driver,
+            front: front.2,
+            rear: rear.2,
+            stop_table: hmmwv.stop_table.clone(),
+            wheel: WheelBody { mass_kg: wheel.mass, inertia_kg_m2: wheel.inertia },
+            tire: hmmwv.tire.clone(),
+            speed_hold: hmmwv.speed_hold.clone(),
+        };
+        // The loader's checks (schema, inertias, loop closure) on the text that will be written.
+        // A file named twice (the same wheel on every corner) warns once.
+        let mut seen = std::collections::BTreeSet::new();
+        let warnings = self.warnings.into_iter().filter(|w| seen.insert(w.clone())).collect();
+        let import = Import { data, warnings };
+        if let Err(e) = VehicleData::from_json(&import.to_json()) {
+            return Err(loader_error(e, &file.shown, &front.1, &rear.1));
+        }
+        Ok(import)
+    }
+
+    fn chassis(&mut self, file: &File) -> Result<(Chassis, Option<[f64; 3]>), ImportError> {
+        let o = file.obj();
+        Self::template(&o, &["RigidChassis"])?;
+        o.keys(
+            &["Name", "Type", "Template", "Components", "Driver Position"],
+            &[
+                ("Visualization", VISUAL),
+                ("Contact", "the chassis has no contact in the model"),
+                ("Output", "Chrono output settings"),
+            ],
+            &mut self.warnings,
+        )?;
+        let comps = o.get("Components")?.as_array().ok_or_else(|| o.err("Components", "must be an array"))?;
+        if comps.is_empty() {
+            return Err(o.err("Components", "no component: the chassis has no mass"));
+        }
+        // Each component's inertia turned into chassis axes, then the composite about the common CM.
+        let mut parts = Vec::new();
+        for (i, c) in comps.iter().enumerate() {
+            let c = o.item("Components", i, c)?;
+            c.keys(
+                &["Centroidal Frame", "Mass", "Moments of Inertia", "Products of Inertia", "Void"],
+                &[],
+                &mut self.warnings,
+            )?;
+            let frame = c.obj("Centroidal Frame")?;
+            frame.keys(&["Location", "Orientation"], &[], &mut self.warnings)?;
+            let r = if frame.has("Orientation") { rotation(&frame, "Orientation")? } else { M3::identity() };
+            let j = inertia_of(&c)?;
+            moments_positive(&c, &j)?;
+            let sign = if c.flag("Void")? { -1.0 } else { 1.0 };
+            parts.push((sign * c.mass("Mass")?, frame.point("Location")?, sign * (r * j * r.transpose())));
+        }
+        let mass: f64 = parts.iter().map(|p| p.0).sum();
+        if !(mass > 0.0) {
+            return Err(o.err("Components", format!("the components' total mass is {mass} kg: it must be positive")));
+        }
+        let com = parts.iter().map(|p| p.1 * p.0).sum::<V3>() / mass;
+        let steiner = |m: f64, r: V3| (M3::identity() * r.norm_squared() - r * r.transpose()) * m;
+        let j = parts.iter().map(|(m, c, j)| j + steiner(*m, c - com)).sum::<M3>();
+        let body = body_of(mass, &j);
+        let chassis = Chassis {
+            mass_kg: mass,
+            com_m: com.into(),
+            inertia_moments_kg_m2: body.inertia_moments_kg_m2,
+            inertia_products_kg_m2: body.inertia_products_kg_m2,
+        };
+        let driver = if o.has("Driver Position") {
+            let d = o.obj("Driver Position")?;
+            d.keys(&["Location"], &[("Orientation", "the driver's view direction")], &mut self.warnings)?;
+            Some(d.point("Location")?.into())
+        } else {
+            None
+        };
+        Ok((chassis, driver))
+    }
+
+    /// The steering at `place` (location, rotation of its frame in the chassis reference frame).
+    fn steering(&mut self, file: &File, place: (V3, M3)) -> Result<(Option<Rack>, Option<PitmanArm>), ImportError> {
+        let o = file.obj();
+        let (loc, rot) = place;
+        let at = |p: V3| loc + rot * p;
+        let template = Self::template(&o, &["PitmanArm", "RackPinion"])?;
+        let vehicle_frame = o.flag("Vehicle-Frame Inertia")?;
+        // A body's inertia in chassis axes: Chrono gives it in the steering frame unless flagged.
+        let turned = |j: M3| if vehicle_frame { j } else { rot * j * rot.transpose() };
+        if template == "RackPinion" {
+            o.keys(
+                &["Name", "Type", "Template", "Steering Link", "Pinion", "Vehicle-Frame Inertia"],
+                &[("Output", "Chrono output settings")],
+                &mut self.warnings,
+            )?;
+            let link = o.obj("Steering Link")?;
+            link.keys(
+                &["Mass", "COM", "Inertia", "Moments of Inertia", "Products of Inertia"],
+                &[("Radius", VISUAL), ("Length", VISUAL)],
+                &mut self.warnings,
+            )?;
+            let pinion = o.obj("Pinion")?;
+            pinion.keys(&["Radius", "Maximum Angle (deg)", "Maximum Angle"], &[], &mut self.warnings)?;
+            let axis = rot * V3::y();
+            if (axis - V3::y()).norm() > 1e-9 {
+                return Err(ImportError {
+                    file: o.file.to_string(),
+                    key: "Orientation".into(),
+                    message: format!(
+                        "the rack's axis turns to {axis:?} in the chassis: the model's rack moves along the chassis y \
+                         axis"
+                    ),
+                });
+            }
+            let j = inertia_of(&link)?;
+            moments_positive(&link, &j)?;
+            let body = body_of(link.mass("Mass")?, &turned(j));
+            let angle_key = if pinion.has("Maximum Angle (deg)") { "Maximum Angle (deg)" } else { "Maximum Angle" };
+            let travel = pinion.length("Radius")? * pinion.num(angle_key)?.to_radians();
+            self.warnings.push(format!(
+                "{}: (rack): reference_gain_deg_per_m written as 0: Chrono gives no published steering gain",
+                o.file
+            ));
+            let rack = Rack {
+                mass_kg: body.mass_kg,
+                inertia_moments_kg_m2: body.inertia_moments_kg_m2,
+                inertia_products_kg_m2: body.inertia_products_kg_m2,
+                com_m: at(V3::new(0.0, link.num("COM")?, 0.0)).into(),
+                travel_limit_m: travel,
+                reference_gain_deg_per_m: 0.0,
+            };
+            return Ok((Some(rack), None));
+        }
+        o.keys(
+            &[
+                "Name",
+                "Type",
+                "Template",
+                "Steering Link",
+                "Pitman Arm",
+                "Revolute Joint",
+                "Universal Joint",
+                "Revolute-Spherical Joint",
+                "Vehicle-Frame Inertia",
+            ],
+            &[
+                ("Tierod Locations", "visualization only: the tie rods end at the suspensions' TIEROD_C"),
+                ("Output", "Chrono output settings"),
+            ],
+            &mut self.warnings,
+        )?;
+        let body = |key: &str, warnings: &mut Vec<String>| -> Result<(RigidBody, V3), ImportError> {
+            let b = o.obj(key)?;
+            b.keys(
+                &["Mass", "COM", "Inertia", "Moments of Inertia", "Products of Inertia"],
+                &[("Radius", VISUAL)],
+                warnings,
+            )?;
+            let j = inertia_of(&b)?;
+            moments_positive(&b, &j)?;
+            Ok((body_of(b.mass("Mass")?, &turned(j)), at(b.point("COM")?)))
+        };
+        let (link, link_com) = body("Steering Link", &mut self.warnings)?;
+        let (arm, arm_com) = body("Pitman Arm", &mut self.warnings)?;
+        let rev = o.obj("Revolute Joint")?;
+        rev.keys(&["Location", "Direction", "Maximum Angle (deg)", "Maximum Angle"], &[], &mut self.warnings)?;
+        let uni = o.obj("Universal Joint")?;
+        uni.keys(
+            &["Location"],
+            &[
+                ("Direction Arm", "the link of a parallelogram keeps its orientation: the joint's axes do not act"),
+                ("Direction Link", "the link of a parallelogram keeps its orientation: the joint's axes do not act"),
+            ],
+            &mut self.warnings,
+        )?;
+        let idler = o.obj("Revolute-Spherical Joint")?;
+        idler.keys(&["Location Chassis", "Location Link", "Direction"], &[], &mut self.warnings)?;
+        let angle_key = if rev.has("Maximum Angle (deg)") { "Maximum Angle (deg)" } else { "Maximum Angle" };
+        let dir = |o: &Obj, k: &str| -> Result<V3, ImportError> {
+            let d = o.vec3(k)?;
+            if d.norm() < 1e-9 {
+                return Err(o.err(k, "a direction of zero length"));
+            }
+            Ok(rot * d.normalize())
+        };
+        let p = PitmanArm {
+            arm,
+            arm_com_m: arm_com.into(),
+            link,
+            link_com_m: link_com.into(),
+            arm_pivot_m: at(rev.point("Location")?).into(),
+            arm_axis: dir(&rev, "Direction")?.into(),
+            arm_link_joint_m: at(uni.point("Location")?).into(),
+            idler_pivot_m: at(idler.point("Location Chassis")?).into(),
+            idler_axis: dir(&idler, "Direction")?.into(),
+            idler_link_joint_m: at(idler.point("Location Link")?).into(),
+            max_angle_rad: rev.num(angle_key)?.to_radians(),
+        };
+        // The model's Pitman arm drives a parallelogram; say so here, with the file, if it is not one.
+        crate::model::steering::pitman_arm::drive(&p).map_err(|e| ImportError {
+            file: o.file.to_string(),
+            key: "Revolute-Spherical Joint".into(),
+            message: e.message,
+        })?;
+        Ok((None, Some(p)))
+    }
+
+    fn suspension(&mut self, file: &File, location: V3, steered: bool) -> Result<Axle, ImportError> {
+        let o = file.obj();
+        let template = Self::template(&o, &["DoubleWishbone", "MacPhersonStrut"])?;
+        let wishbone = template == "DoubleWishbone";
+        let (arm_key, moving) =
+            if wishbone { ("Lower Control Arm", "Location Arm") } else { ("Control Arm", "Location Upright") };
+        let mut used = vec![
+            "Name",
+            "Type",
+            "Template",
+            "Camber Angle (deg)",
+            "Toe Angle (deg)",
+            "Vehicle-Frame Inertia",
+            "Spindle",
+            "Upright",
+            arm_key,
+            "Tierod",
+            "Spring",
+            "Shock",
+            "Axle",
+        ];
+        used.push(if wishbone { "Upper Control Arm" } else { "Strut" });
+        o.keys(&used, &[("Output", "Chrono output settings")], &mut self.warnings)?;
+        for k in ["Camber Angle (deg)", "Toe Angle (deg)"] {
+            if let Some(a) = o.opt_num(k)? {
+                if a != 0.0 {
+                    return Err(o.err(k, format!("{a}°: static camber and toe offsets are not supported (give 0)")));
+                }
+            }
+        }
+        let vehicle_frame = o.flag("Vehicle-Frame Inertia")?;
+        let mut points = BTreeMap::new();
+        let mut put = |name: &str, p: V3| {
+            points.insert(name.to_string(), <[f64; 3]>::from(p + location));
+        };
+
+        let spindle = o.obj("Spindle")?;
+        spindle.keys(&["Mass", "COM", "Inertia"], &[("Radius", VISUAL), ("Width", VISUAL)], &mut self.warnings)?;
+        put("SPINDLE", spindle.point("COM")?);
+        let j = inertia_of(&spindle)?;
+        moments_positive(&spindle, &j)?;
+        let spindle_body = body_of(spindle.mass("Mass")?, &j);
+
+        let upright = o.obj("Upright")?;
+        upright.keys(
+            &["Mass", "COM", "Inertia", "Moments of Inertia", "Products of Inertia"],
+            &[("Radius", VISUAL)],
+            &mut self.warnings,
+        )?;
+        put("UPRIGHT", upright.point("COM")?);
+        let j = inertia_of(&upright)?;
+        moments_positive(&upright, &j)?;
+        let upright_body = body_of(upright.mass("Mass")?, &j);
+
+        // Control arms: hardpoints and the inertia in the arm frame.
+        let arm_keys = [
+            "Mass",
+            "COM",
+            "Inertia",
+            "Moments of Inertia",
+            "Products of Inertia",
+            "Location Chassis Front",
+            "Location Chassis Back",
+            "Location Upright",
+        ];
+        let arm_ignored = [("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")];
+        let arm = |o: &Obj,
+                   prefix: &str,
+                   warnings: &mut Vec<String>,
+                   put: &mut dyn FnMut(&str, V3)|
+         -> Result<RigidBody, ImportError> {
+            o.keys(&arm_keys, &arm_ignored, warnings)?;
+            let (f, b, u) =
+                (o.point("Location Chassis Front")?, o.point("Location Chassis Back")?, o.point("Location Upright")?);
+            put(&format!("{prefix}_F"), f);
+            put(&format!("{prefix}_B"), b);
+            put(&format!("{prefix}_U"), u);
+            put(&format!("{prefix}_CM"), o.point("COM")?);
+            let j = inertia_of(o)?;
+            moments_positive(o, &j)?;
+            let frame = arm_frame(o, f, b, u)?;
+            // Chrono's "Vehicle-Frame Inertia" gives it in chassis axes: turn it into the arm frame.
+            let j = if vehicle_frame { frame.transpose() * j * frame } else { j };
+            Ok(body_of(o.mass("Mass")?, &j))
+        };
+        let lower = o.obj(arm_key)?;
+        let lower_arm = arm(&lower, "LCA", &mut self.warnings, &mut put)?;
+        let (upper_arm, strut) = if wishbone {
+            let upper = o.obj("Upper Control Arm")?;
+            (Some(arm(&upper, "UCA", &mut self.warnings, &mut put)?), None)
+        } else {
+            let s = o.obj("Strut")?;
+            s.keys(
+                &["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"],
+                &[("Radius", VISUAL)],
+                &mut self.warnings,
+            )?;
+            let j = inertia_of(&s)?;
+            moments_positive(&s, &j)?;
+            (None, Some(body_of(s.mass("Mass")?, &j)))
+        };
+
+        let tierod = o.obj("Tierod")?;
+        tierod.keys(
+            &["Location Chassis", "Location Upright"],
+            &[
+                ("Mass", "the model's tie rod is massless"),
+                ("Inertia", "the model's tie rod is massless"),
+                ("Radius", VISUAL),
+                ("Bushing Data", "the model's joints are rigid"),
+            ],
+            &mut self.warnings,
+        )?;
+        put("TIEROD_C", tierod.point("Location Chassis")?);
+        put("TIEROD_U", tierod.point("Location Upright")?);
+
+        // Spring: linear or a curve, optional stops and preload.
+        let (spring_name, shock_name) = if wishbone { ("SPRING_A", "SHOCK_A") } else { ("SPRING_U", "SHOCK_U") };
+        let sp = o.obj("Spring")?;
+        sp.keys(
+            &[
+                "Location Chassis",
+                moving,
+                "Free Length",
+                "Spring Coefficient",
+                "Spring Curve Data",
+                "Curve Data",
+                "Minimum Length",
+                "Maximum Length",
+                "Preload",
+            ],
+            &[],
+            &mut self.warnings,
+        )?;
+        put("SPRING_C", sp.point("Location Chassis")?);
+        put(spring_name, sp.point(moving)?);
+        let mut free_length = sp.length("Free Length")?;
+        let curve_key = ["Spring Curve Data", "Curve Data"].into_iter().find(|k| sp.has(k));
+        let (k1, k3) = match (sp.opt_num("Spring Coefficient")?, curve_key) {
+            (Some(_), Some(c)) => return Err(sp.err(c, "give either a spring coefficient or a curve, not both")),
+            (Some(k), None) => {
+                if !(k >= 0.0) {
+                    return Err(sp.err("Spring Coefficient", format!("must be zero or positive (N/m), got {k}")));
+                }
+                (k, 0.0)
+            }
+            (None, Some(c)) => {
+                let (k1, k3, error) = fit_spring(&curve(&sp, c)?);
+                if !(k1 >= 0.0) {
+                    return Err(sp.err(c, "the curve does not rise with extension: no spring the model can take"));
+                }
+                let peak = curve(&sp, c)?.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
+                self.warnings.push(format!(
+                    "{}: {}: fitted by the odd cubic F = k1 x + k3 x³ (k1 = {k1:.6e} N/m, k3 = {k3:.6e} N/m³): largest \
+                     error {error:.3} % of the curve's peak force {peak} N",
+                    o.file,
+                    sp.key(c)
+                ));
+                (k1, k3)
+            }
+            (None, None) => return Err(sp.err("Spring Coefficient", "missing (or give Spring Curve Data)")),
+        };
+        if let Some(preload) = sp.opt_num("Preload")? {
+            if preload != 0.0 {
+                if k3 != 0.0 || k1 <= 0.0 {
+                    return Err(sp.err("Preload", "a preload is supported with a linear spring only"));
+                }
+                // −k (L − L0) + P = −k (L − (L0 + P/k)): the preload moves the free length.
+                free_length += preload / k1;
+                self.warnings.push(format!(
+                    "{}: {}: folded into the free length ({free_length} m)",
+                    o.file,
+                    sp.key("Preload")
+                ));
+            }
+        }
+        let stop = |k: &str| -> Result<Option<f64>, ImportError> {
+            if sp.has(k) {
+                sp.length(k).map(Some)
+            } else {
+                Ok(None)
+            }
+        };
+        let (stop_min, stop_max) = (stop("Minimum Length")?, stop("Maximum Length")?);
+        if stop_min.is_some() || stop_max.is_some() {
+            self.warnings.push(format!(
+                "{}: {}: the stops act at these lengths with the HMMWV's stop table (Chrono's own stop law is not \
+                 imported)",
+                o.file, sp.path
+            ));
+        }
+        let spring = Spring {
+            free_length_m: free_length,
+            k1_N_per_m: k1,
+            k3_N_per_m3: k3,
+            stop_min_length_m: stop_min.unwrap_or(f64::NEG_INFINITY),
+            stop_max_length_m: stop_max.unwrap_or(f64::INFINITY),
+        };
+
+        // Damper: linear or a curve.
+        let sh = o.obj("Shock")?;
+        sh.keys(
+            &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
+            &[("Free Length", "a damper has no free length in the model")],
+            &mut self.warnings,
+        )?;
+        for k in [
+            "Degressivity Compression",
+            "Degressivity Expansion",
+            "Map Data",
+            "Spring Coefficient",
+            "Spring Curve Data",
+        ] {
+            if sh.has(k) {
+                return Err(sh.err(k, "not supported: the model's damper is a linear damper per direction"));
+            }
+        }
+        put("SHOCK_C", sh.point("Location Chassis")?);
+        put(shock_name, sh.point(moving)?);
+        let curve_key = ["Damping Curve Data", "Curve Data"].into_iter().find(|k| sh.has(k));
+        let (compression, rebound) = match (sh.opt_num("Damping Coefficient")?, curve_key) {
+            (Some(_), Some(c)) => return Err(sh.err(c, "give either a damping coefficient or a curve, not both")),
+            (Some(c), None) => {
+                if !(c >= 0.0) {
+                    return Err(sh.err("Damping Coefficient", format!("must be zero or positive (N s/m), got {c}")));
+                }
+                (c, c)
+            }
+            (None, Some(k)) => {
+                let points = curve(&sh, k)?;
+                let (c, r, error) = fit_damper(&points);
+                if !(c >= 0.0 && r >= 0.0) {
+                    return Err(sh.err(k, "the curve does not resist motion: no damper the model can take"));
+                }
+                let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
+                self.warnings.push(format!(
+                    "{}: {}: fitted by a compression rate {c:.6e} N s/m and a rebound rate {r:.6e} N s/m: largest \
+                     error {error:.3} % of the curve's peak force {peak} N",
+                    o.file,
+                    sh.key(k)
+                ));
+                (c, r)
+            }
+            (None, None) => return Err(sh.err("Damping Coefficient", "missing (or give Damping Curve Data)")),
+        };
+        let damper = Damper {
+            midstroke_compression_Ns_per_m: compression,
+            midstroke_rebound_Ns_per_m: rebound,
+            bumpstop_compression_Ns_per_m: compression,
+            bumpstop_rebound_Ns_per_m: rebound,
+            engagement_min_length_m: DAMPER_ENGAGEMENT_M[0],
+            engagement_max_length_m: DAMPER_ENGAGEMENT_M[1],
+        };
+
+        let axle = o.obj("Axle")?;
+        axle.keys(&["Inertia"], &[], &mut self.warnings)?;
+        let shaft = axle.num("Inertia")?;
+        if !(shaft >= 0.0) {
+            return Err(axle.err("Inertia", format!("must be zero or positive (kg m²), got {shaft}")));
+        }
+        Ok(Axle {
+            template: if wishbone { SuspensionTemplate::DoubleWishbone } else { SuspensionTemplate::MacphersonStrut },
+            steered,
+            hardpoints_chassis_frame_m: points,
+            lower_arm,
+            upper_arm,
+            strut,
+            upright: upright_body,
+            spindle: spindle_body,
+            axle_shaft_spin_inertia_kg_m2: shaft,
+            spring,
+            damper,
+            reference_kinematics: None,
+        })
+    }
+
+    fn wheel(&mut self, file: &File) -> Result<Wheel, ImportError> {
+        let o = file.obj();
+        Self::template(&o, &["Wheel"])?;
+        o.keys(
+            &["Name", "Type", "Template", "Mass", "Inertia", "Offset"],
+            &[
+                ("Visualization", VISUAL),
+                ("Radius", VISUAL),
+                ("Width", VISUAL),
+                ("Contact", "the tire makes the contact"),
+                ("Output", "Chrono output settings"),
+            ],
+            &mut self.warnings,
+        )?;
+        if let Some(offset) = o.opt_num("Offset")? {
+            if offset != 0.0 {
+                return Err(o.err("Offset", format!("{offset} m: a wheel offset from the spindle is not supported")));
+            }
+        }
+        let inertia = o.vec3("Inertia")?;
+        if !inertia.iter().all(|x| *x > 0.0) {
+            return Err(o.err("Inertia", "moments of inertia must be positive (kg m²)"));
+        }
+        Ok(Wheel { mass: o.mass("Mass")?, inertia: inertia.into() })
+    }
+
+    fn brake(&mut self, file: &File) -> Result<(), ImportError> {
+        let o = file.obj();
+        Self::template(&o, &["BrakeSimple"])?;
+        o.keys(
+            &["Name", "Type", "Template"],
+            &[("Maximum Torque", "brake torques are inputs of the model"), ("Output", "Chrono output settings")],
+            &mut self.warnings,
+        )
+    }
+}
+
+/// A loader error on the imported data, told with the Chrono file it came from.
+fn loader_error(e: DataError, vehicle: &str, front: &str, rear: &str) -> ImportError {
+    let file = if e.field.starts_with("front.") {
+        front
+    } else if e.field.starts_with("rear.") {
+        rear
+    } else {
+        vehicle
+    };
+    ImportError {
+        file: file.to_string(),
+        key: String::new(),
+        message: format!("the imported data do not load ({}: {})", e.field, e.message),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_spring_fit_recovers_an_odd_cubic() {
+        let pts: Vec<(f64, f64)> = (-5..=5).map(|i| i as f64 * 0.02).map(|x| (x, 2e5 * x + 3e7 * x * x * x)).collect();
+        let (k1, k3, err) = fit_spring(&pts);
+        assert!((k1 - 2e5).abs() < 1e-6 * 2e5 && (k3 - 3e7).abs() < 1e-6 * 3e7 && err < 1e-9, "{k1} {k3} {err}");
+    }
+
+    #[test]
+    fn the_damper_fit_takes_each_direction_on_its_own() {
+        let pts = [(-1.0, -1000.0), (-0.5, -500.0), (0.5, 1500.0), (1.0, 3000.0)];
+        let (c, r, err) = fit_damper(&pts);
+        assert!((c - 1000.0).abs() < 1e-9 && (r - 3000.0).abs() < 1e-9 && err < 1e-9);
+    }
+
+    #[test]
+    fn comments_are_stripped_outside_strings() {
+        let t = strip_comments("{\"a//b\": 1, // c\n \"d\": /* e */ 2}");
+        let v: Value = serde_json::from_str(&t).unwrap();
+        assert_eq!(v["a//b"], 1);
+        assert_eq!(v["d"], 2);
+    }
+}
