@@ -583,8 +583,8 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
 /// The work-precision study (src/sim/work_precision.rs): the markdown report and the CSV of its figure.
 fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::sim::work_precision as wp;
-    let opts = options(args, &["out", "csv", "cases"])?;
-    let mut cases = wp::cases();
+    let opts = options(args, &["out", "csv", "cases", "vehicle"])?;
+    let mut cases = wp::cases_for(&vehicle_data(&opts)?)?;
     if let Some(list) = opts.get("cases") {
         let wanted: Vec<&str> = list.split(',').collect();
         if let Some(unknown) = wanted.iter().find(|w| !cases.iter().any(|c| c.name == **w)) {
@@ -631,26 +631,6 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json` (docs/vehicle_file.md).
-fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::model::import_chrono;
-    let (vehicle, rest) = args.split_first().ok_or_else(|| bad("import-chrono: name the Chrono vehicle file"))?;
-    let opts = options(rest, &["data-dir", "out"])?;
-    let dir = opts.get("data-dir").ok_or_else(|| {
-        bad("import-chrono: --data-dir DIR is needed (the folder the vehicle's file paths are relative to)")
-    })?;
-    let out = opts.get("out").ok_or_else(|| bad("import-chrono: --out FILE.json is needed"))?;
-    let import = import_chrono::import_vehicle(std::path::Path::new(vehicle), std::path::Path::new(dir))
-        .map_err(|e| failed(format!("import-chrono: {e}")))?;
-    for w in &import.warnings {
-        eprintln!("import-chrono: warning: {w}");
-    }
-    import_chrono::write_atomically(std::path::Path::new(out), &import.to_json())
-        .map_err(|e| failed(format!("import-chrono: cannot write {out}: {e}")))?;
-    eprintln!("import-chrono: wrote {out} ({})", import.data.name);
-    Ok(())
-}
-
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -662,7 +642,6 @@ fn main() -> ExitCode {
         Some("stability") => cmd_stability(&args[1..]),
         Some("manoeuvre") => cmd_manoeuvre(&args[1..]),
         Some("work-precision") => cmd_work_precision(&args[1..]),
-        Some("import-chrono") => cmd_import_chrono(&args[1..]),
         Some("import-chrono") => cmd_import_chrono(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");

@@ -10,7 +10,6 @@
 //! gives a steady lateral acceleration at the test speed is measured by a short steady-state run (the
 //! response is linear there) and scaled.
 
-use super::scenes::calibrated_jturn_amplitude;
 use super::{Outputs, RackProfile, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use crate::error::ModelError;
 use crate::model::params::VehicleData;
@@ -102,7 +101,7 @@ fn simulate(
 /// The rack displacement that gives a steady lateral acceleration `ay` (m/s²) at `speed`: a 3 s run at
 /// the calibrated J-turn amplitude, scaled linearly from its mean a_y over the last second.
 pub fn rack_for_lateral_acceleration(data: &VehicleData, speed: f64, ay: f64) -> Result<f64, ModelError> {
-    let a0 = calibrated_jturn_amplitude();
+    let (a0, _) = super::calibration::amplitude_for(data)?;
     let rows = simulate(data, speed, SpeedMode::Hold, RackProfile::Step { amplitude: a0, start: 0.2, ramp: 0.3 }, 3.0)?;
     let tail = &series(&rows, "ay")[rows.len() - (1.0 / SAMPLE) as usize..];
     let mean = tail.iter().sum::<f64>() / tail.len() as f64;

@@ -64,6 +64,8 @@ pub const TOLERANCE_CHANNELS: [Channel; 3] = [
 #[derive(Debug, Clone)]
 pub struct Case {
     pub name: String,
+    /// The vehicle the scene runs on.
+    pub vehicle: VehicleData,
     pub scene: Scene,
     pub base: SimConfig,
     pub channels: Vec<Channel>,
@@ -74,6 +76,11 @@ pub struct Case {
 /// the enveloping contact. The stability suite's stiff cases go here as further entries (a scene and the
 /// options that make it stiff) when they exist.
 pub fn cases() -> Vec<Case> {
+    cases_for(&VehicleData::default_hmmwv()).expect("the default vehicle has a shipped calibration")
+}
+
+/// The cases on `vehicle` (its calibrated amplitude: `Scene::for_vehicle`).
+pub fn cases_for(vehicle: &VehicleData) -> Result<Vec<Case>, ModelError> {
     let wheels = [
         Channel { name: "roll_rate", norm: Norm::Peak },
         Channel { name: "yaw_rate", norm: Norm::Peak },
@@ -82,9 +89,12 @@ pub fn cases() -> Vec<Case> {
         Channel { name: "wheel_z_rl", norm: Norm::Excursion },
         Channel { name: "wheel_z_rr", norm: Norm::Excursion },
     ];
-    let scene = |kind| Scene::new(kind, Amplitude::Calibrated);
-    vec![
+    let amplitude = super::calibration::resolve(Amplitude::Calibrated, vehicle)?;
+    let scene = |kind| Scene::with_amplitude(kind, amplitude);
+    let vehicle = vehicle.clone();
+    Ok(vec![
         Case {
+            vehicle: vehicle.clone(),
             name: "jturn".into(),
             scene: scene(SceneKind::JTurn),
             base: SimConfig::default(),
@@ -92,6 +102,7 @@ pub fn cases() -> Vec<Case> {
             note: "J-turn, 100 km/h, calibrated amplitude (0.4 g)".into(),
         },
         Case {
+            vehicle: vehicle.clone(),
             name: "sine".into(),
             scene: scene(SceneKind::Sine),
             base: SimConfig::default(),
@@ -99,6 +110,7 @@ pub fn cases() -> Vec<Case> {
             note: "sine steer, 60 km/h".into(),
         },
         Case {
+            vehicle: vehicle.clone(),
             name: "bump".into(),
             scene: scene(SceneKind::Bump),
             base: SimConfig::default(),
@@ -108,6 +120,7 @@ pub fn cases() -> Vec<Case> {
                 .into(),
         },
         Case {
+            vehicle: vehicle.clone(),
             name: "bump-envelope".into(),
             scene: scene(SceneKind::Bump),
             base: SimConfig { contact: super::ContactModel::Envelope, ..SimConfig::default() },
@@ -116,6 +129,7 @@ pub fn cases() -> Vec<Case> {
                 .into(),
         },
         Case {
+            vehicle: vehicle.clone(),
             name: "bump-3cm".into(),
             scene: scene(SceneKind::Bump),
             base: SimConfig { bump: [0.03, 0.5], ..SimConfig::default() },
@@ -124,13 +138,14 @@ pub fn cases() -> Vec<Case> {
                 .into(),
         },
         Case {
+            vehicle: vehicle.clone(),
             name: "bump-3cm-envelope".into(),
             scene: scene(SceneKind::Bump),
             base: SimConfig { bump: [0.03, 0.5], contact: super::ContactModel::Envelope, ..SimConfig::default() },
             channels: wheels.to_vec(),
             note: "bump course with 3 cm bumps, enveloping contact: no wheel leaves the road".into(),
         },
-    ]
+    ])
 }
 
 /// One run's outputs on the comparison grid: (grid index, channel values).
@@ -149,7 +164,7 @@ pub struct Trace {
 
 /// Run `case` with `config` in intervals of `interval` and sample its channels on the grid.
 pub fn simulate(case: &Case, config: &SimConfig, interval: f64) -> Result<Trace, ModelError> {
-    let mut sim = case.scene.start(VehicleData::default_hmmwv(), config)?;
+    let mut sim = case.scene.start(case.vehicle.clone(), config)?;
     // The cost measured is the integration's by itself, as if nobody read the compared outputs: no stage
     // taken from an output evaluation (sim::FirstStage), whose own cost is counted out below.
     sim.set_stage_reuse(false);
@@ -366,7 +381,7 @@ pub fn measure(case: &Case, reference: &Reference, setting: Setting) -> Result<P
 /// `STABLE_WITHIN_PEAKS` of the reference's peaks at every step (outputs read at every step).
 pub fn largest_stable_step(case: &Case, reference: &Reference, kind: IntegratorKind, ladder: &[Point]) -> Option<f64> {
     let stable_at = |h: f64| -> bool {
-        let Ok(mut sim) = case.scene.start(VehicleData::default_hmmwv(), &step_config(case, kind, h)) else {
+        let Ok(mut sim) = case.scene.start(case.vehicle.clone(), &step_config(case, kind, h)) else {
             return false;
         };
         let columns: Vec<usize> = case.channels.iter().filter_map(|c| Outputs::index(c.name)).collect();
