@@ -21,3 +21,4 @@ pub mod math;
 pub mod model;
 pub mod sim;
 pub mod simd;
+pub mod studies;

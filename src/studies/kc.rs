@@ -1,0 +1,750 @@
+//! The kinematics-and-compliance (K&C) report of a vehicle (`rtv kc`, docs/kc/): what a K&C rig measures
+//! with the chassis clamped, computed from the suspension templates (`model::suspension::Corner`) and the
+//! steering (`model::steering`).
+//!
+//! Per axle, against wheel travel (both wheels together, parallel travel, chassis fixed, steering
+//! centred): camber, toe, track change, wheel-centre x displacement (recession is its negative), spring
+//! and damper motion ratios, roll-centre height. Against the steering input (lower arms held at design):
+//! both road-wheel angles, the Ackermann error and the overall steering ratio. Static at design: caster,
+//! kingpin inclination, scrub radius, mechanical trail, and the slopes at design.
+//!
+//! Conventions (chassis axes: x forward, y left, z up; every position relative to the sprung CM):
+//! - travel z: the wheel centre's vertical displacement from its design height (+ = jounce, bump);
+//! - camber: + = top of the wheel outboard; steer angle δ: + = wheel heading left (the data set's
+//!   convention for bump steer); toe-in = −δ on the left, +δ on the right;
+//! - the ground: at design ride height, the plane z_g = z_w0 − R0 (wheel centre minus the unloaded tire
+//!   radius); in parallel travel it moves with the wheel (z_g = z_w0 − R0 + z), as the rig's wheel pads do;
+//! - the contact point C: where the wheel plane's downward radius (in the wheel plane, perpendicular to
+//!   the axle) meets the ground; at zero camber it is the point R0 below the wheel centre;
+//! - motion ratio: −dL/dz, the spring (damper) compression per unit wheel jounce (the data set's
+//!   `spring_motion_ratio_dLspring_dzwheel`).
+//!
+//! Rates are exact (the linkage's velocity analysis, `Corner::velocities`: q̇ from θ̇_L or ṡ), not finite
+//! differences: the rate of a point of the wheel carrier is v_b + ω_K × (x − b). tests/kc.rs checks them
+//! against central differences of solved positions and the roll centre against an independent
+//! construction from the hardpoints.
+//!
+//! Roll centre (kinematic, front view): the force line of a wheel passes through its contact point C
+//! perpendicular to the front-view velocity (v_y, v_z) of the carrier's point at C per unit travel, i.e.
+//! through the front-view instant centre of the wheel carrier. The roll centre is where it crosses the
+//! axle's centre plane (the vehicle format gives the left side only and mirrors it, so both force lines
+//! meet there in parallel travel): its height above the ground is (C_y − y_mid) · v_y / v_z.
+//!
+//! Compliance: every joint of the model is ideal (no bushings), so the only compliances are the springs,
+//! stops and tires; the report gives the kinematics and the springs' motion ratios.
+
+use crate::error::{Cause, ModelError};
+use crate::math::V3;
+use crate::model::params::{ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
+use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
+use crate::model::vehicle::Vehicle;
+
+/// The sweeps: wheel travel (m, from ≤ 0 ≤ to, with design travel 0 always a point) and the number of
+/// steering points from full left to full right lock (odd, so that the centre is a point).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KcOptions {
+    pub travel_from: f64,
+    pub travel_to: f64,
+    pub travel_increment: f64,
+    pub steering_points: usize,
+}
+
+impl Default for KcOptions {
+    fn default() -> Self {
+        KcOptions { travel_from: -0.10, travel_to: 0.10, travel_increment: 0.0025, steering_points: 81 }
+    }
+}
+
+/// One wheel at one position: where it is and how it moves along one coordinate of the linkage (θ_L or
+/// the steering coordinate s), per unit of that coordinate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WheelPose {
+    pub centre: V3,
+    pub axle: V3,
+    /// Contact point on the ground plane (see the module doc).
+    pub contact: V3,
+    pub camber: f64,
+    pub steer: f64,
+    pub spring_length: f64,
+    pub damper_length: f64,
+    /// Rates along the coordinate: wheel centre, the carrier's point at the contact point, camber, steer
+    /// angle, spring and damper lengths.
+    pub d_centre: V3,
+    pub d_contact: V3,
+    pub d_camber: f64,
+    pub d_steer: f64,
+    pub d_spring_length: f64,
+    pub d_damper_length: f64,
+}
+
+/// The motion the rates are taken along.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Along {
+    /// The lower arm angle θ_L, steering fixed (wheel travel).
+    LowerArm,
+    /// The steering coordinate s, lower arm fixed.
+    Steering,
+}
+
+/// `c` at `pos`, with the ground plane at height `ground_z`.
+pub fn wheel_pose(c: &Corner, pos: &CornerPositions, ground_z: f64, along: Along) -> WheelPose {
+    let (du, ds) = match along {
+        Along::LowerArm => (1.0, 0.0),
+        Along::Steering => (0.0, 1.0),
+    };
+    let qd = c.velocities(pos, du, ds);
+    let (w_l, _, w_k) = c.relative_angular_velocities(pos, &qd);
+    let v_b = w_l.cross(&(pos.b - c.p_l));
+    let on_carrier = |x: &V3| v_b + w_k.cross(&(x - pos.b));
+    let centre = c.on_carrier(pos, &c.w0);
+    let axle = c.axle_direction(pos);
+    let d_axle = w_k.cross(&axle);
+    // The wheel plane's downward radius and where it meets the ground.
+    let down = (axle * axle.z - V3::z()).normalize();
+    let contact = centre + down * ((centre.z - ground_z) / -down.z);
+    let outward = if c.side == Side::Left { 1.0 } else { -1.0 };
+    let line = |m: &LineMount| {
+        let (x, v) = match m.body {
+            MountBody::LowerArm => {
+                let x = c.on_lower(pos, &m.moving);
+                (x, w_l.cross(&(x - c.p_l)))
+            }
+            MountBody::Carrier => {
+                let x = c.mount_point(pos, m);
+                (x, on_carrier(&x))
+            }
+        };
+        let r = x - m.chassis;
+        let length = r.norm();
+        (length, r.dot(&v) / length)
+    };
+    let (spring_length, d_spring_length) = line(&c.spring);
+    let (damper_length, d_damper_length) = line(&c.shock);
+    let horizontal = axle.x * axle.x + axle.y * axle.y;
+    WheelPose {
+        centre,
+        axle,
+        contact,
+        camber: c.camber(pos),
+        steer: c.steer_angle(pos),
+        spring_length,
+        damper_length,
+        d_centre: on_carrier(&centre),
+        d_contact: on_carrier(&contact),
+        // camber = ∓asin(a_z); δ = atan2(a_y, a_x) − π/2 (heading a × e_z).
+        d_camber: -outward * d_axle.z / horizontal.sqrt(),
+        d_steer: (axle.x * d_axle.y - axle.y * d_axle.x) / horizontal,
+        d_spring_length,
+        d_damper_length,
+    }
+}
+
+/// Positions with the wheel centre `travel` above its design height (chassis fixed, steering coordinate
+/// `s`): Newton on θ_L with the exact dz/dθ_L, from `start` (a nearby solution) or the design position.
+pub fn wheel_at_travel(
+    c: &Corner,
+    travel: f64,
+    s: f64,
+    start: Option<&CornerPositions>,
+) -> Result<CornerPositions, ModelError> {
+    let beyond = |why: String| {
+        ModelError::new(Cause::Kinematics, format!("travel {travel:+.4} m is beyond what the linkage allows{why}"))
+    };
+    let (mut u, mut warm) = match start {
+        Some(p) => (p.q[0], [p.q[1], p.q[2], p.q[3], p.q[4]]),
+        None => (0.0, [0.0; 4]),
+    };
+    for _ in 0..30 {
+        let pos = c.solve_positions(u, s, &warm).map_err(|e| beyond(format!(" ({e})")))?;
+        let f = c.on_carrier(&pos, &c.w0).z - c.w0.z - travel;
+        if f.abs() <= 1e-12 {
+            return Ok(pos);
+        }
+        let slope = wheel_pose(c, &pos, c.w0.z - 1.0, Along::LowerArm).d_centre.z;
+        // Below 1 mm of wheel travel per rad of arm the arm toggles: the travel is at its extreme.
+        if slope.abs() < 1e-3 {
+            break;
+        }
+        u -= f / slope;
+        warm = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
+        // A control arm does not turn a radian within its travel.
+        if !(u.abs() <= 1.2) {
+            break;
+        }
+    }
+    Err(beyond(String::new()))
+}
+
+/// Ideal Ackermann inside-wheel angle for an outside-wheel angle (rad), wheelbase and track:
+/// cot δ_i − … : cot δ_o − cot δ_i = t / L.
+pub fn ackermann_inside(outside: f64, wheelbase: f64, track: f64) -> f64 {
+    let t = outside.tan();
+    (wheelbase * t).atan2(wheelbase - track * t)
+}
+
+/// Ackermann error: the inside wheel's angle minus the ideal Ackermann angle for the outside one (rad;
+/// + = the inside wheel steers more than Ackermann, toward pro-Ackermann; both angles + toward the turn).
+pub fn ackermann_error(outside: f64, inside: f64, wheelbase: f64, track: f64) -> f64 {
+    inside - ackermann_inside(outside, wheelbase, track)
+}
+
+/// One point of the parallel-travel sweep (SI units: m, rad).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TravelRow {
+    pub travel: f64,
+    /// [left, right].
+    pub camber: [f64; 2],
+    pub steer: [f64; 2],
+    /// Track at the contact points minus the design track.
+    pub track_change: f64,
+    /// Left wheel centre: x and y displacement from design (x + forward; recession = −x).
+    pub wheel_dx: f64,
+    pub wheel_dy: f64,
+    pub spring_length: f64,
+    pub damper_length: f64,
+    /// Slopes along the travel, left wheel: dγ/dz, dδ/dz (rad/m), −dL/dz of spring and damper.
+    pub camber_gain: f64,
+    pub bump_steer: f64,
+    pub spring_ratio: f64,
+    pub damper_ratio: f64,
+    /// Lateral velocity of the left contact point per unit travel (+ outward), and the roll-centre height
+    /// above the ground.
+    pub contact_lateral_rate: f64,
+    pub roll_centre_height: f64,
+}
+
+/// One point of the steering sweep.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteeringRow {
+    /// The steering input (rack displacement m or Pitman-arm angle rad; + = left turn).
+    pub input: f64,
+    /// Road-wheel angles [left, right] (rad, + = heading left).
+    pub steer: [f64; 2],
+    /// Inside minus ideal Ackermann inside angle (rad); the left wheel is inside for input > 0.
+    pub ackermann_error: f64,
+    /// d(input)/d(mean road-wheel angle): the local overall ratio, input unit per rad.
+    pub ratio: f64,
+}
+
+/// Figures at the design position of one axle (left wheel; the right mirrors it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticFigures {
+    /// Steering axis (through the ball joints, or the lower ball joint and the strut top mount): caster
+    /// (+ = top rearward) and kingpin inclination (+ = top inboard), rad.
+    pub caster: f64,
+    pub kingpin_inclination: f64,
+    /// Contact point minus the steering axis' ground point: scrub radius (+ = the axis meets the ground
+    /// inboard of the contact point) and mechanical trail (+ = the axis meets the ground ahead of it), m,
+    /// in the wheel's heading.
+    pub scrub_radius: f64,
+    pub trail: f64,
+    pub camber: f64,
+    pub steer: f64,
+    pub camber_gain: f64,
+    pub bump_steer: f64,
+    pub spring_ratio: f64,
+    pub damper_ratio: f64,
+    pub spring_length: f64,
+    pub damper_length: f64,
+    /// dx/dz of the wheel centre (+ = forward in jounce).
+    pub wheel_dx_rate: f64,
+    pub roll_centre_height: f64,
+    /// Track at the contact points and the wheel-centre height above the ground (= R0).
+    pub track: f64,
+    pub tie_rod_length: f64,
+    /// The travel at which the bump and rebound stops engage (spring length at its stop lengths), if
+    /// within the sweep.
+    pub bump_stop_travel: Option<f64>,
+    pub rebound_stop_travel: Option<f64>,
+}
+
+/// The K&C of one axle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxleKc {
+    pub name: &'static str,
+    pub template: SuspensionTemplate,
+    pub steered: bool,
+    pub figures: StaticFigures,
+    pub travel: Vec<TravelRow>,
+    /// Where the sweep stopped short of the travel asked for, and why.
+    pub travel_notes: Vec<String>,
+    pub reference: Option<ReferenceKinematics>,
+}
+
+/// The steering sweep (front axle).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SteeringKc {
+    pub input: SteeringInput,
+    pub limit: f64,
+    /// Wheelbase and front track used for the Ackermann angle (wheel centres' x; contact points' y).
+    pub wheelbase: f64,
+    pub track: f64,
+    pub rows: Vec<SteeringRow>,
+    /// The ratio at centre (input per rad of mean road-wheel angle) and at full left lock (secant: the
+    /// input over the mean angle).
+    pub ratio_on_centre: f64,
+    pub ratio_full_lock: f64,
+    /// Road-wheel angles at full left lock: inside (left) and outside (right), rad.
+    pub inside_at_lock: f64,
+    pub outside_at_lock: f64,
+}
+
+/// The report of one vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KcReport {
+    pub vehicle: String,
+    pub tire_radius: f64,
+    pub options: KcOptions,
+    pub axles: Vec<AxleKc>,
+    pub steering: SteeringKc,
+}
+
+/// The static figures at the design position of a corner, its ground at z_w0 − R0.
+pub fn static_figures(c: &Corner, radius: f64) -> Result<(WheelPose, f64, f64, f64, f64), ModelError> {
+    let pos = c.solve_positions(0.0, 0.0, &[0.0; 4])?;
+    let ground = c.w0.z - radius;
+    let pose = wheel_pose(c, &pos, ground, Along::LowerArm);
+    let (p, e) = c.steering_axis(&pos);
+    let outward = if c.side == Side::Left { 1.0 } else { -1.0 };
+    let caster = (-e.x).atan2(e.z);
+    let kpi = (-outward * e.y).atan2(e.z);
+    let axis_ground = p + e * ((ground - p.z) / e.z);
+    let heading = pose.axle.cross(&V3::z()).normalize();
+    let out = V3::z().cross(&heading) * outward;
+    let scrub = (pose.contact - axis_ground).dot(&out);
+    let trail = (axis_ground - pose.contact).dot(&heading);
+    Ok((pose, caster, kpi, scrub, trail))
+}
+
+/// The roll-centre height above the ground from a wheel's contact point and the front-view velocity of
+/// the carrier's point there: the force line through C perpendicular to (v_y, v_z), at y = y_mid.
+pub fn roll_centre_height(contact: &V3, velocity: &V3, y_mid: f64) -> f64 {
+    (contact.y - y_mid) * velocity.y / velocity.z
+}
+
+fn axle_kc(
+    name: &'static str,
+    data: &VehicleData,
+    corners: [&Corner; 2],
+    options: &KcOptions,
+) -> Result<AxleKc, ModelError> {
+    let axle = if name == "front" { &data.front } else { &data.rear };
+    let radius = data.tire.unloaded_radius_m;
+    let [left, right] = corners;
+    let y_mid = 0.5 * (left.w0.y + right.w0.y);
+    let (design_l, caster, kpi, scrub, trail) = static_figures(left, radius)?;
+    let (design_r, ..) = static_figures(right, radius)?;
+    let track0 = design_l.contact.y - design_r.contact.y;
+    let row = |travel: f64, pl: &CornerPositions, pr: &CornerPositions| {
+        let ground = left.w0.z - radius + travel;
+        let l = wheel_pose(left, pl, ground, Along::LowerArm);
+        let r = wheel_pose(right, pr, ground, Along::LowerArm);
+        let per_z = 1.0 / l.d_centre.z;
+        let rc_l = roll_centre_height(&l.contact, &l.d_contact, y_mid);
+        let rc_r = roll_centre_height(&r.contact, &r.d_contact, y_mid);
+        TravelRow {
+            travel,
+            camber: [l.camber, r.camber],
+            steer: [l.steer, r.steer],
+            track_change: (l.contact.y - r.contact.y) - track0,
+            wheel_dx: l.centre.x - left.w0.x,
+            wheel_dy: l.centre.y - left.w0.y,
+            spring_length: l.spring_length,
+            damper_length: l.damper_length,
+            camber_gain: l.d_camber * per_z,
+            bump_steer: l.d_steer * per_z,
+            spring_ratio: -l.d_spring_length * per_z,
+            damper_ratio: -l.d_damper_length * per_z,
+            contact_lateral_rate: l.d_contact.y / l.d_contact.z,
+            roll_centre_height: 0.5 * (rc_l + rc_r),
+        }
+    };
+    // Outward from design in each direction, each point warm-started from the last; a branch stops where
+    // the linkage cannot reach.
+    let inc = options.travel_increment;
+    let mut notes = Vec::new();
+    let mut branches: [Vec<TravelRow>; 2] = [Vec::new(), Vec::new()];
+    for (b, (sign, end)) in [(-1.0, options.travel_from), (1.0, options.travel_to)].into_iter().enumerate() {
+        let mut last: [Option<CornerPositions>; 2] = [None, None];
+        let mut k = if b == 0 { 0 } else { 1 };
+        loop {
+            let travel = sign * k as f64 * inc;
+            if travel.abs() > end.abs() + 1e-9 * inc {
+                break;
+            }
+            let solved = (
+                wheel_at_travel(left, travel, 0.0, last[0].as_ref()),
+                wheel_at_travel(right, travel, 0.0, last[1].as_ref()),
+            );
+            match solved {
+                (Ok(pl), Ok(pr)) => {
+                    branches[b].push(row(travel, &pl, &pr));
+                    last = [Some(pl), Some(pr)];
+                }
+                (Err(e), _) | (_, Err(e)) => {
+                    notes.push(format!("the sweep stops at {:+.4} m: {e}", sign * (k as f64 - 1.0) * inc));
+                    break;
+                }
+            }
+            k += 1;
+        }
+    }
+    let [mut travel, up] = branches;
+    if travel.is_empty() {
+        return Err(ModelError::new(Cause::Kinematics, format!("{name} axle: no travel point solved")));
+    }
+    travel.reverse();
+    travel.extend(up);
+    let design = travel.iter().find(|r| r.travel == 0.0).copied().expect("travel 0 is a point");
+    let crossing = |target: f64| {
+        travel.windows(2).find_map(|w| {
+            let (a, b) = (w[0].spring_length - target, w[1].spring_length - target);
+            (a * b <= 0.0 && a != b).then(|| w[0].travel + (w[1].travel - w[0].travel) * a / (a - b))
+        })
+    };
+    let figures = StaticFigures {
+        caster,
+        kingpin_inclination: kpi,
+        scrub_radius: scrub,
+        trail,
+        camber: design_l.camber,
+        steer: design_l.steer,
+        camber_gain: design.camber_gain,
+        bump_steer: design.bump_steer,
+        spring_ratio: design.spring_ratio,
+        damper_ratio: design.damper_ratio,
+        spring_length: design.spring_length,
+        damper_length: design.damper_length,
+        wheel_dx_rate: design_l.d_centre.x / design_l.d_centre.z,
+        roll_centre_height: design.roll_centre_height,
+        track: track0,
+        tie_rod_length: left.tie_length,
+        bump_stop_travel: crossing(axle.spring.stop_min_length_m),
+        rebound_stop_travel: crossing(axle.spring.stop_max_length_m),
+    };
+    Ok(AxleKc {
+        name,
+        template: axle.template,
+        steered: axle.steered,
+        figures,
+        travel,
+        travel_notes: notes,
+        reference: axle.reference_kinematics.clone(),
+    })
+}
+
+fn steering_kc(data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<SteeringKc, ModelError> {
+    let [fl, fr, rl, _] = &v.corners;
+    let limit = v.steering.travel_limit;
+    let radius = data.tire.unloaded_radius_m;
+    let wheelbase = fl.w0.x - rl.w0.x;
+    let track = static_figures(fl, radius)?.0.contact.y - static_figures(fr, radius)?.0.contact.y;
+    let n = options.steering_points.max(3) | 1;
+    let mut rows = Vec::with_capacity(n);
+    // From centre outward each way, so that every solve starts from its neighbour.
+    let half = n / 2;
+    let mut branches: [Vec<SteeringRow>; 2] = [Vec::new(), Vec::new()];
+    for (b, sign) in [-1.0, 1.0].into_iter().enumerate() {
+        let mut last = [[0.0; 4]; 2];
+        for k in (if b == 0 { 0 } else { 1 })..=half {
+            let input = sign * limit * k as f64 / half as f64;
+            let mut pose = [None; 2];
+            for (i, c) in [fl, fr].into_iter().enumerate() {
+                let pos = c.solve_positions(0.0, v.steering.sign * input, &last[i])?;
+                last[i] = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
+                pose[i] = Some(wheel_pose(c, &pos, c.w0.z - radius, Along::Steering));
+            }
+            let [l, r] = pose.map(|p| p.expect("both wheels solved"));
+            let ackermann = if input >= 0.0 {
+                ackermann_error(r.steer, l.steer, wheelbase, track)
+            } else {
+                ackermann_error(-l.steer, -r.steer, wheelbase, track)
+            };
+            let mean_rate = 0.5 * (l.d_steer + r.d_steer) * v.steering.sign;
+            branches[b].push(SteeringRow {
+                input,
+                steer: [l.steer, r.steer],
+                ackermann_error: ackermann,
+                ratio: 1.0 / mean_rate,
+            });
+        }
+    }
+    let [left_lock, right_lock] = branches;
+    rows.extend(left_lock.into_iter().rev());
+    rows.extend(right_lock);
+    let centre = rows[half];
+    let lock = rows[n - 1];
+    Ok(SteeringKc {
+        input: data.steering_input(),
+        limit,
+        wheelbase,
+        track,
+        ratio_on_centre: centre.ratio,
+        ratio_full_lock: lock.input / (0.5 * (lock.steer[0] + lock.steer[1])),
+        inside_at_lock: lock.steer[0],
+        outside_at_lock: lock.steer[1],
+        rows,
+    })
+}
+
+impl KcReport {
+    pub fn compute(data: &VehicleData, options: &KcOptions) -> Result<KcReport, ModelError> {
+        if !(options.travel_increment > 0.0 && options.travel_from <= 0.0 && options.travel_to >= 0.0) {
+            return Err(ModelError::new(Cause::Data, "K&C travel sweep: need increment > 0 and from ≤ 0 ≤ to"));
+        }
+        let v = Vehicle::new(data)?;
+        let [fl, fr, rl, rr] = &v.corners;
+        let axles = vec![axle_kc("front", data, [fl, fr], options)?, axle_kc("rear", data, [rl, rr], options)?];
+        Ok(KcReport {
+            vehicle: data.name.clone(),
+            tire_radius: data.tire.unloaded_radius_m,
+            options: *options,
+            axles,
+            steering: steering_kc(data, &v, options)?,
+        })
+    }
+}
+
+/// The files of a report: `<stem>.md` and, beside it, `<stem>_<axle>_travel.csv|png` and
+/// `<stem>_steering.csv|png`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportFiles {
+    /// The report's file name without its directory and extension (e.g. `hmmwv`).
+    pub stem: String,
+}
+
+impl ReportFiles {
+    pub fn travel(&self, axle: &str, ext: &str) -> String {
+        format!("{}_{axle}_travel.{ext}", self.stem)
+    }
+
+    pub fn steering(&self, ext: &str) -> String {
+        format!("{}_steering.{ext}", self.stem)
+    }
+}
+
+/// The steering input's column and ratio unit: `rack_displacement_m` and m/rad, or
+/// `pitman_arm_angle_rad` and rad/rad.
+pub fn input_column(input: SteeringInput) -> (&'static str, &'static str) {
+    match input {
+        SteeringInput::RackDisplacement => ("rack_displacement_m", "m/rad"),
+        SteeringInput::PitmanArmAngle => ("pitman_arm_angle_rad", "rad/rad"),
+    }
+}
+
+const TRAVEL_COLUMNS: &str = "travel_m,camber_l_deg,camber_r_deg,toe_in_l_deg,toe_in_r_deg,steer_l_deg,steer_r_deg,\
+track_change_m,wheel_dx_m,wheel_dy_m,spring_length_m,damper_length_m,camber_gain_deg_per_m,bump_steer_deg_per_m,\
+spring_motion_ratio,damper_motion_ratio,contact_lateral_rate,roll_centre_height_m";
+
+impl KcReport {
+    pub fn axle(&self, name: &str) -> Option<&AxleKc> {
+        self.axles.iter().find(|a| a.name == name)
+    }
+
+    /// The travel sweep of an axle as CSV (angles in degrees, lengths in metres; columns in `TRAVEL_COLUMNS`).
+    pub fn travel_csv(axle: &AxleKc) -> String {
+        let mut text = format!("{TRAVEL_COLUMNS}\n");
+        for r in &axle.travel {
+            let d = f64::to_degrees;
+            text += &format!(
+                "{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{:.8},{:.5},{:.5},{:.6},{:.6},{:.6},{:.6}\n",
+                r.travel,
+                d(r.camber[0]),
+                d(r.camber[1]),
+                -d(r.steer[0]),
+                d(r.steer[1]),
+                d(r.steer[0]),
+                d(r.steer[1]),
+                r.track_change,
+                r.wheel_dx,
+                r.wheel_dy,
+                r.spring_length,
+                r.damper_length,
+                d(r.camber_gain),
+                d(r.bump_steer),
+                r.spring_ratio,
+                r.damper_ratio,
+                r.contact_lateral_rate,
+                r.roll_centre_height,
+            );
+        }
+        text
+    }
+
+    /// The steering sweep as CSV.
+    pub fn steering_csv(&self) -> String {
+        let (column, unit) = input_column(self.steering.input);
+        let unit = unit.replace('/', "_per_");
+        let mut text = format!("{column},steer_l_deg,steer_r_deg,ackermann_error_deg,ratio_{unit}\n");
+        for r in &self.steering.rows {
+            text += &format!(
+                "{:.7},{:.6},{:.6},{:.6},{:.6}\n",
+                r.input,
+                r.steer[0].to_degrees(),
+                r.steer[1].to_degrees(),
+                r.ackermann_error.to_degrees(),
+                r.ratio
+            );
+        }
+        text
+    }
+
+    /// The report in Markdown. `command` is the command that wrote it; `plots` the command that made the
+    /// figures, or `Err(note)` where they were not made (the note says how to make them).
+    pub fn markdown(&self, files: &ReportFiles, command: &str, plots: Result<&str, &str>) -> String {
+        let deg = |x: f64| format!("{:.3}", x.to_degrees());
+        let mm = |x: f64| format!("{:.1}", x * 1e3);
+        let (_, ratio_unit) = input_column(self.steering.input);
+        let mut md = format!("# K&C report: {}\n\n", self.vehicle);
+        md += &format!("Written by `{command}`");
+        md += &match plots {
+            Ok(p) => format!("; the figures by `{p}`.\n\n"),
+            Err(note) => format!(". The figures were not made: {note}\n\n"),
+        };
+        md += "Kinematics of the model as a K&C rig measures them: the chassis clamped, the wheels moved by the \
+               linkage's own kinematics (`src/studies/kc.rs`). Every joint of the model is ideal (no bushings), so \
+               the compliance of this report is the springs' (their motion ratios); there is no bushing compliance \
+               to measure.\n\n";
+        md += &format!(
+            "- Templates: front {}, rear {}; steering by {} ({}, + = left turn, limit ±{} {}).\n",
+            self.axles[0].template.name(),
+            self.axles[1].template.name(),
+            self.steering.input.name(),
+            self.steering.input.unit(),
+            self.steering.limit,
+            self.steering.input.unit()
+        );
+        md += &format!(
+            "- Ground at design ride height: wheel-centre height − unloaded tire radius R0 = {} m; it moves with \
+             the wheel in travel (as the rig's wheel pads). Contact point C: where the wheel plane's downward \
+             radius meets the ground.\n",
+            self.tire_radius
+        );
+        md += &format!(
+            "- Travel z: wheel-centre vertical displacement from design (+ = jounce), both wheels together \
+             (parallel travel), steering centred, {:+} to {:+} m in steps of {} m. Steering sweep: lower arms \
+             held at design, {} points from full right to full left lock.\n",
+            self.options.travel_from,
+            self.options.travel_to,
+            self.options.travel_increment,
+            self.options.steering_points
+        );
+        md += "- Signs: camber + = top of the wheel outboard; steer angle δ + = wheel heading left (bump steer \
+               dδ/dz of the left wheel, the data set's convention); toe-in + = front of the wheel toward the \
+               centre (= −δ left, +δ right); motion ratio = −dL/dz (spring compression per wheel jounce); caster \
+               + = axis top rearward; kingpin inclination + = top inboard; scrub radius + = steering axis meets \
+               the ground inboard of C; mechanical trail + = it meets the ground ahead of C (both in the wheel's \
+               heading).\n";
+        md += "- Steering axis: through the ball joints (double wishbone) or the lower ball joint and the strut's \
+               top mount (MacPherson). On an unsteered axle it is the upright's axis all the same.\n";
+        md += "- Slopes (gains, motion ratios, roll centre) are exact rates of the linkage (its velocity analysis), \
+               not differences; `tests/kc.rs` checks them against central differences of solved positions.\n";
+        md += "- Roll centre (kinematic, front view): the force line of a wheel runs through C perpendicular to the \
+               front-view velocity (v_y, v_z) of the wheel carrier's point at C per unit travel, i.e. through the \
+               carrier's front-view instant centre; the roll centre is where it crosses the axle's centre plane \
+               (the axle is mirror-symmetric), at height (C_y − y_mid)·v_y/v_z above the ground. `tests/kc.rs` \
+               checks it against the instant centre constructed from the hardpoints.\n";
+        md += &format!(
+            "- Ackermann error: inside road-wheel angle minus the ideal Ackermann inside angle for the outside \
+             one, cot δ_o − cot δ_i = t/L, with wheelbase L = {:.4} m (front − rear wheel centre) and front \
+             track t = {:.4} m (contact points); + = more inside angle than Ackermann. Overall steering ratio: \
+             steering input per mean road-wheel angle, in the vehicle's own units ({ratio_unit}: {} per rad).\n\n",
+            self.steering.wheelbase,
+            self.steering.track,
+            self.steering.input.name()
+        );
+
+        md += "## Static figures at design (left wheel; the right mirrors it)\n\n";
+        md += "| | front | rear |\n|---|---:|---:|\n";
+        let rows: [(&str, &dyn Fn(&StaticFigures) -> String); 17] = [
+            ("template", &|_| String::new()),
+            ("caster, deg", &|f| deg(f.caster)),
+            ("kingpin inclination, deg", &|f| deg(f.kingpin_inclination)),
+            ("scrub radius, mm", &|f| mm(f.scrub_radius)),
+            ("mechanical trail, mm", &|f| mm(f.trail)),
+            ("camber, deg", &|f| deg(f.camber)),
+            ("toe-in, deg", &|f| deg(-f.steer)),
+            ("camber gain dγ/dz, deg/m", &|f| format!("{:.3}", f.camber_gain.to_degrees())),
+            ("bump steer dδ/dz, deg/m", &|f| format!("{:.3}", f.bump_steer.to_degrees())),
+            ("spring motion ratio −dL/dz", &|f| format!("{:.4}", f.spring_ratio)),
+            ("damper motion ratio −dL/dz", &|f| format!("{:.4}", f.damper_ratio)),
+            ("wheel-centre dx/dz (+ forward)", &|f| format!("{:.4}", f.wheel_dx_rate)),
+            ("roll-centre height above ground, mm", &|f| mm(f.roll_centre_height)),
+            ("track at the contact points, m", &|f| format!("{:.4}", f.track)),
+            ("spring / damper length, m", &|f| format!("{:.4} / {:.4}", f.spring_length, f.damper_length)),
+            ("bump stop engages at travel, mm", &|f| f.bump_stop_travel.map_or("beyond the sweep".into(), mm)),
+            ("rebound stop engages at travel, mm", &|f| f.rebound_stop_travel.map_or("beyond the sweep".into(), mm)),
+        ];
+        for (i, (label, value)) in rows.iter().enumerate() {
+            let cells: Vec<String> = self
+                .axles
+                .iter()
+                .map(|a| if i == 0 { a.template.name().to_string() } else { value(&a.figures) })
+                .collect();
+            md += &format!("| {label} | {} |\n", cells.join(" | "));
+        }
+        md += "\n";
+        for a in &self.axles {
+            for note in &a.travel_notes {
+                md += &format!("- {} axle: {note}\n", a.name);
+            }
+        }
+        if self.axles.iter().any(|a| a.reference.is_some()) {
+            md += "\n### Against the data set's `reference_kinematics`\n\n";
+            md += "| axle | quantity | model | data set | difference |\n|---|---|---:|---:|---:|\n";
+            for a in &self.axles {
+                let Some(r) = &a.reference else { continue };
+                let f = &a.figures;
+                for (q, model, want) in [
+                    ("caster, deg", f.caster.to_degrees(), r.caster_deg),
+                    ("kingpin inclination, deg", f.kingpin_inclination.to_degrees(), r.kingpin_inclination_deg),
+                    ("camber gain, deg/m", f.camber_gain.to_degrees(), r.camber_gain_deg_per_m),
+                    ("bump steer, deg/m", f.bump_steer.to_degrees(), r.bump_steer_deg_per_m),
+                    ("spring motion ratio", f.spring_ratio, r.spring_motion_ratio_dLspring_dzwheel),
+                    ("spring length at design, m", f.spring_length, r.spring_length_at_design_m),
+                    ("damper length at design, m", f.damper_length, r.damper_length_at_design_m),
+                    ("tie-rod length, m", f.tie_rod_length, r.tierod_length_m),
+                ] {
+                    let diff = if want == 0.0 {
+                        format!("{:+.4} (absolute)", model - want)
+                    } else {
+                        format!("{:+.3} %", 100.0 * (model - want) / want)
+                    };
+                    md += &format!("| {} | {q} | {model:.4} | {want} | {diff} |\n", a.name);
+                }
+            }
+        }
+
+        let s = &self.steering;
+        md += "\n## Steering (front axle)\n\n";
+        md += &format!(
+            "| | |\n|---|---:|\n| overall ratio on centre, {ratio_unit} | {:.5} |\n| overall ratio at full left lock \
+             (input / mean angle), {ratio_unit} | {:.5} |\n| road-wheel angles at full left lock (inside / outside), \
+             deg | {} / {} |\n| Ackermann error at full left lock, deg | {} |\n| Ackermann error at full right lock, \
+             deg | {} |\n\n",
+            s.ratio_on_centre,
+            s.ratio_full_lock,
+            deg(s.inside_at_lock),
+            deg(s.outside_at_lock),
+            deg(s.rows[s.rows.len() - 1].ackermann_error),
+            deg(s.rows[0].ackermann_error),
+        );
+
+        md += "## Curves\n\n";
+        for a in &self.axles {
+            md += &format!("![{} axle against wheel travel]({})\n\n", a.name, files.travel(a.name, "png"));
+        }
+        md += &format!("![steering]({})\n\n", files.steering("png"));
+        md += "The data beside this report (one row a point, angles in degrees, lengths in metres):\n\n";
+        for a in &self.axles {
+            md += &format!("- `{}`: {TRAVEL_COLUMNS}\n", files.travel(a.name, "csv"));
+        }
+        let (column, unit) = input_column(s.input);
+        md += &format!(
+            "- `{}`: {column}, steer_l_deg, steer_r_deg, ackermann_error_deg, ratio_{}\n",
+            files.steering("csv"),
+            unit.replace('/', "_per_")
+        );
+        md
+    }
+}
