@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Writes the K&C report of every shipped vehicle into docs/kc/: the built-in HMMWV (resources/hmmwv.json)
+# and each resources/vehicles/*.json; each report's CSVs and PNGs beside it (docs/kc/README.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+[ -x .venv/bin/python ] || bash scripts/setup.sh
+cargo build --release --bin rtv
+rtv=./target/release/rtv
+mkdir -p docs/kc
+$rtv kc --out docs/kc/hmmwv.md 2> >(grep -v 'triangle inequality' >&2)
+for f in resources/vehicles/*.json; do
+    [ -e "$f" ] || continue
+    name=$(basename "$f" .json)
+    $rtv kc --vehicle "$f" --out "docs/kc/$name.md" 2> >(grep -v 'triangle inequality' >&2)
+done
+ls docs/kc
