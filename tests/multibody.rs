@@ -62,9 +62,30 @@ fn random_inputs(rng: &mut Rng) -> Inputs {
     }
 }
 
+/// The HMMWV and every vehicle file shipped in resources/vehicles (the Chrono imports: double wishbones and
+/// MacPherson struts with a Pitman arm).
+fn shipped_vehicles() -> Vec<(String, Vehicle)> {
+    let mut out = vec![("hmmwv".to_string(), vehicle())];
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles");
+    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.path()).collect();
+    files.sort();
+    for f in files.into_iter().filter(|f| f.extension().is_some_and(|e| e == "json")) {
+        let data = VehicleData::from_file(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        out.push((f.display().to_string(), Vehicle::new(&data).unwrap()));
+    }
+    assert!(out.len() >= 3, "the Chrono imports are shipped");
+    out
+}
+
 #[test]
 fn formulations_agree_at_random_admissible_states() {
-    let mut v = vehicle();
+    for (name, v) in shipped_vehicles() {
+        println!("{name}");
+        formulations_agree_on(v);
+    }
+}
+
+fn formulations_agree_on(mut v: Vehicle) {
     let base = static_equilibrium(&v, &mut KinematicsCache::default()).unwrap();
     let mut rng = Rng(0x9E3779B97F4A7C15);
     let mut worst: f64 = 0.0;
