@@ -338,3 +338,18 @@ fn rtv_kc_writes_the_report_and_its_csvs() {
     assert!(steering.starts_with("rack_displacement_m,steer_l_deg,steer_r_deg,ackermann_error_deg,ratio_m_per_rad\n"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn rtv_kc_refuses_bad_sweeps_with_exit_2() {
+    for (args, needle) in [
+        (vec!["kc", "--steering-points", "10"], "--steering-points"),
+        (vec!["kc", "--from", "0.05"], "--from ≤ 0 ≤ --to"),
+        (vec!["kc", "--increment", "1e-300"], "points"),
+        (vec!["kc", "--plots", "maybe"], "--plots"),
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rtv")).args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
