@@ -6,6 +6,8 @@
 //!   rtv kc [--vehicle FILE.json] [--out docs/kc/NAME.md]        K&C report, its CSVs and figures
 //!   rtv calibrate                                         J-turn amplitude for 0.400 g → resources/
 //!   rtv work-precision                                    error against run time → docs/work_precision.md
+//!   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json   a Chrono::Vehicle JSON vehicle → vehicle file
+//!   rtv check-vehicle FILE.json                           validate a vehicle file and summarize it
 //!
 //! Bad arguments get a clear message and exit code 2; a failed run exits with 1.
 
@@ -40,7 +42,9 @@ const USAGE: &str = "usage:
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
             [--out FILE.csv]
-  rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]";
+  rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
+  rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
+  rtv check-vehicle FILE.json";
 
 struct Failure {
     message: String,
@@ -631,6 +635,60 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `rtv check-vehicle FILE.json`: validates the file (schema, inertias, loop closure) and prints a summary
+/// (docs/vehicle_file.md). An invalid file prints `FILE: field: message` and exits with 1.
+fn cmd_check_vehicle(args: &[String]) -> Result<(), Failure> {
+    let [file] = args else {
+        return Err(bad("check-vehicle: name one vehicle file"));
+    };
+    // The error line is `FILE: field: message` as it stands (no `rtv:` before it: editors jump to it).
+    let data = VehicleData::from_file(std::path::Path::new(file)).map_err(|e| {
+        if e.field == *file {
+            eprintln!("{file}: {}", e.message);
+        } else {
+            eprintln!("{file}: {}: {}", e.field, e.message);
+        }
+        failed("")
+    })?;
+    let s = rt_vehicle::model::summary::summarize(&data).map_err(|e| failed(format!("{file}: {e}")))?;
+    let weight: f64 = s.axle_load_n.iter().sum();
+    let input = data.steering_input();
+    let steering = if data.pitman_arm.is_some() { "Pitman arm" } else { "rack and pinion" };
+    let axle = |i: usize| format!("{}{}", s.templates[i].name(), if s.steered[i] { " (steered)" } else { "" });
+    println!("{file}: valid");
+    println!("name: {}", s.name);
+    println!("total mass: {:.1} kg (sprung {:.1} kg)", s.total_mass_kg, s.sprung_mass_kg);
+    println!("wheelbase: {:.3} m; track: front {:.3} m, rear {:.3} m (wheel centres at design)", s.wheelbase_m, s.track_m[0], s.track_m[1]);
+    println!(
+        "static axle loads: front {:.0} N ({:.1} %), rear {:.0} N ({:.1} %)",
+        s.axle_load_n[0],
+        100.0 * s.axle_load_n[0] / weight,
+        s.axle_load_n[1],
+        100.0 * s.axle_load_n[1] / weight
+    );
+    println!(
+        "ride height: wheel centres front {:.3} m, rear {:.3} m; sprung CM {:.3} m above ground; pitch {:.2}° \
+         (+ = nose down)",
+        s.wheel_centre_height_m[0],
+        s.wheel_centre_height_m[1],
+        s.cm_height_m,
+        s.pitch_rad.to_degrees()
+    );
+    println!("  (from the {})", s.method_text());
+    println!("suspension: front {}, rear {}", axle(0), axle(1));
+    println!(
+        "steering: {steering}, input {} ({}), limit ±{:.4} {}",
+        input.name(),
+        input.unit(),
+        data.steering_limit(),
+        input.unit()
+    );
+    for w in data.warnings() {
+        println!("warning: {w}");
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -643,6 +701,7 @@ fn main() -> ExitCode {
         Some("manoeuvre") => cmd_manoeuvre(&args[1..]),
         Some("work-precision") => cmd_work_precision(&args[1..]),
         Some("import-chrono") => cmd_import_chrono(&args[1..]),
+        Some("check-vehicle") => cmd_check_vehicle(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;
@@ -653,7 +712,9 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(f) => {
-            eprintln!("rtv: {}", f.message);
+            if !f.message.is_empty() {
+                eprintln!("rtv: {}", f.message);
+            }
             if f.usage {
                 eprintln!("{USAGE}");
                 ExitCode::from(2)

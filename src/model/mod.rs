@@ -9,6 +9,7 @@ pub mod params;
 pub mod road;
 pub mod road_envelope;
 pub mod steering;
+pub mod summary;
 pub mod suspension;
 pub mod tire;
 pub mod vehicle;
