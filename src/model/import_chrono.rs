@@ -571,6 +571,11 @@ impl Importer {
         let mut wheels: Vec<(String, Wheel)> = Vec::new();
         for (i, a) in axles.iter().enumerate() {
             let a = v.item("Axles", i, a)?;
+            for k in ["Antirollbar Input File", "Antirollbar Location", "Wheel Separation", "Subchassis Index"] {
+                if a.has(k) {
+                    return Err(a.err(k, "not supported: the model has no anti-roll bar, twin wheels or subchassis"));
+                }
+            }
             a.keys(
                 &[
                     "Suspension Input File",
@@ -584,11 +589,6 @@ impl Importer {
                 &[("Output", "Chrono output settings")],
                 &mut self.warnings,
             )?;
-            for k in ["Antirollbar Input File", "Antirollbar Location", "Wheel Separation", "Subchassis Index"] {
-                if a.has(k) {
-                    return Err(a.err(k, "not supported: the model has no anti-roll bar, twin wheels or subchassis"));
-                }
-            }
             let steered = match a.map.get("Steering Index") {
                 None => false,
                 Some(Value::Number(n)) if n.as_u64() == Some(0) => true,
@@ -1054,11 +1054,6 @@ impl Importer {
 
         // Damper: linear or a curve.
         let sh = o.obj("Shock")?;
-        sh.keys(
-            &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
-            &[("Free Length", "a damper has no free length in the model")],
-            &mut self.warnings,
-        )?;
         for k in [
             "Degressivity Compression",
             "Degressivity Expansion",
@@ -1070,6 +1065,11 @@ impl Importer {
                 return Err(sh.err(k, "not supported: the model's damper is a linear damper per direction"));
             }
         }
+        sh.keys(
+            &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
+            &[("Free Length", "a damper has no free length in the model")],
+            &mut self.warnings,
+        )?;
         put("SHOCK_C", sh.point("Location Chassis")?);
         put(shock_name, sh.point(moving)?);
         let curve_key = ["Damping Curve Data", "Curve Data"].into_iter().find(|k| sh.has(k));

@@ -1,0 +1,586 @@
+//! Vehicle files: the schema accepts every shipped file; the Chrono importer reproduces the shipped imports;
+//! every kind of bad input (importer, loader, `rtv check-vehicle`) is refused with its cause named; a failed
+//! import leaves no file behind. The Chrono data are read from `../shared/data/chrono` (or
+//! `RTV_CHRONO_DATA`), the folder the shipped imports were made from.
+
+use rt_vehicle::model::import_chrono::{import_vehicle, write_atomically};
+use rt_vehicle::model::params::{check_schema, VehicleData, MAX_FILE_BYTES};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const VEHICLES: [(&str, &str); 2] = [
+    ("generic/vehicle/Vehicle_MacPhersonStruts.json", "generic_macpherson.json"),
+    ("generic/vehicle/Vehicle_DoubleWishbones.json", "generic_double_wishbone.json"),
+];
+const MACPHERSON: &str = "generic/vehicle/Vehicle_MacPhersonStruts.json";
+const DOUBLE_WISHBONE: &str = "generic/vehicle/Vehicle_DoubleWishbones.json";
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn chrono_data() -> PathBuf {
+    let dir =
+        std::env::var_os("RTV_CHRONO_DATA").map(PathBuf::from).unwrap_or_else(|| repo().join("../shared/data/chrono"));
+    assert!(
+        dir.join(MACPHERSON).is_file(),
+        "the Chrono data folder {} is missing (set RTV_CHRONO_DATA)",
+        dir.display()
+    );
+    dir
+}
+
+/// Every vehicle file shipped: the HMMWV and resources/vehicles/*.json.
+fn shipped() -> Vec<PathBuf> {
+    let mut out = vec![repo().join("resources/hmmwv.json")];
+    let mut more: Vec<PathBuf> = std::fs::read_dir(repo().join("resources/vehicles"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    more.sort();
+    out.extend(more);
+    out
+}
+
+/// A scratch folder of its own per test (removed first if a previous run left it).
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rtv-vehicle-files-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A copy of the Chrono files the generic vehicles name, in a scratch folder, to be edited.
+fn chrono_copy(name: &str) -> PathBuf {
+    let dir = scratch(name);
+    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline"] {
+        let (from, to) = (chrono_data().join("generic").join(sub), dir.join("generic").join(sub));
+        std::fs::create_dir_all(&to).unwrap();
+        for f in std::fs::read_dir(&from).unwrap().flatten() {
+            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
+        }
+    }
+    dir
+}
+
+fn edit_json(path: &Path, edit: impl FnOnce(&mut Value)) {
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    edit(&mut v);
+    std::fs::write(path, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+}
+
+/// The import of `vehicle` from the Chrono copy `dir` after `edit` of its file `file`; the error text.
+fn import_error(name: &str, vehicle: &str, file: &str, edit: impl FnOnce(&mut Value)) -> String {
+    let dir = chrono_copy(name);
+    edit_json(&dir.join(file), edit);
+    let e = import_vehicle(&dir.join(vehicle), &dir).map(|_| ()).unwrap_err().to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    e
+}
+
+fn rtv(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn shipped_value(file: &str) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(repo().join("resources/vehicles").join(file)).unwrap()).unwrap()
+}
+
+/// The loader's error on the shipped file `file` after `edit`.
+fn load_error(file: &str, edit: impl FnOnce(&mut Value)) -> String {
+    let mut v = shipped_value(file);
+    edit(&mut v);
+    VehicleData::from_json(&v.to_string()).map(|_| ()).unwrap_err().to_string()
+}
+
+fn mkfifo(path: &Path) {
+    let c = std::ffi::CString::new(path.as_os_str().as_encoded_bytes()).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0, "mkfifo {}", path.display());
+}
+
+/// A sparse file one byte over the loader's bound (nothing is written: the size alone must refuse it).
+fn oversized(path: &Path) {
+    std::fs::File::create(path).unwrap().set_len(MAX_FILE_BYTES + 1).unwrap();
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The schema and the shipped files.
+
+#[test]
+fn the_schema_accepts_every_shipped_vehicle_file() {
+    let files = shipped();
+    assert!(files.len() >= 3, "{files:?}");
+    for f in files {
+        let v: Value = serde_json::from_str(&std::fs::read_to_string(&f).unwrap()).unwrap();
+        check_schema(&v).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        VehicleData::from_file(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+    }
+}
+
+#[test]
+fn the_schema_is_a_valid_draft_2020_12_schema_naming_every_field() {
+    let schema: Value = serde_json::from_str(rt_vehicle::model::params::VEHICLE_SCHEMA_JSON).unwrap();
+    assert_eq!(schema["$schema"], "https://json-schema.org/draft/2020-12/schema");
+    // Every key of the shipped files is described (additionalProperties: false everywhere, so a key the
+    // schema did not name would have failed above); both templates and both steerings are there.
+    let defs = &schema["$defs"];
+    for def in ["hardpoints_double_wishbone", "hardpoints_macpherson_strut", "rack", "pitman_arm"] {
+        assert!(defs[def].is_object(), "{def}");
+    }
+    for (def, names) in [
+        ("hardpoints_double_wishbone", &rt_vehicle::model::params::HARDPOINTS[..]),
+        ("hardpoints_macpherson_strut", &rt_vehicle::model::params::MACPHERSON_HARDPOINTS[..]),
+    ] {
+        let required: Vec<&str> =
+            defs[def]["required"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
+        assert_eq!(required, names, "{def}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The importer.
+
+#[test]
+fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
+    for (vehicle, shipped) in VEHICLES {
+        let import = import_vehicle(&chrono_data().join(vehicle), &chrono_data()).unwrap();
+        let expected = std::fs::read_to_string(repo().join("resources/vehicles").join(shipped)).unwrap();
+        assert!(import.to_json() == expected, "{vehicle} no longer imports to resources/vehicles/{shipped}");
+        let w = import.warnings.join("\n");
+        for needle in ["Driveline", "Tierod Locations", "Maximum Torque", "Maximum Steering Angle", "Spindle.Radius"] {
+            assert!(w.contains(needle), "{vehicle}: no warning about {needle}:\n{w}");
+        }
+    }
+    // The curves: the fit's largest error is reported in % of the peak force.
+    let import = import_vehicle(&chrono_data().join(DOUBLE_WISHBONE), &chrono_data()).unwrap();
+    let fits: Vec<&String> = import.warnings.iter().filter(|w| w.contains("largest error")).collect();
+    assert_eq!(fits.len(), 2, "{fits:?}");
+    assert!(fits.iter().all(|w| w.contains("DoubleWishboneCurve.json") && w.contains("% of the curve's peak force")));
+    // The linear damper: one rate everywhere.
+    let d = &import.data.rear.damper;
+    assert_eq!(d.midstroke_compression_Ns_per_m, 22459.0);
+    assert_eq!([d.engagement_min_length_m, d.engagement_max_length_m], [0.0, 10.0]);
+    assert_eq!(import.data.front.spring.k1_N_per_m, 369150.0);
+}
+
+#[test]
+fn the_importer_names_the_file_and_key_of_each_bad_input() {
+    const MPS: &str = "generic/suspension/MacPhersonStrut.json";
+    const PITMAN: &str = "generic/steering/PitmanArm.json";
+    let cases: Vec<(&str, &str, &str, Box<dyn FnOnce(&mut Value)>, Vec<&str>)> = vec![
+        (
+            "template",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| v["Template"] = json!("SolidAxle")),
+            vec!["MacPhersonStrut.json", "Template", "SolidAxle", "not supported"],
+        ),
+        (
+            "unknown_key",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| v["Spring"]["Stiffness"] = json!(1.0)),
+            vec!["MacPhersonStrut.json", "Spring.Stiffness", "unknown key"],
+        ),
+        (
+            "missing_point",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| {
+                v["Tierod"].as_object_mut().unwrap().remove("Location Upright");
+            }),
+            vec!["MacPhersonStrut.json", "Tierod.Location Upright", "missing"],
+        ),
+        (
+            "coincident",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| {
+                v["Control Arm"]["Location Chassis Front"] = v["Control Arm"]["Location Chassis Back"].clone()
+            }),
+            vec!["MacPhersonStrut.json", "Control Arm.Location Chassis Front", "coincides"],
+        ),
+        // The tie rod on the strut's steering axis: the upright turns freely about it, the loop is singular.
+        (
+            "strut_loop",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| {
+                let (a, b) = (&v["Control Arm"]["Location Upright"], &v["Spring"]["Location Chassis"]);
+                let mid: Vec<f64> = (0..3).map(|i| 0.5 * (a[i].as_f64().unwrap() + b[i].as_f64().unwrap())).collect();
+                v["Tierod"]["Location Upright"] = json!(mid);
+            }),
+            vec!["MacPhersonStrut.json", "cannot close"],
+        ),
+        (
+            "strut_no_axis",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| v["Spring"]["Location Chassis"] = v["Spring"]["Location Upright"].clone()),
+            vec!["MacPhersonStrut.json", "SPRING_C and SPRING_U coincide"],
+        ),
+        (
+            "negative_mass",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| v["Control Arm"]["Mass"] = json!(-5.091)),
+            vec!["MacPhersonStrut.json", "Control Arm.Mass", "positive"],
+        ),
+        (
+            "millimetres",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| v["Control Arm"]["Location Chassis Front"] = json!([220.0, 520.0, -156.0])),
+            vec!["Control Arm.Location Chassis Front", "millimetres"],
+        ),
+        (
+            "grams",
+            MACPHERSON,
+            "generic/chassis/Chassis.json",
+            Box::new(|v| v["Components"][0]["Mass"] = json!(2086520.0)),
+            vec!["Chassis.json", "Components[0].Mass", "grams"],
+        ),
+        (
+            "camber",
+            MACPHERSON,
+            MPS,
+            Box::new(|v| v["Camber Angle (deg)"] = json!(-1.0)),
+            vec!["Camber Angle (deg)", "not supported"],
+        ),
+        (
+            "steering_template",
+            MACPHERSON,
+            PITMAN,
+            Box::new(|v| v["Template"] = json!("RackPinionShafts")),
+            vec!["PitmanArm.json", "Template", "not supported"],
+        ),
+        (
+            "steering_key",
+            MACPHERSON,
+            PITMAN,
+            Box::new(|v| v["Revolute Joint"]["Damping"] = json!(1.0)),
+            vec!["PitmanArm.json", "Revolute Joint.Damping", "unknown key"],
+        ),
+        (
+            "not_parallelogram",
+            MACPHERSON,
+            PITMAN,
+            Box::new(|v| v["Revolute-Spherical Joint"]["Location Link"] = json!([0.2, -0.325, 0.0])),
+            vec!["PitmanArm.json", "parallelogram"],
+        ),
+        (
+            "antirollbar",
+            MACPHERSON,
+            MACPHERSON,
+            Box::new(|v| v["Axles"][0]["Antirollbar Input File"] = json!("generic/antirollbar/AntirollBarRSD.json")),
+            vec!["Vehicle_MacPhersonStruts.json", "Axles[0].Antirollbar Input File", "not supported"],
+        ),
+        (
+            "curve_key",
+            DOUBLE_WISHBONE,
+            "generic/suspension/DoubleWishboneCurve.json",
+            Box::new(|v| v["Shock"]["Damping Curve Data"] = json!([[0.0, 0.0]])),
+            vec!["DoubleWishboneCurve.json", "Shock.Damping Curve Data", "at least 2"],
+        ),
+    ];
+    for (name, vehicle, file, edit, needles) in cases {
+        let e = import_error(name, vehicle, file, edit);
+        for n in needles {
+            assert!(e.contains(n), "{name}: '{n}' not in: {e}");
+        }
+    }
+}
+
+#[test]
+fn left_and_right_wheels_must_be_the_same() {
+    let dir = chrono_copy("wheels");
+    let wheel = dir.join("generic/wheel/WheelHeavy.json");
+    std::fs::copy(dir.join("generic/wheel/WheelSimple.json"), &wheel).unwrap();
+    edit_json(&wheel, |v| v["Mass"] = json!(25.0));
+    edit_json(&dir.join(MACPHERSON), |v| {
+        v["Axles"][0]["Right Wheel Input File"] = json!("generic/wheel/WheelHeavy.json")
+    });
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("Axles[0].Right Wheel Input File") && e.contains("differs"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_importer_refuses_a_fifo_and_an_oversized_file() {
+    let dir = chrono_copy("fifo");
+    let susp = dir.join("generic/suspension/MacPhersonStrut.json");
+    std::fs::remove_file(&susp).unwrap();
+    mkfifo(&susp);
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("MacPhersonStrut.json") && e.contains("not a regular file"), "{e}");
+    std::fs::remove_file(&susp).unwrap();
+    oversized(&susp);
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("MacPhersonStrut.json") && e.contains("bytes, more than"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_failed_import_leaves_no_file_behind() {
+    let dir = chrono_copy("no_output");
+    edit_json(&dir.join("generic/suspension/MacPhersonStrut.json"), |v| v["Strut"]["Mass"] = json!(0.0));
+    let out = dir.join("out/imported.json");
+    std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+    let (code, _, err) = rtv(&[
+        "import-chrono",
+        dir.join(MACPHERSON).to_str().unwrap(),
+        "--data-dir",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("Strut.Mass") && err.contains("positive"), "{err}");
+    assert_eq!(std::fs::read_dir(out.parent().unwrap()).unwrap().count(), 0, "something was written");
+    // An existing file is left as it was; a write that fails removes its temporary file.
+    std::fs::write(&out, "keep").unwrap();
+    let (code, _, _) = rtv(&[
+        "import-chrono",
+        dir.join(MACPHERSON).to_str().unwrap(),
+        "--data-dir",
+        dir.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1);
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), "keep");
+    assert!(write_atomically(&dir.join("out"), "x").is_err(), "a folder cannot be replaced by a file");
+    let left: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "a temporary file was left: {left:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn rtv_import_chrono_writes_the_shipped_file_and_lists_what_it_left_out() {
+    let dir = scratch("cli_import");
+    let out = dir.join("macpherson.json");
+    let (code, _, err) = rtv(&[
+        "import-chrono",
+        chrono_data().join(MACPHERSON).to_str().unwrap(),
+        "--data-dir",
+        chrono_data().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        std::fs::read_to_string(repo().join("resources/vehicles/generic_macpherson.json")).unwrap()
+    );
+    assert!(err.contains("warning: generic/vehicle/Vehicle_MacPhersonStruts.json: Driveline: ignored"), "{err}");
+    let (code, _, err) = rtv(&["import-chrono", "x.json", "--out", "y.json"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--data-dir"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// The loader.
+
+#[test]
+fn the_loader_names_the_field_of_each_bad_input() {
+    let mps = "generic_macpherson.json";
+    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, Vec<&str>)> = vec![
+        (mps, Box::new(|v| v["front"]["template"] = json!("macpherson")), vec!["front.template", "macpherson_strut"]),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["hardpoints_chassis_frame_m"].as_object_mut().unwrap().remove("SPRING_U");
+            }),
+            vec!["rear.hardpoints_chassis_frame_m.SPRING_U", "missing"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["front"]["hardpoints_chassis_frame_m"]["LCA_F"] =
+                    v["front"]["hardpoints_chassis_frame_m"]["LCA_B"].clone()
+            }),
+            vec!["front.hardpoints_chassis_frame_m", "LCA_F and LCA_B coincide"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                let h = &mut v["front"]["hardpoints_chassis_frame_m"];
+                let (a, b) = (h["LCA_U"].clone(), h["SPRING_C"].clone());
+                h["TIEROD_U"] = json!((0..3)
+                    .map(|i| 0.5 * (a[i].as_f64().unwrap() + b[i].as_f64().unwrap()))
+                    .collect::<Vec<f64>>());
+            }),
+            vec!["front.hardpoints_chassis_frame_m", "cannot close", "singular at the design position"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["front"]["hardpoints_chassis_frame_m"]["SPRING_C"] =
+                    v["front"]["hardpoints_chassis_frame_m"]["SPRING_U"].clone()
+            }),
+            vec!["SPRING_C", "the strut has no axis"],
+        ),
+        (mps, Box::new(|v| v["front"]["strut"]["mass_kg"] = json!(-5.0)), vec!["front.strut.mass_kg", "positive"]),
+        (mps, Box::new(|v| v["gravity_m_s2"] = json!(32.17)), vec!["gravity_m_s2", "other units"]),
+        (
+            mps,
+            Box::new(|v| v["front"]["hardpoints_chassis_frame_m"]["LCA_F"] = json!([1470.0, 520.0, -366.0])),
+            vec!["front.hardpoints_chassis_frame_m.LCA_F[0]", "other units"],
+        ),
+        (
+            mps,
+            Box::new(|v| v["pitman_arm"]["max_angle_rad"] = json!(30.0)),
+            vec!["pitman_arm.max_angle_rad", "other units"],
+        ),
+        (
+            mps,
+            Box::new(|v| v["front"]["hardpoints_chassis_frame_m"]["UCA_F"] = json!([1.0, 0.5, 0.2])),
+            vec!["front.hardpoints_chassis_frame_m.UCA_F", "not a hardpoint"],
+        ),
+        (
+            mps,
+            Box::new(|v| v["front"]["upper_arm"] = v["front"]["strut"].clone()),
+            vec!["front.upper_arm", "not part of this axle's template"],
+        ),
+        (
+            mps,
+            Box::new(|v| v["front"]["damper"]["rate_Ns_per_m"] = json!(1.0)),
+            vec!["front.damper.rate_Ns_per_m", "unknown field"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v.as_object_mut().unwrap().remove("pitman_arm");
+            }),
+            vec!["rack", "exactly one steering"],
+        ),
+        (
+            "generic_double_wishbone.json",
+            Box::new(|v| {
+                v["rear"].as_object_mut().unwrap().remove("upper_arm");
+            }),
+            vec!["rear.upper_arm", "missing"],
+        ),
+    ];
+    for (file, edit, needles) in cases {
+        let e = load_error(file, edit);
+        for n in &needles {
+            assert!(e.contains(n), "'{n}' not in: {e}");
+        }
+    }
+}
+
+#[test]
+fn the_loader_refuses_a_fifo_and_an_oversized_file() {
+    let dir = scratch("loader_files");
+    let fifo = dir.join("vehicle.json");
+    mkfifo(&fifo);
+    let e = VehicleData::from_file(&fifo).unwrap_err().to_string();
+    assert!(e.contains("not a regular file"), "{e}");
+    let big = dir.join("big.json");
+    oversized(&big);
+    let e = VehicleData::from_file(&big).unwrap_err().to_string();
+    assert!(e.contains(&format!("{} bytes, more than the {MAX_FILE_BYTES}", MAX_FILE_BYTES + 1)), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// `rtv check-vehicle`.
+
+#[test]
+fn rtv_check_vehicle_summarizes_every_shipped_file() {
+    for f in shipped() {
+        let (code, out, err) = rtv(&["check-vehicle", f.to_str().unwrap()]);
+        assert_eq!(code, 0, "{}: {err}", f.display());
+        for needle in
+            ["valid", "total mass", "wheelbase", "track", "static axle loads", "ride height", "suspension", "steering"]
+        {
+            assert!(out.contains(needle), "{}: no {needle}:\n{out}", f.display());
+        }
+        // The axle loads carry the whole weight.
+        let data = VehicleData::from_file(&f).unwrap();
+        let s = rt_vehicle::model::summary::summarize(&data).unwrap();
+        let weight = s.total_mass_kg * data.gravity_m_s2;
+        assert!((s.axle_load_n.iter().sum::<f64>() - weight).abs() < 1e-6 * weight, "{}", f.display());
+        assert_eq!(s.method, rt_vehicle::model::summary::Method::Equilibrium);
+        assert!(s.wheel_centre_height_m.iter().all(|h| *h > 0.3 && *h < data.tire.unloaded_radius_m));
+    }
+    let (_, out, _) =
+        rtv(&["check-vehicle", repo().join("resources/vehicles/generic_macpherson.json").to_str().unwrap()]);
+    assert!(out.contains("suspension: front macpherson_strut (steered), rear macpherson_strut"), "{out}");
+    assert!(out.contains("input pitman_arm_angle (rad)"), "{out}");
+    assert!(out.contains("wheelbase: 2.500 m; track: front 2.200 m, rear 2.200 m"), "{out}");
+}
+
+#[test]
+fn rtv_check_vehicle_prints_file_field_message_and_fails() {
+    let dir = scratch("check");
+    let bad = dir.join("bad.json");
+    let mut v = shipped_value("generic_macpherson.json");
+    v["front"]["lower_arm"]["mass_kg"] = json!(-1.0);
+    std::fs::write(&bad, v.to_string()).unwrap();
+    let fifo = dir.join("fifo.json");
+    mkfifo(&fifo);
+    let big = dir.join("big.json");
+    oversized(&big);
+    for (file, message) in [
+        (&bad, "front.lower_arm.mass_kg: must be positive".to_string()),
+        (&fifo, "is not a regular file".to_string()),
+        (&big, format!("has {} bytes", MAX_FILE_BYTES + 1)),
+    ] {
+        let (code, out, err) = rtv(&["check-vehicle", file.to_str().unwrap()]);
+        assert_eq!(code, 1, "{err}");
+        assert!(out.is_empty(), "{out}");
+        let line = err.lines().next().unwrap_or("");
+        assert!(line.starts_with(&format!("{}: ", file.display())) && line.contains(&message), "{err}");
+    }
+    let (code, _, err) = rtv(&["check-vehicle"]);
+    assert_eq!(code, 2, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_rack_and_pinion_and_a_chassis_of_several_components_import() {
+    let dir = chrono_copy("rack");
+    edit_json(&dir.join(MACPHERSON), |v| {
+        v["Steering Subsystems"][0] = json!({"Input File": "generic/steering/RackPinion.json", "Location": [1.1, 0, -0.25], "Orientation": [1, 0, 0, 0]});
+    });
+    // The chassis in two halves 0.5 m ahead of and behind its CM: the same mass and CM, Iyy and Izz larger
+    // by m d².
+    edit_json(&dir.join("generic/chassis/Chassis.json"), |v| {
+        let c = v["Components"][0].clone();
+        let half = |dx: f64| {
+            let mut h = c.clone();
+            h["Mass"] = json!(2086.52 / 2.0);
+            h["Moments of Inertia"] = json!([1078.52 / 2.0, 2955.66 / 2.0, 3570.20 / 2.0]);
+            h["Centroidal Frame"]["Location"] = json!([0.056 + dx, 0.0, 0.213]);
+            h
+        };
+        v["Components"] = json!([half(0.5), half(-0.5)]);
+    });
+    let import = import_vehicle(&dir.join(MACPHERSON), &dir).unwrap();
+    let rack = import.data.rack.as_ref().expect("a rack");
+    assert!(import.data.pitman_arm.is_none());
+    assert_eq!(rack.com_m, [1.1, 0.0, -0.25]);
+    assert!((rack.travel_limit_m - 0.1 * 30f64.to_radians()).abs() < 1e-12);
+    let c = &import.data.chassis;
+    assert!((c.mass_kg - 2086.52).abs() < 1e-9 && (c.com_m[0] - 0.056).abs() < 1e-12, "{c:?}");
+    let d2 = 2086.52 * 0.25;
+    assert!((c.inertia_moments_kg_m2[1] - (2955.66 + d2)).abs() < 1e-9, "{c:?}");
+    assert!((c.inertia_moments_kg_m2[0] - 1078.52).abs() < 1e-9, "{c:?}");
+    VehicleData::from_json(&import.to_json()).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+}
