@@ -255,7 +255,12 @@ fn ackermann_error_of_the_hmmwv_rack_is_mirror_symmetric_and_follows_its_toe_cur
     for k in 0..n {
         let (a, b) = (rows[k], rows[n - 1 - k]);
         assert!((a.input + b.input).abs() < 1e-15);
-        assert!((a.ackermann_error - b.ackermann_error).abs() < 1e-10, "{} vs {}", a.ackermann_error, b.ackermann_error);
+        assert!(
+            (a.ackermann_error - b.ackermann_error).abs() < 1e-10,
+            "{} vs {}",
+            a.ackermann_error,
+            b.ackermann_error
+        );
     }
     assert!(rows[n / 2].ackermann_error.abs() < 1e-10, "zero at centre (no static toe)");
     // Second order: δ_L(u) = a u + b u² + O(u³) and, mirrored, δ_R(u) = a u − b u² + O(u³); for u > 0
@@ -277,7 +282,10 @@ fn ackermann_error_of_the_hmmwv_rack_is_mirror_symmetric_and_follows_its_toe_cur
     let (u1, e1, e2) = (rows[n / 2 + 1].input, rows[n / 2 + 1].ackermann_error, rows[n / 2 + 2].ackermann_error);
     // e(u) = c2 u² + c3 u³ + O(u⁴): c2 = (8 e(u1) − e(2u1)) / (4 u1²) − O(u1²).
     let c2 = (8.0 * e1 - e2) / (4.0 * u1 * u1);
-    println!("Ackermann error / u²: from toe curvature {predicted:.4} rad/m², from the report {c2:.4} rad/m² (plain e(u1)/u1² = {:.4})", e1 / (u1 * u1));
+    let plain = e1 / (u1 * u1);
+    println!(
+        "Ackermann error / u², rad/m²: from toe curvature {predicted:.4}, report {c2:.4} (plain e(u1)/u1² {plain:.4})"
+    );
     assert!(((c2 - predicted) / predicted).abs() < 0.01);
 }
 
@@ -307,7 +315,8 @@ fn every_shipped_vehicle_has_a_report_over_the_default_sweeps() {
         }
         assert_eq!(r.steering.rows.len(), 81);
         println!(
-            "{name}: front caster {:.3} deg, KPI {:.3} deg, scrub {:.1} mm, trail {:.1} mm, roll centres {:.1} / {:.1} mm",
+            "{name}: front caster {:.3} deg, KPI {:.3} deg, scrub {:.1} mm, trail {:.1} mm, roll centres {:.1} / \
+             {:.1} mm",
             r.axles[0].figures.caster.to_degrees(),
             r.axles[0].figures.kingpin_inclination.to_degrees(),
             1e3 * r.axles[0].figures.scrub_radius,

@@ -362,7 +362,7 @@ fn cmd_kc(args: &[String]) -> Result<(), Failure> {
     let data = vehicle_data(&opts)?;
     let defaults = kc::KcOptions::default();
     let points = number(&opts, "steering-points", defaults.steering_points as f64)?;
-    if !(points >= 3.0 && points <= 10_001.0 && points.fract() == 0.0 && points % 2.0 == 1.0) {
+    if !((3.0..=10_001.0).contains(&points) && points % 2.0 == 1.0) {
         return Err(bad("--steering-points: an odd whole number from 3 to 10001"));
     }
     let options = kc::KcOptions {

@@ -175,8 +175,8 @@ pub fn wheel_at_travel(
     Err(beyond(String::new()))
 }
 
-/// Ideal Ackermann inside-wheel angle for an outside-wheel angle (rad), wheelbase and track:
-/// cot δ_i − … : cot δ_o − cot δ_i = t / L.
+/// Ideal Ackermann inside-wheel angle for an outside-wheel angle (rad), wheelbase L and track t: the
+/// wheels' axes meet on the rear axle's line, cot δ_o − cot δ_i = t / L (atan2: continuous past 90°).
 pub fn ackermann_inside(outside: f64, wheelbase: f64, track: f64) -> f64 {
     let t = outside.tan();
     (wheelbase * t).atan2(wheelbase - track * t)
@@ -299,21 +299,35 @@ pub struct KcReport {
     pub steering: SteeringKc,
 }
 
-/// The static figures at the design position of a corner, its ground at z_w0 − R0.
-pub fn static_figures(c: &Corner, radius: f64) -> Result<(WheelPose, f64, f64, f64, f64), ModelError> {
-    let pos = c.solve_positions(0.0, 0.0, &[0.0; 4])?;
-    let ground = c.w0.z - radius;
-    let pose = wheel_pose(c, &pos, ground, Along::LowerArm);
-    let (p, e) = c.steering_axis(&pos);
-    let outward = if c.side == Side::Left { 1.0 } else { -1.0 };
-    let caster = (-e.x).atan2(e.z);
-    let kpi = (-outward * e.y).atan2(e.z);
-    let axis_ground = p + e * ((ground - p.z) / e.z);
-    let heading = pose.axle.cross(&V3::z()).normalize();
-    let out = V3::z().cross(&heading) * outward;
-    let scrub = (pose.contact - axis_ground).dot(&out);
-    let trail = (axis_ground - pose.contact).dot(&heading);
-    Ok((pose, caster, kpi, scrub, trail))
+/// A corner at its design position on the ground z_w0 − R0: the wheel, and its steering axis' angles and
+/// offsets (signs as in `StaticFigures`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DesignGeometry {
+    pub pose: WheelPose,
+    pub caster: f64,
+    pub kingpin_inclination: f64,
+    pub scrub_radius: f64,
+    pub trail: f64,
+}
+
+impl DesignGeometry {
+    pub fn of(c: &Corner, radius: f64) -> Result<DesignGeometry, ModelError> {
+        let pos = c.solve_positions(0.0, 0.0, &[0.0; 4])?;
+        let ground = c.w0.z - radius;
+        let pose = wheel_pose(c, &pos, ground, Along::LowerArm);
+        let (p, e) = c.steering_axis(&pos);
+        let outward = if c.side == Side::Left { 1.0 } else { -1.0 };
+        let axis_ground = p + e * ((ground - p.z) / e.z);
+        let heading = pose.axle.cross(&V3::z()).normalize();
+        let out = V3::z().cross(&heading) * outward;
+        Ok(DesignGeometry {
+            pose,
+            caster: (-e.x).atan2(e.z),
+            kingpin_inclination: (-outward * e.y).atan2(e.z),
+            scrub_radius: (pose.contact - axis_ground).dot(&out),
+            trail: (axis_ground - pose.contact).dot(&heading),
+        })
+    }
 }
 
 /// The roll-centre height above the ground from a wheel's contact point and the front-view velocity of
@@ -332,9 +346,8 @@ fn axle_kc(
     let radius = data.tire.unloaded_radius_m;
     let [left, right] = corners;
     let y_mid = 0.5 * (left.w0.y + right.w0.y);
-    let (design_l, caster, kpi, scrub, trail) = static_figures(left, radius)?;
-    let (design_r, ..) = static_figures(right, radius)?;
-    let track0 = design_l.contact.y - design_r.contact.y;
+    let design_l = DesignGeometry::of(left, radius)?;
+    let track0 = design_l.pose.contact.y - DesignGeometry::of(right, radius)?.pose.contact.y;
     let row = |travel: f64, pl: &CornerPositions, pr: &CornerPositions| {
         let ground = left.w0.z - radius + travel;
         let l = wheel_pose(left, pl, ground, Along::LowerArm);
@@ -403,19 +416,19 @@ fn axle_kc(
         })
     };
     let figures = StaticFigures {
-        caster,
-        kingpin_inclination: kpi,
-        scrub_radius: scrub,
-        trail,
-        camber: design_l.camber,
-        steer: design_l.steer,
+        caster: design_l.caster,
+        kingpin_inclination: design_l.kingpin_inclination,
+        scrub_radius: design_l.scrub_radius,
+        trail: design_l.trail,
+        camber: design_l.pose.camber,
+        steer: design_l.pose.steer,
         camber_gain: design.camber_gain,
         bump_steer: design.bump_steer,
         spring_ratio: design.spring_ratio,
         damper_ratio: design.damper_ratio,
         spring_length: design.spring_length,
         damper_length: design.damper_length,
-        wheel_dx_rate: design_l.d_centre.x / design_l.d_centre.z,
+        wheel_dx_rate: design_l.pose.d_centre.x / design_l.pose.d_centre.z,
         roll_centre_height: design.roll_centre_height,
         track: track0,
         tie_rod_length: left.tie_length,
@@ -438,7 +451,7 @@ fn steering_kc(data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<S
     let limit = v.steering.travel_limit;
     let radius = data.tire.unloaded_radius_m;
     let wheelbase = fl.w0.x - rl.w0.x;
-    let track = static_figures(fl, radius)?.0.contact.y - static_figures(fr, radius)?.0.contact.y;
+    let track = DesignGeometry::of(fl, radius)?.pose.contact.y - DesignGeometry::of(fr, radius)?.pose.contact.y;
     let n = options.steering_points.max(3) | 1;
     let mut rows = Vec::with_capacity(n);
     // From centre outward each way, so that every solve starts from its neighbour.
@@ -547,7 +560,8 @@ impl KcReport {
         for r in &axle.travel {
             let d = f64::to_degrees;
             text += &format!(
-                "{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{:.8},{:.5},{:.5},{:.6},{:.6},{:.6},{:.6}\n",
+                "{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.8},{:.8},{:.8},{:.8},{:.8},{:.5},{:.5},{:.6},{:.6},\
+                 {:.6},{:.6}\n",
                 r.travel,
                 d(r.camber[0]),
                 d(r.camber[1]),
@@ -656,7 +670,8 @@ impl KcReport {
 
         md += "## Static figures at design (left wheel; the right mirrors it)\n\n";
         md += "| | front | rear |\n|---|---:|---:|\n";
-        let rows: [(&str, &dyn Fn(&StaticFigures) -> String); 17] = [
+        type Cell<'a> = &'a dyn Fn(&StaticFigures) -> String;
+        let rows: [(&str, Cell); 17] = [
             ("template", &|_| String::new()),
             ("caster, deg", &|f| deg(f.caster)),
             ("kingpin inclination, deg", &|f| deg(f.kingpin_inclination)),
