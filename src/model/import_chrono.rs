@@ -427,6 +427,35 @@ fn fit_damper(points: &[(f64, f64)]) -> (f64, f64, f64) {
     (c, r, 100.0 * error / peak)
 }
 
+/// A spring or damper law: a linear coefficient or a curve (its key and points).
+enum Law {
+    Coefficient(f64),
+    Curve(&'static str, Vec<(f64, f64)>),
+}
+
+/// The law of the spring or damper `o`: `coefficient` (≥ 0, in `unit`) or the curve `curve_key` (or
+/// Chrono's older `Curve Data`), exactly one of them.
+fn force_law(o: &Obj, coefficient: &str, curve_key: &'static str, unit: &str) -> Result<Law, ImportError> {
+    let key = [curve_key, "Curve Data"].into_iter().find(|k| o.has(k));
+    match (o.opt_num(coefficient)?, key) {
+        (Some(_), Some(k)) => Err(o.err(k, format!("give either {coefficient} or a curve, not both"))),
+        (Some(c), None) if c >= 0.0 => Ok(Law::Coefficient(c)),
+        (Some(c), None) => Err(o.err(coefficient, format!("must be zero or positive ({unit}), got {c}"))),
+        (None, Some(k)) => Ok(Law::Curve(k, curve(o, k)?)),
+        (None, None) => Err(o.err(coefficient, format!("missing (or give {curve_key})"))),
+    }
+}
+
+/// The warning that reports a curve's fit: what it became and the largest error in % of its peak force.
+fn fit_warning(o: &Obj, key: &str, points: &[(f64, f64)], fitted: String, error_percent: f64) -> String {
+    let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
+    format!(
+        "{}: {}: fitted by {fitted}: largest error {error_percent:.3} % of the curve's peak force {peak} N",
+        o.file,
+        o.key(key)
+    )
+}
+
 /// A curve [[x, y], …] of at least two points with increasing x.
 fn curve(o: &Obj, k: &str) -> Result<Vec<(f64, f64)>, ImportError> {
     let bad = || o.err(k, "must be an array of [x, y] pairs of finite numbers, x increasing, at least 2");
@@ -990,30 +1019,22 @@ impl Importer {
         put("SPRING_C", sp.point("Location Chassis")?);
         put(spring_name, sp.point(moving)?);
         let mut free_length = sp.length("Free Length")?;
-        let curve_key = ["Spring Curve Data", "Curve Data"].into_iter().find(|k| sp.has(k));
-        let (k1, k3) = match (sp.opt_num("Spring Coefficient")?, curve_key) {
-            (Some(_), Some(c)) => return Err(sp.err(c, "give either a spring coefficient or a curve, not both")),
-            (Some(k), None) => {
-                if !(k >= 0.0) {
-                    return Err(sp.err("Spring Coefficient", format!("must be zero or positive (N/m), got {k}")));
-                }
-                (k, 0.0)
-            }
-            (None, Some(c)) => {
-                let (k1, k3, error) = fit_spring(&curve(&sp, c)?);
+        let (k1, k3) = match force_law(&sp, "Spring Coefficient", "Spring Curve Data", "N/m")? {
+            Law::Coefficient(k) => (k, 0.0),
+            Law::Curve(key, points) => {
+                let (k1, k3, error) = fit_spring(&points);
                 if !(k1 >= 0.0) {
-                    return Err(sp.err(c, "the curve does not rise with extension: no spring the model can take"));
+                    return Err(sp.err(key, "the curve does not rise with extension: no spring the model can take"));
                 }
-                let peak = curve(&sp, c)?.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
-                self.warnings.push(format!(
-                    "{}: {}: fitted by the odd cubic F = k1 x + k3 x³ (k1 = {k1:.6e} N/m, k3 = {k3:.6e} N/m³): largest \
-                     error {error:.3} % of the curve's peak force {peak} N",
-                    o.file,
-                    sp.key(c)
+                self.warnings.push(fit_warning(
+                    &sp,
+                    key,
+                    &points,
+                    format!("the odd cubic F = k1 x + k3 x³ (k1 = {k1:.6e} N/m, k3 = {k3:.6e} N/m³)"),
+                    error,
                 ));
                 (k1, k3)
             }
-            (None, None) => return Err(sp.err("Spring Coefficient", "missing (or give Spring Curve Data)")),
         };
         if let Some(preload) = sp.opt_num("Preload")? {
             if preload != 0.0 {
@@ -1072,31 +1093,22 @@ impl Importer {
         )?;
         put("SHOCK_C", sh.point("Location Chassis")?);
         put(shock_name, sh.point(moving)?);
-        let curve_key = ["Damping Curve Data", "Curve Data"].into_iter().find(|k| sh.has(k));
-        let (compression, rebound) = match (sh.opt_num("Damping Coefficient")?, curve_key) {
-            (Some(_), Some(c)) => return Err(sh.err(c, "give either a damping coefficient or a curve, not both")),
-            (Some(c), None) => {
-                if !(c >= 0.0) {
-                    return Err(sh.err("Damping Coefficient", format!("must be zero or positive (N s/m), got {c}")));
-                }
-                (c, c)
-            }
-            (None, Some(k)) => {
-                let points = curve(&sh, k)?;
+        let (compression, rebound) = match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
+            Law::Coefficient(c) => (c, c),
+            Law::Curve(key, points) => {
                 let (c, r, error) = fit_damper(&points);
                 if !(c >= 0.0 && r >= 0.0) {
-                    return Err(sh.err(k, "the curve does not resist motion: no damper the model can take"));
+                    return Err(sh.err(key, "the curve does not resist motion: no damper the model can take"));
                 }
-                let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
-                self.warnings.push(format!(
-                    "{}: {}: fitted by a compression rate {c:.6e} N s/m and a rebound rate {r:.6e} N s/m: largest \
-                     error {error:.3} % of the curve's peak force {peak} N",
-                    o.file,
-                    sh.key(k)
+                self.warnings.push(fit_warning(
+                    &sh,
+                    key,
+                    &points,
+                    format!("a compression rate {c:.6e} N s/m and a rebound rate {r:.6e} N s/m"),
+                    error,
                 ));
                 (c, r)
             }
-            (None, None) => return Err(sh.err("Damping Coefficient", "missing (or give Damping Curve Data)")),
         };
         let damper = Damper {
             midstroke_compression_Ns_per_m: compression,
