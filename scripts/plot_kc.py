@@ -22,6 +22,20 @@ def load(path):
     return {k: [float(r[k]) for r in rows] for k in rows[0]}
 
 
+def finish(fig, axes, xlabel, title, out):
+    """Common axis dressing (the design or centre position marked), title, and the PNG."""
+    for a in axes:
+        a.set_xlabel(xlabel)
+        a.axvline(0.0, color="0.6", lw=0.8)
+        a.grid(True)
+        a.legend(fontsize=9)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out
+
+
 def travel_figure(prefix, axle):
     d = load(f"{prefix}_{axle}_travel.csv")
     z = [1e3 * t for t in d["travel_m"]]
@@ -45,17 +59,8 @@ def travel_figure(prefix, axle):
         for i, (name, values) in enumerate(series):
             a.plot(z, values, "-" if i == 0 else "--", label=name)
         a.set_ylabel(label)
-        a.set_xlabel("wheel travel z [mm] (+ jounce)")
-        a.axvline(0.0, color="0.6", lw=0.8)
-        a.grid(True)
-        a.legend(fontsize=9)
-    name = os.path.basename(prefix)
-    fig.suptitle(f"{name}: {axle} axle against parallel wheel travel (chassis fixed, steering centred)")
-    fig.tight_layout()
-    out = f"{prefix}_{axle}_travel.png"
-    fig.savefig(out, dpi=100)
-    plt.close(fig)
-    return out
+    title = f"{os.path.basename(prefix)}: {axle} axle against parallel wheel travel (chassis fixed, steering centred)"
+    return finish(fig, ax.flat, "wheel travel z [mm] (+ jounce)", title, f"{prefix}_{axle}_travel.png")
 
 
 def steering_figure(prefix):
@@ -74,17 +79,8 @@ def steering_figure(prefix):
     ax[1].set_ylabel("Ackermann error [deg] (+ more than Ackermann)")
     ax[2].plot(u, d[ratio_key], label="d input / d mean road-wheel angle")
     ax[2].set_ylabel(f"overall steering ratio [{ratio_unit}]")
-    for a in ax:
-        a.set_xlabel(xlabel)
-        a.axvline(0.0, color="0.6", lw=0.8)
-        a.grid(True)
-        a.legend(fontsize=9)
-    fig.suptitle(f"{os.path.basename(prefix)}: steering (lower arms at design; left wheel inside for input > 0)")
-    fig.tight_layout()
-    out = f"{prefix}_steering.png"
-    fig.savefig(out, dpi=100)
-    plt.close(fig)
-    return out
+    title = f"{os.path.basename(prefix)}: steering (lower arms at design; left wheel inside for input > 0)"
+    return finish(fig, ax, xlabel, title, f"{prefix}_steering.png")
 
 
 def main():

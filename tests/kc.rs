@@ -10,19 +10,8 @@ use rt_vehicle::studies::kc::{self, KcOptions, KcReport};
 
 type V3 = Vector3<f64>;
 
-/// The HMMWV and every vehicle file shipped in resources/vehicles.
-fn vehicles() -> Vec<(String, VehicleData)> {
-    let mut out = vec![("hmmwv".to_string(), VehicleData::default_hmmwv())];
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles");
-    let mut files: Vec<_> =
-        std::fs::read_dir(&dir).map(|d| d.flatten().map(|e| e.path()).collect()).unwrap_or_default();
-    files.sort();
-    for f in files.into_iter().filter(|f| f.extension().is_some_and(|e| e == "json")) {
-        let data = VehicleData::from_file(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        out.push((f.file_stem().unwrap().to_string_lossy().into_owned(), data));
-    }
-    out
-}
+mod common;
+use common::vehicles;
 
 fn report(data: &VehicleData) -> KcReport {
     KcReport::compute(data, &KcOptions::default()).unwrap()

@@ -8,22 +8,8 @@ use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Vector5f};
 use rt_vehicle::model::vehicle::Vehicle;
 
-/// The HMMWV and every vehicle file shipped in resources/vehicles.
-fn vehicles() -> Vec<(String, VehicleData)> {
-    let mut out = vec![("hmmwv".to_string(), VehicleData::default_hmmwv())];
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles");
-    let mut files: Vec<_> =
-        std::fs::read_dir(&dir).map(|d| d.flatten().map(|e| e.path()).collect()).unwrap_or_default();
-    files.sort();
-    for f in files.into_iter().filter(|f| f.extension().is_some_and(|e| e == "json")) {
-        let data = VehicleData::from_file(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        out.push((f.file_stem().unwrap().to_string_lossy().into_owned(), data));
-    }
-    // The two Chrono imports (double wishbones and MacPherson struts) must be among them: the templates'
-    // checks below would otherwise pass on the HMMWV alone.
-    assert!(out.len() >= 3, "resources/vehicles holds the Chrono imports: {:?}", out.iter().map(|v| &v.0).collect::<Vec<_>>());
-    out
-}
+mod common;
+use common::vehicles;
 
 /// Every corner of every shipped vehicle, with its steering drive and the vehicle's steering limit.
 fn corners() -> Vec<(String, Corner)> {
