@@ -584,3 +584,28 @@ fn a_rack_and_pinion_and_a_chassis_of_several_components_import() {
     VehicleData::from_json(&import.to_json()).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn check_vehicle_falls_back_to_the_mass_distribution_when_the_car_does_not_stand() {
+    // Springs of 10 N/m: the suspensions collapse past their mechanism range, no equilibrium exists.
+    let mut v = shipped_value("generic_macpherson.json");
+    v["front"]["spring"]["k1_N_per_m"] = json!(10.0);
+    v["rear"]["spring"]["k1_N_per_m"] = json!(10.0);
+    let data = VehicleData::from_json(&v.to_string()).unwrap();
+    let s = rt_vehicle::model::summary::summarize(&data).unwrap();
+    assert_eq!(s.method, rt_vehicle::model::summary::Method::MassDistribution);
+    assert!(s.method_text().contains("the equilibrium failed"), "{}", s.method_text());
+    let weight = s.total_mass_kg * data.gravity_m_s2;
+    assert!((s.axle_load_n.iter().sum::<f64>() - weight).abs() < 1e-9 * weight);
+    // Within a few per cent of the equilibrium's share of the shipped file.
+    let stands = rt_vehicle::model::summary::summarize(
+        &VehicleData::from_json(&shipped_value("generic_macpherson.json").to_string()).unwrap(),
+    )
+    .unwrap();
+    assert!(
+        (s.axle_load_n[0] - stands.axle_load_n[0]).abs() < 0.02 * weight,
+        "{:?} vs {:?}",
+        s.axle_load_n,
+        stands.axle_load_n
+    );
+}
