@@ -15,6 +15,17 @@ fn main() {
     let reference = stability::run_case(&case, IntegratorKind::Rk4, stability::REFERENCE_STEP);
     let run = stability::run_case(&case, IntegratorKind::Rk4, h);
     println!("{}: run {:?}", case.name, run.result.as_ref().err().map(|e| e.to_string()));
+    if std::env::var("TRACE").is_ok() {
+        let c = case.channels.iter().position(|c| c.name == "yaw_rate").unwrap_or(0);
+        for k in (0..run.samples.len().min(reference.samples.len())).step_by(6) {
+            println!(
+                "  t {:.3}  run {:+.4e}  reference {:+.4e}",
+                k as f64 * stability::SAMPLE,
+                run.samples[k][c],
+                reference.samples[k][c]
+            );
+        }
+    }
     for (c, ch) in case.channels.iter().enumerate() {
         let start = reference.samples[0][c];
         let excursion = reference.samples.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(ch.floor);
