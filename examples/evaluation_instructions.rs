@@ -4,8 +4,9 @@
 //! ```sh
 //! cargo build --release --example evaluation_instructions
 //! for n in 0 20000; do valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$n \
-//!     target/release/examples/evaluation_instructions $n 2>&1 | grep "Collected"; done
+//!     target/release/examples/evaluation_instructions $n [VEHICLE.json] 2>&1 | grep "Collected"; done
 //! ```
+//! (a vehicle file as second argument: its J-turn at its calibrated amplitude; default the HMMWV)
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Inputs, KinematicsCache};
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
@@ -14,8 +15,12 @@ use std::hint::black_box;
 
 fn main() {
     let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(20000);
-    let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
-    let mut sim = scene.start(VehicleData::default_hmmwv(), &SimConfig::default()).unwrap();
+    let data = match std::env::args().nth(2) {
+        Some(path) => VehicleData::from_file(std::path::Path::new(&path)).unwrap(),
+        None => VehicleData::default_hmmwv(),
+    };
+    let scene = Scene::for_vehicle(SceneKind::JTurn, Amplitude::Calibrated, &data).unwrap();
+    let mut sim = scene.start(data, &SimConfig::default()).unwrap();
     run(&mut sim, 4.0, 0.01, |_| {}).unwrap();
     let inputs = Inputs { rack: scene.rack.at(4.0), drive: [0.0; 4], brake: [0.0; 4] };
     let (vehicle, x) = (sim.vehicle().clone(), sim.state().to_vec());
