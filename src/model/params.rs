@@ -366,7 +366,8 @@ fn schema_validator() -> &'static jsonschema::Validator {
 pub fn check_schema(value: &serde_json::Value) -> Result<(), DataError> {
     use jsonschema::error::ValidationErrorKind as Kind;
     let errors: Vec<_> = schema_validator().iter_errors(value).collect();
-    let composite = |k: &Kind| matches!(k, Kind::OneOfNotValid { .. } | Kind::OneOfMultipleValid { .. } | Kind::AnyOf { .. });
+    let composite =
+        |k: &Kind| matches!(k, Kind::OneOfNotValid { .. } | Kind::OneOfMultipleValid { .. } | Kind::AnyOf { .. });
     let Some(first) = errors.iter().find(|e| !composite(e.kind())).or(errors.first()) else {
         return Ok(());
     };
@@ -396,7 +397,11 @@ pub fn check_schema(value: &serde_json::Value) -> Result<(), DataError> {
         Kind::FalseSchema => (field, "not part of this axle's template".to_string()),
         Kind::OneOfNotValid { .. } | Kind::OneOfMultipleValid { .. } if field.is_empty() => {
             let both = value.get("rack").is_some() && value.get("pitman_arm").is_some();
-            let why = if both { "give either `rack` or `pitman_arm`, not both" } else { "missing: give `rack` (rack and pinion) or `pitman_arm`" };
+            let why = if both {
+                "give either `rack` or `pitman_arm`, not both"
+            } else {
+                "missing: give `rack` (rack and pinion) or `pitman_arm`"
+            };
             ("rack".to_string(), format!("a vehicle has exactly one steering: {why}"))
         }
         Kind::ExclusiveMinimum { limit } if limit.as_f64() == Some(0.0) => {
