@@ -258,13 +258,14 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         )));
     }
     scene.check_rack(data.steering_limit()).map_err(|e| bad(format!("--amplitude: {e}")))?;
+    let data_input = data.steering_input();
     let started = Instant::now();
     let mut sim = scene.start_keeping(data, &config, keep_all)?;
     sim.set_wheel_torques([drive; 4], [brake; 4]);
     let setup = started.elapsed();
     let mut out = csv_writer(opts.get("out"))?;
     let columns = scene.columns(keep_all);
-    let header = columns.iter().map(|&i| OUTPUT_NAMES[i]).collect::<Vec<_>>().join(",");
+    let header = columns.iter().map(|&i| column_name(&data_input, i)).collect::<Vec<_>>().join(",");
     let mut lines = vec![header];
     let evaluate = keep_all || scene.needs.evaluates_outputs();
     let t = Instant::now();
@@ -526,14 +527,25 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     let data = vehicle_data(&opts)?;
     let report = run(m, &data, speed).map_err(|e| failed(format!("{}: {e}", m.name())))?;
     let mut out = csv_writer(opts.get("out"))?;
-    let mut text = OUTPUT_NAMES[..CSV_COLUMNS].join(",") + "\n";
+    let input = data.steering_input();
+    let mut text = (0..CSV_COLUMNS).map(|i| column_name(&input, i)).collect::<Vec<_>>().join(",") + "\n";
     for row in &report.rows {
         text += &row.values[..CSV_COLUMNS].iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(",");
         text += "\n";
     }
     out.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
-    eprintln!("{} at {:.1} km/h, rack amplitude {:.2} mm:", m.name(), report.speed * 3.6, report.amplitude * 1e3);
+    match data.steering_input() {
+        SteeringInput::RackDisplacement => {
+            eprintln!("{} at {:.1} km/h, rack amplitude {:.2} mm:", m.name(), report.speed * 3.6, report.amplitude * 1e3)
+        }
+        SteeringInput::PitmanArmAngle => eprintln!(
+            "{} at {:.1} km/h, Pitman-arm amplitude {:.4} rad:",
+            m.name(),
+            report.speed * 3.6,
+            report.amplitude
+        ),
+    }
     for metric in &report.metrics {
         let verdict = match metric.criterion {
             Some((criterion, met)) => format!("  [{criterion}: {}]", if met { "pass" } else { "FAIL" }),
@@ -658,7 +670,10 @@ fn cmd_check_vehicle(args: &[String]) -> Result<(), Failure> {
     println!("{file}: valid");
     println!("name: {}", s.name);
     println!("total mass: {:.1} kg (sprung {:.1} kg)", s.total_mass_kg, s.sprung_mass_kg);
-    println!("wheelbase: {:.3} m; track: front {:.3} m, rear {:.3} m (wheel centres at design)", s.wheelbase_m, s.track_m[0], s.track_m[1]);
+    println!(
+        "wheelbase: {:.3} m; track: front {:.3} m, rear {:.3} m (wheel centres at design)",
+        s.wheelbase_m, s.track_m[0], s.track_m[1]
+    );
     println!(
         "static axle loads: front {:.0} N ({:.1} %), rear {:.0} N ({:.1} %)",
         s.axle_load_n[0],
@@ -687,6 +702,15 @@ fn cmd_check_vehicle(args: &[String]) -> Result<(), Failure> {
         println!("warning: {w}");
     }
     Ok(())
+}
+
+/// A CSV column's name: the output's, but the steering channel is named by the vehicle's steering input
+/// (`rack_displacement`, m, or `pitman_arm_angle`, rad; the FMU's input names).
+fn column_name(input: &SteeringInput, i: usize) -> &'static str {
+    match OUTPUT_NAMES[i] {
+        "rack_displacement" => input.name(),
+        name => name,
+    }
 }
 
 fn main() -> ExitCode {

@@ -358,7 +358,14 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, ModelError> 
         metric("clearance in lane 5 (exit)", clearance[2], "m"),
         metric("exit speed", rows.last().and_then(|r| r.get("vx")).unwrap_or(f64::NAN) * 3.6, "km/h"),
         metric("peak lateral acceleration", peak("ay") / data.gravity_m_s2, "g"),
-        metric("peak rack displacement", peak("rack_displacement") * 1e3, "mm"),
+        match data.steering_input() {
+            crate::model::params::SteeringInput::RackDisplacement => {
+                metric("peak rack displacement", peak("rack_displacement") * 1e3, "mm")
+            }
+            crate::model::params::SteeringInput::PitmanArmAngle => {
+                metric("peak Pitman-arm angle", peak("rack_displacement"), "rad")
+            }
+        },
     ];
     let amplitude = peak("rack_displacement");
     Ok(Report { manoeuvre: Manoeuvre::DoubleLaneChange, speed: v, amplitude, rows, metrics })
