@@ -305,17 +305,21 @@ pub fn dlc_driver(
 /// keeps the entry speed. The footprint checked against the lanes is the four tires' outer edges (track/2 +
 /// half the tire width, at the axles), every sample. Pass: inside every lane throughout.
 fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, ModelError> {
-    use rtv_driver::iso3888::{hmmwv_course_and_line, HMMWV_TIRE_WIDTH_M};
+    use rtv_driver::iso3888::{course_and_line, HMMWV_TIRE_WIDTH_M, HMMWV_WIDTH_M};
     let config = SimConfig { initial_speed: v, ..SimConfig::default() };
     let mut sim = Simulation::new(data.clone(), config)?;
     let driver = dlc_driver(data, sim.vehicle())?;
     let first = sim.outputs()?;
     // The course is laid out from the CM's start at the origin (tests/manoeuvres.rs checks it starts there).
-    let (course, path) = hmmwv_course_and_line(v);
     // Outer tire edges in the chassis frame, relative to the CM: (x, ±y).
     let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear, com_x) = (spindle(&data.front), spindle(&data.rear), data.chassis.com_m[0]);
+    // Every vehicle runs the HMMWV's tire for now: its width.
     let half_width = front[1] + 0.5 * HMMWV_TIRE_WIDTH_M;
+    // ISO 3888-2 sizes the lanes by the vehicle's width: the HMMWV's body width (2.16 m), another vehicle's
+    // wheel track over the tires (no body width in its file).
+    let width = if data.name == VehicleData::default_hmmwv().name { HMMWV_WIDTH_M } else { 2.0 * half_width };
+    let (course, path) = course_and_line(width, half_width, v);
     let end = course.exit() + 10.0;
     let corners = [
         (front[0] - com_x, half_width),

@@ -28,8 +28,13 @@ pub const SSP_ENTRY_SPEED_KMH: f64 = 40.0;
 /// double-lane-change` drives and what the driver FMU follows in the SSP. The line runs 100 m past where the
 /// manoeuvre ends (10 m after the course's exit), so that the driver's preview stays on it.
 pub fn hmmwv_course_and_line(speed: f64) -> (Course, Path) {
-    let course = Course::new(HMMWV_WIDTH_M, RUN_UP_M);
-    let half_width = HMMWV_HALF_TRACK_M + 0.5 * HMMWV_TIRE_WIDTH_M;
+    course_and_line(HMMWV_WIDTH_M, HMMWV_HALF_TRACK_M + 0.5 * HMMWV_TIRE_WIDTH_M, speed)
+}
+
+/// The course of a vehicle of width `width` (ISO 3888-2 sizes the lanes by it) and the driver's line for a
+/// footprint of half-width `half_width` (half track + half the tire width), run up from x = 0 at `speed`.
+pub fn course_and_line(width: f64, half_width: f64, speed: f64) -> (Course, Path) {
+    let course = Course::new(width, RUN_UP_M);
     let line = course.driver_line(&HMMWV_LINE, half_width, speed, -10.0, course.exit() + 110.0);
     (course, line)
 }
