@@ -603,6 +603,7 @@ impl Vehicle {
         };
 
         self.solve_corners(x, rack.position, cache)?;
+        let chassis = ChassisStage { road, a0, r0, y0, g: g_chassis };
         // Each corner writes its terms in place (no array built and then moved).
         let KinematicsCache { positions, assembly, .. } = cache;
         for i in 0..4 {
@@ -622,20 +623,8 @@ impl Vehicle {
                 drive_torque: drive,
                 brake_torque: inputs.brake[i],
             };
-            let wheel = self.corner_terms(
-                road,
-                i,
-                pos,
-                &qd,
-                &gamma_bar,
-                &a0,
-                &r0,
-                &y0,
-                &g_chassis,
-                &state,
-                local,
-                &mut assembly.terms[i],
-            )?;
+            let motion = CornerMotion { positions: pos, qd, gamma_bar };
+            let wheel = self.corner_terms(&chassis, i, &motion, &state, local, &mut assembly.terms[i])?;
             chassis_force += wheel.chassis_wrench;
             assembly.spin_torque[i] = wheel.spin_torque;
             assembly.relaxation_rates[i] = wheel.relaxation_rates;
@@ -645,25 +634,21 @@ impl Vehicle {
         Ok(())
     }
 
-    /// Kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6) in the chassis axes: `y0`
-    /// and `g` are in them; A0 and r0 place the wheel on the road, which is in the ground's.
-    #[allow(clippy::too_many_arguments)]
+    /// Kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6) in the chassis axes, from
+    /// the chassis stage's `ChassisStage` and the corner's solved `CornerMotion`.
     #[inline(always)]
     fn corner_terms(
         &self,
-        road: &dyn Road,
+        chassis: &ChassisStage,
         i: usize,
-        pos: &CornerPositions,
-        qd: &Vector5f,
-        gamma_bar: &Vector4<f64>,
-        a0: &M3,
-        r0: &V3,
-        y0: &Vector6<f64>,
-        g: &V3,
+        motion: &CornerMotion,
         wheel: &WheelState,
         diag: &mut Diagnostics,
         terms: &mut SubsystemTerms,
     ) -> Result<CornerOutput, ModelError> {
+        let ChassisStage { road, a0, r0, y0, g } = chassis;
+        let (road, a0, r0, y0, g) = (*road, a0, r0, y0, g);
+        let CornerMotion { positions: pos, qd, gamma_bar } = motion;
         let WheelState { spin, xi, drive_torque, brake_torque } = *wheel;
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
@@ -979,6 +964,24 @@ pub struct Assembly {
 enum LineElement {
     Spring,
     Damper,
+}
+
+/// What the chassis stage of an evaluation hands every corner: the road, the chassis attitude A0 and CM r0
+/// (which place the wheel on the road, in the ground's axes), and the chassis velocity state Y0 and
+/// gravity in the chassis axes the terms are assembled in.
+struct ChassisStage<'a> {
+    road: &'a dyn Road,
+    a0: M3,
+    r0: V3,
+    y0: Vector6<f64>,
+    g: V3,
+}
+
+/// One corner's solved motion: its positions (Newton), q̇ and γ̄.
+struct CornerMotion<'a> {
+    positions: &'a CornerPositions,
+    qd: Vector5f,
+    gamma_bar: Vector4<f64>,
 }
 
 /// A wheel's own state and torques, as one corner's evaluation reads them.
