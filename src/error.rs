@@ -70,11 +70,15 @@ impl Cause {
     };
 }
 
-/// A failure: its cause and the message that explains it.
+/// A failure: its cause, the message that explains it, for a step-size instability the step check found
+/// the largest step it would take, and the failure it reports if any (`source`: the last stage the error
+/// control could not evaluate). The facts a caller acts on are fields, never parsed from the text.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelError {
     cause: Cause,
     message: String,
+    largest_stable_step: Option<f64>,
+    source: Option<Box<ModelError>>,
 }
 
 impl ModelError {
@@ -85,21 +89,44 @@ impl ModelError {
             Some(name) => format!("{name}: {message}"),
             None => message,
         };
-        ModelError { cause, message }
+        ModelError { cause, message, largest_stable_step: None, source: None }
+    }
+
+    /// A step-size instability the step check found at step h: the largest step `h_max` (s) it would
+    /// take, kept as a field (the message says it in words).
+    pub fn step_refused(h_max: f64, message: impl Into<String>) -> ModelError {
+        ModelError { largest_stable_step: Some(h_max), ..ModelError::new(Cause::StepSizeInstability, message) }
     }
 
     pub fn cause(&self) -> Cause {
         self.cause
     }
 
+    /// The largest step (s) the step check would take, when it refused one (`step_refused`); `None` for
+    /// any other failure.
+    pub fn largest_stable_step(&self) -> Option<f64> {
+        self.largest_stable_step
+    }
+
+    /// The same failure, reporting `failure` (which its message explains): its `source`.
+    pub fn caused_by(self, failure: ModelError) -> ModelError {
+        ModelError { source: Some(Box::new(failure)), ..self }
+    }
+
+    /// The first cause with a name along the failure and those it reports (`source`): what a report calls
+    /// it (an error-control failure whose last stage left the mechanism range is a mechanism-range one).
+    pub fn named_cause(&self) -> Option<Cause> {
+        std::iter::successors(Some(self), |e| e.source.as_deref()).map(|e| e.cause).find(|c| c.name().is_some())
+    }
+
     /// The same failure, said of what was being done: "{what}: {message}".
     pub fn context(self, what: impl fmt::Display) -> ModelError {
-        ModelError { cause: self.cause, message: format!("{what}: {}", self.message) }
+        ModelError { message: format!("{what}: {}", self.message), ..self }
     }
 
     /// The same failure with `note` after its message.
     pub fn note(self, note: impl fmt::Display) -> ModelError {
-        ModelError { cause: self.cause, message: format!("{}{note}", self.message) }
+        ModelError { message: format!("{}{note}", self.message), ..self }
     }
 }
 
@@ -109,7 +136,11 @@ impl fmt::Display for ModelError {
     }
 }
 
-impl std::error::Error for ModelError {}
+impl std::error::Error for ModelError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        self.source.as_deref().map(|e| e as &(dyn std::error::Error + 'static))
+    }
+}
 
 /// `result.context("what")`: a failure that says what was being done, its cause kept.
 pub trait Context<T> {
@@ -135,5 +166,25 @@ mod tests {
         assert_eq!(e.cause(), Cause::StepSizeInstability);
         let unnamed = ModelError::new(Cause::Solve, "singular");
         assert_eq!(unnamed.to_string(), "singular");
+        assert_eq!(e.largest_stable_step(), None);
+    }
+
+    #[test]
+    fn a_refusal_keeps_its_largest_stable_step_through_context() {
+        let e = ModelError::step_refused(2.5e-4, "the wheel-hop mode; use h ≤ 2.500e-4 s");
+        assert_eq!(e.to_string(), "step-size instability: the wheel-hop mode; use h ≤ 2.500e-4 s");
+        let e = e.context("t = 1 s").note(" (then failed)");
+        assert_eq!((e.cause(), e.largest_stable_step()), (Cause::StepSizeInstability, Some(2.5e-4)));
+    }
+
+    #[test]
+    fn a_failure_named_by_the_one_it_reports() {
+        let stage = ModelError::new(Cause::MechanismRange, "corner rl");
+        let e = ModelError::new(Cause::ErrorControl, format!("error control: the step fell ({stage})"));
+        assert_eq!(e.named_cause(), None);
+        let e = e.caused_by(stage.clone()).context("t = 1 s");
+        assert_eq!((e.cause(), e.named_cause()), (Cause::ErrorControl, Some(Cause::MechanismRange)));
+        assert_eq!(std::error::Error::source(&e).map(|s| s.to_string()), Some(stage.to_string()));
+        assert_eq!(e.to_string(), "t = 1 s: error control: the step fell (mechanism range: corner rl)");
     }
 }

@@ -1,9 +1,10 @@
 //! The stability suite (docs/stability.md, `rtv stability`) and the low-speed criteria of the issue that
 //! introduced the standstill tire and the holding brake.
 
+use rt_vehicle::error::Cause;
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::stability::{cases, cause_of, evaluate, Outcome, STEPS};
+use rt_vehicle::sim::stability::{cases, evaluate, Outcome, STEPS};
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 
 fn column(name: &str) -> usize {
@@ -23,7 +24,7 @@ fn every_run_of_the_suite_is_ok_or_a_clean_error() {
             let label = format!("{} {:?} {:.2} ms", case.name, run.integrator, run.step * 1e3);
             assert!(!run.silently_wrong(tolerance), "{label}: silently wrong {:?}", run.outcome);
             match &run.outcome {
-                Outcome::Failed { message, .. } => assert_ne!(cause_of(message), "unnamed", "{label}: {message}"),
+                Outcome::Failed { failure, .. } => assert!(failure.named_cause().is_some(), "{label}: {failure}"),
                 Outcome::Finished { warnings, .. } => assert!(warnings.is_empty(), "{label}: {warnings:?}"),
             }
         }
@@ -32,7 +33,7 @@ fn every_run_of_the_suite_is_ok_or_a_clean_error() {
         if case.group != "stiff" && case.name != "20 cm bump at 60 km/h" {
             let rk4 = report.runs.iter().find(|r| r.integrator == IntegratorKind::Rk4 && r.step == STEPS[2]).unwrap();
             let fine = rk4.ok(tolerance)
-                || matches!(&rk4.outcome, Outcome::Failed { message, .. } if cause_of(message) == "physical event");
+                || matches!(&rk4.outcome, Outcome::Failed { failure, .. } if failure.named_cause() == Some(Cause::PhysicalEvent));
             assert!(fine, "{}: RK4 at 2.08 ms: {:?}", case.name, rk4.outcome);
         }
     }

@@ -14,7 +14,7 @@ use crate::model::params::SteeringInput;
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
 use crate::sim::scenes::SceneNeeds;
-use crate::sim::{modes, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::sim::{modes, Channel, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -66,10 +66,10 @@ const fn str_eq(a: &str, b: &str) -> bool {
     true
 }
 
-/// For each variable of the model description, its column in `OUTPUT_NAMES` (`usize::MAX` if it is not
-/// an output). Computed at compile time: an output of the XML missing from `OUTPUT_NAMES` does not compile.
-const OUTPUT_SLOTS: [usize; VARIABLES.len()] = {
-    let mut slots = [usize::MAX; VARIABLES.len()];
+/// For each variable of the model description, its output channel (`None` if it is not an output), matched
+/// by name. Computed at compile time: an output of the XML missing from `OUTPUT_NAMES` does not compile.
+const OUTPUT_SLOTS: [Option<Channel>; VARIABLES.len()] = {
+    let mut slots = [None; VARIABLES.len()];
     let mut i = 0;
     while i < VARIABLES.len() {
         if matches!(VARIABLES[i].causality, Causality::Output) {
@@ -80,12 +80,17 @@ const OUTPUT_SLOTS: [usize; VARIABLES.len()] = {
             if j == OUTPUT_NAMES.len() {
                 panic!("an output of modelDescription.xml is not a column of sim::OUTPUT_NAMES");
             }
-            slots[i] = j;
+            slots[i] = Some(Channel::ALL[j]);
         }
         i += 1;
     }
     slots
 };
+
+/// The channel of an output variable.
+fn output_channel(var: &Variable) -> Channel {
+    OUTPUT_SLOTS[var.index].expect("an output variable is a channel (OUTPUT_SLOTS)")
+}
 
 /// The parameters as the model description has them (Integer modes).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
@@ -303,7 +308,7 @@ impl VehicleModel {
     fn output(&self, var: &Variable) -> Result<f64, String> {
         let sim =
             self.sim.as_ref().ok_or_else(|| format!("{} is available once the model is initialized", var.name))?;
-        sim.current_output(OUTPUT_SLOTS[var.index])
+        sim.current_output(output_channel(var).index())
             .ok_or_else(|| format!("{} was not computed for the current state (refresh first)", var.name))
     }
 }
@@ -595,7 +600,7 @@ impl FmuModel for VehicleModel {
         if var.causality != Causality::Output {
             return Ok(());
         }
-        let read = sim.output(OUTPUT_SLOTS[var.index]);
+        let read = sim.output(output_channel(var).index());
         self.log_events(log);
         if let Err(e) = read {
             return Err(self.end_at_last_good_state(e));

@@ -170,14 +170,18 @@ impl Dopri5 {
                 (h, false)
             };
             if step < H_MIN_RELATIVE * t.abs().max(1.0) {
-                return Err(ModelError::new(
+                let e = ModelError::new(
                     Cause::ErrorControl,
                     format!(
                         "error control: the step fell to {step:.3e} s at t = {t:.6} s (tolerance {tol:e}): the model \
                      cannot be integrated to this tolerance here{}",
-                        last_failure.map(|e| format!(" (last failed stage: {e})")).unwrap_or_default()
+                        last_failure.as_ref().map(|e| format!(" (last failed stage: {e})")).unwrap_or_default()
                     ),
-                ));
+                );
+                return Err(match last_failure {
+                    Some(stage) => e.caused_by(stage),
+                    None => e,
+                });
             }
             if evaluations + EVALUATIONS_PER_STEP > control.max_evaluations {
                 return Err(ModelError::new(

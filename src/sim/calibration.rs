@@ -7,7 +7,7 @@
 //! same secant iteration in a quicker configuration (`Accuracy::Quick`).
 
 use super::scenes::{run, Amplitude, Scene, SceneKind};
-use super::{Formulation, Outputs, SimConfig};
+use super::{Channel, Formulation, SimConfig};
 use crate::error::{Cause, ModelError};
 use crate::model::params::VehicleData;
 use crate::model::vehicle::Vehicle;
@@ -94,11 +94,10 @@ pub struct Calibration {
 pub fn steady_ay(data: &VehicleData, a: f64, accuracy: Accuracy) -> Result<f64, ModelError> {
     let scene = Scene::with_amplitude(SceneKind::JTurn, a);
     let mut sim = scene.start(data.clone(), &accuracy.config())?;
-    let iy = Outputs::index("ay").expect("ay is an output");
     let (mut sum, mut n) = (0.0, 0);
     run(&mut sim, 8.0, 0.01, |o| {
-        if o.values[0] >= 6.0 - 1e-9 {
-            sum += o.values[iy];
+        if o[Channel::Time] >= 6.0 - 1e-9 {
+            sum += o[Channel::Ay];
             n += 1;
         }
     })?;

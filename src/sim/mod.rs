@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 
 pub use inputs::{Breakpoints, RackProfile, RackSample, RackSource};
 
-pub use outputs::{Outputs, CSV_COLUMNS, OUTPUT_NAMES};
+pub use outputs::{Channel, Outputs, CSV_COLUMNS, OUTPUT_NAMES};
 
 pub use crate::model::road_envelope::ContactModel;
 pub use crate::model::vehicle::{Formulation, SpeedMode};
@@ -985,8 +985,8 @@ impl Simulation {
             })
             .min_by(|a, b| a.3.total_cmp(&b.3));
         match worst {
-            Some((m, l, lambda, h_max)) if !is_stable(kind, lambda * h) => Err(ModelError::new(
-                Cause::StepSizeInstability,
+            Some((m, l, lambda, h_max)) if !is_stable(kind, lambda * h) => Err(ModelError::step_refused(
+                h_max,
                 format!(
                     "the {} mode of wheel {} (coupled with the other wheel modes) has eigenvalue {:.0}{:+.0}i 1/s \
                  at t = {:.3} s; {:?} at h = {:.3e} s puts hλ, with a {:.0} % margin, outside its stability region \
@@ -1018,8 +1018,8 @@ impl Simulation {
             .filter(|m| m.kind == ModeKind::WheelHop)
             .max_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()));
         match worst {
-            Some(m) if bumpy && m.lambda.norm() * h > bound => Err(ModelError::new(
-                Cause::StepSizeInstability,
+            Some(m) if bumpy && m.lambda.norm() * h > bound => Err(ModelError::step_refused(
+                bound / m.lambda.norm(),
                 format!(
                     "the wheel-hop mode of wheel {} (eigenvalue {:.0}{:+.0}i 1/s) is under-resolved \
                  on a road with bumps, which excite it: |hλ| = {:.2} at h = {:.3e} s, more than {bound} for {:?}; use \
@@ -1048,14 +1048,14 @@ impl Simulation {
         let shortest = bumps.iter().map(|b| b.length).filter(|l| *l > 0.0).fold(f64::INFINITY, f64::min);
         let passage = shortest / speed;
         if passage.is_finite() && h * STEPS_PER_BUMP > passage {
-            return Err(ModelError::new(
-                Cause::StepSizeInstability,
+            let h_max = passage / STEPS_PER_BUMP;
+            return Err(ModelError::step_refused(
+                h_max,
                 format!(
                     "a bump of {shortest:.3} m passes under a wheel in {:.1} ms at {speed:.1} m/s: at h = {h:.3e} s that \
-                     is {:.1} steps, fewer than the {STEPS_PER_BUMP} that resolve it; use h ≤ {:.3e} s",
+                     is {:.1} steps, fewer than the {STEPS_PER_BUMP} that resolve it; use h ≤ {h_max:.3e} s",
                     passage * 1e3,
                     passage / h,
-                    passage / STEPS_PER_BUMP
                 ),
             ));
         }
@@ -1070,23 +1070,28 @@ impl Simulation {
         let (roll, pitch, yaw) = euler_from_matrix(&a0);
         let v = a0.transpose() * V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
         let w = a0.transpose() * V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
-        let o = &mut self.outputs_values;
-        o[0] = self.time;
-        o[1..13].copy_from_slice(&[
-            x[idx::R0],
-            x[idx::R0 + 1],
-            x[idx::R0 + 2],
-            roll,
-            pitch,
-            yaw,
-            v.x,
-            v.y,
-            v.z,
-            w.x,
-            w.y,
-            w.z,
-        ]);
-        o[16] = self.rack.at(self.time).position;
+        use Channel::*;
+        let written = [
+            (Time, self.time),
+            (X, x[idx::R0]),
+            (Y, x[idx::R0 + 1]),
+            (Z, x[idx::R0 + 2]),
+            (Roll, roll),
+            (Pitch, pitch),
+            (Yaw, yaw),
+            (Vx, v.x),
+            (Vy, v.y),
+            (Vz, v.z),
+            (RollRate, w.x),
+            (PitchRate, w.y),
+            (YawRate, w.z),
+            (RackDisplacement, self.rack.at(self.time).position),
+        ];
+        debug_assert!(written.iter().all(|(c, _)| c.from_state()));
+        debug_assert_eq!(written.len(), Channel::ALL.iter().filter(|c| c.from_state()).count());
+        for (channel, value) in written {
+            self.outputs_values[channel.index()] = value;
+        }
         self.fresh = self.fresh.max(Fresh::State);
     }
 
@@ -1124,27 +1129,32 @@ impl Simulation {
         let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;
         let o = &mut self.outputs_values;
-        o[13..16].copy_from_slice(&[a.x, a.y, a.z]);
-        let mut k = 17;
-        let mut push = |val: f64| {
-            o[k] = val;
-            k += 1;
+        let mut written = 0u64; // the channels set below (each once, with the state's: all of them)
+        let mut set = |channel: Channel, value: f64| {
+            o[channel.index()] = value;
+            debug_assert!(!channel.from_state() && written & (1 << channel.index()) == 0, "{channel:?}");
+            written |= 1 << channel.index();
         };
+        set(Channel::Ax, a.x);
+        set(Channel::Ay, a.y);
+        set(Channel::Az, a.z);
         // Steer angles from the positions this evaluation solved (an atan2 each: only here, not per stage).
         let positions = &self.cache.positions;
-        push(vehicle.corners[0].steer_angle(&positions[0]));
-        push(vehicle.corners[1].steer_angle(&positions[1]));
-        d.wheel_centre_z.iter().for_each(|z| push(*z));
-        d.wheel_spin_relative.iter().for_each(|s| push(*s));
-        for c in 0..3 {
-            d.tire_force.iter().for_each(|f| push(f[c]));
+        set(Channel::SteerFl, vehicle.corners[0].steer_angle(&positions[0]));
+        set(Channel::SteerFr, vehicle.corners[1].steer_angle(&positions[1]));
+        for i in 0..4 {
+            set(Channel::WHEEL_Z[i], d.wheel_centre_z[i]);
+            set(Channel::WHEEL_SPIN[i], d.wheel_spin_relative[i]);
+            for (c, channels) in Channel::TIRE_FORCE.iter().enumerate() {
+                set(channels[i], d.tire_force[i][c]);
+            }
+            set(Channel::KAPPA[i], d.kappa[i]);
+            set(Channel::ALPHA[i], d.tan_alpha[i].atan());
         }
-        d.kappa.iter().for_each(|s| push(*s));
+        set(Channel::ConstraintResidual, d.max_residual);
+        set(Channel::NewtonIterations, d.newton_iterations as f64);
+        debug_assert_eq!(written.count_ones() as usize, Channel::ALL.iter().filter(|c| !c.from_state()).count());
         self.events.observe(self.time, &d, &self.brake);
-        d.tan_alpha.iter().for_each(|t| push(t.atan()));
-        push(d.max_residual);
-        push(d.newton_iterations as f64);
-        debug_assert_eq!(k, OUTPUT_NAMES.len());
         if let Some(i) = self.outputs_values.iter().position(|v| !v.is_finite()) {
             return Err(ModelError::new(
                 Cause::NonFinite,
@@ -1183,5 +1193,43 @@ impl Simulation {
         let mut o = Outputs::default();
         o.values.copy_from_slice(&self.outputs_values);
         Ok(o)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn simulation(config: SimConfig) -> Simulation {
+        Simulation::new(VehicleData::default_hmmwv(), config).expect("the simulation starts")
+    }
+
+    /// A refusal of the step check carries the largest stable step as a field, the step its message names:
+    /// following it, the check takes a step (after at most one refusal per bound: stability, the hop's and
+    /// the bump's resolution).
+    #[test]
+    fn a_refusal_carries_its_largest_stable_step() {
+        let ab3 = SimConfig { integrator: IntegratorKind::Ab3, ..SimConfig::default() };
+        let bumps = SimConfig { road: RoadChoice::PaperBumps, ..SimConfig::default() };
+        // A fast mode outside AB3's region at the paper's 8.3 ms ("stable up to h = …"); on the paper's
+        // bumps with RK4, under-resolved ("use h ≤ …").
+        for (config, names) in [(ab3, "stable up to h = "), (bumps, "use h ≤ ")] {
+            let mut h = 0.0083;
+            let mut sim = simulation(SimConfig { internal_step: h, ..config });
+            let first = sim.check_fast_modes(h).expect_err("the paper's step is refused");
+            assert!(first.to_string().contains(names), "{first}");
+            let mut refusals = 0;
+            while let Err(e) = sim.check_fast_modes(h) {
+                let h_max = e.largest_stable_step().expect("a refusal carries its step");
+                assert_eq!(e.cause(), Cause::StepSizeInstability);
+                assert!(h_max < h && e.to_string().contains(&format!("{h_max:.3e} s")), "{h_max}: {e}");
+                h = 0.99 * h_max;
+                refusals += 1;
+                assert!(refusals <= 3, "{e}");
+            }
+        }
+        // Any other failure carries none.
+        let e = simulation(SimConfig::default()).advance(-1.0).expect_err("a negative interval is refused");
+        assert_eq!((e.cause(), e.largest_stable_step()), (Cause::Input, None));
     }
 }

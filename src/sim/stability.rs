@@ -16,7 +16,7 @@
 
 use super::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
 use super::{ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
-use crate::error::ModelError;
+use crate::error::{Cause, ModelError};
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 
@@ -271,8 +271,16 @@ pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
 pub enum Outcome {
     /// Finished; the largest error relative to the channels' excursions, and any warnings.
     Finished { error: f64, warnings: Vec<String> },
-    /// Stopped with this message; `error` as for a finished run, over the samples before the stop.
-    Failed { message: String, error: f64 },
+    /// Stopped with this failure (its cause, message and any largest stable step kept as they are);
+    /// `error` as for a finished run, over the samples before the stop.
+    Failed { failure: ModelError, error: f64 },
+}
+
+impl Outcome {
+    /// Whether the run ended in a physical event (as its reference may: a rollover).
+    fn physical_event(&self) -> bool {
+        matches!(self, Outcome::Failed { failure, .. } if failure.named_cause() == Some(Cause::PhysicalEvent))
+    }
 }
 
 /// One run of a case: the samples every `SAMPLE` of the case's channels, and its cost.
@@ -357,7 +365,7 @@ impl Classified {
     pub fn silently_wrong(&self, tolerance: f64) -> bool {
         match &self.outcome {
             Outcome::Finished { error, warnings } => *error > tolerance && warnings.is_empty(),
-            Outcome::Failed { message, error } => cause_of(message) == "physical event" && *error > tolerance,
+            Outcome::Failed { error, .. } => self.outcome.physical_event() && *error > tolerance,
         }
     }
 }
@@ -423,7 +431,7 @@ pub fn evaluate(case: &Case, threads: usize) -> CaseReport {
         .map(|(&(integrator, step), (run, cpu))| {
             let outcome = match &run.result {
                 Err(e) => Outcome::Failed {
-                    message: e.to_string(),
+                    failure: e.clone(),
                     error: relative_error(case, &run.samples, &reference.samples),
                 },
                 Ok(()) => Outcome::Finished {
@@ -450,25 +458,22 @@ fn cell(run: &Classified, tolerance: f64) -> String {
         Outcome::Finished { error, .. } if *error <= tolerance => format!("OK {error:.0e}, warned"),
         Outcome::Finished { error, warnings } if !warnings.is_empty() => format!("warned, off {error:.0e}"),
         Outcome::Finished { error, .. } => format!("**WRONG** {error:.0e}"),
-        Outcome::Failed { message, error } if cause_of(message) == "physical event" && *error > tolerance => {
-            format!("**WRONG** {error:.0e} before: {}", cause_of(message))
+        Outcome::Failed { failure, error } if run.outcome.physical_event() && *error > tolerance => {
+            format!("**WRONG** {error:.0e} before: {}", cause_name(failure))
         }
-        Outcome::Failed { message, .. } => format!("error: {}", cause_of(message)),
+        Outcome::Failed { failure, .. } => format!("error: {}", cause_name(failure)),
     }
 }
 
-/// The largest step a step-check refusal names ("use h ≤ X s" or "stable up to h = X s"), s.
-fn allowed_step(message: &str) -> Option<f64> {
-    ["use h ≤ ", "stable up to h = "].iter().find_map(|key| {
-        let at = message.find(key)? + key.len();
-        let number = message[at..].split(' ').next()?;
-        number.trim_end_matches(|c: char| !c.is_ascii_digit()).parse().ok()
-    })
+/// The name of a failure's cause ("step-size instability", …: `ModelError::named_cause`), or "unnamed".
+fn cause_name(failure: &ModelError) -> &'static str {
+    failure.named_cause().and_then(Cause::name).unwrap_or("unnamed")
 }
 
-/// The named cause at the head of an error message ("step-size instability: …"), or "unnamed".
-pub fn cause_of(message: &str) -> &'static str {
-    CAUSES.iter().find(|c| message.contains(*c)).copied().unwrap_or("unnamed")
+/// A step as the step check's messages state it (`{:.3e}`, four significant digits): the table shows the
+/// step the message names.
+fn as_stated(h: f64) -> f64 {
+    format!("{h:.3e}").parse().expect("a formatted number parses")
 }
 
 /// The causes an error may name (`Simulation` messages start their explanation with one).
@@ -540,15 +545,12 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
                     .map(|c| c.step)
                     .fold(None, |m: Option<f64>, h| Some(m.map_or(h, |m| m.max(h))))
             };
-            let stable = largest(&|c| match &c.outcome {
-                Outcome::Finished { .. } => true,
-                Outcome::Failed { message, .. } => cause_of(message) == "physical event",
-            });
+            let stable = largest(&|c| matches!(c.outcome, Outcome::Finished { .. }) || c.outcome.physical_event());
             let ok = largest(&|c| c.ok(r.tolerance()));
             let allowed = runs
                 .iter()
                 .filter_map(|c| match &c.outcome {
-                    Outcome::Failed { message, .. } => allowed_step(message),
+                    Outcome::Failed { failure, .. } => failure.largest_stable_step().map(as_stated),
                     _ => None,
                 })
                 .fold(None, |m: Option<f64>, h| Some(m.map_or(h, |m| m.min(h))));
@@ -563,7 +565,7 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
         let mut seen: Vec<String> = Vec::new();
         for run in &r.runs {
             let text = match &run.outcome {
-                Outcome::Failed { message, .. } => message.clone(),
+                Outcome::Failed { failure, .. } => failure.to_string(),
                 Outcome::Finished { warnings, .. } if !warnings.is_empty() => {
                     format!("warning: {}", warnings.join("; "))
                 }
