@@ -537,7 +537,12 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
     match data.steering_input() {
         SteeringInput::RackDisplacement => {
-            eprintln!("{} at {:.1} km/h, rack amplitude {:.2} mm:", m.name(), report.speed * 3.6, report.amplitude * 1e3)
+            eprintln!(
+                "{} at {:.1} km/h, rack amplitude {:.2} mm:",
+                m.name(),
+                report.speed * 3.6,
+                report.amplitude * 1e3
+            )
         }
         SteeringInput::PitmanArmAngle => eprintln!(
             "{} at {:.1} km/h, Pitman-arm amplitude {:.4} rad:",
