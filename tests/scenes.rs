@@ -217,7 +217,7 @@ fn imported_vehicles() -> Vec<VehicleData> {
 fn formulations_agree_on_every_scene_of_the_imported_vehicles() {
     // As for the HMMWV above, on the templates the imports bring (MacPherson strut, Pitman arm). The step is
     // 0.5 ms: their lighter unsprung masses on the HMMWV's tire and damper make the wheel hop -300 1/s,
-    // which a road with bumps must see resolved (RK4: |hλ| ≤ 0.2, so h ≤ 0.66 ms; the step check refuses
+    // which a road with bumps must see resolved (RK4: |hλ| ≤ 0.25, so h ≤ 0.83 ms; the step check refuses
     // larger steps on the bump course, naming the bound).
     for data in imported_vehicles() {
         for kind in [SceneKind::Bump, SceneKind::JTurn, SceneKind::Sine] {

@@ -525,7 +525,9 @@ def test_physical_events_are_logged_even_when_no_evaluated_output_is_read(make):
     with bumps or with torques live the FMU evaluates the outputs at every communication point whether or not
     the master reads them (sim::scenes::SceneNeeds::of_run), so a master reading only the pose still gets them."""
     s = make(logging_on=True)
-    s.init(road=2, bump_height=0.15, initial_speed=11.0)
+    # 1 ms: at the default 2 ms the step check refuses the landing after the 15 cm bump (the wheel hop, up to
+    # -140 1/s there, under-resolved: |hλ| = 0.28 > 0.25 for RK4, docs/integrators.md).
+    s.init(road=2, bump_height=0.15, initial_speed=11.0, internal_step=0.001)
     for _ in range(200):
         s.step(0.01)
         s.get("x")

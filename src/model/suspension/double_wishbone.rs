@@ -4,7 +4,7 @@
 //! Tree: chassis →(revolute θ_L)→ lower arm →(spherical φ1..3)→ upright, and chassis →(revolute θ_U)→
 //! upper arm. The closure is the upper ball joint U–K (3 equations); q[4] = θ_U.
 
-use super::{arm_inertia, carrier_inertia, mirror_axis, Closure, Corner, LineMount, MountBody, Side, TieRodDrive};
+use super::{arm_inertia, Closure, Corner, Hardpoints, LineMount, MountBody, Side, TieRodDrive};
 use crate::math::{rotation_about_sc, M3, V3};
 use crate::model::params::{Axle, DataError, VehicleData};
 use serde::{Deserialize, Serialize};
@@ -30,32 +30,21 @@ impl UpperArm {
 
 /// The corner of a double-wishbone axle: left side as given, right side mirrored.
 pub fn from_data(data: &VehicleData, axle: &Axle, side: Side, drive: TieRodDrive) -> Result<Corner, DataError> {
-    let c0 = data.sprung_com();
-    let mirror = |v: V3| side.mirror(v);
-    let pt = |name: &str| mirror(VehicleData::point(axle, name) - c0);
-    let axis = |front: &str, back: &str| {
-        mirror_axis(side, (VehicleData::point(axle, front) - VehicleData::point(axle, back)).normalize())
-    };
+    let points = Hardpoints::new(data, axle, side);
+    let pt = |name: &str| points.point(name);
     let upper_arm = axle.upper_arm.as_ref().ok_or_else(|| DataError {
         field: "upper_arm".into(),
         message: "missing: a double wishbone has an upper arm".into(),
     })?;
-    let lower = arm_inertia(axle, side, c0, &axle.lower_arm, ["LCA_F", "LCA_B", "LCA_U", "LCA_CM"]);
-    let upper = arm_inertia(axle, side, c0, upper_arm, ["UCA_F", "UCA_B", "UCA_U", "UCA_CM"]);
-    let (carrier, spin_inertia) = carrier_inertia(data, axle, side, pt("UPRIGHT"), pt("SPINDLE"));
-    Corner::new(
-        side,
+    let upper = arm_inertia(axle, side, points.c0, upper_arm, ["UCA_F", "UCA_B", "UCA_U", "UCA_CM"]);
+    Corner::assemble(
+        &points,
         drive,
-        pt("LCA_B"),
-        axis("LCA_F", "LCA_B"),
-        pt("LCA_U"),
-        pt("TIEROD_U"),
-        pt("TIEROD_C"),
-        pt("SPINDLE"),
-        Closure::UpperArm(UpperArm { p_u: pt("UCA_B"), h_u: axis("UCA_F", "UCA_B"), u0: pt("UCA_U") }),
-        LineMount { chassis: pt("SPRING_C"), moving: pt("SPRING_A"), body: MountBody::LowerArm },
-        LineMount { chassis: pt("SHOCK_C"), moving: pt("SHOCK_A"), body: MountBody::LowerArm },
-        [lower, upper, carrier],
-        spin_inertia,
+        Closure::UpperArm(UpperArm { p_u: pt("UCA_B"), h_u: points.axis("UCA_F", "UCA_B"), u0: pt("UCA_U") }),
+        [
+            LineMount { chassis: pt("SPRING_C"), moving: pt("SPRING_A"), body: MountBody::LowerArm },
+            LineMount { chassis: pt("SHOCK_C"), moving: pt("SHOCK_A"), body: MountBody::LowerArm },
+        ],
+        upper,
     )
 }

@@ -12,7 +12,7 @@
 //! rod's mass rides on the chassis: `Axle::strut`), so its row of M_qq is zero; every formulation solves
 //! it through the constraints (partial pivoting in the 9×9 and 42×42, Φ_v in GCP).
 
-use super::{arm_inertia, carrier_inertia, BodyInertia, Closure, Corner, LineMount, MountBody, Side, TieRodDrive};
+use super::{BodyInertia, Closure, Corner, Hardpoints, LineMount, MountBody, Side, TieRodDrive};
 use crate::math::{M3, V3};
 use crate::model::params::{Axle, DataError, VehicleData};
 use serde::{Deserialize, Serialize};
@@ -39,14 +39,8 @@ impl Strut {
 
 /// The corner of a MacPherson-strut axle: left side as given, right side mirrored.
 pub fn from_data(data: &VehicleData, axle: &Axle, side: Side, drive: TieRodDrive) -> Result<Corner, DataError> {
-    let c0 = data.sprung_com();
-    let pt = |name: &str| side.mirror(VehicleData::point(axle, name) - c0);
-    let axis = |front: &str, back: &str| {
-        super::mirror_axis(side, (VehicleData::point(axle, front) - VehicleData::point(axle, back)).normalize())
-    };
-    let lower = arm_inertia(axle, side, c0, &axle.lower_arm, ["LCA_F", "LCA_B", "LCA_U", "LCA_CM"]);
-    let (carrier, spin_inertia) = carrier_inertia(data, axle, side, pt("UPRIGHT"), pt("SPINDLE"));
-    let (top, bottom) = (pt("SPRING_C"), pt("SPRING_U"));
+    let points = Hardpoints::new(data, axle, side);
+    let (top, bottom) = (points.point("SPRING_C"), points.point("SPRING_U"));
     let length = (top - bottom).norm();
     if !(length > 1e-6) {
         return Err(DataError {
@@ -55,19 +49,14 @@ pub fn from_data(data: &VehicleData, axle: &Axle, side: Side, drive: TieRodDrive
         });
     }
     let strut = Strut { top, lower: bottom, axis: (top - bottom) / length, length };
-    Corner::new(
-        side,
+    Corner::assemble(
+        &points,
         drive,
-        pt("LCA_B"),
-        axis("LCA_F", "LCA_B"),
-        pt("LCA_U"),
-        pt("TIEROD_U"),
-        pt("TIEROD_C"),
-        pt("SPINDLE"),
         Closure::Strut(strut),
-        LineMount { chassis: top, moving: bottom, body: MountBody::Carrier },
-        LineMount { chassis: pt("SHOCK_C"), moving: pt("SHOCK_U"), body: MountBody::Carrier },
-        [lower, BodyInertia::NONE, carrier],
-        spin_inertia,
+        [
+            LineMount { chassis: top, moving: bottom, body: MountBody::Carrier },
+            LineMount { chassis: points.point("SHOCK_C"), moving: points.point("SHOCK_U"), body: MountBody::Carrier },
+        ],
+        BodyInertia::NONE,
     )
 }

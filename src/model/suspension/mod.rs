@@ -260,6 +260,30 @@ impl Default for CornerPositions {
     }
 }
 
+/// An axle's hardpoints on one side, relative to the sprung CM: what a template reads its geometry from.
+pub(crate) struct Hardpoints<'a> {
+    pub data: &'a VehicleData,
+    pub axle: &'a Axle,
+    pub side: Side,
+    pub c0: V3,
+}
+
+impl<'a> Hardpoints<'a> {
+    pub fn new(data: &'a VehicleData, axle: &'a Axle, side: Side) -> Hardpoints<'a> {
+        Hardpoints { data, axle, side, c0: data.sprung_com() }
+    }
+
+    /// A hardpoint on this side (the data's left-side point, mirrored on the right).
+    pub fn point(&self, name: &str) -> V3 {
+        self.side.mirror(VehicleData::point(self.axle, name) - self.c0)
+    }
+
+    /// The hinge axis from `back` to `front` on this side (`mirror_axis`).
+    pub fn axis(&self, front: &str, back: &str) -> V3 {
+        mirror_axis(self.side, (VehicleData::point(self.axle, front) - VehicleData::point(self.axle, back)).normalize())
+    }
+}
+
 /// A control arm's inertia: Chrono gives it in the arm frame x = unit(F − B), z = unit((B − U) × (F − U)).
 pub(crate) fn arm_inertia(axle: &Axle, side: Side, c0: V3, body: &RigidBody, names: [&str; 4]) -> BodyInertia {
     let [front, back, outer, cm] = names;
@@ -306,23 +330,22 @@ impl Corner {
         }
     }
 
-    /// Assembles a corner from its template's parts and measures Φ_v at design.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn new(
-        side: Side,
+    /// Assembles a corner from the hardpoints of the tree every template shares (LCA_F, LCA_B, LCA_U, LCA_CM,
+    /// UPRIGHT, SPINDLE, TIEROD_C, TIEROD_U), the template's closure, line elements and the body of q[4], and
+    /// measures Φ_v at design.
+    pub(crate) fn assemble(
+        points: &Hardpoints,
         drive: TieRodDrive,
-        p_l: V3,
-        h_l: V3,
-        b0: V3,
-        t_k: V3,
-        t_r0: V3,
-        w0: V3,
         closure: Closure,
-        spring: LineMount,
-        shock: LineMount,
-        [lower, upper, carrier]: [BodyInertia; 3],
-        spin_inertia: f64,
+        [spring, shock]: [LineMount; 2],
+        upper: BodyInertia,
     ) -> Result<Corner, DataError> {
+        let (side, pt) = (points.side, |name: &str| points.point(name));
+        let lower =
+            arm_inertia(points.axle, side, points.c0, &points.axle.lower_arm, ["LCA_F", "LCA_B", "LCA_U", "LCA_CM"]);
+        let (carrier, spin_inertia) = carrier_inertia(points.data, points.axle, side, pt("UPRIGHT"), pt("SPINDLE"));
+        let (p_l, h_l, b0) = (pt("LCA_B"), points.axis("LCA_F", "LCA_B"), pt("LCA_U"));
+        let (t_k, t_r0, w0) = (pt("TIEROD_U"), pt("TIEROD_C"), pt("SPINDLE"));
         let template = match closure {
             Closure::UpperArm(_) => SuspensionTemplate::DoubleWishbone,
             Closure::Strut(_) => SuspensionTemplate::MacphersonStrut,
