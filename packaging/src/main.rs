@@ -165,6 +165,8 @@ fn build_portable(root: &Path, target: &Path) -> Result<(), String> {
             "zigbuild",
             "--release",
             "--lib",
+            // Without the vehicle schema check (Cargo.toml, feature `schema`): the FMU must unload cleanly.
+            "--no-default-features",
             "-p",
             "rt-vehicle",
             "-p",
