@@ -4,7 +4,8 @@
 
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::{calibration, stability};
+use rt_vehicle::sim::calibration;
+use rt_vehicle::studies::stability;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates docs/work_precision.md and docs/work_precision.png: every case of the study × RK4 and AB3 over
-# a ladder of steps, and the error-controlled DOPRI5 over a ladder of tolerances (src/sim/work_precision.rs).
+# a ladder of steps, and the error-controlled DOPRI5 over a ladder of tolerances (src/studies/work_precision.rs).
 # About a minute of CPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -21,4 +21,5 @@ pub mod math;
 pub mod model;
 pub mod sim;
 pub mod simd;
+#[cfg(feature = "studies")]
 pub mod studies;

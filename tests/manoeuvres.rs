@@ -2,7 +2,7 @@
 //! ones that two manoeuvres measure alike agree.
 
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::manoeuvres::{run, Manoeuvre, Report};
+use rt_vehicle::studies::manoeuvres::{run, Manoeuvre, Report};
 
 fn value(report: &Report, name: &str) -> f64 {
     report.metrics.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("no metric {name}")).value
@@ -54,7 +54,7 @@ fn sine_with_dwell_and_fishhook_give_their_metrics() {
     let peak = rack.iter().cloned().fold(f64::MIN, f64::max);
     assert!((peak - sine.amplitude).abs() < 1e-3 * sine.amplitude, "{peak} vs {}", sine.amplitude);
     let held = rack.iter().filter(|u| (**u + sine.amplitude).abs() < 1e-9 * sine.amplitude).count() as f64;
-    assert!((held * rt_vehicle::sim::manoeuvres::SAMPLE - 0.5).abs() < 0.011, "dwell {held} samples");
+    assert!((held * rt_vehicle::studies::manoeuvres::SAMPLE - 0.5).abs() < 0.011, "dwell {held} samples");
 
     let hook = run(Manoeuvre::Fishhook, &data, None).unwrap();
     for m in &hook.metrics {
@@ -88,7 +88,7 @@ fn the_driver_fmu_defaults_are_this_vehicles() {
     use rt_vehicle::sim::{SimConfig, Simulation};
     let data = VehicleData::default_hmmwv();
     let vehicle = Vehicle::new(&data).unwrap();
-    let driver = rt_vehicle::sim::manoeuvres::dlc_driver(&data, &vehicle).unwrap();
+    let driver = rt_vehicle::studies::manoeuvres::dlc_driver(&data, &vehicle).unwrap();
     let xml = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/crates/driver-fmu/modelDescription/modelDescription.xml"

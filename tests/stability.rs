@@ -4,8 +4,8 @@
 use rt_vehicle::error::Cause;
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::stability::{cases, evaluate, Outcome, STEPS};
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use rt_vehicle::studies::stability::{cases, evaluate, Outcome, STEPS};
 
 fn column(name: &str) -> usize {
     OUTPUT_NAMES.iter().position(|n| *n == name).unwrap()

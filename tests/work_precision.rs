@@ -7,8 +7,8 @@
 //! tolerance.
 
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::sim::work_precision::{self as wp, Case, Point, Setting};
 use rt_vehicle::sim::ContactModel;
+use rt_vehicle::studies::work_precision::{self as wp, Case, Point, Setting};
 
 fn case(name: &str, duration: f64) -> Case {
     let mut c = wp::cases().into_iter().find(|c| c.name == name).unwrap();

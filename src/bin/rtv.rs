@@ -509,7 +509,7 @@ fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
 
 /// A standard manoeuvre (docs/manoeuvres.md): writes its channels, prints its metrics.
 fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::sim::manoeuvres::{run, Manoeuvre};
+    use rt_vehicle::studies::manoeuvres::{run, Manoeuvre};
     let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
     let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
@@ -563,7 +563,7 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
 
 /// The stability suite (docs/stability.md): every case × integrator × step, classified.
 fn cmd_stability(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::sim::stability;
+    use rt_vehicle::studies::stability;
     let opts = options(args, &["out", "threads", "case", "vehicle"])?;
     let threads = number(&opts, "threads", 2.0)?;
     if !(1.0..=64.0).contains(&threads) {
@@ -601,9 +601,9 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The work-precision study (src/sim/work_precision.rs): the markdown report and the CSV of its figure.
+/// The work-precision study (src/studies/work_precision.rs): the markdown report and the CSV of its figure.
 fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::sim::work_precision as wp;
+    use rt_vehicle::studies::work_precision as wp;
     let opts = options(args, &["out", "csv", "cases", "vehicle"])?;
     let mut cases = wp::cases_for(&vehicle_data(&opts)?)?;
     if let Some(list) = opts.get("cases") {

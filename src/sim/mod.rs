@@ -10,13 +10,10 @@
 
 pub mod calibration;
 pub mod inputs;
-pub mod manoeuvres;
 pub mod modes;
 pub mod outputs;
 pub mod scenes;
-pub mod stability;
 pub mod stepping;
-pub mod work_precision;
 
 use crate::error::{Cause, Context, ModelError};
 use crate::integrate::stability::{is_stable, largest_stable_step};

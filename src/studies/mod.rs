@@ -2,5 +2,15 @@
 //! and stay out of the engine (nothing in `model/`, `dynamics/` or `sim/` imports them).
 //!
 //! - `kc.rs`: the kinematics-and-compliance report (`rtv kc`, docs/kc/).
+//! - `manoeuvres.rs`: the standard open- and closed-loop manoeuvres and their metrics (`rtv manoeuvre`,
+//!   docs/manoeuvres.md); the closed loop drives with the `rtv-driver` crate.
+//! - `stability.rs`: the stability suite (`rtv stability`, docs/stability.md).
+//! - `work_precision.rs`: error against run time (`rtv work-precision`, docs/work_precision.md).
+//!
+//! They are the Cargo feature `studies` (default on: the CLI, the tests): the FMU's library is built without
+//! it (packaging: `--no-default-features`), so it carries neither the studies nor the driver crate.
 
 pub mod kc;
+pub mod manoeuvres;
+pub mod stability;
+pub mod work_precision;

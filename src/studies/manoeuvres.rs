@@ -10,9 +10,9 @@
 //! gives a steady lateral acceleration at the test speed is measured by a short steady-state run (the
 //! response is linear there) and scaled.
 
-use super::{Outputs, RackProfile, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use crate::error::ModelError;
 use crate::model::params::VehicleData;
+use crate::sim::{Outputs, RackProfile, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 
 /// The manoeuvres.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -101,7 +101,7 @@ fn simulate(
 /// The rack displacement that gives a steady lateral acceleration `ay` (m/s²) at `speed`: a 3 s run at
 /// the calibrated J-turn amplitude, scaled linearly from its mean a_y over the last second.
 pub fn rack_for_lateral_acceleration(data: &VehicleData, speed: f64, ay: f64) -> Result<f64, ModelError> {
-    let (a0, _) = super::calibration::amplitude_for(data)?;
+    let (a0, _) = crate::sim::calibration::amplitude_for(data)?;
     let rows = simulate(data, speed, SpeedMode::Hold, RackProfile::Step { amplitude: a0, start: 0.2, ramp: 0.3 }, 3.0)?;
     let tail = &series(&rows, "ay")[rows.len() - (1.0 / SAMPLE) as usize..];
     let mean = tail.iter().sum::<f64>() / tail.len() as f64;
@@ -341,7 +341,7 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, ModelError> 
             yaw_rate: value("yaw_rate"),
         };
         let rack = driver.rack(&path, &motion);
-        sim.set_external_rack(super::RackSample { value: rack, first_derivative: None, second_derivative: None });
+        sim.set_external_rack(crate::sim::RackSample { value: rack, first_derivative: None, second_derivative: None });
         sim.advance(control)?;
         let o = sim.outputs()?;
         let (x, y, yaw) = (o.get("x").unwrap(), o.get("y").unwrap(), o.get("yaw").unwrap());

@@ -14,11 +14,11 @@
 //! Steps are 1/120 s (the paper's 8.3 ms) halved three times, so that every run samples its outputs at
 //! the same instants (every 1/120 s) as the reference.
 
-use super::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
-use super::{ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 use crate::error::{Cause, ModelError};
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
+use crate::sim::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
+use crate::sim::{ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
 
 /// The bump cases use the enveloping contact (`ContactModel::Envelope`): with the paper's single-point
 /// contact the sharp bump edges converge at first order only, and no reference would be converged to the
@@ -493,7 +493,7 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
          naming its cause ({}), and **WRONG** when it finishes off without a word: there must be none. An OK cell \
          gives the run's error and its cost in derivative evaluations (the step check's included); DOPRI5 runs at \
          its default tolerance 1e-3 with the ladder's step as its largest step. Code: \
-         `src/sim/stability.rs`; `tests/stability.rs` asserts the classification. The bump cases use the enveloping \
+         `src/studies/stability.rs`; `tests/stability.rs` asserts the classification. The bump cases use the enveloping \
          contact (`--contact envelope`): with the single-point contact the paper's sharp bump edges converge at first \
          order only, and no reference would be converged to the tolerance.\n\n",
         REFERENCE_STEP * 1e3,
