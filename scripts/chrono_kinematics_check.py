@@ -63,9 +63,9 @@ VEHICLES = [
 TRAVEL = (-0.10, 0.10, 0.0025)
 STEER = (-0.30, 0.30, 0.01)
 
-# rtv's CSV columns are printed with 6 decimals (angles, deg) and 7 decimals (lengths, m): the printed value
+# rtv's CSV columns are printed with 10 decimals (angles, deg) and 11 decimals (lengths, m): the printed value
 # is within half a unit of the last digit of rtv's own.
-PRINT_HALF_UNIT = {"deg": 0.5e-6, "m": 0.5e-7}
+PRINT_HALF_UNIT = {"deg": 0.5e-10, "m": 0.5e-11}
 
 
 # ---- Chrono's JSON --------------------------------------------------------------------------------------
@@ -765,7 +765,7 @@ def plot(results, path):
         ours, chrono = c[col]
         ax[1, 1].plot(z, ours - chrono, ".-", ms=3, label=col)
     ax[1, 1].axhline(PRINT_HALF_UNIT["deg"], color="k", lw=0.8, ls=":")
-    ax[1, 1].axhline(-PRINT_HALF_UNIT["deg"], color="k", lw=0.8, ls=":", label="CSV rounding ±5e-7 deg")
+    ax[1, 1].axhline(-PRINT_HALF_UNIT["deg"], color="k", lw=0.8, ls=":", label="CSV rounding ±5e-11 deg")
     ax[1, 1].set_xlabel("wheel travel, mm")
     ax[1, 1].set_ylabel("rtv − Chrono, deg")
     ax[1, 1].legend(fontsize=7)
@@ -774,7 +774,7 @@ def plot(results, path):
         ours, chrono = c[col]
         ax[1, 2].plot(z, ours - chrono, ".-", ms=3, label=col)
     ax[1, 2].axhline(PRINT_HALF_UNIT["m"], color="k", lw=0.8, ls=":")
-    ax[1, 2].axhline(-PRINT_HALF_UNIT["m"], color="k", lw=0.8, ls=":", label="CSV rounding ±5e-8 m")
+    ax[1, 2].axhline(-PRINT_HALF_UNIT["m"], color="k", lw=0.8, ls=":", label="CSV rounding ±5e-12 m")
     ax[1, 2].set_xlabel("wheel travel, mm")
     ax[1, 2].set_ylabel("rtv − Chrono, m")
     ax[1, 2].legend(fontsize=7)
@@ -869,8 +869,8 @@ def markdown(all_results, s, command):
         "",
         "**Agreement to expect.** Both solvers close their loops to 1e-12 m (this one to ‖Φ‖∞ ≤ 1e-12, rtv's "
         "Newton to 1e-12 m); over lever arms of 0.05 m and more that is about 2e-11 rad ≈ 1e-9 deg on angles "
-        "and 1e-11 m on lengths. rtv's CSV, however, prints angles with 6 decimals (±5e-7 deg) and lengths "
-        "with 7 (±5e-8 m), so through `rtv kinematics` the comparison sees at best that rounding. The table "
+        "and 1e-11 m on lengths. rtv's CSV prints angles with 10 decimals (±5e-11 deg) and lengths "
+        "with 11 (±5e-12 m), so through `rtv kinematics` the comparison sees the solvers' agreement itself. The table "
         "gives the largest difference and its *excess over the rounding* of the printed value; the test "
         "asserts excess ≤ 1e-9 deg / 1e-11 m (and, for the steering sweep against Chrono's quaternion as "
         "written, also the importer's normalization effect, below). The rounding bound is read from the "

@@ -342,7 +342,7 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
         let [Some(pl), Some(pr)] = &last else { unreachable!("both wheels solved") };
         let wheel = left.on_carrier(pl, &left.w0);
         text += &format!(
-            "{travel:.6},{:.6},{:.6},{:.6},{:.6},{:.7},{:.7},{:.7}\n",
+            "{travel:.6},{:.10},{:.10},{:.10},{:.10},{:.11},{:.11},{:.11}\n",
             left.camber(pl).to_degrees(),
             right.camber(pr).to_degrees(),
             left.steer_angle(pl).to_degrees(),
@@ -462,7 +462,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
             let p = c.solve_positions(0.0, v.steering.sign * u, &[0.0; 4])?;
             *a = c.steer_angle(&p).to_degrees();
         }
-        text += &format!("{u:.6},{:.6},{:.6}\n", angles[0], angles[1]);
+        text += &format!("{u:.6},{:.10},{:.10}\n", angles[0], angles[1]);
     }
     csv_writer(opts.get("out"))?.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     Ok(())
