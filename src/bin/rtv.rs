@@ -228,7 +228,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         None => Amplitude::Calibrated,
     };
     let data = vehicle_data(&opts)?;
-    if amplitude == Amplitude::Calibrated && kind != SceneKind::Bump && calibration::shipped(&data.name).is_none() {
+    if amplitude == Amplitude::Calibrated && kind != SceneKind::Bump && calibration::shipped(&data).is_none() {
         eprintln!(
             "scene: '{}' has no shipped calibration: calibrating its J-turn amplitude for {} g now ({})",
             data.name,
@@ -484,7 +484,7 @@ fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
     table["target_lateral_acceleration_g"] = calibration::TARGET_G.into();
     table["configuration"] = accuracy.describe().into();
     table["command"] = command.into();
-    if data.name == VehicleData::default_hmmwv().name {
+    if data.is_default_vehicle() {
         table["jturn_amplitude_m"] = c.amplitude.into();
         table["steady_lateral_acceleration_g"] = c.steady_g.into();
     } else {

@@ -466,6 +466,17 @@ impl VehicleData {
         VehicleData::from_json(DEFAULT_VEHICLE_JSON).expect("shipped vehicle data must be valid")
     }
 
+    /// Whether this is the default vehicle (the HMMWV of `resources/hmmwv.json`, its variants included), by
+    /// its name: read from the compiled-in file's `name` alone, without loading and validating it.
+    pub fn is_default_vehicle(&self) -> bool {
+        #[derive(Deserialize)]
+        struct Named {
+            name: String,
+        }
+        let default: Named = serde_json::from_str(DEFAULT_VEHICLE_JSON).expect("the shipped vehicle file names itself");
+        self.name == default.name
+    }
+
     /// Reads a vehicle file: a regular file of at most `MAX_FILE_BYTES` (a FIFO would block the caller, a
     /// device such as /dev/zero would be read until memory runs out: both are refused before opening).
     pub fn from_file(path: &Path) -> Result<VehicleData, DataError> {

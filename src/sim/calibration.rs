@@ -42,12 +42,12 @@ pub fn default_vehicle_amplitude() -> f64 {
     table().jturn_amplitude_m
 }
 
-/// The shipped calibration of the vehicle named `name`, if any.
-pub fn shipped(name: &str) -> Option<f64> {
-    if name == VehicleData::default_hmmwv().name {
+/// The shipped calibration of the vehicle `data`, if any (by its name).
+pub fn shipped(data: &VehicleData) -> Option<f64> {
+    if data.is_default_vehicle() {
         return Some(default_vehicle_amplitude());
     }
-    table().vehicles.get(name).map(|e| e.jturn_amplitude)
+    table().vehicles.get(&data.name).map(|e| e.jturn_amplitude)
 }
 
 /// How a calibration run is integrated.
@@ -140,7 +140,7 @@ pub fn calibrate(data: &VehicleData, accuracy: Accuracy) -> Result<Calibration, 
 /// What `Amplitude::Calibrated` means for this vehicle: the shipped value, or a quick calibration (then
 /// `true`).
 pub fn amplitude_for(data: &VehicleData) -> Result<(f64, bool), ModelError> {
-    match shipped(&data.name) {
+    match shipped(data) {
         Some(a) => Ok((a, false)),
         None => calibrate(data, Accuracy::Quick).map(|c| (c.amplitude, true)),
     }

@@ -261,7 +261,7 @@ impl Scene {
         base: &SimConfig,
         keep_unused_states: bool,
     ) -> Result<Simulation, ModelError> {
-        if self.default_vehicle_amplitude && vehicle.name != VehicleData::default_hmmwv().name {
+        if self.default_vehicle_amplitude && !vehicle.is_default_vehicle() {
             return Err(ModelError::new(
                 Cause::Input,
                 format!(

@@ -318,7 +318,7 @@ fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, ModelError> 
     let half_width = front[1] + 0.5 * HMMWV_TIRE_WIDTH_M;
     // ISO 3888-2 sizes the lanes by the vehicle's width: the HMMWV's body width (2.16 m), another vehicle's
     // wheel track over the tires (no body width in its file).
-    let width = if data.name == VehicleData::default_hmmwv().name { HMMWV_WIDTH_M } else { 2.0 * half_width };
+    let width = if data.is_default_vehicle() { HMMWV_WIDTH_M } else { 2.0 * half_width };
     let (course, path) = course_and_line(width, half_width, v);
     let end = course.exit() + 10.0;
     let corners = [
