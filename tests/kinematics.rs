@@ -97,7 +97,7 @@ fn position_residual_across_travel_and_rack_range() {
             for k in 0..=60 {
                 let u = -0.25 + 0.6 * k as f64 / 60.0;
                 for r in -4..=4 {
-                    let s = if c.steered { limit * r as f64 / 4.0 } else { 0.0 };
+                    let s = if c.steered() { limit * r as f64 / 4.0 } else { 0.0 };
                     let pos = c.solve_positions(u, s, &warm).unwrap_or_else(|e| panic!("{name}: {e}"));
                     warm = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
                     assert!(pos.residual <= 1e-10, "{name}: residual {:e}", pos.residual);

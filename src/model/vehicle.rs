@@ -352,7 +352,7 @@ impl Vehicle {
 
     /// Steering coordinate for corner i (rear toe links ignore it).
     fn rack_translation(&self, i: usize, u: f64) -> f64 {
-        if self.corners[i].steered {
+        if self.corners[i].steered() {
             self.steering.sign * u
         } else {
             0.0
@@ -609,8 +609,8 @@ impl Vehicle {
         for i in 0..4 {
             let c = &self.corners[i];
             let pos = &positions[i];
-            let s_i = if c.steered { sd } else { 0.0 };
-            let sdd_i = if c.steered { sdd } else { 0.0 };
+            let s_i = if c.steered() { sd } else { 0.0 };
+            let sdd_i = if c.steered() { sdd } else { 0.0 };
             let qd = c.velocities(pos, x[idx::UD + i], s_i);
             let gamma_bar = c.gamma_bar(pos, &qd, s_i, sdd_i);
             local.max_residual = local.max_residual.max(pos.residual);
@@ -1047,7 +1047,7 @@ impl Vehicle {
         for i in 0..4 {
             let c = &self.corners[i];
             let pos = &positions[i];
-            let qd = c.velocities(pos, x[idx::UD + i], if c.steered { sd } else { 0.0 });
+            let qd = c.velocities(pos, x[idx::UD + i], if c.steered() { sd } else { 0.0 });
             let k = self.corner_kinematics(i, pos, &qd, &a0, &y0);
             for b in 0..3 {
                 let w = ang(&k.velocity[b]);

@@ -162,8 +162,7 @@ impl TieRodDrive {
 pub struct Corner {
     pub template: SuspensionTemplate,
     pub side: Side,
-    /// Front: the tie rod ends on the steering (moves with s); rear: on the chassis.
-    pub steered: bool,
+    /// What moves the tie rod's inner end: the steering (front) or nothing (rear: `steered()` is false).
     pub drive: TieRodDrive,
     /// Lower arm hinge: a point on it and its axis.
     pub p_l: V3,
@@ -353,7 +352,6 @@ impl Corner {
         let mut c = Corner {
             template,
             side,
-            steered: drive != TieRodDrive::Chassis,
             drive,
             p_l,
             h_l,
@@ -375,6 +373,12 @@ impl Corner {
         let design = c.evaluate(&Vector5f::zeros(), 0.0);
         c.design_det = design.phi_q.fixed_columns::<4>(1).into_owned().determinant().abs();
         Ok(c)
+    }
+
+    /// Front: the tie rod ends on the steering and moves with s; rear: on the chassis.
+    #[inline(always)]
+    pub fn steered(&self) -> bool {
+        self.drive != TieRodDrive::Chassis
     }
 
     /// The hinge of the body of q[4] on the chassis (a point and the axis), if it is a revolute (the upper
@@ -473,7 +477,7 @@ impl Corner {
         phi_q.fixed_view_mut::<3, 1>(0, 4).copy_from(&column_4);
         phi_q[(3, 4)] = 0.0;
         pos.phi_s = Vector4::zeros();
-        if self.steered {
+        if self.steered() {
             pos.phi_s[3] = -d.dot(&tie_rod.d_ds) * inv_l;
         }
         pos.residual = phi_s3.amax().max(phi_d.abs());
@@ -598,7 +602,7 @@ impl Corner {
             // The top mount is fixed; the strut point slides along the upright (Coriolis 2 ω_K × R_K a ℓ̇).
             Closure::Strut(_) => a_k(&pos.rho_u) + w_k.cross(&pos.slide) * (2.0 * qd[4]),
         };
-        let steer_rate = if self.steered { s_dot } else { 0.0 };
+        let steer_rate = if self.steered() { s_dot } else { 0.0 };
         let path = &pos.tie_rod;
         let d_dot = w_l.cross(&b_rel) + w_k.cross(&pos.rho_t) - path.d_ds * steer_rate;
         let inv_l = 1.0 / self.tie_length;
