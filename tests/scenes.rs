@@ -29,6 +29,23 @@ fn mean_between(rows: &[Outputs], name: &str, t0: f64, t1: f64) -> f64 {
     sel.iter().sum::<f64>() / sel.len() as f64
 }
 
+/// The largest difference of `run` from `reference` over every CSV channel, relative to the channel's peak
+/// in the reference, and the channel it is in (channels that stay zero are skipped).
+fn worst_relative_difference(run: &[Outputs], reference: &[Outputs]) -> (f64, &'static str) {
+    let mut worst = (0.0, "");
+    for (i, name) in rt_vehicle::sim::OUTPUT_NAMES[..rt_vehicle::sim::CSV_COLUMNS].iter().enumerate() {
+        let peak = reference.iter().map(|r| r.values[i].abs()).fold(0.0, f64::max);
+        if peak == 0.0 {
+            continue;
+        }
+        let diff = run.iter().zip(reference).map(|(a, b)| (a.values[i] - b.values[i]).abs()).fold(0.0, f64::max);
+        if diff / peak > worst.0 {
+            worst = (diff / peak, *name);
+        }
+    }
+    worst
+}
+
 #[test]
 fn formulations_agree_on_every_scene() {
     // Same integrator and step: the solvers agree to ~1e-14 per evaluation (tests/multibody.rs); over
@@ -44,17 +61,7 @@ fn formulations_agree_on_every_scene() {
             Amplitude::Calibrated,
             &SimConfig { formulation: Formulation::Conventional, ..SimConfig::default() },
         );
-        let mut worst = (0.0, "");
-        for (i, name) in rt_vehicle::sim::OUTPUT_NAMES[..rt_vehicle::sim::CSV_COLUMNS].iter().enumerate() {
-            let peak = conv.iter().map(|r| r.values[i].abs()).fold(0.0, f64::max);
-            if peak == 0.0 {
-                continue;
-            }
-            let diff = syn.iter().zip(&conv).map(|(a, b)| (a.values[i] - b.values[i]).abs()).fold(0.0, f64::max);
-            if diff / peak > worst.0 {
-                worst = (diff / peak, name);
-            }
-        }
+        let worst = worst_relative_difference(&syn, &conv);
         println!("{}: worst relative difference synthesis vs conventional {:.2e} ({})", kind.name(), worst.0, worst.1);
         assert!(worst.0 <= 1e-8, "{}: {} differs by {:e}", kind.name(), worst.1, worst.0);
     }
@@ -230,17 +237,7 @@ fn formulations_agree_on_every_scene_of_the_imported_vehicles() {
                 out
             };
             let (syn, conv) = (trace(Formulation::Synthesis), trace(Formulation::Conventional));
-            let mut worst = (0.0, "");
-            for (i, name) in rt_vehicle::sim::OUTPUT_NAMES[..rt_vehicle::sim::CSV_COLUMNS].iter().enumerate() {
-                let peak = conv.iter().map(|r| r.values[i].abs()).fold(0.0, f64::max);
-                if peak == 0.0 {
-                    continue;
-                }
-                let diff = syn.iter().zip(&conv).map(|(a, b)| (a.values[i] - b.values[i]).abs()).fold(0.0, f64::max);
-                if diff / peak > worst.0 {
-                    worst = (diff / peak, name);
-                }
-            }
+            let worst = worst_relative_difference(&syn, &conv);
             println!("{} {}: synthesis vs conventional {:.2e} ({})", data.name, kind.name(), worst.0, worst.1);
             // The bound for the imports: 1e-9 of peak.
             assert!(worst.0 <= 1e-9, "{} {}: {} differs by {:e}", data.name, kind.name(), worst.1, worst.0);
