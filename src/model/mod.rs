@@ -13,3 +13,4 @@ pub mod summary;
 pub mod suspension;
 pub mod tire;
 pub mod vehicle;
+pub mod vehicle_file;

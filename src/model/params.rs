@@ -1,15 +1,15 @@
 #![allow(non_snake_case)] // field names carry their units (N_per_m), as in the data file
-//! Vehicle data file (`resources/hmmwv.json`): serde structs, loading and validation.
+//! Vehicle data file (`resources/hmmwv.json`): serde structs and the checks of the data alone.
+//! Reading a file (schema, then these checks, then the suspension loops) is `model::vehicle_file`.
 //!
 //! Every number the model uses comes from this file. Loading validates what would otherwise surface as a
 //! NaN deep inside a function evaluation: missing fields (serde names them), non-positive masses, inertia
-//! tensors that are not positive definite, and suspension loops that cannot close. The triangle inequality
+//! tensors that are not positive definite (and, in `vehicle_file`, suspension loops that cannot close). The triangle inequality
 //! of principal moments is only a warning: the source's control-arm inertias (placeholders) break it.
 
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::path::Path;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -341,131 +341,14 @@ impl From<DataError> for crate::error::ModelError {
     }
 }
 
-fn err(field: impl Into<String>, message: impl Into<String>) -> DataError {
+pub(crate) fn err(field: impl Into<String>, message: impl Into<String>) -> DataError {
     DataError { field: field.into(), message: message.into() }
 }
 
 /// The data shipped in `resources/`, compiled in so the library works without any file at hand.
 pub const DEFAULT_VEHICLE_JSON: &str = include_str!("../../resources/hmmwv.json");
 
-/// The vehicle file's JSON Schema, compiled in (docs/vehicle_file.md).
-pub const VEHICLE_SCHEMA_JSON: &str = include_str!("../../resources/vehicle.schema.json");
-
-#[cfg(feature = "schema")]
-/// The schema's validator, compiled for each check: a file is loaded once per run, and a validator kept in
-/// a static would stay allocated in the FMU's library after its instances are freed (valgrind's memcheck
-/// of the FMU lifecycle counts every block still reachable at exit).
-fn schema_validator() -> jsonschema::Validator {
-    let schema: serde_json::Value = serde_json::from_str(VEHICLE_SCHEMA_JSON).expect("the shipped schema is JSON");
-    jsonschema::validator_for(&schema).expect("the shipped schema compiles")
-}
-
-/// Checks a parsed vehicle file against the schema. The error names the field by its JSON path (dotted,
-/// as `DataError` fields are: `front.hardpoints_chassis_frame_m.LCA_F[0]`); of several, the first one
-/// that is not a composite (`oneOf`, `if`) is reported, with the count of the others.
-#[cfg(feature = "schema")]
-pub fn check_schema(value: &serde_json::Value) -> Result<(), DataError> {
-    use jsonschema::error::ValidationErrorKind as Kind;
-    let validator = schema_validator();
-    let errors: Vec<_> = validator.iter_errors(value).collect();
-    let composite =
-        |k: &Kind| matches!(k, Kind::OneOfNotValid { .. } | Kind::OneOfMultipleValid { .. } | Kind::AnyOf { .. });
-    let Some(first) = errors.iter().find(|e| !composite(e.kind())).or(errors.first()) else {
-        return Ok(());
-    };
-    let mut field = String::new();
-    for segment in first.instance_path().as_str().split('/').skip(1) {
-        let segment = segment.replace("~1", "/").replace("~0", "~");
-        if !segment.is_empty() && segment.bytes().all(|b| b.is_ascii_digit()) {
-            field.push_str(&format!("[{segment}]"));
-        } else {
-            if !field.is_empty() {
-                field.push('.');
-            }
-            field.push_str(&segment);
-        }
-    }
-    let join = |field: &str, key: &str| if field.is_empty() { key.to_string() } else { format!("{field}.{key}") };
-    let (field, mut message) = match first.kind() {
-        Kind::Required { property } => (join(&field, property.as_str().unwrap_or("?")), "missing".to_string()),
-        Kind::AdditionalProperties { unexpected } => {
-            let what = if field.ends_with("hardpoints_chassis_frame_m") {
-                "not a hardpoint of this axle's template (docs/vehicle_file.md lists them)"
-            } else {
-                "unknown field (not in the vehicle file format; see resources/vehicle.schema.json)"
-            };
-            (join(&field, unexpected.first().map_or("?", String::as_str)), what.to_string())
-        }
-        Kind::FalseSchema => (field, "not part of this axle's template".to_string()),
-        Kind::OneOfNotValid { .. } | Kind::OneOfMultipleValid { .. } if field.is_empty() => {
-            let both = value.get("rack").is_some() && value.get("pitman_arm").is_some();
-            let why = if both {
-                "give either `rack` or `pitman_arm`, not both"
-            } else {
-                "missing: give `rack` (rack and pinion) or `pitman_arm`"
-            };
-            ("rack".to_string(), format!("a vehicle has exactly one steering: {why}"))
-        }
-        Kind::ExclusiveMinimum { limit } if limit.as_f64() == Some(0.0) => {
-            let got = first.instance();
-            (field, format!("must be positive, got {got}"))
-        }
-        Kind::Minimum { limit } if limit.as_f64() == Some(0.0) => {
-            let got = first.instance();
-            (field, format!("must be zero or positive, got {got}"))
-        }
-        Kind::Maximum { limit } | Kind::ExclusiveMaximum { limit } => {
-            let unit = unit_of(&field);
-            let got = first.instance();
-            (field, format!("{got} is beyond the plausible bound {limit} {unit}: is it in other units?"))
-        }
-        Kind::Minimum { limit } | Kind::ExclusiveMinimum { limit } => {
-            let unit = unit_of(&field);
-            let got = first.instance();
-            (field, format!("{got} is below the plausible bound {limit} {unit}: is it in other units?"))
-        }
-        _ => (if field.is_empty() { "(file)".to_string() } else { field }, first.to_string()),
-    };
-    match errors.len() {
-        1 => {}
-        2 => message.push_str(" (and 1 more schema error)"),
-        n => message.push_str(&format!(" (and {} more schema errors)", n - 1)),
-    }
-    Err(err(field, message))
-}
-
-#[cfg(feature = "schema")]
-/// The unit of a field from its name (the file's keys carry their units; hardpoints are in m).
-fn unit_of(field: &str) -> &'static str {
-    let key = field.rsplit('.').next().unwrap_or(field);
-    let key = key.split('[').next().unwrap_or(key);
-    if field.contains("hardpoints_chassis_frame_m") {
-        return "(m)";
-    }
-    [
-        ("_m_s2", "(m/s²)"),
-        ("_m_s", "(m/s)"),
-        ("_kg_m2", "(kg m²)"),
-        ("_kg", "(kg)"),
-        ("_rad", "(rad)"),
-        ("_Ns_per_m", "(N s/m)"),
-        ("_N_per_m", "(N/m)"),
-        ("_N", "(N)"),
-        ("_m", "(m)"),
-    ]
-    .iter()
-    .find(|(suffix, _)| key.ends_with(suffix))
-    .map_or("", |(_, unit)| unit)
-}
-
-/// The largest vehicle file read (the HMMWV's is 7 kB).
-pub const MAX_FILE_BYTES: u64 = 1 << 20;
-
 impl VehicleData {
-    pub fn default_hmmwv() -> VehicleData {
-        VehicleData::from_json(DEFAULT_VEHICLE_JSON).expect("shipped vehicle data must be valid")
-    }
-
     /// Whether this is the default vehicle (the HMMWV of `resources/hmmwv.json`, its variants included), by
     /// its name: read from the compiled-in file's `name` alone, without loading and validating it.
     pub fn is_default_vehicle(&self) -> bool {
@@ -475,31 +358,6 @@ impl VehicleData {
         }
         let default: Named = serde_json::from_str(DEFAULT_VEHICLE_JSON).expect("the shipped vehicle file names itself");
         self.name == default.name
-    }
-
-    /// Reads a vehicle file: a regular file of at most `MAX_FILE_BYTES` (a FIFO would block the caller, a
-    /// device such as /dev/zero would be read until memory runs out: both are refused before opening).
-    pub fn from_file(path: &Path) -> Result<VehicleData, DataError> {
-        let text = fmi_layer::resources::read_bounded(path, MAX_FILE_BYTES, "the vehicle file")
-            .map_err(|why| err(path.display().to_string(), why))?;
-        VehicleData::from_json(&text)
-    }
-
-    /// Parse and validate: the JSON Schema (`resources/vehicle.schema.json`) first, then serde, then
-    /// `validate` (what a schema cannot say); warnings (triangle inequality) go to `warnings()`, not errors.
-    pub fn from_json(text: &str) -> Result<VehicleData, DataError> {
-        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| err("(file)", e.to_string()))?;
-        // The FMU's library is built without the schema (feature `schema`): the loader's own checks below.
-        #[cfg(feature = "schema")]
-        check_schema(&value)?;
-        #[cfg(not(feature = "schema"))]
-        let _ = &value;
-        let data: VehicleData = serde_json::from_str(text).map_err(|e| {
-            // serde_json names the missing or unknown field in its message; keep its line and column.
-            err("(file)", e.to_string())
-        })?;
-        data.validate()?;
-        Ok(data)
     }
 
     pub fn axles(&self) -> [(&'static str, &Axle); 2] {
@@ -647,7 +505,6 @@ impl VehicleData {
                     "must be below engagement_max_length_m",
                 ));
             }
-            crate::model::suspension::check_loop_closes(self, name, axle)?;
         }
         let t = &self.stop_table;
         if t.deflection_m.len() != t.force_N.len() || t.deflection_m.len() < 2 {

@@ -259,7 +259,7 @@ pub fn heading(a0: &M3) -> V3 {
 
 impl Vehicle {
     pub fn new(data: &VehicleData) -> Result<Vehicle, DataError> {
-        data.validate()?;
+        data.check()?;
         let axles = [&data.front, &data.front, &data.rear, &data.rear];
         let sides = [Side::Left, Side::Right, Side::Left, Side::Right];
         let drive = tie_rod_drive(data)?;

@@ -30,25 +30,6 @@ pub fn locate(parameter: &str, file: &str, context: &ModelContext) -> Result<Pat
     Ok(path.to_path_buf())
 }
 
-/// The text of `path`, which must be a regular file of at most `limit` bytes. Checked before the file is
-/// opened, so that a FIFO does not block and a device is not read until memory runs out; and never more
-/// than `limit` bytes are read (the file may grow between the check and the read). `what` names the file
-/// in messages.
-pub fn read_bounded(path: &Path, limit: u64, what: &str) -> Result<String, String> {
-    use std::io::Read as _;
-    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read {what}: {e}"))?;
-    if !meta.is_file() {
-        return Err(format!("{what} is not a regular file (a directory, FIFO or device)"));
-    }
-    if meta.len() > limit {
-        return Err(format!("{what} has {} bytes, more than the {limit} allowed", meta.len()));
-    }
-    let mut text = String::new();
-    std::fs::File::open(path)
-        .and_then(|f| f.take(limit + 1).read_to_string(&mut text))
-        .map_err(|e| format!("cannot read {what}: {e}"))?;
-    if text.len() as u64 > limit {
-        return Err(format!("{what} grew beyond the {limit} bytes allowed"));
-    }
-    Ok(text)
-}
+/// The text of a data file, read without trusting it (the `bounded-read` crate, shared with the model
+/// layer's vehicle, tire and road files).
+pub use bounded_read::read_text as read_bounded;
