@@ -127,7 +127,7 @@ fn the_schema_accepts_every_shipped_vehicle_file() {
 
 #[test]
 fn the_schema_is_a_valid_draft_2020_12_schema_naming_every_field() {
-    let schema: Value = serde_json::from_str(rt_vehicle::model::params::VEHICLE_SCHEMA_JSON).unwrap();
+    let schema: Value = serde_json::from_str(rt_vehicle::model::vehicle_file::VEHICLE_SCHEMA_JSON).unwrap();
     assert_eq!(schema["$schema"], "https://json-schema.org/draft/2020-12/schema");
     // Every key of the shipped files is described (additionalProperties: false everywhere, so a key the
     // schema did not name would have failed above); both templates and both steerings are there.
