@@ -10,7 +10,7 @@ use fmi_sys::fmi2::fmi2Status_fmi2OK;
 use rt_vehicle::dynamics::Multipliers;
 use rt_vehicle::fmi::native::NativeInstance;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{idx, Diagnostics, Formulation, Inputs, KinematicsCache, Vehicle};
+use rt_vehicle::model::vehicle::{accelerations, idx, Formulation, Inputs, Options, Run, Vehicle, Workspace};
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::SimConfig;
 use std::hint::black_box;
@@ -21,14 +21,11 @@ fn cornering() -> (Vehicle, Vec<f64>, Inputs) {
     let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
     let mut sim = scene.start(VehicleData::default_hmmwv(), &SimConfig::default()).unwrap();
     run(&mut sim, 4.0, 0.01, |_| {}).unwrap();
-    let inputs = Inputs { rack: scene.rack.at(4.0), drive: [0.0; 4], brake: [0.0; 4] };
-    (sim.vehicle().clone(), sim.state().to_vec(), inputs)
+    (sim.vehicle().clone(), sim.state().to_vec(), sim.inputs())
 }
 
-fn with_formulation(v: &Vehicle, f: Formulation) -> Vehicle {
-    let mut v = v.clone();
-    v.formulation = f;
-    v
+fn with_formulation(f: Formulation) -> Options {
+    Options { formulation: f, ..Options::default() }
 }
 
 /// Median wall time per call, µs, over 101 batches.
@@ -56,33 +53,35 @@ fn main() {
     ];
     let mut c = Criterion::default().configure_from_args();
     for (name, f) in formulations {
-        let v = with_formulation(&vehicle, f);
-        let mut cache = KinematicsCache::default();
+        let options = with_formulation(f);
+        let run = Run::flat(&vehicle, &options);
+        let mut cache = Workspace::default();
         let mut dx = vec![0.0; idx::DIM];
         c.bench_function(&format!("function evaluation/{name}"), |b| {
-            b.iter(|| v.derivative(black_box(&x), &inputs, &mut cache, &mut dx, None).unwrap())
+            b.iter(|| vehicle.derivative(&run, black_box(&x), &inputs, &mut cache, &mut dx).unwrap())
         });
     }
     // The same evaluation on the baseline x86-64 code (the dispatch above picks AVX2 + FMA where the CPU has
     // them: rt_vehicle::simd).
-    let mut cache = KinematicsCache::default();
+    let options = Options::default();
+    let synthesis = Run::flat(&vehicle, &options);
+    let mut cache = Workspace::default();
     let mut dx = vec![0.0; idx::DIM];
     c.bench_function("function evaluation/synthesis, baseline x86-64 code", |b| {
-        b.iter(|| vehicle.derivative_portable(black_box(&x), &inputs, &mut cache, &mut dx).unwrap())
+        b.iter(|| vehicle.derivative_portable(&synthesis, black_box(&x), &inputs, &mut cache, &mut dx).unwrap())
     });
-    let mut cache = KinematicsCache::default();
+    let mut cache = Workspace::default();
     c.bench_function("assembly (shared terms, §4.9 steps 1-3e)", |b| {
-        b.iter(|| vehicle.assemble(black_box(&x), &inputs, &mut cache, &mut Diagnostics::default()).unwrap())
+        b.iter(|| vehicle.assemble(&synthesis, black_box(&x), &inputs, &mut cache).unwrap())
     });
     // The paper's acceleration evaluation factors Φ_v itself: strip the kinematics' LU for the comparison
     // (the simulation reuses it; "GCP, reusing the kinematics' LU" below).
-    let shared = vehicle.assemble(&x, &inputs, &mut KinematicsCache::default(), &mut Diagnostics::default()).unwrap();
+    let shared = vehicle.assemble(&synthesis, &x, &inputs, &mut Workspace::default()).unwrap();
     let mut assembly = shared;
     assembly.terms.iter_mut().for_each(|t| t.phi_v_solved = None);
     for (name, f) in [("synthesis GCP", Formulation::Synthesis), ("conventional 42x42", Formulation::Conventional)] {
-        let v = with_formulation(&vehicle, f);
         c.bench_function(&format!("acceleration evaluation/{name}"), |b| {
-            b.iter(|| v.accelerations(black_box(&assembly), Multipliers::Skip).unwrap())
+            b.iter(|| accelerations(f, black_box(&assembly), Multipliers::Skip).unwrap())
         });
     }
     let mut inst = NativeInstance::initialized("bench").unwrap();
@@ -95,27 +94,26 @@ fn main() {
     // One in-process run for the ratios.
     let mut med = Vec::new();
     for (name, f) in formulations {
-        let v = with_formulation(&vehicle, f);
-        let mut cache = KinematicsCache::default();
+        let options = with_formulation(f);
+        let run = Run::flat(&vehicle, &options);
+        let mut cache = Workspace::default();
         let mut dx = vec![0.0; idx::DIM];
-        med.push((name, median_us(|| v.derivative(black_box(&x), &inputs, &mut cache, &mut dx, None).unwrap())));
+        med.push((name, median_us(|| vehicle.derivative(&run, black_box(&x), &inputs, &mut cache, &mut dx).unwrap())));
     }
-    let mut cache = KinematicsCache::default();
+    let mut cache = Workspace::default();
     let asm = median_us(|| {
-        black_box(vehicle.assemble(black_box(&x), &inputs, &mut cache, &mut Diagnostics::default()).unwrap());
+        black_box(vehicle.assemble(&synthesis, black_box(&x), &inputs, &mut cache).unwrap());
     });
     let acc: Vec<f64> = [Formulation::Synthesis, Formulation::Conventional]
         .iter()
         .map(|f| {
-            let v = with_formulation(&vehicle, *f);
             median_us(|| {
-                black_box(v.accelerations(black_box(&assembly), Multipliers::Skip).unwrap());
+                black_box(accelerations(*f, black_box(&assembly), Multipliers::Skip).unwrap());
             })
         })
         .collect();
-    let synthesis = with_formulation(&vehicle, Formulation::Synthesis);
     let acc_shared = median_us(|| {
-        black_box(synthesis.accelerations(black_box(&shared), Multipliers::Skip).unwrap());
+        black_box(accelerations(Formulation::Synthesis, black_box(&shared), Multipliers::Skip).unwrap());
     });
     let mut inst = NativeInstance::initialized("bench").unwrap();
     let step = median_us(|| assert_eq!(inst.do_step(0.0083), fmi2Status_fmi2OK));

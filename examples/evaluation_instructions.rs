@@ -8,7 +8,7 @@
 //! ```
 //! (a vehicle file as second argument: its J-turn at its calibrated amplitude; default the HMMWV)
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{idx, Inputs, KinematicsCache};
+use rt_vehicle::model::vehicle::{idx, Run, Workspace};
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::SimConfig;
 use std::hint::black_box;
@@ -22,13 +22,14 @@ fn main() {
     let scene = Scene::for_vehicle(SceneKind::JTurn, Amplitude::Calibrated, &data).unwrap();
     let mut sim = scene.start(data, &SimConfig::default()).unwrap();
     run(&mut sim, 4.0, 0.01, |_| {}).unwrap();
-    let inputs = Inputs { rack: scene.rack.at(4.0), drive: [0.0; 4], brake: [0.0; 4] };
+    let inputs = sim.inputs();
     let (vehicle, x) = (sim.vehicle().clone(), sim.state().to_vec());
-    let mut cache = KinematicsCache::default();
+    let run = Run::new(&vehicle, &sim.config().options, sim.road());
+    let mut cache = Workspace::default();
     let mut dx = vec![0.0; idx::DIM];
-    vehicle.derivative(&x, &inputs, &mut cache, &mut dx, None).unwrap(); // warm start at this state
+    vehicle.derivative(&run, &x, &inputs, &mut cache, &mut dx).unwrap(); // warm start at this state
     for _ in 0..n {
-        vehicle.derivative(black_box(&x), &inputs, &mut cache, &mut dx, None).unwrap();
+        vehicle.derivative(&run, black_box(&x), &inputs, &mut cache, &mut dx).unwrap();
     }
     println!("{n} evaluations, ax = {:.6e}", dx[idx::V0]);
 }

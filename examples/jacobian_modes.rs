@@ -4,7 +4,7 @@
 
 use nalgebra::DMatrix;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{Inputs, KinematicsCache};
+use rt_vehicle::model::vehicle::{Run, Workspace};
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode};
 
 fn main() {
@@ -14,16 +14,18 @@ fn main() {
         None => VehicleData::default_hmmwv(),
     };
     let speed: f64 = args.get(2).map_or(0.0, |s| s.parse().unwrap());
-    let config = SimConfig { speed_mode: SpeedMode::Coast, initial_speed: speed, ..SimConfig::default() };
+    let config =
+        SimConfig { initial_speed: speed, ..SimConfig::default() }.with_options(|o| o.speed_mode = SpeedMode::Coast);
     let mut sim = Simulation::new(data, config).unwrap();
     let x0 = sim.state().to_vec();
     let v = sim.vehicle().clone();
     let n = x0.len();
-    let inputs = Inputs::default();
+    let inputs = sim.inputs();
+    let run = Run::new(&v, &sim.config().options, sim.road());
     let f = |x: &[f64]| {
         let mut out = vec![0.0; n];
-        let mut cache = KinematicsCache::default();
-        v.derivative(x, &inputs, &mut cache, &mut out, None).unwrap();
+        let mut cache = Workspace::default();
+        v.derivative(&run, x, &inputs, &mut cache, &mut out).unwrap();
         out
     };
     let mut j = DMatrix::<f64>::zeros(n, n);
@@ -44,7 +46,7 @@ fn main() {
         println!("  {:10.1} {:+10.1}i   |λ| = {:8.1}", e.re, e.im, e.norm());
     }
     use rt_vehicle::model::vehicle::idx;
-    let layout = v.layout();
+    let layout = run.layout();
     for i in 0..4 {
         let mut ks = vec![idx::U + i, idx::UD + i, idx::SPIN + i];
         if let Some(k) = layout.xi {

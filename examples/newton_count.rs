@@ -3,14 +3,16 @@
 use rt_vehicle::error::ModelError;
 use rt_vehicle::integrate::{Integrator, OdeSystem, Rk4};
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Vehicle};
+use rt_vehicle::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
 use rt_vehicle::sim::scenes::{Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{RackProfile, SimConfig};
 
 struct Counting<'a> {
     vehicle: &'a Vehicle,
+    run: Run<'a>,
+    target_speed: f64,
     rack: RackProfile,
-    cache: KinematicsCache,
+    cache: Workspace,
     iterations: u64,
     evaluations: u64,
 }
@@ -20,10 +22,9 @@ impl OdeSystem for Counting<'_> {
         idx::DIM
     }
     fn derivative(&mut self, t: f64, x: &[f64], dx: &mut [f64]) -> Result<(), ModelError> {
-        let mut d = Diagnostics::default();
-        let inputs = Inputs { rack: self.rack.at(t), drive: [0.0; 4], brake: [0.0; 4] };
-        let r = self.vehicle.derivative(x, &inputs, &mut self.cache, dx, Some(&mut d));
-        self.iterations += d.newton_iterations as u64;
+        let inputs = Inputs { rack: self.rack.at(t), target_speed: self.target_speed, ..Inputs::default() };
+        let r = self.vehicle.derivative(&self.run, x, &inputs, &mut self.cache, dx);
+        self.iterations += self.cache.diagnostics.newton_iterations as u64;
         self.evaluations += 1;
         r
     }
@@ -37,8 +38,10 @@ fn main() {
         let mut x = sim.state().to_vec();
         let mut ode = Counting {
             vehicle: &vehicle,
+            run: Run::new(&vehicle, &sim.config().options, sim.road()),
+            target_speed: sim.config().initial_speed,
             rack: scene.rack,
-            cache: KinematicsCache::default(),
+            cache: Workspace::default(),
             iterations: 0,
             evaluations: 0,
         };

@@ -2,7 +2,7 @@
 
 use rt_vehicle::alloc_count::{allocations, CountingAllocator};
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{idx, Diagnostics, Formulation, Inputs, KinematicsCache, RackMotion};
+use rt_vehicle::model::vehicle::{idx, Formulation, Inputs, Options, RackMotion, Run, Workspace};
 use rt_vehicle::sim::{SimConfig, Simulation};
 
 #[global_allocator]
@@ -11,22 +11,22 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 #[test]
 fn derivative_does_not_allocate() {
     let sim = Simulation::new(VehicleData::default_hmmwv(), SimConfig::default()).unwrap();
-    let mut vehicle = sim.vehicle().clone();
+    let vehicle = sim.vehicle().clone();
     let x = sim.state().to_vec();
     let inputs = Inputs {
         rack: RackMotion { position: 0.002, velocity: 0.01, acceleration: 0.1 },
         drive: [10.0; 4],
         brake: [5.0; 4],
+        target_speed: 20.0,
     };
-    let mut cache = KinematicsCache::default();
+    let mut cache = Workspace::default();
     let mut dx = vec![0.0; idx::DIM];
-    let mut diag = Diagnostics::default();
     for f in [Formulation::Synthesis, Formulation::SynthesisAugmented, Formulation::Conventional] {
-        vehicle.formulation = f;
+        let options = Options { formulation: f, ..Options::default() };
+        let run = Run::flat(&vehicle, &options);
         let before = allocations();
-        for _ in 0..100 {
-            vehicle.derivative(&x, &inputs, &mut cache, &mut dx, None).unwrap();
-            vehicle.derivative(&x, &inputs, &mut cache, &mut dx, Some(&mut diag)).unwrap();
+        for _ in 0..200 {
+            vehicle.derivative(&run, &x, &inputs, &mut cache, &mut dx).unwrap();
         }
         let n = allocations() - before;
         assert_eq!(n, 0, "{f:?}: {n} allocations in 200 evaluations");

@@ -2,32 +2,44 @@
 
 use rt_vehicle::model::equilibrium::{retune_ride_height, static_equilibrium, steady_rolling};
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, SpeedMode, Vehicle, CORNERS};
+use rt_vehicle::model::vehicle::{
+    idx, Diagnostics, Inputs, Layout, Options, Run, SpeedMode, Vehicle, Workspace, CORNERS,
+};
 
 fn vehicle() -> Vehicle {
     Vehicle::new(&VehicleData::default_hmmwv()).unwrap()
 }
 
-fn accelerations(v: &Vehicle, x: &[f64]) -> (Vec<f64>, Diagnostics) {
-    accelerations_from(v, x, &mut KinematicsCache::default())
+/// Coasting (no speed hold), as the static problems are posed.
+fn coasting() -> Options {
+    Options { speed_mode: SpeedMode::Coast, ..Options::default() }
+}
+
+fn accelerations(v: &Vehicle, o: &Options, inputs: &Inputs, x: &[f64]) -> (Vec<f64>, Diagnostics) {
+    accelerations_from(v, o, inputs, x, &mut Workspace::default())
 }
 
 /// The accelerations with the Newton warm starts of `cache` (those the equilibrium solve left: the
 /// simulation starts from them). From cold starts the dependent coordinates converge to 1e-12 m at a
 /// slightly different point, which moves the accelerations of the hanging arms by ~1e-9.
-fn accelerations_from(v: &Vehicle, x: &[f64], cache: &mut KinematicsCache) -> (Vec<f64>, Diagnostics) {
-    let mut dx = vec![0.0; v.layout().dim];
-    let mut d = Diagnostics::default();
-    v.derivative(x, &Inputs::default(), cache, &mut dx, Some(&mut d)).unwrap();
-    (dx, d)
+fn accelerations_from(
+    v: &Vehicle,
+    o: &Options,
+    inputs: &Inputs,
+    x: &[f64],
+    cache: &mut Workspace,
+) -> (Vec<f64>, Diagnostics) {
+    let mut dx = vec![0.0; Layout::of(o).dim];
+    v.derivative(&Run::flat(v, o), x, inputs, cache, &mut dx).unwrap();
+    (dx, cache.diagnostics)
 }
 
 fn report(v: &Vehicle, x: &[f64], label: &str) {
-    report_from(v, x, label, &mut KinematicsCache::default())
+    report_from(v, x, label, &mut Workspace::default())
 }
 
-fn report_from(v: &Vehicle, x: &[f64], label: &str, cache: &mut KinematicsCache) {
-    let (dx, d) = accelerations_from(v, x, cache);
+fn report_from(v: &Vehicle, x: &[f64], label: &str, cache: &mut Workspace) {
+    let (dx, d) = accelerations_from(v, &coasting(), &Inputs::default(), x, cache);
     let fz: Vec<f64> = d.tire_force.iter().map(|f| f[2]).collect();
     let total: f64 = fz.iter().sum();
     let weight = v.total_mass * v.gravity;
@@ -64,36 +76,36 @@ fn report_from(v: &Vehicle, x: &[f64], label: &str, cache: &mut KinematicsCache)
 #[test]
 fn retuned_equilibrium_is_the_design_position() {
     let mut v = vehicle();
-    v.speed_mode = SpeedMode::Coast;
-    let (df, dr) = retune_ride_height(&mut v).unwrap();
+    let (df, dr) = retune_ride_height(&mut v, &coasting()).unwrap();
     println!("free-length offsets: front {df:+.4} m, rear {dr:+.4} m");
-    let x = static_equilibrium(&v, &mut KinematicsCache::default()).unwrap();
+    let x = static_equilibrium(&v, &coasting(), &mut Workspace::default()).unwrap();
     report(&v, &x, "retuned");
     for i in 0..4 {
         assert!(x[idx::U + i].abs() <= 1e-9, "q = 0 at equilibrium after the retune (§9.6)");
     }
     // Mirror symmetry: left and right loads equal.
-    let (_, d) = accelerations(&v, &x);
+    let (_, d) = accelerations(&v, &coasting(), &Inputs::default(), &x);
     assert!((d.tire_force[0][2] - d.tire_force[1][2]).abs() < 1e-6 * d.tire_force[0][2]);
     assert!((d.tire_force[2][2] - d.tire_force[3][2]).abs() < 1e-6 * d.tire_force[2][2]);
 }
 
 #[test]
 fn equilibrium_with_original_free_lengths() {
-    let mut v = vehicle();
-    v.speed_mode = SpeedMode::Coast;
-    let mut cache = KinematicsCache::default();
-    let x = static_equilibrium(&v, &mut cache).unwrap();
+    let v = vehicle();
+    let mut cache = Workspace::default();
+    let x = static_equilibrium(&v, &coasting(), &mut cache).unwrap();
     report_from(&v, &x, "original free lengths", &mut cache);
 }
 
 #[test]
 fn steady_rolling_starts_in_equilibrium() {
     let mut v = vehicle();
-    retune_ride_height(&mut v).unwrap();
-    v.target_speed = 100.0 / 3.6;
-    let x = steady_rolling(&v, v.target_speed, &mut KinematicsCache::default()).unwrap();
-    let (dx, d) = accelerations(&v, &x);
+    let hold = Options::default();
+    retune_ride_height(&mut v, &hold).unwrap();
+    let speed = 100.0 / 3.6;
+    let x = steady_rolling(&v, &hold, speed, &mut Workspace::default()).unwrap();
+    let inputs = Inputs { target_speed: speed, ..Inputs::default() };
+    let (dx, d) = accelerations(&v, &hold, &inputs, &x);
     let worst = dx[idx::V0..idx::ZV].iter().chain(&dx[idx::SPIN..]).fold(0.0f64, |m, a| m.max(a.abs()));
     println!("steady rolling: kappa {:?}, drive {:?}, max |rate| {worst:.2e}", d.kappa, d.drive_torque);
     #[allow(clippy::needless_range_loop)]

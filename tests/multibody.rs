@@ -5,7 +5,7 @@ use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::model::equilibrium::{static_equilibrium, steady_rolling};
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{
-    idx, ForceSwitches, Formulation, Inputs, KinematicsCache, RackMotion, SpeedMode, Vehicle,
+    idx, ForceSwitches, Formulation, Inputs, Layout, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };
 use rt_vehicle::sim::{inputs::RackProfile, RackSource, VehicleOde};
 
@@ -59,6 +59,7 @@ fn random_inputs(rng: &mut Rng) -> Inputs {
         },
         drive: [rng.uniform(-500.0, 500.0); 4],
         brake: [rng.uniform(0.0, 500.0); 4],
+        target_speed: rng.uniform(0.0, 40.0),
     }
 }
 
@@ -85,8 +86,8 @@ fn formulations_agree_at_random_admissible_states() {
     }
 }
 
-fn formulations_agree_on(mut v: Vehicle) {
-    let base = static_equilibrium(&v, &mut KinematicsCache::default()).unwrap();
+fn formulations_agree_on(v: Vehicle) {
+    let base = static_equilibrium(&v, &Options::default(), &mut Workspace::default()).unwrap();
     let mut rng = Rng(0x9E3779B97F4A7C15);
     let mut worst: f64 = 0.0;
     for case in 0..150 {
@@ -94,9 +95,9 @@ fn formulations_agree_on(mut v: Vehicle) {
         let inputs = random_inputs(&mut rng);
         let mut results = Vec::new();
         for f in [Formulation::Synthesis, Formulation::SynthesisAugmented, Formulation::Conventional] {
-            v.formulation = f;
+            let options = Options { formulation: f, ..Options::default() };
             let mut dx = vec![0.0; idx::DIM];
-            v.derivative(&x, &inputs, &mut KinematicsCache::default(), &mut dx, None).unwrap();
+            v.derivative(&Run::flat(&v, &options), &x, &inputs, &mut Workspace::default(), &mut dx).unwrap();
             results.push(dx);
         }
         // Compare the accelerations the solvers produce: chassis (linear, angular) and the arms.
@@ -111,10 +112,18 @@ fn formulations_agree_on(mut v: Vehicle) {
     println!("worst relative difference GCP / 9x9 vs 42x42 over 150 states: {worst:.2e}");
 }
 
-fn free_flight_vehicle(gravity: bool, springs: bool) -> Vehicle {
+/// Coasting with only the force elements named on: free flight.
+fn free_flight(gravity: bool, springs: bool) -> Options {
+    let switches = ForceSwitches { gravity, springs, stops: false, dampers: false, tires: false };
+    Options { switches, ..coasting() }
+}
+
+fn coasting() -> Options {
+    Options { speed_mode: SpeedMode::Coast, ..Options::default() }
+}
+
+fn free_flight_vehicle() -> Vehicle {
     let mut v = vehicle();
-    v.switches = ForceSwitches { gravity, springs, stops: false, dampers: false, tires: false };
-    v.speed_mode = SpeedMode::Coast;
     // Springs neutral at the design position, so that the arms oscillate about it instead of being
     // flung to the end of their travel (no stops, no tires in free flight).
     for i in 0..4 {
@@ -125,8 +134,8 @@ fn free_flight_vehicle(gravity: bool, springs: bool) -> Vehicle {
 }
 
 /// A non-trivial free-flight state: translating, tumbling, arms moving, wheels spinning.
-fn tumbling_state(v: &Vehicle) -> Vec<f64> {
-    let mut x = rt_vehicle::model::equilibrium::rest_state(&v.layout(), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
+fn tumbling_state(o: &Options) -> Vec<f64> {
+    let mut x = rt_vehicle::model::equilibrium::rest_state(&Layout::of(o), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
     x[idx::V0..idx::V0 + 3].copy_from_slice(&[12.0, -3.0, 1.5]);
     x[idx::W0..idx::W0 + 3].copy_from_slice(&[0.4, -0.3, 0.6]);
     x[idx::UD..idx::UD + 4].copy_from_slice(&[1.0, -0.8, 0.5, -1.2]);
@@ -134,14 +143,16 @@ fn tumbling_state(v: &Vehicle) -> Vec<f64> {
     x
 }
 
-fn integrate(v: &Vehicle, x: &mut [f64], h: f64, steps: usize) {
+fn integrate(v: &Vehicle, o: &Options, target_speed: f64, x: &mut [f64], h: f64, steps: usize) {
     let rack = RackSource::Profile(RackProfile::Zero);
-    let mut cache = KinematicsCache::default();
+    let mut cache = Workspace::default();
     let mut ode = VehicleOde {
         vehicle: v,
+        run: Run::flat(v, o),
         rack: &rack,
         drive: [0.0; 4],
         brake: [0.0; 4],
+        target_speed,
         cache: &mut cache,
         evaluations: 0,
         first_stage: None,
@@ -156,11 +167,11 @@ fn integrate(v: &Vehicle, x: &mut [f64], h: f64, steps: usize) {
 fn free_flight_conserves_linear_and_angular_momentum() {
     // No gravity, damping or tires: only internal forces (springs, joints, spin bearings). RK4 at 1 ms
     // over 0.3 s: local error ~h⁵ of the fastest internal mode (~15 Hz) ≈ 1e-12 relative per step.
-    let v = free_flight_vehicle(false, true);
-    let mut x = tumbling_state(&v);
-    let m0 = v.mechanical_summary(&x, &RackMotion::default(), &mut KinematicsCache::default()).unwrap();
-    integrate(&v, &mut x, 1e-3, 300);
-    let m1 = v.mechanical_summary(&x, &RackMotion::default(), &mut KinematicsCache::default()).unwrap();
+    let (v, o) = (free_flight_vehicle(), free_flight(false, true));
+    let mut x = tumbling_state(&o);
+    let m0 = v.mechanical_summary(&o, &x, &RackMotion::default(), &mut Workspace::default()).unwrap();
+    integrate(&v, &o, 0.0, &mut x, 1e-3, 300);
+    let m1 = v.mechanical_summary(&o, &x, &RackMotion::default(), &mut Workspace::default()).unwrap();
     let dp = (m1.linear_momentum - m0.linear_momentum).norm() / m0.linear_momentum.norm();
     let dh = (m1.angular_momentum - m0.angular_momentum).norm() / m0.angular_momentum.norm();
     println!("free flight 0.3 s: relative drift of linear momentum {dp:.2e}, angular momentum {dh:.2e}");
@@ -172,14 +183,14 @@ fn free_flight_conserves_linear_and_angular_momentum() {
 fn springs_and_gravity_conserve_energy() {
     // Conservative forces only (cubic springs, gravity; stops, dampers and tires off). RK4 at 1 ms over
     // 0.3 s; the bound 1e-9 is physics.md §9.5's with the integrator's truncation error as the reason.
-    let v = free_flight_vehicle(true, true);
-    let mut x = tumbling_state(&v);
+    let (v, o) = (free_flight_vehicle(), free_flight(true, true));
+    let mut x = tumbling_state(&o);
     let e = |x: &[f64]| {
-        let m = v.mechanical_summary(x, &RackMotion::default(), &mut KinematicsCache::default()).unwrap();
+        let m = v.mechanical_summary(&o, x, &RackMotion::default(), &mut Workspace::default()).unwrap();
         (m.kinetic_energy + m.potential_energy, m.kinetic_energy)
     };
     let (e0, t0) = e(&x);
-    integrate(&v, &mut x, 1e-3, 300);
+    integrate(&v, &o, 0.0, &mut x, 1e-3, 300);
     let (e1, _) = e(&x);
     let drift = (e1 - e0).abs() / t0;
     println!("energy drift over 0.3 s at h = 1 ms: {drift:.2e} of the kinetic energy");
@@ -191,17 +202,16 @@ fn damped_settle_reaches_the_static_equilibrium_with_original_free_lengths() {
     // Without the retune: drop the vehicle from a perturbed start and let the dampers settle it. The
     // dynamic rest must match the static solve within 0.1 mm (issue requirement).
     let mut v = vehicle();
-    v.speed_mode = SpeedMode::Coast;
     // Frictionless tires: the static problem has no shear forces (ξ = 0). With friction, the scrub of the
     // drop is stored as tread deflection (the standstill tire is a spring, physics.md §6.9), which
     // pre-stresses the car by ~1 mm, as a real car settles: a different rest, not an error.
     v.tire_model = rt_vehicle::model::tire::TireModel::Frictionless;
-    let statics = static_equilibrium(&v, &mut KinematicsCache::default()).unwrap();
+    let statics = static_equilibrium(&v, &coasting(), &mut Workspace::default()).unwrap();
     let mut x = statics.clone();
     x[idx::R0 + 2] += 0.03;
     x[idx::U] += 0.02;
     x[idx::U + 3] -= 0.015;
-    integrate(&v, &mut x, 1e-3, 6000);
+    integrate(&v, &coasting(), 0.0, &mut x, 1e-3, 6000);
     let dz = (x[idx::R0 + 2] - statics[idx::R0 + 2]).abs();
     let du = (0..4).map(|i| (x[idx::U + i] - statics[idx::U + i]).abs()).fold(0.0, f64::max);
     println!("settled after 6 s: |Δz| = {:.2e} m, max |Δθ_L| = {du:.2e} rad", dz);
@@ -213,11 +223,12 @@ fn damped_settle_reaches_the_static_equilibrium_with_original_free_lengths() {
 #[test]
 fn steady_rolling_stays_steady() {
     let mut v = vehicle();
-    rt_vehicle::model::equilibrium::retune_ride_height(&mut v).unwrap();
-    v.target_speed = 100.0 / 3.6;
-    let mut x = steady_rolling(&v, v.target_speed, &mut KinematicsCache::default()).unwrap();
+    let hold = Options::default();
+    rt_vehicle::model::equilibrium::retune_ride_height(&mut v, &hold).unwrap();
+    let speed = 100.0 / 3.6;
+    let mut x = steady_rolling(&v, &hold, speed, &mut Workspace::default()).unwrap();
     let x0 = x.clone();
-    integrate(&v, &mut x, 2e-3, 500);
+    integrate(&v, &hold, speed, &mut x, 2e-3, 500);
     let dz = (x[idx::R0 + 2] - x0[idx::R0 + 2]).abs();
     let dv = (x[idx::V0] - x0[idx::V0]).abs();
     println!("after 1 s of straight running: |Δz| = {dz:.2e} m, |Δv| = {dv:.2e} m/s");
@@ -233,15 +244,17 @@ fn steady_rolling_stays_steady() {
 #[test]
 fn the_avx2_fma_evaluation_agrees_with_the_baseline_one() {
     let v = vehicle();
-    let base = static_equilibrium(&v, &mut KinematicsCache::default()).unwrap();
+    let options = Options::default();
+    let run = Run::flat(&v, &options);
+    let base = static_equilibrium(&v, &options, &mut Workspace::default()).unwrap();
     let mut rng = Rng(0x2545F4914F6CDD1D);
     println!("AVX2 + FMA evaluation in use: {}", rt_vehicle::simd::avx2_fma());
     for case in 0..150 {
         let x = random_state(&mut rng, &base);
         let inputs = random_inputs(&mut rng);
         let (mut fast, mut portable) = (vec![0.0; idx::DIM], vec![0.0; idx::DIM]);
-        v.derivative(&x, &inputs, &mut KinematicsCache::default(), &mut fast, None).unwrap();
-        v.derivative_portable(&x, &inputs, &mut KinematicsCache::default(), &mut portable).unwrap();
+        v.derivative(&run, &x, &inputs, &mut Workspace::default(), &mut fast).unwrap();
+        v.derivative_portable(&run, &x, &inputs, &mut Workspace::default(), &mut portable).unwrap();
         let same = fast.iter().zip(&portable).all(|(a, b)| a.to_bits() == b.to_bits());
         assert!(same, "case {case}: the two evaluations differ:\n{fast:?}\n{portable:?}");
     }

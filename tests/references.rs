@@ -25,12 +25,8 @@ fn reference(scene: &str) -> Vec<Vec<f64>> {
 
 fn check(kind: SceneKind, name: &str) {
     let expected = reference(name);
-    let config = SimConfig {
-        formulation: Formulation::Conventional,
-        integrator: IntegratorKind::Rk4,
-        internal_step: 1e-4,
-        ..SimConfig::default()
-    };
+    let config = SimConfig { integrator: IntegratorKind::Rk4, internal_step: 1e-4, ..SimConfig::default() }
+        .with_options(|o| o.formulation = Formulation::Conventional);
     let scene = Scene::new(kind, Amplitude::Calibrated);
     let mut sim = scene.start(VehicleData::default_hmmwv(), &config).unwrap();
     let mut rows = Vec::new();

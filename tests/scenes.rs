@@ -54,12 +54,12 @@ fn formulations_agree_on_every_scene() {
         let syn = samples(
             kind,
             Amplitude::Calibrated,
-            &SimConfig { formulation: Formulation::Synthesis, ..SimConfig::default() },
+            &SimConfig::default().with_options(|o| o.formulation = Formulation::Synthesis),
         );
         let conv = samples(
             kind,
             Amplitude::Calibrated,
-            &SimConfig { formulation: Formulation::Conventional, ..SimConfig::default() },
+            &SimConfig::default().with_options(|o| o.formulation = Formulation::Conventional),
         );
         let worst = worst_relative_difference(&syn, &conv);
         println!("{}: worst relative difference synthesis vs conventional {:.2e} ({})", kind.name(), worst.0, worst.1);
@@ -132,7 +132,7 @@ fn jturn_steers_left_reaches_the_calibrated_steady_state_and_obeys_ay_equals_v_r
 
 #[test]
 fn paper_amplitude_saturates_the_tires_in_coast() {
-    let config = SimConfig { speed_mode: SpeedMode::Coast, ..SimConfig::default() };
+    let config = SimConfig::default().with_options(|o| o.speed_mode = SpeedMode::Coast);
     let rows = samples(SceneKind::JTurn, Amplitude::Paper, &config);
     let t = col(&rows, "time");
     let ay = col(&rows, "ay");
@@ -230,7 +230,8 @@ fn formulations_agree_on_every_scene_of_the_imported_vehicles() {
         for kind in [SceneKind::Bump, SceneKind::JTurn, SceneKind::Sine] {
             let scene = Scene::for_vehicle(kind, Amplitude::Calibrated, &data).unwrap();
             let trace = |formulation| {
-                let config = SimConfig { formulation, internal_step: 5e-4, ..SimConfig::default() };
+                let config = SimConfig { internal_step: 5e-4, ..SimConfig::default() }
+                    .with_options(|o| o.formulation = formulation);
                 let mut sim = scene.start(data.clone(), &config).unwrap();
                 let mut out = Vec::new();
                 run(&mut sim, scene.duration, 0.01, |o| out.push(*o)).unwrap();

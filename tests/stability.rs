@@ -56,7 +56,8 @@ fn trace(config: SimConfig, brake: [f64; 4], end: f64) -> Vec<[f64; 4]> {
 #[test]
 fn a_braked_stop_stands_still() {
     // 60 km/h, coasting, 4 kN m on each wheel: the wheels lock, the car slides to a stop and stands.
-    let config = SimConfig { speed_mode: SpeedMode::Coast, initial_speed: 60.0 / 3.6, ..SimConfig::default() };
+    let config = SimConfig { initial_speed: 60.0 / 3.6, ..SimConfig::default() }
+        .with_options(|o| o.speed_mode = SpeedMode::Coast);
     let rows = trace(config, [4000.0; 4], 9.0);
     let stop = rows.iter().find(|r| r[2] < 0.01).expect("the car stops")[0];
     let window: Vec<f64> = rows.iter().filter(|r| r[0] >= stop + 1.0 && r[0] <= stop + 6.0).map(|r| r[1]).collect();
@@ -86,8 +87,10 @@ fn a_braked_stop_stands_still() {
 
 #[test]
 fn braked_on_a_20_percent_grade_the_car_holds() {
-    let config =
-        SimConfig { speed_mode: SpeedMode::Coast, initial_speed: 0.0, slope: [0.2, 0.0], ..SimConfig::default() };
+    let config = SimConfig { initial_speed: 0.0, ..SimConfig::default() }.with_options(|o| {
+        o.speed_mode = SpeedMode::Coast;
+        o.slope = [0.2, 0.0];
+    });
     let rows = trace(config, [3000.0; 4], 6.0);
     let at = |t: f64| rows.iter().find(|r| r[0] >= t - 1e-9).unwrap()[1];
     let drift = (at(6.0) - at(1.0)).abs() / 5.0;
@@ -97,12 +100,10 @@ fn braked_on_a_20_percent_grade_the_car_holds() {
 
 #[test]
 fn steady_slip_below_its_speed_range_is_a_named_error() {
-    let config = SimConfig {
-        slip: rt_vehicle::model::tire::SlipModel::Steady,
-        speed_mode: SpeedMode::Coast,
-        initial_speed: 1.0,
-        ..SimConfig::default()
-    };
+    let config = SimConfig { initial_speed: 1.0, ..SimConfig::default() }.with_options(|o| {
+        o.slip = rt_vehicle::model::tire::SlipModel::Steady;
+        o.speed_mode = SpeedMode::Coast;
+    });
     let e = Simulation::new(VehicleData::default_hmmwv(), config).expect_err("refused");
     assert!(e.to_string().contains("model validity") && e.to_string().contains("relaxation slip"), "{e}");
     assert_eq!(e.cause(), rt_vehicle::error::Cause::ModelValidity);

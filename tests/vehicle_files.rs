@@ -4,7 +4,8 @@
 //! `RTV_CHRONO_DATA`), the folder the shipped imports were made from.
 
 use rt_vehicle::model::import_chrono::{import_vehicle, write_atomically};
-use rt_vehicle::model::params::{check_schema, VehicleData, MAX_FILE_BYTES};
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::vehicle_file::{check_schema, MAX_FILE_BYTES};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use std::process::Command;

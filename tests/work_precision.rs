@@ -64,7 +64,7 @@ fn rk4_converges_at_order_two_or_more_on_bumps_with_the_enveloping_contact() {
     // 3 cm bumps: no wheel leaves the road (a wheel that lifts off switches its slip-state law, a jump in
     // the right-hand side that no contact model removes). 6.5 s: the four bumps and 0.9 s after.
     let c = case("bump-3cm-envelope", 6.5);
-    assert_eq!(c.base.contact, ContactModel::Envelope);
+    assert_eq!(c.base.options.contact, ContactModel::Envelope);
     // Steps up to 2.4 ms: above 3.4 ms the step check refuses the run (the wheel hop, 74 rad/s, is
     // under-resolved on a road with bumps: |hλ| > 0.25 for RK4, docs/integrators.md).
     let p = order("bump", &c, IntegratorKind::Rk4, &[0.0024, 0.0017, 0.0012]);

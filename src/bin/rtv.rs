@@ -124,19 +124,19 @@ fn csv_writer(path: Option<&String>) -> Result<Box<dyn Write>, Failure> {
 fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(SimConfig, f64), Failure> {
     let mut c = base;
     if let Some(f) = opts.get("formulation") {
-        c.formulation = modes::FORMULATIONS.by_name(f).map_err(bad)?;
+        c.options.formulation = modes::FORMULATIONS.by_name(f).map_err(bad)?;
     }
     if let Some(i) = opts.get("integrator") {
         c.integrator = modes::INTEGRATORS.by_name(i).map_err(bad)?;
     }
     if let Some(s) = opts.get("speed") {
-        c.speed_mode = modes::SPEED_MODES.by_name(s).map_err(bad)?;
+        c.options.speed_mode = modes::SPEED_MODES.by_name(s).map_err(bad)?;
     }
     if let Some(s) = opts.get("contact") {
-        c.contact = modes::CONTACTS.by_name(s).map_err(bad)?;
+        c.options.contact = modes::CONTACTS.by_name(s).map_err(bad)?;
     }
     if let Some(s) = opts.get("slip") {
-        c.slip = modes::SLIP_MODELS.by_name(s).map_err(bad)?;
+        c.options.slip = modes::SLIP_MODELS.by_name(s).map_err(bad)?;
     }
     if let Some(r) = opts.get("ride-height") {
         // retuned: spring free lengths set so that the design position is the static equilibrium (§8.1);
@@ -166,7 +166,7 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
     // an output point anyway); the fixed-step ones default to the internal step.
     let default_step = if c.integrator.is_error_controlled() { interval } else { c.internal_step };
     c.internal_step = number(opts, "step", default_step)?;
-    c.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
+    c.options.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
     c.bump = [number(opts, "bump-height", c.bump[0])?, number(opts, "bump-length", c.bump[1])?];
     c.validate().map_err(|e| bad(e.to_string()))?;
     // The step asked for is the step taken: it must divide the output interval.

@@ -1075,11 +1075,11 @@ fn deserialized_states_are_validated_like_the_setters() {
     assert!(value.pointer(&format!("{sim}/vehicle")).is_none(), "the vehicle is data, not state");
     let fp = value.pointer(&format!("{sim}/vehicle_fingerprint")).unwrap().as_u64().unwrap();
     let cases = [
-        (edited("/core/model/params/internal_step", (-1.0).into()), "internal step"),
+        (edited("/core/model/config/internal_step", (-1.0).into()), "internal step"),
         (edited(&format!("{sim}/config/internal_step"), 1e-9.into()), "internal step"),
         (edited("/core/model/brake/1", (-5.0).into()), "brake torque"),
         (edited(&format!("{sim}/brake/1"), (-5.0).into()), "brake torques"),
-        (edited("/core/model/params/formulation", 5.into()), "formulation 5"),
+        (edited("/core/model/config/formulation", "Warp".into()), "Warp"),
         (edited("/core/stop_time", 0.001.into()), "stop time"),
         (edited("/core/time", 7.0.into()), "time"),
         (edited(&format!("{sim}/state"), state35.into()), "finite numbers"),
@@ -1088,7 +1088,7 @@ fn deserialized_states_are_validated_like_the_setters() {
         (edited("/core/mode", "Fatal".into()), "Fatal"),
         (edited("/core/needs_init", true.into()), "needs_init"),
         (edited("/core/model/sim", serde_json::Value::Null), "without a simulation"),
-        (edited("/core/model/params/speed_mode", 1.into()), "configuration differs"),
+        (edited("/core/model/config/speed_mode", "Coast".into()), "configuration differs"),
         (edited(&format!("{sim}/vehicle_fingerprint"), (fp ^ 1).into()), "vehicle differs"),
     ];
     for (text, needle) in cases {
@@ -1202,7 +1202,7 @@ fn vehicle_model<'a>(inst: &'a Inst<VehicleModel>) -> &'a VehicleModel {
 fn the_tolerance_and_contact_parameters_refuse_bad_values_and_keep_the_old_ones() {
     let rec = Recorder::default();
     let inst = Inst::<VehicleModel>::new(&rec, None);
-    let tolerance = |inst: &Inst<VehicleModel>| vehicle_model(inst).params.tolerance;
+    let tolerance = |inst: &Inst<VehicleModel>| vehicle_model(inst).config.tolerance;
     assert_eq!(tolerance(&inst), 1e-3, "start value");
     for bad in [0.0, -1e-3, 1e-10, 0.2, f64::NAN, f64::INFINITY] {
         assert_eq!(inst.set_real(&[vr::TOLERANCE], &[bad]), ERROR, "{bad}");

@@ -9,23 +9,15 @@
 use super::logger::Logger;
 use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
 use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, Variable, VARIABLES};
-use crate::integrate::IntegratorKind;
 use crate::model::params::SteeringInput;
 use crate::model::params::VehicleData;
-use crate::model::tire::SlipModel;
 use crate::sim::scenes::SceneNeeds;
-use crate::sim::{modes, Channel, Formulation, RackSample, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::sim::{modes, Channel, RackSample, SimConfig, Simulation, OUTPUT_NAMES, TOLERANCE_MAX, TOLERANCE_MIN};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
 /// The vehicle data file inside the FMU's `resources/`.
 pub const VEHICLE_RESOURCE: &str = "hmmwv.json";
-
-/// Limits of the Real parameters (also declared in the model description as min/max).
-pub use crate::sim::{
-    BUMP_HEIGHT_MAX, BUMP_LENGTH_MAX, BUMP_LENGTH_MIN, INITIAL_SPEED_MAX, INTERNAL_STEP_MAX, INTERNAL_STEP_MIN,
-    SLOPE_MAX, TOLERANCE_MAX, TOLERANCE_MIN,
-};
 
 /// What an input drives: the steering (the rack's or the Pitman arm's input: a vehicle takes one of them),
 /// or a wheel's drive or brake torque (corners FL, FR, RL, RR).
@@ -92,65 +84,14 @@ fn output_channel(var: &Variable) -> Channel {
     OUTPUT_SLOTS[var.index].expect("an output variable is a channel (OUTPUT_SLOTS)")
 }
 
-/// The parameters as the model description has them (Integer modes).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
-pub struct Parameters {
-    pub initial_speed: f64,
-    pub speed_mode: i32,
-    pub formulation: i32,
-    pub integrator: i32,
-    pub internal_step: f64,
-    pub slip_model: i32,
-    pub road: i32,
-    pub vehicle_file: String,
-    #[serde(default)]
-    pub road_grade: f64,
-    #[serde(default)]
-    pub road_cross_slope: f64,
-    #[serde(default)]
-    pub bump_height: f64,
-    #[serde(default)]
-    pub bump_length: f64,
-    #[serde(default = "default_tolerance")]
-    pub tolerance: f64,
-    #[serde(default = "default_contact")]
-    pub contact: i32,
-}
-
-/// What a state saved before these parameters existed had: the default tolerance and the point contact.
-fn default_tolerance() -> f64 {
-    crate::sim::DEFAULT_TOLERANCE
-}
-
-fn default_contact() -> i32 {
-    1
-}
-
-impl Parameters {
-    pub fn config(&self) -> Result<SimConfig, String> {
-        Ok(SimConfig {
-            formulation: formulation(self.formulation)?,
-            integrator: integrator(self.integrator)?,
-            internal_step: self.internal_step,
-            slip: slip_model(self.slip_model)?,
-            road: road(self.road)?,
-            speed_mode: speed_mode(self.speed_mode)?,
-            initial_speed: self.initial_speed,
-            slope: [self.road_grade, self.road_cross_slope],
-            bump: [self.bump_height, self.bump_length],
-            tolerance: self.tolerance,
-            contact: modes::CONTACTS.by_code(self.contact)?,
-            ..SimConfig::default()
-        })
-    }
-}
-
-/// `value` if it lies in [lo, hi] (the range the model description declares), else the message naming it.
-fn ranged(var: &Variable, value: f64, lo: f64, hi: f64, unit: &str) -> Result<f64, String> {
+/// `value` if it lies in the variable's declared [min, max] (its variable table, generated from the model
+/// description: the one copy of the range), else the message naming it.
+fn ranged(var: &Variable, value: f64) -> Result<f64, String> {
+    let (lo, hi) = (var.min.unwrap_or(f64::NEG_INFINITY), var.max.unwrap_or(f64::INFINITY));
     if (lo..=hi).contains(&value) {
         Ok(value)
     } else {
-        Err(format!("{} must be in [{lo:e}, {hi:e}] {unit}", var.name))
+        Err(format!("{} must be in [{lo:e}, {hi:e}] {}", var.name, var.unit.unwrap_or("")).trim_end().to_string())
     }
 }
 
@@ -194,30 +135,14 @@ fn check_steering(input: SteeringInput, value: f64, active: SteeringInput, limit
     Ok(())
 }
 
-fn speed_mode(i: i32) -> Result<SpeedMode, String> {
-    modes::SPEED_MODES.by_code(i)
-}
-
-fn formulation(i: i32) -> Result<Formulation, String> {
-    modes::FORMULATIONS.by_code(i)
-}
-
-fn integrator(i: i32) -> Result<IntegratorKind, String> {
-    modes::INTEGRATORS.by_code(i)
-}
-
-fn slip_model(i: i32) -> Result<SlipModel, String> {
-    modes::SLIP_MODELS.by_code(i)
-}
-
-fn road(i: i32) -> Result<RoadChoice, String> {
-    modes::ROADS.by_code(i)
-}
-
 /// The instance model state: parameters, inputs and the simulation.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VehicleModel {
-    pub params: Parameters,
+    /// The run's configuration, as the parameters set it (the Integer modes stored as their values: a
+    /// code is translated by the `sim::modes` tables when set and when read).
+    pub config: SimConfig,
+    /// The `vehicle_file` parameter.
+    pub vehicle_file: String,
     /// The steering inputs [rack_displacement, pitman_arm_angle]: the vehicle reads its own.
     pub steering: [f64; 2],
     /// Their derivatives of order 1 and 2 for the next step only.
@@ -241,7 +166,7 @@ impl VehicleModel {
     /// looked up in the resources, then the working directory), else `resources/hmmwv.json`, else (no
     /// resource location at all) `None` for the compiled-in default.
     pub fn vehicle_path(&self, context: &ModelContext) -> Result<Option<PathBuf>, String> {
-        let file = self.params.vehicle_file.trim();
+        let file = self.vehicle_file.trim();
         if !file.is_empty() {
             return fmi_layer::resources::locate("vehicle_file", file, context).map(Some);
         }
@@ -272,7 +197,7 @@ impl VehicleModel {
     /// The simulation's configuration: the parameters, with the experiment's tolerance in place of the
     /// `tolerance` parameter when the master defined one.
     fn config(&self) -> Result<SimConfig, String> {
-        let mut config = self.params.config()?;
+        let mut config = self.config.clone();
         if let Some(t) = self.experiment_tolerance {
             config.tolerance = t;
         }
@@ -322,7 +247,8 @@ impl FmuModel for VehicleModel {
 
     fn new(_context: &ModelContext) -> Self {
         VehicleModel {
-            params: Parameters::default(),
+            config: SimConfig::default(),
+            vehicle_file: String::new(),
             steering: [0.0; 2],
             steering_derivatives: [[None; 2]; 2],
             drive: [0.0; 4],
@@ -349,20 +275,20 @@ impl FmuModel for VehicleModel {
     }
 
     fn get_real(&self, var: &Variable) -> Result<f64, String> {
-        let p = &self.params;
+        let c = &self.config;
         Ok(match var.var {
             Var::Input(i) => match input_slot(i) {
                 InputSlot::Steering(input) => self.steering[steering_slot(input)],
                 InputSlot::Drive(c) => self.drive[c],
                 InputSlot::Brake(c) => self.brake[c],
             },
-            Var::Parameter(P::InitialSpeed) => p.initial_speed,
-            Var::Parameter(P::InternalStep) => p.internal_step,
-            Var::Parameter(P::RoadGrade) => p.road_grade,
-            Var::Parameter(P::RoadCrossSlope) => p.road_cross_slope,
-            Var::Parameter(P::BumpHeight) => p.bump_height,
-            Var::Parameter(P::BumpLength) => p.bump_length,
-            Var::Parameter(P::Tolerance) => p.tolerance,
+            Var::Parameter(P::InitialSpeed) => c.initial_speed,
+            Var::Parameter(P::InternalStep) => c.internal_step,
+            Var::Parameter(P::RoadGrade) => c.options.slope[0],
+            Var::Parameter(P::RoadCrossSlope) => c.options.slope[1],
+            Var::Parameter(P::BumpHeight) => c.bump[0],
+            Var::Parameter(P::BumpLength) => c.bump[1],
+            Var::Parameter(P::Tolerance) => c.tolerance,
             Var::Parameter(
                 P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
             ) => return Err(format!("{} is not a Real of this model", var.name)),
@@ -372,14 +298,14 @@ impl FmuModel for VehicleModel {
     }
 
     fn get_integer(&self, var: &Variable) -> Result<i32, String> {
-        let p = &self.params;
+        let (c, o) = (&self.config, &self.config.options);
         Ok(match var.var {
-            Var::Parameter(P::SpeedMode) => p.speed_mode,
-            Var::Parameter(P::Formulation) => p.formulation,
-            Var::Parameter(P::Integrator) => p.integrator,
-            Var::Parameter(P::SlipModel) => p.slip_model,
-            Var::Parameter(P::Road) => p.road,
-            Var::Parameter(P::Contact) => p.contact,
+            Var::Parameter(P::SpeedMode) => modes::SPEED_MODES.code(o.speed_mode),
+            Var::Parameter(P::Formulation) => modes::FORMULATIONS.code(o.formulation),
+            Var::Parameter(P::Integrator) => modes::INTEGRATORS.code(c.integrator),
+            Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.code(o.slip),
+            Var::Parameter(P::Road) => modes::ROADS.code(c.road),
+            Var::Parameter(P::Contact) => modes::CONTACTS.code(o.contact),
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -398,7 +324,7 @@ impl FmuModel for VehicleModel {
 
     fn get_string(&self, var: &Variable) -> Result<String, String> {
         match var.var {
-            Var::Parameter(P::VehicleFile) => Ok(self.params.vehicle_file.clone()),
+            Var::Parameter(P::VehicleFile) => Ok(self.vehicle_file.clone()),
             _ => Err(format!("{} is not a String of this model", var.name)),
         }
     }
@@ -422,23 +348,13 @@ impl FmuModel for VehicleModel {
                     self.brake[c] = value;
                 }
             },
-            Var::Parameter(P::InitialSpeed) => {
-                self.params.initial_speed = ranged(var, value, 0.0, INITIAL_SPEED_MAX, "m/s")?
-            }
-            Var::Parameter(P::InternalStep) => {
-                self.params.internal_step = ranged(var, value, INTERNAL_STEP_MIN, INTERNAL_STEP_MAX, "s")?
-            }
-            Var::Parameter(P::RoadGrade) => self.params.road_grade = ranged(var, value, -SLOPE_MAX, SLOPE_MAX, "")?,
-            Var::Parameter(P::RoadCrossSlope) => {
-                self.params.road_cross_slope = ranged(var, value, -SLOPE_MAX, SLOPE_MAX, "")?
-            }
-            Var::Parameter(P::BumpHeight) => self.params.bump_height = ranged(var, value, 0.0, BUMP_HEIGHT_MAX, "m")?,
-            Var::Parameter(P::BumpLength) => {
-                self.params.bump_length = ranged(var, value, BUMP_LENGTH_MIN, BUMP_LENGTH_MAX, "m")?
-            }
-            Var::Parameter(P::Tolerance) => {
-                self.params.tolerance = ranged(var, value, TOLERANCE_MIN, TOLERANCE_MAX, "")?
-            }
+            Var::Parameter(P::InitialSpeed) => self.config.initial_speed = ranged(var, value)?,
+            Var::Parameter(P::InternalStep) => self.config.internal_step = ranged(var, value)?,
+            Var::Parameter(P::RoadGrade) => self.config.options.slope[0] = ranged(var, value)?,
+            Var::Parameter(P::RoadCrossSlope) => self.config.options.slope[1] = ranged(var, value)?,
+            Var::Parameter(P::BumpHeight) => self.config.bump[0] = ranged(var, value)?,
+            Var::Parameter(P::BumpLength) => self.config.bump[1] = ranged(var, value)?,
+            Var::Parameter(P::Tolerance) => self.config.tolerance = ranged(var, value)?,
             Var::Parameter(
                 P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
             )
@@ -449,14 +365,14 @@ impl FmuModel for VehicleModel {
     }
 
     fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String> {
-        let p = &mut self.params;
+        let c = &mut self.config;
         match var.var {
-            Var::Parameter(P::SpeedMode) => speed_mode(value).map(|_| p.speed_mode = value),
-            Var::Parameter(P::Formulation) => formulation(value).map(|_| p.formulation = value),
-            Var::Parameter(P::Integrator) => integrator(value).map(|_| p.integrator = value),
-            Var::Parameter(P::SlipModel) => slip_model(value).map(|_| p.slip_model = value),
-            Var::Parameter(P::Road) => road(value).map(|_| p.road = value),
-            Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|_| p.contact = value),
+            Var::Parameter(P::SpeedMode) => modes::SPEED_MODES.by_code(value).map(|m| c.options.speed_mode = m),
+            Var::Parameter(P::Formulation) => modes::FORMULATIONS.by_code(value).map(|f| c.options.formulation = f),
+            Var::Parameter(P::Integrator) => modes::INTEGRATORS.by_code(value).map(|i| c.integrator = i),
+            Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.by_code(value).map(|m| c.options.slip = m),
+            Var::Parameter(P::Road) => modes::ROADS.by_code(value).map(|r| c.road = r),
+            Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|m| c.options.contact = m),
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -476,7 +392,7 @@ impl FmuModel for VehicleModel {
     fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String> {
         match var.var {
             Var::Parameter(P::VehicleFile) => {
-                self.params.vehicle_file = value.to_string();
+                self.vehicle_file = value.to_string();
                 Ok(())
             }
             _ => Err(format!("{} is not a settable String of this model", var.name)),

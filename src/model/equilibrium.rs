@@ -5,7 +5,10 @@
 
 use crate::error::{Cause, ModelError};
 use crate::math::{quat_from_euler, quat_to_matrix, V3};
-use crate::model::vehicle::{idx, Inputs, KinematicsCache, Layout, SpeedMode, Vehicle};
+use crate::model::options::Options;
+use crate::model::road_envelope::ContactModel;
+use crate::model::tire::SlipModel;
+use crate::model::vehicle::{idx, Inputs, Layout, Run, SpeedMode, Vehicle, Workspace};
 use nalgebra::{DMatrix, DVector};
 
 /// Residual tolerance of the initialisation solves (accelerations in m/s² and rad/s²).
@@ -77,23 +80,33 @@ pub fn design_height_guess(v: &Vehicle) -> f64 {
     v.tire.unloaded_radius_m - deflection - front.w0.z
 }
 
-fn evaluate(v: &Vehicle, x: &[f64], cache: &mut KinematicsCache, dx: &mut [f64]) -> Result<(), ModelError> {
-    v.derivative(x, &Inputs::default(), cache, dx, None)
+/// The options an initial state is solved with: the run's, on the level road at a point (a car is put on
+/// a slope or an enveloping contact from its level equilibrium, and settles in its first second).
+fn level(options: &Options) -> Options {
+    Options { slope: [0.0; 2], contact: ContactModel::Point, ..*options }
+}
+
+/// The options of the static problems: coasting (no controller at rest) with relaxation slip. At rest
+/// every slip velocity is zero: the tire has no shear force with undeflected slip states (ξ = 0). Steady
+/// slip is not defined at standstill, so the static problem is posed with them.
+fn at_rest(options: &Options) -> Options {
+    Options { speed_mode: SpeedMode::Coast, slip: SlipModel::Relaxation, ..level(options) }
+}
+
+fn evaluate(v: &Vehicle, options: &Options, x: &[f64], ws: &mut Workspace, dx: &mut [f64]) -> Result<(), ModelError> {
+    v.derivative(&Run::flat(v, options), x, &Inputs::default(), ws, dx)
 }
 
 /// Ride-height retune (§8.1 step 1): choose the front and rear spring free-length offsets so that the
 /// design position (all arm angles zero) is the static equilibrium. Returns (ΔL_front, ΔL_rear) and
 /// leaves them applied to `v`.
-pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), ModelError> {
+pub fn retune_ride_height(v: &mut Vehicle, options: &Options) -> Result<(f64, f64), ModelError> {
     let base: Vec<f64> = v.corner_forces.iter().map(|f| f.spring_free_length).collect();
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0];
-    let mut cache = KinematicsCache::default();
+    let mut ws = Workspace::default();
     let mut statics = v.clone();
-    statics.speed_mode = SpeedMode::Coast;
-    // At rest every slip velocity is zero: the tire has no shear force with undeflected slip states
-    // (ξ = 0). Steady slip is not defined at standstill, so the static problem is posed with them.
-    statics.slip = crate::model::tire::SlipModel::Relaxation;
-    let layout = statics.layout();
+    let rest = at_rest(options);
+    let layout = Layout::of(&rest);
     let mut dx = vec![0.0; layout.dim];
     newton(
         &mut p,
@@ -102,7 +115,7 @@ pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), ModelError> {
                 statics.corner_forces[i].spring_free_length = base[i] + if i < 2 { p[3] } else { p[4] };
             }
             let x = rest_state(&layout, p[0], p[1], p[2], &[0.0; 4]);
-            evaluate(&statics, &x, &mut cache, &mut dx)?;
+            evaluate(&statics, &rest, &x, &mut ws, &mut dx)?;
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
@@ -121,20 +134,16 @@ pub fn retune_ride_height(v: &mut Vehicle) -> Result<(f64, f64), ModelError> {
 
 /// Static equilibrium (§8.1 step 2): height, roll, pitch and the four arm angles with every
 /// acceleration zero; x, y and yaw are free and set to zero. The state is in `v`'s layout.
-pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Vec<f64>, ModelError> {
-    let mut statics = v.clone();
-    statics.speed_mode = SpeedMode::Coast;
-    // At rest every slip velocity is zero: the tire has no shear force with undeflected slip states
-    // (ξ = 0). Steady slip is not defined at standstill, so the static problem is posed with them.
-    statics.slip = crate::model::tire::SlipModel::Relaxation;
-    let layout = statics.layout();
+pub fn static_equilibrium(v: &Vehicle, options: &Options, ws: &mut Workspace) -> Result<Vec<f64>, ModelError> {
+    let rest = at_rest(options);
+    let layout = Layout::of(&rest);
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let mut dx = vec![0.0; layout.dim];
     let state = |p: &[f64]| rest_state(&layout, p[0], p[1], p[2], &[p[3], p[4], p[5], p[6]]);
     newton(
         &mut p,
         |p, r| {
-            evaluate(&statics, &state(p), cache, &mut dx)?;
+            evaluate(v, &rest, &state(p), ws, &mut dx)?;
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
@@ -144,15 +153,17 @@ pub fn static_equilibrium(v: &Vehicle, cache: &mut KinematicsCache) -> Result<Ve
         EQUILIBRIUM_TOLERANCE,
         30,
     )?;
-    Ok(v.layout().convert(&state(&p), &layout))
+    Ok(Layout::of(options).convert(&state(&p), &layout))
 }
 
 /// Steady straight rolling at `speed` (§8.1 step 3): starting from the static equilibrium, solve for the
 /// attitude, arm angles, spin rates, longitudinal slip states and (hold) the speed-hold integral so that
 /// the first step is already an equilibrium: no ringing of the lightly damped spin–slip mode.
 /// In coast mode the vehicle decelerates by rolling resistance, so the longitudinal balance is left out.
-pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> Result<Vec<f64>, ModelError> {
-    let mut x = static_equilibrium(v, cache)?;
+/// The state is in the layout of `options`, which it is solved with on the level road (`level`); with the
+/// speed hold, `speed` is its target.
+pub fn steady_rolling(v: &Vehicle, options: &Options, speed: f64, ws: &mut Workspace) -> Result<Vec<f64>, ModelError> {
+    let mut x = static_equilibrium(v, options, ws)?;
     if speed == 0.0 {
         return Ok(x);
     }
@@ -163,9 +174,12 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
         x[idx::SPIN + i] = speed / r;
     }
     // The slip and hold unknowns exist when the options use them (a full layout may carry unused ones).
-    let layout = v.layout();
-    let relaxation = layout.xi.filter(|_| v.slip == crate::model::tire::SlipModel::Relaxation);
-    let hold = layout.zv.filter(|_| v.speed_mode == SpeedMode::Hold);
+    let options = level(options);
+    let run = Run::flat(v, &options);
+    let inputs = Inputs { target_speed: speed, ..Inputs::default() };
+    let layout = run.layout();
+    let relaxation = layout.xi.filter(|_| options.slip == SlipModel::Relaxation);
+    let hold = layout.zv.filter(|_| options.speed_mode == SpeedMode::Hold);
     // Unknowns: z, roll, pitch, u1..4, Ω1..4, [ξ (x, y) per corner], [z_v].
     let mut p = vec![x[idx::R0 + 2], 0.0, 0.0];
     let (roll, pitch, _) = crate::math::euler_from_matrix(&quat_to_matrix(&x[idx::E0..idx::E0 + 4]));
@@ -203,7 +217,7 @@ pub fn steady_rolling(v: &Vehicle, speed: f64, cache: &mut KinematicsCache) -> R
         &mut p,
         |p, r| {
             let x = assemble(p);
-            v.derivative(&x, &Inputs::default(), cache, &mut dx, None)?;
+            v.derivative(&run, &x, &inputs, ws, &mut dx)?;
             let acc = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];

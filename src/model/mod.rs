@@ -5,6 +5,7 @@ pub mod brake;
 pub mod equilibrium;
 pub mod forces;
 pub mod import_chrono;
+pub mod options;
 pub mod params;
 pub mod road;
 pub mod road_envelope;

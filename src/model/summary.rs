@@ -10,8 +10,9 @@
 use crate::error::ModelError;
 use crate::math::{quat_to_matrix, V3};
 use crate::model::equilibrium::static_equilibrium;
+use crate::model::options::Options;
 use crate::model::params::{SuspensionTemplate, VehicleData};
-use crate::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Vehicle};
+use crate::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
 
 /// How the loads and ride heights were found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -118,11 +119,12 @@ pub fn summarize(data: &VehicleData) -> Result<Summary, ModelError> {
 /// Tire normal forces, wheel-centre heights (fl, fr, rl, rr), the sprung CM height and the pitch at the
 /// static equilibrium.
 fn equilibrium(v: &Vehicle) -> Result<([f64; 4], [f64; 4], f64, f64), ModelError> {
-    let mut cache = KinematicsCache::default();
-    let x = static_equilibrium(v, &mut cache)?;
+    let mut cache = Workspace::default();
+    let options = Options::default();
+    let x = static_equilibrium(v, &options, &mut cache)?;
     let mut dx = vec![0.0; x.len()];
-    let mut diag = Diagnostics::default();
-    v.derivative(&x, &Inputs::default(), &mut cache, &mut dx, Some(&mut diag))?;
+    v.derivative(&Run::flat(v, &options), &x, &Inputs::default(), &mut cache, &mut dx)?;
+    let diag = cache.diagnostics;
     let fz = [0, 1, 2, 3].map(|i| diag.tire_force[i][2]);
     let a0 = quat_to_matrix(&[x[idx::E0], x[idx::E0 + 1], x[idx::E0 + 2], x[idx::E0 + 3]]);
     let pitch = (-a0[(2, 0)]).asin();

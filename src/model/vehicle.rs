@@ -12,6 +12,7 @@ use crate::math::{quat_rate, quat_to_matrix, skew, Axes, ChassisAxes, M3, V3};
 use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
+use crate::model::road_envelope::ContactModel;
 use crate::model::steering::{tie_rod_drive, Steering};
 use crate::model::suspension::{BodyInertia, Corner, CornerPositions, LineMount, MountBody, Side, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
@@ -69,6 +70,15 @@ impl Layout {
         Layout { xi, zv, dim }
     }
 
+    /// The layout a run's options give.
+    pub fn of(options: &Options) -> Layout {
+        if options.keep_unused_states {
+            Layout::FULL
+        } else {
+            Layout::new(options.slip, options.speed_mode)
+        }
+    }
+
     /// The relaxation states of corner i (zero where the layout has none).
     #[inline]
     pub fn xi(&self, x: &[f64], i: usize) -> [f64; 2] {
@@ -89,39 +99,7 @@ impl Layout {
     }
 }
 
-/// Which formulation solves for the accelerations (all share the kinematics and the terms).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Formulation {
-    /// Subsystem synthesis reduced by generalized coordinate partitioning (the default).
-    Synthesis,
-    /// Subsystem synthesis with the 9x9 augmented subsystem solve (cross-check).
-    SynthesisAugmented,
-    /// Conventional recursive formulation: one dense 42x42 augmented system.
-    Conventional,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum SpeedMode {
-    Coast,
-    /// PI drive torque holding the target speed (the default, physics.md §8.2).
-    Hold,
-}
-
-/// Which force elements act. All on for a vehicle; tests switch some off (free flight, energy).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct ForceSwitches {
-    pub gravity: bool,
-    pub springs: bool,
-    pub stops: bool,
-    pub dampers: bool,
-    pub tires: bool,
-}
-
-impl Default for ForceSwitches {
-    fn default() -> Self {
-        ForceSwitches { gravity: true, springs: true, stops: true, dampers: true, tires: true }
-    }
-}
+pub use crate::model::options::{ForceSwitches, Formulation, Options, SpeedMode};
 
 pub use crate::model::steering::RackMotion;
 
@@ -131,6 +109,8 @@ pub struct Inputs {
     /// External per-wheel torques (FL, FR, RL, RR), N·m; drive adds to the speed hold, brake ≥ 0.
     pub drive: [f64; 4],
     pub brake: [f64; 4],
+    /// The speed hold's target speed, m/s (read with `SpeedMode::Hold` only).
+    pub target_speed: f64,
 }
 
 /// The last converged dependent coordinates of one corner and their first-order sensitivities, from
@@ -152,11 +132,12 @@ impl WarmStart {
     }
 }
 
-/// Newton warm starts, part of the simulation state (their last bits decide Newton's last bits), and the
-/// corner positions of the latest evaluation, written in place by each evaluation (scratch: neither saved
-/// nor compared).
+/// What the stages of an evaluation write (as MuJoCo's mjData): the Newton warm starts, part of the
+/// simulation state (their last bits decide Newton's last bits), then scratch written in place by each
+/// evaluation and neither saved nor compared: the corner positions (kinematics stage), the terms (subsystem
+/// stage), the tire loads and the diagnostics (tire and wheel stage).
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct KinematicsCache {
+pub struct Workspace {
     pub corners: [WarmStart; 4],
     #[serde(skip)]
     pub positions: [CornerPositions; 4],
@@ -167,9 +148,12 @@ pub struct KinematicsCache {
     /// integrator's step limit near lift-off reads it, `sim::stepping::step_limit`).
     #[serde(skip)]
     pub tire_loads: [f64; 4],
+    /// What the latest evaluation revealed besides ẋ (outputs, events).
+    #[serde(skip)]
+    pub diagnostics: Diagnostics,
 }
 
-impl PartialEq for KinematicsCache {
+impl PartialEq for Workspace {
     fn eq(&self, other: &Self) -> bool {
         self.corners == other.corners
     }
@@ -209,26 +193,93 @@ pub struct Vehicle {
     pub steering: Steering,
     pub tire: TireParams,
     pub tire_model: TireModel,
-    pub slip: SlipModel,
-    pub road: RoadModel,
-    pub formulation: Formulation,
-    pub speed_mode: SpeedMode,
-    pub target_speed: f64,
     pub speed_gains: (f64, f64),
     pub gravity: f64,
-    pub switches: ForceSwitches,
     pub total_mass: f64,
-    /// Road slope, rise over run (longitudinal, cross), modelled by tilting gravity: the road stays the
-    /// plane z = 0 of the model's ground frame, which is the road frame (x along the road, z normal to it).
-    #[serde(default)]
-    pub slope: [f64; 2],
-    /// The enveloping contact's half-length, m (`None`: the single-point contact; model::road_envelope).
-    #[serde(default)]
-    pub envelope: Option<f64>,
-    /// Keep the states the options leave unused (`Layout::FULL`): only to verify that leaving them out
-    /// changes nothing (tests/pruning.rs).
-    #[serde(default)]
-    pub keep_unused_states: bool,
+}
+
+/// The road as every run sees it unless it names another: the level plane.
+pub static FLAT_ROAD: RoadModel = RoadModel::Flat;
+
+/// What a run hands every evaluation besides the vehicle, the state and the inputs: its options and the
+/// road its tires meet, seen through the contact model (a context, as rapier's, instead of a chain of
+/// arguments through the derivative's dispatch).
+#[derive(Clone, Copy)]
+pub struct Run<'a> {
+    pub options: &'a Options,
+    road: RoadView<'a>,
+}
+
+/// The road as the tires see it.
+#[derive(Clone, Copy)]
+enum RoadView<'a> {
+    /// At the point below the wheel (the paper's contact).
+    Point(&'a RoadModel),
+    /// Averaged over the static contact length (`ContactModel::Envelope`, model::road_envelope).
+    Enveloped { road: &'a RoadModel, half_length: f64 },
+    /// Rounded at its C⁰ edges by a moving average of `width` (`EdgeAveraged`): for finite differences.
+    Rounded { road: &'a RoadModel, width: f64 },
+}
+
+impl<'a> RoadView<'a> {
+    fn ground(&self) -> &'a RoadModel {
+        match *self {
+            RoadView::Point(road) | RoadView::Enveloped { road, .. } | RoadView::Rounded { road, .. } => road,
+        }
+    }
+}
+
+impl Road for RoadView<'_> {
+    #[inline(always)]
+    fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
+        match *self {
+            RoadView::Point(road) => road.height_and_gradient(x, y),
+            RoadView::Enveloped { road, half_length } => {
+                crate::model::road_envelope::Enveloped { road, half_length }.height_and_gradient(x, y)
+            }
+            RoadView::Rounded { road, width } => EdgeAveraged { road, width }.height_and_gradient(x, y),
+        }
+    }
+}
+
+impl<'a> Run<'a> {
+    /// `vehicle` run with `options` on `road`.
+    pub fn new(vehicle: &Vehicle, options: &'a Options, road: &'a RoadModel) -> Run<'a> {
+        let road = match options.contact {
+            ContactModel::Point => RoadView::Point(road),
+            // The static half contact length at a quarter of the weight on the level.
+            ContactModel::Envelope => RoadView::Enveloped {
+                road,
+                half_length: crate::model::road_envelope::static_half_contact_length(
+                    vehicle.tire.unloaded_radius_m,
+                    vehicle.tire.vertical_stiffness_N_per_m,
+                    0.25 * vehicle.total_mass * vehicle.gravity,
+                ),
+            },
+        };
+        Run { options, road }
+    }
+
+    /// `options` on the level road.
+    pub fn flat(vehicle: &Vehicle, options: &'a Options) -> Run<'a> {
+        Run::new(vehicle, options, &FLAT_ROAD)
+    }
+
+    /// This run on its road rounded at the C⁰ edges (`EdgeAveraged`, 2 mm) and seen at a point: for
+    /// finite-difference derivatives, which must not straddle an edge.
+    pub fn on_rounded_road(&self) -> Run<'a> {
+        Run { options: self.options, road: RoadView::Rounded { road: self.road.ground(), width: 0.002 } }
+    }
+
+    /// The road the run is on (before the contact model).
+    pub fn road(&self) -> &'a RoadModel {
+        self.road.ground()
+    }
+
+    /// The state layout of this run's options.
+    pub fn layout(&self) -> Layout {
+        Layout::of(self.options)
+    }
 }
 
 /// The chassis part of the state: attitude A0, CM position r0, velocity ṙ0, angular velocity ω0 (ground).
@@ -292,18 +343,9 @@ impl Vehicle {
             steering,
             tire: data.tire.clone(),
             tire_model: TireModel::Sti,
-            slip: SlipModel::Relaxation,
-            road: RoadModel::Flat,
-            formulation: Formulation::Synthesis,
-            speed_mode: SpeedMode::Hold,
-            target_speed: 0.0,
             speed_gains: (data.speed_hold.kp_per_s, data.speed_hold.ki_per_s2),
             gravity: data.gravity_m_s2,
-            switches: ForceSwitches::default(),
             total_mass,
-            slope: [0.0; 2],
-            envelope: None,
-            keep_unused_states: false,
         };
         v.steering.sign = if v
             .steering_gain_per_rack_metre()
@@ -315,25 +357,6 @@ impl Vehicle {
             1.0
         };
         Ok(v)
-    }
-
-    /// Gravity in the road frame: -g (s, c, 1)/√(1 + s² + c²) for the slope (s, c): its normal part is
-    /// -g cos θ and its part along the road g sin θ down the steepest descent (exactly -g ẑ on the level).
-    pub fn gravity_vector(&self) -> V3 {
-        let [s, c] = self.slope;
-        if s == 0.0 && c == 0.0 {
-            return V3::new(0.0, 0.0, -self.gravity);
-        }
-        -self.gravity * V3::new(s, c, 1.0) / (1.0 + s * s + c * c).sqrt()
-    }
-
-    /// The state layout this vehicle's options give.
-    pub fn layout(&self) -> Layout {
-        if self.keep_unused_states {
-            Layout::FULL
-        } else {
-            Layout::new(self.slip, self.speed_mode)
-        }
     }
 
     /// ∂δ̄/∂s at design (mean of the two front wheels), rad per metre of rack translation along +y_C.
@@ -364,7 +387,7 @@ impl Vehicle {
         &self,
         x: &[f64],
         rack_u: f64,
-        cache: &mut KinematicsCache,
+        cache: &mut Workspace,
     ) -> Result<[CornerPositions; 4], ModelError> {
         self.solve_corners(x, rack_u, cache)?;
         Ok(cache.positions.clone())
@@ -373,7 +396,7 @@ impl Vehicle {
     /// Solve the dependent coordinates of every corner into `cache.positions` (in place) from the warm
     /// starts, and update the warm starts.
     #[inline(always)]
-    pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut KinematicsCache) -> Result<(), ModelError> {
+    pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut Workspace) -> Result<(), ModelError> {
         for i in 0..4 {
             let s = self.rack_translation(i, rack_u);
             let c = &self.corners[i];
@@ -389,94 +412,62 @@ impl Vehicle {
         Ok(())
     }
 
-    /// The derivative function: writes ẋ, updates the warm starts, and fills `diag` if given.
-    /// No heap allocation.
+    /// The derivative function: writes ẋ, updates the warm starts and fills the workspace (terms,
+    /// diagnostics). No heap allocation.
     pub fn derivative(
         &self,
+        run: &Run,
         x: &[f64],
         inputs: &Inputs,
-        cache: &mut KinematicsCache,
+        ws: &mut Workspace,
         dxdt: &mut [f64],
-        diag: Option<&mut Diagnostics>,
-    ) -> Result<(), ModelError> {
-        match self.envelope {
-            None => self.derivative_on(&self.road, x, inputs, cache, dxdt, diag),
-            Some(half_length) => {
-                let road = crate::model::road_envelope::Enveloped { road: &self.road, half_length };
-                self.derivative_on(&road, x, inputs, cache, dxdt, diag)
-            }
-        }
-    }
-
-    /// The derivative on the road rounded at its C⁰ edges (`EdgeAveraged`, 2 mm): for finite-difference
-    /// derivatives, which must not straddle an edge.
-    pub fn derivative_on_rounded_road(
-        &self,
-        x: &[f64],
-        inputs: &Inputs,
-        cache: &mut KinematicsCache,
-        dxdt: &mut [f64],
-    ) -> Result<(), ModelError> {
-        let road = EdgeAveraged { road: &self.road, width: 0.002 };
-        self.derivative_on(&road, x, inputs, cache, dxdt, None)
-    }
-
-    fn derivative_on(
-        &self,
-        road: &dyn Road,
-        x: &[f64],
-        inputs: &Inputs,
-        cache: &mut KinematicsCache,
-        dxdt: &mut [f64],
-        diag: Option<&mut Diagnostics>,
     ) -> Result<(), ModelError> {
         #[cfg(target_arch = "x86_64")]
         if crate::simd::avx2_fma() {
             // SAFETY: the CPU has AVX2 and FMA, checked at run time.
-            return unsafe { self.derivative_on_avx2_fma(road, x, inputs, cache, dxdt, diag) };
+            return unsafe { self.derivative_avx2_fma(run, x, inputs, ws, dxdt) };
         }
-        self.derivative_on_any_cpu(road, x, inputs, cache, dxdt, diag)
+        self.derivative_any_cpu(run, x, inputs, ws, dxdt)
     }
 
     /// `derivative` on the baseline x86-64 code whatever the CPU (tests compare it with the dispatched one).
     #[cfg(any(test, feature = "test-support"))]
     pub fn derivative_portable(
         &self,
+        run: &Run,
         x: &[f64],
         inputs: &Inputs,
-        cache: &mut KinematicsCache,
+        ws: &mut Workspace,
         dxdt: &mut [f64],
     ) -> Result<(), ModelError> {
-        self.derivative_on_any_cpu(&self.road, x, inputs, cache, dxdt, None)
+        self.derivative_any_cpu(run, x, inputs, ws, dxdt)
     }
 
     /// The evaluation compiled for AVX2 and FMA: everything it calls in the hot path is `#[inline(always)]`
     /// so that it is compiled here again with these features (a `target_feature` does not reach callees).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn derivative_on_avx2_fma(
+    unsafe fn derivative_avx2_fma(
         &self,
-        road: &dyn Road,
+        run: &Run,
         x: &[f64],
         inputs: &Inputs,
-        cache: &mut KinematicsCache,
+        ws: &mut Workspace,
         dxdt: &mut [f64],
-        diag: Option<&mut Diagnostics>,
     ) -> Result<(), ModelError> {
-        self.derivative_on_any_cpu(road, x, inputs, cache, dxdt, diag)
+        self.derivative_any_cpu(run, x, inputs, ws, dxdt)
     }
 
     #[inline(always)]
-    fn derivative_on_any_cpu(
+    fn derivative_any_cpu(
         &self,
-        road: &dyn Road,
+        run: &Run,
         x: &[f64],
         inputs: &Inputs,
-        cache: &mut KinematicsCache,
+        ws: &mut Workspace,
         dxdt: &mut [f64],
-        diag: Option<&mut Diagnostics>,
     ) -> Result<(), ModelError> {
-        let layout = self.layout();
+        let layout = run.layout();
         if x.len() != layout.dim || dxdt.len() != layout.dim {
             return Err(ModelError::new(
                 Cause::Input,
@@ -488,12 +479,11 @@ impl Vehicle {
                 ),
             ));
         }
-        let mut local = Diagnostics::default();
-        self.assemble_on(road, x, inputs, cache, &mut local)?;
-        cache.tire_loads = local.tire_force.map(|f| f[2]);
-        let assembly = &cache.assembly;
+        self.assemble_into(run, x, inputs, ws)?;
+        ws.tire_loads = ws.diagnostics.tire_force.map(|f| f[2]);
+        let assembly = &ws.assembly;
         // λ feeds neither ẋ nor any output: never computed here (dynamics::Multipliers::Compute gives it).
-        let acc = self.accelerations(assembly, Multipliers::Skip)?;
+        let acc = accelerations(run.options.formulation, assembly, Multipliers::Skip)?;
 
         // State derivative (§4.9 step 7): r̈0 = Ẏ0,lin + ω0 × ṙ0 (ρ0 = 0), ω̇0 = Ẏ0,ang, with Ẏ0 turned from
         // the chassis axes the terms were assembled in to the ground's.
@@ -518,59 +508,33 @@ impl Vehicle {
             }
         }
         if let Some(k) = layout.zv {
-            dxdt[k] = match self.speed_mode {
-                SpeedMode::Hold => self.target_speed - assembly.heading_speed,
+            dxdt[k] = match run.options.speed_mode {
+                SpeedMode::Hold => inputs.target_speed - assembly.heading_speed,
                 SpeedMode::Coast => 0.0, // only in the full layout (`keep_unused_states`)
             };
         }
         if !dxdt.iter().all(|v| v.is_finite()) {
             return Err(ModelError::new(Cause::NonFinite, "non-finite state derivative"));
         }
-        if let Some(d) = diag {
-            local.chassis_acceleration = rdd;
-            *d = local;
-        }
+        ws.diagnostics.chassis_acceleration = rdd;
         Ok(())
-    }
-
-    /// Accelerations from the assembled terms by the selected formulation (§4.9 steps 3f–5, or the
-    /// 42x42 of §4.3): what the paper's Table 1 calls the acceleration evaluation.
-    #[inline(always)]
-    pub fn accelerations(&self, a: &Assembly, multipliers: Multipliers) -> Result<Accelerations<4>, ModelError> {
-        match self.formulation {
-            Formulation::Synthesis => dynamics::solve_synthesis_gcp_with(&a.chassis, &a.terms, multipliers),
-            Formulation::SynthesisAugmented => dynamics::solve_synthesis_augmented(&a.chassis, &a.terms),
-            Formulation::Conventional => dynamics::solve_conventional(&a.chassis, &a.terms),
-        }
-        .context("acceleration solve failed")
     }
 
     /// Everything before the equation solving (§4.9 steps 1–3e): kinematics, forces and the chassis and
     /// subsystem terms, shared by every formulation. The terms are in the chassis axes (`ChassisAxes`): every
     /// vector of the equations turned by A0ᵀ at this instant, which leaves the equations as they are and
     /// spares turning the chassis-fixed suspension data; Ẏ0 comes out in the same axes.
-    pub fn assemble(
-        &self,
-        x: &[f64],
-        inputs: &Inputs,
-        cache: &mut KinematicsCache,
-        local: &mut Diagnostics,
-    ) -> Result<Assembly, ModelError> {
-        self.assemble_on(&self.road, x, inputs, cache, local)?;
-        Ok(cache.assembly)
+    pub fn assemble(&self, run: &Run, x: &[f64], inputs: &Inputs, ws: &mut Workspace) -> Result<Assembly, ModelError> {
+        self.assemble_into(run, x, inputs, ws)?;
+        Ok(ws.assembly)
     }
 
+    /// `assemble` writing the workspace only: the kinematics (`positions`), the tire and wheel stage
+    /// (`diagnostics`) and the terms (`assembly`).
     #[inline(always)]
-    fn assemble_on(
-        &self,
-        road: &dyn Road,
-        x: &[f64],
-        inputs: &Inputs,
-        cache: &mut KinematicsCache,
-        local: &mut Diagnostics,
-    ) -> Result<(), ModelError> {
+    fn assemble_into(&self, run: &Run, x: &[f64], inputs: &Inputs, ws: &mut Workspace) -> Result<(), ModelError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
-        let g = if self.switches.gravity { self.gravity_vector() } else { V3::zeros() };
+        let g = run.options.gravity_vector(self.gravity);
         // The chassis velocities and gravity in the chassis axes, the terms' axes.
         let (a0t, axes) = (a0.transpose(), ChassisAxes);
         let y0 = wrench(&(a0t * v0), &(a0t * w0));
@@ -593,19 +557,21 @@ impl Vehicle {
         // horizontal heading (not the pitched body x axis), so that steady rolling with the static pitch
         // is an exact equilibrium; on a flat road the two differ by V(1 − cos θ) ≈ 1e-5 m/s.
         let vx_body = heading(&a0).dot(&v0);
-        let layout = self.layout();
-        let hold_torque = match (self.speed_mode, layout.zv) {
+        let layout = run.layout();
+        let hold_torque = match (run.options.speed_mode, layout.zv) {
             (SpeedMode::Hold, Some(zv)) => {
                 let (kp, ki) = self.speed_gains;
-                self.total_mass * self.tire.unloaded_radius_m * (kp * (self.target_speed - vx_body) + ki * x[zv]) / 4.0
+                let error = inputs.target_speed - vx_body;
+                self.total_mass * self.tire.unloaded_radius_m * (kp * error + ki * x[zv]) / 4.0
             }
             _ => 0.0,
         };
 
-        self.solve_corners(x, rack.position, cache)?;
-        let chassis = ChassisStage { road, a0, r0, y0, g: g_chassis };
+        self.solve_corners(x, rack.position, ws)?;
+        let chassis = ChassisStage { run, a0, r0, y0, g: g_chassis };
         // Each corner writes its terms in place (no array built and then moved).
-        let KinematicsCache { positions, assembly, .. } = cache;
+        let Workspace { positions, assembly, diagnostics: local, .. } = ws;
+        *local = Diagnostics::default();
         for i in 0..4 {
             let c = &self.corners[i];
             let pos = &positions[i];
@@ -646,8 +612,8 @@ impl Vehicle {
         diag: &mut Diagnostics,
         terms: &mut SubsystemTerms,
     ) -> Result<CornerOutput, ModelError> {
-        let ChassisStage { road, a0, r0, y0, g } = chassis;
-        let (road, a0, r0, y0, g) = (*road, a0, r0, y0, g);
+        let ChassisStage { run, a0, r0, y0, g } = chassis;
+        let (road, options) = (&run.road, run.options);
         let CornerMotion { positions: pos, qd, gamma_bar } = motion;
         let WheelState { spin, xi, drive_torque, brake_torque } = *wheel;
         let c = &self.corners[i];
@@ -680,7 +646,7 @@ impl Vehicle {
             let magnitude = match kind {
                 LineElement::Spring => {
                     let mut spring = f.spring.clone();
-                    if !self.switches.stops {
+                    if !options.switches.stops {
                         spring.stop_min_length_m = f64::NEG_INFINITY;
                         spring.stop_max_length_m = f64::INFINITY;
                     }
@@ -697,10 +663,10 @@ impl Vehicle {
             }
             chassis_wrench += point_force(&(-e * magnitude), &rho_c);
         };
-        if self.switches.springs {
+        if options.switches.springs {
             line_element(&c.spring, LineElement::Spring);
         }
-        if self.switches.dampers {
+        if options.switches.dampers {
             line_element(&c.shock, LineElement::Damper);
         }
 
@@ -719,7 +685,7 @@ impl Vehicle {
         let axle_ground = a0 * axle;
         diag.wheel_centre_z[i] = centre_abs.z;
         diag.wheel_spin_relative[i] = spin_rel;
-        let contact = if self.switches.tires {
+        let contact = if options.switches.tires {
             tire::contact(road, &centre_abs, &axle_ground, self.tire.unloaded_radius_m)
         } else {
             None
@@ -731,7 +697,7 @@ impl Vehicle {
                 let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
                 // 1 when rolling above the low-speed range (the model of §6.7 exactly), 0 at standstill.
                 let blend = tire::low_speed_blend(&self.tire, slip.vx);
-                let (kappa, tan_alpha) = match self.slip {
+                let (kappa, tan_alpha) = match options.slip {
                     SlipModel::Relaxation => {
                         let context = tire::SlipStateContext {
                             in_contact: true,
@@ -775,7 +741,7 @@ impl Vehicle {
                 diag.tan_alpha[i] = tan_alpha;
             }
             None => {
-                if self.slip == SlipModel::Relaxation {
+                if options.slip == SlipModel::Relaxation {
                     let lifted = tire::SlipStateContext { in_contact: false, blend: 1.0, sliding_limit: [1.0; 2] };
                     relaxation_rates = tire::relaxation_rates(&self.tire, 0.0, 0.0, 0.0, xi, &lifted);
                 }
@@ -837,6 +803,22 @@ impl Vehicle {
         terms.phi_v_solved = pos.lu_v.map(|lu| PhiVSolved { lu, phi_v_inv_phi_u: -pos.dv_du });
         Ok(CornerOutput { chassis_wrench, spin_torque, relaxation_rates })
     }
+}
+
+/// Accelerations from the assembled terms by the selected formulation (§4.9 steps 3f–5, or the 42x42 of
+/// §4.3): what the paper's Table 1 calls the acceleration evaluation.
+#[inline(always)]
+pub fn accelerations(
+    formulation: Formulation,
+    a: &Assembly,
+    multipliers: Multipliers,
+) -> Result<Accelerations<4>, ModelError> {
+    match formulation {
+        Formulation::Synthesis => dynamics::solve_synthesis_gcp_with(&a.chassis, &a.terms, multipliers),
+        Formulation::SynthesisAugmented => dynamics::solve_synthesis_augmented(&a.chassis, &a.terms),
+        Formulation::Conventional => dynamics::solve_conventional(&a.chassis, &a.terms),
+    }
+    .context("acceleration solve failed")
 }
 
 pub const BODY_L: usize = 0;
@@ -966,11 +948,12 @@ enum LineElement {
     Damper,
 }
 
-/// What the chassis stage of an evaluation hands every corner: the road, the chassis attitude A0 and CM r0
+/// What the chassis stage of an evaluation hands every corner: the run (its options and road), the chassis
+/// attitude A0 and CM r0
 /// (which place the wheel on the road, in the ground's axes), and the chassis velocity state Y0 and
 /// gravity in the chassis axes the terms are assembled in.
 struct ChassisStage<'a> {
-    road: &'a dyn Road,
+    run: &'a Run<'a>,
     a0: M3,
     r0: V3,
     y0: Vector6<f64>,
@@ -1017,13 +1000,14 @@ pub struct MechanicalSummary {
 impl Vehicle {
     pub fn mechanical_summary(
         &self,
+        options: &Options,
         x: &[f64],
         rack: &RackMotion,
-        cache: &mut KinematicsCache,
+        cache: &mut Workspace,
     ) -> Result<MechanicalSummary, ModelError> {
         let Chassis { a0, r0, v0, w0 } = Chassis::of(x);
         let y0 = wrench(&v0, &w0);
-        let g = if self.switches.gravity { self.gravity_vector() } else { V3::zeros() };
+        let g = options.gravity_vector(self.gravity);
         let mut p = V3::zeros();
         let mut h = V3::zeros();
         let mut t = 0.0;
@@ -1055,7 +1039,7 @@ impl Vehicle {
                 add_body(k.mass[b], &k.com[b], &k.inertia[b], &rdot, &w);
             }
             spin_terms.push((k.axle, x[idx::SPIN + i], c.spin_inertia));
-            if self.switches.springs {
+            if options.switches.springs {
                 let f = &self.corner_forces[i];
                 let length = (c.mount_point(pos, &c.spring) - c.spring.chassis).norm();
                 let xs = length - f.spring_free_length;

@@ -7,7 +7,7 @@
 //! same secant iteration in a quicker configuration (`Accuracy::Quick`).
 
 use super::scenes::{run, Amplitude, Scene, SceneKind};
-use super::{Channel, Formulation, SimConfig};
+use super::{Channel, Formulation, Options, SimConfig};
 use crate::error::{Cause, ModelError};
 use crate::model::params::VehicleData;
 use crate::model::vehicle::Vehicle;
@@ -63,9 +63,11 @@ pub enum Accuracy {
 impl Accuracy {
     pub fn config(self) -> SimConfig {
         match self {
-            Accuracy::Reference => {
-                SimConfig { formulation: Formulation::Conventional, internal_step: 1e-4, ..SimConfig::default() }
-            }
+            Accuracy::Reference => SimConfig {
+                options: Options { formulation: Formulation::Conventional, ..Options::default() },
+                internal_step: 1e-4,
+                ..SimConfig::default()
+            },
             Accuracy::Quick => SimConfig { internal_step: 1e-3, ..SimConfig::default() },
         }
     }

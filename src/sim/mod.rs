@@ -23,7 +23,7 @@ use crate::model::equilibrium::{retune_ride_height, steady_rolling};
 use crate::model::params::VehicleData;
 use crate::model::road::{RoadModel, PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M};
 use crate::model::tire::SlipModel;
-use crate::model::vehicle::{idx, Diagnostics, Inputs, KinematicsCache, Layout, Vehicle, WarmStart};
+use crate::model::vehicle::{idx, Diagnostics, Inputs, Layout, Run, Vehicle, WarmStart, Workspace};
 use nalgebra::{Complex, SMatrix};
 use serde::{Deserialize, Serialize};
 
@@ -31,8 +31,8 @@ pub use inputs::{Breakpoints, RackProfile, RackSample, RackSource};
 
 pub use outputs::{Channel, Outputs, CSV_COLUMNS, OUTPUT_NAMES};
 
+pub use crate::model::options::{Formulation, Options, SpeedMode};
 pub use crate::model::road_envelope::ContactModel;
-pub use crate::model::vehicle::{Formulation, SpeedMode};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum RoadChoice {
@@ -43,21 +43,17 @@ pub enum RoadChoice {
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SimConfig {
-    pub formulation: Formulation,
+    /// How the vehicle is evaluated (formulation, slip, speed mode, slope, contact, switches).
+    #[serde(flatten)]
+    pub options: Options,
     pub integrator: IntegratorKind,
     /// Largest internal step, s.
     pub internal_step: f64,
-    pub slip: SlipModel,
     pub road: RoadChoice,
-    pub speed_mode: SpeedMode,
-    /// m/s
+    /// The speed the run starts at, steady rolling, and the speed hold's target, m/s.
     pub initial_speed: f64,
     /// Retune spring free lengths so that the design position is the static equilibrium (default on).
     pub ride_height_retune: bool,
-    /// Road slope, rise over run: longitudinal (positive uphill towards +x) and cross (positive: +y side
-    /// higher). Gravity is tilted (`Vehicle::slope`); the car starts from its level equilibrium.
-    #[serde(default)]
-    pub slope: [f64; 2],
     /// Height and length of the bumps of the bump course, m.
     #[serde(default = "paper_bump")]
     pub bump: [f64; 2],
@@ -66,9 +62,6 @@ pub struct SimConfig {
     /// integrators ignore it.
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
-    /// How the tires meet the road: the paper's single point, or the enveloping contact.
-    #[serde(default)]
-    pub contact: ContactModel,
 }
 
 fn default_tolerance() -> f64 {
@@ -77,29 +70,31 @@ fn default_tolerance() -> f64 {
 
 /// The default tolerance of the error-controlled integrator (0.1 % of peak).
 pub const DEFAULT_TOLERANCE: f64 = 1e-3;
-/// The range of the tolerance: below 1e-9 of peak the Newton solves' 1e-12 and the outputs' round-off are
-/// no longer far below it; above 0.1 a run is not worth calling accurate.
-pub const TOLERANCE_MIN: f64 = 1e-9;
-pub const TOLERANCE_MAX: f64 = 0.1;
+// The tolerance's range (`limits`): below 1e-9 of peak the Newton solves' 1e-12 and the outputs' round-off
+// are no longer far below it; above 0.1 a run is not worth calling accurate.
+
+fn flat_road() -> RoadModel {
+    RoadModel::Flat
+}
 
 fn paper_bump() -> [f64; 2] {
     [PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M]
 }
 
-/// Largest road slope (either direction), rise over run: 45°.
-pub const SLOPE_MAX: f64 = 1.0;
-/// Bump height range, m (0.3 m: two thirds of the tire radius).
-pub const BUMP_HEIGHT_MAX: f64 = 0.3;
-/// Bump length range, m.
-pub const BUMP_LENGTH_MIN: f64 = 0.1;
-pub const BUMP_LENGTH_MAX: f64 = 10.0;
+/// The ranges of the run's Real settings, generated from the model description's min/max (written once, in
+/// modelDescription/modelDescription.xml; the FMU's setters read the same bounds from its variable table).
+/// Why they are what they are: internal step, below 1 µs a step buys no accuracy (round-off dominates RK4:
+/// docs/integrators.md), above 0.1 s no integrator here is stable; initial speed up to 216 km/h, beyond the
+/// vehicle's and the tire data's range; road slopes to 45°; bumps to 0.3 m high (two thirds of the tire
+/// radius) and 0.1–10 m long; the tolerance as `TOLERANCE_MIN`/`MAX` say.
+pub mod limits {
+    include!(concat!(env!("OUT_DIR"), "/parameter_ranges.rs"));
+}
+pub use limits::{
+    BUMP_HEIGHT_MAX, BUMP_HEIGHT_MIN, BUMP_LENGTH_MAX, BUMP_LENGTH_MIN, INITIAL_SPEED_MAX, INITIAL_SPEED_MIN,
+    INTERNAL_STEP_MAX, INTERNAL_STEP_MIN, TOLERANCE_MAX, TOLERANCE_MIN,
+};
 
-/// The range of the internal step, s. Below 1 µs a step buys no accuracy (round-off dominates RK4 there:
-/// docs/integrators.md) and only costs time; above 0.1 s no integrator here is stable for this vehicle.
-pub const INTERNAL_STEP_MIN: f64 = 1e-6;
-pub const INTERNAL_STEP_MAX: f64 = 0.1;
-/// Initial speed range, m/s (216 km/h: beyond the vehicle's and the tire data's range).
-pub const INITIAL_SPEED_MAX: f64 = 60.0;
 /// The most derivative evaluations one `advance` may cost (about 1 s here at ~10 µs each): a larger
 /// interval is refused before any work, so that no call hangs (an FMU master's doStep, a CLI run's output
 /// interval). Split such an interval into several.
@@ -117,16 +112,27 @@ impl SimConfig {
                 ),
             ));
         }
-        if !(0.0..=INITIAL_SPEED_MAX).contains(&self.initial_speed) {
+        if !(INITIAL_SPEED_MIN..=INITIAL_SPEED_MAX).contains(&self.initial_speed) {
             return Err(ModelError::new(
                 Cause::Input,
-                format!("initial speed {} m/s is outside [0, {INITIAL_SPEED_MAX}] m/s", self.initial_speed),
+                format!(
+                    "initial speed {} m/s is outside [{INITIAL_SPEED_MIN}, {INITIAL_SPEED_MAX}] m/s",
+                    self.initial_speed
+                ),
             ));
         }
-        if !self.slope.iter().all(|s| s.abs() <= SLOPE_MAX) {
+        let [grade, cross] = self.options.slope;
+        use limits::{ROAD_CROSS_SLOPE_MAX, ROAD_CROSS_SLOPE_MIN, ROAD_GRADE_MAX, ROAD_GRADE_MIN};
+        if !((ROAD_GRADE_MIN..=ROAD_GRADE_MAX).contains(&grade)
+            && (ROAD_CROSS_SLOPE_MIN..=ROAD_CROSS_SLOPE_MAX).contains(&cross))
+        {
             return Err(ModelError::new(
                 Cause::Input,
-                format!("road slope {:?} (rise over run) is outside [-{SLOPE_MAX}, {SLOPE_MAX}]", self.slope),
+                format!(
+                    "road slope {:?} (rise over run) is outside [{ROAD_GRADE_MIN}, {ROAD_GRADE_MAX}] (grade) and \
+                     [{ROAD_CROSS_SLOPE_MIN}, {ROAD_CROSS_SLOPE_MAX}] (cross slope)",
+                    self.options.slope
+                ),
             ));
         }
         if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&self.tolerance) {
@@ -136,10 +142,10 @@ impl SimConfig {
             ));
         }
         let [height, length] = self.bump;
-        if !(0.0..=BUMP_HEIGHT_MAX).contains(&height) {
+        if !(BUMP_HEIGHT_MIN..=BUMP_HEIGHT_MAX).contains(&height) {
             return Err(ModelError::new(
                 Cause::Input,
-                format!("bump height {height} m is outside [0, {BUMP_HEIGHT_MAX}] m"),
+                format!("bump height {height} m is outside [{BUMP_HEIGHT_MIN}, {BUMP_HEIGHT_MAX}] m"),
             ));
         }
         if !(BUMP_LENGTH_MIN..=BUMP_LENGTH_MAX).contains(&length) {
@@ -149,6 +155,12 @@ impl SimConfig {
             ));
         }
         Ok(())
+    }
+
+    /// This configuration with its options changed by `change`.
+    pub fn with_options(mut self, change: impl FnOnce(&mut Options)) -> SimConfig {
+        change(&mut self.options);
+        self
     }
 
     /// The sub-steps that cover an interval `h`, or an error if they would cost more than
@@ -182,18 +194,14 @@ impl SimConfig {
 impl Default for SimConfig {
     fn default() -> Self {
         SimConfig {
-            formulation: Formulation::Synthesis,
+            options: Options::default(),
             integrator: IntegratorKind::Rk4,
             internal_step: 0.002,
-            slip: SlipModel::Relaxation,
             road: RoadChoice::Flat,
-            speed_mode: SpeedMode::Hold,
             initial_speed: 100.0 / 3.6,
             ride_height_retune: true,
-            slope: [0.0; 2],
             bump: paper_bump(),
             tolerance: DEFAULT_TOLERANCE,
-            contact: ContactModel::Point,
         }
     }
 }
@@ -201,10 +209,13 @@ impl Default for SimConfig {
 /// The vehicle as an ODE for the integrators: inputs from the rack source and the torques.
 pub struct VehicleOde<'a> {
     pub vehicle: &'a Vehicle,
+    pub run: Run<'a>,
     pub rack: &'a RackSource,
     pub drive: [f64; 4],
     pub brake: [f64; 4],
-    pub cache: &'a mut KinematicsCache,
+    /// The speed hold's target, m/s.
+    pub target_speed: f64,
+    pub cache: &'a mut Workspace,
     /// Evaluations made (a stage taken from `first_stage` is not one).
     pub evaluations: u64,
     /// The output evaluation at the step's start, if one was made there (`FirstStage`).
@@ -237,6 +248,7 @@ impl FirstStage {
             && same(&[r.position, r.velocity, r.acceleration], &[s.position, s.velocity, s.acceleration])
             && same(&inputs.drive, &self.inputs.drive)
             && same(&inputs.brake, &self.inputs.brake)
+            && same(&[inputs.target_speed], &[self.inputs.target_speed])
             && warm_starts.iter().zip(&self.warm_before).all(|(a, b)| {
                 same(&a.v, &b.v)
                     && same(&[a.u, a.s], &[b.u, b.s])
@@ -248,11 +260,12 @@ impl FirstStage {
 
 impl OdeSystem for VehicleOde<'_> {
     fn dim(&self) -> usize {
-        self.vehicle.layout().dim
+        self.run.layout().dim
     }
 
     fn derivative(&mut self, t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), ModelError> {
-        let inputs = Inputs { rack: self.rack.at(t), drive: self.drive, brake: self.brake };
+        let inputs =
+            Inputs { rack: self.rack.at(t), drive: self.drive, brake: self.brake, target_speed: self.target_speed };
         if let Some(f) = self.first_stage.filter(|f| f.is_for(x, &inputs, &self.cache.corners)) {
             dxdt.copy_from_slice(&f.dx[..f.dim]);
             self.cache.corners = f.warm_after;
@@ -260,7 +273,7 @@ impl OdeSystem for VehicleOde<'_> {
             return Ok(());
         }
         self.evaluations += 1;
-        self.vehicle.derivative(x, &inputs, self.cache, dxdt, None)
+        self.vehicle.derivative(&self.run, x, &inputs, self.cache, dxdt)
     }
 
     fn project(&self, x: &mut [f64]) {
@@ -270,7 +283,7 @@ impl OdeSystem for VehicleOde<'_> {
     }
 
     fn error_scale(&self, scale: &mut [f64]) {
-        stepping::error_scale(&self.vehicle.layout(), scale);
+        stepping::error_scale(&self.run.layout(), scale);
     }
 
     fn step_limit(&self) -> f64 {
@@ -295,43 +308,32 @@ fn fingerprint(vehicle: &Vehicle) -> u64 {
 /// steady rolling state. A deterministic function of the vehicle and the configuration.
 struct Start {
     vehicle: Vehicle,
+    /// The road, placed (the bump course is measured from the initial front wheel centres).
+    road: RoadModel,
     state: Vec<f64>,
-    cache: KinematicsCache,
+    cache: Workspace,
     front_wheel_x0: f64,
 }
 
 impl Start {
     fn new(mut v: Vehicle, config: &SimConfig) -> Result<Start, ModelError> {
         config.validate()?;
-        v.formulation = config.formulation;
-        v.slip = config.slip;
-        v.speed_mode = config.speed_mode;
-        v.target_speed = config.initial_speed;
+        let options = &config.options;
         if config.ride_height_retune {
-            retune_ride_height(&mut v).context("ride-height retune")?;
+            retune_ride_height(&mut v, options).context("ride-height retune")?;
         }
-        let mut cache = KinematicsCache::default();
-        let state = steady_rolling(&v, config.initial_speed, &mut cache).context("initial equilibrium")?;
+        let mut cache = Workspace::default();
+        let state = steady_rolling(&v, options, config.initial_speed, &mut cache).context("initial equilibrium")?;
         let positions = v.corner_positions(&state, 0.0, &mut cache)?;
         let a0 = quat_to_matrix(&state[idx::E0..idx::E0 + 4]);
         let front_wheel_x0 = 0.5
             * (0..2).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
             + state[idx::R0];
-        if config.road == RoadChoice::PaperBumps {
-            v.road = RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]);
-        }
-        if config.contact == ContactModel::Envelope {
-            // The static half contact length at a quarter of the weight on the level.
-            let load = 0.25 * v.total_mass * v.gravity;
-            v.envelope = Some(crate::model::road_envelope::static_half_contact_length(
-                v.tire.unloaded_radius_m,
-                v.tire.vertical_stiffness_N_per_m,
-                load,
-            ));
-        }
-        // The car is put on the slope from its level equilibrium (it settles in its first second).
-        v.slope = config.slope;
-        Ok(Start { vehicle: v, state, cache, front_wheel_x0 })
+        let road = match config.road {
+            RoadChoice::Flat => RoadModel::Flat,
+            RoadChoice::PaperBumps => RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]),
+        };
+        Ok(Start { vehicle: v, road, state, cache, front_wheel_x0 })
     }
 }
 
@@ -559,12 +561,15 @@ pub struct Simulation {
     /// `None` only in a simulation read back from a saved state, until `validate_restored` attaches it.
     #[serde(skip)]
     vehicle: Option<Vehicle>,
+    /// The road, placed (rebuilt with the vehicle when a saved state is restored).
+    #[serde(skip, default = "flat_road")]
+    road: RoadModel,
     /// `fingerprint` of the vehicle, to recognise it when a saved state is restored.
     vehicle_fingerprint: u64,
     integrator: AnyIntegrator,
     time: f64,
     state: Vec<f64>,
-    cache: KinematicsCache,
+    cache: Workspace,
     rack: RackSource,
     /// Slope of the last external ramp (a change restarts multistep history: a declared kink).
     last_external_slope: Option<f64>,
@@ -612,12 +617,13 @@ impl Simulation {
 
     /// As `new`, from an already built vehicle (tests switch force elements or tire models first).
     pub fn from_vehicle(v: Vehicle, config: SimConfig) -> Result<Simulation, ModelError> {
-        let Start { vehicle: v, state, cache, front_wheel_x0 } = Start::new(v, &config)?;
+        let Start { vehicle: v, road, state, cache, front_wheel_x0 } = Start::new(v, &config)?;
         let vehicle_fingerprint = fingerprint(&v);
         let mut sim = Simulation {
             integrator: AnyIntegrator::new(config.integrator),
             config,
             vehicle: Some(v),
+            road,
             vehicle_fingerprint,
             time: 0.0,
             state,
@@ -654,10 +660,11 @@ impl Simulation {
             return bad("its vehicle differs from the one the vehicle data file and the parameters give".into());
         }
         self.vehicle = Some(built.vehicle);
+        self.road = built.road;
         if !(self.time >= 0.0 && (self.time - elapsed).abs() <= 1e-6 * elapsed.abs().max(1.0)) {
             return bad(format!("time {} differs from the FMU's time since the start {elapsed}", self.time));
         }
-        let layout = self.vehicle().layout();
+        let layout = Layout::of(&self.config.options);
         if self.state.len() != layout.dim || self.state.iter().any(|v| !v.is_finite()) {
             return bad(format!("the state must be {} finite numbers (got {})", layout.dim, self.state.len()));
         }
@@ -688,6 +695,21 @@ impl Simulation {
 
     pub fn config(&self) -> &SimConfig {
         &self.config
+    }
+
+    /// The road the run is on, placed.
+    pub fn road(&self) -> &RoadModel {
+        &self.road
+    }
+
+    /// The model's inputs at time t: the steering source, the wheel torques and the speed hold's target.
+    fn inputs_at(&self, t: f64) -> Inputs {
+        Inputs { rack: self.rack.at(t), drive: self.drive, brake: self.brake, target_speed: self.config.initial_speed }
+    }
+
+    /// The model's inputs now.
+    pub fn inputs(&self) -> Inputs {
+        self.inputs_at(self.time)
     }
 
     pub fn vehicle(&self) -> &Vehicle {
@@ -826,13 +848,16 @@ impl Simulation {
     fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), ModelError> {
         let t0 = self.time;
         let vehicle = attached(&self.vehicle)?;
-        let layout = vehicle.layout();
+        let run = Run::new(vehicle, &self.config.options, &self.road);
+        let layout = run.layout();
         let breakpoints = self.rack.breakpoints();
         let mut ode = VehicleOde {
             vehicle,
+            run,
             rack: &self.rack,
             drive: self.drive,
             brake: self.brake,
+            target_speed: self.config.initial_speed,
             cache: &mut self.cache,
             evaluations: 0,
             first_stage: self.first_stage.as_ref(),
@@ -883,19 +908,19 @@ impl Simulation {
     /// allocation.
     pub fn wheel_modes(&mut self) -> Result<WheelModes, ModelError> {
         let vehicle = attached(&self.vehicle)?;
-        let layout = vehicle.layout();
+        let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
+        let layout = run.layout();
         let n = layout.dim;
         // The slip states that are in use (a full layout may carry unused ones: they have no dynamics).
-        let slip_states = layout.xi.filter(|_| vehicle.slip == crate::model::tire::SlipModel::Relaxation);
-        let inputs = Inputs { rack: self.rack.at(self.time), drive: self.drive, brake: self.brake };
+        let slip_states = layout.xi.filter(|_| run.options.slip == SlipModel::Relaxation);
+        let inputs = self.inputs_at(self.time);
         let warm_starts = self.cache.corners;
         let mut x = [0.0; idx::DIM];
         x[..n].copy_from_slice(&self.state);
         let mut f0 = [0.0; idx::DIM];
         // On C¹-rounded road edges: a perturbation that straddles a C⁰ edge would see an arbitrarily large
         // stiffness that is no mode (a step the integrator takes through the edge anyway).
-        let mut evaluate =
-            |x: &[f64], out: &mut [f64]| vehicle.derivative_on_rounded_road(x, &inputs, &mut self.cache, out);
+        let mut evaluate = |x: &[f64], out: &mut [f64]| vehicle.derivative(&run, x, &inputs, &mut self.cache, out);
         // The wheel states of corner i, and the step of each difference: [θ_L, θ̇_L, Ω, ξ_x, ξ_y].
         let per_corner = if slip_states.is_some() { 5 } else { 3 };
         let state_of = |i: usize, s: usize| -> usize {
@@ -1010,7 +1035,7 @@ impl Simulation {
     /// resolved, not only stable: |hλ| ≤ `HOP_RESOLUTION`. (On a level road only the body's slow motions
     /// reach it, and a stable step is accurate: docs/stability.md.)
     fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64) -> Result<(), ModelError> {
-        let bumpy = matches!(attached(&self.vehicle)?.road, RoadModel::Bumps(_));
+        let bumpy = matches!(self.road, RoadModel::Bumps(_));
         let bound = hop_resolution(self.config.integrator);
         let worst = modes
             .iter()
@@ -1039,7 +1064,7 @@ impl Simulation {
     /// A bump passes under a wheel in length / speed: a fixed step must take `STEPS_PER_BUMP` steps over it
     /// (for fixed-step schemes; the error control of DOPRI5 resolves it by itself).
     fn check_bump_resolution(&self, h: f64) -> Result<(), ModelError> {
-        let RoadModel::Bumps(bumps) = &attached(&self.vehicle)?.road else { return Ok(()) };
+        let RoadModel::Bumps(bumps) = &self.road else { return Ok(()) };
         if self.config.integrator == IntegratorKind::Dopri5 {
             return Ok(());
         }
@@ -1099,13 +1124,13 @@ impl Simulation {
     fn evaluate_outputs(&mut self) -> Result<(), ModelError> {
         self.write_state_outputs();
         let vehicle = attached(&self.vehicle)?;
+        let run = Run::new(vehicle, &self.config.options, &self.road);
         let mut dx = [0.0; idx::DIM]; // the largest layout
-        let dx = &mut dx[..vehicle.layout().dim];
-        let mut d = Diagnostics::default();
-        let rack = self.rack.at(self.time);
-        let inputs = Inputs { rack, drive: self.drive, brake: self.brake };
+        let dx = &mut dx[..run.layout().dim];
+        let inputs = self.inputs_at(self.time);
         let warm_starts = self.cache.corners;
-        let evaluated = vehicle.derivative(&self.state, &inputs, &mut self.cache, dx, Some(&mut d));
+        let evaluated = vehicle.derivative(&run, &self.state, &inputs, &mut self.cache, dx);
+        let d = self.cache.diagnostics;
         let warm_after = std::mem::replace(&mut self.cache.corners, warm_starts);
         evaluated?;
         self.evaluations += 1;

@@ -2,11 +2,10 @@
 //! each starting from steady rolling at its speed, and a runner that samples the outputs. Each scene
 //! declares what it needs (`SceneNeeds`); `rtv scene` runs with that and leaves the rest out.
 
-use super::{outputs, Outputs, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
+use super::{outputs, Options, Outputs, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
 use crate::error::{Cause, ModelError};
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
-use crate::model::vehicle::Vehicle;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SceneKind {
@@ -103,8 +102,8 @@ impl SceneNeeds {
         SceneNeeds {
             torques,
             road: config.road,
-            slip: config.slip,
-            speed_mode: config.speed_mode,
+            slip: config.options.slip,
+            speed_mode: config.options.speed_mode,
             outputs: &[],
             events: torques || config.road != RoadChoice::Flat,
         }
@@ -220,7 +219,9 @@ impl Scene {
     /// The run options of the scene's declaration on top of `base` (its slip model, speed mode, road and
     /// speed); a caller overrides them afterwards if it asks for others.
     pub fn config_for(&self, base: &SimConfig) -> SimConfig {
-        SimConfig { slip: self.needs.slip, speed_mode: self.needs.speed_mode, ..self.config(base) }
+        let config = self.config(base);
+        let options = Options { slip: self.needs.slip, speed_mode: self.needs.speed_mode, ..config.options };
+        SimConfig { options, ..config }
     }
 
     /// The output channels (indices into `OUTPUT_NAMES`) a run writes: with `keep_all` every CSV column;
@@ -273,9 +274,9 @@ impl Scene {
             ));
         }
         self.check_rack(vehicle.steering_limit())?;
-        let mut v = Vehicle::new(&vehicle)?;
-        v.keep_unused_states = keep_unused_states;
-        let mut sim = Simulation::from_vehicle(v, self.config(base))?;
+        let mut config = self.config(base);
+        config.options.keep_unused_states = keep_unused_states;
+        let mut sim = Simulation::new(vehicle, config)?;
         sim.set_rack_profile(self.rack);
         Ok(sim)
     }

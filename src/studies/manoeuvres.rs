@@ -87,7 +87,7 @@ fn simulate(
     profile: RackProfile,
     duration: f64,
 ) -> Result<Vec<Outputs>, ModelError> {
-    let config = SimConfig { initial_speed: speed, speed_mode, ..SimConfig::default() };
+    let config = SimConfig { initial_speed: speed, ..SimConfig::default() }.with_options(|o| o.speed_mode = speed_mode);
     let mut sim = Simulation::new(data.clone(), config)?;
     sim.set_rack_profile(profile);
     let mut rows = vec![sim.outputs()?];

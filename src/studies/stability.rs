@@ -125,8 +125,9 @@ pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
     let bump = Scene::new(SceneKind::Bump, Amplitude::Calibrated);
     let lock = vehicle.steering_limit();
     let base = SimConfig::default();
-    let coast =
-        |speed_kmh: f64| SimConfig { speed_mode: SpeedMode::Coast, initial_speed: speed_kmh / 3.6, ..base.clone() };
+    let coast = |speed_kmh: f64| {
+        SimConfig { initial_speed: speed_kmh / 3.6, ..base.clone() }.with_options(|o| o.speed_mode = SpeedMode::Coast)
+    };
     let hold = |speed_kmh: f64| SimConfig { initial_speed: speed_kmh / 3.6, ..base.clone() };
     let jturn = |amplitude: f64| RackProfile::Step { amplitude, start: 1.0, ramp: 0.1 };
     let stiff = |name, data: fn(&mut VehicleData)| Case {
@@ -134,7 +135,7 @@ pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
         group: "stiff",
         vehicle: vehicle.clone(),
         data,
-        config: SimConfig { contact: ContactModel::Envelope, ..bump.config(&base) },
+        config: bump.config(&base).with_options(|o| o.contact = ContactModel::Envelope),
         rack: RackProfile::Zero,
         drive: [0.0; 4],
         brake: [0.0; 4],
@@ -194,7 +195,7 @@ pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
         case(
             "hold on a 20 % grade (3 kN m per wheel)",
             "low speed",
-            SimConfig { slope: [0.2, 0.0], ..coast(0.0) },
+            coast(0.0).with_options(|o| o.slope = [0.2, 0.0]),
             RackProfile::Zero,
             zero,
             [3000.0; 4],
@@ -251,12 +252,8 @@ pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
         case(
             "20 cm bump at 60 km/h",
             "extreme",
-            SimConfig {
-                road: RoadChoice::PaperBumps,
-                bump: [0.2, 0.5],
-                contact: ContactModel::Envelope,
-                ..coast(60.0)
-            },
+            SimConfig { road: RoadChoice::PaperBumps, bump: [0.2, 0.5], ..coast(60.0) }
+                .with_options(|o| o.contact = ContactModel::Envelope),
             RackProfile::Zero,
             zero,
             zero,

@@ -123,7 +123,7 @@ pub fn cases_for(vehicle: &VehicleData) -> Result<Vec<Case>, ModelError> {
             vehicle: vehicle.clone(),
             name: "bump-envelope".into(),
             scene: scene(SceneKind::Bump),
-            base: SimConfig { contact: crate::sim::ContactModel::Envelope, ..SimConfig::default() },
+            base: SimConfig::default().with_options(|o| o.contact = crate::sim::ContactModel::Envelope),
             channels: wheels.to_vec(),
             note: "bump course, 10 km/h, enveloping contact (`--contact envelope`): the rates and the wheel travel"
                 .into(),
@@ -141,7 +141,8 @@ pub fn cases_for(vehicle: &VehicleData) -> Result<Vec<Case>, ModelError> {
             vehicle: vehicle.clone(),
             name: "bump-3cm-envelope".into(),
             scene: scene(SceneKind::Bump),
-            base: SimConfig { bump: [0.03, 0.5], contact: crate::sim::ContactModel::Envelope, ..SimConfig::default() },
+            base: SimConfig { bump: [0.03, 0.5], ..SimConfig::default() }
+                .with_options(|o| o.contact = crate::sim::ContactModel::Envelope),
             channels: wheels.to_vec(),
             note: "bump course with 3 cm bumps, enveloping contact: no wheel leaves the road".into(),
         },
