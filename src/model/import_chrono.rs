@@ -15,10 +15,10 @@
 //! anything is written, and written atomically (`write_atomically`).
 
 use crate::math::{M3, V3};
-use crate::model::vehicle_file::MAX_FILE_BYTES;
 use crate::model::params::{
     Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SuspensionTemplate, VehicleData, WheelBody,
 };
+use crate::model::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
 use serde_json::{Map, Value};
 use std::collections::BTreeMap;
@@ -506,8 +506,7 @@ struct Wheel {
 impl Importer {
     fn read(&self, path: &Path, shown: &str, kind: &str) -> Result<File, ImportError> {
         let fail = |message: String| ImportError { file: shown.to_string(), key: String::new(), message };
-        let text =
-            bounded_read::read_text(path, MAX_FILE_BYTES, &format!("the {kind} file")).map_err(&fail)?;
+        let text = bounded_read::read_text(path, MAX_FILE_BYTES, &format!("the {kind} file")).map_err(&fail)?;
         let value: Value = serde_json::from_str(&strip_comments(&text)).map_err(|e| fail(format!("not JSON: {e}")))?;
         match value {
             Value::Object(root) => {
