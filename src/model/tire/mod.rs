@@ -14,6 +14,7 @@ mod fallback;
 mod geometry;
 mod slip;
 pub mod sti;
+pub mod tir;
 
 pub use crate::model::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};

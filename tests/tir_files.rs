@@ -1,0 +1,68 @@
+//! Every Pacejka property file in `../shared/data/chrono` (or `RTV_CHRONO_DATA`) reads: its format is one the
+//! model reads, its units convert to SI, and the keys the Magic Formula's load and size scaling need are
+//! numbers (`model::tire::tir`, issue 18).
+
+use rt_vehicle::model::tire::tir::{TirFile, TirFormat, UnitKind};
+use std::path::PathBuf;
+
+fn tir_files() -> Vec<PathBuf> {
+    let dir = std::env::var_os("RTV_CHRONO_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono"));
+    assert!(dir.is_dir(), "the Chrono data folder {} is missing (set RTV_CHRONO_DATA)", dir.display());
+    let mut out = Vec::new();
+    let mut stack = vec![dir];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x.eq_ignore_ascii_case("tir")) {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn every_shipped_tir_file_reads() {
+    let files = tir_files();
+    assert_eq!(files.len(), 5, "the five PAC2002 files of shared/data/chrono: {files:?}");
+    for path in files {
+        let f = TirFile::read(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(f.format().unwrap(), TirFormat::Pac2002, "{}", path.display());
+        for kind in [UnitKind::Length, UnitKind::Force, UnitKind::Angle, UnitKind::Mass, UnitKind::Time] {
+            f.unit_factor(kind).unwrap_or_else(|e| panic!("{e}"));
+        }
+        let length = f.unit_factor(UnitKind::Length).unwrap();
+        let force = f.unit_factor(UnitKind::Force).unwrap();
+        let radius = f.number("DIMENSION", "UNLOADED_RADIUS").unwrap() * length;
+        let fz0 = f.number("VERTICAL", "FNOMIN").unwrap() * force;
+        assert!((0.2..0.8).contains(&radius), "{}: R0 = {radius} m", path.display());
+        assert!((1e3..1e5).contains(&fz0), "{}: FNOMIN = {fz0} N", path.display());
+        for key in ["PCY1", "PDY1", "PKY1", "PKY2"] {
+            f.number("LATERAL_COEFFICIENTS", key).unwrap_or_else(|e| panic!("{e}"));
+        }
+        for key in ["PCX1", "PDX1", "PKX1"] {
+            f.number("LONGITUDINAL_COEFFICIENTS", key).unwrap_or_else(|e| panic!("{e}"));
+        }
+        println!("{}: R0 {radius} m, FNOMIN {fz0} N, {} warnings", path.display(), f.warnings.len());
+    }
+}
+
+#[test]
+fn a_truncated_file_is_a_named_error() {
+    let path = tir_files().into_iter().find(|p| p.ends_with("HMMWV_Pac02Tire.tir")).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    // Cut inside the value of a key line: the key is left with no value.
+    let at = text.find("FNOMIN").unwrap() + "FNOMIN                     =".len();
+    let e = TirFile::parse("cut.tir", &text[..at]).unwrap_err();
+    assert!(e.contains("cut.tir") && e.contains("FNOMIN has no value"), "{e}");
+    // Text in a numeric field names the key, the file and the line.
+    let bad = text.replacen("FNOMIN                     = 35000", "FNOMIN                     = 35k", 1);
+    let f = TirFile::parse("bad.tir", &bad).unwrap();
+    let e = f.number("VERTICAL", "FNOMIN").unwrap_err();
+    assert!(e.contains("bad.tir, line") && e.contains("FNOMIN") && e.contains("not a number"), "{e}");
+}
