@@ -189,7 +189,13 @@ impl TirFile {
                 }
                 continue;
             }
-            if table {
+            // A table with no `{...}` header ([SHAPE] in some MF-Tool exports) starts with its first row.
+            let numeric_row = l.split_whitespace().all(|w| w.parse::<f64>().is_ok());
+            if table || numeric_row {
+                if !table {
+                    table = true;
+                    file.warnings.push(format!("{name}: table section [{s}] is read but not used by the model"));
+                }
                 let row: Result<Vec<f64>, _> = l.split_whitespace().map(str::parse::<f64>).collect();
                 match row {
                     Ok(r) => file.tables.entry(s).or_default().push(r),
