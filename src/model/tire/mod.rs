@@ -14,6 +14,7 @@ mod fallback;
 mod geometry;
 mod slip;
 pub mod sti;
+pub mod magic_formula;
 pub mod tir;
 
 pub use crate::model::params::Tire as TireParams;
