@@ -5,7 +5,7 @@
 //! `sweep,fz_N,kappa,alpha_rad,fx_N,fy_N,mz_Nm`, where `sweep` is `kappa` (F_x against κ at α = 0) or
 //! `alpha` (F_y and M_z against α at κ = 0). Then `scripts/plot_tire_curves.py OUT.csv OUT.png` draws them.
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::tire::{shear_forces, TireModel, TireParams};
+use rt_vehicle::model::tire::{shear_forces, SlipInput, TireModel, TireParams};
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
@@ -23,7 +23,7 @@ fn curves_csv(p: &TireParams) -> String {
             for (sweep, kappa, alpha) in
                 [("kappa", KAPPA_RANGE * fraction, 0.0), ("alpha", 0.0, ALPHA_RANGE_RAD * fraction)]
             {
-                let f = shear_forces(TireModel::Sti, p, fz, kappa, f64::tan(alpha), 0.0);
+                let f = shear_forces(TireModel::Sti, p, &SlipInput::rolling(fz, kappa, f64::tan(alpha), 0.0));
                 // Writing to a String cannot fail.
                 let _ = writeln!(csv, "{sweep},{fz},{kappa},{alpha},{},{},{}", f.fx, f.fy, f.mz);
             }
@@ -40,7 +40,7 @@ fn reference_comparison(p: &TireParams) -> String {
         "| F_z [N] | α [rad] | κ | γ_w [rad] | F_x [N] | F_y [N] | M_z [N·m] | max rel. error |\n|---|---|---|---|---|---|---|---|\n",
     );
     for ([fz, alpha, kappa, gamma], expected) in REFERENCE {
-        let f = shear_forces(TireModel::Sti, p, fz, kappa, alpha.tan(), gamma);
+        let f = shear_forces(TireModel::Sti, p, &SlipInput::rolling(fz, kappa, alpha.tan(), gamma));
         let got = [f.fx, f.fy, f.mz];
         let worst = got
             .iter()

@@ -8,6 +8,7 @@
 //!   rtv work-precision                                    error against run time → docs/work_precision.md
 //!   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json   a Chrono::Vehicle JSON vehicle → vehicle file
 //!   rtv check-vehicle FILE.json                           validate a vehicle file and summarize it
+//!   rtv tire --tir FILE.tir --fz N --sweep alpha|kappa|combined   steady-state Magic Formula curves
 //!
 //! Bad arguments get a clear message and exit code 2; a failed run exits with 1.
 
@@ -31,20 +32,22 @@ const USAGE: &str = "usage:
             [--tolerance TOL] [--step S] [--end T] [--output-interval DT] [--speed coast|hold]
             [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
-            [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
+            [--tire FILE.tir] [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
             [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv kc [--vehicle FILE.json] [--out docs/kc/NAME.md] [--from -0.10] [--to 0.10] [--increment 0.0025]
             [--steering-points 81] [--plots auto|none]
-  rtv calibrate [--vehicle FILE.json]
-  rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT]
+  rtv calibrate [--vehicle FILE.json] [--tire FILE.tir]
+  rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle FILE.json] [--tire FILE.tir]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
-            [--out FILE.csv]
+            [--tire FILE.tir] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
-  rtv check-vehicle FILE.json";
+  rtv check-vehicle FILE.json
+  rtv tire --tir FILE.tir --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
+            [--out curves.csv]";
 
 struct Failure {
     message: String,
@@ -100,10 +103,13 @@ fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f6
 }
 
 fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure> {
-    let data = match opts.get("vehicle") {
+    let mut data = match opts.get("vehicle") {
         Some(path) => VehicleData::from_file(std::path::Path::new(path))?,
         None => VehicleData::default_hmmwv(),
     };
+    if let Some(tir) = opts.get("tire") {
+        data.use_tire_file(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire: {e}")))?;
+    }
     for w in data.warnings() {
         eprintln!("warning: {w}");
     }
@@ -207,6 +213,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "amplitude",
             "ride-height",
             "vehicle",
+            "tire",
             "initial-speed",
             "bump-height",
             "bump-length",
@@ -469,7 +476,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
 }
 
 fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["vehicle", "out"])?;
+    let opts = options(args, &["vehicle", "tire", "out"])?;
     let data = vehicle_data(&opts)?;
     let accuracy = calibration::Accuracy::Reference;
     let c = calibration::calibrate(&data, accuracy)?;
@@ -513,7 +520,7 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
     let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
-    let opts = options(&args[1..], &["initial-speed", "vehicle", "out"])?;
+    let opts = options(&args[1..], &["initial-speed", "vehicle", "tire", "out"])?;
     let speed = match opts.get("initial-speed") {
         Some(_) => {
             let v = number(&opts, "initial-speed", 0.0)?;
@@ -564,7 +571,7 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
 /// The stability suite (docs/stability.md): every case × integrator × step, classified.
 fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::stability;
-    let opts = options(args, &["out", "threads", "case", "vehicle"])?;
+    let opts = options(args, &["out", "threads", "case", "vehicle", "tire"])?;
     let threads = number(&opts, "threads", 2.0)?;
     if !(1.0..=64.0).contains(&threads) {
         return Err(bad("--threads must be in 1..=64"));
@@ -718,6 +725,57 @@ fn column_name(input: &SteeringInput, i: usize) -> &'static str {
     }
 }
 
+/// Steady-state curves of a `.tir` file's Magic Formula (docs/tire.md): one row per point with the columns
+/// `alpha_deg, kappa, camber_deg, fz_n, fx_n, fy_n, mx_nm, my_nm, mz_nm`, in ISO 8855 (TYDEX W) axes and
+/// signs: x forward, y left, z up; α > 0 when the contact point slides to the left (F_y < 0); κ > 0 driving;
+/// γ > 0 with the top of the wheel leaning right; M_y < 0 resists forward rolling. `alpha` sweeps α over
+/// ±20° at κ = 0, `kappa` sweeps κ over ±1 at α = 0, `combined` sweeps κ over ±1 at α = 0°, 2°, 4°, 8°.
+fn cmd_tire(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::model::tire::{MagicFormula, TireSide};
+    let opts = options(args, &["tir", "fz", "camber", "speed", "sweep", "side", "out"])?;
+    let tir = opts.get("tir").ok_or_else(|| bad("tire: --tir FILE.tir is required"))?;
+    let fz = number(&opts, "fz", f64::NAN)?;
+    if !(fz > 0.0 && fz <= 1e6) {
+        return Err(bad("tire: --fz N is required, a load in (0, 1e6] N"));
+    }
+    let camber_deg = number(&opts, "camber", 0.0)?;
+    if camber_deg.abs() > 30.0 {
+        return Err(bad("tire: --camber must be within ±30 degrees"));
+    }
+    let speed = number(&opts, "speed", 16.7)?;
+    if !(speed > 0.0 && speed <= 100.0) {
+        return Err(bad("tire: --speed must be in (0, 100] m/s"));
+    }
+    let side = match opts.get("side").map(String::as_str) {
+        None | Some("left") => TireSide::Left,
+        Some("right") => TireSide::Right,
+        Some(s) => return Err(bad(format!("tire: --side '{s}' is not left or right"))),
+    };
+    let sweep = opts.get("sweep").map(String::as_str).unwrap_or("");
+    let points: Vec<(f64, f64)> = match sweep {
+        "alpha" => (-200..=200).map(|i| (f64::from(i) * 0.1, 0.0)).collect(),
+        "kappa" => (-200..=200).map(|i| (0.0, f64::from(i) * 0.005)).collect(),
+        "combined" => {
+            [0.0, 2.0, 4.0, 8.0].iter().flat_map(|&a| (-200..=200).map(move |i| (a, f64::from(i) * 0.005))).collect()
+        }
+        _ => return Err(bad("tire: --sweep alpha|kappa|combined is required")),
+    };
+    let mf = MagicFormula::read(std::path::Path::new(tir)).map_err(failed)?;
+    for w in &mf.warnings {
+        eprintln!("warning: {w}");
+    }
+    let gamma = camber_deg.to_radians();
+    let mut csv = String::from("alpha_deg,kappa,camber_deg,fz_n,fx_n,fy_n,mx_nm,my_nm,mz_nm\n");
+    for (alpha_deg, kappa) in points {
+        let l = mf.loads_on(side, fz, kappa, alpha_deg.to_radians().tan(), gamma, speed);
+        // M_y resists forward rolling (negative about the left-pointing y axis).
+        let my = -l.rolling_resistance;
+        csv.push_str(&format!("{alpha_deg},{kappa},{camber_deg},{fz},{},{},{},{my},{}\n", l.fx, l.fy, l.mx, l.mz));
+    }
+    csv_writer(opts.get("out"))?.write_all(csv.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -731,6 +789,7 @@ fn main() -> ExitCode {
         Some("work-precision") => cmd_work_precision(&args[1..]),
         Some("import-chrono") => cmd_import_chrono(&args[1..]),
         Some("check-vehicle") => cmd_check_vehicle(&args[1..]),
+        Some("tire") => cmd_tire(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

@@ -222,6 +222,14 @@ pub struct Tire {
     pub low_speed_blend_m_s: [f64; 2],
     /// Damping of the tread against slip velocity at standstill, per tire, N·s/m (faded out by the blend).
     pub low_speed_damping_Ns_per_m: f64,
+    /// A Pacejka property file (`.tir`, PAC2002): the tire is then the Magic Formula of that file, whose
+    /// radius, vertical stiffness and damping and relaxation lengths replace the ones above (the STI
+    /// coefficients stay for comparison runs). A relative path is taken from the vehicle file's folder.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tir_file: Option<String>,
+    /// The Magic Formula read from `tir_file` (`VehicleData::use_tire_file`); not part of the file format.
+    #[serde(skip)]
+    pub magic_formula: Option<Box<crate::model::tire::MagicFormula>>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

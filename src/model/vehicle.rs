@@ -342,11 +342,33 @@ impl Vehicle {
             chassis,
             steering,
             tire: data.tire.clone(),
-            tire_model: TireModel::Sti,
+            tire_model: if data.tire.magic_formula.is_some() { TireModel::MagicFormula } else { TireModel::Sti },
             speed_gains: (data.speed_hold.kp_per_s, data.speed_hold.ki_per_s2),
             gravity: data.gravity_m_s2,
             total_mass,
         };
+        if data.tire.tir_file.is_some() && data.tire.magic_formula.is_none() {
+            return Err(DataError {
+                field: "tire.tir_file".into(),
+                message: "names a .tir file that was not read (VehicleData::use_tire_file)".into(),
+            });
+        }
+        // The Magic Formula's relaxation lengths depend on the load; the slip states use them at the static
+        // load of an average corner (docs/tire.md, "Magic Formula": what is left out).
+        if let Some(mf) = data.tire.magic_formula.as_ref().filter(|mf| mf.has_relaxation()) {
+            let [x, y] = mf.relaxation_lengths(0.25 * total_mass * data.gravity_m_s2);
+            if !(x > 0.0 && y > 0.0) {
+                return Err(DataError {
+                    field: "tire.tir_file".into(),
+                    message: format!(
+                        "{}: relaxation lengths {x} m, {y} m at the static load are not positive",
+                        mf.source
+                    ),
+                });
+            }
+            v.tire.relaxation_length_x_m = x;
+            v.tire.relaxation_length_y_m = y;
+        }
         v.steering.sign = if v
             .steering_gain_per_rack_metre()
             .map_err(|e| DataError { field: "front.hardpoints_chassis_frame_m".into(), message: e.to_string() })?
@@ -725,12 +747,14 @@ impl Vehicle {
                 };
                 // Camber thrust and aligning moment build up by rolling: faded out at standstill (b = 0),
                 // where they would push and twist a parked car.
-                let shear =
-                    tire::shear_forces(self.tire_model, &self.tire, fz, kappa, tan_alpha, ct.inclination * blend);
-                let mz = shear.mz * blend;
-                let m_rr = tire::rolling_resistance_moment(&self.tire, fz, ct.loaded_radius, spin_rel);
+                let side = if i % 2 == 0 { tire::TireSide::Left } else { tire::TireSide::Right };
+                let input = tire::SlipInput { fz, kappa, tan_alpha, inclination: ct.inclination * blend, side, blend };
+                let shear = tire::shear_forces(self.tire_model, &self.tire, &input);
+                let moments = [shear.mx * blend, shear.mz * blend];
+                let m_rr =
+                    tire::rolling_resistance_moment(&self.tire, fz, ct.loaded_radius, spin_rel, shear.fx, slip.vx);
                 let force_ground = ct.force(fz, &shear);
-                let moment_ground = ct.moment_about_centre(&axle_ground, &force_ground, mz, m_rr);
+                let moment_ground = ct.moment_about_centre(&axle_ground, &force_ground, moments, m_rr);
                 let (force, moment_w) = (a0.tr_mul(&force_ground), a0.tr_mul(&moment_ground));
                 // The axial moment drives the spin (§4.8); the rest acts on the carrier at the wheel centre.
                 let axial = axle.dot(&moment_w);

@@ -128,23 +128,56 @@ impl VehicleData {
     pub fn from_file(path: &Path) -> Result<VehicleData, DataError> {
         let text = bounded_read::read_text(path, MAX_FILE_BYTES, "the vehicle file")
             .map_err(|why| err(path.display().to_string(), why))?;
-        VehicleData::from_json(&text)
+        VehicleData::from_json_in(&text, path.parent())
+    }
+
+    /// The tire becomes the Magic Formula of a `.tir` file (`tire.tir_file`, or the CLI's `--tire`, the FMU's
+    /// `tire_file`): the file's radius, vertical stiffness and damping replace the vehicle file's; the
+    /// relaxation lengths follow from the file at the vehicle's static load (`Vehicle::new`).
+    pub fn use_tire_file(&mut self, path: &Path) -> Result<(), DataError> {
+        let mf = crate::model::tire::MagicFormula::read(path).map_err(|why| err("tire.tir_file", why))?;
+        // Another tire is another vehicle for the calibrations, which are keyed by name.
+        let stem = path.file_stem().map_or("tire".into(), |s| s.to_string_lossy().into_owned());
+        if self.tire.magic_formula.is_none() {
+            self.name = format!("{} on {stem}", self.name);
+        }
+        let t = &mut self.tire;
+        t.unloaded_radius_m = mf.unloaded_radius;
+        t.vertical_stiffness_N_per_m = mf.vertical_stiffness;
+        t.vertical_stiffness2_N_per_m2 = 0.0;
+        t.vertical_damping_Ns_per_m = mf.vertical_damping;
+        t.tir_file = Some(path.display().to_string());
+        t.magic_formula = Some(Box::new(mf));
+        self.check()
     }
 
     /// Parse and validate: the JSON Schema (`resources/vehicle.schema.json`) first, then serde, then
     /// `validate` (what a schema cannot say); warnings (triangle inequality) go to `warnings()`, not errors.
     pub fn from_json(text: &str) -> Result<VehicleData, DataError> {
+        VehicleData::from_json_in(text, None)
+    }
+
+    /// `from_json` for a file in folder `dir`, against which a relative `tire.tir_file` is resolved (the
+    /// working directory when `None`).
+    pub fn from_json_in(text: &str, dir: Option<&Path>) -> Result<VehicleData, DataError> {
         let value: serde_json::Value = serde_json::from_str(text).map_err(|e| err("(file)", e.to_string()))?;
         // The FMU's library is built without the schema (feature `schema`): the loader's own checks below.
         #[cfg(feature = "schema")]
         check_schema(&value)?;
         #[cfg(not(feature = "schema"))]
         let _ = &value;
-        let data: VehicleData = serde_json::from_str(text).map_err(|e| {
+        let mut data: VehicleData = serde_json::from_str(text).map_err(|e| {
             // serde_json names the missing or unknown field in its message; keep its line and column.
             err("(file)", e.to_string())
         })?;
         data.check()?;
+        if let Some(tir) = data.tire.tir_file.clone() {
+            let path = match dir {
+                Some(d) if Path::new(&tir).is_relative() => d.join(&tir),
+                _ => Path::new(&tir).to_path_buf(),
+            };
+            data.use_tire_file(&path)?;
+        }
         Ok(data)
     }
 

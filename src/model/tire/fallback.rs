@@ -1,24 +1,24 @@
-//! Simple tire models for tests and cross-checks (physics.md §6.8). They share the stiffnesses of the STI fit so
-//! that all models agree at small slip.
-use super::sti::{cornering_stiffness, longitudinal_stiffness};
-use super::{ShearForces, TireParams};
+//! Simple tire models for tests and cross-checks (physics.md §6.8). They share the stiffnesses of the tire's
+//! force law (the STI fit, or the Magic Formula's with a `.tir` file) so that all models agree at small slip.
+use super::{peak_friction, slip_stiffness, ShearForces, TireParams};
 
 /// Linear: F_x = C_s κ, F_y = C_α tan α, no saturation (§6.8). No camber thrust and no aligning moment, so the
 /// model is exactly the linear single-track tire (the reference for understeer-gradient checks).
 pub fn linear_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64) -> ShearForces {
-    ShearForces { fx: longitudinal_stiffness(p, fz) * kappa, fy: cornering_stiffness(p, fz) * tan_alpha, mz: 0.0 }
+    let [c_s, c_alpha] = slip_stiffness(p, fz);
+    ShearForces { fx: c_s * kappa, fy: c_alpha * tan_alpha, ..ShearForces::default() }
 }
 
 /// Linear forces scaled down onto the friction circle of radius μ0 F_z: factor min(1, μ0 F_z/‖F‖) (§6.8).
 pub fn linear_friction_circle_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64) -> ShearForces {
     let linear = linear_forces(p, fz, kappa, tan_alpha);
     let magnitude = linear.fx.hypot(linear.fy);
-    let limit = p.sti.mu0 * fz;
+    let limit = peak_friction(p, fz)[0] * fz;
     if magnitude <= limit {
         return linear;
     }
     let scale = limit / magnitude;
-    ShearForces { fx: scale * linear.fx, fy: scale * linear.fy, mz: 0.0 }
+    ShearForces { fx: scale * linear.fx, fy: scale * linear.fy, ..ShearForces::default() }
 }
 
 #[cfg(test)]
@@ -31,7 +31,7 @@ mod tests {
         let p = VehicleData::default_hmmwv().tire;
         let f = linear_forces(&p, 6300.0, 0.5, 0.3);
         assert!((f.fx - p.sti.cs * 6300.0 * 0.5).abs() < 1e-9);
-        assert!((f.fy - cornering_stiffness(&p, 6300.0) * 0.3).abs() < 1e-9);
+        assert!((f.fy - slip_stiffness(&p, 6300.0)[1] * 0.3).abs() < 1e-9);
         assert_eq!(f.mz, 0.0);
     }
 

@@ -287,9 +287,11 @@ impl MagicFormula {
         if self.vertical_damping < 0.0 {
             return Err(format!("{name}: VERTICAL_DAMPING = {} must not be negative", self.vertical_damping));
         }
-        for (key, [lo, hi]) in
-            [("KPUMIN/KPUMAX", self.kappa_range), ("ALPMIN/ALPMAX", self.alpha_range), ("CAMMIN/CAMMAX", self.camber_range)]
-        {
+        for (key, [lo, hi]) in [
+            ("KPUMIN/KPUMAX", self.kappa_range),
+            ("ALPMIN/ALPMAX", self.alpha_range),
+            ("CAMMIN/CAMMAX", self.camber_range),
+        ] {
             if !(lo < hi) {
                 return Err(format!("{name}: {key} = {lo}/{hi} is not a range"));
             }
@@ -370,11 +372,14 @@ impl MagicFormula {
         let shx = (c.PHX1 + c.PHX2 * dfz) * c.LHX;
         let kappa_x = kappa + shx;
         let cx = c.PCX1 * c.LCX;
-        let mu_x = (c.PDX1 + c.PDX2 * dfz) * (1.0 + c.PPX3 * dpi + c.PPX4 * dpi * dpi) * (1.0 - c.PDX3 * gamma_x * gamma_x)
+        let mu_x = (c.PDX1 + c.PDX2 * dfz)
+            * (1.0 + c.PPX3 * dpi + c.PPX4 * dpi * dpi)
+            * (1.0 - c.PDX3 * gamma_x * gamma_x)
             * c.LMUX;
         let dx = mu_x * fz;
         let ex = ((c.PEX1 + c.PEX2 * dfz + c.PEX3 * dfz * dfz) * (1.0 - c.PEX4 * kappa_x.signum()) * c.LEX).min(1.0);
-        let kx = fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX;
+        let kx =
+            fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX;
         let bx = kx / (cx * dx + EPS_FORCE_N);
         let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * c.LMUX;
         let fx0 = magic(bx, cx, dx, ex, kappa_x) + svx;
@@ -384,7 +389,9 @@ impl MagicFormula {
         let shy = (c.PHY1 + c.PHY2 * dfz) * c.LHY + c.PHY3 * gamma_y;
         let alpha_y = alpha + shy;
         let cy = c.PCY1 * c.LCY;
-        let mu_y = (c.PDY1 + c.PDY2 * dfz) * (1.0 + c.PPY3 * dpi + c.PPY4 * dpi * dpi) * (1.0 - c.PDY3 * gamma_y * gamma_y)
+        let mu_y = (c.PDY1 + c.PDY2 * dfz)
+            * (1.0 + c.PPY3 * dpi + c.PPY4 * dpi * dpi)
+            * (1.0 - c.PDY3 * gamma_y * gamma_y)
             * c.LMUY;
         let dy = mu_y * fz;
         let ey = ((c.PEY1 + c.PEY2 * dfz) * (1.0 - (c.PEY3 + c.PEY4 * gamma_y) * alpha_y.signum()) * c.LEY).min(1.0);
@@ -436,8 +443,9 @@ impl MagicFormula {
         let shf = p.shy + p.svy / ky_safe;
         let alpha_t = alpha + sht;
         let alpha_r = alpha + shf;
-        let bt = (c.QBZ1 + c.QBZ2 * dfz + c.QBZ3 * dfz * dfz) * (1.0 + c.QBZ4 * gamma_z + c.QBZ5 * gamma_z.abs()) * c.LKY
-            / c.LMUY;
+        let bt =
+            (c.QBZ1 + c.QBZ2 * dfz + c.QBZ3 * dfz * dfz) * (1.0 + c.QBZ4 * gamma_z + c.QBZ5 * gamma_z.abs()) * c.LKY
+                / c.LMUY;
         let ct = c.QCZ1;
         let dt = fz
             * (c.QDZ1 + c.QDZ2 * dfz)
@@ -474,15 +482,23 @@ impl MagicFormula {
             * c.LMX
             * (c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi)
                 + c.QSX3 * fy_n
-                + c.QSX4 * (c.QSX5 * (c.QSX6 * fz_n).powi(2).atan()).cos()
+                + c.QSX4
+                    * (c.QSX5 * (c.QSX6 * fz_n).powi(2).atan()).cos()
                     * (c.QSX7 * gamma + c.QSX8 * (c.QSX9 * fy_n).atan()).sin()
                 + c.QSX10 * (c.QSX11 * fz_n).atan() * gamma);
 
-        // Rolling resistance (4.E70 with LONGVL as the reference speed).
+        MfLoads { fx, fy, mx, mz, rolling_resistance: self.rolling_resistance(fz, fx, vx) }
+    }
+
+    /// Rolling-resistance moment magnitude R0 F_z (QSY1 + QSY2 F_x/F_z0' + QSY3 |V_x/V_ref| + QSY4
+    /// (V_x/V_ref)⁴) LMY, N·m (4.E70, LONGVL as the reference speed).
+    pub fn rolling_resistance(&self, fz: f64, fx: f64, vx: f64) -> f64 {
+        let c = &self.c;
         let v = vx / self.reference_speed;
-        let rolling_resistance =
-            r0 * fz * (c.QSY1 + c.QSY2 * fx / self.fz0_scaled + c.QSY3 * v.abs() + c.QSY4 * v.powi(4)) * c.LMY;
-        MfLoads { fx, fy, mx, mz, rolling_resistance }
+        self.unloaded_radius
+            * fz
+            * (c.QSY1 + c.QSY2 * fx / self.fz0_scaled + c.QSY3 * v.abs() + c.QSY4 * v.powi(4))
+            * c.LMY
     }
 
     /// The loads of this tire mounted on `side`, ISO inputs: mirrored when that is not the measured side.
@@ -505,7 +521,8 @@ mod tests {
     use super::*;
 
     fn hmmwv() -> MagicFormula {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir");
         MagicFormula::read(&path).unwrap()
     }
 
@@ -599,7 +616,8 @@ mod tests {
     #[test]
     fn other_formats_and_modes_are_refused() {
         let base = std::fs::read_to_string(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
         )
         .unwrap();
         let mode = base.replace("USE_MODE                   = 4", "USE_MODE                   = 2");

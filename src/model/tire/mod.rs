@@ -3,7 +3,9 @@
 //! - [`contact`] (§6.2, `geometry.rs`): single-point disc contact on the local road plane.
 //! - [`normal_force`] (§6.3), [`rolling_resistance_moment`] (§6.6).
 //! - [`steady_slip`], [`relaxation_rates`] (§6.4, §6.7, `slip.rs`).
-//! - [`shear_forces`]: the STI composite-slip model (§6.5–§6.6, `sti.rs`) or a fallback (§6.8, `fallback.rs`).
+//! - [`shear_forces`]: the STI composite-slip model (§6.5–§6.6, `sti.rs`), the Magic Formula from a `.tir`
+//!   file (`magic_formula.rs`, read by `tir.rs`), or a fallback (§6.8, `fallback.rs`).
+//! - [`slip_stiffness`], [`peak_friction`]: what the slip states' low-speed model needs of the force law.
 //!
 //! Everything here is a pure function of its arguments, without allocation, so it can run inside every
 //! function evaluation.
@@ -12,14 +14,15 @@ use serde::{Deserialize, Serialize};
 
 mod fallback;
 mod geometry;
+pub mod magic_formula;
 mod slip;
 pub mod sti;
-pub mod magic_formula;
 pub mod tir;
 
 pub use crate::model::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
+pub use magic_formula::{MagicFormula, TireSide};
 pub use slip::{
     damped_slip, effective_rolling_radius, low_speed_blend, penetration_rate, reference_speed, relaxation_rates,
     sliding_limits, slip_velocities, steady_slip, SlipStateContext, SlipVelocities, DAHL_SLIP_SPEED_M_S,
@@ -52,17 +55,19 @@ impl Contact {
     }
 
     /// Moment of the tire loads about the wheel centre (§6.6, §4.8):
-    /// M_W = (ρ_C - ρ_W) × F_t + M_z n + M_rr a, with `axle` the unit spin axis a and `force` = F_t. The
-    /// wheel centre enters only through ρ_C - ρ_W = s* d, so no centre position is needed.
+    /// M_W = (ρ_C - ρ_W) × F_t + M_x e_x + M_z n + M_rr a, with `axle` the unit spin axis a and `force` = F_t.
+    /// The wheel centre enters only through ρ_C - ρ_W = s* d, so no centre position is needed. M_x (the
+    /// Magic Formula's overturning moment) is 0 for the STI tire.
     pub fn moment_about_centre(
         &self,
         axle: &Vector3<f64>,
         force: &Vector3<f64>,
-        mz: f64,
+        moments: [f64; 2],
         rolling_resistance: f64,
     ) -> Vector3<f64> {
+        let [mx, mz] = moments;
         let down = axle.cross(&self.ex);
-        (self.loaded_radius * down).cross(force) + mz * self.normal + rolling_resistance * axle
+        (self.loaded_radius * down).cross(force) + mx * self.ex + mz * self.normal + rolling_resistance * axle
     }
 }
 
@@ -70,6 +75,8 @@ impl Contact {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum TireModel {
     Sti,
+    /// The Magic Formula of the tire's `.tir` file (`TireParams::magic_formula`).
+    MagicFormula,
     Linear,
     LinearFrictionCircle,
     Frictionless,
@@ -84,12 +91,33 @@ pub enum SlipModel {
     Steady,
 }
 
-/// Shear forces and aligning moment in the tire frame.
+/// Shear forces, aligning and overturning moments in the tire frame.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ShearForces {
     pub fx: f64,
     pub fy: f64,
     pub mz: f64,
+    /// Overturning moment about e_x (the Magic Formula's; 0 for the others).
+    pub mx: f64,
+}
+
+/// What a force law is evaluated at: load, slips, inclination, the side the tire is mounted on and the
+/// low-speed blend b (physics.md §6.9).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlipInput {
+    pub fz: f64,
+    pub kappa: f64,
+    pub tan_alpha: f64,
+    pub inclination: f64,
+    pub side: TireSide,
+    pub blend: f64,
+}
+
+impl SlipInput {
+    /// A left tire rolling above the low-speed range (b = 1): how curves and tests evaluate a force law.
+    pub fn rolling(fz: f64, kappa: f64, tan_alpha: f64, inclination: f64) -> SlipInput {
+        SlipInput { fz, kappa, tan_alpha, inclination, side: TireSide::Left, blend: 1.0 }
+    }
 }
 
 /// Normal force F_z = max(0, k_z δ + k_z2 δ² + c_z δ̇) for δ > 0, else 0 (physics.md §6.3). The clamp at 0 is
@@ -102,35 +130,74 @@ pub fn normal_force(p: &TireParams, penetration: f64, penetration_rate: f64) -> 
     (spring + p.vertical_damping_Ns_per_m * penetration_rate).max(0.0)
 }
 
-/// F_x, F_y, M_z from load, slip ratio κ, tan α and inclination γ_w (physics.md §6.5–§6.6, fallbacks §6.8).
-/// No load (F_z <= 0, or not finite) gives no shear force.
-pub fn shear_forces(
-    model: TireModel,
-    p: &TireParams,
-    fz: f64,
-    kappa: f64,
-    tan_alpha: f64,
-    inclination: f64,
-) -> ShearForces {
+/// F_x, F_y, M_z (and M_x) from load, slip ratio κ, tan α and inclination γ_w (physics.md §6.5–§6.6,
+/// fallbacks §6.8, the Magic Formula of `magic_formula.rs`). No load (F_z <= 0, or not finite) gives no
+/// shear force.
+///
+/// The Magic Formula's shifts (conicity, ply steer: S_Hx, S_Vy, …) give a force at zero slip. Rolling, that
+/// is the tire; at standstill it would push a parked car sideways, so the force at zero slip is faded out
+/// with the low-speed blend as the camber thrust and aligning moment are: F − (1 − b) F(0, 0).
+pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> ShearForces {
+    let SlipInput { fz, kappa, tan_alpha, inclination, side, blend } = *input;
     // A NaN load would otherwise spread through every force.
     if fz.is_nan() || fz <= 0.0 {
         return ShearForces::default();
     }
     match model {
         TireModel::Sti => sti::sti_forces(p, fz, kappa, tan_alpha, inclination),
+        TireModel::MagicFormula => match &p.magic_formula {
+            Some(mf) => {
+                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, 0.0);
+                let mut f = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
+                if blend < 1.0 {
+                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, 0.0);
+                    let fade = 1.0 - blend;
+                    f.fx -= fade * z.fx;
+                    f.fy -= fade * z.fy;
+                    f.mz -= fade * z.mz;
+                    f.mx -= fade * z.mx;
+                }
+                f
+            }
+            // Vehicle::new refuses the model without the data; never reached.
+            None => ShearForces::default(),
+        },
         TireModel::Linear => linear_forces(p, fz, kappa, tan_alpha),
         TireModel::LinearFrictionCircle => linear_friction_circle_forces(p, fz, kappa, tan_alpha),
         TireModel::Frictionless => ShearForces::default(),
     }
 }
 
+/// Slip stiffnesses [C_s (∂F_x/∂κ), C_α (∂F_y/∂tan α)] at zero slip, N: the Magic Formula's K_xκ, |K_yα| when
+/// the tire has a `.tir` file, else the STI fit's.
+pub fn slip_stiffness(p: &TireParams, fz: f64) -> [f64; 2] {
+    match &p.magic_formula {
+        Some(mf) => [mf.longitudinal_stiffness(fz), mf.cornering_stiffness(fz)],
+        None => [sti::longitudinal_stiffness(p, fz), sti::cornering_stiffness(p, fz)],
+    }
+}
+
+/// Peak friction coefficients [μ_x, μ_y]: the Magic Formula's D/F_z at `fz`, else the STI's μ0.
+pub fn peak_friction(p: &TireParams, fz: f64) -> [f64; 2] {
+    match &p.magic_formula {
+        Some(mf) => mf.peak_friction(fz),
+        None => [p.sti.mu0; 2],
+    }
+}
+
 /// Width of the tanh that replaces sign(Ω_rel) in the rolling resistance (§6.6), rad/s.
 const ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S: f64 = 0.5;
 
-/// Rolling-resistance moment about the spin axis a, M_rr = -f_rr F_z R_l tanh(Ω_rel/0.5 rad/s) (§6.6). The
-/// tanh keeps the right-hand side smooth through standstill, where sign(Ω_rel) would chatter.
-pub fn rolling_resistance_moment(p: &TireParams, fz: f64, loaded_radius: f64, omega_rel: f64) -> f64 {
-    -p.rolling_resistance * fz * loaded_radius * (omega_rel / ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S).tanh()
+/// Rolling-resistance moment about the spin axis a (§6.6): M_rr = -f_rr F_z R_l tanh(Ω_rel/0.5 rad/s), or
+/// with a `.tir` file the Magic Formula's M_y magnitude R0 F_z (QSY1 + QSY2 F_x/F_z0 + QSY3 |V_x/V_ref| +
+/// QSY4 (V_x/V_ref)⁴) LMY in place of f_rr F_z R_l. The tanh keeps the right-hand side smooth through
+/// standstill, where sign(Ω_rel) would chatter.
+pub fn rolling_resistance_moment(p: &TireParams, fz: f64, loaded_radius: f64, omega_rel: f64, fx: f64, vx: f64) -> f64 {
+    let magnitude = match &p.magic_formula {
+        Some(mf) => mf.rolling_resistance(fz, fx, vx),
+        None => p.rolling_resistance * fz * loaded_radius,
+    };
+    -magnitude * (omega_rel / ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S).tanh()
 }
 
 #[cfg(test)]
@@ -166,7 +233,11 @@ mod tests {
         let p = params();
         for model in [TireModel::Sti, TireModel::Linear, TireModel::LinearFrictionCircle, TireModel::Frictionless] {
             for fz in [0.0, -100.0, f64::NAN] {
-                assert_eq!(shear_forces(model, &p, fz, 0.1, 0.1, 0.05), ShearForces::default(), "{model:?} {fz}");
+                assert_eq!(
+                    shear_forces(model, &p, &SlipInput::rolling(fz, 0.1, 0.1, 0.05)),
+                    ShearForces::default(),
+                    "{model:?} {fz}"
+                );
             }
         }
     }
@@ -177,7 +248,7 @@ mod tests {
         let c = contact(&RoadModel::Flat, &Vector3::new(0.0, 0.9, 0.45), &Vector3::y(), p.unloaded_radius_m)
             .expect("in contact");
         let fz = normal_force(&p, c.penetration, 0.0);
-        let shear = shear_forces(TireModel::Frictionless, &p, fz, 0.2, -0.1, 0.05);
+        let shear = shear_forces(TireModel::Frictionless, &p, &SlipInput::rolling(fz, 0.2, -0.1, 0.05));
         assert_eq!(shear, ShearForces::default());
         let force = c.force(fz, &shear);
         assert!(fz > 0.0);
@@ -191,11 +262,12 @@ mod tests {
         // agreement from a real difference.
         let p = params();
         let (kappa, tan_alpha) = (1e-5, 1e-5);
-        let sti = shear_forces(TireModel::Sti, &p, 6300.0, kappa, 0.0, 0.0);
-        let linear = shear_forces(TireModel::Linear, &p, 6300.0, kappa, 0.0, 0.0);
+        let sti = shear_forces(TireModel::Sti, &p, &SlipInput::rolling(6300.0, kappa, 0.0, 0.0));
+        let linear = shear_forces(TireModel::Linear, &p, &SlipInput::rolling(6300.0, kappa, 0.0, 0.0));
         assert!((sti.fx - linear.fx).abs() < 1e-4 * linear.fx.abs());
-        let sti = shear_forces(TireModel::Sti, &p, 6300.0, 0.0, tan_alpha, 0.0);
-        let circle = shear_forces(TireModel::LinearFrictionCircle, &p, 6300.0, 0.0, tan_alpha, 0.0);
+        let sti = shear_forces(TireModel::Sti, &p, &SlipInput::rolling(6300.0, 0.0, tan_alpha, 0.0));
+        let circle =
+            shear_forces(TireModel::LinearFrictionCircle, &p, &SlipInput::rolling(6300.0, 0.0, tan_alpha, 0.0));
         assert!((sti.fy - circle.fy).abs() < 1e-4 * circle.fy.abs());
     }
 
@@ -204,10 +276,10 @@ mod tests {
         let p = params();
         let (fz, radius) = (6300.0, 0.455);
         let full = p.rolling_resistance * fz * radius;
-        assert!((rolling_resistance_moment(&p, fz, radius, 50.0) + full).abs() < 1e-9 * full);
-        assert!((rolling_resistance_moment(&p, fz, radius, -50.0) - full).abs() < 1e-9 * full);
-        assert_eq!(rolling_resistance_moment(&p, fz, radius, 0.0), 0.0);
-        let half_width = rolling_resistance_moment(&p, fz, radius, 0.25);
+        assert!((rolling_resistance_moment(&p, fz, radius, 50.0, 0.0, 0.0) + full).abs() < 1e-9 * full);
+        assert!((rolling_resistance_moment(&p, fz, radius, -50.0, 0.0, 0.0) - full).abs() < 1e-9 * full);
+        assert_eq!(rolling_resistance_moment(&p, fz, radius, 0.0, 0.0, 0.0), 0.0);
+        let half_width = rolling_resistance_moment(&p, fz, radius, 0.25, 0.0, 0.0);
         assert!((half_width + full * 0.5f64.tanh()).abs() < 1e-12 * full);
     }
 
@@ -216,10 +288,10 @@ mod tests {
         let p = params();
         let c = contact(&RoadModel::Flat, &Vector3::new(0.0, 0.9, 0.45), &Vector3::y(), p.unloaded_radius_m)
             .expect("in contact");
-        let shear = ShearForces { fx: 1000.0, fy: 2000.0, mz: -30.0 };
+        let shear = ShearForces { fx: 1000.0, fy: 2000.0, mz: -30.0, mx: 0.0 };
         let force = c.force(5000.0, &shear);
         assert_eq!(force, Vector3::new(1000.0, 2000.0, 5000.0));
-        let moment = c.moment_about_centre(&Vector3::y(), &force, shear.mz, -40.0);
+        let moment = c.moment_about_centre(&Vector3::y(), &force, [shear.mx, shear.mz], -40.0);
         // r = (0, 0, -0.45): r × F = (0.45·2000, -0.45·1000, 0); plus M_z about z and M_rr about y.
         let expected = Vector3::new(0.45 * 2000.0, -0.45 * 1000.0 - 40.0, -30.0);
         assert!((moment - expected).norm() < 1e-9, "{moment}");

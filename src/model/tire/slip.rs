@@ -1,6 +1,5 @@
 //! Slip kinematics (physics.md §6.4) and the relaxation-length slip states (§6.7).
-use super::sti::{cornering_stiffness, longitudinal_stiffness};
-use super::{Contact, TireParams};
+use super::{peak_friction, slip_stiffness, Contact, TireParams};
 use nalgebra::Vector3;
 
 /// Width ε of the smooth max in V_ref (physics.md §6.4).
@@ -92,8 +91,9 @@ pub struct SlipStateContext {
 /// touching), and a stiffness of 0 gives no limit (infinity).
 pub fn sliding_limits(p: &TireParams, fz: f64) -> [f64; 2] {
     let fz = fz.max(MIN_LOAD_N);
-    let mu_fz = p.sti.mu0 * fz;
-    [mu_fz / longitudinal_stiffness(p, fz), mu_fz / cornering_stiffness(p, fz)]
+    let [c_s, c_alpha] = slip_stiffness(p, fz);
+    let [mu_x, mu_y] = peak_friction(p, fz);
+    [mu_x * fz / c_s, mu_y * fz / c_alpha]
 }
 
 /// Load floor of the low-speed terms, N.
@@ -109,8 +109,7 @@ pub fn damped_slip(p: &TireParams, fz: f64, xi: [f64; 2], slip: &SlipVelocities,
     }
     let fz = fz.max(MIN_LOAD_N);
     let damping = p.low_speed_damping_Ns_per_m * (1.0 - blend);
-    let c_x = longitudinal_stiffness(p, fz).max(1.0);
-    let c_y = cornering_stiffness(p, fz).max(1.0);
+    let [c_x, c_y] = slip_stiffness(p, fz).map(|c| c.max(1.0));
     (xi[0] - damping * slip.vsx / c_x, xi[1] - damping * slip.vsy / c_y)
 }
 

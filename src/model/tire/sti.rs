@@ -93,7 +93,7 @@ pub fn sti_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, inclinati
     }
     let adhesion = 1.0 - slip.saturation;
     let camber_thrust = s.c_gamma_per_rad * fz * inclination * adhesion;
-    ShearForces { fx: slip.fx, fy: slip.fy_slip + camber_thrust, mz: -s.trail_m * adhesion * slip.fy_slip }
+    ShearForces { fx: slip.fx, fy: slip.fy_slip + camber_thrust, mz: -s.trail_m * adhesion * slip.fy_slip, mx: 0.0 }
 }
 
 /// physics.md §6.5 reference table, computed by an independent implementation of the formulas with

@@ -199,7 +199,9 @@ impl TirFile {
                 let row: Result<Vec<f64>, _> = l.split_whitespace().map(str::parse::<f64>).collect();
                 match row {
                     Ok(r) => file.tables.entry(s).or_default().push(r),
-                    Err(_) => return Err(format!("{name}, line {line}: [{s}]: a table row that is not numbers: {l:?}")),
+                    Err(_) => {
+                        return Err(format!("{name}, line {line}: [{s}]: a table row that is not numbers: {l:?}"))
+                    }
                 }
                 continue;
             }
@@ -257,7 +259,12 @@ impl TirFile {
             Value::Number(x) => x.to_string(),
         };
         kind.factor(&normalise_unit(&written)).ok_or_else(|| {
-            format!("{}, line {}: [UNITS] {} = {written:?}: a unit this model cannot convert", self.name, e.line, kind.key())
+            format!(
+                "{}, line {}: [UNITS] {} = {written:?}: a unit this model cannot convert",
+                self.name,
+                e.line,
+                kind.key()
+            )
         })
     }
 
