@@ -257,6 +257,19 @@ impl MagicFormula {
             warnings: file.warnings.clone(),
         };
         mf.check()?;
+        // A fit over braking slips only (KPUMAX = 0, the FED tire) would clamp every driving slip to 0 and
+        // leave the car without traction: its range is taken symmetric, and the file's reader is told.
+        let mut mf = mf;
+        for (key, range) in [("KPUMIN/KPUMAX", &mut mf.kappa_range), ("ALPMIN/ALPMAX", &mut mf.alpha_range)] {
+            if range[0] >= 0.0 || range[1] <= 0.0 {
+                let reach = range[0].abs().max(range[1].abs());
+                mf.warnings.push(format!(
+                    "{name}: {key} = {}/{} covers one sign only: used as ±{reach}, the fit mirrored",
+                    range[0], range[1]
+                ));
+                *range = [-reach, reach];
+            }
+        }
         Ok(mf)
     }
 
@@ -270,7 +283,6 @@ impl MagicFormula {
             ("VERTICAL_STIFFNESS (times LCZ)", self.vertical_stiffness),
             ("LONGVL", self.reference_speed),
             ("PDX1", self.c.PDX1),
-            ("PDY1", self.c.PDY1),
             ("PCX1", self.c.PCX1),
             ("PCY1", self.c.PCY1),
             ("PKX1", self.c.PKX1),
@@ -283,6 +295,11 @@ impl MagicFormula {
         }
         if self.c.PKY1 == 0.0 {
             return Err(format!("{name}: PKY1 = 0 gives no cornering stiffness"));
+        }
+        // PDY1 < 0 in some MF-Tyre 5 exports ("W-axis system", the FED tire): D_y and B_y = K_y/(C_y D_y)
+        // change sign together, so F_y ≈ K_y α keeps the sign of PKY1 either way.
+        if self.c.PDY1 == 0.0 {
+            return Err(format!("{name}: PDY1 = 0 gives no lateral friction"));
         }
         if self.vertical_damping < 0.0 {
             return Err(format!("{name}: VERTICAL_DAMPING = {} must not be negative", self.vertical_damping));
