@@ -319,6 +319,7 @@ fn the_table_matches_the_brief() {
     expect("slip_model", Causality::Parameter, Start::Integer(1));
     expect("road", Causality::Parameter, Start::Integer(1));
     expect("vehicle_file", Causality::Parameter, Start::String(""));
+    expect("tire_file", Causality::Parameter, Start::String(""));
     assert_eq!(DESCRIPTION.by_name("step_cpu_time").unwrap().causality, Causality::Local);
     assert!(DESCRIPTION.by_name("time").is_none(), "no independent time variable (libcosim)");
     assert_eq!(LOG_CATEGORIES.len(), 6);
@@ -899,6 +900,39 @@ fn vehicle_files_missing_or_broken_are_errors_at_exit_initialization() {
     // No resource location at all: the compiled-in default.
     let inst2 = Inst::<VehicleModel>::new(&rec, None);
     assert_eq!(exit(&inst2), OK);
+    std::fs::remove_dir_all(&tmp).ok();
+}
+
+#[test]
+fn tire_files_switch_to_the_magic_formula_and_bad_ones_are_errors() {
+    let tmp = std::env::temp_dir().join(format!("rtv-fmi-tire-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let shipped = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("resources/tires/HMMWV_Pac02Tire.tir");
+    let text = std::fs::read_to_string(&shipped).unwrap();
+    std::fs::write(tmp.join("truncated.tir"), &text[..text.find("PKY1").unwrap()]).unwrap();
+    let rec = Recorder::default();
+    let uri = resources_uri();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
+    unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+    }
+    // A truncated file: an error naming the file and the key; the instance stays in initialization mode.
+    let bad = tmp.join("truncated.tir");
+    assert_eq!(inst.set_string(vr::TIRE_FILE, bad.to_str().unwrap()), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
+    assert!(rec.contains("truncated.tir") && rec.contains("PKY1"), "{}", rec.last());
+    assert_eq!(inst.mode(), Mode::InitializationMode, "the master may fix tire_file and retry");
+    // A missing file.
+    assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/none.tir"), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
+    assert!(rec.contains("tire_file") && rec.contains("none.tir"), "{}", rec.last());
+    // The shipped file, relative to the resources: the run uses the Magic Formula and steps.
+    assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/HMMWV_Pac02Tire.tir"), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last()) };
+    for _ in 0..50 {
+        assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{}", rec.last());
+    }
     std::fs::remove_dir_all(&tmp).ok();
 }
 

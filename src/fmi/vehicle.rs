@@ -143,6 +143,9 @@ pub struct VehicleModel {
     pub config: SimConfig,
     /// The `vehicle_file` parameter.
     pub vehicle_file: String,
+    /// The `tire_file` parameter (a `.tir` file; empty: the vehicle file's tire).
+    #[serde(default)]
+    pub tire_file: String,
     /// The steering inputs [rack_displacement, pitman_arm_angle]: the vehicle reads its own.
     pub steering: [f64; 2],
     /// Their derivatives of order 1 and 2 for the next step only.
@@ -181,6 +184,17 @@ impl VehicleModel {
 
     /// The vehicle data this instance uses (see `vehicle_path`), read and validated.
     fn vehicle_data(&self, context: &ModelContext, log: &Logger) -> Result<VehicleData, String> {
+        let mut data = self.vehicle_file_data(context, log)?;
+        let tir = self.tire_file.trim();
+        if !tir.is_empty() {
+            let path = fmi_layer::resources::locate("tire_file", tir, context)?;
+            data.use_tire_file(&path).map_err(|e| format!("tire_file: {e}"))?;
+            log.event(&format!("tire: Magic Formula of {}", path.display()));
+        }
+        Ok(data)
+    }
+
+    fn vehicle_file_data(&self, context: &ModelContext, log: &Logger) -> Result<VehicleData, String> {
         Ok(match self.vehicle_path(context)? {
             Some(path) => {
                 let data = VehicleData::from_file(&path).map_err(|e| e.to_string())?;
@@ -249,6 +263,7 @@ impl FmuModel for VehicleModel {
         VehicleModel {
             config: SimConfig::default(),
             vehicle_file: String::new(),
+            tire_file: String::new(),
             steering: [0.0; 2],
             steering_derivatives: [[None; 2]; 2],
             drive: [0.0; 4],
@@ -290,7 +305,14 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::BumpLength) => c.bump[1],
             Var::Parameter(P::Tolerance) => c.tolerance,
             Var::Parameter(
-                P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
+                P::SpeedMode
+                | P::Formulation
+                | P::Integrator
+                | P::SlipModel
+                | P::Road
+                | P::VehicleFile
+                | P::TireFile
+                | P::Contact,
             ) => return Err(format!("{} is not a Real of this model", var.name)),
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
             Var::Output(_) => self.output(var)?,
@@ -310,6 +332,7 @@ impl FmuModel for VehicleModel {
                 P::InitialSpeed
                 | P::InternalStep
                 | P::VehicleFile
+                | P::TireFile
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
@@ -325,6 +348,7 @@ impl FmuModel for VehicleModel {
     fn get_string(&self, var: &Variable) -> Result<String, String> {
         match var.var {
             Var::Parameter(P::VehicleFile) => Ok(self.vehicle_file.clone()),
+            Var::Parameter(P::TireFile) => Ok(self.tire_file.clone()),
             _ => Err(format!("{} is not a String of this model", var.name)),
         }
     }
@@ -356,7 +380,14 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::BumpLength) => self.config.bump[1] = ranged(var, value)?,
             Var::Parameter(P::Tolerance) => self.config.tolerance = ranged(var, value)?,
             Var::Parameter(
-                P::SpeedMode | P::Formulation | P::Integrator | P::SlipModel | P::Road | P::VehicleFile | P::Contact,
+                P::SpeedMode
+                | P::Formulation
+                | P::Integrator
+                | P::SlipModel
+                | P::Road
+                | P::VehicleFile
+                | P::TireFile
+                | P::Contact,
             )
             | Var::Local(_)
             | Var::Output(_) => return Err(format!("{} is not a settable Real of this model", var.name)),
@@ -377,6 +408,7 @@ impl FmuModel for VehicleModel {
                 P::InitialSpeed
                 | P::InternalStep
                 | P::VehicleFile
+                | P::TireFile
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
@@ -393,6 +425,10 @@ impl FmuModel for VehicleModel {
         match var.var {
             Var::Parameter(P::VehicleFile) => {
                 self.vehicle_file = value.to_string();
+                Ok(())
+            }
+            Var::Parameter(P::TireFile) => {
+                self.tire_file = value.to_string();
                 Ok(())
             }
             _ => Err(format!("{} is not a settable String of this model", var.name)),
