@@ -6,7 +6,8 @@
 //! for n in 0 20000; do valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$n \
 //!     target/release/examples/evaluation_instructions $n [VEHICLE.json] 2>&1 | grep "Collected"; done
 //! ```
-//! (a vehicle file as second argument: its J-turn at its calibrated amplitude; default the HMMWV)
+//! (a vehicle file as second argument: its J-turn at its calibrated amplitude; default the HMMWV, also named
+//! by `-`; a `.tir` file as third argument: the vehicle on that Magic Formula tire)
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Run, Workspace};
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
@@ -15,10 +16,13 @@ use std::hint::black_box;
 
 fn main() {
     let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(20000);
-    let data = match std::env::args().nth(2) {
+    let mut data = match std::env::args().nth(2).filter(|p| p != "-") {
         Some(path) => VehicleData::from_file(std::path::Path::new(&path)).unwrap(),
         None => VehicleData::default_hmmwv(),
     };
+    if let Some(tir) = std::env::args().nth(3) {
+        data.use_tire_file(std::path::Path::new(&tir)).unwrap();
+    }
     let scene = Scene::for_vehicle(SceneKind::JTurn, Amplitude::Calibrated, &data).unwrap();
     let mut sim = scene.start(data, &SimConfig::default()).unwrap();
     run(&mut sim, 4.0, 0.01, |_| {}).unwrap();

@@ -46,7 +46,7 @@ const USAGE: &str = "usage:
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
   rtv check-vehicle FILE.json
-  rtv tire --tir FILE.tir --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
+  rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]";
 
 struct Failure {
@@ -725,15 +725,15 @@ fn column_name(input: &SteeringInput, i: usize) -> &'static str {
     }
 }
 
-/// Steady-state curves of a `.tir` file's Magic Formula (docs/tire.md): one row per point with the columns
+/// Steady-state tire curves (docs/tire.md): the Magic Formula of `--tir FILE`, or without it the tire of
+/// the vehicle (`--vehicle`, the HMMWV's STI tire by default). One row per point with the columns
 /// `alpha_deg, kappa, camber_deg, fz_n, fx_n, fy_n, mx_nm, my_nm, mz_nm`, in ISO 8855 (TYDEX W) axes and
 /// signs: x forward, y left, z up; α > 0 when the contact point slides to the left (F_y < 0); κ > 0 driving;
 /// γ > 0 with the top of the wheel leaning right; M_y < 0 resists forward rolling. `alpha` sweeps α over
 /// ±20° at κ = 0, `kappa` sweeps κ over ±1 at α = 0, `combined` sweeps κ over ±1 at α = 0°, 2°, 4°, 8°.
 fn cmd_tire(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::model::tire::{MagicFormula, TireSide};
-    let opts = options(args, &["tir", "fz", "camber", "speed", "sweep", "side", "out"])?;
-    let tir = opts.get("tir").ok_or_else(|| bad("tire: --tir FILE.tir is required"))?;
+    use rt_vehicle::model::tire::{self, MagicFormula, SlipInput, TireModel, TireSide};
+    let opts = options(args, &["tir", "vehicle", "fz", "camber", "speed", "sweep", "side", "out"])?;
     let fz = number(&opts, "fz", f64::NAN)?;
     if !(fz > 0.0 && fz <= 1e6) {
         return Err(bad("tire: --fz N is required, a load in (0, 1e6] N"));
@@ -760,17 +760,36 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
         }
         _ => return Err(bad("tire: --sweep alpha|kappa|combined is required")),
     };
-    let mf = MagicFormula::read(std::path::Path::new(tir)).map_err(failed)?;
-    for w in &mf.warnings {
-        eprintln!("warning: {w}");
-    }
     let gamma = camber_deg.to_radians();
+    // Loads in ISO axes at (κ, α, γ): [F_x, F_y, M_x, M_y, M_z].
+    let evaluate: Box<dyn Fn(f64, f64) -> [f64; 5]> = match opts.get("tir") {
+        Some(tir) => {
+            let mf = MagicFormula::read(std::path::Path::new(tir)).map_err(failed)?;
+            for w in &mf.warnings {
+                eprintln!("warning: {w}");
+            }
+            Box::new(move |kappa, alpha| {
+                let l = mf.loads_on(side, fz, kappa, alpha.tan(), gamma, speed);
+                [l.fx, l.fy, l.mx, -l.rolling_resistance, l.mz]
+            })
+        }
+        None => {
+            let data = vehicle_data(&opts)?;
+            let p = data.tire.clone();
+            let model = if p.magic_formula.is_some() { TireModel::MagicFormula } else { TireModel::Sti };
+            Box::new(move |kappa, alpha| {
+                // The model's adapted slips: tan α' = −tan α, γ_w = −γ (model::tire::magic_formula).
+                let input = SlipInput { side, ..SlipInput::rolling(fz, kappa, -alpha.tan(), -gamma) };
+                let f = tire::shear_forces(model, &p, &input);
+                let my = tire::rolling_resistance_moment(&p, fz, p.unloaded_radius_m, 1e3, f.fx, speed);
+                [f.fx, f.fy, f.mx, my, f.mz]
+            })
+        }
+    };
     let mut csv = String::from("alpha_deg,kappa,camber_deg,fz_n,fx_n,fy_n,mx_nm,my_nm,mz_nm\n");
     for (alpha_deg, kappa) in points {
-        let l = mf.loads_on(side, fz, kappa, alpha_deg.to_radians().tan(), gamma, speed);
-        // M_y resists forward rolling (negative about the left-pointing y axis).
-        let my = -l.rolling_resistance;
-        csv.push_str(&format!("{alpha_deg},{kappa},{camber_deg},{fz},{},{},{},{my},{}\n", l.fx, l.fy, l.mx, l.mz));
+        let [fx, fy, mx, my, mz] = evaluate(kappa, alpha_deg.to_radians());
+        csv.push_str(&format!("{alpha_deg},{kappa},{camber_deg},{fz},{fx},{fy},{mx},{my},{mz}\n"));
     }
     csv_writer(opts.get("out"))?.write_all(csv.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     Ok(())

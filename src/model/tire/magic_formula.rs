@@ -124,6 +124,8 @@ pub struct MagicFormula {
     /// Input ranges the fit holds on: κ, α (rad), γ (rad), and the largest load, N.
     pub kappa_range: [f64; 2],
     pub alpha_range: [f64; 2],
+    /// tan of `alpha_range` (the bound applies to tan α).
+    pub tan_alpha_range: [f64; 2],
     pub camber_range: [f64; 2],
     pub fz_max: f64,
     /// Keys read but not used, and other remarks (`warnings` of the file first).
@@ -252,6 +254,7 @@ impl MagicFormula {
             // Kept inside ±(π/2 − 0.01): the bound is applied to tan α (ALPMAX = 1.5708 is a hair past π/2).
             alpha_range: range("SLIP_ANGLE_RANGE", "ALPMIN", "ALPMAX", [-half_pi, half_pi])?
                 .map(|a| a.clamp(-half_pi + 0.01, half_pi - 0.01)),
+            tan_alpha_range: [0.0; 2],
             camber_range: range("INCLINATION_ANGLE_RANGE", "CAMMIN", "CAMMAX", [-half_pi, half_pi])?,
             fz_max: file.number_or("VERTICAL_FORCE_RANGE", "FZMAX", f64::INFINITY)? * force,
             warnings: file.warnings.clone(),
@@ -270,6 +273,7 @@ impl MagicFormula {
                 *range = [-reach, reach];
             }
         }
+        mf.tan_alpha_range = mf.alpha_range.map(f64::tan);
         Ok(mf)
     }
 
@@ -428,7 +432,7 @@ impl MagicFormula {
         let fz = fz.min(self.fz_max);
         let kappa = kappa.clamp(self.kappa_range[0], self.kappa_range[1]);
         // The range is on the angle; α here is tan α (PAC2002's α*).
-        let alpha = alpha.clamp(self.alpha_range[0].tan(), self.alpha_range[1].tan());
+        let alpha = alpha.clamp(self.tan_alpha_range[0], self.tan_alpha_range[1]);
         let gamma = gamma.clamp(self.camber_range[0], self.camber_range[1]);
         let dfz = self.load_increment(fz);
         let dpi = self.pressure_ratio;
@@ -494,15 +498,15 @@ impl MagicFormula {
         // Overturning moment (MF 6.1 form; PAC2002 files fill QSX1–3, the rest are 0).
         let fy_n = fy / self.fz0_scaled;
         let fz_n = fz / self.fz0_scaled;
-        let mx = r0
-            * fz
-            * c.LMX
-            * (c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi)
-                + c.QSX3 * fy_n
-                + c.QSX4
-                    * (c.QSX5 * (c.QSX6 * fz_n).powi(2).atan()).cos()
-                    * (c.QSX7 * gamma + c.QSX8 * (c.QSX9 * fy_n).atan()).sin()
-                + c.QSX10 * (c.QSX11 * fz_n).atan() * gamma);
+        let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi) + c.QSX3 * fy_n;
+        // The MF 6.1 terms cost five transcendental calls; PAC2002 files leave them 0.
+        if c.QSX4 != 0.0 || c.QSX10 != 0.0 {
+            mx_terms += c.QSX4
+                * (c.QSX5 * (c.QSX6 * fz_n).powi(2).atan()).cos()
+                * (c.QSX7 * gamma + c.QSX8 * (c.QSX9 * fy_n).atan()).sin()
+                + c.QSX10 * (c.QSX11 * fz_n).atan() * gamma;
+        }
+        let mx = r0 * fz * c.LMX * mx_terms;
 
         MfLoads { fx, fy, mx, mz, rolling_resistance: self.rolling_resistance(fz, fx, vx) }
     }

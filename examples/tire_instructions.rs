@@ -1,0 +1,43 @@
+//! Instructions per tire force evaluation (`model::tire::shear_forces` plus the rolling resistance), STI
+//! against the Magic Formula of a `.tir` file, free of machine noise: run under callgrind with N = 0 and
+//! N = 200000 and divide the difference by N (docs/tire.md, "Cost").
+//!
+//! ```sh
+//! cargo build --release --example tire_instructions
+//! for m in sti resources/tires/HMMWV_Pac02Tire.tir; do for n in 0 200000; do valgrind --tool=callgrind \
+//!     --callgrind-out-file=/tmp/cg.tire.$n target/release/examples/tire_instructions $m $n 2>&1 \
+//!     | grep "Collected"; done; done
+//! ```
+//! The inputs cycle through a cornering state's four wheels (loads 4–8 kN, small slips, camber), as the
+//! J-turn presents them, so that no branch is predicted from one repeated input.
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::tire::{self, SlipInput, TireModel, TireSide};
+use std::hint::black_box;
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let which = args.next().unwrap_or_else(|| "sti".into());
+    let n: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(200_000);
+    let mut data = VehicleData::default_hmmwv();
+    let model = if which == "sti" {
+        TireModel::Sti
+    } else {
+        data.use_tire_file(std::path::Path::new(&which)).unwrap();
+        TireModel::MagicFormula
+    };
+    let p = data.tire.clone();
+    let wheels = [
+        SlipInput { side: TireSide::Left, ..SlipInput::rolling(4100.0, 0.004, 0.021, 0.012) },
+        SlipInput { side: TireSide::Right, ..SlipInput::rolling(8200.0, 0.006, 0.026, -0.018) },
+        SlipInput { side: TireSide::Left, ..SlipInput::rolling(4500.0, 0.011, 0.017, 0.004) },
+        SlipInput { side: TireSide::Right, ..SlipInput::rolling(7600.0, 0.012, 0.019, -0.006) },
+    ];
+    let mut sum = 0.0;
+    for i in 0..n {
+        let input = black_box(wheels[i % 4]);
+        let f = tire::shear_forces(model, &p, &input);
+        let m_rr = tire::rolling_resistance_moment(&p, input.fz, 0.45, 60.0, f.fx, 27.0);
+        sum += f.fx + f.fy + f.mz + f.mx + m_rr;
+    }
+    println!("{which}: {n} evaluations, checksum {sum}");
+}
