@@ -12,5 +12,6 @@
 
 pub mod kc;
 pub mod manoeuvres;
+pub mod ride_filters;
 pub mod stability;
 pub mod work_precision;
