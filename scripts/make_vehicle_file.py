@@ -74,6 +74,7 @@ out = {
     "chassis": {"mass_kg": src["chassis"]["mass_kg"], "com_m": src["chassis"]["com_location_m"],
                 "inertia_moments_kg_m2": src["chassis"]["inertia_moments_kg_m2"],
                 "inertia_products_kg_m2": src["chassis"]["inertia_products_kg_m2"]},
+    "driver_position_m": src["chassis"]["driver_position_m"],
     "rack": {"mass_kg": rack["rack_mass_kg"],
              "inertia_moments_kg_m2": src["steering"]["rack_pinion_chrono"]["steering_link_inertia_kg_m2"],
              "inertia_products_kg_m2": [0.0, 0.0, 0.0],

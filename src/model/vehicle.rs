@@ -164,6 +164,8 @@ impl PartialEq for Workspace {
 pub struct Diagnostics {
     /// Chassis CM acceleration r̈0 (ground frame, kinematic).
     pub chassis_acceleration: V3,
+    /// Chassis angular acceleration ω̇0 (ground frame).
+    pub chassis_angular_acceleration: V3,
     pub tire_force: [[f64; 3]; 4],
     pub kappa: [f64; 4],
     /// tan α (the angle itself, an arctangent, is taken only where it is output).
@@ -196,6 +198,10 @@ pub struct Vehicle {
     pub speed_gains: (f64, f64),
     pub gravity: f64,
     pub total_mass: f64,
+    /// The driver's seat (`driver_position_m`) relative to the sprung body's CM, chassis axes, m: where the
+    /// ride tests measure (studies::ride).
+    #[serde(default)]
+    pub driver_position: Option<V3>,
 }
 
 /// The road as every run sees it unless it names another: the level plane.
@@ -346,6 +352,7 @@ impl Vehicle {
             speed_gains: (data.speed_hold.kp_per_s, data.speed_hold.ki_per_s2),
             gravity: data.gravity_m_s2,
             total_mass,
+            driver_position: data.driver_position_m.map(|p| V3::from(p) - data.sprung_com()),
         };
         if data.tire.tir_file.is_some() && data.tire.magic_formula.is_none() {
             return Err(DataError {
@@ -539,6 +546,7 @@ impl Vehicle {
             return Err(ModelError::new(Cause::NonFinite, "non-finite state derivative"));
         }
         ws.diagnostics.chassis_acceleration = rdd;
+        ws.diagnostics.chassis_angular_acceleration = wd;
         Ok(())
     }
 

@@ -579,6 +579,10 @@ pub struct Simulation {
     /// Which of `outputs_values` belong to the current state.
     #[serde(default)]
     fresh: Fresh,
+    /// The chassis CM's linear and angular acceleration (ground frame) of the evaluation the outputs came
+    /// from (`chassis_point_acceleration`).
+    #[serde(skip)]
+    output_accelerations: Option<[V3; 2]>,
     /// The state at the start of the last `advance`, to roll a failed one back or undo a finished one
     /// (scratch: not part of a saved state, so a restored simulation cannot undo its last interval).
     #[serde(skip)]
@@ -633,6 +637,7 @@ impl Simulation {
             drive: [0.0; 4],
             brake: [0.0; 4],
             outputs_values: vec![0.0; OUTPUT_NAMES.len()],
+            output_accelerations: None,
             fresh: Fresh::None,
             state_before: Vec::with_capacity(idx::DIM), // the largest layout: no allocation per step
             before: None,
@@ -1152,6 +1157,7 @@ impl Simulation {
         }
         let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;
+        self.output_accelerations = Some([d.chassis_acceleration, d.chassis_angular_acceleration]);
         let o = &mut self.outputs_values;
         let mut written = 0u64; // the channels set below (each once, with the state's: all of them)
         let mut set = |channel: Channel, value: f64| {
@@ -1217,6 +1223,20 @@ impl Simulation {
         let mut o = Outputs::default();
         o.values.copy_from_slice(&self.outputs_values);
         Ok(o)
+    }
+
+    /// The acceleration (ground frame, kinematic: gravity not included) of a point fixed on the chassis,
+    /// given relative to the sprung CM in chassis axes (`Vehicle::driver_position`), at the current state:
+    /// a = r̈0 + ω̇0 × r + ω0 × (ω0 × r), r = A0 p.
+    pub fn chassis_point_acceleration(&mut self, point: &V3) -> Result<V3, ModelError> {
+        if self.fresh < Fresh::All || self.output_accelerations.is_none() {
+            self.evaluate_outputs().context("outputs")?;
+        }
+        let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
+        let r = a0 * point;
+        let w = V3::new(self.state[idx::W0], self.state[idx::W0 + 1], self.state[idx::W0 + 2]);
+        let [linear, angular] = self.output_accelerations.expect("set by evaluate_outputs");
+        Ok(linear + angular.cross(&r) + w.cross(&w.cross(&r)))
     }
 }
 
