@@ -593,10 +593,13 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
         );
         reports.push(report);
     }
-    let command = match (opts.get("vehicle"), opts.get("out")) {
-        (Some(v), Some(out)) => format!("cargo run --release --bin rtv -- stability --vehicle {v} --out {out}"),
-        _ => "cargo run --release --bin rtv -- stability --out docs/stability.md".to_string(),
-    };
+    let mut command = "cargo run --release --bin rtv -- stability".to_string();
+    for key in ["vehicle", "tire"] {
+        if let Some(v) = opts.get(key) {
+            command.push_str(&format!(" --{key} {v}"));
+        }
+    }
+    command.push_str(&format!(" --out {}", opts.get("out").map_or("docs/stability.md", String::as_str)));
     let md = stability::markdown(&reports, &command, started.elapsed().as_secs_f64());
     let mut out = csv_writer(opts.get("out"))?;
     out.write_all(md.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;

@@ -16,7 +16,7 @@ pub mod scenes;
 pub mod stepping;
 
 use crate::error::{Cause, Context, ModelError};
-use crate::integrate::stability::{is_stable, largest_stable_step};
+use crate::integrate::stability::{is_damped, largest_stable_step, DAMPED_GROWTH_MAX};
 use crate::integrate::{substeps, AnyIntegrator, Integrator, IntegratorKind, OdeSystem};
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
 use crate::model::equilibrium::{retune_ride_height, steady_rolling};
@@ -1014,12 +1014,13 @@ impl Simulation {
             })
             .min_by(|a, b| a.3.total_cmp(&b.3));
         match worst {
-            Some((m, l, lambda, h_max)) if !is_stable(kind, lambda * h) => Err(ModelError::step_refused(
+            Some((m, l, lambda, h_max)) if !is_damped(kind, lambda * h) => Err(ModelError::step_refused(
                 h_max,
                 format!(
                     "the {} mode of wheel {} (coupled with the other wheel modes) has eigenvalue {:.0}{:+.0}i 1/s \
                  at t = {:.3} s; {:?} at h = {:.3e} s puts hλ, with a {:.0} % margin, outside its stability region \
-                 (stable up to h = {:.3e} s): use a smaller internal step{}",
+                 or where it decays by less than the mode does (growth per step above max({DAMPED_GROWTH_MAX}, \
+                 e^(Re hλ/2))) (stable up to h = {:.3e} s): use a smaller internal step{}",
                     m.kind.name(),
                     crate::model::vehicle::CORNERS[m.corner],
                     l.re,
