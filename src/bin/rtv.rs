@@ -34,6 +34,7 @@ const USAGE: &str = "usage:
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--tire FILE.tir] [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
             [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
+            [--road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
@@ -46,6 +47,7 @@ const USAGE: &str = "usage:
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
   rtv check-vehicle FILE.json
+  rtv road --road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]] [--step M] [--out profile.csv]
   rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]";
 
@@ -174,6 +176,9 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
     c.internal_step = number(opts, "step", default_step)?;
     c.options.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
     c.bump = [number(opts, "bump-height", c.bump[0])?, number(opts, "bump-length", c.bump[1])?];
+    if let Some(road) = opts.get("road") {
+        c.road_file = Some(road.clone());
+    }
     c.validate().map_err(|e| bad(e.to_string()))?;
     // The step asked for is the step taken: it must divide the output interval.
     let ratio = interval / c.internal_step;
@@ -222,6 +227,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "brake",
             "drive",
             "contact",
+            "road",
             "out",
         ],
     )?;
@@ -798,6 +804,32 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// A road's profile in its own coordinates (docs/roads.md): u along the reference line, the heights at
+/// v = −0.9, 0 and 0.9 m (a vehicle's wheel tracks), every `--step` metres, with its extent and name.
+fn cmd_road(args: &[String]) -> Result<(), Failure> {
+    let opts = options(args, &["road", "step", "out"])?;
+    let spec = opts.get("road").ok_or_else(|| bad("road: --road FILE.crg|iso8608:... is required"))?;
+    let step = number(&opts, "step", 0.01)?;
+    if !(step >= 1e-4) {
+        return Err(bad("road: --step must be at least 1e-4 m"));
+    }
+    let surface = rt_vehicle::model::road_crg::surface_for(spec).map_err(failed)?;
+    let ([u0, u1], [v0, v1]) = surface.extent();
+    let count = ((u1 - u0) / step).floor() as usize + 1;
+    if count > 20_000_000 {
+        return Err(bad(format!("road: {count} points at --step {step}: use a larger step")));
+    }
+    eprintln!("road {}: u {u0}..{u1} m, v {v0}..{v1} m", surface.name);
+    let mut csv = String::from("u_m,z_right_m,z_centre_m,z_left_m\n");
+    for k in 0..count {
+        let u = u0 + k as f64 * step;
+        let z = |v: f64| surface.grid.elevation_at_uv(opencrg::Uv { u, v }).map_or(f64::NAN, |z| z);
+        csv.push_str(&format!("{u},{},{},{}\n", z(-0.9), z(0.0), z(0.9)));
+    }
+    csv_writer(opts.get("out"))?.write_all(csv.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -812,6 +844,7 @@ fn main() -> ExitCode {
         Some("import-chrono") => cmd_import_chrono(&args[1..]),
         Some("check-vehicle") => cmd_check_vehicle(&args[1..]),
         Some("tire") => cmd_tire(&args[1..]),
+        Some("road") => cmd_road(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

@@ -9,6 +9,12 @@ use std::f64::consts::PI;
 /// Height h(x, y) of the road in the ground frame and its gradient (dh/dx, dh/dy).
 pub trait Road {
     fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]);
+
+    /// Whether there is a surface at (x, y): false only beyond the edge of a road file whose border mode is
+    /// `none` (`road_crg`), where a wheel has nothing to stand on and the run ends with a named error.
+    fn has_surface(&self, _x: f64, _y: f64) -> bool {
+        true
+    }
 }
 
 /// A half-sine bump on one side of the road: h = height sin(pi (x - x_start)/length) on [x_start, x_start + length]
@@ -73,6 +79,9 @@ impl Road for EdgeAveraged<'_> {
         match self.road {
             RoadModel::Flat => (0.0, [0.0, 0.0]),
             RoadModel::Bumps(bumps) => sum_averaged(bumps, x, y, self.width),
+            // A grid is bilinear: its slopes are bounded by the data, and a difference straddling a cell edge
+            // sees at most the neighbouring cell's slope.
+            RoadModel::Surface(surface) => surface.height_and_gradient(x, y),
         }
     }
 }
@@ -89,6 +98,10 @@ fn sum_averaged(bumps: &[HalfSineBump], x: f64, y: f64, width: f64) -> (f64, [f6
 pub enum RoadModel {
     Flat,
     Bumps(Vec<HalfSineBump>),
+    /// An OpenCRG file or an ISO 8608 random road, placed (`road_crg`); rebuilt from the configuration,
+    /// never serialized.
+    #[serde(skip)]
+    Surface(crate::model::road_crg::PlacedSurface),
 }
 
 /// Bump geometry of the paper's course [P, physics.md §8.3].
@@ -123,6 +136,14 @@ impl Road for RoadModel {
                 let (bh, [bx, by]) = bump.height_and_gradient(x, y);
                 (h + bh, [hx + bx, hy + by])
             }),
+            RoadModel::Surface(surface) => surface.height_and_gradient(x, y),
+        }
+    }
+
+    fn has_surface(&self, x: f64, y: f64) -> bool {
+        match self {
+            RoadModel::Surface(surface) => surface.has_surface(x, y),
+            _ => true,
         }
     }
 }

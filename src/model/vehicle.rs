@@ -171,6 +171,8 @@ pub struct Diagnostics {
     /// tan α (the angle itself, an arctangent, is taken only where it is output).
     pub tan_alpha: [f64; 4],
     pub wheel_centre_z: [f64; 4],
+    /// Wheel centres' ground x, y (where the road is asked).
+    pub wheel_centre_xy: [[f64; 2]; 4],
     pub wheel_spin_relative: [f64; 4],
     pub drive_torque: [f64; 4],
     pub max_residual: f64,
@@ -245,6 +247,10 @@ impl Road for RoadView<'_> {
             }
             RoadView::Rounded { road, width } => EdgeAveraged { road, width }.height_and_gradient(x, y),
         }
+    }
+
+    fn has_surface(&self, x: f64, y: f64) -> bool {
+        self.ground().has_surface(x, y)
     }
 }
 
@@ -715,6 +721,17 @@ impl Vehicle {
         let axle_ground = a0 * axle;
         diag.wheel_centre_z[i] = centre_abs.z;
         diag.wheel_spin_relative[i] = spin_rel;
+        diag.wheel_centre_xy[i] = [centre_abs.x, centre_abs.y];
+        if !road.has_surface(centre_abs.x, centre_abs.y) {
+            return Err(ModelError::new(
+                Cause::PhysicalEvent,
+                format!(
+                    "wheel {} left the road surface at x = {:.2} m, y = {:.2} m: the road file's border mode is \
+                     none (no surface beyond its grid)",
+                    CORNERS[i], centre_abs.x, centre_abs.y
+                ),
+            ));
+        }
         let contact = if options.switches.tires {
             tire::contact(road, &centre_abs, &axle_ground, self.tire.unloaded_radius_m)
         } else {

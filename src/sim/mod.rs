@@ -62,6 +62,10 @@ pub struct SimConfig {
     /// integrators ignore it.
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
+    /// A road of one's own in place of `road`: an OpenCRG file or `iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]`
+    /// (`model::road_crg`), placed with its reference line's start 2 m behind the initial rear axle.
+    #[serde(default)]
+    pub road_file: Option<String>,
 }
 
 fn default_tolerance() -> f64 {
@@ -202,6 +206,7 @@ impl Default for SimConfig {
             ride_height_retune: true,
             bump: paper_bump(),
             tolerance: DEFAULT_TOLERANCE,
+            road_file: None,
         }
     }
 }
@@ -329,9 +334,18 @@ impl Start {
         let front_wheel_x0 = 0.5
             * (0..2).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
             + state[idx::R0];
-        let road = match config.road {
-            RoadChoice::Flat => RoadModel::Flat,
-            RoadChoice::PaperBumps => RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]),
+        let road = match (&config.road_file, config.road) {
+            (Some(spec), _) => {
+                let surface =
+                    crate::model::road_crg::surface_for(spec).map_err(|e| ModelError::new(Cause::Input, e))?;
+                let rear_x0 = 0.5
+                    * (2..4).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
+                    + state[idx::R0];
+                let anchor = [rear_x0 - crate::model::road_crg::START_BEHIND_REAR_AXLE_M, state[idx::R0 + 1]];
+                RoadModel::Surface(crate::model::road_crg::PlacedSurface::new(surface, anchor))
+            }
+            (None, RoadChoice::Flat) => RoadModel::Flat,
+            (None, RoadChoice::PaperBumps) => RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]),
         };
         Ok(Start { vehicle: v, road, state, cache, front_wheel_x0 })
     }
@@ -439,9 +453,23 @@ impl Events {
     }
 
     /// Look at one output evaluation: loads, slips and torques per wheel at time t.
-    fn observe(&mut self, t: f64, d: &Diagnostics, brake: &[f64; 4]) {
+    fn observe(&mut self, t: f64, d: &Diagnostics, brake: &[f64; 4], road: &RoadModel) {
         use crate::model::vehicle::CORNERS;
         for i in 0..4 {
+            // A road file's edge: beyond it the file's border mode decides what the wheel meets (it is told,
+            // never a silent extrapolation; with border mode none the evaluation ends with an error).
+            if let RoadModel::Surface(surface) = road {
+                let [x, y] = d.wheel_centre_xy[i];
+                if !surface.inside(x, y) {
+                    self.note(3, i, || {
+                        format!(
+                            "t = {t:.3} s: wheel {} left the extent of the road {} at x = {x:.2} m, y = {y:.2} m: \
+                             beyond it the surface continues as the file's border mode says",
+                            CORNERS[i], surface.surface.name
+                        )
+                    });
+                }
+            }
             if d.tire_force[i][2] <= 0.0 {
                 self.note(0, i, || format!("t = {t:.3} s: wheel {} left the road", CORNERS[i]));
             } else if d.kappa[i] < -EVENT_SLIP && brake[i] > 0.0 {
@@ -1041,7 +1069,7 @@ impl Simulation {
     /// resolved, not only stable: |hλ| ≤ `HOP_RESOLUTION`. (On a level road only the body's slow motions
     /// reach it, and a stable step is accurate: docs/stability.md.)
     fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64) -> Result<(), ModelError> {
-        let bumpy = matches!(self.road, RoadModel::Bumps(_));
+        let bumpy = matches!(self.road, RoadModel::Bumps(_) | RoadModel::Surface(_));
         let bound = hop_resolution(self.config.integrator);
         let worst = modes
             .iter()
@@ -1185,7 +1213,7 @@ impl Simulation {
         set(Channel::ConstraintResidual, d.max_residual);
         set(Channel::NewtonIterations, d.newton_iterations as f64);
         debug_assert_eq!(written.count_ones() as usize, Channel::ALL.iter().filter(|c| !c.from_state()).count());
-        self.events.observe(self.time, &d, &self.brake);
+        self.events.observe(self.time, &d, &self.brake, &self.road);
         if let Some(i) = self.outputs_values.iter().position(|v| !v.is_finite()) {
             return Err(ModelError::new(
                 Cause::NonFinite,

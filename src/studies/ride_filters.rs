@@ -38,7 +38,9 @@ impl Biquad {
     }
 
     fn filter(&mut self, u: f64) -> f64 {
-        let y = self.b[0] * u + self.b[1] * self.u[0] + self.b[2] * self.u[1] - self.a[0] * self.y[0] - self.a[1] * self.y[1];
+        let y = self.b[0] * u + self.b[1] * self.u[0] + self.b[2] * self.u[1]
+            - self.a[0] * self.y[0]
+            - self.a[1] * self.y[1];
         self.u = [u, self.u[0]];
         self.y = [y, self.y[0]];
         y
@@ -95,7 +97,8 @@ pub fn peak_filtered_g(acceleration: &[f64], step: f64) -> f64 {
 /// Absorbed power, W: the mean of the squared weighted acceleration (input m/s²) over the samples from
 /// `settle` on (the filter's start from rest is left out).
 pub fn absorbed_power_w(acceleration: &[f64], step: f64, settle: usize) -> f64 {
-    let weighted = Filter::absorbed_power_vertical(step).apply(&acceleration.iter().map(|a| a * FEET_PER_METRE).collect::<Vec<_>>());
+    let weighted = Filter::absorbed_power_vertical(step)
+        .apply(&acceleration.iter().map(|a| a * FEET_PER_METRE).collect::<Vec<_>>());
     let tail = &weighted[settle.min(weighted.len())..];
     if tail.is_empty() {
         return 0.0;

@@ -1,0 +1,247 @@
+//! Roads from OpenCRG files (`.crg`, ASCII and binary) and ISO 8608 random roads (docs/roads.md).
+//!
+//! The file is read by the `opencrg` crate (pure Rust, the reader the `xodr` crate uses for OpenDRIVE's CRG
+//! surfaces; it follows the ASAM OpenCRG 2.0 C-API, border modes and `$ROAD_CRG_MODS` included). This
+//! module adds what the vehicle model needs around it:
+//!
+//! - **Bounded reading**: at most `MAX_CRG_BYTES`, regular files only (`bounded_read`), errors naming the file;
+//!   a file that declares more points than it holds, a zero increment or non-numeric data is the crate's error,
+//!   prefixed with the file name.
+//! - **Placement**: the road's reference-line start (u at its start, v = 0) is put `START_BEHIND_REAR_AXLE_M`
+//!   behind the vehicle's initial rear axle, on the vehicle's centre line, the reference line's heading along
+//!   the vehicle's x axis; queries are turned from the simulation's ground frame into the road's x, y.
+//! - **Heights in double precision**: the crate evaluates the grid bilinearly in f64; it stores the grid's
+//!   values in f32 (a relative 6e-8: 3e-8 m on a 0.5 m obstacle, far below the 1e-6 m the check against an
+//!   independent reader asks); the gradient comes from its surface normal.
+//! - **Extent**: the u and v ranges of the grid. Outside, the file's border modes decide (the crate applies
+//!   them); `inside` reports it, and the simulation logs an event (`wheel … left the extent of …`). Where the
+//!   border mode is `None` there is no surface: `has_surface` is false and the run ends with a named error.
+//! - **Sharing**: a file loads once per process; FMU instances naming the same file (same path, length and
+//!   modification time) share it (`load`).
+use super::road::Road;
+use opencrg::{BorderMode, CrgGrid, Uv, Xy};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, Weak};
+
+/// The largest road file read: 512 MiB (a 100 km road at 1 cm with 5 long sections in f32 is 200 MB).
+pub const MAX_CRG_BYTES: u64 = 512 << 20;
+/// Where the reference line starts, behind the vehicle's initial rear axle, m.
+pub const START_BEHIND_REAR_AXLE_M: f64 = 2.0;
+
+/// A loaded surface: the grid and its name (the file, or the ISO 8608 specification).
+pub struct Surface {
+    pub name: String,
+    pub grid: CrgGrid,
+    /// Whether both border modes continue the surface beyond the grid (not `None`).
+    bordered: bool,
+}
+
+impl std::fmt::Debug for Surface {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Surface({})", self.name)
+    }
+}
+
+impl Surface {
+    /// A surface from the bytes of a CRG file named `name` (for messages).
+    pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<Surface, String> {
+        let grid = CrgGrid::from_bytes(bytes).map_err(|e| format!("road file {name}: {e}"))?;
+        let (nu, nv) = grid.dims();
+        if nu < 2 || nv < 1 {
+            return Err(format!("road file {name}: {nu} cross sections of {nv} points: not a surface"));
+        }
+        let [u0, u1] = range(grid.u_range());
+        let [v0, v1] = range(grid.v_range());
+        if !(u1 > u0) || !(v1 >= v0) || ![u0, u1, v0, v1].iter().all(|x| x.is_finite()) {
+            return Err(format!("road file {name}: its extent u {u0}..{u1}, v {v0}..{v1} m is not a surface"));
+        }
+        // The border modes as loaded: probe just beyond each edge (the crate applies the file's modes).
+        let probe = |uv: Uv| grid.elevation_at_uv(uv).is_some();
+        let mid = Uv { u: 0.5 * (u0 + u1), v: 0.5 * (v0 + v1) };
+        if !probe(mid) {
+            return Err(format!("road file {name}: no height at the middle of the grid (NaN data?)"));
+        }
+        let bordered = probe(Uv { u: u1 + 1.0, ..mid }) && probe(Uv { v: v1 + 1.0, ..mid });
+        Ok(Surface { name: name.to_string(), grid, bordered })
+    }
+
+    /// Reads a CRG file (bounded).
+    fn read(path: &Path) -> Result<Surface, String> {
+        let name = path.display().to_string();
+        let bytes = bounded_read::read_bytes(path, MAX_CRG_BYTES, &format!("the road file {name}"))?;
+        Surface::from_bytes(&name, &bytes)
+    }
+
+    /// The grid's u and v ranges, m.
+    pub fn extent(&self) -> ([f64; 2], [f64; 2]) {
+        (range(self.grid.u_range()), range(self.grid.v_range()))
+    }
+}
+
+fn range((a, b): (f64, f64)) -> [f64; 2] {
+    [a, b]
+}
+
+/// Files loaded in this process, by path, length and modification time: large files are read once and
+/// shared by every FMU instance (and run) that names them.
+static LOADED: Mutex<Option<HashMap<(PathBuf, u64, Option<std::time::SystemTime>), Weak<Surface>>>> = Mutex::new(None);
+
+/// Loads a CRG file, or returns the copy already loaded.
+pub fn load(path: &Path) -> Result<Arc<Surface>, String> {
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read the road file {}: {e}", path.display()))?;
+    let key = (path.canonicalize().unwrap_or_else(|_| path.to_path_buf()), meta.len(), meta.modified().ok());
+    // A poisoned lock only means another thread panicked while holding it: the map is still usable.
+    let mut guard = LOADED.lock().unwrap_or_else(|p| p.into_inner());
+    let map = guard.get_or_insert_with(HashMap::new);
+    map.retain(|_, w| w.strong_count() > 0);
+    if let Some(s) = map.get(&key).and_then(Weak::upgrade) {
+        return Ok(s);
+    }
+    let surface = Arc::new(Surface::read(path)?);
+    map.insert(key, Arc::downgrade(&surface));
+    Ok(surface)
+}
+
+/// The surface a road specification names: an OpenCRG file, or `iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]`
+/// (`road_iso8608`), generated and read as a CRG grid.
+pub fn surface_for(spec: &str) -> Result<Arc<Surface>, String> {
+    match crate::model::road_iso8608::Iso8608::parse(spec) {
+        Some(iso) => Ok(Arc::new(Surface::from_bytes(spec, iso?.crg_text().as_bytes())?)),
+        None => load(Path::new(spec)),
+    }
+}
+
+/// A surface placed in the simulation's ground frame: ground (x, y) ↦ road (x, y) = origin + R(heading)
+/// ((x, y) − anchor).
+#[derive(Debug, Clone)]
+pub struct PlacedSurface {
+    pub surface: Arc<Surface>,
+    /// The ground point that maps to the reference line's start, m.
+    pub anchor: [f64; 2],
+    /// The reference line's start in the road's x, y, and its heading there, rad.
+    origin: Xy,
+    cos: f64,
+    sin: f64,
+}
+
+impl PartialEq for PlacedSurface {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.surface, &other.surface) && self.anchor == other.anchor
+    }
+}
+
+impl PlacedSurface {
+    /// The surface with its reference line's start at ground point `anchor`, heading along ground x.
+    pub fn new(surface: Arc<Surface>, anchor: [f64; 2]) -> PlacedSurface {
+        let (u0, _) = surface.grid.u_range();
+        let start = Uv { u: u0, v: 0.0 };
+        let origin = surface.grid.xy_from_uv(start);
+        let phi = surface.grid.heading_at_uv(start).phi;
+        PlacedSurface { surface, anchor, origin, cos: phi.cos(), sin: phi.sin() }
+    }
+
+    /// The road's x, y of a ground point.
+    fn road_xy(&self, x: f64, y: f64) -> Xy {
+        let (dx, dy) = (x - self.anchor[0], y - self.anchor[1]);
+        Xy { x: self.origin.x + self.cos * dx - self.sin * dy, y: self.origin.y + self.sin * dx + self.cos * dy }
+    }
+
+    /// The grid position of a ground point, if the reference line has one for it.
+    fn uv(&self, x: f64, y: f64) -> Option<Uv> {
+        self.surface.grid.uv_from_xy(self.road_xy(x, y))
+    }
+
+    /// Whether the ground point lies on the grid (u and v within their ranges).
+    pub fn inside(&self, x: f64, y: f64) -> bool {
+        let ([u0, u1], [v0, v1]) = self.surface.extent();
+        self.uv(x, y).is_some_and(|uv| uv.u >= u0 && uv.u <= u1 && uv.v >= v0 && uv.v <= v1)
+    }
+
+    /// Whether the road has a surface at the ground point (always, unless a border mode is `None` and the
+    /// point lies beyond that border).
+    pub fn has_surface(&self, x: f64, y: f64) -> bool {
+        self.surface.bordered || self.height_and_gradient(x, y).0.is_finite()
+    }
+}
+
+impl Road for PlacedSurface {
+    /// The crate's elevation and its surface normal, the normal's slopes turned back into the ground frame;
+    /// NaN where there is no surface (`has_surface`).
+    fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
+        let nan = (f64::NAN, [f64::NAN; 2]);
+        let Some(uv) = self.uv(x, y) else { return nan };
+        let grid = &self.surface.grid;
+        let (Some(z), Some(n)) = (grid.elevation_at_uv(uv), grid.normal_at_uv(uv)) else { return nan };
+        if !(n.z > 0.0) {
+            return nan;
+        }
+        // The slopes in the road's axes, turned by −heading into the ground's.
+        let (gx, gy) = (-n.x / n.z, -n.y / n.z);
+        (z, [self.cos * gx + self.sin * gy, -self.sin * gx + self.cos * gy])
+    }
+}
+
+/// The border modes a surface may declare, as `opencrg` names them (for docs and messages).
+pub fn border_mode_name(mode: BorderMode) -> &'static str {
+    match mode {
+        BorderMode::None => "none (no surface beyond the grid)",
+        BorderMode::Zero => "zero",
+        BorderMode::Keep => "keep (the edge value continues)",
+        BorderMode::Repeat => "repeat",
+        BorderMode::Reflect => "reflect",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Three cross sections 1 m apart, long sections at v = −1, 0, 1 m: a 0.1 m ridge along u = 1 m.
+    const SMALL: &[u8] = b"$ROAD_CRG
+REFERENCE_LINE_INCREMENT = 1.0
+LONG_SECTION_V_RIGHT = -1.0
+LONG_SECTION_V_INCREMENT = 1.0
+$
+$KD_Definition
+#:LRFI
+D:long section 1,m
+D:long section 2,m
+D:long section 3,m
+$
+$$$$
+ 0.0000000 0.0000000 0.0000000
+ 0.1000000 0.1000000 0.1000000
+ 0.0000000 0.0000000 0.0000000
+";
+
+    #[test]
+    fn placed_heights_and_slopes() {
+        let s = Arc::new(Surface::from_bytes("small.crg", SMALL).unwrap());
+        let p = PlacedSurface::new(s, [5.0, 0.0]);
+        // Ground x = 5 is u = 0; x = 5.5 is halfway up the ridge, slope +0.1 per m along x. The crate stores
+        // the grid in f32 (0.1 is 0.10000000149): 1e-8 covers it.
+        let (h, [hx, hy]) = p.height_and_gradient(5.5, 0.3);
+        assert!((h - 0.05).abs() < 1e-8 && (hx - 0.1).abs() < 1e-8 && hy.abs() < 1e-12, "{h} {hx} {hy}");
+        let (h, [hx, _]) = p.height_and_gradient(6.5, -0.2);
+        assert!((h - 0.05).abs() < 1e-8 && (hx + 0.1).abs() < 1e-8);
+        assert!(p.inside(6.0, 0.9) && !p.inside(8.0, 0.0) && !p.inside(6.0, 1.5));
+        // Keep (the default border mode): the edge continues, a surface everywhere.
+        assert!(p.has_surface(20.0, 0.0));
+        assert_eq!(p.height_and_gradient(20.0, 0.0).0, 0.0);
+    }
+
+    #[test]
+    fn bad_files_are_named_errors() {
+        let text = String::from_utf8(SMALL.to_vec()).unwrap();
+        for (name, body) in [
+            ("zero.crg", text.replace("REFERENCE_LINE_INCREMENT = 1.0", "REFERENCE_LINE_INCREMENT = 0.0")),
+            ("text.crg", text.replace(" 0.1000000 0.1000000", " 0.1000000 abc")),
+            ("cut.crg", text[..text.len() - 40].to_string()),
+            ("empty.crg", String::new()),
+        ] {
+            let e = Surface::from_bytes(name, body.as_bytes()).unwrap_err();
+            assert!(e.contains(name), "{name}: {e}");
+        }
+    }
+}
