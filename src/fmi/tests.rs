@@ -320,6 +320,7 @@ fn the_table_matches_the_brief() {
     expect("road", Causality::Parameter, Start::Integer(1));
     expect("vehicle_file", Causality::Parameter, Start::String(""));
     expect("tire_file", Causality::Parameter, Start::String(""));
+    expect("road_file", Causality::Parameter, Start::String(""));
     assert_eq!(DESCRIPTION.by_name("step_cpu_time").unwrap().causality, Causality::Local);
     assert!(DESCRIPTION.by_name("time").is_none(), "no independent time variable (libcosim)");
     assert_eq!(LOG_CATEGORIES.len(), 6);
@@ -929,6 +930,33 @@ fn tire_files_switch_to_the_magic_formula_and_bad_ones_are_errors() {
     assert!(rec.contains("tire_file") && rec.contains("none.tir"), "{}", rec.last());
     // The shipped file, relative to the resources: the run uses the Magic Formula and steps.
     assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/HMMWV_Pac02Tire.tir"), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last()) };
+    for _ in 0..50 {
+        assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{}", rec.last());
+    }
+    std::fs::remove_dir_all(&tmp).ok();
+}
+
+#[test]
+fn road_files_place_a_road_and_bad_ones_are_errors() {
+    let tmp = std::env::temp_dir().join(format!("rtv-fmi-road-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    std::fs::write(tmp.join("cut.crg"), "$ROAD_CRG\nREFERENCE_LINE_INCREMENT = 0.0\n$\n").unwrap();
+    let rec = Recorder::default();
+    let uri = resources_uri();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
+    unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+    }
+    for (bad, needle) in [(tmp.join("cut.crg").display().to_string(), "cut.crg"), ("iso8608:Z:1".into(), "class")] {
+        assert_eq!(inst.set_string(vr::ROAD_FILE, &bad), OK);
+        unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
+        assert!(rec.contains(needle), "{bad}: {}", rec.last());
+        assert_eq!(inst.mode(), Mode::InitializationMode, "the master may fix road_file and retry");
+    }
+    // The shipped 8-inch half-round obstacle, relative to the resources: the run steps.
+    assert_eq!(inst.set_string(vr::ROAD_FILE, "roads/halfround_8in.crg"), OK);
     unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last()) };
     for _ in 0..50 {
         assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{}", rec.last());

@@ -146,6 +146,9 @@ pub struct VehicleModel {
     /// The `tire_file` parameter (a `.tir` file; empty: the vehicle file's tire).
     #[serde(default)]
     pub tire_file: String,
+    /// The `road_file` parameter (an OpenCRG file or an `iso8608:` road; empty: the `road` code's).
+    #[serde(default)]
+    pub road_file: String,
     /// The steering inputs [rack_displacement, pitman_arm_angle]: the vehicle reads its own.
     pub steering: [f64; 2],
     /// Their derivatives of order 1 and 2 for the next step only.
@@ -210,8 +213,16 @@ impl VehicleModel {
 
     /// The simulation's configuration: the parameters, with the experiment's tolerance in place of the
     /// `tolerance` parameter when the master defined one.
-    fn config(&self) -> Result<SimConfig, String> {
+    fn config(&self, context: &ModelContext) -> Result<SimConfig, String> {
         let mut config = self.config.clone();
+        let road = self.road_file.trim();
+        config.road_file = if road.is_empty() {
+            None
+        } else if road.starts_with("iso8608:") {
+            Some(road.to_string())
+        } else {
+            Some(fmi_layer::resources::locate("road_file", road, context)?.display().to_string())
+        };
         if let Some(t) = self.experiment_tolerance {
             config.tolerance = t;
         }
@@ -264,6 +275,7 @@ impl FmuModel for VehicleModel {
             config: SimConfig::default(),
             vehicle_file: String::new(),
             tire_file: String::new(),
+            road_file: String::new(),
             steering: [0.0; 2],
             steering_derivatives: [[None; 2]; 2],
             drive: [0.0; 4],
@@ -312,6 +324,7 @@ impl FmuModel for VehicleModel {
                 | P::Road
                 | P::VehicleFile
                 | P::TireFile
+                | P::RoadFile
                 | P::Contact,
             ) => return Err(format!("{} is not a Real of this model", var.name)),
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
@@ -333,6 +346,7 @@ impl FmuModel for VehicleModel {
                 | P::InternalStep
                 | P::VehicleFile
                 | P::TireFile
+                | P::RoadFile
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
@@ -349,6 +363,7 @@ impl FmuModel for VehicleModel {
         match var.var {
             Var::Parameter(P::VehicleFile) => Ok(self.vehicle_file.clone()),
             Var::Parameter(P::TireFile) => Ok(self.tire_file.clone()),
+            Var::Parameter(P::RoadFile) => Ok(self.road_file.clone()),
             _ => Err(format!("{} is not a String of this model", var.name)),
         }
     }
@@ -387,6 +402,7 @@ impl FmuModel for VehicleModel {
                 | P::Road
                 | P::VehicleFile
                 | P::TireFile
+                | P::RoadFile
                 | P::Contact,
             )
             | Var::Local(_)
@@ -409,6 +425,7 @@ impl FmuModel for VehicleModel {
                 | P::InternalStep
                 | P::VehicleFile
                 | P::TireFile
+                | P::RoadFile
                 | P::RoadGrade
                 | P::RoadCrossSlope
                 | P::BumpHeight
@@ -429,6 +446,10 @@ impl FmuModel for VehicleModel {
             }
             Var::Parameter(P::TireFile) => {
                 self.tire_file = value.to_string();
+                Ok(())
+            }
+            Var::Parameter(P::RoadFile) => {
+                self.road_file = value.to_string();
                 Ok(())
             }
             _ => Err(format!("{} is not a settable String of this model", var.name)),
@@ -455,7 +476,7 @@ impl FmuModel for VehicleModel {
 
     fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String> {
         let _ = start_time; // the simulation's clock starts at 0; the generic layer keeps the FMU time
-        let config = self.config()?;
+        let config = self.config(context)?;
         let vehicle = self.vehicle_data(context, log)?;
         // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
         for w in vehicle.warnings() {
@@ -470,7 +491,10 @@ impl FmuModel for VehicleModel {
                 vehicle.steering_limit(),
             )?;
         }
-        let sim = Simulation::new(vehicle, config).map_err(|e| format!("initial equilibrium: {e}"))?;
+        let sim = Simulation::new(vehicle, config).map_err(|e| match e.cause() {
+            crate::error::Cause::Input => format!("parameters: {e}"),
+            _ => format!("initial equilibrium: {e}"),
+        })?;
         self.sim = Some(sim);
         self.step_cpu_time = 0.0;
         self.events_logged = 0;
@@ -483,7 +507,7 @@ impl FmuModel for VehicleModel {
                 return Err(format!("experiment tolerance {t} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]"));
             }
         }
-        let config = self.config()?;
+        let config = self.config(context)?;
         config.validate().map_err(|e| format!("parameters: {e}"))?;
         let finite =
             |name: &str, v: f64| if v.is_finite() { Ok(()) } else { Err(format!("{name} = {v} is not finite")) };

@@ -38,6 +38,25 @@ pub fn static_half_contact_length(unloaded_radius: f64, vertical_stiffness: f64,
     (2.0 * unloaded_radius * deflection).sqrt()
 }
 
+/// Fraction of the unloaded radius over which a tire envelops a short obstacle on a gridded road
+/// (`enveloping_half_length`).
+pub const OBSTACLE_ENVELOPE_FRACTION: f64 = 0.5;
+
+/// The half-length of the enveloping average: the static half contact length on the shipped analytic
+/// roads (the paper's bumps, whose edges it rounds), and at least half the unloaded radius on a gridded
+/// road (OpenCRG, ISO 8608). A tire meets an obstacle shorter than itself ahead of and behind the point
+/// below its centre, over a length of the order of its radius (Zegelaar's and Schmeitz's basic functions
+/// span about 1.5 R0 for a step); the contact length alone leaves the steep faces of a half-round
+/// obstacle (slope 4 at its foot) in the tangent plane of §6.2, whose extrapolation over the tire then
+/// reads a 4-inch obstacle as a 0.36 m deflection.
+pub fn enveloping_half_length(road: &RoadModel, unloaded_radius: f64, vertical_stiffness: f64, load: f64) -> f64 {
+    let contact = static_half_contact_length(unloaded_radius, vertical_stiffness, load);
+    match road {
+        RoadModel::Surface(_) => contact.max(OBSTACLE_ENVELOPE_FRACTION * unloaded_radius),
+        _ => contact,
+    }
+}
+
 /// A road seen through the enveloping contact of half-length `half_length` (> 0).
 pub struct Enveloped<'a> {
     pub road: &'a RoadModel,
@@ -62,14 +81,15 @@ impl Road for Enveloped<'_> {
 }
 
 /// The triangular average of a gridded road (no antiderivatives there) by the trapezoidal rule at
-/// s = k a/3, k = −3…3: weights (3 − |k|)/9, the ends weigh 0, so five heights. The slope is the same sum
-/// of the point slopes, which is exactly the derivative of the height sum (the nodes shift with x). With a
-/// ≈ 0.1 m the nodes are 3 cm apart, three grid increments of the shipped CRG files (1 cm).
+/// s = k a/6, k = −6…6: weights (6 − |k|)/36, the ends weigh 0, so eleven heights. The slope is the same
+/// sum of the point slopes, which is exactly the derivative of the height sum (the nodes shift with x).
+/// With a ≈ 0.24 m (half the HMMWV's radius) the nodes are 4 cm apart, four grid increments of the
+/// shipped half-round files (1 cm), a fifth of their obstacles' 20 cm base.
 fn enveloped_by_quadrature(road: &dyn Road, x: f64, y: f64, half_length: f64) -> (f64, [f64; 2]) {
     let mut out = (0.0, [0.0, 0.0]);
-    for k in -2i32..=2 {
-        let w = f64::from(3 - k.abs()) / 9.0;
-        let (h, [hx, hy]) = road.height_and_gradient(x + f64::from(k) * half_length / 3.0, y);
+    for k in -5i32..=5 {
+        let w = f64::from(6 - k.abs()) / 36.0;
+        let (h, [hx, hy]) = road.height_and_gradient(x + f64::from(k) * half_length / 6.0, y);
         out.0 += w * h;
         out.1[0] += w * hx;
         out.1[1] += w * hy;

@@ -262,7 +262,8 @@ impl<'a> Run<'a> {
             // The static half contact length at a quarter of the weight on the level.
             ContactModel::Envelope => RoadView::Enveloped {
                 road,
-                half_length: crate::model::road_envelope::static_half_contact_length(
+                half_length: crate::model::road_envelope::enveloping_half_length(
+                    road,
                     vehicle.tire.unloaded_radius_m,
                     vehicle.tire.vertical_stiffness_N_per_m,
                     0.25 * vehicle.total_mass * vehicle.gravity,
@@ -278,9 +279,15 @@ impl<'a> Run<'a> {
     }
 
     /// This run on its road rounded at the C⁰ edges (`EdgeAveraged`, 2 mm) and seen at a point: for
-    /// finite-difference derivatives, which must not straddle an edge.
+    /// finite-difference derivatives, which must not straddle an edge. A run with the enveloping contact
+    /// keeps it: the envelope is already smooth (C² over the paper's bumps, a weighted sum of eleven
+    /// heights on a grid), and the point road under it is not the road the run meets (a half-round
+    /// obstacle's foot has slope 4, whose tangent plane would read a 0.37 m deflection).
     pub fn on_rounded_road(&self) -> Run<'a> {
-        Run { options: self.options, road: RoadView::Rounded { road: self.road.ground(), width: 0.002 } }
+        match self.road {
+            RoadView::Enveloped { .. } => *self,
+            _ => Run { options: self.options, road: RoadView::Rounded { road: self.road.ground(), width: 0.002 } },
+        }
     }
 
     /// The road the run is on (before the contact model).
@@ -738,6 +745,21 @@ impl Vehicle {
             None
         };
         match contact {
+            Some(ct) if ct.penetration > tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m => {
+                return Err(ModelError::new(
+                    Cause::ModelValidity,
+                    format!(
+                        "wheel {} at x = {:.3} m: tire deflection {:.3} m is more than {} of its radius {:.3} m: the \
+                         rim would strike the road, which the single-contact tire does not model (an obstacle \
+                         taller than the tire envelops, or a hard landing)",
+                        CORNERS[i],
+                        centre_abs.x,
+                        ct.penetration,
+                        tire::BOTTOMING_FRACTION,
+                        self.tire.unloaded_radius_m
+                    ),
+                ))
+            }
             Some(ct) => {
                 let v_c = a0 * point_velocity(&y_k, &(a0.tr_mul(&(ct.point - r0))));
                 let fz = tire::normal_force(&self.tire, ct.penetration, tire::penetration_rate(&ct, &v_c));

@@ -120,6 +120,13 @@ impl SlipInput {
     }
 }
 
+/// The tire deflection, as a fraction of the unloaded radius, beyond which the model refuses to go on: the
+/// sidewall is then nearly flat (the HMMWV's 37×12.5R16.5 has a section height of 0.55 R0) and the rim would
+/// strike; the single-point (or enveloped) contact's force k_z δ would launch the car instead. Half-round
+/// obstacles of 16 and 20 in (more than 0.85 R0 high) at walking pace flipped the HMMWV end over end
+/// without this bound.
+pub const BOTTOMING_FRACTION: f64 = 0.5;
+
 /// Normal force F_z = max(0, k_z δ + k_z2 δ² + c_z δ̇) for δ > 0, else 0 (physics.md §6.3). The clamp at 0 is
 /// the lift-off: the damper may not pull the wheel onto the road.
 pub fn normal_force(p: &TireParams, penetration: f64, penetration_rate: f64) -> f64 {
