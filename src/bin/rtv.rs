@@ -47,6 +47,8 @@ const USAGE: &str = "usage:
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
   rtv check-vehicle FILE.json
+  rtv ride halfround --height 4|8|10|12|16|20 [--road FILE.crg] [--speeds 5,10,...] [--vehicle FILE.json] [--tire FILE.tir]
+  rtv ride rms --course FILE.crg [--rough 100,404.8] [--speeds 10,20,...] [--vehicle FILE.json] [--tire FILE.tir]
   rtv road --road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]] [--step M] [--out profile.csv]
   rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]";
@@ -830,6 +832,47 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The NRMM ride tests (docs/ride.md): `halfround` over a half-round obstacle file (the shipped
+/// `resources/roads/halfround_<H>in.crg`, or `--road`), `rms` over an RMS course. Prints a Markdown table
+/// and the verdict line.
+fn cmd_ride(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::studies::ride;
+    let test = args.first().map(String::as_str).ok_or_else(|| bad("ride: halfround or rms?"))?;
+    let opts = options(&args[1..], &["height", "road", "course", "rough", "speeds", "vehicle", "tire"])?;
+    let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, Failure> {
+        match opts.get(key) {
+            None => Ok(default.to_vec()),
+            Some(t) => t
+                .split(',')
+                .map(|v| v.trim().parse::<f64>().ok().filter(|x| x.is_finite() && *x > 0.0))
+                .collect::<Option<Vec<f64>>>()
+                .ok_or_else(|| bad(format!("--{key}: '{t}' is not a list of positive numbers"))),
+        }
+    };
+    let data = vehicle_data(&opts)?;
+    let sweep = match test {
+        "halfround" => {
+            let road = match (opts.get("road"), opts.get("height")) {
+                (Some(r), _) => r.clone(),
+                (None, Some(h)) => format!("resources/roads/halfround_{h}in.crg"),
+                (None, None) => return Err(bad("ride halfround: --height IN or --road FILE.crg")),
+            };
+            ride::halfround(&data, &road, &list("speeds", &[5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 40.0, 50.0])?)
+        }
+        "rms" => {
+            let course = opts.get("course").ok_or_else(|| bad("ride rms: --course FILE.crg"))?;
+            let rough = list("rough", &[100.0, 404.8])?;
+            if rough.len() != 2 || !(rough[1] > rough[0]) {
+                return Err(bad("--rough: FROM,TO in the road's u, m"));
+            }
+            ride::rms(&data, course, [rough[0], rough[1]], &list("speeds", &[5.0, 10.0, 15.0, 20.0, 30.0, 40.0])?)
+        }
+        other => return Err(bad(format!("ride: '{other}' is not halfround or rms"))),
+    };
+    print!("{}", ride::markdown(&sweep));
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -845,6 +888,7 @@ fn main() -> ExitCode {
         Some("check-vehicle") => cmd_check_vehicle(&args[1..]),
         Some("tire") => cmd_tire(&args[1..]),
         Some("road") => cmd_road(&args[1..]),
+        Some("ride") => cmd_ride(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

@@ -123,6 +123,9 @@ pub struct PlacedSurface {
     origin: Xy,
     cos: f64,
     sin: f64,
+    /// A straight reference line (one heading from start to end, as the NRMM courses and the ISO 8608
+    /// roads have): u and v are then projections, without the crate's search along the line.
+    straight: Option<f64>,
 }
 
 impl PartialEq for PlacedSurface {
@@ -138,7 +141,17 @@ impl PlacedSurface {
         let start = Uv { u: u0, v: 0.0 };
         let origin = surface.grid.xy_from_uv(start);
         let phi = surface.grid.heading_at_uv(start).phi;
-        PlacedSurface { surface, anchor, origin, cos: phi.cos(), sin: phi.sin() }
+        let (u1, _) = surface.grid.u_range();
+        let end = surface.grid.xy_from_uv(Uv { u: u1, v: 0.0 });
+        // Straight when the end lies on the start's heading, to 1e-9 of the length.
+        let along = (end.x - origin.x) * phi.cos() + (end.y - origin.y) * phi.sin();
+        let across = -(end.x - origin.x) * phi.sin() + (end.y - origin.y) * phi.cos();
+        let end_phi = surface.grid.heading_at_uv(Uv { u: u1, v: 0.0 }).phi;
+        let straight = (across.abs() <= 1e-9 * (u1 - u0).abs().max(1.0)
+            && (along - (u1 - u0)).abs() <= 1e-9 * (u1 - u0).abs().max(1.0)
+            && (end_phi - phi).abs() < 1e-12)
+            .then_some(u0);
+        PlacedSurface { surface, anchor, origin, cos: phi.cos(), sin: phi.sin(), straight }
     }
 
     /// The road's x, y of a ground point.
@@ -147,9 +160,14 @@ impl PlacedSurface {
         Xy { x: self.origin.x + self.cos * dx - self.sin * dy, y: self.origin.y + self.sin * dx + self.cos * dy }
     }
 
-    /// The grid position of a ground point, if the reference line has one for it.
+    /// The grid position of a ground point, if the reference line has one for it. On a straight reference
+    /// line the ground's axes are the road's (the placement turns one into the other): u and v are the
+    /// offsets from the anchor.
     fn uv(&self, x: f64, y: f64) -> Option<Uv> {
-        self.surface.grid.uv_from_xy(self.road_xy(x, y))
+        match self.straight {
+            Some(u0) => Some(Uv { u: u0 + (x - self.anchor[0]), v: y - self.anchor[1] }),
+            None => self.surface.grid.uv_from_xy(self.road_xy(x, y)),
+        }
     }
 
     /// Whether the ground point lies on the grid (u and v within their ranges).

@@ -12,6 +12,7 @@
 
 pub mod kc;
 pub mod manoeuvres;
+pub mod ride;
 pub mod ride_filters;
 pub mod stability;
 pub mod work_precision;
