@@ -46,8 +46,19 @@ impl std::fmt::Debug for Surface {
 impl Surface {
     /// A surface from the bytes of a CRG file named `name` (for messages).
     pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<Surface, String> {
+        check_ascii_data(name, bytes)?;
         let grid = CrgGrid::from_bytes(bytes).map_err(|e| format!("road file {name}: {e}"))?;
         let (nu, nv) = grid.dims();
+        // The crate reads the complete records it finds; a file that declares more (truncated, or a header
+        // promising 10⁸ points over a few rows) is refused rather than read short.
+        if let Some(declared) = declared_cross_sections(bytes) {
+            if declared != nu {
+                return Err(format!(
+                    "road file {name}: its header declares {declared} cross sections (REFERENCE_LINE_START_U, END_U, \
+                     INCREMENT) and its data hold {nu}: truncated, or a wrong header"
+                ));
+            }
+        }
         if nu < 2 || nv < 1 {
             return Err(format!("road file {name}: {nu} cross sections of {nv} points: not a surface"));
         }
@@ -79,13 +90,81 @@ impl Surface {
     }
 }
 
+/// The number of cross sections the `$ROAD_CRG` header declares, when it gives the reference line's end:
+/// round((END_U − START_U)/INCREMENT) + 1.
+fn declared_cross_sections(bytes: &[u8]) -> Option<usize> {
+    let head = &bytes[..bytes.len().min(64 << 10)];
+    let text = String::from_utf8_lossy(head);
+    let key = |k: &str| -> Option<f64> {
+        text.lines().find_map(|l| {
+            let (name, value) = l.split_once('=')?;
+            name.trim().eq_ignore_ascii_case(k).then(|| value.trim().parse::<f64>().ok()).flatten()
+        })
+    };
+    let (end, inc) = (key("REFERENCE_LINE_END_U")?, key("REFERENCE_LINE_INCREMENT")?);
+    let start = key("REFERENCE_LINE_START_U").unwrap_or(0.0);
+    let n = (end - start) / inc;
+    (0.0..1e12).contains(&n).then(|| n.round() as usize + 1)
+}
+
+/// ASCII data (`#:LRFI`) are fixed fields of 10 characters: each must be a number (NaN marks a hole) or
+/// an IPLOS marker (`**unused**`, `*missing*`), and no field may be cut short. The crate would read text as a hole.
+fn check_ascii_data(name: &str, bytes: &[u8]) -> Result<(), String> {
+    let text = String::from_utf8_lossy(&bytes[..bytes.len().min(64 << 10)]);
+    if !text.lines().any(|l| l.trim().to_ascii_uppercase().starts_with("#:LRFI")) {
+        return Ok(()); // binary data, or no format line: the crate's checks
+    }
+    let Ok(all) = std::str::from_utf8(bytes) else {
+        return Err(format!("road file {name}: an ASCII (#:LRFI) file that is not text"));
+    };
+    let mut lines = all.lines().enumerate();
+    // The data start after the line of `$` that closes the last block.
+    let mut start = None;
+    for (i, l) in lines.by_ref() {
+        if l.trim_start().starts_with("$$$$") {
+            start = Some(i);
+            break;
+        }
+    }
+    let Some(_) = start else { return Ok(()) };
+    for (i, line) in lines {
+        let line = line.trim_end();
+        if line.is_empty() || line.starts_with('*') {
+            continue;
+        }
+        let chars: Vec<char> = line.chars().collect();
+        if !chars.len().is_multiple_of(10) && chars.len() % 10 < 7 {
+            // Fields are right-aligned in 10 characters; a last field shorter than its width is cut.
+            return Err(format!(
+                "road file {name}, line {}: a record of {} characters is not whole 10-character fields",
+                i + 1,
+                chars.len()
+            ));
+        }
+        // A record may wrap over several lines (eight fields to an 80-column line); `**unused**` fills a
+        // virtual channel's field and `*missing*` marks a hole (IPLOS markers).
+        for (k, field) in chars.chunks(10).enumerate() {
+            let f: String = field.iter().collect();
+            let f = f.trim();
+            let marker = f.len() > 2 && f.starts_with('*') && f.ends_with('*'); // *missing*, **unused**
+            if !marker && f.parse::<f64>().is_err() {
+                return Err(format!("road file {name}, line {}, value {}: {f:?} is not a number", i + 1, k + 1));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn range((a, b): (f64, f64)) -> [f64; 2] {
     [a, b]
 }
 
 /// Files loaded in this process, by path, length and modification time: large files are read once and
 /// shared by every FMU instance (and run) that names them.
-static LOADED: Mutex<Option<HashMap<(PathBuf, u64, Option<std::time::SystemTime>), Weak<Surface>>>> = Mutex::new(None);
+/// A file's identity: its canonical path, length and modification time.
+type FileKey = (PathBuf, u64, Option<std::time::SystemTime>);
+
+static LOADED: Mutex<Option<HashMap<FileKey, Weak<Surface>>>> = Mutex::new(None);
 
 /// Loads a CRG file, or returns the copy already loaded.
 pub fn load(path: &Path) -> Result<Arc<Surface>, String> {

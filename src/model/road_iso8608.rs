@@ -11,7 +11,7 @@
 //!   not the short ones: track r = ρ(n) · (the left track's component) + √(1 − ρ²) · (an independent one),
 //!   with ρ(n) = exp(−π n B), B = 1.8 m: ρ → 1 for wavelengths long against the track, 0.36 at n = 1/B. This
 //!   exponential coherence is a modelling choice (documented, not from the standard); between the tracks the
-//!   grid interpolates linearly, outside them the edge values continue (border mode keep).
+//!   grid interpolates linearly, and each track's profile continues outward to ±1.5 B (the grid's edge).
 //! - **Lead-in.** The first 10 m fade in from 0 with a cosine ramp, so that the vehicle starts on the level.
 use std::f64::consts::PI;
 
@@ -113,26 +113,35 @@ impl Iso8608 {
         (right, left)
     }
 
-    /// The road as the text of an OpenCRG file: two long sections at v = ∓B/2.
+    /// The road as the text of an OpenCRG file.
     pub fn crg_text(&self) -> String {
         let (right, left) = self.tracks();
         let mut text = format!(
             "$CT\nISO 8608 class {} road, seed {}, {} m at {} m (rt-vehicle, model::road_iso8608)\n$\n$ROAD_CRG\n\
              REFERENCE_LINE_START_U = 0.0\nREFERENCE_LINE_END_U = {}\nREFERENCE_LINE_INCREMENT = {}\n\
              LONG_SECTION_V_RIGHT = {}\nLONG_SECTION_V_LEFT = {}\nLONG_SECTION_V_INCREMENT = {}\n$\n\
-             $KD_Definition\n#:LRFI\nD:long section 1,m\nD:long section 2,m\n$\n$$$$\n",
+             $KD_Definition\n#:LRFI\n{}$\n$$$$\n",
             self.class,
             self.seed,
             self.length,
             self.dx,
             (right.len() - 1) as f64 * self.dx,
             self.dx,
-            -0.5 * TRACK_M,
+            -1.5 * TRACK_M,
+            1.5 * TRACK_M,
             0.5 * TRACK_M,
-            TRACK_M
+            (1..=7).map(|k| format!("D:long section {k},m\n")).collect::<String>()
         );
+        // The ASCII CRG format reads fixed fields of 10 characters per value (`#:LRFI`): micrometres fit
+        // heights below ±999 m, and the reader keeps f32 anyway.
+        // Seven long sections B/2 apart: the right track at v = −3B/2, −B, −B/2, the mean on the centre line,
+        // the left track at B/2, B, 3B/2 (a road 5.4 m wide; the tracks continue outward, border mode keep).
         for (r, l) in right.iter().zip(&left) {
-            text.push_str(&format!("{r:.9e} {l:.9e}\n"));
+            let (r, l) = (r.clamp(-999.0, 999.0), l.clamp(-999.0, 999.0));
+            for z in [r, r, r, 0.5 * (r + l), l, l, l] {
+                text.push_str(&format!("{z:>10.6}"));
+            }
+            text.push('\n');
         }
         text
     }

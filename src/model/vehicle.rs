@@ -794,7 +794,7 @@ impl Vehicle {
                 };
                 // Camber thrust and aligning moment build up by rolling: faded out at standstill (b = 0),
                 // where they would push and twist a parked car.
-                let side = if i % 2 == 0 { tire::TireSide::Left } else { tire::TireSide::Right };
+                let side = if i.is_multiple_of(2) { tire::TireSide::Left } else { tire::TireSide::Right };
                 let input = tire::SlipInput { fz, kappa, tan_alpha, inclination: ct.inclination * blend, side, blend };
                 let shear = tire::shear_forces(self.tire_model, &self.tire, &input);
                 let moments = [shear.mx * blend, shear.mz * blend];

@@ -1,0 +1,161 @@
+//! Roads of one's own (issue 18): every OpenCRG file in shared/data/chrono loads and is placed; the bad
+//! inputs of the issue are named errors; the HMMWV drives the shipped half-round obstacle and an RMS course
+//! through the CLI; ISO 8608 roads are deterministic.
+
+use rt_vehicle::model::road::Road;
+use rt_vehicle::model::road_crg::{surface_for, PlacedSurface, MAX_CRG_BYTES};
+use std::path::PathBuf;
+use std::process::Command;
+
+fn crg_dir() -> PathBuf {
+    std::env::var_os("RTV_CHRONO_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono"))
+        .join("terrain/crg_roads")
+}
+
+#[test]
+fn every_shipped_crg_file_loads_with_finite_heights_inside_its_extent() {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(crg_dir()).unwrap().flatten().map(|e| e.path()).collect();
+    files.retain(|p| p.extension().is_some_and(|x| x == "crg"));
+    files.sort();
+    assert_eq!(files.len(), 21, "{files:?}");
+    for path in files {
+        let s = surface_for(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{e}"));
+        let ([u0, u1], [v0, v1]) = s.extent();
+        // Heights at a grid of points inside the extent are finite (the curved files through the crate's
+        // search along the reference line).
+        for i in 1..20 {
+            for j in 1..5 {
+                let uv =
+                    opencrg::Uv { u: u0 + (u1 - u0) * f64::from(i) / 20.0, v: v0 + (v1 - v0) * f64::from(j) / 5.0 };
+                let z = s.grid.elevation_at_uv(uv);
+                assert!(z.is_some_and(f64::is_finite), "{}: {uv:?} {z:?}", path.display());
+            }
+        }
+        // Placed with its start at ground x = 10: a point 1 m further along is on it.
+        let placed = PlacedSurface::new(s.clone(), [10.0, 0.0]);
+        let (h, [hx, hy]) = placed.height_and_gradient(11.0, 0.0);
+        assert!(h.is_finite() && hx.is_finite() && hy.is_finite(), "{}", path.display());
+    }
+}
+
+#[test]
+fn bad_road_inputs_are_named_errors() {
+    let dir = std::env::temp_dir().join(format!("rtv_bad_roads_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let header =
+        "$ROAD_CRG\nREFERENCE_LINE_INCREMENT = 1.0\nLONG_SECTION_V_RIGHT = -1.0\nLONG_SECTION_V_INCREMENT = 1.0\n$\n\
+                  $KD_Definition\n#:LRFI\nD:long section 1,m\nD:long section 2,m\nD:long section 3,m\n$\n$$$$\n";
+    // The ASCII data are fixed fields of 10 characters per value.
+    let row = |v: [&str; 3]| v.iter().map(|x| format!("{x:>10}")).collect::<String>() + "\n";
+    let good = format!("{header}{}{}{}", row(["0.0"; 3]), row(["0.1"; 3]), row(["0.0"; 3]));
+    let cases = [
+        ("zero_increment.crg", good.replace("REFERENCE_LINE_INCREMENT = 1.0", "REFERENCE_LINE_INCREMENT = 0")),
+        ("text.crg", format!("{header}{}{}{}", row(["0.0"; 3]), row(["0.1", "x", "0.1"]), row(["0.0"; 3]))),
+        ("truncated.crg", good[..good.len() - 30].to_string()),
+        ("nan.crg", format!("{header}{}{}{}", row(["NaN"; 3]), row(["NaN"; 3]), row(["NaN"; 3]))),
+        // 1e8 declared cross sections, three of data.
+        (
+            "declared.crg",
+            good.replace(
+                "REFERENCE_LINE_INCREMENT = 1.0",
+                "REFERENCE_LINE_END_U = 1e8\nREFERENCE_LINE_INCREMENT = 1.0",
+            ),
+        ),
+    ];
+    for (name, body) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, body).unwrap();
+        match surface_for(path.to_str().unwrap()) {
+            Err(e) => {
+                println!("{name}: {e}");
+                assert!(e.contains(name), "{name}: {e}")
+            }
+            // The crate may read a short file as what it holds; then the declared extent must not be
+            // promised: heights beyond the data are the border mode's, and the extent is the data's.
+            Ok(s) => {
+                let ([_, u1], _) = s.extent();
+                assert!(u1 < 10.0, "{name}: a grid of {u1} m from three cross sections");
+            }
+        }
+    }
+    // A 2 GB file (sparse): refused by its size before it is read.
+    let big = dir.join("big.crg");
+    std::fs::File::create(&big).unwrap().set_len(2 << 30).unwrap();
+    let e = surface_for(big.to_str().unwrap()).unwrap_err();
+    assert!(e.contains("big.crg") && e.contains(&MAX_CRG_BYTES.to_string()) || e.contains("bytes"), "{e}");
+    // A missing file, and ISO 8608 specifications out of range.
+    assert!(surface_for(dir.join("none.crg").to_str().unwrap()).unwrap_err().contains("none.crg"));
+    for spec in ["iso8608:Z:1", "iso8608:C:1:-100"] {
+        let e = surface_for(spec).unwrap_err();
+        assert!(e.contains(spec), "{e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn iso8608_roads_are_deterministic_for_a_seed() {
+    let a = surface_for("iso8608:C:42:100").unwrap();
+    let b = surface_for("iso8608:C:42:100").unwrap();
+    let c = surface_for("iso8608:C:43:100").unwrap();
+    let z =
+        |s: &rt_vehicle::model::road_crg::Surface, u: f64| s.grid.elevation_at_uv(opencrg::Uv { u, v: 0.9 }).unwrap();
+    for u in [12.0, 33.3, 77.7] {
+        assert_eq!(z(&a, u), z(&b, u));
+    }
+    assert_ne!(z(&a, 50.0), z(&c, 50.0));
+}
+
+fn rtv(args: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
+    (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+#[test]
+fn the_hmmwv_drives_a_half_round_obstacle_and_an_rms_course_through_the_cli() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let out = std::env::temp_dir().join(format!("rtv_road_{}.csv", std::process::id()));
+    let out = out.to_str().unwrap();
+    for (road, speed, end) in [("halfround_4in.crg", "10", "7"), ("detrended_rms_course_1in.crg", "10", "14")] {
+        let road = format!("{root}/resources/roads/{road}");
+        let (ok, stderr) = rtv(&[
+            "scene",
+            "bump",
+            "--road",
+            &road,
+            "--contact",
+            "envelope",
+            "--initial-speed",
+            speed,
+            "--end",
+            end,
+            "--step",
+            "0.001",
+            "--out",
+            out,
+        ]);
+        assert!(ok, "{road}: {stderr}");
+    }
+    // A road that ends: the 100 m half-round file, driven past its end. Beyond its extent the border mode
+    // (keep) continues it, and the CLI says so.
+    let short = format!("{root}/resources/roads/halfround_4in.crg");
+    let (ok, stderr) = rtv(&[
+        "scene",
+        "bump",
+        "--road",
+        &short,
+        "--contact",
+        "envelope",
+        "--step",
+        "0.001",
+        "--initial-speed",
+        "10",
+        "--end",
+        "11",
+        "--out",
+        out,
+    ]);
+    assert!(ok && stderr.contains("left the extent of the road"), "{stderr}");
+    let _ = std::fs::remove_file(out);
+}
