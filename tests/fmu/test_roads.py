@@ -1,0 +1,69 @@
+"""Roads of one's own through the FMU (issue 18): `road_file` names an OpenCRG file (the NRMM half-round
+obstacles and RMS courses ship in the FMU's resources/roads/) or an ISO 8608 road; the HMMWV drives every
+half-round file and an RMS course in fmpy with the enveloping contact at a 1 ms internal step; a bad road is
+an error naming it, and the instance recovers."""
+
+import zipfile
+
+import pytest
+
+from conftest import ERROR, OK, messages, status
+
+HALF_ROUNDS = [4, 8, 10, 12, 16, 20]
+
+
+def test_the_roads_ship_with_chronos_licence(fmu_path):
+    names = zipfile.ZipFile(fmu_path).namelist()
+    for h in HALF_ROUNDS:
+        assert f"resources/roads/halfround_{h}in.crg" in names
+    assert "resources/roads/detrended_rms_course_1in.crg" in names
+    assert "resources/roads/LICENSE-chrono" in names
+
+
+def drive(s, seconds, h=0.01):
+    """Steps until `seconds` or a discard; the status of the last step."""
+    while s.t < seconds - 1e-9:
+        st = status(s.fmu.doStep, s.t, h)
+        if st != OK:
+            return st
+        s.t += h
+    return OK
+
+
+@pytest.mark.parametrize("height", HALF_ROUNDS)
+def test_the_hmmwv_drives_every_half_round_file(make, height):
+    # 3 m/s (11 km/h): over the obstacle at 50 m with both axles. Obstacles the single-contact tire cannot
+    # envelop (a tire deflected beyond half its radius; on the 20 in one a slip state leaving its bound)
+    # end the run with a discard and a message naming the cause, never with a result: docs/roads.md.
+    s = make()
+    s.init(road_file=f"roads/halfround_{height}in.crg", contact=2, internal_step=0.001, initial_speed=3.0)
+    st = drive(s, 19.0)
+    if st == OK:
+        assert s.get("x") > 55.0
+    else:
+        causes = ("model validity", "physical event")
+        assert any(c in m for m in messages(s.name) for c in causes), messages(s.name)[-3:]
+        assert height >= 10, f"the {height} in obstacle was refused"
+
+
+def test_the_hmmwv_drives_an_rms_course(make):
+    s = make()
+    s.init(road_file="roads/detrended_rms_course_1in.crg", contact=2, internal_step=0.001, initial_speed=10.0)
+    # 12 s at 10 m/s: onto the rough section, which starts 100 m in.
+    assert drive(s, 12.0) == OK, messages(s.name)[-3:]
+    assert s.get("x") > 110.0
+
+
+def test_a_bad_road_is_an_error_naming_it_and_the_instance_recovers(make, tmp_path):
+    bad = tmp_path / "zero.crg"
+    bad.write_text("$ROAD_CRG\nREFERENCE_LINE_INCREMENT = 0\n$\n")
+    s = make()
+    s.fmu.setupExperiment(startTime=0.0)
+    s.fmu.enterInitializationMode()
+    for road, needle in [(str(bad), "zero.crg"), ("iso8608:Z:3", "class"), ("roads/none.crg", "none.crg")]:
+        s.set(road_file=road)
+        assert status(s.fmu.exitInitializationMode) == ERROR
+        assert any(needle in m for m in messages(s.name)), (road, messages(s.name)[-2:])
+    s.set(road_file="iso8608:B:7:200", contact=2, internal_step=0.001)
+    assert status(s.fmu.exitInitializationMode) == OK, messages(s.name)[-2:]
+    assert drive(s, 0.5) == OK
