@@ -5,6 +5,7 @@
 //! - `manoeuvres.rs`: the standard open- and closed-loop manoeuvres and their metrics (`rtv manoeuvre`,
 //!   docs/manoeuvres.md); the closed loop drives with the `rtv-driver` crate.
 //! - `stability.rs`: the stability suite (`rtv stability`, docs/stability.md).
+//! - `ride.rs`, `ride_filters.rs`: the NRMM ride tests (`rtv ride`, docs/ride.md).
 //! - `work_precision.rs`: error against run time (`rtv work-precision`, docs/work_precision.md).
 //!
 //! They are the Cargo feature `studies` (default on: the CLI, the tests): the FMU's library is built without
