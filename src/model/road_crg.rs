@@ -47,6 +47,8 @@ impl Surface {
     /// A surface from the bytes of a CRG file named `name` (for messages).
     pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<Surface, String> {
         check_ascii_data(name, bytes)?;
+        let centred = centre_long_sections(bytes);
+        let bytes = centred.as_deref().unwrap_or(bytes);
         let grid = CrgGrid::from_bytes(bytes).map_err(|e| format!("road file {name}: {e}"))?;
         let (nu, nv) = grid.dims();
         // The crate reads the complete records it finds; a file that declares more (truncated, or a header
@@ -88,6 +90,51 @@ impl Surface {
     pub fn extent(&self) -> ([f64; 2], [f64; 2]) {
         (range(self.grid.u_range()), range(self.grid.v_range()))
     }
+}
+
+/// A file that gives the long sections' increment but neither LONG_SECTION_V_RIGHT nor _LEFT has them
+/// centred on the reference line (OpenCRG's `handmade_straight_minimalist.crg` says it is "completely
+/// equivalent" to `handmade_straight.crg`, which declares −1.5 … 1.5 m). The `opencrg` crate puts the
+/// first long section at v = 0 instead (its README: the C-API uses 0 there); the check against PyOpenCRG
+/// (tests/roads.rs) found it. Here the header gains LONG_SECTION_V_RIGHT = −(n − 1)·increment/2 before the
+/// crate reads it: the copy of the bytes, or `None` when nothing is to be added.
+fn centre_long_sections(bytes: &[u8]) -> Option<Vec<u8>> {
+    let head_len = bytes.len().min(64 << 10);
+    let head = String::from_utf8_lossy(&bytes[..head_len]);
+    let has =
+        |key: &str| head.lines().any(|l| l.split_once('=').is_some_and(|(k, _)| k.trim().eq_ignore_ascii_case(key)));
+    if has("LONG_SECTION_V_RIGHT") || has("LONG_SECTION_V_LEFT") {
+        return None;
+    }
+    let increment = head.lines().find_map(|l| {
+        let (k, v) = l.split_once('=')?;
+        k.trim()
+            .eq_ignore_ascii_case("LONG_SECTION_V_INCREMENT")
+            .then(|| v.split('!').next()?.trim().parse::<f64>().ok())
+            .flatten()
+    })?;
+    let sections =
+        head.lines().filter(|l| l.starts_with("D:") && l.to_ascii_lowercase().contains("long section")).count();
+    if sections < 2 || !(increment > 0.0) {
+        return None;
+    }
+    // After the line that opens the $ROAD_CRG block (a line of its own: the words also occur in comments).
+    let mut offset = 0;
+    let mut line_end = None;
+    for line in head.split_inclusive('\n') {
+        offset += line.len();
+        if line.trim().eq_ignore_ascii_case("$ROAD_CRG") {
+            line_end = Some(offset);
+            break;
+        }
+    }
+    let line_end = line_end?;
+    let insert = format!("LONG_SECTION_V_RIGHT = {}\n", -0.5 * (sections - 1) as f64 * increment);
+    let mut out = Vec::with_capacity(bytes.len() + insert.len());
+    out.extend_from_slice(&bytes[..line_end]);
+    out.extend_from_slice(insert.as_bytes());
+    out.extend_from_slice(&bytes[line_end..]);
+    Some(out)
 }
 
 /// The number of cross sections the `$ROAD_CRG` header declares, when it gives the reference line's end:
