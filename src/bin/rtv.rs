@@ -34,7 +34,7 @@ const USAGE: &str = "usage:
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--tire FILE.tir] [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
             [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
-            [--road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]]
+            [--road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]] [--friction SCALE]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
@@ -181,6 +181,7 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
     if let Some(road) = opts.get("road") {
         c.road_file = Some(road.clone());
     }
+    c.options.road_friction = number(opts, "friction", c.options.road_friction)?;
     c.validate().map_err(|e| bad(e.to_string()))?;
     // The step asked for is the step taken: it must divide the output interval.
     let ratio = interval / c.internal_step;
@@ -230,6 +231,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "drive",
             "contact",
             "road",
+            "friction",
             "out",
         ],
     )?;

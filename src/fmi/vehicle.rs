@@ -316,6 +316,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::BumpHeight) => c.bump[0],
             Var::Parameter(P::BumpLength) => c.bump[1],
             Var::Parameter(P::Tolerance) => c.tolerance,
+            Var::Parameter(P::RoadFriction) => c.options.road_friction,
             Var::Parameter(
                 P::SpeedMode
                 | P::Formulation
@@ -351,7 +352,8 @@ impl FmuModel for VehicleModel {
                 | P::RoadCrossSlope
                 | P::BumpHeight
                 | P::BumpLength
-                | P::Tolerance,
+                | P::Tolerance
+                | P::RoadFriction,
             )
             | Var::Input(_)
             | Var::Local(_)
@@ -394,6 +396,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::BumpHeight) => self.config.bump[0] = ranged(var, value)?,
             Var::Parameter(P::BumpLength) => self.config.bump[1] = ranged(var, value)?,
             Var::Parameter(P::Tolerance) => self.config.tolerance = ranged(var, value)?,
+            Var::Parameter(P::RoadFriction) => self.config.options.road_friction = ranged(var, value)?,
             Var::Parameter(
                 P::SpeedMode
                 | P::Formulation
@@ -430,7 +433,8 @@ impl FmuModel for VehicleModel {
                 | P::RoadCrossSlope
                 | P::BumpHeight
                 | P::BumpLength
-                | P::Tolerance,
+                | P::Tolerance
+                | P::RoadFriction,
             )
             | Var::Input(_)
             | Var::Local(_)

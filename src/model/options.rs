@@ -56,12 +56,21 @@ pub struct Options {
     /// How the tires meet the road: the paper's single point, or the enveloping contact.
     #[serde(default)]
     pub contact: ContactModel,
+    /// The road's friction as a scale on the tires' peak friction (STI's μ0, the Magic Formula's μ_x and
+    /// μ_y): 1 is the tire data's own road (dry), about 0.5 wet asphalt, 0.2 snow. Slip stiffnesses are
+    /// kept: a slippery road saturates earlier, it does not steer softer.
+    #[serde(default = "unit_friction")]
+    pub road_friction: f64,
     #[serde(default)]
     pub switches: ForceSwitches,
     /// Keep the states the options leave unused (`Layout::FULL`): only to verify that leaving them out
     /// changes nothing (tests/pruning.rs).
     #[serde(default)]
     pub keep_unused_states: bool,
+}
+
+fn unit_friction() -> f64 {
+    1.0
 }
 
 impl Default for Options {
@@ -72,6 +81,7 @@ impl Default for Options {
             speed_mode: SpeedMode::Hold,
             slope: [0.0; 2],
             contact: ContactModel::Point,
+            road_friction: 1.0,
             switches: ForceSwitches::default(),
             keep_unused_states: false,
         }

@@ -15,6 +15,12 @@ pub trait Road {
     fn has_surface(&self, _x: f64, _y: f64) -> bool {
         true
     }
+
+    /// The road's friction at (x, y) as a scale on the tires' peak friction (1: the tire data's road). The
+    /// shipped roads are uniform; the run's `Options::road_friction` multiplies it.
+    fn friction(&self, _x: f64, _y: f64) -> f64 {
+        1.0
+    }
 }
 
 /// A half-sine bump on one side of the road: h = height sin(pi (x - x_start)/length) on [x_start, x_start + length]

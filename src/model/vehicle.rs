@@ -252,6 +252,10 @@ impl Road for RoadView<'_> {
     fn has_surface(&self, x: f64, y: f64) -> bool {
         self.ground().has_surface(x, y)
     }
+
+    fn friction(&self, x: f64, y: f64) -> f64 {
+        self.ground().friction(x, y)
+    }
 }
 
 impl<'a> Run<'a> {
@@ -763,6 +767,7 @@ impl Vehicle {
             Some(ct) => {
                 let v_c = a0 * point_velocity(&y_k, &(a0.tr_mul(&(ct.point - r0))));
                 let fz = tire::normal_force(&self.tire, ct.penetration, tire::penetration_rate(&ct, &v_c));
+                let friction = options.road_friction * road.friction(ct.point.x, ct.point.y);
                 let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
                 // 1 when rolling above the low-speed range (the model of §6.7 exactly), 0 at standstill.
                 let blend = tire::low_speed_blend(&self.tire, slip.vx);
@@ -771,7 +776,7 @@ impl Vehicle {
                         let context = tire::SlipStateContext {
                             in_contact: true,
                             blend,
-                            sliding_limit: tire::sliding_limits(&self.tire, fz),
+                            sliding_limit: tire::sliding_limits(&self.tire, fz, friction),
                         };
                         relaxation_rates =
                             tire::relaxation_rates(&self.tire, slip.vx, slip.vsx, slip.vsy, xi, &context);
@@ -795,7 +800,15 @@ impl Vehicle {
                 // Camber thrust and aligning moment build up by rolling: faded out at standstill (b = 0),
                 // where they would push and twist a parked car.
                 let side = if i.is_multiple_of(2) { tire::TireSide::Left } else { tire::TireSide::Right };
-                let input = tire::SlipInput { fz, kappa, tan_alpha, inclination: ct.inclination * blend, side, blend };
+                let input = tire::SlipInput {
+                    fz,
+                    kappa,
+                    tan_alpha,
+                    inclination: ct.inclination * blend,
+                    side,
+                    blend,
+                    friction,
+                };
                 let shear = tire::shear_forces(self.tire_model, &self.tire, &input);
                 let moments = [shear.mx * blend, shear.mz * blend];
                 let m_rr =

@@ -125,6 +125,17 @@ impl SimConfig {
                 ),
             ));
         }
+        use limits::{ROAD_FRICTION_MAX, ROAD_FRICTION_MIN};
+        if !(ROAD_FRICTION_MIN..=ROAD_FRICTION_MAX).contains(&self.options.road_friction) {
+            return Err(ModelError::new(
+                Cause::Input,
+                format!(
+                    "road friction {} is outside [{ROAD_FRICTION_MIN}, {ROAD_FRICTION_MAX}] (a scale on the tires' \
+                     peak friction: 1 dry, about 0.5 wet, 0.2 snow)",
+                    self.options.road_friction
+                ),
+            ));
+        }
         let [grade, cross] = self.options.slope;
         use limits::{ROAD_CROSS_SLOPE_MAX, ROAD_CROSS_SLOPE_MIN, ROAD_GRADE_MAX, ROAD_GRADE_MIN};
         if !((ROAD_GRADE_MIN..=ROAD_GRADE_MAX).contains(&grade)

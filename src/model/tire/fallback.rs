@@ -10,10 +10,16 @@ pub fn linear_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64) -> She
 }
 
 /// Linear forces scaled down onto the friction circle of radius μ0 F_z: factor min(1, μ0 F_z/‖F‖) (§6.8).
-pub fn linear_friction_circle_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64) -> ShearForces {
+pub fn linear_friction_circle_forces(
+    p: &TireParams,
+    fz: f64,
+    kappa: f64,
+    tan_alpha: f64,
+    friction: f64,
+) -> ShearForces {
     let linear = linear_forces(p, fz, kappa, tan_alpha);
     let magnitude = linear.fx.hypot(linear.fy);
-    let limit = peak_friction(p, fz)[0] * fz;
+    let limit = peak_friction(p, fz)[0] * friction * fz;
     if magnitude <= limit {
         return linear;
     }
@@ -40,10 +46,10 @@ mod tests {
         let p = VehicleData::default_hmmwv().tire;
         let fz = 6300.0;
         // Small slip: inside the circle, unchanged.
-        assert_eq!(linear_friction_circle_forces(&p, fz, 0.001, 0.001), linear_forces(&p, fz, 0.001, 0.001));
+        assert_eq!(linear_friction_circle_forces(&p, fz, 0.001, 0.001, 1.0), linear_forces(&p, fz, 0.001, 0.001));
         // Large slip: on the circle, same direction as the linear force.
         let linear = linear_forces(&p, fz, 0.3, -0.2);
-        let capped = linear_friction_circle_forces(&p, fz, 0.3, -0.2);
+        let capped = linear_friction_circle_forces(&p, fz, 0.3, -0.2, 1.0);
         assert!((capped.fx.hypot(capped.fy) - p.sti.mu0 * fz).abs() < 1e-9);
         assert!((capped.fx * linear.fy - capped.fy * linear.fx).abs() < 1e-6 * linear.fx.hypot(linear.fy).powi(2));
         assert!(capped.fx > 0.0 && capped.fy < 0.0);

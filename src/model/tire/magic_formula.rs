@@ -383,7 +383,7 @@ impl MagicFormula {
     /// Pure slip: F_x0(κ), F_y0(α) and what combined slip and M_z reuse. ISO inputs (α is tan α, as the
     /// PAC2002 α*).
     #[inline(always)]
-    fn pure(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64) -> Pure {
+    fn pure(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, [lmux, lmuy]: [f64; 2]) -> Pure {
         let c = &self.c;
         let dfz = self.load_increment(fz);
         let dpi = self.pressure_ratio;
@@ -396,13 +396,13 @@ impl MagicFormula {
         let mu_x = (c.PDX1 + c.PDX2 * dfz)
             * (1.0 + c.PPX3 * dpi + c.PPX4 * dpi * dpi)
             * (1.0 - c.PDX3 * gamma_x * gamma_x)
-            * c.LMUX;
+            * lmux;
         let dx = mu_x * fz;
         let ex = ((c.PEX1 + c.PEX2 * dfz + c.PEX3 * dfz * dfz) * (1.0 - c.PEX4 * kappa_x.signum()) * c.LEX).min(1.0);
         let kx =
             fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX;
         let bx = kx / (cx * dx + EPS_FORCE_N);
-        let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * c.LMUX;
+        let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * lmux;
         let fx0 = magic(bx, cx, dx, ex, kappa_x) + svx;
 
         // Lateral (4.E19–4.E30).
@@ -413,18 +413,23 @@ impl MagicFormula {
         let mu_y = (c.PDY1 + c.PDY2 * dfz)
             * (1.0 + c.PPY3 * dpi + c.PPY4 * dpi * dpi)
             * (1.0 - c.PDY3 * gamma_y * gamma_y)
-            * c.LMUY;
+            * lmuy;
         let dy = mu_y * fz;
         let ey = ((c.PEY1 + c.PEY2 * dfz) * (1.0 - (c.PEY3 + c.PEY4 * gamma_y) * alpha_y.signum()) * c.LEY).min(1.0);
         let ky = self.ky(fz, gamma_y);
         let by = ky / (cy * dy + EPS_FORCE_N);
-        let svy = fz * ((c.PVY1 + c.PVY2 * dfz) * c.LVY + (c.PVY3 + c.PVY4 * dfz) * gamma_y) * c.LMUY;
+        let svy = fz * ((c.PVY1 + c.PVY2 * dfz) * c.LVY + (c.PVY3 + c.PVY4 * dfz) * gamma_y) * lmuy;
         let fy0 = magic(by, cy, dy, ey, alpha_y) + svy;
         Pure { fx0, fy0, kx, ky, mu_y, by, cy, shy, svy }
     }
 
     /// The loads of the tire as measured (its own side), ISO inputs, combined slip (USE_MODE 4).
     pub fn loads_iso(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64) -> MfLoads {
+        self.loads(fz, kappa, alpha, gamma, vx, 1.0)
+    }
+
+    /// `loads_iso` on a road of friction scale `friction` (LMUX and LMUY times it).
+    fn loads(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64, friction: f64) -> MfLoads {
         if fz.is_nan() || fz <= 0.0 {
             return MfLoads::default();
         }
@@ -436,7 +441,8 @@ impl MagicFormula {
         let gamma = gamma.clamp(self.camber_range[0], self.camber_range[1]);
         let dfz = self.load_increment(fz);
         let dpi = self.pressure_ratio;
-        let p = self.pure(fz, kappa, alpha, gamma);
+        let (lmux, lmuy) = (c.LMUX * friction, c.LMUY * friction);
+        let p = self.pure(fz, kappa, alpha, gamma, [lmux, lmuy]);
 
         // Combined slip (4.E50–4.E67).
         let shxa = c.RHX1;
@@ -466,7 +472,7 @@ impl MagicFormula {
         let alpha_r = alpha + shf;
         let bt =
             (c.QBZ1 + c.QBZ2 * dfz + c.QBZ3 * dfz * dfz) * (1.0 + c.QBZ4 * gamma_z + c.QBZ5 * gamma_z.abs()) * c.LKY
-                / c.LMUY;
+                / lmuy;
         let ct = c.QCZ1;
         let dt = fz
             * (c.QDZ1 + c.QDZ2 * dfz)
@@ -477,11 +483,11 @@ impl MagicFormula {
         let et = ((c.QEZ1 + c.QEZ2 * dfz + c.QEZ3 * dfz * dfz)
             * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_z) * FRAC_2_PI * (bt * ct * alpha_t).atan()))
         .min(1.0);
-        let br = c.QBZ9 * c.LKY / c.LMUY + c.QBZ10 * p.by * p.cy;
+        let br = c.QBZ9 * c.LKY / lmuy + c.QBZ10 * p.by * p.cy;
         let dr = fz
             * ((c.QDZ6 + c.QDZ7 * dfz) * c.LRES + (c.QDZ8 + c.QDZ9 * dfz) * (1.0 + c.QPZ2 * dpi) * gamma_z)
             * r0
-            * c.LMUY;
+            * lmuy;
         // Equivalent slips: the κ part weighted by K_x/K_y (tan α_eq = √(tan² α + (K_x/K_y)² κ²)), with the
         // sign of α.
         let k_ratio = p.kx / ky_safe;
@@ -531,9 +537,24 @@ impl MagicFormula {
         MfLoads { fy: -m.fy, mx: -m.mx, mz: -m.mz, ..m }
     }
 
-    /// The model's call: adapted slips (κ, tan α' = −tan α, γ_w = −γ), as the STI tire takes them.
-    pub fn forces(&self, side: TireSide, fz: f64, kappa: f64, tan_alpha: f64, inclination: f64, vx: f64) -> MfLoads {
-        self.loads_on(side, fz, kappa, -tan_alpha, -inclination, vx)
+    /// The model's call: adapted slips (κ, tan α' = −tan α, γ_w = −γ), as the STI tire takes them, on a
+    /// road whose friction scales μ_x and μ_y by `friction` (as LMUX and LMUY do, wherever they enter). The
+    /// rolling resistance is the caller's (`tire::rolling_resistance_moment`, with the speed).
+    pub fn forces(
+        &self,
+        side: TireSide,
+        fz: f64,
+        kappa: f64,
+        tan_alpha: f64,
+        inclination: f64,
+        friction: f64,
+    ) -> MfLoads {
+        let (alpha, gamma) = (-tan_alpha, -inclination);
+        if side == self.measured_side {
+            return self.loads(fz, kappa, alpha, gamma, 0.0, friction);
+        }
+        let m = self.loads(fz, kappa, -alpha, -gamma, 0.0, friction);
+        MfLoads { fy: -m.fy, mx: -m.mx, mz: -m.mz, ..m }
     }
 }
 
@@ -585,12 +606,12 @@ mod tests {
         let dfz = mf.load_increment(fz);
         let shx = mf.c.PHX1 + mf.c.PHX2 * dfz;
         let h = 1e-7;
-        let fx = |k: f64| mf.pure(fz, k, 0.0, 0.0).fx0;
+        let fx = |k: f64| mf.pure(fz, k, 0.0, 0.0, [mf.c.LMUX, mf.c.LMUY]).fx0;
         let slope = (fx(-shx + h) - fx(-shx - h)) / (2.0 * h);
         let kx = mf.longitudinal_stiffness(fz);
         assert!((slope - kx).abs() < 1e-6 * kx, "{slope} vs {kx}");
         let shy = mf.c.PHY1 + mf.c.PHY2 * dfz;
-        let fy = |a: f64| mf.pure(fz, 0.0, a, 0.0).fy0;
+        let fy = |a: f64| mf.pure(fz, 0.0, a, 0.0, [mf.c.LMUX, mf.c.LMUY]).fy0;
         let slope = (fy(-shy + h) - fy(-shy - h)) / (2.0 * h);
         assert!((slope + mf.cornering_stiffness(fz)).abs() < 1e-6 * mf.cornering_stiffness(fz), "{slope}");
     }

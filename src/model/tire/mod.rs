@@ -111,12 +111,15 @@ pub struct SlipInput {
     pub inclination: f64,
     pub side: TireSide,
     pub blend: f64,
+    /// The road's friction scale on the peak friction (`Road::friction` × `Options::road_friction`).
+    pub friction: f64,
 }
 
 impl SlipInput {
-    /// A left tire rolling above the low-speed range (b = 1): how curves and tests evaluate a force law.
+    /// A left tire rolling above the low-speed range (b = 1) on the tire data's road (friction 1): how
+    /// curves and tests evaluate a force law.
     pub fn rolling(fz: f64, kappa: f64, tan_alpha: f64, inclination: f64) -> SlipInput {
-        SlipInput { fz, kappa, tan_alpha, inclination, side: TireSide::Left, blend: 1.0 }
+        SlipInput { fz, kappa, tan_alpha, inclination, side: TireSide::Left, blend: 1.0, friction: 1.0 }
     }
 }
 
@@ -145,19 +148,19 @@ pub fn normal_force(p: &TireParams, penetration: f64, penetration_rate: f64) -> 
 /// is the tire; at standstill it would push a parked car sideways, so the force at zero slip is faded out
 /// with the low-speed blend as the camber thrust and aligning moment are: F − (1 − b) F(0, 0).
 pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> ShearForces {
-    let SlipInput { fz, kappa, tan_alpha, inclination, side, blend } = *input;
+    let SlipInput { fz, kappa, tan_alpha, inclination, side, blend, friction } = *input;
     // A NaN load would otherwise spread through every force.
     if fz.is_nan() || fz <= 0.0 {
         return ShearForces::default();
     }
     match model {
-        TireModel::Sti => sti::sti_forces(p, fz, kappa, tan_alpha, inclination),
+        TireModel::Sti => sti::sti_forces(p, fz, kappa, tan_alpha, inclination, friction),
         TireModel::MagicFormula => match &p.magic_formula {
             Some(mf) => {
-                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, 0.0);
+                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction);
                 let mut f = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
                 if blend < 1.0 {
-                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, 0.0);
+                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, friction);
                     let fade = 1.0 - blend;
                     f.fx -= fade * z.fx;
                     f.fy -= fade * z.fy;
@@ -170,7 +173,7 @@ pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> Shea
             None => ShearForces::default(),
         },
         TireModel::Linear => linear_forces(p, fz, kappa, tan_alpha),
-        TireModel::LinearFrictionCircle => linear_friction_circle_forces(p, fz, kappa, tan_alpha),
+        TireModel::LinearFrictionCircle => linear_friction_circle_forces(p, fz, kappa, tan_alpha, friction),
         TireModel::Frictionless => ShearForces::default(),
     }
 }
@@ -276,6 +279,30 @@ mod tests {
         let circle =
             shear_forces(TireModel::LinearFrictionCircle, &p, &SlipInput::rolling(6300.0, 0.0, tan_alpha, 0.0));
         assert!((sti.fy - circle.fy).abs() < 1e-4 * circle.fy.abs());
+    }
+
+    #[test]
+    fn road_friction_scales_the_peak_and_keeps_the_slip_stiffness() {
+        // STI and the Magic Formula: at half the friction the peak force halves (D = μ F_z; the shift S_Vx
+        // is scaled with it), and at small slip the force (the slip stiffness) stays.
+        let mut with_mf = params();
+        with_mf.magic_formula = Some(Box::new(
+            MagicFormula::read(
+                &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/tires/HMMWV_Pac02Tire.tir"),
+            )
+            .unwrap(),
+        ));
+        for (model, p) in [(TireModel::Sti, params()), (TireModel::MagicFormula, with_mf)] {
+            let at = |kappa: f64, friction: f64| {
+                shear_forces(model, &p, &SlipInput { friction, ..SlipInput::rolling(6300.0, kappa, 0.0, 0.0) }).fx
+            };
+            let peak = |friction: f64| (1..=400).map(|i| at(f64::from(i) * 0.0025, friction)).fold(0.0, f64::max);
+            let (dry, wet) = (peak(1.0), peak(0.5));
+            // The sweep's 0.0025 resolution of κ at the sharper wet peak: 1 %.
+            assert!((wet / dry - 0.5).abs() < 0.01, "{model:?}: peak {dry} dry, {wet} at half the friction");
+            let (dry, wet) = (at(1e-4, 1.0), at(1e-4, 0.5));
+            assert!((wet / dry - 1.0).abs() < 1e-3, "{model:?}: slip stiffness {dry} dry, {wet} wet");
+        }
     }
 
     #[test]

@@ -86,14 +86,14 @@ pub struct SlipStateContext {
     pub sliding_limit: [f64; 2],
 }
 
-/// Sliding limits of the tread deflection in slip units, ξ_lim = μ0 F_z / C for C = C_s (x) and C_α (y): the
+/// Sliding limits of the tread deflection in slip units, ξ_lim = f μ0 F_z / C (f the road's friction scale) for C = C_s (x) and C_α (y): the
 /// slip at which the linear force would reach μ0 F_z. The load is floored at 100 N (a wheel barely
 /// touching), and a stiffness of 0 gives no limit (infinity).
-pub fn sliding_limits(p: &TireParams, fz: f64) -> [f64; 2] {
+pub fn sliding_limits(p: &TireParams, fz: f64, friction: f64) -> [f64; 2] {
     let fz = fz.max(MIN_LOAD_N);
     let [c_s, c_alpha] = slip_stiffness(p, fz);
     let [mu_x, mu_y] = peak_friction(p, fz);
-    [mu_x * fz / c_s, mu_y * fz / c_alpha]
+    [friction * mu_x * fz / c_s, friction * mu_y * fz / c_alpha]
 }
 
 /// Load floor of the low-speed terms, N.

@@ -56,19 +56,27 @@ struct CompositeSlip {
 }
 
 #[inline(always)]
-fn composite_slip(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, length_ratio: f64) -> CompositeSlip {
+fn composite_slip(
+    p: &TireParams,
+    fz: f64,
+    kappa: f64,
+    tan_alpha: f64,
+    length_ratio: f64,
+    friction: f64,
+) -> CompositeSlip {
     let s = &p.sti;
+    let mu0 = s.mu0 * friction;
     let c_alpha = cornering_stiffness(p, fz);
     let c_s = longitudinal_stiffness(p, fz);
     let lateral = c_alpha * tan_alpha;
 
     let sliding = sliding_fraction(kappa, tan_alpha);
     let c_s_slip = c_s + (c_alpha - c_s) * sliding; // C_s'
-    let mu = s.mu0 * (1.0 - s.k_mu * sliding);
+    let mu = mu0 * (1.0 - s.k_mu * sliding);
 
     let n = lateral.hypot(c_s * kappa); // N
     let n_slip = lateral.hypot(c_s_slip * kappa); // N'
-    let k = FRAC_PI_4 / (s.mu0 * fz) * length_ratio * length_ratio;
+    let k = FRAC_PI_4 / (mu0 * fz) * length_ratio * length_ratio;
     let sigma = k * n;
     let g = saturation_over_sigma(p, sigma);
     if n_slip < MIN_SLIP_STIFFNESS_NORM_N {
@@ -80,15 +88,16 @@ fn composite_slip(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, length_ra
 }
 
 /// STI shear forces and aligning moment (§6.5–§6.6). `fz` must be positive (the caller handles lift-off).
-pub fn sti_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, inclination: f64) -> ShearForces {
+/// `friction` scales μ0 (the road's, `SlipInput::friction`).
+pub fn sti_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, inclination: f64, friction: f64) -> ShearForces {
     let s = &p.sti;
-    let mut slip = composite_slip(p, fz, kappa, tan_alpha, 1.0);
+    let mut slip = composite_slip(p, fz, kappa, tan_alpha, 1.0, friction);
     if s.k_a != 0.0 {
         // a_p depends on F_x: start from a_p = a_p0, then update from the latest F_x (§6.5). The ratio is kept
         // non-negative: it enters squared, and a negative contact length has no meaning.
         for _ in 1..CONTACT_LENGTH_PASSES {
             let length_ratio = (1.0 - s.k_a * slip.fx / fz).max(0.0);
-            slip = composite_slip(p, fz, kappa, tan_alpha, length_ratio);
+            slip = composite_slip(p, fz, kappa, tan_alpha, length_ratio, friction);
         }
     }
     let adhesion = 1.0 - slip.saturation;
@@ -123,7 +132,7 @@ mod tests {
         REFERENCE
             .iter()
             .map(|&([fz, alpha, kappa, gamma], expected)| {
-                let f = sti_forces(p, fz, kappa, alpha.tan(), gamma);
+                let f = sti_forces(p, fz, kappa, alpha.tan(), gamma, 1.0);
                 let mut errors = [0.0; 3];
                 for (i, (&got, &want)) in [f.fx, f.fy, f.mz].iter().zip(expected.iter()).enumerate() {
                     errors[i] = if want == 0.0 { got.abs() / (1e-9 * fz) } else { (got - want).abs() / want.abs() };
@@ -184,7 +193,7 @@ mod tests {
         // Composite-slip saturation: at fixed α, F_y drops monotonically with κ (friction ellipse).
         let p = params();
         for &alpha in &[0.05f64, 0.1, 0.2] {
-            let fy = |kappa: f64| sti_forces(&p, 6300.0, kappa, alpha.tan(), 0.0).fy;
+            let fy = |kappa: f64| sti_forces(&p, 6300.0, kappa, alpha.tan(), 0.0, 1.0).fy;
             let mut previous = fy(0.01);
             for i in 2..=50 {
                 let current = fy(0.01 * f64::from(i));
@@ -203,12 +212,12 @@ mod tests {
         for &fz in &[3000.0, 6300.0, 12600.0] {
             for &slip in &[1e-6, -1e-5, 1e-4] {
                 let mu_ratio = 1.0 - p.sti.k_mu * f64::abs(slip);
-                let f = sti_forces(&p, fz, slip, 0.0, 0.0);
+                let f = sti_forces(&p, fz, slip, 0.0, 0.0, 1.0);
                 let linear = mu_ratio * longitudinal_stiffness(&p, fz) * slip;
                 assert!((f.fx - linear).abs() < 1e-3 * linear.abs(), "F_x at F_z {fz}, κ {slip}");
                 let tan_alpha = slip;
                 let sliding = (tan_alpha * tan_alpha / (1.0 + tan_alpha * tan_alpha)).sqrt();
-                let f = sti_forces(&p, fz, 0.0, tan_alpha, 0.0);
+                let f = sti_forces(&p, fz, 0.0, tan_alpha, 0.0, 1.0);
                 let linear = (1.0 - p.sti.k_mu * sliding) * cornering_stiffness(&p, fz) * tan_alpha;
                 assert!((f.fy - linear).abs() < 1e-3 * linear.abs(), "F_y at F_z {fz}, tan α {slip}");
             }
@@ -218,27 +227,27 @@ mod tests {
     #[test]
     fn forces_follow_the_signs_of_the_slips() {
         let p = params();
-        let f = sti_forces(&p, 6300.0, -0.05, -0.05, 0.0);
-        let g = sti_forces(&p, 6300.0, 0.05, 0.05, 0.0);
+        let f = sti_forces(&p, 6300.0, -0.05, -0.05, 0.0, 1.0);
+        let g = sti_forces(&p, 6300.0, 0.05, 0.05, 0.0, 1.0);
         assert!(f.fx < 0.0 && f.fy < 0.0 && f.mz > 0.0, "{f:?}");
         assert!((f.fx + g.fx).abs() < 1e-9 && (f.fy + g.fy).abs() < 1e-9 && (f.mz + g.mz).abs() < 1e-12);
         // Camber thrust follows γ_w (top of the wheel toward +y pushes toward +y).
-        assert!(sti_forces(&p, 6300.0, 0.0, 0.0, 0.05).fy > 0.0);
+        assert!(sti_forces(&p, 6300.0, 0.0, 0.0, 0.05, 1.0).fy > 0.0);
     }
 
     #[test]
     fn zero_slip_gives_zero_shear() {
         let p = params();
-        assert_eq!(sti_forces(&p, 6300.0, 0.0, 0.0, 0.0), ShearForces::default());
+        assert_eq!(sti_forces(&p, 6300.0, 0.0, 0.0, 0.0, 1.0), ShearForces::default());
     }
 
     #[test]
     fn contact_length_feedback_changes_only_with_k_a() {
         let p = params();
-        let base = sti_forces(&p, 6300.0, 0.05, 0.05, 0.0);
+        let base = sti_forces(&p, 6300.0, 0.05, 0.05, 0.0, 1.0);
         let mut with_k_a = p.clone();
         with_k_a.sti.k_a = 0.1;
-        let f = sti_forces(&with_k_a, 6300.0, 0.05, 0.05, 0.0);
+        let f = sti_forces(&with_k_a, 6300.0, 0.05, 0.05, 0.0, 1.0);
         // A positive F_x shortens the contact (a_p < a_p0): σ drops, so the forces do too.
         assert!(f.fx < base.fx && f.fy < base.fy, "{f:?} vs {base:?}");
         assert!(f.fx.is_finite() && f.fy.is_finite());
