@@ -11,6 +11,8 @@ out=docs/ride.md
     echo
     echo "Written by \`bash scripts/ride.sh\` (each table is \`rtv ride ...\` as headed); do not edit by hand. The"
     echo "method, the filters and what the model cannot do are in docs/roads.md, \"Ride tests\"."
+    echo
+    echo "![ride curves](ride.png)"
     for h in 4 8 10 12 16 20; do
         echo
         echo "## Half-round obstacle, $h in: \`rtv ride halfround --height $h\`"
@@ -24,4 +26,6 @@ out=docs/ride.md
         $rtv ride rms --course resources/roads/detrended_rms_course_${c}in.crg 2>/dev/null
     done
 } > $out
-echo "wrote $out"
+bash scripts/setup.sh > /dev/null
+.venv/bin/python scripts/plot_ride.py $out docs/ride.png
+echo "wrote $out and docs/ride.png"
