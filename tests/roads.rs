@@ -226,3 +226,19 @@ fn the_hmmwv_drives_every_half_round_file_through_the_cli_or_is_refused_by_name(
     let _ = std::fs::remove_file(&out);
     assert!(passed.starts_with(&[4, 8, 10]), "passed: {passed:?}");
 }
+
+#[test]
+fn manoeuvres_and_scenes_run_on_random_roads_and_wet_ones() {
+    // The point contact on an ISO 8608 grid (the step check sees it rounded: the grid's slope jumps at grid
+    // lines would otherwise read as a stiff wheel hop), a manoeuvre on a wet road, and a friction out of range.
+    let out = std::env::temp_dir().join(format!("rtv_iso_{}.csv", std::process::id()));
+    let out = out.to_str().unwrap();
+    let (ok, stderr) = rtv(&["scene", "jturn", "--road", "iso8608:C:1:300", "--out", out]);
+    assert!(ok, "{stderr}");
+    let (ok, stderr) =
+        rtv(&["manoeuvre", "step-steer", "--friction", "0.5", "--road", "iso8608:A:2:300", "--out", out]);
+    assert!(ok, "{stderr}");
+    let (ok, stderr) = rtv(&["manoeuvre", "step-steer", "--friction", "0"]);
+    assert!(!ok && stderr.contains("road friction 0"), "{stderr}");
+    let _ = std::fs::remove_file(out);
+}

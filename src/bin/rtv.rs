@@ -43,7 +43,7 @@ const USAGE: &str = "usage:
   rtv calibrate [--vehicle FILE.json] [--tire FILE.tir]
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle FILE.json] [--tire FILE.tir]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
-            [--tire FILE.tir] [--out FILE.csv]
+            [--tire FILE.tir] [--road FILE.crg|iso8608:...] [--friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
   rtv check-vehicle FILE.json
@@ -526,11 +526,11 @@ fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
 
 /// A standard manoeuvre (docs/manoeuvres.md): writes its channels, prints its metrics.
 fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::studies::manoeuvres::{run, Manoeuvre};
+    use rt_vehicle::studies::manoeuvres::{run_on, Manoeuvre};
     let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
     let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
-    let opts = options(&args[1..], &["initial-speed", "vehicle", "tire", "out"])?;
+    let opts = options(&args[1..], &["initial-speed", "vehicle", "tire", "road", "friction", "out"])?;
     let speed = match opts.get("initial-speed") {
         Some(_) => {
             let v = number(&opts, "initial-speed", 0.0)?;
@@ -542,7 +542,11 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
         None => None,
     };
     let data = vehicle_data(&opts)?;
-    let report = run(m, &data, speed).map_err(|e| failed(format!("{}: {e}", m.name())))?;
+    let ground = rt_vehicle::studies::manoeuvres::Ground {
+        road_file: opts.get("road").cloned(),
+        friction: number(&opts, "friction", 1.0)?,
+    };
+    let report = run_on(m, &data, speed, &ground).map_err(|e| failed(format!("{}: {e}", m.name())))?;
     let mut out = csv_writer(opts.get("out"))?;
     let input = data.steering_input();
     let mut text = (0..CSV_COLUMNS).map(|i| column_name(&input, i)).collect::<Vec<_>>().join(",") + "\n";

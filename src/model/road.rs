@@ -85,9 +85,12 @@ impl Road for EdgeAveraged<'_> {
         match self.road {
             RoadModel::Flat => (0.0, [0.0, 0.0]),
             RoadModel::Bumps(bumps) => sum_averaged(bumps, x, y, self.width),
-            // A grid is bilinear: its slopes are bounded by the data, and a difference straddling a cell edge
-            // sees at most the neighbouring cell's slope.
-            RoadModel::Surface(surface) => surface.height_and_gradient(x, y),
+            // A bilinear grid's slope jumps at every grid line: a finite difference straddling one (a wheel
+            // standing on a grid line) would read a stiffness that is no mode. Averaged over the width with
+            // the enveloping quadrature, whose slope is continuous (a difference of box averages).
+            RoadModel::Surface(surface) => {
+                crate::model::road_envelope::enveloped_by_quadrature(surface, x, y, self.width)
+            }
         }
     }
 }

@@ -90,7 +90,7 @@ impl Road for Enveloped<'_> {
 /// The lateral slope is the weighted sum of the point slopes (nothing moves the nodes across the road).
 /// With a ≈ 0.24 m (half the HMMWV's radius) the nodes are 4 cm apart, four grid increments of the
 /// shipped half-round files (1 cm), a fifth of their obstacles' 20 cm base.
-fn enveloped_by_quadrature(road: &dyn Road, x: f64, y: f64, half_length: f64) -> (f64, [f64; 2]) {
+pub(crate) fn enveloped_by_quadrature(road: &dyn Road, x: f64, y: f64, half_length: f64) -> (f64, [f64; 2]) {
     let spacing = half_length / 6.0;
     let (mut height, mut ahead, mut behind, mut lateral) = (0.0, 0.0, 0.0, 0.0);
     for k in -6i32..=6 {

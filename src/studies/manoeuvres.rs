@@ -79,15 +79,38 @@ fn series(rows: &[Outputs], name: &str) -> Vec<f64> {
     rows.iter().map(|r| r.values[c]).collect()
 }
 
+/// The ground a manoeuvre is driven on: the flat road unless a road file (`--road`, docs/roads.md) is
+/// named, at the tires' own friction unless scaled (`--friction`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ground {
+    pub road_file: Option<String>,
+    pub friction: f64,
+}
+
+impl Default for Ground {
+    fn default() -> Self {
+        Ground { road_file: None, friction: 1.0 }
+    }
+}
+
+impl Ground {
+    /// A configuration at `speed` on this ground.
+    fn config(&self, speed: f64) -> SimConfig {
+        SimConfig { initial_speed: speed, road_file: self.road_file.clone(), ..SimConfig::default() }
+            .with_options(|o| o.road_friction = self.friction)
+    }
+}
+
 /// Run `profile` from steady rolling at `speed` for `duration`, sampling every `SAMPLE`.
 fn simulate(
     data: &VehicleData,
+    ground: &Ground,
     speed: f64,
     speed_mode: SpeedMode,
     profile: RackProfile,
     duration: f64,
 ) -> Result<Vec<Outputs>, ModelError> {
-    let config = SimConfig { initial_speed: speed, ..SimConfig::default() }.with_options(|o| o.speed_mode = speed_mode);
+    let config = ground.config(speed).with_options(|o| o.speed_mode = speed_mode);
     let mut sim = Simulation::new(data.clone(), config)?;
     sim.set_rack_profile(profile);
     let mut rows = vec![sim.outputs()?];
@@ -100,9 +123,21 @@ fn simulate(
 
 /// The rack displacement that gives a steady lateral acceleration `ay` (m/s²) at `speed`: a 3 s run at
 /// the calibrated J-turn amplitude, scaled linearly from its mean a_y over the last second.
-pub fn rack_for_lateral_acceleration(data: &VehicleData, speed: f64, ay: f64) -> Result<f64, ModelError> {
+pub fn rack_for_lateral_acceleration(
+    data: &VehicleData,
+    ground: &Ground,
+    speed: f64,
+    ay: f64,
+) -> Result<f64, ModelError> {
     let (a0, _) = crate::sim::calibration::amplitude_for(data)?;
-    let rows = simulate(data, speed, SpeedMode::Hold, RackProfile::Step { amplitude: a0, start: 0.2, ramp: 0.3 }, 3.0)?;
+    let rows = simulate(
+        data,
+        ground,
+        speed,
+        SpeedMode::Hold,
+        RackProfile::Step { amplitude: a0, start: 0.2, ramp: 0.3 },
+        3.0,
+    )?;
     let tail = &series(&rows, "ay")[rows.len() - (1.0 / SAMPLE) as usize..];
     let mean = tail.iter().sum::<f64>() / tail.len() as f64;
     Ok(a0 * ay / mean)
@@ -120,17 +155,23 @@ fn metric(name: &'static str, value: f64, unit: &'static str) -> Metric {
     Metric { name, value, unit, criterion: None }
 }
 
-/// Run a manoeuvre at its standard speed (or `speed`, m/s) and compute its metrics.
+/// Run a manoeuvre at its standard speed (or `speed`, m/s) on the flat road and compute its metrics.
 pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Report, ModelError> {
+    run_on(m, data, speed, &Ground::default())
+}
+
+/// `run` on `ground` (a road file, a friction scale): the steering amplitudes are found on the same ground.
+pub fn run_on(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &Ground) -> Result<Report, ModelError> {
     let g = data.gravity_m_s2;
     match m {
         Manoeuvre::StepSteer => {
             // ISO 7401:2011 §6.2: 80 km/h, steady lateral acceleration 4 m/s², steering as fast as possible
             // (here a 0.1 s smootherstep), response measured from 50 % of the steering input.
             let v = speed.unwrap_or(80.0 / 3.6);
-            let a = rack_for_lateral_acceleration(data, v, 4.0)?;
+            let a = rack_for_lateral_acceleration(data, ground, v, 4.0)?;
             let (start, ramp) = (0.5, 0.1);
-            let rows = simulate(data, v, SpeedMode::Hold, RackProfile::Step { amplitude: a, start, ramp }, 4.5)?;
+            let rows =
+                simulate(data, ground, v, SpeedMode::Hold, RackProfile::Step { amplitude: a, start, ramp }, 4.5)?;
             let t = series(&rows, "time");
             let t50 = start + 0.5 * ramp; // the smootherstep is half-way at half its ramp
             let mut metrics = Vec::new();
@@ -162,10 +203,10 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
             // amplitude 6.5 × the steering that gives 0.3 g (S7.6, slowly increasing steer: here the
             // linear steady-state measurement). Left turn first.
             let v = speed.unwrap_or(80.0 / 3.6);
-            let a = 6.5 * rack_for_lateral_acceleration(data, v, 0.3 * g)?;
+            let a = 6.5 * rack_for_lateral_acceleration(data, ground, v, 0.3 * g)?;
             let (f, start, dwell) = (0.7, 0.5, 0.5);
             let profile = RackProfile::SineWithDwell { amplitude: a, frequency: f, start, dwell, blend: 0.02 };
-            let rows = simulate(data, v, SpeedMode::Coast, profile, 5.0)?;
+            let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 5.0)?;
             let (t, r, y) = (series(&rows, "time"), series(&rows, "yaw_rate"), series(&rows, "y"));
             let end = start + 1.0 / f + dwell; // completion of steer (COS)
                                                // The first peak of yaw rate opposite to the first steer (S7.9.1: the second peak, after the
@@ -201,9 +242,15 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
             // 30 s smootherstep to the rack for 0.55 g); understeer gradient from the mean front road-wheel
             // steer against lateral acceleration, δ = L/R + K a_y with R = V²/a_y: K = dδ/da_y − L/V².
             let v = speed.unwrap_or(100.0 / 3.6);
-            let a = rack_for_lateral_acceleration(data, v, 0.55 * g)?;
-            let rows =
-                simulate(data, v, SpeedMode::Hold, RackProfile::Step { amplitude: a, start: 0.5, ramp: 30.0 }, 31.0)?;
+            let a = rack_for_lateral_acceleration(data, ground, v, 0.55 * g)?;
+            let rows = simulate(
+                data,
+                ground,
+                v,
+                SpeedMode::Hold,
+                RackProfile::Step { amplitude: a, start: 0.5, ramp: 30.0 },
+                31.0,
+            )?;
             let (ay, fl, fr) = (series(&rows, "ay"), series(&rows, "steer_fl"), series(&rows, "steer_fr"));
             // Least squares over the linear range, 0.5–3 m/s² (ISO 4138 reports the gradient at low a_y).
             let points: Vec<(f64, f64)> = ay
@@ -234,10 +281,10 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
             // counter-steer to the opposite amplitude in 0.5 s, hold 3 s. Tip-up: both wheels of one side
             // off the road by 2 in (5.1 cm) at the same time.
             let v = speed.unwrap_or(80.0 / 3.6);
-            let a = (6.5 * rack_for_lateral_acceleration(data, v, 0.3 * g)?).min(data.steering_limit());
+            let a = (6.5 * rack_for_lateral_acceleration(data, ground, v, 0.3 * g)?).min(data.steering_limit());
             let profile =
                 RackProfile::TwoMoves { first: a, start: 0.5, ramp: 0.25, second: -a, counter: 1.0, counter_ramp: 0.5 };
-            let rows = simulate(data, v, SpeedMode::Coast, profile, 4.5)?;
+            let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 4.5)?;
             let roll = series(&rows, "roll");
             let r0 = data.tire.unloaded_radius_m;
             let lift = |c: &str| -> Vec<f64> {
@@ -263,10 +310,10 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
         Manoeuvre::DoubleLaneChange => {
             // ISO 3888-2's nominal entry speed is 80 km/h; the figure of merit is the highest speed passed:
             // the course is run from 30 to 80 km/h in steps of 5 km/h.
-            let mut report = double_lane_change(data, speed.unwrap_or(80.0 / 3.6))?;
+            let mut report = double_lane_change(data, ground, speed.unwrap_or(80.0 / 3.6))?;
             let mut highest = None;
             for kmh in (30..=80).step_by(5) {
-                let run = double_lane_change(data, kmh as f64 / 3.6)?;
+                let run = double_lane_change(data, ground, kmh as f64 / 3.6)?;
                 if run.metrics[0].criterion.is_some_and(|c| c.1) {
                     highest = Some(kmh as f64);
                 }
@@ -304,9 +351,9 @@ pub fn dlc_driver(
 /// ISO 3888-2 double lane change, closed loop: the pure-pursuit driver (`rtv_driver`) steers, the speed hold
 /// keeps the entry speed. The footprint checked against the lanes is the four tires' outer edges (track/2 +
 /// half the tire width, at the axles), every sample. Pass: inside every lane throughout.
-fn double_lane_change(data: &VehicleData, v: f64) -> Result<Report, ModelError> {
+fn double_lane_change(data: &VehicleData, ground: &Ground, v: f64) -> Result<Report, ModelError> {
     use rtv_driver::iso3888::{course_and_line, HMMWV_TIRE_WIDTH_M, HMMWV_WIDTH_M};
-    let config = SimConfig { initial_speed: v, ..SimConfig::default() };
+    let config = ground.config(v);
     let mut sim = Simulation::new(data.clone(), config)?;
     let driver = dlc_driver(data, sim.vehicle())?;
     let first = sim.outputs()?;
