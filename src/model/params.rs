@@ -589,6 +589,10 @@ impl VehicleData {
                 }
             }
         }
+        // The tire file's remarks: unused sections and keys, mirrored slip ranges.
+        if let Some(mf) = &self.tire.magic_formula {
+            out.extend(mf.warnings.iter().cloned());
+        }
         out
     }
 

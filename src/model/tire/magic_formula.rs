@@ -42,6 +42,9 @@ macro_rules! coefficients {
         pub struct Coefficients { $( $( pub $name: f64, )* )* }
 
         impl Coefficients {
+            /// Every (section, key) the coefficients are read from.
+            const KEYS: &'static [(&'static str, &'static str)] = &[$( $( ($section, stringify!($name)), )* )*];
+
             fn read(file: &TirFile) -> Result<Coefficients, String> {
                 Ok(Coefficients { $( $( $name: coefficients!(@read file, $section, $name $(, $default)?), )* )* })
             }
@@ -238,7 +241,7 @@ impl MagicFormula {
             Ok([file.number_or(section, lo, default[0])?, file.number_or(section, hi, default[1])?])
         };
         let half_pi = std::f64::consts::FRAC_PI_2;
-        let mf = MagicFormula {
+        let mut mf = MagicFormula {
             source: name.clone(),
             format: "PAC2002".into(),
             fz0_scaled: c.LFZO * fz0,
@@ -260,9 +263,9 @@ impl MagicFormula {
             warnings: file.warnings.clone(),
         };
         mf.check()?;
+        mf.warn_unused(file);
         // A fit over braking slips only (KPUMAX = 0, the FED tire) would clamp every driving slip to 0 and
         // leave the car without traction: its range is taken symmetric, and the file's reader is told.
-        let mut mf = mf;
         for (key, range) in [("KPUMIN/KPUMAX", &mut mf.kappa_range), ("ALPMIN/ALPMAX", &mut mf.alpha_range)] {
             if range[0] >= 0.0 || range[1] <= 0.0 {
                 let reach = range[0].abs().max(range[1].abs());
@@ -275,6 +278,46 @@ impl MagicFormula {
         }
         mf.tan_alpha_range = mf.alpha_range.map(f64::tan);
         Ok(mf)
+    }
+
+    /// Sections and keys of the file this model does not read (vendor sections, MF 6.x extras, the
+    /// vertical and structural data of other tire models), one warning per section.
+    fn warn_unused(&mut self, file: &TirFile) {
+        const OTHERS: [(&str, &str); 18] = [
+            ("UNITS", "*"),
+            ("MODEL", "*"),
+            ("DIMENSION", "UNLOADED_RADIUS"),
+            ("VERTICAL", "FNOMIN"),
+            ("VERTICAL", "VERTICAL_STIFFNESS"),
+            ("VERTICAL", "VERTICAL_DAMPING"),
+            ("TIRE_CONDITIONS", "IP"),
+            ("TIRE_CONDITIONS", "IP_NOM"),
+            ("LONG_SLIP_RANGE", "KPUMIN"),
+            ("LONG_SLIP_RANGE", "KPUMAX"),
+            ("SLIP_ANGLE_RANGE", "ALPMIN"),
+            ("SLIP_ANGLE_RANGE", "ALPMAX"),
+            ("INCLINATION_ANGLE_RANGE", "CAMMIN"),
+            ("INCLINATION_ANGLE_RANGE", "CAMMAX"),
+            ("VERTICAL_FORCE_RANGE", "FZMAX"),
+            ("MDI_HEADER", "*"),
+            ("SHAPE", "*"),
+            ("VERTICAL_FORCE_RANGE", "FZMIN"),
+        ];
+        let used = |section: &str, key: &str| {
+            Coefficients::KEYS.iter().chain(OTHERS.iter()).any(|(s, k)| *s == section && (*k == "*" || *k == key))
+        };
+        for (section, entries) in &file.sections {
+            let unused: Vec<&str> = entries.keys().filter(|k| !used(section, k)).map(String::as_str).collect();
+            if !unused.is_empty() {
+                let shown = unused.iter().take(6).copied().collect::<Vec<_>>().join(", ");
+                let more = if unused.len() > 6 { format!(" and {} more", unused.len() - 6) } else { String::new() };
+                self.warnings.push(format!(
+                    "{}: [{section}] {} key(s) not used by this model: {shown}{more}",
+                    self.source,
+                    unused.len()
+                ));
+            }
+        }
     }
 
     /// Values a usable tire must have; each error names the file and the key.
@@ -653,6 +696,23 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn keys_and_vendor_sections_the_model_does_not_read_are_warnings() {
+        let base = std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
+        )
+        .unwrap();
+        let text = format!("{base}\n[ACME_VENDOR]\nSECRET_SAUCE = 3\n");
+        let mf = MagicFormula::from_tir(&TirFile::parse("v.tir", &text).unwrap()).unwrap();
+        let has = |needle: &str| mf.warnings.iter().any(|w| w.contains(needle));
+        assert!(has("[ACME_VENDOR]") && has("SECRET_SAUCE"), "{:?}", mf.warnings);
+        // Effective rolling radius and the MF 6.1 rolling-resistance terms are not modelled: said so.
+        assert!(has("BREFF") && has("QSY5"), "{:?}", mf.warnings);
+        // What the model reads is not listed.
+        assert!(!has("PKY1") && !has("FNOMIN") && !has("LMUY"), "{:?}", mf.warnings);
     }
 
     #[test]
