@@ -112,6 +112,26 @@ fn rtv(args: &[&str]) -> (bool, String) {
     (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
 }
 
+/// `rtv scene bump` on `road` with the enveloping contact at RK4 1 ms, from `speed` m/s for `end` s.
+fn drive(road: &str, speed: &str, end: &str, out: &str) -> (bool, String) {
+    rtv(&[
+        "scene",
+        "bump",
+        "--road",
+        road,
+        "--contact",
+        "envelope",
+        "--step",
+        "0.001",
+        "--initial-speed",
+        speed,
+        "--end",
+        end,
+        "--out",
+        out,
+    ])
+}
+
 #[test]
 fn the_hmmwv_drives_a_half_round_obstacle_and_an_rms_course_through_the_cli() {
     let root = env!("CARGO_MANIFEST_DIR");
@@ -119,43 +139,13 @@ fn the_hmmwv_drives_a_half_round_obstacle_and_an_rms_course_through_the_cli() {
     let out = out.to_str().unwrap();
     for (road, speed, end) in [("halfround_4in.crg", "10", "7"), ("detrended_rms_course_1in.crg", "10", "14")] {
         let road = format!("{root}/resources/roads/{road}");
-        let (ok, stderr) = rtv(&[
-            "scene",
-            "bump",
-            "--road",
-            &road,
-            "--contact",
-            "envelope",
-            "--initial-speed",
-            speed,
-            "--end",
-            end,
-            "--step",
-            "0.001",
-            "--out",
-            out,
-        ]);
+        let (ok, stderr) = drive(&road, speed, end, out);
         assert!(ok, "{road}: {stderr}");
     }
     // A road that ends: the 100 m half-round file, driven past its end. Beyond its extent the border mode
     // (keep) continues it, and the CLI says so.
     let short = format!("{root}/resources/roads/halfround_4in.crg");
-    let (ok, stderr) = rtv(&[
-        "scene",
-        "bump",
-        "--road",
-        &short,
-        "--contact",
-        "envelope",
-        "--step",
-        "0.001",
-        "--initial-speed",
-        "10",
-        "--end",
-        "11",
-        "--out",
-        out,
-    ]);
+    let (ok, stderr) = drive(&short, "10", "11", out);
     assert!(ok && stderr.contains("left the extent of the road"), "{stderr}");
     let _ = std::fs::remove_file(out);
 }
@@ -201,22 +191,7 @@ fn the_hmmwv_drives_every_half_round_file_through_the_cli_or_is_refused_by_name(
     let mut passed = Vec::new();
     for h in [4, 8, 10, 12, 16, 20] {
         let road = format!("{root}/resources/roads/halfround_{h}in.crg");
-        let (ok, stderr) = rtv(&[
-            "scene",
-            "bump",
-            "--road",
-            &road,
-            "--contact",
-            "envelope",
-            "--step",
-            "0.001",
-            "--initial-speed",
-            "3",
-            "--end",
-            "19",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (ok, stderr) = drive(&road, "3", "19", out.to_str().unwrap());
         if ok {
             passed.push(h);
         } else {

@@ -573,10 +573,17 @@ impl MagicFormula {
 
     /// The loads of this tire mounted on `side`, ISO inputs: mirrored when that is not the measured side.
     pub fn loads_on(&self, side: TireSide, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64) -> MfLoads {
+        self.mounted(side, fz, kappa, alpha, gamma, vx, 1.0)
+    }
+
+    /// `loads` of the tire mounted on `side`: the mirror image at (κ, −α, −γ) with F_y, M_x, M_z negated
+    /// when that is not the side it was measured on.
+    #[allow(clippy::too_many_arguments)]
+    fn mounted(&self, side: TireSide, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64, friction: f64) -> MfLoads {
         if side == self.measured_side {
-            return self.loads_iso(fz, kappa, alpha, gamma, vx);
+            return self.loads(fz, kappa, alpha, gamma, vx, friction);
         }
-        let m = self.loads_iso(fz, kappa, -alpha, -gamma, vx);
+        let m = self.loads(fz, kappa, -alpha, -gamma, vx, friction);
         MfLoads { fy: -m.fy, mx: -m.mx, mz: -m.mz, ..m }
     }
 
@@ -592,12 +599,7 @@ impl MagicFormula {
         inclination: f64,
         friction: f64,
     ) -> MfLoads {
-        let (alpha, gamma) = (-tan_alpha, -inclination);
-        if side == self.measured_side {
-            return self.loads(fz, kappa, alpha, gamma, 0.0, friction);
-        }
-        let m = self.loads(fz, kappa, -alpha, -gamma, 0.0, friction);
-        MfLoads { fy: -m.fy, mx: -m.mx, mz: -m.mz, ..m }
+        self.mounted(side, fz, kappa, -tan_alpha, -inclination, 0.0, friction)
     }
 }
 
