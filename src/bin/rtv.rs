@@ -34,7 +34,7 @@ const USAGE: &str = "usage:
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--tire FILE.tir] [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
             [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
-            [--road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]] [--friction SCALE]
+            [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]] [--friction SCALE]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
@@ -43,7 +43,7 @@ const USAGE: &str = "usage:
   rtv calibrate [--vehicle FILE.json] [--tire FILE.tir]
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle FILE.json] [--tire FILE.tir]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
-            [--tire FILE.tir] [--road FILE.crg|iso8608:...] [--friction SCALE] [--out FILE.csv]
+            [--tire FILE.tir] [--road FILE.crg|FILE.xodr|iso8608:...] [--friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
   rtv check-vehicle FILE.json
@@ -278,6 +278,9 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let data_input = data.steering_input();
     let started = Instant::now();
     let mut sim = scene.start_keeping(data, &config, keep_all)?;
+    for w in sim.road().file().map_or(&[][..], |f| f.warnings()) {
+        eprintln!("warning: {w}");
+    }
     sim.set_wheel_torques([drive; 4], [brake; 4]);
     let setup = started.elapsed();
     let mut out = csv_writer(opts.get("out"))?;

@@ -221,7 +221,12 @@ impl VehicleModel {
         } else if road.starts_with("iso8608:") {
             Some(road.to_string())
         } else {
-            Some(fmi_layer::resources::locate("road_file", road, context)?.display().to_string())
+            // An OpenDRIVE map may name its road: FILE.xodr#ROAD_ID (the file is resolved, the id kept).
+            let (file, road_id) = match road.rsplit_once('#') {
+                Some((file, id)) if crate::model::road_xodr::is_xodr(road) => (file, format!("#{id}")),
+                _ => (road, String::new()),
+            };
+            Some(format!("{}{road_id}", fmi_layer::resources::locate("road_file", file, context)?.display()))
         };
         if let Some(t) = self.experiment_tolerance {
             config.tolerance = t;
@@ -499,6 +504,9 @@ impl FmuModel for VehicleModel {
             crate::error::Cause::Input => format!("parameters: {e}"),
             _ => format!("initial equilibrium: {e}"),
         })?;
+        for w in sim.road().file().map_or(&[][..], |f| f.warnings()) {
+            log.event(&format!("road: {w}"));
+        }
         self.sim = Some(sim);
         self.step_cpu_time = 0.0;
         self.events_logged = 0;

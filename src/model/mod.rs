@@ -11,6 +11,7 @@ pub mod road;
 pub mod road_crg;
 pub mod road_envelope;
 pub mod road_iso8608;
+pub mod road_xodr;
 pub mod steering;
 pub mod summary;
 pub mod suspension;

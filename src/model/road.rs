@@ -23,6 +23,19 @@ pub trait Road {
     }
 }
 
+/// A road read from a file (OpenCRG, ISO 8608, OpenDRIVE): it has a name and an extent, whose leaving the
+/// simulation reports as an event.
+pub trait FileRoad: Road {
+    fn name(&self) -> &str;
+    /// Whether the ground point lies within the file's extent (beyond it the surface continues as the file
+    /// type's documentation says: border modes for OpenCRG, held profiles for OpenDRIVE).
+    fn inside(&self, x: f64, y: f64) -> bool;
+    /// What the reader dropped or questioned in the file (an OpenDRIVE map's warnings).
+    fn warnings(&self) -> &[String] {
+        &[]
+    }
+}
+
 /// A half-sine bump on one side of the road: h = height sin(pi (x - x_start)/length) on [x_start, x_start + length]
 /// for side * y > 0 (side +1 left, -1 right).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -88,8 +101,9 @@ impl Road for EdgeAveraged<'_> {
             // A bilinear grid's slope jumps at every grid line: a finite difference straddling one (a wheel
             // standing on a grid line) would read a stiffness that is no mode. Averaged over the width with
             // the enveloping quadrature, whose slope is continuous (a difference of box averages).
-            RoadModel::Surface(surface) => {
-                crate::model::road_envelope::enveloped_by_quadrature(surface, x, y, self.width)
+            RoadModel::Surface(_) | RoadModel::Map(_) => {
+                let file = self.road.file().expect("a file road");
+                crate::model::road_envelope::enveloped_by_quadrature(file, x, y, self.width)
             }
         }
     }
@@ -111,6 +125,9 @@ pub enum RoadModel {
     /// never serialized.
     #[serde(skip)]
     Surface(crate::model::road_crg::PlacedSurface),
+    /// A road of an OpenDRIVE map, placed (`road_xodr`); rebuilt from the configuration, never serialized.
+    #[serde(skip)]
+    Map(crate::model::road_xodr::PlacedMap),
 }
 
 /// Bump geometry of the paper's course [P, physics.md §8.3].
@@ -121,6 +138,26 @@ const PAPER_BUMPS_LEFT_M: [f64; 2] = [10.0, 14.0];
 const PAPER_BUMPS_RIGHT_M: [f64; 2] = [11.0, 15.0];
 
 impl RoadModel {
+    /// The road file behind this road, if it came from one.
+    pub fn file(&self) -> Option<&dyn FileRoad> {
+        match self {
+            RoadModel::Surface(surface) => Some(surface),
+            RoadModel::Map(map) => Some(map),
+            RoadModel::Flat | RoadModel::Bumps(_) => None,
+        }
+    }
+
+    /// The road a specification names (an OpenCRG file, `iso8608:…`, or an OpenDRIVE map `FILE.xodr[#ROAD]`),
+    /// its start (reference line start, v = 0) at ground point `anchor`, heading along ground x.
+    pub fn from_file(spec: &str, anchor: [f64; 2]) -> Result<RoadModel, String> {
+        use crate::model::{road_crg, road_xodr};
+        Ok(if road_xodr::is_xodr(spec) {
+            RoadModel::Map(road_xodr::PlacedMap::new(road_xodr::load(spec)?, anchor))
+        } else {
+            RoadModel::Surface(road_crg::PlacedSurface::new(road_crg::surface_for(spec)?, anchor))
+        })
+    }
+
     /// The paper's unsymmetric bump course: 0.5 m long, 5 cm high; left wheels at 10 m and 14 m, right at
     /// 11 m and 15 m, leading edges measured from `front_wheel_x0` (the initial front wheel centres).
     pub fn paper_bump_course(front_wheel_x0: f64) -> RoadModel {
@@ -146,6 +183,7 @@ impl Road for RoadModel {
                 (h + bh, [hx + bx, hy + by])
             }),
             RoadModel::Surface(surface) => surface.height_and_gradient(x, y),
+            RoadModel::Map(map) => map.height_and_gradient(x, y),
         }
     }
 

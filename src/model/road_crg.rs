@@ -18,7 +18,7 @@
 //!   border mode is `None` there is no surface: `has_surface` is false and the run ends with a named error.
 //! - **Sharing**: a file loads once per process; FMU instances naming the same file (same path, length and
 //!   modification time) share it (`load`).
-use super::road::Road;
+use super::road::{FileRoad, Road};
 use opencrg::{BorderMode, CrgGrid, Uv, Xy};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -206,27 +206,47 @@ fn range((a, b): (f64, f64)) -> [f64; 2] {
     [a, b]
 }
 
-/// Files loaded in this process, by path, length and modification time: large files are read once and
-/// shared by every FMU instance (and run) that names them.
-/// A file's identity: its canonical path, length and modification time.
-type FileKey = (PathBuf, u64, Option<std::time::SystemTime>);
+/// A file's identity: its canonical path (with a selector, such as an OpenDRIVE road id), length and
+/// modification time.
+type FileKey = (PathBuf, String, u64, Option<std::time::SystemTime>);
 
-static LOADED: Mutex<Option<HashMap<FileKey, Weak<Surface>>>> = Mutex::new(None);
+/// Files loaded in this process: large files are read once and shared by every FMU instance (and run) that
+/// names them (same path, length and modification time). One cache per file type.
+pub(crate) struct SharedFiles<T>(Mutex<Option<HashMap<FileKey, Weak<T>>>>);
+
+impl<T> SharedFiles<T> {
+    pub(crate) const fn new() -> Self {
+        SharedFiles(Mutex::new(None))
+    }
+
+    /// The copy of `path` (with `selector`) already loaded, or `read()`'s, kept while anything holds it.
+    pub(crate) fn get(
+        &self,
+        path: &Path,
+        selector: &str,
+        read: impl FnOnce() -> Result<T, String>,
+    ) -> Result<Arc<T>, String> {
+        let meta = std::fs::metadata(path).map_err(|e| format!("cannot read the road file {}: {e}", path.display()))?;
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        let key = (canonical, selector.to_string(), meta.len(), meta.modified().ok());
+        // A poisoned lock only means another thread panicked while holding it: the map is still usable.
+        let mut guard = self.0.lock().unwrap_or_else(|p| p.into_inner());
+        let map = guard.get_or_insert_with(HashMap::new);
+        map.retain(|_, w| w.strong_count() > 0);
+        if let Some(s) = map.get(&key).and_then(Weak::upgrade) {
+            return Ok(s);
+        }
+        let loaded = Arc::new(read()?);
+        map.insert(key, Arc::downgrade(&loaded));
+        Ok(loaded)
+    }
+}
+
+static LOADED: SharedFiles<Surface> = SharedFiles::new();
 
 /// Loads a CRG file, or returns the copy already loaded.
 pub fn load(path: &Path) -> Result<Arc<Surface>, String> {
-    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read the road file {}: {e}", path.display()))?;
-    let key = (path.canonicalize().unwrap_or_else(|_| path.to_path_buf()), meta.len(), meta.modified().ok());
-    // A poisoned lock only means another thread panicked while holding it: the map is still usable.
-    let mut guard = LOADED.lock().unwrap_or_else(|p| p.into_inner());
-    let map = guard.get_or_insert_with(HashMap::new);
-    map.retain(|_, w| w.strong_count() > 0);
-    if let Some(s) = map.get(&key).and_then(Weak::upgrade) {
-        return Ok(s);
-    }
-    let surface = Arc::new(Surface::read(path)?);
-    map.insert(key, Arc::downgrade(&surface));
-    Ok(surface)
+    LOADED.get(path, "", || Surface::read(path))
 }
 
 /// The surface a road specification names: an OpenCRG file, or `iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]`
@@ -323,6 +343,16 @@ impl Road for PlacedSurface {
         // The slopes in the road's axes, turned by −heading into the ground's.
         let (gx, gy) = (-n.x / n.z, -n.y / n.z);
         (z, [self.cos * gx + self.sin * gy, -self.sin * gx + self.cos * gy])
+    }
+}
+
+impl FileRoad for PlacedSurface {
+    fn name(&self) -> &str {
+        &self.surface.name
+    }
+
+    fn inside(&self, x: f64, y: f64) -> bool {
+        PlacedSurface::inside(self, x, y)
     }
 }
 

@@ -52,7 +52,7 @@ pub const OBSTACLE_ENVELOPE_FRACTION: f64 = 0.5;
 pub fn enveloping_half_length(road: &RoadModel, unloaded_radius: f64, vertical_stiffness: f64, load: f64) -> f64 {
     let contact = static_half_contact_length(unloaded_radius, vertical_stiffness, load);
     match road {
-        RoadModel::Surface(_) => contact.max(OBSTACLE_ENVELOPE_FRACTION * unloaded_radius),
+        RoadModel::Surface(_) | RoadModel::Map(_) => contact.max(OBSTACLE_ENVELOPE_FRACTION * unloaded_radius),
         _ => contact,
     }
 }
@@ -71,7 +71,9 @@ impl Road for Enveloped<'_> {
                 let (bh, bx) = enveloped_bump(bump, x, y, self.half_length);
                 (h + bh, [hx + bx, hy])
             }),
-            RoadModel::Surface(surface) => enveloped_by_quadrature(surface, x, y, self.half_length),
+            RoadModel::Surface(_) | RoadModel::Map(_) => {
+                enveloped_by_quadrature(self.road.file().expect("a file road"), x, y, self.half_length)
+            }
         }
     }
 

@@ -347,13 +347,11 @@ impl Start {
             + state[idx::R0];
         let road = match (&config.road_file, config.road) {
             (Some(spec), _) => {
-                let surface =
-                    crate::model::road_crg::surface_for(spec).map_err(|e| ModelError::new(Cause::Input, e))?;
                 let rear_x0 = 0.5
                     * (2..4).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
                     + state[idx::R0];
                 let anchor = [rear_x0 - crate::model::road_crg::START_BEHIND_REAR_AXLE_M, state[idx::R0 + 1]];
-                RoadModel::Surface(crate::model::road_crg::PlacedSurface::new(surface, anchor))
+                RoadModel::from_file(spec, anchor).map_err(|e| ModelError::new(Cause::Input, e))?
             }
             (None, RoadChoice::Flat) => RoadModel::Flat,
             (None, RoadChoice::PaperBumps) => RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]),
@@ -469,14 +467,15 @@ impl Events {
         for i in 0..4 {
             // A road file's edge: beyond it the file's border mode decides what the wheel meets (it is told,
             // never a silent extrapolation; with border mode none the evaluation ends with an error).
-            if let RoadModel::Surface(surface) = road {
+            if let Some(file) = road.file() {
                 let [x, y] = d.wheel_centre_xy[i];
-                if !surface.inside(x, y) {
+                if !file.inside(x, y) {
                     self.note(3, i, || {
                         format!(
                             "t = {t:.3} s: wheel {} left the extent of the road {} at x = {x:.2} m, y = {y:.2} m: \
-                             beyond it the surface continues as the file's border mode says",
-                            CORNERS[i], surface.surface.name
+                             beyond it the surface continues as docs/roads.md says for its file type",
+                            CORNERS[i],
+                            file.name()
                         )
                     });
                 }
@@ -1080,7 +1079,7 @@ impl Simulation {
     /// resolved, not only stable: |hλ| ≤ `HOP_RESOLUTION`. (On a level road only the body's slow motions
     /// reach it, and a stable step is accurate: docs/stability.md.)
     fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64) -> Result<(), ModelError> {
-        let bumpy = matches!(self.road, RoadModel::Bumps(_) | RoadModel::Surface(_));
+        let bumpy = matches!(self.road, RoadModel::Bumps(_) | RoadModel::Surface(_) | RoadModel::Map(_));
         let bound = hop_resolution(self.config.integrator);
         let worst = modes
             .iter()
