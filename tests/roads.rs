@@ -217,3 +217,47 @@ fn manoeuvres_and_scenes_run_on_random_roads_and_wet_ones() {
     assert!(!ok && stderr.contains("road friction 0"), "{stderr}");
     let _ = std::fs::remove_file(out);
 }
+
+/// A CSV column's values.
+fn column(path: &str, name: &str) -> Vec<f64> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let k = lines.next().unwrap().split(',').position(|c| c == name).unwrap();
+    lines.map(|l| l.split(',').nth(k).unwrap().parse().unwrap()).collect()
+}
+
+#[test]
+fn the_hmmwv_drives_opendrive_maps_through_the_cli() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let out = std::env::temp_dir().join(format!("rtv_xodr_{}.csv", std::process::id()));
+    let out = out.to_str().unwrap();
+    // The test track: straight over a 1.5 m crest (s = 30 … 150 m), then the vehicle, driving straight on,
+    // leaves the curving road, and the CLI says so. The chassis rises by the crest's height.
+    let track = format!("{root}/resources/roads/test_track.xodr");
+    let (ok, stderr) = drive(&track, "15", "10", out);
+    assert!(ok && stderr.contains("left the extent of the road"), "{stderr}");
+    let z = column(out, "z");
+    let rise = z.iter().cloned().fold(f64::MIN, f64::max) - z[0];
+    assert!((rise - 1.5).abs() < 0.05, "the chassis rose {rise} m over the 1.5 m crest");
+    // The RMS course attached to a road on a 1 % grade, and a road chosen by its id.
+    let rms = format!("{root}/resources/roads/rms_course_1in.xodr#1");
+    let (ok, stderr) = drive(&rms, "10", "14", out);
+    assert!(ok, "{stderr}");
+    let z = column(out, "z");
+    let x = column(out, "x");
+    let climbed = z[z.len() - 1] - z[0];
+    assert!((climbed - 0.01 * (x[x.len() - 1] - x[0])).abs() < 0.05, "climbed {climbed} m");
+    // Bad maps: a road id the map lacks, a map without a road, a file that is not there.
+    let empty = std::env::temp_dir().join(format!("rtv_empty_{}.xodr", std::process::id()));
+    std::fs::write(&empty, "<OpenDRIVE><header revMajor=\"1\" revMinor=\"6\"/></OpenDRIVE>").unwrap();
+    for (road, needle) in [
+        (format!("{root}/resources/roads/test_track.xodr#9"), "no road with id"),
+        (empty.display().to_string(), "no road surface"),
+        (format!("{root}/resources/roads/none.xodr"), "none.xodr"),
+    ] {
+        let (ok, stderr) = drive(&road, "10", "1", out);
+        assert!(!ok && stderr.contains(needle), "{road}: {stderr}");
+    }
+    let _ = std::fs::remove_file(empty);
+    let _ = std::fs::remove_file(out);
+}

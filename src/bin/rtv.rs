@@ -820,6 +820,12 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
 fn cmd_road(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["road", "step", "out"])?;
     let spec = opts.get("road").ok_or_else(|| bad("road: --road FILE.crg|iso8608:... is required"))?;
+    if rt_vehicle::model::road_xodr::is_xodr(spec) {
+        return Err(bad(
+            "road: profiles are written for OpenCRG files and iso8608: roads; an OpenDRIVE map is checked by \
+             driving it (rtv scene … --road FILE.xodr)",
+        ));
+    }
     let step = number(&opts, "step", 0.01)?;
     if !(step >= 1e-4) {
         return Err(bad("road: --step must be at least 1e-4 m"));

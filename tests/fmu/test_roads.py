@@ -18,6 +18,7 @@ def test_the_roads_ship_with_chronos_licence(fmu_path):
         assert f"resources/roads/halfround_{h}in.crg" in names
     assert "resources/roads/detrended_rms_course_1in.crg" in names
     assert "resources/roads/LICENSE-chrono" in names
+    assert "resources/roads/test_track.xodr" in names and "resources/roads/rms_course_1in.xodr" in names
 
 
 def drive(s, seconds, h=0.01):
@@ -65,5 +66,39 @@ def test_a_bad_road_is_an_error_naming_it_and_the_instance_recovers(make, tmp_pa
         assert status(s.fmu.exitInitializationMode) == ERROR
         assert any(needle in m for m in messages(s.name)), (road, messages(s.name)[-2:])
     s.set(road_file="iso8608:B:7:200", contact=2, internal_step=0.001)
+    assert status(s.fmu.exitInitializationMode) == OK, messages(s.name)[-2:]
+    assert drive(s, 0.5) == OK
+
+
+def test_the_hmmwv_drives_opendrive_maps(make):
+    # The test track's 1.5 m crest lifts the chassis by as much; the road is chosen by its id here.
+    s = make()
+    s.init(road_file="roads/test_track.xodr#1", contact=2, internal_step=0.001, initial_speed=15.0)
+    z0 = s.get("z")
+    top = z0
+    while s.t < 7.0 - 1e-9:
+        assert status(s.fmu.doStep, s.t, 0.05) == OK, messages(s.name)[-3:]
+        s.t += 0.05
+        top = max(top, s.get("z"))
+    assert abs(top - z0 - 1.5) < 0.05, top - z0
+    # The RMS course attached to a road (OpenCRG inside OpenDRIVE).
+    s = make()
+    s.init(road_file="roads/rms_course_1in.xodr", contact=2, internal_step=0.001, initial_speed=10.0)
+    assert drive(s, 12.0) == OK, messages(s.name)[-3:]
+    assert s.get("x") > 110.0
+
+
+def test_a_bad_map_is_an_error_naming_it_and_the_instance_recovers(make, tmp_path):
+    empty = tmp_path / "empty.xodr"
+    empty.write_text('<OpenDRIVE><header revMajor="1" revMinor="6"/></OpenDRIVE>')
+    s = make()
+    s.fmu.setupExperiment(startTime=0.0)
+    s.fmu.enterInitializationMode()
+    for road, needle in [(str(empty), "no road surface"), ("roads/test_track.xodr#9", "no road with id"),
+                         ("roads/none.xodr", "none.xodr")]:
+        s.set(road_file=road)
+        assert status(s.fmu.exitInitializationMode) == ERROR
+        assert any(needle in m for m in messages(s.name)), (road, messages(s.name)[-2:])
+    s.set(road_file="roads/test_track.xodr", internal_step=0.001)
     assert status(s.fmu.exitInitializationMode) == OK, messages(s.name)[-2:]
     assert drive(s, 0.5) == OK
