@@ -5,41 +5,22 @@
 
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::tire::{self, MagicFormula, TireSide};
-use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use rt_vehicle::sim::{SimConfig, SpeedMode};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn chrono_data() -> PathBuf {
-    std::env::var_os("RTV_CHRONO_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono"))
-}
+mod common;
+use common::{braked_trace, chrono_data, chrono_tir_files};
 
 fn hmmwv_tir() -> PathBuf {
     chrono_data().join("hmmwv/tire/HMMWV_Pac02Tire.tir")
 }
 
-fn shipped_tir_files() -> Vec<PathBuf> {
-    let mut out = Vec::new();
-    let mut stack = vec![chrono_data()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap().flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                stack.push(p);
-            } else if p.extension().is_some_and(|x| x.eq_ignore_ascii_case("tir")) {
-                out.push(p);
-            }
-        }
-    }
-    out.sort();
-    assert_eq!(out.len(), 5, "{out:?}");
-    out
-}
-
 #[test]
 fn every_shipped_file_keeps_iso_signs_and_side_symmetry() {
-    for path in shipped_tir_files() {
+    let files = chrono_tir_files();
+    assert_eq!(files.len(), 5, "{files:?}");
+    for path in files {
         let mf = MagicFormula::read(&path).unwrap_or_else(|e| panic!("{e}"));
         let name = path.display();
         let fz = mf.fz0;
@@ -118,28 +99,10 @@ fn a_bad_tire_file_is_a_named_error_on_the_cli() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn column(name: &str) -> usize {
-    OUTPUT_NAMES.iter().position(|n| *n == name).unwrap()
-}
-
 fn mf_hmmwv() -> VehicleData {
     let mut data = VehicleData::default_hmmwv();
     data.use_tire_file(&hmmwv_tir()).unwrap();
     data
-}
-
-/// Time, chassis x, v_x and the front-left relative wheel spin every 2 ms, constant brake torques.
-fn trace(data: VehicleData, config: SimConfig, brake: [f64; 4], end: f64) -> Vec<[f64; 4]> {
-    let mut sim = Simulation::new(data, config).unwrap();
-    sim.set_wheel_torques([0.0; 4], brake);
-    let (x, vx, spin) = (column("x"), column("vx"), column("wheel_spin_fl"));
-    let mut rows = Vec::new();
-    for _ in 0..(end / 0.002).round() as usize {
-        sim.advance(0.002).unwrap();
-        let o = sim.outputs().unwrap();
-        rows.push([sim.time(), o.values[x], o.values[vx], o.values[spin]]);
-    }
-    rows
 }
 
 #[test]
@@ -148,7 +111,7 @@ fn braked_stop_and_grade_hold_behave_as_with_sti() {
     let data = mf_hmmwv();
     let config = SimConfig { initial_speed: 60.0 / 3.6, ..SimConfig::default() }
         .with_options(|o| o.speed_mode = SpeedMode::Coast);
-    let rows = trace(data.clone(), config, [4000.0; 4], 9.0);
+    let rows = braked_trace(data.clone(), config, [4000.0; 4], 9.0);
     let stop = rows.iter().find(|r| r[2] < 0.01).expect("the car stops")[0];
     let window: Vec<f64> = rows.iter().filter(|r| r[0] >= stop + 1.0 && r[0] <= stop + 6.0).map(|r| r[1]).collect();
     let span = window.iter().cloned().fold(f64::MIN, f64::max) - window.iter().cloned().fold(f64::MAX, f64::min);
@@ -170,7 +133,7 @@ fn braked_stop_and_grade_hold_behave_as_with_sti() {
         o.speed_mode = SpeedMode::Coast;
         o.slope = [0.2, 0.0];
     });
-    let rows = trace(data, config, [3000.0; 4], 6.0);
+    let rows = braked_trace(data, config, [3000.0; 4], 6.0);
     let at = |t: f64| rows.iter().find(|r| r[0] >= t - 1e-9).unwrap()[1];
     let drift = (at(6.0) - at(1.0)).abs() / 5.0;
     println!("MF: drift on the grade after settling: {drift:.2e} m/s");

@@ -4,12 +4,11 @@
 use rt_vehicle::error::Cause;
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode};
 use rt_vehicle::studies::stability::{cases, evaluate, Outcome, STEPS};
 
-fn column(name: &str) -> usize {
-    OUTPUT_NAMES.iter().position(|n| *n == name).unwrap()
-}
+mod common;
+use common::braked_trace;
 
 #[test]
 fn every_run_of_the_suite_is_ok_or_a_clean_error() {
@@ -40,26 +39,12 @@ fn every_run_of_the_suite_is_ok_or_a_clean_error() {
     }
 }
 
-/// Chassis x, v_x and the front-left relative wheel spin, every 2 ms, for a run with constant torques.
-fn trace(config: SimConfig, brake: [f64; 4], end: f64) -> Vec<[f64; 4]> {
-    let mut sim = Simulation::new(VehicleData::default_hmmwv(), config).unwrap();
-    sim.set_wheel_torques([0.0; 4], brake);
-    let (x, vx, spin) = (column("x"), column("vx"), column("wheel_spin_fl"));
-    let mut rows = Vec::new();
-    for _ in 0..(end / 0.002).round() as usize {
-        sim.advance(0.002).unwrap();
-        let o = sim.outputs().unwrap();
-        rows.push([sim.time(), o.values[x], o.values[vx], o.values[spin]]);
-    }
-    rows
-}
-
 #[test]
 fn a_braked_stop_stands_still() {
     // 60 km/h, coasting, 4 kN m on each wheel: the wheels lock, the car slides to a stop and stands.
     let config = SimConfig { initial_speed: 60.0 / 3.6, ..SimConfig::default() }
         .with_options(|o| o.speed_mode = SpeedMode::Coast);
-    let rows = trace(config, [4000.0; 4], 9.0);
+    let rows = braked_trace(VehicleData::default_hmmwv(), config, [4000.0; 4], 9.0);
     let stop = rows.iter().find(|r| r[2] < 0.01).expect("the car stops")[0];
     let window: Vec<f64> = rows.iter().filter(|r| r[0] >= stop + 1.0 && r[0] <= stop + 6.0).map(|r| r[1]).collect();
     let span = window.iter().cloned().fold(f64::MIN, f64::max) - window.iter().cloned().fold(f64::MAX, f64::min);
@@ -92,7 +77,7 @@ fn braked_on_a_20_percent_grade_the_car_holds() {
         o.speed_mode = SpeedMode::Coast;
         o.slope = [0.2, 0.0];
     });
-    let rows = trace(config, [3000.0; 4], 6.0);
+    let rows = braked_trace(VehicleData::default_hmmwv(), config, [3000.0; 4], 6.0);
     let at = |t: f64| rows.iter().find(|r| r[0] >= t - 1e-9).unwrap()[1];
     let drift = (at(6.0) - at(1.0)).abs() / 5.0;
     println!("drift on the grade after settling: {:.2e} m/s", drift);

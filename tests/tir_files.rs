@@ -3,32 +3,13 @@
 //! numbers (`model::tire::tir`, issue 18).
 
 use rt_vehicle::model::tire::tir::{TirFile, TirFormat, UnitKind};
-use std::path::PathBuf;
 
-fn tir_files() -> Vec<PathBuf> {
-    let dir = std::env::var_os("RTV_CHRONO_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono"));
-    assert!(dir.is_dir(), "the Chrono data folder {} is missing (set RTV_CHRONO_DATA)", dir.display());
-    let mut out = Vec::new();
-    let mut stack = vec![dir];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap().flatten() {
-            let p = e.path();
-            if p.is_dir() {
-                stack.push(p);
-            } else if p.extension().is_some_and(|x| x.eq_ignore_ascii_case("tir")) {
-                out.push(p);
-            }
-        }
-    }
-    out.sort();
-    out
-}
+mod common;
+use common::chrono_tir_files;
 
 #[test]
 fn every_shipped_tir_file_reads() {
-    let files = tir_files();
+    let files = chrono_tir_files();
     assert_eq!(files.len(), 5, "the five PAC2002 files of shared/data/chrono: {files:?}");
     for path in files {
         let f = TirFile::read(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -54,7 +35,7 @@ fn every_shipped_tir_file_reads() {
 
 #[test]
 fn a_truncated_file_is_a_named_error() {
-    let path = tir_files().into_iter().find(|p| p.ends_with("HMMWV_Pac02Tire.tir")).unwrap();
+    let path = chrono_tir_files().into_iter().find(|p| p.ends_with("HMMWV_Pac02Tire.tir")).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     // Cut inside the value of a key line: the key is left with no value.
     let at = text.find("FNOMIN").unwrap() + "FNOMIN                     =".len();

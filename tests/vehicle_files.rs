@@ -3,6 +3,7 @@
 //! import leaves no file behind. The Chrono data are read from `../shared/data/chrono` (or
 //! `RTV_CHRONO_DATA`), the folder the shipped imports were made from.
 
+mod common;
 use rt_vehicle::model::import_chrono::{import_vehicle, write_atomically};
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle_file::{check_schema, MAX_FILE_BYTES};
@@ -22,13 +23,8 @@ fn repo() -> PathBuf {
 }
 
 fn chrono_data() -> PathBuf {
-    let dir =
-        std::env::var_os("RTV_CHRONO_DATA").map(PathBuf::from).unwrap_or_else(|| repo().join("../shared/data/chrono"));
-    assert!(
-        dir.join(MACPHERSON).is_file(),
-        "the Chrono data folder {} is missing (set RTV_CHRONO_DATA)",
-        dir.display()
-    );
+    let dir = common::chrono_data();
+    assert!(dir.join(MACPHERSON).is_file(), "{} lacks {MACPHERSON}", dir.display());
     dir
 }
 

@@ -1,6 +1,57 @@
-//! Shared by the integration tests (`mod common;`): the shipped vehicles.
+//! Shared by the integration tests (`mod common;`): the shipped vehicles, Project Chrono's data folder and its
+//! tire files, and a braked run's trace. Each test crate uses some of them.
+#![allow(dead_code)]
 
 use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::sim::{SimConfig, Simulation, OUTPUT_NAMES};
+use std::path::PathBuf;
+
+/// `../shared/data/chrono` (Project Chrono's data), or the folder `RTV_CHRONO_DATA` names.
+pub fn chrono_data() -> PathBuf {
+    let dir = std::env::var_os("RTV_CHRONO_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono"));
+    assert!(dir.is_dir(), "the Chrono data folder {} is missing (set RTV_CHRONO_DATA)", dir.display());
+    dir
+}
+
+/// Every `.tir` file under the Chrono data folder, sorted.
+pub fn chrono_tir_files() -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![chrono_data()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|x| x.eq_ignore_ascii_case("tir")) {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The index of an output channel.
+pub fn column(name: &str) -> usize {
+    OUTPUT_NAMES.iter().position(|n| *n == name).unwrap()
+}
+
+/// Time, chassis x, v_x and the front-left relative wheel spin every 2 ms of a run with constant brake
+/// torques.
+pub fn braked_trace(data: VehicleData, config: SimConfig, brake: [f64; 4], end: f64) -> Vec<[f64; 4]> {
+    let mut sim = Simulation::new(data, config).unwrap();
+    sim.set_wheel_torques([0.0; 4], brake);
+    let (x, vx, spin) = (column("x"), column("vx"), column("wheel_spin_fl"));
+    let mut rows = Vec::new();
+    for _ in 0..(end / 0.002).round() as usize {
+        sim.advance(0.002).unwrap();
+        let o = sim.outputs().unwrap();
+        rows.push([sim.time(), o.values[x], o.values[vx], o.values[spin]]);
+    }
+    rows
+}
 
 /// The HMMWV and every vehicle file shipped in resources/vehicles.
 pub fn vehicles() -> Vec<(String, VehicleData)> {
