@@ -497,7 +497,7 @@ fn bad_values_are_errors_and_keep_the_old_value() {
         (vr::SPEED_MODE, 0),
         (vr::SPEED_MODE, 3),
         (vr::FORMULATION, 4),
-        (vr::INTEGRATOR, 5),
+        (vr::INTEGRATOR, 6),
         (vr::SLIP_MODEL, 0),
         (vr::ROAD, 3),
     ] {
@@ -1276,7 +1276,7 @@ fn the_tolerance_and_contact_parameters_refuse_bad_values_and_keep_the_old_ones(
         assert_eq!(inst.set_integer(&[vr::CONTACT], &[bad]), ERROR, "{bad}");
     }
     assert_eq!(inst.set_integer(&[vr::CONTACT], &[2]), OK);
-    for bad in [0, 5] {
+    for bad in [0, 3, 6] {
         assert_eq!(inst.set_integer(&[vr::INTEGRATOR], &[bad]), ERROR, "{bad}");
     }
     let var = DESCRIPTION.by_name("tolerance").unwrap();

@@ -43,15 +43,19 @@ pub enum IntegratorKind {
     Rk4,
     /// Dormand–Prince 5(4) with error control: the one scheme that takes a tolerance.
     Dopri5,
+    /// The wheels' fast states implicit (BDF3), the rest explicit, one evaluation per step (`imex_ab3`).
+    ImexAb3,
 }
 
 pub mod ab3;
 pub mod dopri5;
+pub mod imex_ab3;
 pub mod rk4;
 pub mod stability;
 
 pub use ab3::Ab3;
 pub use dopri5::Dopri5;
+pub use imex_ab3::ImexAb3;
 pub use rk4::Rk4;
 
 impl IntegratorKind {
@@ -61,6 +65,8 @@ impl IntegratorKind {
         let _ = dim;
         match self {
             IntegratorKind::Rk4 | IntegratorKind::Ab3 => 4,
+            // The starting steps' sub-steps, and the extrapolated first one's midpoint.
+            IntegratorKind::ImexAb3 => imex_ab3::START_SUBSTEPS as u64 + 1,
             IntegratorKind::Dopri5 => dopri5::EVALUATIONS_PER_STEP,
         }
     }
@@ -84,6 +90,7 @@ pub enum AnyIntegrator {
     Rk4(Rk4),
     Ab3(Ab3),
     Dopri5(Dopri5),
+    ImexAb3(ImexAb3),
 }
 
 impl AnyIntegrator {
@@ -93,6 +100,7 @@ impl AnyIntegrator {
             IntegratorKind::Rk4 => AnyIntegrator::Rk4(Rk4::new()),
             IntegratorKind::Ab3 => AnyIntegrator::Ab3(Ab3::new()),
             IntegratorKind::Dopri5 => AnyIntegrator::Dopri5(Dopri5::new()),
+            IntegratorKind::ImexAb3 => AnyIntegrator::ImexAb3(ImexAb3::new()),
         }
     }
 
@@ -101,6 +109,7 @@ impl AnyIntegrator {
             AnyIntegrator::Rk4(_) => IntegratorKind::Rk4,
             AnyIntegrator::Ab3(_) => IntegratorKind::Ab3,
             AnyIntegrator::Dopri5(_) => IntegratorKind::Dopri5,
+            AnyIntegrator::ImexAb3(_) => IntegratorKind::ImexAb3,
         }
     }
 }
@@ -112,6 +121,7 @@ impl AnyIntegrator {
             AnyIntegrator::Rk4(_) => Ok(()),
             AnyIntegrator::Ab3(i) => i.validate(dim),
             AnyIntegrator::Dopri5(i) => i.validate(),
+            AnyIntegrator::ImexAb3(i) => i.validate(dim),
         }
     }
 }
@@ -134,6 +144,7 @@ impl Integrator for AnyIntegrator {
             AnyIntegrator::Rk4(i) => i.step(sys, t, h, x),
             AnyIntegrator::Ab3(i) => i.step(sys, t, h, x),
             AnyIntegrator::Dopri5(i) => i.step(sys, t, h, x),
+            AnyIntegrator::ImexAb3(i) => i.step(sys, t, h, x),
         }
     }
     fn restart(&mut self) {
@@ -141,6 +152,7 @@ impl Integrator for AnyIntegrator {
             AnyIntegrator::Rk4(i) => i.restart(),
             AnyIntegrator::Ab3(i) => i.restart(),
             AnyIntegrator::Dopri5(i) => i.restart(),
+            AnyIntegrator::ImexAb3(i) => i.restart(),
         }
     }
 }

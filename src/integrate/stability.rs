@@ -33,6 +33,13 @@ pub fn growth(kind: IntegratorKind, z: C) -> f64 {
             let c = -twelfth * 5.0;
             cubic_roots(a, b, c).iter().map(|r| r.norm()).fold(0.0, f64::max)
         }
+        // The modes judged are the wheels' fast ones, which IMEX-AB3 treats implicitly with the Jacobian the
+        // check has just computed: BDF3's root condition, (11/6 − z) ζ³ − 3 ζ² + 3/2 ζ − 1/3 = 0.
+        IntegratorKind::ImexAb3 => {
+            let lead = C::new(11.0 / 6.0, 0.0) - z;
+            let (a, b, c) = (-3.0 / lead, 1.5 / lead, -(1.0 / 3.0) / lead);
+            cubic_roots(a, b, c).iter().map(|r| r.norm()).fold(0.0, f64::max)
+        }
     }
 }
 

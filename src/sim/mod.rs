@@ -527,6 +527,8 @@ pub fn hop_resolution(kind: IntegratorKind) -> f64 {
     match kind {
         IntegratorKind::Rk4 => 0.25,
         IntegratorKind::Ab3 => 0.075,
+        // AB3's bound until measured on the bump courses (a third-order multistep like AB3).
+        IntegratorKind::ImexAb3 => 0.075,
         // Its error control resolves what the road excites.
         IntegratorKind::Dopri5 => f64::INFINITY,
     }
@@ -548,6 +550,10 @@ pub struct WheelModes {
     pub per_wheel: [FastMode; 12],
     /// The eigenvalues of the 20×20 wheel-state Jacobian (zero-padded without relaxation slip).
     pub coupled: [Complex<f64>; 20],
+    /// The states of that Jacobian (`states[..len]`) and the Jacobian, row-major (`len`² values).
+    pub states: [usize; 20],
+    pub len: usize,
+    pub jacobian: [f64; 400],
 }
 
 /// Which fast sub-system a mode belongs to.
@@ -1022,7 +1028,15 @@ impl Simulation {
                 )
             })?;
             let coupled = schur.complex_eigenvalues();
-            Ok(WheelModes { per_wheel: modes, coupled: std::array::from_fn(|k| coupled[k]) })
+            let len = 4 * per_corner;
+            let states = std::array::from_fn(|k| if k < len { state_of(k / per_corner, k % per_corner) } else { 0 });
+            let mut jacobian = [0.0; 400];
+            for r in 0..len {
+                for c in 0..len {
+                    jacobian[r * len + c] = jac[(r, c)];
+                }
+            }
+            Ok(WheelModes { per_wheel: modes, coupled: std::array::from_fn(|k| coupled[k]), states, len, jacobian })
         })();
         self.cache.corners = warm_starts;
         self.evaluations += 1 + 4 * per_corner as u64;
@@ -1037,7 +1051,11 @@ impl Simulation {
         self.last_mode_check = Some(self.time);
         self.loads_at_mode_check = self.cache.tire_loads;
         let kind = self.config.integrator;
-        let WheelModes { per_wheel: modes, coupled } = self.wheel_modes()?;
+        let WheelModes { per_wheel: modes, coupled, states, len, jacobian } = self.wheel_modes()?;
+        // IMEX-AB3 integrates these states implicitly with this Jacobian until the next check.
+        if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
+            scheme.set_fast_jacobian(&states[..len], &jacobian[..len * len]);
+        }
         // Each eigenvalue of the wheel states together, judged with the margin for what the block leaves
         // out, and named by the per-wheel mode nearest to it.
         let worst = coupled

@@ -88,6 +88,13 @@ pub const INTEGRATORS: Table<IntegratorKind> = Table {
             name: "dopri5",
             description: "Dormand–Prince 5(4) with error control (takes the tolerance)",
         },
+        Choice {
+            value: IntegratorKind::ImexAb3,
+            code: 5,
+            name: "imex-ab3",
+            description:
+                "IMEX-AB3: the wheels' fast states implicit (BDF3), the rest explicit, one evaluation per step",
+        },
     ],
 };
 

@@ -327,6 +327,7 @@ impl Setting {
 fn kind_name(kind: IntegratorKind) -> &'static str {
     match kind {
         IntegratorKind::Ab3 => "AB3",
+        IntegratorKind::ImexAb3 => "IMEX-AB3",
         IntegratorKind::Rk4 => "RK4",
         IntegratorKind::Dopri5 => "DOPRI5",
     }

@@ -1,0 +1,290 @@
+//! IMEX-AB3: the wheels' fast states implicit, everything else explicit, one evaluation per step
+//! (docs/integrators.md, "IMEX-AB3").
+//!
+//! The scheme is the third-order semi-implicit BDF of Ascher, Ruuth and Wetton (SIAM J. Numer. Anal. 32,
+//! 1995, "SBDF3") on the split f(x) = E(x) + J x, where J is the Jacobian of f in the fast states
+//! (each wheel's hop θ_L, θ̇_L, spin Ω and tread ξ_x, ξ_y: at most 20), zero elsewhere, and E = f − J x:
+//!
+//!   (11/6 I − hJ) x_{n+1} = 3 x_n − 3/2 x_{n−1} + 1/3 x_{n−2} + h (3 E_n − 3 E_{n−1} + E_{n−2}).
+//!
+//! - The slow rows (chassis, suspension, speed hold) are an explicit three-step Adams-type extrapolation of
+//!   order 3 with one evaluation per step, as AB3 is; the fast rows solve one 20×20 linear system per step
+//!   (stack-allocated LU).
+//! - J comes from the simulation (`set_fast_jacobian`): the step check's forward-difference Jacobian of the
+//!   wheels' fast states, refreshed whenever the check runs. E is recomputed from the stored f and x with
+//!   the current J at every step, so a refresh changes the split but never the sum E + J x = f: the scheme
+//!   stays consistent of order 3 with any J; how close J is to the true Jacobian decides only stability.
+//! - A mode in J is damped where BDF3 is (A(86°)-stable: the spin–tread mode, −46 ± 91i 1/s, lies at 63°);
+//!   the rest is stable where the explicit part is.
+//! - Start (and restart at a breakpoint or a change of step): the first two steps each take four
+//!   sub-steps at h/4 (one evaluation each), which build the history at h: the first an extrapolated
+//!   implicit–explicit Euler step (2 · two half steps − one step: local error O(h³), one more
+//!   evaluation), then SBDF2, then SBDF3. A start of Euler's O(h²) would make the scheme second order.
+//! - History and J are plain data (bit-exact serde): an FMU state restores the scheme exactly.
+use super::{ab3::same_step, commit, eval, fit, Integrator, OdeSystem};
+use crate::error::{Cause, ModelError};
+use nalgebra::{SMatrix, SVector};
+use serde::{Deserialize, Serialize};
+
+/// The most fast states the implicit block holds.
+pub const MAX_FAST: usize = 20;
+/// Sub-steps of each of the two starting steps.
+pub const START_SUBSTEPS: usize = 4;
+
+/// Past states and derivatives at one step size.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+struct History {
+    #[serde(with = "super::exact::vec_bits")]
+    x1: Vec<f64>,
+    #[serde(with = "super::exact::vec_bits")]
+    x2: Vec<f64>,
+    #[serde(with = "super::exact::vec_bits")]
+    f1: Vec<f64>,
+    #[serde(with = "super::exact::vec_bits")]
+    f2: Vec<f64>,
+    /// Valid past points, 0..=2.
+    count: usize,
+    #[serde(with = "super::exact::f64_bits")]
+    h: f64,
+}
+
+impl History {
+    fn fit(&mut self, n: usize) {
+        if self.x1.len() != n {
+            for v in [&mut self.x1, &mut self.x2, &mut self.f1, &mut self.f2] {
+                fit(v, n);
+            }
+            self.count = 0;
+        }
+    }
+
+    /// The order the next step of size h can take (1 + the usable past points, at most 3).
+    fn order(&self, h: f64) -> usize {
+        if self.count > 0 && same_step(h, self.h) {
+            self.count + 1
+        } else {
+            1
+        }
+    }
+
+    /// Push (x_n, f_n) after an accepted step of size h taken at order `order`.
+    fn push(&mut self, x: &[f64], f: &[f64], h: f64, order: usize) {
+        std::mem::swap(&mut self.x2, &mut self.x1);
+        std::mem::swap(&mut self.f2, &mut self.f1);
+        self.x1.copy_from_slice(x);
+        self.f1.copy_from_slice(f);
+        if order == 1 {
+            self.h = h;
+        }
+        self.count = order.min(2);
+    }
+
+    fn valid(&self, dim: usize) -> bool {
+        let shape = |v: &Vec<f64>| v.is_empty() || v.len() == dim;
+        self.count <= 2
+            && [&self.x1, &self.x2, &self.f1, &self.f2].iter().all(|v| shape(v))
+            && (self.count == 0 || (self.x1.len() == dim && self.h > 0.0 && self.h.is_finite()))
+            && [&self.x1, &self.x2, &self.f1, &self.f2].iter().all(|v| v.iter().all(|x| x.is_finite()))
+    }
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct ImexAb3 {
+    /// The fast states' indices in x.
+    fast: Vec<usize>,
+    /// J, row-major, fast × fast.
+    #[serde(with = "super::exact::vec_bits")]
+    jac: Vec<f64>,
+    /// History at the step size.
+    main: History,
+    /// History of the starting sub-steps.
+    start: History,
+    /// Scratch: f_n, a sub-step's f, x_n, a sub-step's state and its start, the candidate, and the first
+    /// sub-step's extrapolation (the full step, the midpoint and its f).
+    #[serde(skip)]
+    scratch: [Vec<f64>; 9],
+}
+
+/// The SBDF coefficients of order 1–3: the weight of x_{n+1}, of the past states, of the past E.
+fn coefficients(order: usize) -> (f64, [f64; 3], [f64; 3]) {
+    match order {
+        1 => (1.0, [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]),
+        2 => (1.5, [2.0, -0.5, 0.0], [2.0, -1.0, 0.0]),
+        _ => (11.0 / 6.0, [3.0, -1.5, 1.0 / 3.0], [3.0, -3.0, 1.0]),
+    }
+}
+
+/// The implicit block: its states and J (row-major).
+struct Block<'a> {
+    fast: &'a [usize],
+    jac: &'a [f64],
+}
+
+impl Block<'_> {
+    /// One SBDF step of `order` and size h from x (f = f(x)) into `out`, `hist` holding the past points.
+    fn step(
+        &self,
+        hist: &History,
+        order: usize,
+        h: f64,
+        x: &[f64],
+        f: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), ModelError> {
+        let (a0, ax, ae) = coefficients(order);
+        let m = self.fast.len();
+        let points: [(&[f64], &[f64]); 3] = [(x, f), (&hist.x1, &hist.f1), (&hist.x2, &hist.f2)];
+        // Explicit rows: E = f.
+        for (i, o) in out.iter_mut().enumerate() {
+            let mut rhs = 0.0;
+            for (k, (xk, fk)) in points.iter().enumerate().take(order) {
+                rhs += ax[k] * xk[i] + h * ae[k] * fk[i];
+            }
+            *o = rhs / a0;
+        }
+        if m == 0 {
+            return Ok(());
+        }
+        // Fast rows: E_k = f_k − J x_k, and (a0 I − hJ) x_{n+1} = rhs.
+        let mut rhs = SVector::<f64, MAX_FAST>::zeros();
+        for (r, &i) in self.fast.iter().enumerate() {
+            let row = &self.jac[r * m..(r + 1) * m];
+            let mut v = 0.0;
+            for (k, (xk, fk)) in points.iter().enumerate().take(order) {
+                let jx: f64 = row.iter().zip(self.fast).map(|(j, &c)| j * xk[c]).sum();
+                v += ax[k] * xk[i] + h * ae[k] * (fk[i] - jx);
+            }
+            rhs[r] = v;
+        }
+        let mut a = SMatrix::<f64, MAX_FAST, MAX_FAST>::identity();
+        for r in 0..m {
+            for c in 0..m {
+                a[(r, c)] = if r == c { a0 } else { 0.0 } - h * self.jac[r * m + c];
+            }
+        }
+        let z = a.lu().solve(&rhs).ok_or_else(|| {
+            ModelError::new(Cause::StepSizeInstability, format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s"))
+        })?;
+        for (r, &i) in self.fast.iter().enumerate() {
+            out[i] = z[r];
+        }
+        Ok(())
+    }
+}
+
+impl ImexAb3 {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The implicit block: J = ∂f/∂x restricted to the states `fast` (row-major, `fast.len()`² values).
+    /// Takes effect at the next step; an empty `fast` makes the scheme fully explicit.
+    pub fn set_fast_jacobian(&mut self, fast: &[usize], jac: &[f64]) {
+        assert!(fast.len() <= MAX_FAST && jac.len() == fast.len() * fast.len(), "a fast block of at most 20");
+        self.fast.clear();
+        self.fast.extend_from_slice(fast);
+        self.jac.clear();
+        self.jac.extend_from_slice(jac);
+    }
+
+    /// The fast block's size (0 before the simulation has set one).
+    pub fn fast_len(&self) -> usize {
+        self.fast.len()
+    }
+
+    /// Past points held at the step size (2: the next step of the same size is third order).
+    pub fn history_len(&self) -> usize {
+        self.main.count
+    }
+
+    /// A restored scheme must be one this scheme could have built for a system of dimension `dim`.
+    pub fn validate(&self, dim: usize) -> Result<(), String> {
+        let m = self.fast.len();
+        if m > MAX_FAST || self.jac.len() != m * m || self.fast.iter().any(|&i| i >= dim) {
+            return Err(format!("IMEX-AB3: a fast block of {m} states with {} Jacobian values", self.jac.len()));
+        }
+        if !self.jac.iter().all(|v| v.is_finite()) {
+            return Err("IMEX-AB3: the fast Jacobian is not finite".into());
+        }
+        if !self.main.valid(dim) || !self.start.valid(dim) {
+            return Err("IMEX-AB3: a history of the wrong shape or not finite".into());
+        }
+        Ok(())
+    }
+
+    #[cfg(test)]
+    pub(super) fn capacities(&self) -> Vec<usize> {
+        let mut c: Vec<usize> = self.scratch.iter().map(|v| v.capacity()).collect();
+        c.push(self.main.x1.capacity());
+        c.push(self.start.x1.capacity());
+        c
+    }
+}
+
+impl Integrator for ImexAb3 {
+    fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError> {
+        let n = x.len();
+        self.main.fit(n);
+        self.start.fit(n);
+        let mut scratch = std::mem::take(&mut self.scratch);
+        for v in scratch.iter_mut() {
+            fit(v, n);
+        }
+        let [fnow, fsub, xold, xs, xsold, xn, xa, xm, fm] = &mut scratch;
+        let order = self.main.order(h);
+        let block = Block { fast: &self.fast, jac: &self.jac };
+        let start = &mut self.start;
+        let result = (|| -> Result<(), ModelError> {
+            eval(sys, t, x, fnow)?;
+            xold.copy_from_slice(x);
+            if order >= 3 {
+                block.step(&self.main, 3, h, x, fnow, xn)?;
+                return commit(sys, t + h, xn, x);
+            }
+            // Starting: sub-steps at h/4 that continue their own history (reset with the main one).
+            if order == 1 {
+                start.count = 0;
+            }
+            let hs = h / START_SUBSTEPS as f64;
+            xs.copy_from_slice(x);
+            for k in 0..START_SUBSTEPS {
+                if k == 0 {
+                    fsub.copy_from_slice(fnow);
+                } else {
+                    eval(sys, t + k as f64 * hs, xs, fsub)?;
+                }
+                let sub_order = start.order(hs);
+                if sub_order == 1 {
+                    // The first sub-step: implicit–explicit Euler extrapolated (2 · two half steps − one
+                    // step), local error O(h³) like SBDF2's: Euler's O(h²) here would make the scheme
+                    // second order overall.
+                    block.step(start, 1, hs, xs, fsub, xa)?;
+                    block.step(start, 1, 0.5 * hs, xs, fsub, xn)?;
+                    commit(sys, t + (k as f64 + 0.5) * hs, xn, xm)?;
+                    eval(sys, t + (k as f64 + 0.5) * hs, xm, fm)?;
+                    block.step(start, 1, 0.5 * hs, xm, fm, xn)?;
+                    for (o, &a) in xn.iter_mut().zip(xa.iter()) {
+                        *o = 2.0 * *o - a;
+                    }
+                } else {
+                    block.step(start, sub_order, hs, xs, fsub, xn)?;
+                }
+                xsold.copy_from_slice(xs);
+                commit(sys, t + (k + 1) as f64 * hs, xn, xs)?;
+                start.push(xsold, fsub, hs, sub_order);
+            }
+            x.copy_from_slice(xs);
+            Ok(())
+        })();
+        if result.is_ok() {
+            self.main.push(xold, fnow, h, order);
+        }
+        self.scratch = scratch;
+        result
+    }
+
+    fn restart(&mut self) {
+        self.main.count = 0;
+        self.start.count = 0;
+    }
+}
