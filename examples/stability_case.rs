@@ -1,6 +1,7 @@
 //! One case of the stability suite, channel by channel: `cargo run --release --example stability_case --
-//! VEHICLE.json "CASE NAME" STEP_S` prints each channel's largest difference from the reference (RK4 at the
-//! suite's reference step) relative to its excursion, and where it occurs. A diagnostic for WRONG cells.
+//! VEHICLE.json "CASE NAME" STEP_S [INTEGRATOR]` prints each channel's largest difference from the reference
+//! (RK4 at the suite's reference step) relative to its excursion, and where it occurs, for the run with
+//! INTEGRATOR (the CLI's name; rk4 by default). A diagnostic for WRONG cells.
 
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
@@ -14,7 +15,11 @@ fn main() {
     let case = stability::cases_for(&data, a).into_iter().find(|c| c.name.contains(args[2].as_str())).unwrap();
     let h: f64 = args[3].parse().unwrap();
     let reference = stability::run_case(&case, IntegratorKind::Rk4, stability::REFERENCE_STEP);
-    let run = stability::run_case(&case, IntegratorKind::Rk4, h);
+    let kind = match args.get(4) {
+        Some(name) => rt_vehicle::sim::modes::INTEGRATORS.by_name(name).unwrap(),
+        None => IntegratorKind::Rk4,
+    };
+    let run = stability::run_case(&case, kind, h);
     println!("{}: run {:?}", case.name, run.result.as_ref().err().map(|e| e.to_string()));
     if std::env::var("TRACE").is_ok() {
         let c = case.channels.iter().position(|c| c.name == "yaw_rate").unwrap_or(0);

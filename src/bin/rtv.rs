@@ -162,14 +162,18 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
         return Err(bad("--output-interval must be positive"));
     }
     if let Some(t) = opts.get("tolerance") {
-        // A tolerance selects the error-controlled integrator; a fixed-step one named with it is a conflict.
-        if opts.get("integrator").is_some_and(|i| i != "dopri5") {
-            return Err(bad(format!(
-                "--tolerance {t}: only the error-controlled integrator (dopri5) takes a tolerance; the fixed-step \
-                 ones step at --step"
-            )));
+        // A tolerance selects the error-controlled integrator, or sets IMEX-AB3's error monitor; another
+        // fixed-step one named with it is a conflict.
+        match opts.get("integrator").map(String::as_str) {
+            None | Some("dopri5") => c.integrator = rt_vehicle::integrate::IntegratorKind::Dopri5,
+            Some("imex-ab3") => {}
+            Some(_) => {
+                return Err(bad(format!(
+                    "--tolerance {t}: only dopri5 (error control) and imex-ab3 (its error monitor) take a tolerance; \
+                     rk4 and ab3 step at --step"
+                )))
+            }
         }
-        c.integrator = rt_vehicle::integrate::IntegratorKind::Dopri5;
         c.tolerance = number(opts, "tolerance", c.tolerance)?;
     }
     // The error-controlled integrator's largest step defaults to the output interval (each interval ends on
@@ -313,6 +317,9 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             kind.name(),
             config.tolerance
         );
+    }
+    if let Some(e) = sim.take_largest_local_error() {
+        eprintln!("{}: IMEX-AB3's largest local error estimate {e:.3e} (of the chassis states' scales)", kind.name());
     }
     for event in &sim.events.messages {
         eprintln!("event: {event}");

@@ -99,10 +99,18 @@ pub struct ImexAb3 {
     main: History,
     /// History of the starting sub-steps.
     start: History,
-    /// Scratch: f_n, a sub-step's f, x_n, a sub-step's state and its start, the candidate, and the first
-    /// sub-step's extrapolation (the full step, the midpoint and its f).
+    /// The largest local error estimate relative to the state's scales and the limit (`set_error_limit`)
+    /// since the last `take_largest_error`.
     #[serde(skip)]
-    scratch: [Vec<f64>; 9],
+    largest_error: f64,
+    /// The limit on the local error estimate (relative to the state's scales); infinite: not monitored.
+    #[serde(with = "super::exact::f64_bits")]
+    error_limit: f64,
+    /// Scratch: f_n, a sub-step's f, x_n, a sub-step's state and its start, the candidate, the first
+    /// sub-step's extrapolation (the full step, the midpoint and its f), the second-order candidate and the
+    /// state's scales.
+    #[serde(skip)]
+    scratch: [Vec<f64>; 11],
 }
 
 /// The SBDF coefficients of order 1–3: the weight of x_{n+1}, of the past states, of the past E.
@@ -187,6 +195,17 @@ impl ImexAb3 {
         self.jac.extend_from_slice(jac);
     }
 
+    /// Refuse a step whose local error estimate exceeds `limit` (relative to `OdeSystem::error_scale`);
+    /// infinity (or ≤ 0) monitors nothing.
+    pub fn set_error_limit(&mut self, limit: f64) {
+        self.error_limit = limit;
+    }
+
+    /// The largest local error estimate since the last call, relative to the state's scales.
+    pub fn take_largest_error(&mut self) -> f64 {
+        std::mem::take(&mut self.largest_error)
+    }
+
     /// The fast block's size (0 before the simulation has set one).
     pub fn fast_len(&self) -> usize {
         self.fast.len()
@@ -230,7 +249,9 @@ impl Integrator for ImexAb3 {
         for v in scratch.iter_mut() {
             fit(v, n);
         }
-        let [fnow, fsub, xold, xs, xsold, xn, xa, xm, fm] = &mut scratch;
+        let [fnow, fsub, xold, xs, xsold, xn, xa, xm, fm, x2, scale] = &mut scratch;
+        let error_limit = if self.error_limit > 0.0 { self.error_limit } else { f64::INFINITY };
+        let mut largest = self.largest_error;
         let order = self.main.order(h);
         let block = Block { fast: &self.fast, jac: &self.jac };
         let start = &mut self.start;
@@ -239,6 +260,31 @@ impl Integrator for ImexAb3 {
             xold.copy_from_slice(x);
             if order >= 3 {
                 block.step(&self.main, 3, h, x, fnow, xn)?;
+                // The local error estimate: the second-order step's difference from the third-order one
+                // (the same history, one more solve), relative to the state's scales.
+                block.step(&self.main, 2, h, x, fnow, x2)?;
+                sys.error_scale(scale);
+                let (mut worst, mut at) = (0.0f64, 0);
+                for i in (0..n).filter(|i| !block.fast.contains(i)) {
+                    let e = (xn[i] - x2[i]).abs() / scale[i];
+                    if e > worst {
+                        (worst, at) = (e, i);
+                    }
+                }
+                largest = largest.max(worst);
+                if worst > error_limit {
+                    // The estimate is O(h³): the step that would meet the limit, with a tenth off.
+                    let smaller = h * (error_limit / worst).cbrt() * 0.9;
+                    return Err(ModelError::step_refused(
+                        smaller,
+                        format!(
+                            "IMEX-AB3's local error estimate at t = {t:.4} s is {worst:.2e} of the {}'s scale, above its \
+                             limit {error_limit:.2e} (100 × the tolerance): the step h = {h:.3e} s does not resolve this \
+                             transient; use h ≤ {smaller:.2e} s or a larger tolerance",
+                            sys.state_name(at)
+                        ),
+                    ));
+                }
                 return commit(sys, t + h, xn, x);
             }
             // Starting: sub-steps at h/4 that continue their own history (reset with the main one).
@@ -278,6 +324,7 @@ impl Integrator for ImexAb3 {
         })();
         if result.is_ok() {
             self.main.push(xold, fnow, h, order);
+            self.largest_error = largest;
         }
         self.scratch = scratch;
         result

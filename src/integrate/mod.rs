@@ -32,6 +32,10 @@ pub trait OdeSystem {
     fn step_limit(&self) -> f64 {
         f64::INFINITY
     }
+    /// The name of state `i` for messages. Default: "state i".
+    fn state_name(&self, i: usize) -> String {
+        format!("state {i}")
+    }
 }
 
 /// The integration schemes, selectable at run time.

@@ -55,6 +55,26 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// A state's name for messages: "roll rate (ω_x)", "wheel spin rl", …
+    pub fn state_name(&self, i: usize) -> String {
+        let corner = |k: usize| CORNERS[k % 4];
+        match i {
+            0..=2 => format!("chassis position {}", ["x", "y", "z"][i]),
+            3..=6 => format!("chassis attitude (quaternion e{})", i - 3),
+            7..=9 => format!("chassis velocity {}", ["v_x", "v_y", "v_z"][i - 7]),
+            10..=12 => format!("chassis rate {}", ["ω_x (roll)", "ω_y (pitch)", "ω_z (yaw)"][i - 10]),
+            13..=16 => format!("arm angle {}", corner(i - 13)),
+            17..=20 => format!("arm rate {}", corner(i - 17)),
+            21..=24 => format!("wheel spin {}", corner(i - 21)),
+            _ if self.xi.is_some_and(|k| (k..k + 8).contains(&i)) => {
+                let j = i - self.xi.unwrap_or(0);
+                format!("tread deflection {} {}", ["ξ_x", "ξ_y"][j % 2], corner(j / 2))
+            }
+            _ if self.zv == Some(i) => "speed-hold integral".to_string(),
+            _ => format!("state {i}"),
+        }
+    }
+
     /// The full layout (every optional state), whatever the options.
     pub const FULL: Layout = Layout { xi: Some(idx::XI), zv: Some(idx::ZV), dim: idx::DIM };
 

@@ -368,7 +368,8 @@ pub fn relative_error(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> 
 }
 
 /// The integrators the suite runs.
-pub const INTEGRATORS: [IntegratorKind; 3] = [IntegratorKind::Rk4, IntegratorKind::Ab3, IntegratorKind::Dopri5];
+pub const INTEGRATORS: [IntegratorKind; 4] =
+    [IntegratorKind::Rk4, IntegratorKind::Ab3, IntegratorKind::ImexAb3, IntegratorKind::Dopri5];
 
 /// A run's classification and cost.
 #[derive(Debug, Clone)]
