@@ -18,10 +18,12 @@ cols = 3
 nrows = math.ceil(len(cases) / cols)
 fig, axes = plt.subplots(nrows, cols, figsize=(5 * cols, 4 * nrows), squeeze=False)
 series = [
-    ("RK4", lambda r: r["scheme"] == "RK4", "o-"),
-    ("AB3", lambda r: r["scheme"] == "AB3", "s-"),
-    ("DOPRI5, 10 ms intervals", lambda r: r["scheme"] == "DOPRI5" and float(r["interval_s"]) == 0.01, "^-"),
-    ("DOPRI5, 40 ms intervals", lambda r: r["scheme"] == "DOPRI5" and float(r["interval_s"]) == 0.04, "v-"),
+    # Fixed colours: a series with no stable run in a panel must not shift the others' colours.
+    ("RK4", lambda r: r["scheme"] == "RK4", "o-C0"),
+    ("AB3", lambda r: r["scheme"] == "AB3", "s-C1"),
+    ("IMEX-AB3", lambda r: r["scheme"] == "IMEX-AB3", "D-C2"),
+    ("DOPRI5, 10 ms intervals", lambda r: r["scheme"] == "DOPRI5" and float(r["interval_s"]) == 0.01, "^-C3"),
+    ("DOPRI5, 40 ms intervals", lambda r: r["scheme"] == "DOPRI5" and float(r["interval_s"]) == 0.04, "v-C4"),
 ]
 for ax, case in zip(axes.flat, cases):
     for label, keep, style in series:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates docs/work_precision.md and docs/work_precision.png: every case of the study × RK4 and AB3 over
+# Regenerates docs/work_precision.md and docs/work_precision.png: every case of the study × RK4, AB3 and IMEX-AB3 over
 # a ladder of steps, and the error-controlled DOPRI5 over a ladder of tolerances (src/studies/work_precision.rs).
 # About a minute of CPU.
 set -euo pipefail

@@ -98,7 +98,10 @@ fn observed_orders_of_rk4_and_ab3() {
             .map(|(a, b)| (0..4).map(|c| (a[c] - b[c]).abs() / peaks[c]).fold(0.0, f64::max))
             .fold(0.0, f64::max)
     };
-    for (kind, order, h0) in [(IntegratorKind::Rk4, 4.0, 8e-3), (IntegratorKind::Ab3, 3.0, 2e-3)] {
+    // IMEX-AB3 from 8 ms (its wheel modes implicit: stable there, which AB3 is not).
+    for (kind, order, h0) in
+        [(IntegratorKind::Rk4, 4.0, 8e-3), (IntegratorKind::Ab3, 3.0, 2e-3), (IntegratorKind::ImexAb3, 3.0, 8e-3)]
+    {
         let e: Vec<f64> = [h0, h0 / 2.0, h0 / 4.0].iter().map(|h| error(sine_steer_trace(kind, *h))).collect();
         let slopes = [(e[0] / e[1]).log2(), (e[1] / e[2]).log2()];
         println!("{kind:?}: errors {e:?} at h = {h0}, {}, {}: slopes {slopes:.2?}", h0 / 2.0, h0 / 4.0);
@@ -261,5 +264,43 @@ fn the_imported_vehicles_turn_left_at_the_calibrated_lateral_acceleration() {
         // error of RK4 at 2 ms, far below 0.5 % of a_y.
         assert!((ay / G - 0.4).abs() < 0.002, "{}: a_y {} g", data.name, ay / G);
         assert!(yaw > 0.0, "a positive steering input turns left");
+    }
+}
+
+#[test]
+fn imex_ab3_runs_the_papers_frame_on_the_jturn_and_the_sine_and_its_monitor_names_its_limit() {
+    // The paper's configuration, internal step = output interval = 1/120 s, against RK4 at 0.5 ms.
+    // docs/integrators.md, "IMEX-AB3": at the default tolerance the J-turn's steering ramp is refused by
+    // the accuracy monitor (the roll rate is 1.5 % off there); with a 2e-3 tolerance it runs, within 2 %.
+    let frame = 1.0 / 120.0;
+    let trace = |kind: SceneKind, config: &SimConfig| {
+        let scene = Scene::new(kind, Amplitude::Calibrated);
+        let mut sim = scene.start(VehicleData::default_hmmwv(), config).unwrap();
+        let mut out = Vec::new();
+        run(&mut sim, scene.duration, frame, |o| out.push(*o)).map(|()| out)
+    };
+    let fine = SimConfig { internal_step: 0.5e-3, ..SimConfig::default() };
+    let imex = |tolerance: f64| SimConfig {
+        integrator: IntegratorKind::ImexAb3,
+        internal_step: frame,
+        tolerance,
+        ..SimConfig::default()
+    };
+    let refused = trace(SceneKind::JTurn, &imex(1e-3)).expect_err("the monitor refuses the ramp");
+    assert!(refused.to_string().contains("IMEX-AB3's local error estimate"), "{refused}");
+    for (kind, tolerance, bound) in [(SceneKind::JTurn, 2e-3, 0.02), (SceneKind::Sine, 1e-3, 0.01)] {
+        let reference = trace(kind, &fine).unwrap();
+        let run = trace(kind, &imex(tolerance)).unwrap();
+        // The handling channels, each relative to its peak. The wheels' own fast states are damped, not
+        // followed, through a transient: the J-turn's κ is about 10 % of its peak off at the ramp (printed).
+        for channel in ["ay", "yaw_rate", "roll_rate"] {
+            let (a, b) = (col(&run, channel), col(&reference, channel));
+            let peak = b.iter().map(|v| v.abs()).fold(0.0, f64::max);
+            let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / peak;
+            println!("{kind:?} at 8.33 ms: {channel} {worst:.2e} of peak");
+            assert!(worst < bound, "{kind:?}: {channel} {worst} of peak");
+        }
+        let (worst, channel) = worst_relative_difference(&run, &reference);
+        println!("{kind:?} at 8.33 ms: every channel within {worst:.2e} of peak (worst: {channel})");
     }
 }

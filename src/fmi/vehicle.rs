@@ -301,8 +301,9 @@ impl FmuModel for VehicleModel {
         }
         self.experiment_tolerance = Some(tolerance);
         Ok(format!(
-            "tolerance {tolerance}: used by the error-controlled integrator (integrator = 4) instead of the tolerance \
-             parameter; the fixed-step integrators (1, 2, 3) ignore it and step at internal_step"
+            "tolerance {tolerance}: used instead of the tolerance parameter by the error-controlled integrator \
+             (integrator = 4) and by IMEX-AB3's error monitor (integrator = 5); integrators 1 and 2 ignore it and \
+             step at internal_step"
         ))
     }
 

@@ -464,7 +464,7 @@ pub struct CaseResult {
 }
 
 /// The fixed-step schemes of the study.
-pub const FIXED: [IntegratorKind; 2] = [IntegratorKind::Rk4, IntegratorKind::Ab3];
+pub const FIXED: [IntegratorKind; 3] = [IntegratorKind::Rk4, IntegratorKind::Ab3, IntegratorKind::ImexAb3];
 /// Steps up to this, with errors below `ORDER_FIT_MAX_ERROR`, are the asymptotic range the summary order is
 /// fitted over, s.
 pub const ORDER_FIT_MAX_STEP: f64 = 0.008;
@@ -631,10 +631,10 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
         ORDER_FIT_MAX_STEP * 1e3
     ));
     w("## Headline\n".into());
-    w("| case | cheapest within 1 % | within 0.1 % | within 0.01 % | RK4 order | AB3 order | largest stable \
-       step RK4 / AB3 | DOPRI5 achieved / requested (largest, smallest) |"
+    w("| case | cheapest within 1 % | within 0.1 % | within 0.01 % | RK4 order | AB3 order | IMEX-AB3 order | \
+       largest stable step RK4 / AB3 / IMEX-AB3 | DOPRI5 achieved / requested (largest, smallest) |"
         .into());
-    w("|---|---|---|---|---|---|---|---|".into());
+    w("|---|---|---|---|---|---|---|---|---|".into());
     for r in results {
         let all: Vec<&Point> = r.points.iter().collect();
         let stable = |k| {
@@ -647,15 +647,17 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
         let order = |k| r.fitted_order(k).map_or("–".into(), |o| format!("{o:.2}"));
         let (worst, best) = r.tolerance_ratios();
         w(format!(
-            "| {} | {} | {} | {} | {} | {} | {} / {} | {:.2} , {:.2e} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} / {} / {} | {:.2} , {:.2e} |",
             r.case.name,
             cheapest_cell(&all, TARGETS[0]),
             cheapest_cell(&all, TARGETS[1]),
             cheapest_cell(&all, TARGETS[2]),
             order(IntegratorKind::Rk4),
             order(IntegratorKind::Ab3),
+            order(IntegratorKind::ImexAb3),
             stable(IntegratorKind::Rk4),
             stable(IntegratorKind::Ab3),
+            stable(IntegratorKind::ImexAb3),
             worst,
             best
         ));
