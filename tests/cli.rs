@@ -177,7 +177,7 @@ fn bad_tolerances_and_contacts_get_a_message_and_exit_2() {
         (vec!["scene", "jturn", "--tolerance", "-1e-3"], "outside"),
         (vec!["scene", "jturn", "--tolerance", "NaN"], "not a number"),
         (vec!["scene", "jturn", "--tolerance", "1e-12"], "outside"),
-        (vec!["scene", "jturn", "--tolerance", "1e-3", "--integrator", "rk4"], "only the error-controlled"),
+        (vec!["scene", "jturn", "--tolerance", "1e-3", "--integrator", "rk4"], "only dopri5"),
         (vec!["scene", "jturn", "--contact", "patch"], "--contact"),
         (vec!["work-precision", "--cases", "slalom"], "--cases"),
     ] {

@@ -28,7 +28,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage:
-  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|dopri5]
+  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|dopri5|imex-ab3]
             [--tolerance TOL] [--step S] [--end T] [--output-interval DT] [--speed coast|hold]
             [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
