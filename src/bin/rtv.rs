@@ -318,8 +318,13 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             config.tolerance
         );
     }
-    if let Some(e) = sim.take_largest_local_error() {
-        eprintln!("{}: IMEX-AB3's largest local error estimate {e:.3e} (of the chassis states' scales)", kind.name());
+    if let (Some(e), Some(n)) = (sim.take_largest_local_error(), sim.substepped_steps()) {
+        eprintln!(
+            "{}: IMEX-AB3's largest local error estimate {e:.3e} (of the chassis states' scales; limit {:.0e}); {n} \
+             steps retaken in four sub-steps",
+            kind.name(),
+            rt_vehicle::sim::IMEX_ERROR_PER_TOLERANCE * config.tolerance
+        );
     }
     for event in &sim.events.messages {
         eprintln!("event: {event}");

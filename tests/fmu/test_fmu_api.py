@@ -149,7 +149,7 @@ def test_non_finite_reals_are_rejected_and_the_old_value_kept(make, bad):
     ("initial_speed", -0.1), ("initial_speed", 60.01),
     ("brake_torque_fl", -1.0), ("brake_torque_rr", -1e-9),
     ("speed_mode", 0), ("speed_mode", 3), ("formulation", 0), ("formulation", 4),
-    ("integrator", 0), ("integrator", 3), ("integrator", 5), ("slip_model", 3), ("road", 0), ("road", 3),
+    ("integrator", 0), ("integrator", 3), ("integrator", 6), ("slip_model", 3), ("road", 0), ("road", 3),
     ("road_grade", 1.01), ("road_cross_slope", -1.01), ("bump_height", -0.01), ("bump_height", 0.31),
     ("bump_length", 0.09), ("bump_length", 10.01),
     ("tolerance", 0.0), ("tolerance", -1e-3), ("tolerance", 1e-10), ("tolerance", 0.2), ("contact", 0), ("contact", 3),
