@@ -505,12 +505,12 @@ pub const MODE_CHECK_INTERVAL: f64 = 0.1;
 
 /// IMEX-AB3's limit on its local error estimate (the second-order step's difference from the third-order
 /// one on the states outside the implicit block, relative to `stepping::error_scale`), per unit of the run's
-/// `tolerance`. The suite judges a channel against 1 % of its excursion, at least 1 % of its floor: for the
-/// roll rate 1e-4 rad/s, a tenth of the rate states' scale (1e-3 rad/s). Measured (docs/integrators.md,
-/// "IMEX-AB3"): the roll rate's global error reached 3.2 × the largest local estimate (the J-turn at 8.33
-/// ms: 4.6e-4 rad/s after estimates of 0.145). So the limit is 0.1 / 3.3 = 0.03 at the default tolerance
-/// 1e-3: 30 × the tolerance. (100 × left the stiff-unsprung J-turn 1.5 % off.)
-pub const IMEX_ERROR_PER_TOLERANCE: f64 = 30.0;
+/// `tolerance`: above it a step is retaken in four sub-steps, which are held to the same limit. Measured on
+/// the stability suites of every shipped vehicle and tire (docs/integrators.md, "IMEX-AB3"): 30 × left four
+/// runs 1–3 % off (the dampers × 10 and tire k_z × 10 J-turns at 8.33 ms), 10 × one (the MacPherson import's
+/// k_z × 10 J-turn, roll rate 1 % off), 5 × none. At the default tolerance 1e-3 the limit is 5e-3 of the
+/// rate states' scale (5e-6 rad/s per step).
+pub const IMEX_ERROR_PER_TOLERANCE: f64 = 5.0;
 
 /// Fixed steps a bump must take to pass under a wheel. Measured on the 20 cm bump at 60 km/h (0.5 m in
 /// 30 ms, the wheels leave the road): the Chrono double-wishbone import is off by 6e-2 in a_z at 14 steps
