@@ -20,6 +20,12 @@ pub fn is_stable(kind: IntegratorKind, z: C) -> bool {
 /// The amplification of one step: |R(z)| (RK4) or the largest root modulus (AB3). DOPRI5 chooses its own
 /// steps by its error estimate, which keeps hλ inside its region: it is never refused (growth 0).
 pub fn growth(kind: IntegratorKind, z: C) -> f64 {
+    growth_from(kind, z, &mut None)
+}
+
+/// `growth`, the multistep schemes' cubic solved from `roots` (the roots at a nearby z, as along a ray)
+/// when given, which then holds the new roots.
+fn growth_from(kind: IntegratorKind, z: C, roots: &mut Option<[C; 3]>) -> f64 {
     match kind {
         IntegratorKind::Dopri5 => 0.0,
         IntegratorKind::Rk4 => {
@@ -31,16 +37,20 @@ pub fn growth(kind: IntegratorKind, z: C) -> f64 {
             let a = -(C::new(1.0, 0.0) + twelfth * 23.0);
             let b = twelfth * 16.0;
             let c = -twelfth * 5.0;
-            cubic_roots(a, b, c).iter().map(|r| r.norm()).fold(0.0, f64::max)
+            largest_modulus(cubic_roots_from(a, b, c, roots))
         }
         // The modes judged are the wheels' fast ones, which IMEX-AB3 treats implicitly with the Jacobian the
         // check has just computed: BDF3's root condition, (11/6 − z) ζ³ − 3 ζ² + 3/2 ζ − 1/3 = 0.
         IntegratorKind::ImexAb3 => {
             let lead = C::new(11.0 / 6.0, 0.0) - z;
             let (a, b, c) = (-3.0 / lead, 1.5 / lead, -(1.0 / 3.0) / lead);
-            cubic_roots(a, b, c).iter().map(|r| r.norm()).fold(0.0, f64::max)
+            largest_modulus(cubic_roots_from(a, b, c, roots))
         }
     }
+}
+
+fn largest_modulus(roots: [C; 3]) -> f64 {
+    roots.iter().map(|r| r.norm()).fold(0.0, f64::max)
 }
 
 /// The largest growth per step a decaying mode may keep, unless the mode itself decays more slowly
@@ -56,8 +66,13 @@ pub const DAMPED_GROWTH_MAX: f64 = 0.9;
 /// own decay, e^{Re z/2}, which an accurate step stays below. On the negative real axis the bound costs
 /// RK4 2.5 % of its range (|z| ≤ 2.716 instead of 2.785) and AB3 11 % (0.486 instead of 6/11).
 pub fn is_damped(kind: IntegratorKind, z: C) -> bool {
+    damped_from(kind, z, &mut None)
+}
+
+/// `is_damped`, its cubic solved from nearby roots (`growth_from`).
+fn damped_from(kind: IntegratorKind, z: C, roots: &mut Option<[C; 3]>) -> bool {
     // One growth for both tests (each is a cubic's roots for the multistep schemes).
-    let g = growth(kind, z);
+    let g = growth_from(kind, z, roots);
     g <= 1.0 + 1e-12 && g <= DAMPED_GROWTH_MAX.max((0.5 * z.re).exp()) + 1e-12
 }
 
@@ -88,15 +103,40 @@ pub fn damped_up_to(kind: IntegratorKind, lambda: C, h: f64) -> bool {
 
 /// Damped at 32 points of (0, h] along the ray hλ.
 fn damped_along(kind: IntegratorKind, lambda: C, h: f64) -> bool {
-    (1..=32).all(|k| is_damped(kind, lambda * (h * k as f64 / 32.0)))
+    // Each point's cubic starts from the previous point's roots: a few sweeps instead of tens (the step
+    // check of IMEX-AB3 scans 20 eigenvalues so at every check).
+    let mut roots = None;
+    (1..=32).all(|k| damped_from(kind, lambda * (h * k as f64 / 32.0), &mut roots))
 }
 
 /// Roots of ζ³ + a ζ² + b ζ + c by the Durand–Kerner (Weierstrass) iteration: simple and robust for a
 /// cubic whose roots are well separated or not (it converges for any start not on a symmetry line).
+/// From `start` (the roots of a nearby cubic) when given and distinct, which then holds the roots; a start
+/// that does not converge in 200 sweeps is dropped for the fixed seeds.
+fn cubic_roots_from(a: C, b: C, c: C, start: &mut Option<[C; 3]>) -> [C; 3] {
+    let distinct = |r: &[C; 3]| {
+        (r[0] - r[1]).norm_sqr() > 1e-20 && (r[0] - r[2]).norm_sqr() > 1e-20 && (r[1] - r[2]).norm_sqr() > 1e-20
+    };
+    let warm = start.filter(distinct).and_then(|r| durand_kerner(a, b, c, r));
+    let roots = warm.unwrap_or_else(|| cubic_roots(a, b, c));
+    *start = Some(roots);
+    roots
+}
+
 fn cubic_roots(a: C, b: C, c: C) -> [C; 3] {
-    let p = |x: C| ((x + a) * x + b) * x + c;
     let seed = C::new(0.4, 0.9);
-    let mut r = [C::new(1.0, 0.0), seed, seed * seed];
+    let start = [C::new(1.0, 0.0), seed, seed * seed];
+    durand_kerner(a, b, c, start).unwrap_or_else(|| durand_kerner_sweeps(a, b, c, start).0)
+}
+
+/// The iteration from `r`; `None` when it has not converged in 200 sweeps.
+fn durand_kerner(a: C, b: C, c: C, r: [C; 3]) -> Option<[C; 3]> {
+    let (roots, converged) = durand_kerner_sweeps(a, b, c, r);
+    converged.then_some(roots)
+}
+
+fn durand_kerner_sweeps(a: C, b: C, c: C, mut r: [C; 3]) -> ([C; 3], bool) {
+    let p = |x: C| ((x + a) * x + b) * x + c;
     for _ in 0..200 {
         let mut change = 0.0f64;
         for i in 0..3 {
@@ -116,10 +156,10 @@ fn cubic_roots(a: C, b: C, c: C) -> [C; 3] {
             change = change.max(delta.norm_sqr());
         }
         if change < 1e-28 {
-            break;
+            return (r, true);
         }
     }
-    r
+    (r, false)
 }
 
 #[cfg(test)]
