@@ -31,6 +31,28 @@ def integrate(heading, length, n=20000):
     return float(length / (3 * n) * np.dot(w, np.cos(h))), float(length / (3 * n) * np.dot(w, np.sin(h)))
 
 
+def lane_section(left, right):
+    """The <lanes> of a road with one lane section: lanes (id, type, width) left and right of the centre."""
+    def lane(i, kind, w):
+        return (f'          <lane id="{i}" type="{kind}" level="false">\n'
+                f'            <width sOffset="0.0" a="{w}" b="0.0" c="0.0" d="0.0"/>\n'
+                f'          </lane>')
+    side = lambda lanes: "\n".join(lane(*l) for l in lanes)
+    return f'''    <lanes>
+      <laneSection s="0.0">
+        <left>
+{side(left)}
+        </left>
+        <center>
+          <lane id="0" type="none" level="false"/>
+        </center>
+        <right>
+{side(right)}
+        </right>
+      </laneSection>
+    </lanes>'''
+
+
 def main():
     records = []
     x, y, hdg, s = 0.0, 0.0, 0.0, 0.0
@@ -92,9 +114,7 @@ def main():
         f'      <superelevation s="120.0" a="{bank!r}" b="0.0" c="0.0" d="0.0"/>\n'
         f'      <superelevation s="240.0" a="{bank!r}" b="{-bank / 40.0!r}" c="0.0" d="0.0"/>\n'
         '      <superelevation s="280.0" a="0.0" b="0.0" c="0.0" d="0.0"/>')
-    lane = lambda i, kind, w: (f'          <lane id="{i}" type="{kind}" level="false">\n'
-                               f'            <width sOffset="0.0" a="{w}" b="0.0" c="0.0" d="0.0"/>\n'
-                               f'          </lane>')
+    lanes = lane_section
     text = f'''<?xml version="1.0" encoding="UTF-8"?>
 <!-- Written by scripts/make_test_track.py (rt-vehicle): every reference-line geometry (line, spiral, arc,
      paramPoly3), an elevation crest and a banked curve. Public domain. -->
@@ -111,21 +131,7 @@ def main():
     <lateralProfile>
 {super_}
     </lateralProfile>
-    <lanes>
-      <laneSection s="0.0">
-        <left>
-{lane(2, "shoulder", 2.5)}
-{lane(1, "driving", 3.75)}
-        </left>
-        <center>
-          <lane id="0" type="none" level="false"/>
-        </center>
-        <right>
-{lane(-1, "driving", 3.75)}
-{lane(-2, "shoulder", 2.5)}
-        </right>
-      </laneSection>
-    </lanes>
+{lanes([(2, "shoulder", 2.5), (1, "driving", 3.75)], [(-1, "driving", 3.75), (-2, "shoulder", 2.5)])}
   </road>
 </OpenDRIVE>
 '''
@@ -147,19 +153,7 @@ def main():
     <elevationProfile>
       <elevation s="0.0" a="0.0" b="0.01" c="0.0" d="0.0"/>
     </elevationProfile>
-    <lanes>
-      <laneSection s="0.0">
-        <left>
-{lane(1, "driving", 3.0)}
-        </left>
-        <center>
-          <lane id="0" type="none" level="false"/>
-        </center>
-        <right>
-{lane(-1, "driving", 3.0)}
-        </right>
-      </laneSection>
-    </lanes>
+{lanes([(1, "driving", 3.0)], [(-1, "driving", 3.0)])}
     <surface>
       <CRG file="detrended_rms_course_1in.crg" sStart="0.0" sEnd="504.75" orientation="same" mode="attached" purpose="elevation" sOffset="0.0" tOffset="0.0" zOffset="0.0" zScale="1.0"/>
     </surface>

@@ -115,9 +115,6 @@ pub struct ImexAb3 {
     /// Steps taken in four sub-steps because the estimate of the full step exceeded the limit.
     #[serde(skip)]
     pub substepped: u64,
-    /// The largest estimate of a retaken step's third-order sub-steps.
-    #[serde(skip)]
-    pub sub_largest: f64,
     /// The limit on the local error estimate (relative to the state's scales); infinite: not monitored.
     #[serde(with = "super::exact::f64_bits")]
     error_limit: f64,
@@ -221,16 +218,6 @@ impl ImexAb3 {
         std::mem::take(&mut self.largest_error)
     }
 
-    /// The fast block's size (0 before the simulation has set one).
-    pub fn fast_len(&self) -> usize {
-        self.fast.len()
-    }
-
-    /// Past points held at the step size (2: the next step of the same size is third order).
-    pub fn history_len(&self) -> usize {
-        self.main.count
-    }
-
     /// A restored scheme must be one this scheme could have built for a system of dimension `dim`.
     pub fn validate(&self, dim: usize) -> Result<(), String> {
         let m = self.fast.len();
@@ -269,7 +256,6 @@ impl Integrator for ImexAb3 {
         let mut largest = self.largest_error;
         let mut order = self.main.order(h);
         let mut substepped = false;
-        let mut sub_largest = self.sub_largest;
         let block = Block { fast: &self.fast, jac: &self.jac };
         let start = &mut self.start;
         let main = &self.main;
@@ -333,7 +319,6 @@ impl Integrator for ImexAb3 {
                     // A retaken step's sub-steps are held to `SUBSTEP_LIMIT_FACTOR` × the limit: a transient
                     // that even a quarter step does not resolve is refused.
                     let (worst, at) = estimate(start, hs, xs, fsub, xn, sys)?;
-                    sub_largest = sub_largest.max(worst);
                     let sub_limit = SUBSTEP_LIMIT_FACTOR * error_limit;
                     if worst > sub_limit {
                         let smaller = hs * (sub_limit / worst).cbrt() * 0.9;
@@ -362,7 +347,6 @@ impl Integrator for ImexAb3 {
             self.main.push(xold, fnow, h, order);
             self.largest_error = largest;
             self.substepped += u64::from(substepped);
-            self.sub_largest = sub_largest;
         }
         self.scratch = scratch;
         result

@@ -36,6 +36,30 @@ pub trait FileRoad: Road {
     }
 }
 
+/// How a road file sits in the simulation's ground frame: ground (x, y) ↦ file (x, y) = origin + R(heading)
+/// ((x, y) − anchor), the file's start (`origin`, heading along its reference line) at ground point `anchor`,
+/// heading along ground x. Shared by the OpenCRG and OpenDRIVE roads.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    pub anchor: [f64; 2],
+    pub origin: [f64; 2],
+    pub cos: f64,
+    pub sin: f64,
+}
+
+impl Placement {
+    /// The file's (x, y) of a ground point.
+    pub fn to_file(&self, x: f64, y: f64) -> [f64; 2] {
+        let (dx, dy) = (x - self.anchor[0], y - self.anchor[1]);
+        [self.origin[0] + self.cos * dx - self.sin * dy, self.origin[1] + self.sin * dx + self.cos * dy]
+    }
+
+    /// A gradient in the file's axes turned into the ground's.
+    pub fn gradient_to_ground(&self, [gx, gy]: [f64; 2]) -> [f64; 2] {
+        [self.cos * gx + self.sin * gy, -self.sin * gx + self.cos * gy]
+    }
+}
+
 /// A half-sine bump on one side of the road: h = height sin(pi (x - x_start)/length) on [x_start, x_start + length]
 /// for side * y > 0 (side +1 left, -1 right).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

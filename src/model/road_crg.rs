@@ -18,7 +18,7 @@
 //!   border mode is `None` there is no surface: `has_surface` is false and the run ends with a named error.
 //! - **Sharing**: a file loads once per process; FMU instances naming the same file (same path, length and
 //!   modification time) share it (`load`).
-use super::road::{FileRoad, Road};
+use super::road::{FileRoad, Placement, Road};
 use opencrg::{BorderMode, CrgGrid, Uv, Xy};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -263,12 +263,8 @@ pub fn surface_for(spec: &str) -> Result<Arc<Surface>, String> {
 #[derive(Debug, Clone)]
 pub struct PlacedSurface {
     pub surface: Arc<Surface>,
-    /// The ground point that maps to the reference line's start, m.
-    pub anchor: [f64; 2],
-    /// The reference line's start in the road's x, y, and its heading there, rad.
-    origin: Xy,
-    cos: f64,
-    sin: f64,
+    /// The reference line's start (u at its start, v = 0) at the anchor, heading along ground x.
+    pub placement: Placement,
     /// A straight reference line (one heading from start to end, as the NRMM courses and the ISO 8608
     /// roads have): u and v are then projections, without the crate's search along the line.
     straight: Option<f64>,
@@ -276,7 +272,7 @@ pub struct PlacedSurface {
 
 impl PartialEq for PlacedSurface {
     fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.surface, &other.surface) && self.anchor == other.anchor
+        Arc::ptr_eq(&self.surface, &other.surface) && self.placement.anchor == other.placement.anchor
     }
 }
 
@@ -297,13 +293,14 @@ impl PlacedSurface {
             && (along - (u1 - u0)).abs() <= 1e-9 * (u1 - u0).abs().max(1.0)
             && (end_phi - phi).abs() < 1e-12)
             .then_some(u0);
-        PlacedSurface { surface, anchor, origin, cos: phi.cos(), sin: phi.sin(), straight }
+        let placement = Placement { anchor, origin: [origin.x, origin.y], cos: phi.cos(), sin: phi.sin() };
+        PlacedSurface { surface, placement, straight }
     }
 
     /// The road's x, y of a ground point.
     fn road_xy(&self, x: f64, y: f64) -> Xy {
-        let (dx, dy) = (x - self.anchor[0], y - self.anchor[1]);
-        Xy { x: self.origin.x + self.cos * dx - self.sin * dy, y: self.origin.y + self.sin * dx + self.cos * dy }
+        let [x, y] = self.placement.to_file(x, y);
+        Xy { x, y }
     }
 
     /// The grid position of a ground point, if the reference line has one for it. On a straight reference
@@ -311,7 +308,7 @@ impl PlacedSurface {
     /// offsets from the anchor.
     fn uv(&self, x: f64, y: f64) -> Option<Uv> {
         match self.straight {
-            Some(u0) => Some(Uv { u: u0 + (x - self.anchor[0]), v: y - self.anchor[1] }),
+            Some(u0) => Some(Uv { u: u0 + (x - self.placement.anchor[0]), v: y - self.placement.anchor[1] }),
             None => self.surface.grid.uv_from_xy(self.road_xy(x, y)),
         }
     }
@@ -342,7 +339,7 @@ impl Road for PlacedSurface {
         }
         // The slopes in the road's axes, turned by −heading into the ground's.
         let (gx, gy) = (-n.x / n.z, -n.y / n.z);
-        (z, [self.cos * gx + self.sin * gy, -self.sin * gx + self.cos * gy])
+        (z, self.placement.gradient_to_ground([gx, gy]))
     }
 }
 

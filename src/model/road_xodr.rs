@@ -31,7 +31,7 @@
 //! One road is driven: the first in the file, or the one named by `FILE.xodr#ID`. The vehicle starts
 //! `START_BEHIND_REAR_AXLE_M` along it, heading along its reference line; the map is shifted so that the
 //! road's height at its start is the ground frame's zero.
-use super::road::{FileRoad, Road};
+use super::road::{FileRoad, Placement, Road};
 use super::road_crg::Surface;
 use serde::Deserialize;
 use std::path::Path;
@@ -456,21 +456,21 @@ impl MapRoad {
     }
 
     /// The road's own height at (s, d) and its rates along s and d (profiles held beyond the ends).
-    fn own_height(&self, s: f64, d: f64) -> (f64, f64, f64) {
+    /// Also the superelevation angle there.
+    fn own_height(&self, s: f64, d: f64) -> (f64, f64, f64, f64) {
         let inside = (0.0..=self.length).contains(&s);
         let sc = s.clamp(0.0, self.length);
         let (z, dz) = profile(&self.elevation, sc);
         let (phi, dphi) = profile(&self.superelevation, sc);
         let (dz, dphi) = if inside { (dz, dphi) } else { (0.0, 0.0) };
         let tan = phi.tan();
-        (z + d * tan, dz + d * dphi * (1.0 + tan * tan), tan)
+        (z + d * tan, dz + d * dphi * (1.0 + tan * tan), tan, phi)
     }
 
     /// Height and gradient (dh/dx, dh/dy) in the map's axes at map point (x, y).
     fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
         let on = self.locate(x, y);
-        let (mut h, mut h_s, mut h_d) = self.own_height(on.s, on.d);
-        let phi = profile(&self.superelevation, on.s.clamp(0.0, self.length)).0;
+        let (mut h, mut h_s, mut h_d, phi) = self.own_height(on.s, on.d);
         let t = on.d / phi.cos();
         for crg in &self.crg {
             if !(crg.s_range[0]..=crg.s_range[1]).contains(&on.s) {
@@ -734,16 +734,15 @@ fn attached_crg(
 #[derive(Debug, Clone)]
 pub struct PlacedMap {
     pub map: Arc<OpenDrive>,
-    pub anchor: [f64; 2],
-    start: [f64; 2],
-    cos: f64,
-    sin: f64,
+    /// The driven road's start at the anchor, heading along ground x.
+    pub placement: Placement,
+    /// The road's height at its start, the ground's zero.
     z0: f64,
 }
 
 impl PartialEq for PlacedMap {
     fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.map, &other.map) && self.anchor == other.anchor
+        Arc::ptr_eq(&self.map, &other.map) && self.placement.anchor == other.placement.anchor
     }
 }
 
@@ -751,20 +750,15 @@ impl PlacedMap {
     pub fn new(map: Arc<OpenDrive>, anchor: [f64; 2]) -> PlacedMap {
         let p = map.road.pose(0.0);
         let z0 = map.road.height_and_gradient(p.x, p.y).0;
-        PlacedMap { anchor, start: [p.x, p.y], cos: p.cos, sin: p.sin, z0, map }
-    }
-
-    fn map_xy(&self, x: f64, y: f64) -> (f64, f64) {
-        let (dx, dy) = (x - self.anchor[0], y - self.anchor[1]);
-        (self.start[0] + self.cos * dx - self.sin * dy, self.start[1] + self.sin * dx + self.cos * dy)
+        PlacedMap { placement: Placement { anchor, origin: [p.x, p.y], cos: p.cos, sin: p.sin }, z0, map }
     }
 }
 
 impl Road for PlacedMap {
     fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
-        let (mx, my) = self.map_xy(x, y);
-        let (h, [gx, gy]) = self.map.road.height_and_gradient(mx, my);
-        (h - self.z0, [self.cos * gx + self.sin * gy, -self.sin * gx + self.cos * gy])
+        let [mx, my] = self.placement.to_file(x, y);
+        let (h, gradient) = self.map.road.height_and_gradient(mx, my);
+        (h - self.z0, self.placement.gradient_to_ground(gradient))
     }
 }
 
@@ -774,7 +768,7 @@ impl FileRoad for PlacedMap {
     }
 
     fn inside(&self, x: f64, y: f64) -> bool {
-        let (mx, my) = self.map_xy(x, y);
+        let [mx, my] = self.placement.to_file(x, y);
         self.map.road.inside(mx, my)
     }
 

@@ -136,7 +136,7 @@ pub fn seat_acceleration(
 fn road_start_behind_cm(data: &VehicleData, road: &str) -> Result<f64, ModelError> {
     let sim = Simulation::new(data.clone(), config(road, 5.0))?;
     match sim.road() {
-        RoadModel::Surface(s) => Ok(-s.anchor[0]),
+        RoadModel::Surface(s) => Ok(-s.placement.anchor[0]),
         _ => Err(ModelError::new(Cause::Input, "not a road file")),
     }
 }

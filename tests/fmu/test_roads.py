@@ -31,6 +31,20 @@ def drive(s, seconds, h=0.01):
     return OK
 
 
+def refused_then_runs(s, bad_roads, **good):
+    """Each (road_file, needle) of `bad_roads` fails fmi2ExitInitializationMode with a message containing the
+    needle; then the parameters `good` initialize and the instance runs half a second."""
+    s.fmu.setupExperiment(startTime=0.0)
+    s.fmu.enterInitializationMode()
+    for road, needle in bad_roads:
+        s.set(road_file=road)
+        assert status(s.fmu.exitInitializationMode) == ERROR
+        assert any(needle in m for m in messages(s.name)), (road, messages(s.name)[-2:])
+    s.set(**good)
+    assert status(s.fmu.exitInitializationMode) == OK, messages(s.name)[-2:]
+    assert drive(s, 0.5) == OK
+
+
 @pytest.mark.parametrize("height", HALF_ROUNDS)
 def test_the_hmmwv_drives_every_half_round_file(make, height):
     # 3 m/s (11 km/h): over the obstacle at 50 m with both axles. Obstacles the single-contact tire cannot
@@ -58,16 +72,8 @@ def test_the_hmmwv_drives_an_rms_course(make):
 def test_a_bad_road_is_an_error_naming_it_and_the_instance_recovers(make, tmp_path):
     bad = tmp_path / "zero.crg"
     bad.write_text("$ROAD_CRG\nREFERENCE_LINE_INCREMENT = 0\n$\n")
-    s = make()
-    s.fmu.setupExperiment(startTime=0.0)
-    s.fmu.enterInitializationMode()
-    for road, needle in [(str(bad), "zero.crg"), ("iso8608:Z:3", "class"), ("roads/none.crg", "none.crg")]:
-        s.set(road_file=road)
-        assert status(s.fmu.exitInitializationMode) == ERROR
-        assert any(needle in m for m in messages(s.name)), (road, messages(s.name)[-2:])
-    s.set(road_file="iso8608:B:7:200", contact=2, internal_step=0.001)
-    assert status(s.fmu.exitInitializationMode) == OK, messages(s.name)[-2:]
-    assert drive(s, 0.5) == OK
+    refused_then_runs(make(), [(str(bad), "zero.crg"), ("iso8608:Z:3", "class"), ("roads/none.crg", "none.crg")],
+                      road_file="iso8608:B:7:200", contact=2, internal_step=0.001)
 
 
 def test_the_hmmwv_drives_opendrive_maps(make):
@@ -91,14 +97,6 @@ def test_the_hmmwv_drives_opendrive_maps(make):
 def test_a_bad_map_is_an_error_naming_it_and_the_instance_recovers(make, tmp_path):
     empty = tmp_path / "empty.xodr"
     empty.write_text('<OpenDRIVE><header revMajor="1" revMinor="6"/></OpenDRIVE>')
-    s = make()
-    s.fmu.setupExperiment(startTime=0.0)
-    s.fmu.enterInitializationMode()
-    for road, needle in [(str(empty), "no road surface"), ("roads/test_track.xodr#9", "no road with id"),
-                         ("roads/none.xodr", "none.xodr")]:
-        s.set(road_file=road)
-        assert status(s.fmu.exitInitializationMode) == ERROR
-        assert any(needle in m for m in messages(s.name)), (road, messages(s.name)[-2:])
-    s.set(road_file="roads/test_track.xodr", internal_step=0.001)
-    assert status(s.fmu.exitInitializationMode) == OK, messages(s.name)[-2:]
-    assert drive(s, 0.5) == OK
+    refused_then_runs(make(), [(str(empty), "no road surface"), ("roads/test_track.xodr#9", "no road with id"),
+                               ("roads/none.xodr", "none.xodr")],
+                      road_file="roads/test_track.xodr", internal_step=0.001)
