@@ -124,3 +124,21 @@ fn the_driver_fmu_defaults_are_this_vehicles() {
     let o = sim.outputs().unwrap();
     assert_eq!((o.get("x"), o.get("y")), (Some(0.0), Some(0.0)), "the course assumes the CM starts at the origin");
 }
+
+/// A study asks for metrics by name before anything runs (`Manoeuvre::metric_names`): each manoeuvre's one
+/// run gives exactly those, in that order, on both steerings (the HMMWV's rack, the import's Pitman arm).
+#[test]
+fn one_run_gives_the_metrics_its_manoeuvre_names() {
+    use rt_vehicle::studies::manoeuvres::{run_once, Ground};
+    let pitman = VehicleData::from_file(std::path::Path::new("resources/vehicles/generic_macpherson.json")).unwrap();
+    for data in [VehicleData::default_hmmwv(), pitman] {
+        for m in Manoeuvre::ALL {
+            if m == Manoeuvre::SteadyState && !data.is_default_vehicle() {
+                continue; // 31 s of simulated time: its names do not depend on the steering, the HMMWV's run checks them
+            }
+            let report = run_once(m, &data, None, &Ground::default()).unwrap();
+            let names: Vec<&str> = report.metrics.iter().map(|m| m.name).collect();
+            assert_eq!(names, m.metric_names(data.steering_input()), "{}", m.name());
+        }
+    }
+}

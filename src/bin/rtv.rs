@@ -557,10 +557,8 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
         None => None,
     };
     let data = vehicle_data(&opts)?;
-    let ground = rt_vehicle::studies::manoeuvres::Ground {
-        road_file: opts.get("road").cloned(),
-        friction: number(&opts, "friction", 1.0)?,
-    };
+    let ground =
+        rt_vehicle::studies::manoeuvres::Ground::new(opts.get("road").cloned(), number(&opts, "friction", 1.0)?);
     let report = run_on(m, &data, speed, &ground).map_err(|e| failed(format!("{}: {e}", m.name())))?;
     let mut out = csv_writer(opts.get("out"))?;
     let input = data.steering_input();

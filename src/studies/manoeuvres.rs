@@ -79,25 +79,26 @@ fn series(rows: &[Outputs], name: &str) -> Vec<f64> {
     rows.iter().map(|r| r.values[c]).collect()
 }
 
-/// The ground a manoeuvre is driven on: the flat road unless a road file (`--road`, docs/roads.md) is
-/// named, at the tires' own friction unless scaled (`--friction`).
-#[derive(Debug, Clone, PartialEq)]
+/// The ground a manoeuvre is driven on and the run options it is driven with: the flat road unless a road
+/// file (`--road`, docs/roads.md) is named, at the tires' own friction unless scaled (`--friction`), and
+/// otherwise the default options (a study, `studies::study_run`, sets any FMU parameter here). The manoeuvre
+/// sets the speed and the speed mode itself.
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Ground {
-    pub road_file: Option<String>,
-    pub friction: f64,
-}
-
-impl Default for Ground {
-    fn default() -> Self {
-        Ground { road_file: None, friction: 1.0 }
-    }
+    pub config: SimConfig,
 }
 
 impl Ground {
+    /// The flat road or `road_file`, with the tires' friction scaled by `friction`.
+    pub fn new(road_file: Option<String>, friction: f64) -> Ground {
+        Ground {
+            config: SimConfig { road_file, ..SimConfig::default() }.with_options(|o| o.road_friction = friction),
+        }
+    }
+
     /// A configuration at `speed` on this ground.
     fn config(&self, speed: f64) -> SimConfig {
-        SimConfig { initial_speed: speed, road_file: self.road_file.clone(), ..SimConfig::default() }
-            .with_options(|o| o.road_friction = self.friction)
+        SimConfig { initial_speed: speed, ..self.config.clone() }
     }
 }
 
@@ -161,7 +162,78 @@ pub fn run(m: Manoeuvre, data: &VehicleData, speed: Option<f64>) -> Result<Repor
 }
 
 /// `run` on `ground` (a road file, a friction scale): the steering amplitudes are found on the same ground.
+/// The double lane change adds its figure of merit, the highest entry speed passed, from a sweep of runs.
 pub fn run_on(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &Ground) -> Result<Report, ModelError> {
+    let mut report = run_once(m, data, speed, ground)?;
+    if m == Manoeuvre::DoubleLaneChange {
+        // ISO 3888-2's nominal entry speed is 80 km/h; the figure of merit is the highest speed passed:
+        // the course is run from 30 to 80 km/h in steps of 5 km/h.
+        let mut highest = None;
+        for kmh in (30..=80).step_by(5) {
+            let run = double_lane_change(data, ground, kmh as f64 / 3.6)?;
+            if run.metrics[0].criterion.is_some_and(|c| c.1) {
+                highest = Some(kmh as f64);
+            }
+        }
+        report.metrics.push(metric(
+            "highest entry speed passed (30–80 km/h, 5 km/h steps)",
+            highest.unwrap_or(f64::NAN),
+            "km/h",
+        ));
+    }
+    Ok(report)
+}
+
+impl Manoeuvre {
+    /// The names of the metrics one run (`run_once`) computes, in its order (tests/manoeuvres.rs checks them
+    /// against the runs): what a study may ask for before anything runs.
+    /// The steering metric is named in the vehicle's own steering input.
+    pub fn metric_names(self, steering: crate::model::params::SteeringInput) -> Vec<&'static str> {
+        let names: &[&str] = match self {
+            Manoeuvre::StepSteer => &[
+                "yaw-rate response time",
+                "yaw-rate peak response time",
+                "yaw-rate overshoot",
+                "steady yaw rate",
+                "lateral-acceleration response time",
+                "lateral-acceleration overshoot",
+                "steady lateral acceleration",
+            ],
+            Manoeuvre::SineWithDwell => &[
+                "yaw-rate ratio at COS + 1.0 s",
+                "yaw-rate ratio at COS + 1.75 s",
+                "lateral displacement at BOS + 1.07 s",
+                "peak yaw rate after the counter-steer",
+            ],
+            Manoeuvre::SteadyState => &[
+                "understeer gradient (front road-wheel steer)",
+                "Ackermann gradient L g / V²",
+                "largest lateral acceleration reached",
+                "points in the fit (0.5–3 m/s²)",
+            ],
+            Manoeuvre::Fishhook => {
+                &["largest roll angle", "largest wheel lift", "two-wheel lift (both wheels of one side)"]
+            }
+            Manoeuvre::DoubleLaneChange => &[
+                "smallest clearance to a lane edge",
+                "clearance in lane 1 (entry)",
+                "clearance in lane 3 (side lane)",
+                "clearance in lane 5 (exit)",
+                "exit speed",
+                "peak lateral acceleration",
+                match steering {
+                    crate::model::params::SteeringInput::RackDisplacement => "peak rack displacement",
+                    crate::model::params::SteeringInput::PitmanArmAngle => "peak Pitman-arm angle",
+                },
+            ],
+        };
+        names.to_vec()
+    }
+}
+
+/// One run of a manoeuvre at its standard speed (or `speed`, m/s) on `ground`, with its metrics: the double
+/// lane change at one entry speed, without the sweep of `run_on`.
+pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &Ground) -> Result<Report, ModelError> {
     let g = data.gravity_m_s2;
     match m {
         Manoeuvre::StepSteer => {
@@ -307,24 +379,7 @@ pub fn run_on(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &Gro
             ];
             Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
         }
-        Manoeuvre::DoubleLaneChange => {
-            // ISO 3888-2's nominal entry speed is 80 km/h; the figure of merit is the highest speed passed:
-            // the course is run from 30 to 80 km/h in steps of 5 km/h.
-            let mut report = double_lane_change(data, ground, speed.unwrap_or(80.0 / 3.6))?;
-            let mut highest = None;
-            for kmh in (30..=80).step_by(5) {
-                let run = double_lane_change(data, ground, kmh as f64 / 3.6)?;
-                if run.metrics[0].criterion.is_some_and(|c| c.1) {
-                    highest = Some(kmh as f64);
-                }
-            }
-            report.metrics.push(metric(
-                "highest entry speed passed (30–80 km/h, 5 km/h steps)",
-                highest.unwrap_or(f64::NAN),
-                "km/h",
-            ));
-            Ok(report)
-        }
+        Manoeuvre::DoubleLaneChange => double_lane_change(data, ground, speed.unwrap_or(80.0 / 3.6)),
     }
 }
 
