@@ -186,7 +186,7 @@ impl VehicleModel {
     }
 
     /// The vehicle data this instance uses (see `vehicle_path`), read and validated.
-    fn vehicle_data(&self, context: &ModelContext, log: &Logger) -> Result<VehicleData, String> {
+    pub(crate) fn vehicle_data(&self, context: &ModelContext, log: &Logger) -> Result<VehicleData, String> {
         let mut data = self.vehicle_file_data(context, log)?;
         let tir = self.tire_file.trim();
         if !tir.is_empty() {
@@ -213,7 +213,7 @@ impl VehicleModel {
 
     /// The simulation's configuration: the parameters, with the experiment's tolerance in place of the
     /// `tolerance` parameter when the master defined one.
-    fn config(&self, context: &ModelContext) -> Result<SimConfig, String> {
+    pub(crate) fn config(&self, context: &ModelContext) -> Result<SimConfig, String> {
         let mut config = self.config.clone();
         let road = self.road_file.trim();
         config.road_file = if road.is_empty() {

@@ -61,10 +61,26 @@ pub struct Metric {
 /// A manoeuvre's run: its samples every `SAMPLE` s and its metrics.
 pub struct Report {
     pub manoeuvre: Manoeuvre,
+    /// What the run cost, its amplitude-setting runs included.
+    pub cost: Cost,
     pub speed: f64,
     pub amplitude: f64,
     pub rows: Vec<Outputs>,
     pub metrics: Vec<Metric>,
+}
+
+/// What runs cost: derivative evaluations and simulated time, summed over a manoeuvre's simulations.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Cost {
+    pub evaluations: u64,
+    pub simulated_seconds: f64,
+}
+
+impl Cost {
+    fn add(&mut self, sim: &Simulation) {
+        self.evaluations += sim.evaluations();
+        self.simulated_seconds += sim.time();
+    }
 }
 
 /// Output interval of the manoeuvre runs, s.
@@ -91,9 +107,7 @@ pub struct Ground {
 impl Ground {
     /// The flat road or `road_file`, with the tires' friction scaled by `friction`.
     pub fn new(road_file: Option<String>, friction: f64) -> Ground {
-        Ground {
-            config: SimConfig { road_file, ..SimConfig::default() }.with_options(|o| o.road_friction = friction),
-        }
+        Ground { config: SimConfig { road_file, ..SimConfig::default() }.with_options(|o| o.road_friction = friction) }
     }
 
     /// A configuration at `speed` on this ground.
@@ -110,6 +124,7 @@ fn simulate(
     speed_mode: SpeedMode,
     profile: RackProfile,
     duration: f64,
+    cost: &mut Cost,
 ) -> Result<Vec<Outputs>, ModelError> {
     let config = ground.config(speed).with_options(|o| o.speed_mode = speed_mode);
     let mut sim = Simulation::new(data.clone(), config)?;
@@ -119,6 +134,7 @@ fn simulate(
         sim.advance(SAMPLE)?;
         rows.push(sim.outputs()?);
     }
+    cost.add(&sim);
     Ok(rows)
 }
 
@@ -130,6 +146,11 @@ pub fn rack_for_lateral_acceleration(
     speed: f64,
     ay: f64,
 ) -> Result<f64, ModelError> {
+    rack_for_ay(data, ground, speed, ay, &mut Cost::default())
+}
+
+/// `rack_for_lateral_acceleration`, adding its run to `cost`.
+fn rack_for_ay(data: &VehicleData, ground: &Ground, speed: f64, ay: f64, cost: &mut Cost) -> Result<f64, ModelError> {
     let (a0, _) = crate::sim::calibration::amplitude_for(data)?;
     let rows = simulate(
         data,
@@ -138,6 +159,7 @@ pub fn rack_for_lateral_acceleration(
         SpeedMode::Hold,
         RackProfile::Step { amplitude: a0, start: 0.2, ramp: 0.3 },
         3.0,
+        cost,
     )?;
     let tail = &series(&rows, "ay")[rows.len() - (1.0 / SAMPLE) as usize..];
     let mean = tail.iter().sum::<f64>() / tail.len() as f64;
@@ -235,15 +257,23 @@ impl Manoeuvre {
 /// lane change at one entry speed, without the sweep of `run_on`.
 pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &Ground) -> Result<Report, ModelError> {
     let g = data.gravity_m_s2;
+    let mut cost = Cost::default();
     match m {
         Manoeuvre::StepSteer => {
             // ISO 7401:2011 §6.2: 80 km/h, steady lateral acceleration 4 m/s², steering as fast as possible
             // (here a 0.1 s smootherstep), response measured from 50 % of the steering input.
             let v = speed.unwrap_or(80.0 / 3.6);
-            let a = rack_for_lateral_acceleration(data, ground, v, 4.0)?;
+            let a = rack_for_ay(data, ground, v, 4.0, &mut cost)?;
             let (start, ramp) = (0.5, 0.1);
-            let rows =
-                simulate(data, ground, v, SpeedMode::Hold, RackProfile::Step { amplitude: a, start, ramp }, 4.5)?;
+            let rows = simulate(
+                data,
+                ground,
+                v,
+                SpeedMode::Hold,
+                RackProfile::Step { amplitude: a, start, ramp },
+                4.5,
+                &mut cost,
+            )?;
             let t = series(&rows, "time");
             let t50 = start + 0.5 * ramp; // the smootherstep is half-way at half its ramp
             let mut metrics = Vec::new();
@@ -268,17 +298,17 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
                     metrics.push(metric("steady lateral acceleration", steady, "m/s2"));
                 }
             }
-            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+            Ok(Report { manoeuvre: m, cost, speed: v, amplitude: a, rows, metrics })
         }
         Manoeuvre::SineWithDwell => {
             // FMVSS 126 S7.9: 80 km/h coasting, 0.7 Hz sine with a 500 ms dwell at its second peak,
             // amplitude 6.5 × the steering that gives 0.3 g (S7.6, slowly increasing steer: here the
             // linear steady-state measurement). Left turn first.
             let v = speed.unwrap_or(80.0 / 3.6);
-            let a = 6.5 * rack_for_lateral_acceleration(data, ground, v, 0.3 * g)?;
+            let a = 6.5 * rack_for_ay(data, ground, v, 0.3 * g, &mut cost)?;
             let (f, start, dwell) = (0.7, 0.5, 0.5);
             let profile = RackProfile::SineWithDwell { amplitude: a, frequency: f, start, dwell, blend: 0.02 };
-            let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 5.0)?;
+            let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 5.0, &mut cost)?;
             let (t, r, y) = (series(&rows, "time"), series(&rows, "yaw_rate"), series(&rows, "y"));
             let end = start + 1.0 / f + dwell; // completion of steer (COS)
                                                // The first peak of yaw rate opposite to the first steer (S7.9.1: the second peak, after the
@@ -307,14 +337,14 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
                 },
                 metric("peak yaw rate after the counter-steer", peak.to_degrees(), "deg/s"),
             ];
-            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+            Ok(Report { manoeuvre: m, cost, speed: v, amplitude: a, rows, metrics })
         }
         Manoeuvre::SteadyState => {
             // ISO 4138:2021 constant-speed method (§6.2.3): 100 km/h, the steering increased slowly (here a
             // 30 s smootherstep to the rack for 0.55 g); understeer gradient from the mean front road-wheel
             // steer against lateral acceleration, δ = L/R + K a_y with R = V²/a_y: K = dδ/da_y − L/V².
             let v = speed.unwrap_or(100.0 / 3.6);
-            let a = rack_for_lateral_acceleration(data, ground, v, 0.55 * g)?;
+            let a = rack_for_ay(data, ground, v, 0.55 * g, &mut cost)?;
             let rows = simulate(
                 data,
                 ground,
@@ -322,6 +352,7 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
                 SpeedMode::Hold,
                 RackProfile::Step { amplitude: a, start: 0.5, ramp: 30.0 },
                 31.0,
+                &mut cost,
             )?;
             let (ay, fl, fr) = (series(&rows, "ay"), series(&rows, "steer_fl"), series(&rows, "steer_fr"));
             // Least squares over the linear range, 0.5–3 m/s² (ISO 4138 reports the gradient at low a_y).
@@ -345,7 +376,7 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
                 metric("largest lateral acceleration reached", max_ay / g, "g"),
                 metric("points in the fit (0.5–3 m/s²)", n, ""),
             ];
-            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+            Ok(Report { manoeuvre: m, cost, speed: v, amplitude: a, rows, metrics })
         }
         Manoeuvre::Fishhook => {
             // NHTSA fishhook (fixed timing, 49 CFR 575.106 test procedure): 80 km/h coasting, steer to
@@ -353,10 +384,10 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
             // counter-steer to the opposite amplitude in 0.5 s, hold 3 s. Tip-up: both wheels of one side
             // off the road by 2 in (5.1 cm) at the same time.
             let v = speed.unwrap_or(80.0 / 3.6);
-            let a = (6.5 * rack_for_lateral_acceleration(data, ground, v, 0.3 * g)?).min(data.steering_limit());
+            let a = (6.5 * rack_for_ay(data, ground, v, 0.3 * g, &mut cost)?).min(data.steering_limit());
             let profile =
                 RackProfile::TwoMoves { first: a, start: 0.5, ramp: 0.25, second: -a, counter: 1.0, counter_ramp: 0.5 };
-            let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 4.5)?;
+            let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 4.5, &mut cost)?;
             let roll = series(&rows, "roll");
             let r0 = data.tire.unloaded_radius_m;
             let lift = |c: &str| -> Vec<f64> {
@@ -377,7 +408,7 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
                     ..metric("two-wheel lift (both wheels of one side)", two_wheel * 100.0, "cm")
                 },
             ];
-            Ok(Report { manoeuvre: m, speed: v, amplitude: a, rows, metrics })
+            Ok(Report { manoeuvre: m, cost, speed: v, amplitude: a, rows, metrics })
         }
         Manoeuvre::DoubleLaneChange => double_lane_change(data, ground, speed.unwrap_or(80.0 / 3.6)),
     }
@@ -474,5 +505,7 @@ fn double_lane_change(data: &VehicleData, ground: &Ground, v: f64) -> Result<Rep
         },
     ];
     let amplitude = peak("rack_displacement");
-    Ok(Report { manoeuvre: Manoeuvre::DoubleLaneChange, speed: v, amplitude, rows, metrics })
+    let mut cost = Cost::default();
+    cost.add(&sim);
+    Ok(Report { manoeuvre: Manoeuvre::DoubleLaneChange, cost, speed: v, amplitude, rows, metrics })
 }

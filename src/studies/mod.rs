@@ -7,6 +7,7 @@
 //! - `stability.rs`: the stability suite (`rtv stability`, docs/stability.md).
 //! - `ride.rs`, `ride_filters.rs`: the NRMM ride tests (`rtv ride`, docs/ride.md).
 //! - `work_precision.rs`: error against run time (`rtv work-precision`, docs/work_precision.md).
+//! - `study_run.rs`: one run of a parameter study (python/rtv_study through crates/study-native, docs/studies.md).
 //!
 //! They are the Cargo feature `studies` (default on: the CLI, the tests): the FMU's library is built without
 //! it (packaging: `--no-default-features`), so it carries neither the studies nor the driver crate.
@@ -16,4 +17,5 @@ pub mod manoeuvres;
 pub mod ride;
 pub mod ride_filters;
 pub mod stability;
+pub mod study_run;
 pub mod work_precision;
