@@ -29,3 +29,7 @@ fi
 { .venv/bin/python -c "import fmpy, numpy, matplotlib, pytest, elftools, ziglang, libcosimpy" 2>/dev/null \
     && [ -x .venv/bin/cargo-zigbuild ]; } || \
     .venv/bin/pip install -q fmpy numpy matplotlib pytest pyelftools libcosimpy==0.0.6 cargo-zigbuild==0.24.0 ziglang==0.17.1
+# The study runner (python/rtv_study, docs/studies.md): Dask distributed, pyarrow and tqdm, pinned to the
+# versions it was tested with; the package itself installed editable (its `rtv-study` command in .venv/bin).
+.venv/bin/python -c "import dask.distributed, pyarrow, tqdm, rtv_study" 2>/dev/null || \
+    .venv/bin/pip install -q "dask[distributed]==2026.8.0" pyarrow==26.0.1 tqdm==4.70.1 -e python

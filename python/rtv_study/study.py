@@ -132,13 +132,6 @@ class Parameter:
         """The values a check must accept: every listed value, or the range's ends."""
         return list(self.values) if self.values is not None else list(self.range)
 
-    def nominal(self):
-        if self.values is not None:
-            return self.values[0]
-        if self.normal is not None:
-            return min(max(self.normal[0], self.range[0]), self.range[1])
-        return 0.5 * (self.range[0] + self.range[1])
-
     def from_unit(self, u):
         """The value at quantile u ∈ [0, 1) of this parameter's distribution."""
         if self.values is not None:
@@ -222,6 +215,8 @@ class Study:
         parameters = dict(self.fixed)
         request = {"case": self.case, "metrics": list(self.metrics)}
         for p, value in zip(self.parameters, values):
+            if value is None:  # left at the vehicle's or the FMU's own value (the checks of one parameter)
+                continue
             if p.kind == "input":
                 request[p.target] = value
             elif p.kind == "fmu":
@@ -444,10 +439,11 @@ def _parameter(entry, index, design, default_levels, fmu_parameters, description
 
 
 def _check(study, lines, library):
-    """Every parameter at each of its extremes (the others at their nominal values), on every vehicle, is
-    checked by the model itself (the FMU's ranges, the vehicle schema's, the case's own limits): a value the
-    model would refuse is refused now, with the parameter's line."""
-    nominal = [p.nominal() for p in study.parameters]
+    """Every parameter at each of its extremes (the others left at the vehicle's and the FMU's own values), on
+    every vehicle, is checked by the model itself (the FMU's ranges, the vehicle schema's, the case's own
+    limits): a value the model would refuse is refused now, with the parameter's line. Combinations are not
+    checked: a run whose combination the model refuses is recorded as failed, with its cause."""
+    nominal = [None] * len(study.parameters)
     for vehicle in study.vehicles:
         for pointer_p in (p for p in study.parameters if p.kind == "vehicle"):
             for pointer in pointer_p.target:

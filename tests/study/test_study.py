@@ -1,0 +1,179 @@
+"""The study runner (python/rtv_study, docs/studies.md): a small study end to end on the embedded LocalCluster,
+resume, a worker killed mid-study, every bad input refused before any run with its line, the Parquet schema."""
+import os
+import re
+import signal
+import threading
+import time
+from pathlib import Path
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+import rtv_study
+from rtv_study import native, runner
+
+ROOT = Path(__file__).resolve().parents[2]
+
+SMALL = """\
+case = "double-lane-change"
+metrics = ["passed", "smallest_clearance_to_a_lane_edge", "peak:roll", "final:vx"]
+
+[design]
+kind = "full-factorial"
+
+[[parameter]]
+input = "speed"
+range = [9.0, 19.0]
+levels = 3
+
+[[parameter]]
+name = "front damper scale"
+vehicle = ["/front/damper/midstroke_compression_Ns_per_m", "/front/damper/midstroke_rebound_Ns_per_m"]
+scale = true
+values = [0.5, 2.0]
+"""
+
+
+def write(tmp_path, text, name="study.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_a_small_study_runs_end_to_end(tmp_path, capsys):
+    study = rtv_study.load(write(tmp_path, SMALL))
+    table = rtv_study.run(study, out=tmp_path / "out", workers=2, progress=False)
+    assert "0 done, 6 to run" in capsys.readouterr().out
+    rows = table.to_pylist()
+    assert len(rows) == 6 and all(r["status"] == "ok" for r in rows), rows
+    assert sorted({(r["speed"], r["front damper scale"]) for r in rows}) == [
+        (s, d) for s in (9.0, 14.0, 19.0) for d in (0.5, 2.0)]
+    for r in rows:
+        # The pass flag is the standard's criterion on the clearance the same run reports.
+        assert r["passed"] == (r["smallest_clearance_to_a_lane_edge"] >= 0.0)
+        # The speed hold keeps the entry speed through the course (within 0.5 m/s: its PI law's lag).
+        assert abs(r["final:vx"] - r["speed"]) < 0.5
+        assert r["evaluations"] > 1000 and r["simulated_s"] > 3 and r["wall_time_s"] > 0
+    # A row is the run the native code gives for the same request, called here directly.
+    r = rows[0]
+    run = next(x for x in study.all_runs() if x.run_id == r["run_id"])
+    direct = rtv_study.files.with_files(run.task, lambda request: native.call("run", request))
+    assert direct["metrics"]["peak:roll"] == r["peak:roll"]
+    # The damper scale reaches the vehicle: a different peak roll at the same speed.
+    by = {(x["speed"], x["front damper scale"]): x["peak:roll"] for x in rows}
+    assert by[(14.0, 0.5)] != by[(14.0, 2.0)]
+    plots = sorted(p.name for p in (tmp_path / "out" / "plots").glob("*.png"))
+    assert "passfail__speed__front_damper_scale.png" in plots and len(plots) == 7, plots
+    assert not list((tmp_path / "out" / "parts").glob("*"))
+
+
+def test_parquet_schema(tmp_path):
+    study = rtv_study.load(write(tmp_path, SMALL))
+    expected = [("run_id", pa.string()), ("vehicle", pa.string()), ("speed", pa.float64()),
+                ("front damper scale", pa.float64()), ("passed", pa.bool_()),
+                ("smallest_clearance_to_a_lane_edge", pa.float64()), ("peak:roll", pa.float64()),
+                ("final:vx", pa.float64()), ("status", pa.string()), ("cause", pa.string()),
+                ("message", pa.string()), ("wall_time_s", pa.float64()), ("evaluations", pa.int64()),
+                ("simulated_s", pa.float64()), ("worker", pa.string())]
+    assert [(f.name, f.type) for f in rtv_study.schema(study)] == expected
+    rtv_study.run(study, out=tmp_path / "out", workers=1, progress=False, plots=False)
+    written = pq.read_schema(tmp_path / "out" / "results.parquet")
+    assert [(f.name, f.type) for f in written] == expected
+
+
+def test_a_second_run_resumes(tmp_path, capsys):
+    study = rtv_study.load(write(tmp_path, SMALL))
+    out = tmp_path / "out"
+    first = rtv_study.run(study, out=out, workers=2, progress=False, plots=False)
+    capsys.readouterr()
+    again = rtv_study.run(study, out=out, workers=2, progress=False, plots=False)
+    assert "6 done, 0 to run" in capsys.readouterr().out
+    assert again.sort_by("run_id").equals(first.sort_by("run_id"))
+    # A study stopped half way: two runs missing from the results, one only in a part file.
+    table = pq.read_table(out / "results.parquet").sort_by("run_id")
+    pq.write_table(table.slice(0, 3), out / "results.parquet")
+    pq.write_table(table.slice(3, 1), out / "parts" / "part-0.parquet")
+    resumed = rtv_study.run(study, out=out, workers=2, progress=False, plots=False)
+    assert "4 done, 2 to run" in capsys.readouterr().out
+    assert sorted(resumed.column("run_id").to_pylist()) == sorted(first.column("run_id").to_pylist())
+    # The runs are deterministic: the resumed ones equal the first ones.
+    key = ["run_id", "passed", "peak:roll"]
+    assert resumed.select(key).sort_by("run_id").equals(first.select(key).sort_by("run_id"))
+
+
+def test_a_killed_worker_loses_nothing(tmp_path):
+    text = SMALL.replace("levels = 3", "levels = 20")  # 40 runs of about 0.1 s on 2 workers
+    study = rtv_study.load(write(tmp_path, text))
+    killed = {}
+
+    def kill_one(client):
+        def later():
+            # Wait until runs are under way, then kill one worker process outright (SIGKILL: no clean-up).
+            deadline = time.time() + 30
+            while time.time() < deadline and not list((tmp_path / "out" / "parts").glob("*.parquet")):
+                time.sleep(0.05)
+            pids = client.run(os.getpid)
+            address, pid = sorted(pids.items())[0]
+            os.kill(pid, signal.SIGKILL)
+            killed.update(address=address, pid=pid)
+        threading.Thread(target=later, daemon=True).start()
+
+    runner.FLUSH_SECONDS, flush = 0.2, runner.FLUSH_SECONDS
+    try:
+        table = rtv_study.run(study, out=tmp_path / "out", workers=2, progress=False, plots=False, on_client=kill_one)
+    finally:
+        runner.FLUSH_SECONDS = flush
+    assert killed, "no worker was killed"
+    ids = table.column("run_id").to_pylist()
+    assert len(ids) == 40 and len(set(ids)) == 40
+    assert sorted(ids) == sorted(r.run_id for r in study.all_runs())
+    assert set(table.column("status").to_pylist()) == {"ok"}
+    assert not list((tmp_path / "out" / "parts").glob("*"))
+
+
+BAD = [
+    # (what, study text, expected line, expected words)
+    ("unknown parameter path", SMALL.replace("midstroke_rebound_Ns_per_m", "midstroke_rebound"), 14,
+     "unknown parameter path"),
+    ("value outside the model description's range", SMALL + '\n[[parameter]]\nfmu = "road_friction"\nrange = [0.5, 7.0]\n',
+     20, "road_friction must be in"),
+    ("value outside the vehicle schema's range",
+     SMALL + '\n[[parameter]]\nvehicle = "/chassis/mass_kg"\nvalues = [2000.0, -5.0]\n', 20, "mass_kg"),
+    ("speed outside its range", SMALL.replace("range = [9.0, 19.0]", "range = [9.0, 90.0]"), 9, "outside"),
+    ("empty design: no values", SMALL.replace("values = [0.5, 2.0]", "values = []"), 16, "empty design"),
+    ("empty design: no runs", SMALL.replace('kind = "full-factorial"', 'kind = "monte-carlo"\nruns = 0')
+     .replace("levels = 3\n", ""), 6, "empty design"),
+    ("unknown metric", SMALL.replace('"peak:roll"', '"peak:nothing"'), 2, "unknown metric 'peak:nothing'"),
+    ("unknown FMU parameter", SMALL + '\n[fmu]\nno_such = 1\n', 19, "unknown FMU parameter 'no_such'"),
+    ("syntax error", SMALL.replace("levels = 3", "levels = = 3"), 10, "TOML syntax"),
+    ("bad scheduler address", 'scheduler = "localhost"\n' + SMALL, 1, "scheduler must be an address"),
+]
+
+
+@pytest.mark.parametrize("what,text,line,words", BAD, ids=[b[0] for b in BAD])
+def test_bad_input_is_refused_with_its_line_before_any_run(tmp_path, what, text, line, words):
+    path = write(tmp_path, text)
+    with pytest.raises(rtv_study.StudyError) as e:
+        rtv_study.load(path)
+    assert e.value.line == line, str(e.value)
+    assert words in str(e.value) and str(e.value).startswith(f"{path}:{line}: "), str(e.value)
+    assert not (tmp_path / "study").exists()  # nothing ran
+
+
+def test_a_scheduler_that_does_not_answer_is_said_within_seconds(tmp_path):
+    study = rtv_study.load(write(tmp_path, SMALL))
+    start = time.monotonic()
+    # Port 9 (discard) on this machine: nothing listens there.
+    with pytest.raises(ConnectionError, match="does not answer"):
+        rtv_study.run(study, out=tmp_path / "out", scheduler="tcp://127.0.0.1:9", progress=False)
+    assert time.monotonic() - start < runner.CONNECT_TIMEOUT_S + 10
+    assert not (tmp_path / "out" / "results.parquet").exists()
+
+
+def test_the_command_line_says_where_a_study_is_wrong(tmp_path):
+    import subprocess
+    path = write(tmp_path, SMALL.replace('"peak:roll"', '"peak:nothing"'))
+    done = subprocess.run([str(ROOT / ".venv" / "bin" / "rtv-study"), "run", str(path)], capture_output=True, text=True)
+    assert done.returncode == 2 and re.search(rf"{re.escape(str(path))}:2: .*unknown metric", done.stderr), done.stderr
