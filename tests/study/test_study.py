@@ -177,3 +177,43 @@ def test_the_command_line_says_where_a_study_is_wrong(tmp_path):
     path = write(tmp_path, SMALL.replace('"peak:roll"', '"peak:nothing"'))
     done = subprocess.run([str(ROOT / ".venv" / "bin" / "rtv-study"), "run", str(path)], capture_output=True, text=True)
     assert done.returncode == 2 and re.search(rf"{re.escape(str(path))}:2: .*unknown metric", done.stderr), done.stderr
+
+
+def test_a_study_runs_on_an_existing_cluster_that_gets_the_library_from_the_client(tmp_path):
+    """A scheduler and a worker started apart (as on other machines: their own folder, no RTV_STUDY_NATIVE), the
+    study run with --scheduler: the client sends the native library, each task its files."""
+    import socket
+    import subprocess
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    env = {k: v for k, v in os.environ.items() if k != "RTV_STUDY_NATIVE"}
+    bin_dir = ROOT / ".venv" / "bin"
+    scratch = tmp_path / "worker-machine"
+    scratch.mkdir()
+    processes = [subprocess.Popen([str(bin_dir / "dask"), "scheduler", "--port", str(port), "--no-dashboard"],
+                                  cwd=scratch, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        time.sleep(1.0)
+        processes.append(subprocess.Popen(
+            [str(bin_dir / "dask"), "worker", f"tcp://127.0.0.1:{port}", "--nthreads", "1", "--no-dashboard",
+             "--local-directory", str(scratch)], cwd=scratch, env=env, stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL))
+        study = rtv_study.load(write(tmp_path, SMALL))
+        deadline = time.time() + 30
+        while True:  # the worker takes a moment to join
+            from dask.distributed import Client
+            with Client(f"tcp://127.0.0.1:{port}", timeout=5) as c:
+                if c.scheduler_info()["workers"] or time.time() > deadline:
+                    break
+            time.sleep(0.3)
+        table = rtv_study.run(study, out=tmp_path / "out", scheduler=f"tcp://127.0.0.1:{port}", progress=False,
+                              plots=False)
+        assert set(table.column("status").to_pylist()) == {"ok"} and table.num_rows == 6
+        copies = list(scratch.rglob("librtv_study_native.so"))
+        assert copies, "the library was not sent to the worker"
+    finally:
+        for p in processes:
+            p.terminate()
+        for p in processes:
+            p.wait(timeout=10)
