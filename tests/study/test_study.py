@@ -217,3 +217,58 @@ def test_a_study_runs_on_an_existing_cluster_that_gets_the_library_from_the_clie
             p.terminate()
         for p in processes:
             p.wait(timeout=10)
+
+
+DESIGN = """\
+case = "jturn"
+metrics = ["peak:ay"]
+[design]
+kind = "{kind}"
+runs = 400
+seed = 11
+[[parameter]]
+input = "speed"
+range = [10.0, 30.0]
+[[parameter]]
+fmu = "road_friction"
+range = [0.6, 1.0]
+normal = {{mean = 0.9, sd = 0.05}}
+"""
+
+
+def test_latin_hypercube_takes_one_point_in_each_stratum_and_is_reproducible(tmp_path):
+    study = rtv_study.load(write(tmp_path, DESIGN.format(kind="latin-hypercube")))
+    points = study.design_points()
+    assert len(points) == 400
+    speeds = sorted(p[0] for p in points)
+    # One point in each of the 400 equal strata of [10, 30].
+    assert [int((s - 10.0) / 20.0 * 400) for s in speeds] == list(range(400))
+    # The normal parameter: one point in each stratum of equal probability of the truncated normal.
+    from statistics import NormalDist
+    d = NormalDist(0.9, 0.05)
+    a, b = d.cdf(0.6), d.cdf(1.0)
+    quantiles = sorted((d.cdf(p[1]) - a) / (b - a) for p in points)
+    assert [min(int(q * 400), 399) for q in quantiles] == list(range(400))
+    assert all(0.6 <= p[1] <= 1.0 for p in points)
+    assert study.design_points() == points  # seeded: the same runs again (resume depends on it)
+
+
+def test_monte_carlo_draws_from_the_distributions(tmp_path):
+    study = rtv_study.load(write(tmp_path, DESIGN.format(kind="monte-carlo")))
+    points = study.design_points()
+    import numpy as np
+    speeds, friction = np.array([p[0] for p in points]), np.array([p[1] for p in points])
+    # Uniform on [10, 30]: mean 20, sd 20/sqrt(12) = 5.77; 400 draws put the sample mean within 4 standard
+    # errors (4 x 0.29) of it.
+    assert abs(speeds.mean() - 20.0) < 4 * 5.77 / 20
+    # The normal (0.9, 0.05) truncated to [0.6, 1.0] (its upper tail cut at 2 sd): mean 0.8973.
+    assert abs(friction.mean() - 0.8973) < 4 * 0.05 / 20
+    assert friction.max() <= 1.0 and friction.min() >= 0.6
+
+
+def test_full_factorial_crosses_every_level(tmp_path):
+    text = SMALL.replace("levels = 3", "levels = 4")
+    study = rtv_study.load(write(tmp_path, text))
+    points = study.design_points()
+    assert len(points) == 8 and len({tuple(p) for p in points}) == 8
+    assert sorted({p[0] for p in points}) == pytest.approx([9.0, 9.0 + 10 / 3, 9.0 + 20 / 3, 19.0])
