@@ -302,3 +302,42 @@ fn imex_ab3_runs_the_papers_frame_on_the_jturn_and_the_sine_within_1_percent() {
     let refused = trace(SceneKind::JTurn, &strict).expect_err("refused");
     assert!(refused.to_string().contains("IMEX-AB3's local error estimate"), "{refused}");
 }
+
+/// The step check's rule holds inside one long `advance` as between short ones (sim::MODE_CHECK_INTERVAL):
+/// coasting down from 2 m/s, the tread's low-speed damping brings a spin-tread eigenvalue of about -240 1/s,
+/// outside AB3's region at 2 ms, some seconds into the run. Advanced in 10 ms intervals the run is refused
+/// there; advanced in one 10 s interval it must be refused too (before, the check ran only at the interval's
+/// start, where every mode was stable, and the run went on unjudged), naming the time it was found.
+#[test]
+fn a_long_advance_is_checked_as_often_as_short_ones() {
+    let config = SimConfig {
+        integrator: IntegratorKind::Ab3,
+        internal_step: 0.002,
+        initial_speed: 2.0,
+        ..SimConfig::default()
+    }
+    .with_options(|o| o.speed_mode = SpeedMode::Coast);
+    let found_at = |e: &rt_vehicle::error::ModelError| -> f64 {
+        let text = e.to_string();
+        let at = text.split(" at t = ").nth(1).unwrap_or_else(|| panic!("no time in {text}"));
+        at.split(' ').next().unwrap().parse().unwrap()
+    };
+    let mut short = Simulation::new(VehicleData::default_hmmwv(), config.clone()).unwrap();
+    let mut failure = None;
+    for _ in 0..1000 {
+        if let Err(e) = short.advance(0.01) {
+            failure = Some(e);
+            break;
+        }
+    }
+    let short_failure = failure.expect("coasting to a stop at AB3 2 ms is refused");
+    assert_eq!(short_failure.cause(), rt_vehicle::error::Cause::StepSizeInstability, "{short_failure}");
+    let mut long = Simulation::new(VehicleData::default_hmmwv(), config).unwrap();
+    let long_failure = long.advance(10.0).expect_err("one 10 s interval is refused as the short ones are");
+    assert_eq!(long_failure.cause(), rt_vehicle::error::Cause::StepSizeInstability, "{long_failure}");
+    // Found within one check interval and one piece of each other.
+    let (a, b) = (found_at(&short_failure), found_at(&long_failure));
+    println!("refused at t = {a} s (10 ms intervals) and t = {b} s (one interval)");
+    assert!((a - b).abs() <= rt_vehicle::sim::MODE_CHECK_INTERVAL + rt_vehicle::sim::MODE_CHECK_CHUNK, "{a} vs {b}");
+    assert_eq!(long.time(), 0.0, "a refused interval leaves the state where it was");
+}

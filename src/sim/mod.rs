@@ -500,8 +500,13 @@ impl Events {
 }
 
 /// Simulated time between two checks of the fast modes against the step, s: an unstable mode needs many
-/// steps to grow, and six evaluations every 0.1 s cost 1.5 % of an RK4 run at 2 ms.
+/// steps to grow, and six evaluations every 0.1 s cost 1.5 % of an RK4 run at 2 ms. The rule holds inside
+/// a long `advance` too: it is integrated in pieces of `MODE_CHECK_CHUNK`, and before each the check runs if
+/// this interval has passed or a tire's load has moved by `LOAD_CHANGE_FOR_CHECK` since the last one.
 pub const MODE_CHECK_INTERVAL: f64 = 0.1;
+/// The pieces a long `advance` is integrated in, s (whole sub-steps; at least one): between two of them the
+/// check's rule is looked at, which costs nothing when no check is due.
+pub const MODE_CHECK_CHUNK: f64 = 0.025;
 
 /// IMEX-AB3's limit on its local error estimate (the second-order step's difference from the third-order
 /// one on the states outside the implicit block, relative to `stepping::error_scale`), per unit of the run's
@@ -863,11 +868,7 @@ impl Simulation {
         // The error-controlled scheme keeps its steps inside its stability region by its error estimate and
         // resolves what the road excites: the check has nothing to refuse it for, and costs 21 evaluations
         // (it still names the cause when a step fails).
-        let due = !self.config.integrator.is_error_controlled()
-            && (self.last_mode_check.is_none_or(|t| self.time - t >= MODE_CHECK_INTERVAL - 1e-12)
-                || loads_changed(&self.loads_at_mode_check, &self.cache.tire_loads));
-        let checked = if due { self.check_fast_modes(hs) } else { Ok(()) };
-        match checked.and_then(|()| self.integrate(h, n, hs)) {
+        match self.integrate_checked(h, n, hs) {
             Ok(()) => Ok(()),
             Err(e) => {
                 // A failure that is not already a step-size finding: if a fast mode is outside the scheme's
@@ -895,6 +896,45 @@ impl Simulation {
                 Err(e.context(format_args!("t = {:.6} s", self.time)))
             }
         }
+    }
+
+    /// Whether the fast modes are due for a check (`MODE_CHECK_INTERVAL`, `LOAD_CHANGE_FOR_CHECK`). The
+    /// error-controlled scheme keeps its steps inside its stability region by its error estimate and resolves
+    /// what the road excites: the check has nothing to refuse it for, and costs 21 evaluations (it still names
+    /// the cause when a step fails).
+    fn mode_check_due(&self) -> bool {
+        !self.config.integrator.is_error_controlled()
+            && (self.last_mode_check.is_none_or(|t| self.time - t >= MODE_CHECK_INTERVAL - 1e-12)
+                || loads_changed(&self.loads_at_mode_check, &self.cache.tire_loads))
+    }
+
+    /// `integrate` with the step check wherever it is due: at the start, and inside a long interval after
+    /// every `MODE_CHECK_CHUNK` of simulated time (whole sub-steps), so that one `advance` of many steps is
+    /// checked as often as many short ones are.
+    fn integrate_checked(&mut self, h: f64, n: usize, hs: f64) -> Result<(), ModelError> {
+        if self.mode_check_due() {
+            self.check_fast_modes(hs)?;
+        }
+        let chunk = if self.config.integrator.is_error_controlled() {
+            n
+        } else {
+            ((MODE_CHECK_CHUNK / hs).floor() as usize).max(1)
+        };
+        if n <= chunk {
+            return self.integrate(h, n, hs);
+        }
+        let end = self.time + h;
+        let mut done = 0;
+        while done < n {
+            let steps = chunk.min(n - done);
+            if done > 0 && self.mode_check_due() {
+                self.check_fast_modes(hs)?;
+            }
+            let length = if done + steps == n { end - self.time } else { steps as f64 * hs };
+            self.integrate(length, steps, hs)?;
+            done += steps;
+        }
+        Ok(())
     }
 
     /// Undo the last successful `advance` (for a state the step reached but the model cannot be
