@@ -9,6 +9,7 @@
 //!   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json   a Chrono::Vehicle JSON vehicle → vehicle file
 //!   rtv check-vehicle FILE.json                           validate a vehicle file and summarize it
 //!   rtv tire --tir FILE.tir --fz N --sweep alpha|kappa|combined   steady-state Magic Formula curves
+//!   rtv linearize [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]   modes and gains about a steady state
 //!
 //! Bad arguments get a clear message and exit code 2; a failed run exits with 1.
 
@@ -51,7 +52,9 @@ const USAGE: &str = "usage:
   rtv ride rms --course FILE.crg [--rough 100,404.8] [--speeds 10,20,...] [--vehicle FILE.json] [--tire FILE.tir]
   rtv road --road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]] [--step M] [--out profile.csv]
   rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
-            [--out curves.csv]";
+            [--out curves.csv]
+  rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
+            [--figure ROOT_LOCUS.png] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]";
 
 struct Failure {
     message: String,
@@ -898,6 +901,72 @@ fn cmd_ride(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The linear model about a steady state (docs/linear.md): printed, and written as Markdown with `--out`; with
+/// `--sweep-speeds`, the eigenvalues at each speed of the sweep written to `--csv` (the root locus's data).
+fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::studies::linear;
+    let opts = options(args, &["vehicle", "tire", "speed", "ay", "out", "figure", "sweep-speeds", "csv"])?;
+    let speed_in_range = |v: f64| v > 1.0 && v <= rt_vehicle::sim::INITIAL_SPEED_MAX;
+    let out_of_range = |v: f64| bad(format!("--speed {v}: must be in (1, {}] m/s", rt_vehicle::sim::INITIAL_SPEED_MAX));
+    let speed = number(&opts, "speed", 100.0 / 3.6)?;
+    if !speed_in_range(speed) {
+        return Err(out_of_range(speed));
+    }
+    let ay = number(&opts, "ay", 0.0)?;
+    let data = vehicle_data(&opts)?;
+    if let Some(sweep) = opts.get("sweep-speeds") {
+        let csv = opts.get("csv").ok_or_else(|| bad("--sweep-speeds needs --csv FILE.csv"))?;
+        let parts: Vec<f64> =
+            sweep.split(':').filter_map(|p| p.parse::<f64>().ok().filter(|x| x.is_finite())).collect();
+        let [from, to, step] = parts[..] else {
+            return Err(bad(format!("--sweep-speeds: '{sweep}' is not FROM:TO:STEP (m/s)")));
+        };
+        if !(step > 0.0 && from <= to) {
+            return Err(bad(format!("--sweep-speeds: '{sweep}' needs FROM <= TO and STEP > 0")));
+        }
+        let count = ((to - from) / step + 1e-9).floor() as usize + 1;
+        let speeds: Vec<f64> = (0..count).map(|k| from + k as f64 * step).collect();
+        if let Some(v) = speeds.iter().find(|v| !speed_in_range(**v)) {
+            return Err(out_of_range(*v));
+        }
+        let mut text = String::from(
+            "speed_m_s,ay_m_s2,mode,share,real_1_s,imag_1_s,undamped_hz,damped_hz,damping_ratio,understeer_deg_per_g\n",
+        );
+        for v in speeds {
+            let model = linear::linearize(&data, v, ay).map_err(|e| failed(format!("linearize at {v} m/s: {e}")))?;
+            let k = (model.understeer_gradient() * model.gravity).to_degrees();
+            for m in &model.modes {
+                text += &format!(
+                    "{v},{ay},{},{:.4},{:.10e},{:.10e},{:.10e},{:.10e},{:.10e},{k:.6}\n",
+                    m.name.replace(',', ";"),
+                    m.share,
+                    m.eigenvalue.re,
+                    m.eigenvalue.im,
+                    m.undamped_hz(),
+                    m.damped_hz(),
+                    m.damping_ratio()
+                );
+            }
+            eprintln!("{v} m/s: {} modes, understeer gradient {k:.4} deg/g", model.modes.len());
+        }
+        let mut out = csv_writer(Some(csv))?;
+        out.write_all(text.as_bytes()).and_then(|()| out.flush()).map_err(|e| failed(format!("write failed: {e}")))?;
+        return Ok(());
+    }
+    if opts.contains_key("csv") {
+        return Err(bad("--csv is written by --sweep-speeds"));
+    }
+    let model = linear::linearize(&data, speed, ay).map_err(|e| failed(format!("linearize: {e}")))?;
+    let command =
+        std::iter::once("rtv linearize".to_string()).chain(args.iter().cloned()).collect::<Vec<_>>().join(" ");
+    let text = linear::report(&model, &command, opts.get("figure").map(String::as_str));
+    print!("{text}");
+    if let Some(path) = opts.get("out") {
+        std::fs::write(path, &text).map_err(|e| failed(format!("cannot write {path}: {e}")))?;
+    }
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
@@ -914,6 +983,7 @@ fn main() -> ExitCode {
         Some("tire") => cmd_tire(&args[1..]),
         Some("road") => cmd_road(&args[1..]),
         Some("ride") => cmd_ride(&args[1..]),
+        Some("linearize") => cmd_linearize(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

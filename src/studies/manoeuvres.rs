@@ -340,43 +340,16 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
             Ok(Report { manoeuvre: m, cost, speed: v, amplitude: a, rows, metrics })
         }
         Manoeuvre::SteadyState => {
-            // ISO 4138:2021 constant-speed method (§6.2.3): 100 km/h, the steering increased slowly (here a
-            // 30 s smootherstep to the rack for 0.55 g); understeer gradient from the mean front road-wheel
-            // steer against lateral acceleration, δ = L/R + K a_y with R = V²/a_y: K = dδ/da_y − L/V².
             let v = speed.unwrap_or(100.0 / 3.6);
-            let a = rack_for_ay(data, ground, v, 0.55 * g, &mut cost)?;
-            let rows = simulate(
-                data,
-                ground,
-                v,
-                SpeedMode::Hold,
-                RackProfile::Step { amplitude: a, start: 0.5, ramp: 30.0 },
-                31.0,
-                &mut cost,
-            )?;
-            let (ay, fl, fr) = (series(&rows, "ay"), series(&rows, "steer_fl"), series(&rows, "steer_fr"));
-            // Least squares over the linear range, 0.5–3 m/s² (ISO 4138 reports the gradient at low a_y).
-            let points: Vec<(f64, f64)> = ay
-                .iter()
-                .zip(fl.iter().zip(&fr))
-                .filter(|(a, _)| (0.5..=3.0).contains(*a))
-                .map(|(a, (l, r))| (*a, 0.5 * (l + r)))
-                .collect();
-            let n = points.len() as f64;
-            let (sx, sy) = points.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0, s.1 + p.1));
-            let (sxx, sxy) = points.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 * p.0, s.1 + p.0 * p.1));
-            let slope = (n * sxy - sx * sy) / (n * sxx - sx * sx); // rad per m/s²
-            let wheelbase = data.front.hardpoints_chassis_frame_m["SPINDLE"][0]
-                - data.rear.hardpoints_chassis_frame_m["SPINDLE"][0];
-            let gradient = (slope - wheelbase / (v * v)) * g;
-            let max_ay = ay.iter().cloned().fold(0.0, f64::max);
+            let run = steady_state_circle(data, ground, v, STEADY_STATE_RAMP, &mut cost)?;
+            let wheelbase = wheelbase(data);
             let metrics = vec![
-                metric("understeer gradient (front road-wheel steer)", gradient.to_degrees(), "deg/g"),
+                metric("understeer gradient (front road-wheel steer)", run.gradient.to_degrees(), "deg/g"),
                 metric("Ackermann gradient L g / V²", (wheelbase * g / (v * v)).to_degrees(), "deg/g"),
-                metric("largest lateral acceleration reached", max_ay / g, "g"),
-                metric("points in the fit (0.5–3 m/s²)", n, ""),
+                metric("largest lateral acceleration reached", run.max_ay / g, "g"),
+                metric("points in the fit (0.5–3 m/s²)", run.points as f64, ""),
             ];
-            Ok(Report { manoeuvre: m, cost, speed: v, amplitude: a, rows, metrics })
+            Ok(Report { manoeuvre: m, cost, speed: v, amplitude: run.amplitude, rows: run.rows, metrics })
         }
         Manoeuvre::Fishhook => {
             // NHTSA fishhook (fixed timing, 49 CFR 575.106 test procedure): 80 km/h coasting, steer to
@@ -412,6 +385,64 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
         }
         Manoeuvre::DoubleLaneChange => double_lane_change(data, ground, speed.unwrap_or(80.0 / 3.6)),
     }
+}
+
+/// The wheelbase as ISO 4138's L: spindle to spindle, front to rear, in the design position, m.
+pub fn wheelbase(data: &VehicleData) -> f64 {
+    data.front.hardpoints_chassis_frame_m["SPINDLE"][0] - data.rear.hardpoints_chassis_frame_m["SPINDLE"][0]
+}
+
+/// The steady-state manoeuvre's steering ramp, s (`steady_state_circle`).
+pub const STEADY_STATE_RAMP: f64 = 30.0;
+
+/// A run of the ISO 4138 constant-speed method and its understeer gradient.
+pub struct CircleRun {
+    pub rows: Vec<Outputs>,
+    pub amplitude: f64,
+    /// The understeer gradient K, rad per g.
+    pub gradient: f64,
+    pub max_ay: f64,
+    pub points: usize,
+}
+
+/// ISO 4138:2021 constant-speed method (§6.2.3) at `v`, the steering increased slowly: a smootherstep of
+/// `ramp` s to the rack for 0.55 g (the manoeuvre's is `STEADY_STATE_RAMP`); understeer gradient from the mean
+/// front road-wheel steer against lateral acceleration, δ = L/R + K a_y with R = V²/a_y: K = dδ/da_y − L/V².
+/// The a_y lags the steer (the yaw, roll and tread responses), more where the ramp is steeper, so the
+/// gradient comes out larger the shorter the ramp, by about 1/ramp (tests/linearize.rs measures it).
+pub fn steady_state_circle(
+    data: &VehicleData,
+    ground: &Ground,
+    v: f64,
+    ramp: f64,
+    cost: &mut Cost,
+) -> Result<CircleRun, ModelError> {
+    let g = data.gravity_m_s2;
+    let a = rack_for_ay(data, ground, v, 0.55 * g, cost)?;
+    let rows = simulate(
+        data,
+        ground,
+        v,
+        SpeedMode::Hold,
+        RackProfile::Step { amplitude: a, start: 0.5, ramp },
+        ramp + 1.0,
+        cost,
+    )?;
+    let (ay, fl, fr) = (series(&rows, "ay"), series(&rows, "steer_fl"), series(&rows, "steer_fr"));
+    // Least squares over the linear range, 0.5–3 m/s² (ISO 4138 reports the gradient at low a_y).
+    let points: Vec<(f64, f64)> = ay
+        .iter()
+        .zip(fl.iter().zip(&fr))
+        .filter(|(a, _)| (0.5..=3.0).contains(*a))
+        .map(|(a, (l, r))| (*a, 0.5 * (l + r)))
+        .collect();
+    let n = points.len() as f64;
+    let (sx, sy) = points.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0, s.1 + p.1));
+    let (sxx, sxy) = points.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 * p.0, s.1 + p.0 * p.1));
+    let slope = (n * sxy - sx * sy) / (n * sxx - sx * sx); // rad per m/s²
+    let gradient = (slope - wheelbase(data) / (v * v)) * g;
+    let max_ay = ay.iter().cloned().fold(0.0, f64::max);
+    Ok(CircleRun { rows, amplitude: a, gradient, max_ay, points: points.len() })
 }
 
 /// The pure-pursuit driver of the double lane change, with this vehicle's geometry and steering gain (the

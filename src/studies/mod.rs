@@ -2,6 +2,8 @@
 //! and stay out of the engine (nothing in `model/`, `dynamics/` or `sim/` imports them).
 //!
 //! - `kc.rs`: the kinematics-and-compliance report (`rtv kc`, docs/kc/).
+//! - `linear.rs`: the vehicle linearized about a steady state: modes, understeer gradient, yaw-rate gain
+//!   (`rtv linearize`, docs/linear.md).
 //! - `manoeuvres.rs`: the standard open- and closed-loop manoeuvres and their metrics (`rtv manoeuvre`,
 //!   docs/manoeuvres.md); the closed loop drives with the `rtv-driver` crate.
 //! - `stability.rs`: the stability suite (`rtv stability`, docs/stability.md).
@@ -13,6 +15,7 @@
 //! it (packaging: `--no-default-features`), so it carries neither the studies nor the driver crate.
 
 pub mod kc;
+pub mod linear;
 pub mod manoeuvres;
 pub mod ride;
 pub mod ride_filters;
