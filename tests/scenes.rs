@@ -310,13 +310,9 @@ fn imex_ab3_runs_the_papers_frame_on_the_jturn_and_the_sine_within_1_percent() {
 /// start, where every mode was stable, and the run went on unjudged), naming the time it was found.
 #[test]
 fn a_long_advance_is_checked_as_often_as_short_ones() {
-    let config = SimConfig {
-        integrator: IntegratorKind::Ab3,
-        internal_step: 0.002,
-        initial_speed: 2.0,
-        ..SimConfig::default()
-    }
-    .with_options(|o| o.speed_mode = SpeedMode::Coast);
+    let config =
+        SimConfig { integrator: IntegratorKind::Ab3, internal_step: 0.002, initial_speed: 2.0, ..SimConfig::default() }
+            .with_options(|o| o.speed_mode = SpeedMode::Coast);
     let found_at = |e: &rt_vehicle::error::ModelError| -> f64 {
         let text = e.to_string();
         let at = text.split(" at t = ").nth(1).unwrap_or_else(|| panic!("no time in {text}"));
@@ -340,4 +336,31 @@ fn a_long_advance_is_checked_as_often_as_short_ones() {
     println!("refused at t = {a} s (10 ms intervals) and t = {b} s (one interval)");
     assert!((a - b).abs() <= rt_vehicle::sim::MODE_CHECK_INTERVAL + rt_vehicle::sim::MODE_CHECK_CHUNK, "{a} vs {b}");
     assert_eq!(long.time(), 0.0, "a refused interval leaves the state where it was");
+}
+
+/// With refusals off (`Simulation::set_step_refusals`, for measuring the true stability limit apart from the
+/// check), a step the check refuses runs, and goes unstable: the check's refusal was not a false alarm, and
+/// the switch does what it says. AB3 at 8.3 ms on the J-turn (refused with the check, above) leaves twice the
+/// peak yaw rate of the default run (the work-precision report's stability criterion), or fails.
+#[test]
+fn with_refusals_off_an_unstable_step_runs_and_goes_unstable() {
+    let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
+    let yaw = Outputs::index("yaw_rate").unwrap();
+    let peak = |config: &SimConfig, refusals: bool| -> Result<f64, rt_vehicle::error::ModelError> {
+        let mut sim = scene.start(VehicleData::default_hmmwv(), config)?;
+        sim.set_step_refusals(refusals);
+        let mut peak = 0.0f64;
+        for _ in 0..(8.0 / 0.0083) as usize {
+            sim.advance(0.0083)?;
+            peak = peak.max(sim.output(yaw)?.abs());
+        }
+        Ok(peak)
+    };
+    let reference = peak(&SimConfig::default(), true).unwrap();
+    let config = SimConfig { integrator: IntegratorKind::Ab3, internal_step: 0.0083, ..SimConfig::default() };
+    assert!(peak(&config, true).is_err(), "refused with the check");
+    match peak(&config, false) {
+        Ok(p) => assert!(p > 2.0 * reference, "AB3 at 8.3 ms without refusals: peak yaw rate {p} vs {reference}"),
+        Err(e) => assert_ne!(e.cause(), rt_vehicle::error::Cause::StepSizeInstability, "refused though refusals are off: {e}"),
+    }
 }

@@ -671,6 +671,10 @@ pub struct Simulation {
     /// Whether output evaluations are kept for that (`set_stage_reuse`).
     #[serde(skip)]
     stage_reuse_off: bool,
+    /// Whether the step check only measures, never refuses (`set_step_refusals`: to measure the largest
+    /// truly stable step and the check's own limit apart; never from the CLI or the FMU).
+    #[serde(skip)]
+    step_refusals_off: bool,
 }
 
 impl Simulation {
@@ -710,6 +714,7 @@ impl Simulation {
             front_wheel_x0,
             first_stage: None,
             stage_reuse_off: false,
+            step_refusals_off: false,
         };
         sim.evaluate_outputs()?;
         Ok(sim)
@@ -898,6 +903,21 @@ impl Simulation {
         }
     }
 
+    /// With `false`, the step check still runs on its rule (IMEX-AB3 takes its Jacobian from it) but refuses
+    /// no step: an unstable step then diverges (a state bound, a non-finite number) or runs on. Only for
+    /// measuring the largest stable step apart from the check's limit (`studies::work_precision`).
+    pub fn set_step_refusals(&mut self, on: bool) {
+        self.step_refusals_off = !on;
+    }
+
+    /// `check_fast_modes`, whose refusal is dropped when refusals are off (`set_step_refusals`).
+    fn scheduled_mode_check(&mut self, hs: f64) -> Result<(), ModelError> {
+        match self.check_fast_modes(hs) {
+            Err(e) if self.step_refusals_off && e.cause() == Cause::StepSizeInstability => Ok(()),
+            other => other,
+        }
+    }
+
     /// Whether the fast modes are due for a check (`MODE_CHECK_INTERVAL`, `LOAD_CHANGE_FOR_CHECK`). The
     /// error-controlled scheme keeps its steps inside its stability region by its error estimate and resolves
     /// what the road excites: the check has nothing to refuse it for, and costs 21 evaluations (it still names
@@ -913,7 +933,7 @@ impl Simulation {
     /// checked as often as many short ones are.
     fn integrate_checked(&mut self, h: f64, n: usize, hs: f64) -> Result<(), ModelError> {
         if self.mode_check_due() {
-            self.check_fast_modes(hs)?;
+            self.scheduled_mode_check(hs)?;
         }
         let chunk = if self.config.integrator.is_error_controlled() {
             n
@@ -928,7 +948,7 @@ impl Simulation {
         while done < n {
             let steps = chunk.min(n - done);
             if done > 0 && self.mode_check_due() {
-                self.check_fast_modes(hs)?;
+                self.scheduled_mode_check(hs)?;
             }
             let length = if done + steps == n { end - self.time } else { steps as f64 * hs };
             self.integrate(length, steps, hs)?;

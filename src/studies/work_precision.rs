@@ -378,14 +378,24 @@ pub fn measure(case: &Case, reference: &Reference, setting: Setting) -> Result<P
     })
 }
 
-/// The largest stable fixed step of `kind` on a case: bisection (to 1 %) between the largest stable and
-/// the smallest unstable step of the ladder. Stability: the run finishes and stays within
-/// `STABLE_WITHIN_PEAKS` of the reference's peaks at every step (outputs read at every step).
-pub fn largest_stable_step(case: &Case, reference: &Reference, kind: IntegratorKind, ladder: &[Point]) -> Option<f64> {
+/// The largest fixed step of `kind` a case runs through: bisection (to 1 %) between the largest good and
+/// the smallest failing step of the ladder. With `refusals` off the step check refuses nothing
+/// (`Simulation::set_step_refusals`): the step is then the largest truly stable one (the run finishes and
+/// stays within `STABLE_WITHIN_PEAKS` of the reference's peaks at every step, outputs read at every step),
+/// found apart from the check it judges; with them on, the check's own limit (the largest step it lets run
+/// through). A check's limit above the true one would be a blind spot of the check.
+pub fn largest_stable_step(
+    case: &Case,
+    reference: &Reference,
+    kind: IntegratorKind,
+    ladder: &[Point],
+    refusals: bool,
+) -> Option<f64> {
     let stable_at = |h: f64| -> bool {
         let Ok(mut sim) = case.scene.start(case.vehicle.clone(), &step_config(case, kind, h)) else {
             return false;
         };
+        sim.set_step_refusals(refusals);
         let columns: Vec<usize> = case.channels.iter().filter_map(|c| Outputs::index(c.name)).collect();
         let n = (case.scene.duration / h).ceil() as usize;
         for _ in 0..n {
@@ -413,8 +423,15 @@ pub fn largest_stable_step(case: &Case, reference: &Reference, kind: IntegratorK
     if lo == 0.0 {
         return None;
     }
+    if !refusals {
+        // The ladder's failures were refusals of the check: the true limit may lie beyond them.
+        while hi.is_finite() && stable_at(hi) {
+            lo = hi;
+            hi = if 2.0 * hi <= LARGEST_STEP { 2.0 * hi } else { f64::INFINITY };
+        }
+    }
     if !hi.is_finite() {
-        return Some(lo); // stable over the whole ladder: at least its largest step
+        return Some(lo); // stable over the whole ladder (or up to the largest step): at least that
     }
     while hi / lo > 1.01 {
         let mid = (lo * hi).sqrt();
@@ -426,6 +443,17 @@ pub fn largest_stable_step(case: &Case, reference: &Reference, kind: IntegratorK
     }
     Some(lo)
 }
+
+/// The largest fixed step a case runs through (`largest_stable_step`): with the step check refusing nothing
+/// (true divergence) and with it on (the check's limit). `None`: no step of the ladder.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StableSteps {
+    pub divergence: Option<f64>,
+    pub check: Option<f64>,
+}
+
+/// The largest step the true-stability search goes up to, s (the FMU's `internal_step` maximum).
+const LARGEST_STEP: f64 = 0.1;
 
 /// Observed orders between consecutive stable points of a fixed-step ladder whose errors are both above
 /// `floor` (10× the reference's own check): (h1, h2, order).
@@ -459,8 +487,8 @@ pub struct CaseResult {
     pub case: Case,
     pub reference: Reference,
     pub points: Vec<Point>,
-    /// Largest stable step of RK4 and AB3.
-    pub stable: Vec<(IntegratorKind, Option<f64>)>,
+    /// Largest stable step of each fixed-step scheme: truly, and as the step check lets it run.
+    pub stable: Vec<(IntegratorKind, StableSteps)>,
 }
 
 /// The fixed-step schemes of the study.
@@ -538,9 +566,12 @@ pub fn measure_case(case: Case, progress: &mut dyn FnMut(&str)) -> Result<CaseRe
     let mut result = CaseResult { case, reference, points, stable: Vec::new() };
     for kind in FIXED {
         let ladder: Vec<Point> = result.fixed(kind).into_iter().cloned().collect();
-        let h = largest_stable_step(&result.case, &result.reference, kind, &ladder);
-        progress(&format!("{}: largest stable step of {kind:?}: {h:?}", result.case.name));
-        result.stable.push((kind, h));
+        let steps = StableSteps {
+            divergence: largest_stable_step(&result.case, &result.reference, kind, &ladder, false),
+            check: largest_stable_step(&result.case, &result.reference, kind, &ladder, true),
+        };
+        progress(&format!("{}: largest stable step of {kind:?}: {steps:?}", result.case.name));
+        result.stable.push((kind, steps));
     }
     Ok(result)
 }
@@ -559,7 +590,7 @@ fn cheapest_cell(points: &[&Point], target: f64) -> String {
 /// Per case, the largest RK4 step of the ladder within 1e-3 of peak and at most half the case's largest
 /// stable step (`None`: no step of the ladder is).
 pub fn rk4_step_for_1e3(result: &CaseResult) -> Option<f64> {
-    let limit = result.stable.iter().find(|(k, _)| *k == IntegratorKind::Rk4).and_then(|(_, h)| *h)?;
+    let limit = result.stable.iter().find(|(k, _)| *k == IntegratorKind::Rk4).and_then(|(_, h)| h.check)?;
     result
         .fixed(IntegratorKind::Rk4)
         .iter()
@@ -614,7 +645,10 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
     w(format!(
         "- **Stability**: a run is stable when it finishes and every compared channel stays within {} × the \
          reference's peak. The largest stable step is bisected to 1 % between the ladder's largest stable and \
-         smallest unstable steps (outputs checked at every step).",
+         smallest unstable steps (outputs checked at every step), with the step check refusing nothing (true \
+         divergence; IMEX-AB3's accuracy monitor still refuses); beside it, \"check\", the largest step the step \
+         check lets run through, bisected the same way with the check on. A check limit above the true one \
+         would be an instability the check misses.",
         STABLE_WITHIN_PEAKS
     ));
     w("- **Tolerance**: the DOPRI5 ladder's achieved error divided by the requested tolerance, largest and smallest \
@@ -638,11 +672,11 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
     for r in results {
         let all: Vec<&Point> = r.points.iter().collect();
         let stable = |k| {
-            r.stable
-                .iter()
-                .find(|(kk, _)| *kk == k)
-                .and_then(|(_, h)| *h)
-                .map_or("–".into(), |h| format!("{:.1} ms", h * 1e3))
+            let ms = |h: Option<f64>| h.map_or("–".to_string(), |h| format!("{:.1} ms", h * 1e3));
+            match r.stable.iter().find(|(kk, _)| *kk == k) {
+                Some((_, s)) => format!("{} (check {})", ms(s.divergence), ms(s.check)),
+                None => "–".into(),
+            }
         };
         let order = |k| r.fitted_order(k).map_or("–".into(), |o| format!("{o:.2}"));
         let (worst, best) = r.tolerance_ratios();
@@ -664,9 +698,9 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
     }
     w(String::new());
     w("**Default internal step** (RK4): per case, the largest step of the ladder that keeps the case within \
-       1e-3 of peak and is at most half the case's largest stable step:\n"
+       1e-3 of peak and is at most half the largest step the step check lets run through:\n"
         .into());
-    w("| case | RK4 step within 1e-3, ≤ ½ stable | its error | largest stable step |".into());
+    w("| case | RK4 step within 1e-3, ≤ ½ the check's limit | its error | the check's limit |".into());
     w("|---|---|---|---|".into());
     for r in results {
         let h = rk4_step_for_1e3(r);
@@ -676,7 +710,7 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64) -> String {
                 .find(|p| matches!(p.setting, Setting::Fixed { step, .. } if step == h))
                 .and_then(|p| p.error)
         });
-        let limit = r.stable.iter().find(|(k, _)| *k == IntegratorKind::Rk4).and_then(|(_, h)| *h);
+        let limit = r.stable.iter().find(|(k, _)| *k == IntegratorKind::Rk4).and_then(|(_, h)| h.check);
         w(format!(
             "| {} | {} | {} | {} |",
             r.case.name,
