@@ -1,0 +1,123 @@
+//! `rtv linearize` (docs/linear.md): the linear model's understeer gradient against ISO 4138's constant-speed
+//! manoeuvre, and the command line's results and refusals.
+
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::studies::linear;
+use rt_vehicle::studies::manoeuvres::{run, steady_state_circle, Cost, Ground, Manoeuvre};
+use std::process::Command;
+
+fn rtv(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+/// The linear model at 100 km/h and a_y = 2 m/s² against ISO 4138's constant-speed method (the manoeuvre's
+/// computation: mean front road-wheel steer fitted against a_y over 0.5–3 m/s², K = dδ/da_y − L/V²).
+///
+/// The manoeuvre ramps the steering in over 30 s, and a_y lags the steer (yaw, roll, tread), the more the
+/// steeper the ramp: its gradient comes out about 1/ramp too large. Measured: 0.553 deg/g at 30 s, 0.476 at
+/// 120 s, against the linear model's 0.443 (20 % below the 30-s figure). So the 5 % is asserted against
+/// the method's quasi-static limit, the same computation on ramps of 60 and 120 s extrapolated to an
+/// infinitely slow one (K(T) = K∞ + c/T), and the 1/T law is checked to account for the 30-s figure. The
+/// linear model's K is the slope at 2 m/s², the fit's a chord over 0.5–3 m/s²: they differ by the curvature
+/// of δ(a_y) over that range (the linear model's own K runs from 0.46 to 0.54 deg/g across it), which is
+/// what the 5 % allows for.
+#[test]
+fn the_understeer_gradient_agrees_with_iso_4138_within_5_percent() {
+    let data = VehicleData::default_hmmwv();
+    let speed = 100.0 / 3.6;
+    let linear = linear::linearize(&data, speed, 2.0).unwrap();
+    let k_linear = (linear.understeer_gradient() * data.gravity_m_s2).to_degrees();
+    let manoeuvre = run(Manoeuvre::SteadyState, &data, None).unwrap();
+    let k_30 = manoeuvre.metrics.iter().find(|m| m.name.starts_with("understeer gradient")).unwrap().value;
+    let at_ramp = |ramp: f64| {
+        steady_state_circle(&data, &Ground::default(), speed, ramp, &mut Cost::default()).unwrap().gradient.to_degrees()
+    };
+    let (k_60, k_120) = (at_ramp(60.0), at_ramp(120.0));
+    let k_slow = 2.0 * k_120 - k_60;
+    println!(
+        "understeer gradient: linear model at 2 m/s² {k_linear:.4} deg/g; ISO 4138 manoeuvre, ramp 30 s {k_30:.4}, \
+         60 s {k_60:.4}, 120 s {k_120:.4}, extrapolated to a quasi-static ramp {k_slow:.4}; linear vs 30 s {:+.1} %, \
+         vs quasi-static {:+.1} %",
+        (k_linear / k_30 - 1.0) * 100.0,
+        (k_linear / k_slow - 1.0) * 100.0
+    );
+    assert!(((k_linear - k_slow) / k_slow).abs() < 0.05, "{k_linear} vs {k_slow}");
+    // The 30-s manoeuvre's excess is the ramp's lag: K∞ + c/30 with c from 60 and 120 s, within a fifth of
+    // the excess (the lag is 1/T only to first order; the 30-s ramp is steep enough to show the next).
+    let predicted_30 = k_slow + 4.0 * (k_120 - k_slow);
+    assert!((k_30 - predicted_30).abs() < 0.2 * (k_30 - k_slow), "{k_30} vs {predicted_30}");
+}
+
+#[test]
+fn rtv_linearize_writes_its_report_and_a_speed_sweep() {
+    let dir = std::env::temp_dir().join(format!("rtv-linearize-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("linear.md");
+    let (code, stdout, err) = rtv(&["linearize", "--speed", "20", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let md = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(md, stdout, "the report printed is the report written");
+    for needle in [
+        "Written by `rtv linearize --speed 20 --out",
+        "full layout (34 states",
+        "Rigid body: three zero eigenvalues",
+        "| bounce |",
+        "| roll |",
+        "| pitch |",
+        "| yaw/sideslip |",
+        "wheel hop fl",
+        "understeer gradient K",
+        "## How to read this",
+    ] {
+        assert!(md.contains(needle), "no {needle} in\n{md}");
+    }
+    let csv = dir.join("sweep.csv");
+    let (code, _, err) = rtv(&["linearize", "--sweep-speeds", "10:14:2", "--csv", csv.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("speed_m_s,ay_m_s2,mode,share,real_1_s,imag_1_s,undamped_hz,damped_hz,damping_ratio,understeer_deg_per_g")
+    );
+    let speeds: Vec<f64> = lines.map(|l| l.split(',').next().unwrap().parse().unwrap()).collect();
+    // 30 eigenvalues per speed: one row per real one and per complex pair.
+    for v in [10.0, 12.0, 14.0] {
+        assert!(speeds.iter().filter(|s| **s == v).count() >= 15, "{v}: {text}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn rtv_linearize_refuses_bad_input() {
+    // Arguments it cannot take: exit code 2 and the usage.
+    for (args, needle) in [
+        (vec!["linearize", "--sped", "20"], "unknown option --sped"),
+        (vec!["linearize", "--speed", "NaN"], "--speed: 'NaN' is not a number"),
+        (vec!["linearize", "--speed", "inf"], "--speed: 'inf' is not a number"),
+        (vec!["linearize", "--speed", "0.5"], "--speed 0.5: must be in (1, "),
+        (vec!["linearize", "--speed", "1000"], "--speed 1000: must be in (1, "),
+        (vec!["linearize", "--ay", "-inf"], "--ay: '-inf' is not a number"),
+        (vec!["linearize", "--sweep-speeds", "10:5:2", "--csv", "x.csv"], "FROM <= TO"),
+        (vec!["linearize", "--sweep-speeds", "10:40", "--csv", "x.csv"], "is not FROM:TO:STEP"),
+        (vec!["linearize", "--sweep-speeds", "0:40:2", "--csv", "x.csv"], "--speed 0: must be in"),
+        (vec!["linearize", "--sweep-speeds", "10:40:2"], "--sweep-speeds needs --csv"),
+    ] {
+        let (code, _, err) = rtv(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle) && err.contains("usage:"), "{args:?}: {err}");
+    }
+    // A lateral acceleration the vehicle cannot hold at 100 km/h (the HMMWV's tires saturate near 7 m/s²):
+    // a failed run, exit code 1, naming the turn and why.
+    for (ay, why) in [("9", "the tires cannot hold more"), ("30", "beyond the steering limit")] {
+        let (code, _, err) = rtv(&["linearize", "--ay", ay]);
+        assert_eq!(code, 1, "{err}");
+        assert!(err.contains(&format!("the steady turn at a_y = {ay} m/s² is not reached at 27.778 m/s")), "{err}");
+        assert!(err.contains(why), "{ay}: {err}");
+    }
+}
