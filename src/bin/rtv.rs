@@ -54,7 +54,7 @@ const USAGE: &str = "usage:
   rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]
   rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
-            [--figure ROOT_LOCUS.png] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]";
+            [--figure ROOT_LOCUS.png] [--iso4138 on|off] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]";
 
 struct Failure {
     message: String,
@@ -905,7 +905,7 @@ fn cmd_ride(args: &[String]) -> Result<(), Failure> {
 /// `--sweep-speeds`, the eigenvalues at each speed of the sweep written to `--csv` (the root locus's data).
 fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::linear;
-    let opts = options(args, &["vehicle", "tire", "speed", "ay", "out", "figure", "sweep-speeds", "csv"])?;
+    let opts = options(args, &["vehicle", "tire", "speed", "ay", "out", "figure", "iso4138", "sweep-speeds", "csv"])?;
     let speed_in_range = |v: f64| v > 1.0 && v <= rt_vehicle::sim::INITIAL_SPEED_MAX;
     let out_of_range = |v: f64| bad(format!("--speed {v}: must be in (1, {}] m/s", rt_vehicle::sim::INITIAL_SPEED_MAX));
     let speed = number(&opts, "speed", 100.0 / 3.6)?;
@@ -913,6 +913,11 @@ fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
         return Err(out_of_range(speed));
     }
     let ay = number(&opts, "ay", 0.0)?;
+    let with_iso4138 = match opts.get("iso4138").map(String::as_str) {
+        None | Some("off") => false,
+        Some("on") => true,
+        Some(other) => return Err(bad(format!("--iso4138: '{other}' is not on or off"))),
+    };
     let data = vehicle_data(&opts)?;
     if let Some(sweep) = opts.get("sweep-speeds") {
         let csv = opts.get("csv").ok_or_else(|| bad("--sweep-speeds needs --csv FILE.csv"))?;
@@ -959,7 +964,12 @@ fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
     let model = linear::linearize(&data, speed, ay).map_err(|e| failed(format!("linearize: {e}")))?;
     let command =
         std::iter::once("rtv linearize".to_string()).chain(args.iter().cloned()).collect::<Vec<_>>().join(" ");
-    let text = linear::report(&model, &command, opts.get("figure").map(String::as_str));
+    // The understeer gradient against ISO 4138's manoeuvre on three ramps (about 3 s of runs).
+    let check = match with_iso4138 {
+        true => Some(linear::iso4138_check(&data, speed).map_err(|e| failed(format!("ISO 4138 check: {e}")))?),
+        false => None,
+    };
+    let text = linear::report(&model, &command, opts.get("figure").map(String::as_str), check.as_ref());
     print!("{text}");
     if let Some(path) = opts.get("out") {
         std::fs::write(path, &text).map_err(|e| failed(format!("cannot write {path}: {e}")))?;
