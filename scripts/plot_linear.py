@@ -17,10 +17,11 @@ import matplotlib.pyplot as plt
 
 rows = list(csv.DictReader(open(sys.argv[1])))
 speeds = sorted({float(r["speed_m_s"]) for r in rows})
-# "wheel hop fl+fr; in phase" -> "wheel hop": the corners and their phase vary with speed, the kind does not.
-kind = lambda name: re.split(r" (?:fl|fr|rl|rr)\b|;", name)[0]
+# "wheel hop fl+fr; in phase" -> "wheel hop": the corners and their phase vary with speed, the kind does not;
+# a mode two kinds share ("wheel spin + tread") is marked by the first.
+kind = lambda name: re.split(r" (?:fl|fr|rl|rr)\b|;| \+ ", name)[0]
 kinds = sorted({kind(r["mode"]) for r in rows})
-markers = dict(zip(kinds, "osD^v<>ph*"))
+markers = dict(zip(kinds, "osD^v<>ph*xX+1234"))
 cmap = plt.get_cmap("viridis")
 colour = lambda v: cmap((v - speeds[0]) / max(speeds[-1] - speeds[0], 1e-9))
 

@@ -355,8 +355,8 @@ pub struct Mode {
     /// bounce, pitch, roll, yaw/sideslip, longitudinal/speed hold; wheel hop, wheel spin, tread with the
     /// corners that share it ("wheel hop fl+fr, in phase").
     pub name: String,
-    /// The share of the eigenvector's (nominal-magnitude) energy in the named group, and the next largest
-    /// group with its share.
+    /// The share of the eigenvector's (nominal-magnitude) energy in the named kind (or two kinds), and the
+    /// next largest kind with its share.
     pub share: f64,
     pub next: Option<(String, f64)>,
 }
@@ -442,6 +442,9 @@ impl ModeMeasure {
     }
 }
 
+/// A second kind with at least this fraction of the first's share names the mode with it.
+const COUPLED_SHARE: f64 = 0.8;
+
 /// The modes of the block `a` over coordinates `which`, fastest last, each named by `measure`.
 pub fn modes(a: &DMatrix<f64>, which: &[usize], measure: &ModeMeasure) -> Result<Vec<Mode>, ModelError> {
     // The QR iteration bounded (a matrix whose entries span 1e-3 to 1e5 1/s converges in a few dozen sweeps).
@@ -474,8 +477,9 @@ pub fn modes(a: &DMatrix<f64>, which: &[usize], measure: &ModeMeasure) -> Result
                 None => kinds.push((g.0.kind(), g.1)),
             }
         }
+        let in_table_order: Vec<&str> = kinds.iter().map(|k| k.0).collect();
         kinds.sort_by(|p, q| q.1.total_cmp(&p.1));
-        let (kind, share) = kinds[0];
+        let (kind, mut share) = kinds[0];
         let mut name = kind.to_string();
         // The corners that carry at least a quarter of the kind's share, with their phase if two.
         let corners: Vec<&(Group, f64, Complex<f64>)> =
@@ -487,7 +491,16 @@ pub fn modes(a: &DMatrix<f64>, which: &[usize], measure: &ModeMeasure) -> Result
                 name += if (second.2 / first.2).re >= 0.0 { ", in phase" } else { ", opposed" };
             }
         }
-        let next = kinds.get(1).filter(|k| k.1 > 0.0).map(|k| (k.0.to_string(), k.1));
+        let mut next = kinds.get(1).filter(|k| k.1 > 0.0).map(|k| (k.0.to_string(), k.1));
+        // A mode two kinds share about equally (wheel spin with the tread's longitudinal lag) is named by
+        // both: which one is a hair larger says nothing.
+        if let Some((second, second_share)) = next.clone().filter(|k| k.1 >= COUPLED_SHARE * share) {
+            let order = |k: &str| in_table_order.iter().position(|o| *o == k);
+            let pair = if order(kind) <= order(&second) { [kind, &second] } else { [&second, kind] };
+            name = name.replacen(kind, &pair.join(" + "), 1);
+            next = kinds.get(2).filter(|k| k.1 > 0.0).map(|k| (k.0.to_string(), k.1));
+            share += second_share;
+        }
         out.push(Mode { eigenvalue: *lambda, name, share, next });
     }
     out.sort_by(|p, q| p.eigenvalue.norm().total_cmp(&q.eigenvalue.norm()));
@@ -926,14 +939,17 @@ pub fn report(m: &LinearModel, command: &str, figure: Option<&str>, iso4138: Opt
         } else {
             format!("{:.4} ± {:.4}i", mode.eigenvalue.re, mode.eigenvalue.im)
         };
+        // A real mode has a time constant, not a frequency or a damping ratio.
+        let oscillating =
+            |value: f64| if mode.eigenvalue.im == 0.0 { "—".to_string() } else { format!("{value:.3}") };
         let _ = writeln!(
             s,
-            "| {} | {:.0} % | {next} | {lambda} | {:.3} | {:.3} | {:.3} | {} |",
+            "| {} | {:.0} % | {next} | {lambda} | {} | {} | {} | {} |",
             mode.name,
             mode.share * 100.0,
-            mode.undamped_hz(),
-            mode.damped_hz(),
-            mode.damping_ratio(),
+            oscillating(mode.undamped_hz()),
+            oscillating(mode.damped_hz()),
+            oscillating(mode.damping_ratio()),
             time_constant(mode)
         );
     }
@@ -992,13 +1008,17 @@ const HOW_TO_READ: &str = "
   not modes: the car stays where it is put and heads where it is turned.
 - **Modes.** Each eigenvalue λ of the other 30 coordinates is a mode: complex pairs oscillate at the damped
   frequency Im λ / 2π, decaying at the damping ratio ζ = −Re λ / |λ| (the undamped frequency is |λ| / 2π);
-  real ones decay with time constant τ = −1/λ. Re λ > 0 (ζ < 0) grows. The name is the group of coordinates
-  that holds the largest share of the mode's eigenvector, each coordinate measured in its nominal magnitude
-  (listed with the matrices: 2 cm, 0.02 rad, 0.2 m/s, 0.2 rad/s for the body; 0.05 rad and 0.5 rad/s for an
-  arm; 1 % slip): bounce (z, w), pitch (θ, q), roll (φ, p), yaw/sideslip (v, r), longitudinal/speed hold (u,
-  speed-hold integral), and per corner wheel hop (arm angle and rate), wheel spin, tread (the relaxation-length
-  slip states). Corners that share a mode are named together with their phase (in phase, opposed). `next` is
-  the group with the next largest share: a low share means a coupled mode.
+  real ones decay with time constant τ = −1/λ. Re λ > 0 (ζ < 0) grows.
+- **Names.** A mode is named by what its eigenvector moves most, each motion measured against a small nominal
+  one (2 cm, 0.2 m/s): bounce (chassis z, w), pitch and roll (θ, q and φ, p, as motion at the axles and at the
+  wheels), yaw/sideslip (v, and r at the axles), longitudinal/speed hold (u, the speed-hold integral), and per
+  corner wheel hop (the wheel centre's own height and its rate: the arm angle moves in every body mode too),
+  wheel spin (relative to rolling, R Ω − u) and tread (the relaxation lag of the slip states behind the
+  kinematic slip, −λ ξ σ / V, measured against the slip 0.2 m/s makes at this speed). Corners that share a
+  mode are named together with their phase (in phase, opposed); two kinds within a fifth of each other's
+  share name it together (wheel spin + tread: the tire's longitudinal spring against the wheel's inertia).
+  `share` is the named kind's part of the motion, `next` the next kind's: a low share means a coupled mode
+  (at low speed the yaw/sideslip mode meets the front tread lag, V/σ).
 - **Gains.** Holding the steering input at s, the linear model settles where A z = −B s with the speed hold
   acting; the gains are the outputs there per unit s. The understeer gradient is ISO 4138's, from the mean
   front road-wheel steer δ: δ = L/R + K a_y, R = V²/a_y, so K = dδ/da_y − L/V² (positive: understeer). It is
