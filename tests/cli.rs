@@ -1,15 +1,7 @@
 //! The `rtv` command line: results on good arguments, clear messages and exit codes on bad ones.
 
-use std::process::Command;
-
-fn rtv(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
+mod common;
+use common::rtv;
 
 #[test]
 fn scene_writes_the_documented_columns() {

@@ -1,19 +1,11 @@
 //! `rtv linearize` (docs/linear.md): the linear model's understeer gradient against ISO 4138's constant-speed
 //! manoeuvre, and the command line's results and refusals.
 
+mod common;
+use common::rtv;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::studies::linear;
 use rt_vehicle::studies::manoeuvres::{run, Manoeuvre};
-use std::process::Command;
-
-fn rtv(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
-}
 
 /// The linear model at 100 km/h and a_y = 2 m/s² against ISO 4138's constant-speed method (the manoeuvre's
 /// computation: mean front road-wheel steer fitted against a_y over 0.5–3 m/s², K = dδ/da_y − L/V²).

@@ -4,12 +4,12 @@
 //! `RTV_CHRONO_DATA`), the folder the shipped imports were made from.
 
 mod common;
+use common::rtv;
 use rt_vehicle::model::import_chrono::{import_vehicle, write_atomically};
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle_file::{check_schema, MAX_FILE_BYTES};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const VEHICLES: [(&str, &str); 2] = [
     ("generic/vehicle/Vehicle_MacPhersonStruts.json", "generic_macpherson.json"),
@@ -76,15 +76,6 @@ fn import_error(name: &str, vehicle: &str, file: &str, edit: impl FnOnce(&mut Va
     let e = import_vehicle(&dir.join(vehicle), &dir).map(|_| ()).unwrap_err().to_string();
     let _ = std::fs::remove_dir_all(&dir);
     e
-}
-
-fn rtv(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into(),
-        String::from_utf8_lossy(&out.stderr).into(),
-    )
 }
 
 fn shipped_value(file: &str) -> Value {

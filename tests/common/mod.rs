@@ -1,5 +1,5 @@
 //! Shared by the integration tests (`mod common;`): the shipped vehicles, Project Chrono's data folder and its
-//! tire files, and a braked run's trace. Each test crate uses some of them.
+//! tire files, a braked run's trace, and the `rtv` command line run. Each test crate uses some of them.
 #![allow(dead_code)]
 
 use rt_vehicle::model::params::VehicleData;
@@ -69,4 +69,14 @@ pub fn vehicles() -> Vec<(String, VehicleData)> {
     let names: Vec<&String> = out.iter().map(|v| &v.0).collect();
     assert!(out.len() >= 3, "resources/vehicles holds the Chrono imports: {names:?}");
     out
+}
+
+/// `rtv` with `args`: its exit code (-1 when killed by a signal), standard output and standard error.
+pub fn rtv(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
