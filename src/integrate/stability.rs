@@ -72,8 +72,31 @@ pub fn is_damped(kind: IntegratorKind, z: C) -> bool {
 /// `is_damped`, its cubic solved from nearby roots (`growth_from`).
 fn damped_from(kind: IntegratorKind, z: C, roots: &mut Option<[C; 3]>) -> bool {
     // One growth for both tests (each is a cubic's roots for the multistep schemes).
-    let g = growth_from(kind, z, roots);
+    damps(growth_from(kind, z, roots), z)
+}
+
+/// Whether a growth per step `g` at z is damped (`is_damped`'s test).
+fn damps(g: f64, z: C) -> bool {
     g <= 1.0 + 1e-12 && g <= DAMPED_GROWTH_MAX.max((0.5 * z.re).exp()) + 1e-12
+}
+
+/// The growth per step of BDF2, the implicit part of IMEX-AB3 when it steps at second order: the larger
+/// root modulus of (3/2 − z) ζ² − 2 ζ + 1/2 = 0, ζ = (2 ± √(1 + 2z)) / (3 − 2z). BDF2 is A-stable: every
+/// z with Re z ≤ 0 is stable, and it is L-stable (ζ → 0 as |z| → ∞).
+pub fn bdf2_growth(z: C) -> f64 {
+    let one = C::new(1.0, 0.0);
+    let s = (one + z * 2.0).sqrt();
+    let d = C::new(3.0, 0.0) - z * 2.0;
+    ((C::new(2.0, 0.0) + s) / d).norm().max(((C::new(2.0, 0.0) - s) / d).norm())
+}
+
+/// Whether every step in (0, h] damps the mode λ under BDF2 (`is_damped`'s test on `bdf2_growth`, at h
+/// and 32 points of the ray): the test of IMEX-AB3 at second order.
+pub fn bdf2_damped_up_to(lambda: C, h: f64) -> bool {
+    (1..=32).all(|k| {
+        let z = lambda * (h * k as f64 / 32.0);
+        damps(bdf2_growth(z), z)
+    })
 }
 
 /// The largest step h ≤ `h_max` with hλ damped (`is_damped`) for every step in (0, h] (bisection on the
@@ -183,6 +206,25 @@ mod tests {
         assert!(!is_stable(IntegratorKind::Ab3, C::new(-0.55, 0.0)));
         assert!(is_stable(IntegratorKind::Ab3, C::new(-0.01, 0.70)));
         assert!(!is_stable(IntegratorKind::Ab3, C::new(0.0, 0.75)));
+    }
+
+    #[test]
+    fn bdf2_is_a_stable_and_damps_where_bdf3_does_not() {
+        // A-stable: the left half-plane and the imaginary axis are stable; L-stable: far out it damps fully.
+        for z in [C::new(-1e-3, 0.0), C::new(-0.5, 3.0), C::new(0.0, 1.5), C::new(-1e4, 1e4)] {
+            assert!(bdf2_growth(z) <= 1.0 + 1e-12, "{z}");
+        }
+        assert!(bdf2_growth(C::new(-1e6, 0.0)) < 1e-2);
+        // On y' = λy with small z it follows the mode: ζ = e^z + O(z³).
+        let z = C::new(-1e-2, 2e-2);
+        let exact = z.exp().norm();
+        assert!((bdf2_growth(z) - exact).abs() < 1e-5, "{} vs {exact}", bdf2_growth(z));
+        // The start-from-rest spin-tread mode at 8.33 ms (-19+100i 1/s, hλ = -0.16+0.83i) lies where BDF3
+        // does not damp it and BDF2 does.
+        let lambda = C::new(-19.0, 100.0) * 1.02;
+        let h = 1.0 / 120.0;
+        assert!(!damped_up_to(IntegratorKind::ImexAb3, lambda, h));
+        assert!(bdf2_damped_up_to(lambda, h));
     }
 
     #[test]

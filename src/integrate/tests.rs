@@ -531,6 +531,55 @@ fn observed_order_imex_ab3() {
 }
 
 #[test]
+fn imex_ab3_at_second_order_is_second_order_and_damps_where_bdf3_does_not() {
+    let xref = reference();
+    let second = || {
+        let mut s = match imex_pendula() {
+            AnyIntegrator::ImexAb3(s) => s,
+            _ => unreachable!(),
+        };
+        s.set_order(2);
+        AnyIntegrator::ImexAb3(s)
+    };
+    let (e, s) = orders(&second, 200, &xref);
+    assert_order("IMEX-AB3 at second order", e, s, 2.0);
+    // A weakly damped oscillation in the block, λ = −5 ± 150i at h = 0.01 (hλ = −0.05 ± 1.5i: inside BDF3's
+    // unstable lobe near the imaginary axis, growth 1.011 per step): at third order it grows, at second
+    // (A-stable BDF2, growth 0.83) it decays.
+    let oscillator = || Linear2 { re: -5.0, im: 150.0, evals: 0 };
+    let grows = |order: usize| {
+        let mut s = ImexAb3::new();
+        s.set_fast_jacobian(&[0, 1], &[-5.0, -150.0, 150.0, -5.0]);
+        s.set_order(order);
+        let mut integ = AnyIntegrator::ImexAb3(s);
+        let mut x = vec![1.0, 0.0];
+        run(&mut integ, &mut oscillator(), &mut x, 0.01, 300);
+        x[0].hypot(x[1])
+    };
+    assert!(grows(3) > 10.0, "BDF3 leaves the mode undamped: {}", grows(3));
+    assert!(grows(2) < 1e-6, "BDF2 damps it: {}", grows(2));
+}
+
+/// ẋ = [re −im; im re] x: a damped oscillation.
+struct Linear2 {
+    re: f64,
+    im: f64,
+    evals: usize,
+}
+
+impl OdeSystem for Linear2 {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn derivative(&mut self, _t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), ModelError> {
+        self.evals += 1;
+        dxdt[0] = self.re * x[0] - self.im * x[1];
+        dxdt[1] = self.im * x[0] + self.re * x[1];
+        Ok(())
+    }
+}
+
+#[test]
 fn imex_ab3_is_stable_where_the_explicit_schemes_diverge() {
     // λ = −1000 in the implicit block at h = 0.01 (hλ = −10, where RK4 and AB3 diverge), λ = −1 explicit:
     // the slow component is accurate to the scheme's order, the fast one decays.
