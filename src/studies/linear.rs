@@ -563,6 +563,8 @@ pub struct LinearModel {
     pub gravity: f64,
     /// Derivative evaluations used, settling runs included.
     pub evaluations: u64,
+    /// How the accelerations are solved in each evaluation.
+    pub formulation: crate::sim::Formulation,
     /// How the steady state was reached (for the report).
     pub how: String,
 }
@@ -774,6 +776,7 @@ pub fn linearize(data: &VehicleData, speed: f64, ay: f64) -> Result<LinearModel,
         wheelbase: wheelbase(data),
         gravity: g,
         evaluations,
+        formulation: straight.config().options.formulation,
         how,
     })
 }
@@ -884,8 +887,9 @@ pub fn report(m: &LinearModel, command: &str, figure: Option<&str>, iso4138: Opt
         s,
         "- State: the full layout ({} states: every optional state kept, the eight relaxation-length tread slip states \
          and the speed-hold integral included), in {DIM} linear coordinates: the attitude quaternion as roll, pitch, yaw, \
-         the chassis velocities in chassis axes.",
-        idx::DIM
+         the chassis velocities in chassis axes. Each evaluation solves the accelerations by the `{}` formulation.",
+        idx::DIM,
+        format!("{:?}", m.formulation).to_lowercase()
     );
     let _ = writeln!(
         s,
