@@ -1072,7 +1072,7 @@ mod tests {
 
     /// The modes are eigenpairs of the 30×30 block: A v = λ v for every eigenvalue and the vector the inverse
     /// iteration finds (to round-off of A's size: 1e-9 of ‖A‖, as the Schur iteration's own 1e-14 relative
-    /// tolerance on the eigenvalues times a condition of up to 1e5 for the closest pairs; measured: 1e-15 at
+    /// tolerance on the eigenvalues times a condition of up to 1e5 for the closest pairs; measured: 2e-15 at
     /// most), 30 eigenvalues in
     /// all (a complex pair counted twice), and straight running's rigid-body coordinates leave A's other rows
     /// alone (its x, y, yaw columns vanish there to the differences' accuracy).
