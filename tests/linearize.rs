@@ -10,13 +10,14 @@ use rt_vehicle::studies::manoeuvres::{run, Manoeuvre};
 /// The linear model at 100 km/h and a_y = 2 m/s² against ISO 4138's constant-speed method (the manoeuvre's
 /// computation: mean front road-wheel steer fitted against a_y over 0.5–3 m/s², K = dδ/da_y − L/V²).
 ///
-/// The manoeuvre ramps the steering in over 30 s, and a_y lags the steer (yaw, roll, tread), the more the
-/// steeper the ramp: its gradient comes out about c/ramp too large. Measured: 0.553 deg/g at 30 s, 0.502 at
-/// 60 s, 0.476 at 120 s, against the linear model's 0.443 (20 % below the 30-s figure). So the 5 % is asserted
-/// against the method's quasi-static limit (`linear::iso4138_check`: K(T) = K∞ + c/T through 60 and 120 s,
-/// 0.449), and the 1/T law is checked to account for the 30-s figure. The linear model's K is the slope at
-/// 2 m/s², the fit's a chord over 0.5–3 m/s²: they differ by the curvature of δ(a_y) over that range (the
-/// linear model's own K runs from 0.43 to 0.54 deg/g across it), which is what the 5 % allows for.
+/// The manoeuvre ramps the steering in at a constant rate over 30 s; a_y lags the steer (yaw, roll, tread),
+/// which at a constant rate shifts the steer–a_y line and leaves about c/ramp in its slope (with the
+/// smootherstep ramp it had before, whose rate varies, the lag tilted the line: 0.553 deg/g at 30 s against
+/// the linear model's 0.443, 20 % apart). So the 5 % is asserted against the manoeuvre itself and against the
+/// method's quasi-static limit (`linear::iso4138_check`: K(T) = K∞ + c/T through 60 and 120 s). The linear
+/// model's K is the slope at 2 m/s², the fit's a chord over 0.5–3 m/s²: they differ by the curvature of
+/// δ(a_y) over that range (the linear model's own K runs from 0.43 to 0.54 deg/g across it), which is what
+/// the 5 % allows for.
 #[test]
 fn the_understeer_gradient_agrees_with_iso_4138_within_5_percent() {
     let data = VehicleData::default_hmmwv();
@@ -36,11 +37,11 @@ fn the_understeer_gradient_agrees_with_iso_4138_within_5_percent() {
         (k_linear / k_30 - 1.0) * 100.0,
         (k_linear / k_slow - 1.0) * 100.0
     );
+    assert!(((k_linear - k_30) / k_30).abs() < 0.05, "{k_linear} vs the manoeuvre's {k_30}");
     assert!(((k_linear - k_slow) / k_slow).abs() < 0.05, "{k_linear} vs {k_slow}");
-    // The 30-s manoeuvre's excess is the ramp's lag: K∞ + c/30 with c from 60 and 120 s, within a fifth of
-    // the excess (the lag is 1/T only to first order; the 30-s ramp is steep enough to show the next).
-    let predicted_30 = k_slow + 4.0 * (k_120 - k_slow);
-    assert!((k_30 - predicted_30).abs() < 0.2 * (k_30 - k_slow), "{k_30} vs {predicted_30}");
+    // The ramp's lag leaves little: the 30-s manoeuvre within 5 % of the quasi-static limit (the varying-rate
+    // ramp it had before was 23 % above it).
+    assert!(((k_30 - k_slow) / k_slow).abs() < 0.05, "{k_30} vs {k_slow} ({k_60}, {k_120})");
 }
 
 #[test]

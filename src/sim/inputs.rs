@@ -58,6 +58,15 @@ pub enum RackProfile {
         start: f64,
         ramp: f64,
     },
+    /// A constant-rate ramp from 0 to `amplitude` over [start, start + duration], held after: the slowly
+    /// increased steering of ISO 4138's constant-speed method, whose rate must be constant for the lag of
+    /// the response to shift the steer–a_y line without tilting it. Its velocity jumps at both ends
+    /// (declared breakpoints).
+    Ramp {
+        amplitude: f64,
+        start: f64,
+        duration: f64,
+    },
     /// Two single-sine inputs, out and back: u = A·w(τ)·sin(πτ/½period), τ = t − start, w = +1 on the
     /// first period and −1 on the second. The velocity kinks at the ends of each single sine (τ = 0,
     /// period, 2·period) are blended by C² windows of width `blend`, which keeps the input C¹.
@@ -101,6 +110,7 @@ impl RackProfile {
         match *self {
             RackProfile::Zero => 0.0,
             RackProfile::Step { amplitude, .. }
+            | RackProfile::Ramp { amplitude, .. }
             | RackProfile::DoubleSine { amplitude, .. }
             | RackProfile::Sine { amplitude, .. }
             | RackProfile::SineWithDwell { amplitude, .. } => amplitude.abs(),
@@ -114,6 +124,7 @@ impl RackProfile {
         match *self {
             RackProfile::Zero | RackProfile::Sine { .. } => Breakpoints::default(),
             RackProfile::Step { start, ramp, .. } => Breakpoints::of(&[start, start + ramp]),
+            RackProfile::Ramp { start, duration, .. } => Breakpoints::of(&[start, start + duration]),
             RackProfile::TwoMoves { start, ramp, counter, counter_ramp, .. } => {
                 Breakpoints::of(&[start, start + ramp, counter, counter + counter_ramp])
             }
@@ -141,6 +152,16 @@ impl RackProfile {
         let j = match *self {
             RackProfile::Zero => Jet::default(),
             RackProfile::Step { amplitude, start, ramp } => smootherstep(t, start, ramp).scale(amplitude),
+            RackProfile::Ramp { amplitude, start, duration } => {
+                let rate = amplitude / duration;
+                if t <= start {
+                    Jet::default()
+                } else if t >= start + duration {
+                    Jet::constant(amplitude)
+                } else {
+                    Jet { v: rate * (t - start), d1: rate, d2: 0.0 }
+                }
+            }
             RackProfile::DoubleSine { amplitude, start, period, blend } => {
                 let tau = t - start;
                 let w = std::f64::consts::TAU / period;

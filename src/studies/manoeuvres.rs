@@ -424,7 +424,7 @@ pub fn steady_state_circle(
         ground,
         v,
         SpeedMode::Hold,
-        RackProfile::Step { amplitude: a, start: 0.5, ramp },
+        RackProfile::Ramp { amplitude: a, start: 0.5, duration: ramp },
         ramp + 1.0,
         cost,
     )?;
