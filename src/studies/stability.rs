@@ -314,8 +314,9 @@ fn shipped_road(name: &str) -> String {
 /// How one run ended.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Outcome {
-    /// Finished; the largest error relative to the channels' excursions, and any warnings.
-    Finished { error: f64, warnings: Vec<String> },
+    /// Finished; the largest error relative to the channels' excursions. (The simulation has no warning
+    /// channel that could excuse an error: a finished run is judged on its error alone.)
+    Finished { error: f64 },
     /// Stopped with this failure (its cause, message and any largest stable step kept as they are);
     /// `error` as for a finished run, over the samples before the stop.
     Failed { failure: ModelError, error: f64 },
@@ -333,7 +334,6 @@ pub struct Run {
     pub samples: Vec<Vec<f64>>,
     pub evaluations: u64,
     pub result: Result<(), ModelError>,
-    pub warnings: Vec<String>,
 }
 
 /// Run `case` with `integrator` at step `h`.
@@ -349,7 +349,7 @@ pub fn run_case(case: &Case, integrator: IntegratorKind, h: f64) -> Run {
     let mut samples = Vec::new();
     let mut sim = match Simulation::new(data, config) {
         Ok(s) => s,
-        Err(e) => return Run { samples, evaluations: 0, result: Err(e), warnings: Vec::new() },
+        Err(e) => return Run { samples, evaluations: 0, result: Err(e) },
     };
     sim.set_rack_profile(case.rack);
     sim.set_wheel_torques(case.drive, case.brake);
@@ -370,7 +370,7 @@ pub fn run_case(case: &Case, integrator: IntegratorKind, h: f64) -> Run {
             }
         }
     }
-    Run { samples, evaluations: sim.evaluations(), result, warnings: Vec::new() }
+    Run { samples, evaluations: sim.evaluations(), result }
 }
 
 /// The largest difference of `run` from `reference` over the channels, each relative to its excursion
@@ -406,11 +406,11 @@ impl Classified {
         matches!(&self.outcome, Outcome::Finished { error, .. } if *error <= tolerance)
     }
 
-    /// Wrong: finished, off by more than `tolerance`, and no warning said so; or ended in a physical event
+    /// Wrong: finished, off by more than `tolerance`; or ended in a physical event
     /// (as the reference may: a rollover) after being off by more than `tolerance` on the way there.
     pub fn silently_wrong(&self, tolerance: f64) -> bool {
         match &self.outcome {
-            Outcome::Finished { error, warnings } => *error > tolerance && warnings.is_empty(),
+            Outcome::Finished { error } => *error > tolerance,
             Outcome::Failed { error, .. } => self.outcome.physical_event() && *error > tolerance,
         }
     }
@@ -480,10 +480,7 @@ pub fn evaluate(case: &Case, threads: usize) -> CaseReport {
                     failure: e.clone(),
                     error: relative_error(case, &run.samples, &reference.samples),
                 },
-                Ok(()) => Outcome::Finished {
-                    error: relative_error(case, &run.samples, &reference.samples),
-                    warnings: run.warnings.clone(),
-                },
+                Ok(()) => Outcome::Finished { error: relative_error(case, &run.samples, &reference.samples) },
             };
             Classified { integrator, step, outcome, evaluations: run.evaluations, cpu_seconds: cpu }
         })
@@ -498,12 +495,10 @@ fn step_label(h: f64) -> String {
 /// One table cell: OK with its error, the error's cause, or a finished run that is off.
 fn cell(run: &Classified, tolerance: f64) -> String {
     match &run.outcome {
-        Outcome::Finished { error, warnings } if *error <= tolerance && warnings.is_empty() => {
+        Outcome::Finished { error } if *error <= tolerance => {
             format!("OK {error:.0e} ({:.1}k ev.)", run.evaluations as f64 / 1e3)
         }
-        Outcome::Finished { error, .. } if *error <= tolerance => format!("OK {error:.0e}, warned"),
-        Outcome::Finished { error, warnings } if !warnings.is_empty() => format!("warned, off {error:.0e}"),
-        Outcome::Finished { error, .. } => format!("**WRONG** {error:.0e}"),
+        Outcome::Finished { error } => format!("**WRONG** {error:.0e}"),
         Outcome::Failed { failure, error } if run.outcome.physical_event() && *error > tolerance => {
             format!("**WRONG** {error:.0e} before: {}", cause_name(failure))
         }
@@ -612,10 +607,7 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
         for run in &r.runs {
             let text = match &run.outcome {
                 Outcome::Failed { failure, .. } => failure.to_string(),
-                Outcome::Finished { warnings, .. } if !warnings.is_empty() => {
-                    format!("warning: {}", warnings.join("; "))
-                }
-                _ => continue,
+                Outcome::Finished { .. } => continue,
             };
             let line = format!("- {:?} {}: {}", run.integrator, step_label(run.step), text);
             if !seen.iter().any(|l| l == &line) {
