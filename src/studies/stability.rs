@@ -338,6 +338,13 @@ pub struct Run {
 
 /// Run `case` with `integrator` at step `h`.
 pub fn run_case(case: &Case, integrator: IntegratorKind, h: f64) -> Run {
+    run_case_refusing(case, integrator, h, true)
+}
+
+/// `run_case`, with the step check's refusals on or off (`Simulation::set_step_refusals`: off only to
+/// measure where a scheme goes wrong apart from the check that should refuse it, e.g. the hop-resolution
+/// bounds, `examples/hop_resolution.rs`).
+pub fn run_case_refusing(case: &Case, integrator: IntegratorKind, h: f64, refusals: bool) -> Run {
     let mut data = case.vehicle.clone();
     (case.data)(&mut data);
     let config = SimConfig { integrator, internal_step: h, ..case.config.clone() };
@@ -353,6 +360,7 @@ pub fn run_case(case: &Case, integrator: IntegratorKind, h: f64) -> Run {
     };
     sim.set_rack_profile(case.rack);
     sim.set_wheel_torques(case.drive, case.brake);
+    sim.set_step_refusals(refusals);
     let n = (case.duration / SAMPLE).round() as usize;
     let mut result = Ok(());
     for k in 0..=n {

@@ -1,0 +1,73 @@
+//! The wheel-hop resolution bound of a scheme (`sim::hop_resolution`), measured: the stability suite's road
+//! cases (obstacles that strike the wheel hop) run with the step check's refusals off
+//! (`studies::stability::run_case_refusing`) at the suite's steps halved down to 0.26 ms, each judged against
+//! the suite's reference and tolerance, beside |hλ| of the vehicle's fastest wheel-hop mode at the start.
+//! The bound is set below the smallest |hλ| at which a run that finishes is off.
+//!
+//! ```sh
+//! cargo run --release --example hop_resolution -- imex-ab3 [VEHICLE.json ...] > docs/hop_resolution_imex.md
+//! ```
+//! (docs/hop_resolution_imex.md is this command's output on the HMMWV and both imports.)
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::sim::calibration;
+use rt_vehicle::sim::{ModeKind, Simulation};
+use rt_vehicle::studies::stability;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let kind = rt_vehicle::sim::modes::INTEGRATORS.by_name(args.first().map_or("imex-ab3", |s| s.as_str())).unwrap();
+    let vehicles: Vec<VehicleData> = if args.len() > 1 {
+        args[1..].iter().map(|p| VehicleData::from_file(std::path::Path::new(p)).unwrap()).collect()
+    } else {
+        vec![VehicleData::default_hmmwv()]
+    };
+    let steps = [1.0 / 120.0, 1.0 / 240.0, 1.0 / 480.0, 1.0 / 960.0, 1.0 / 1920.0, 1.0 / 3840.0];
+    println!("# {kind:?} on obstacles with the step check's refusals off: the wheel-hop resolution bound\n");
+    println!(
+        "Written by `cargo run --release --example hop_resolution -- {} > docs/hop_resolution_imex.md`. Each road \
+         case of the stability suite runs at the suite's steps halved down to 0.26 ms with the step check refusing \
+         nothing (`Simulation::set_step_refusals(false)`; IMEX-AB3's own accuracy monitor still refuses: \
+         \"stopped\"), judged against the suite's reference and tolerance (the last column: error over tolerance, \
+         above 1 is off). |hλ| is the fastest wheel-hop mode's at the start. `sim::hop_resolution` is set 20 % below \
+         the smallest |hλ| of a run that finishes off.\n",
+        args.join(" ")
+    );
+    println!("| vehicle | case | h (ms) | \\|hλ\\| hop | outcome | error / tolerance |\n|---|---|---|---|---|---|");
+    for data in vehicles {
+        let (a, _) = calibration::amplitude_for(&data).unwrap();
+        for case in stability::cases_for(&data, a).into_iter().filter(|c| c.group == "road" || c.name.contains("20 cm")) {
+            // The suite's reference and tolerance: RK4 at its reference step, checked against half of it; 1 %,
+            // or ten times the reference's own change when that is larger.
+            let rk4 = rt_vehicle::integrate::IntegratorKind::Rk4;
+            let reference = stability::run_case(&case, rk4, stability::REFERENCE_STEP);
+            let finer = stability::run_case(&case, rk4, 0.5 * stability::REFERENCE_STEP);
+            let change = stability::relative_error(&case, &finer.samples, &reference.samples);
+            let tolerance = stability::TOLERANCE.max(10.0 * change);
+            let mut vehicle = case.vehicle.clone();
+            (case.data)(&mut vehicle);
+            let hop = Simulation::new(vehicle, case.config.clone())
+                .and_then(|mut s| s.fast_modes())
+                .map(|modes| {
+                    modes.iter().filter(|m| m.kind == ModeKind::WheelHop).map(|m| m.lambda.norm()).fold(0.0, f64::max)
+                })
+                .unwrap_or(f64::NAN);
+            for h in steps {
+                let run = stability::run_case_refusing(&case, kind, h, false);
+                let error = stability::relative_error(&case, &run.samples, &reference.samples);
+                let outcome = match &run.result {
+                    Ok(()) => "finished".to_string(),
+                    Err(e) => format!("stopped: {}", e.to_string().chars().take(60).collect::<String>()),
+                };
+                println!(
+                    "| {} | {} | {:.2} | {:.3} | {} | {:.2} |",
+                    data.name.chars().take(20).collect::<String>(),
+                    case.name,
+                    h * 1e3,
+                    hop * h,
+                    outcome,
+                    error / tolerance
+                );
+            }
+        }
+    }
+}
