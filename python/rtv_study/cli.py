@@ -11,6 +11,16 @@ from . import native, runner
 from .study import StudyError, load
 
 
+def _positive(text):
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"--workers must be a whole number ≥ 1 (got {text!r})")
+    return n
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="rtv-study", description="Parameter studies of rt-vehicle on Dask")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -18,7 +28,7 @@ def main(argv=None):
     r.add_argument("study")
     r.add_argument("--out", help="results folder (default: the study's name beside the study file)")
     r.add_argument("--scheduler", help="a Dask scheduler, tcp://HOST:PORT (default: an embedded LocalCluster)")
-    r.add_argument("--workers", type=int, help="LocalCluster worker processes (default: one per core)")
+    r.add_argument("--workers", type=_positive, help="LocalCluster worker processes (default: one per core)")
     r.add_argument("--no-progress", action="store_true")
     r.add_argument("--no-plots", action="store_true")
     d = sub.add_parser("describe", help="what a study may ask for")

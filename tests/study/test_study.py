@@ -272,3 +272,12 @@ def test_full_factorial_crosses_every_level(tmp_path):
     points = study.design_points()
     assert len(points) == 8 and len({tuple(p) for p in points}) == 8
     assert sorted({p[0] for p in points}) == pytest.approx([9.0, 9.0 + 10 / 3, 9.0 + 20 / 3, 19.0])
+
+
+def test_the_command_line_refuses_a_worker_count_below_one(tmp_path):
+    import subprocess
+    path = write(tmp_path, SMALL)
+    done = subprocess.run([str(ROOT / ".venv" / "bin" / "rtv-study"), "run", str(path), "--workers", "0"],
+                          capture_output=True, text=True)
+    assert done.returncode == 2 and "--workers must be a whole number" in done.stderr, done.stderr
+    assert not (tmp_path / "study").exists()
