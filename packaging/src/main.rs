@@ -233,17 +233,62 @@ fn run() -> Result<Vec<PathBuf>, String> {
         resources: vec![("double_lane_change.csv".to_string(), line.to_csv().into_bytes())],
         doc: &DRIVER_DOC,
     };
-    let vehicle_fmu = package(&target, &vehicle, &options.binaries)?;
-    let driver_fmu = package(&target, &driver, &[])?;
+    let vehicle_fmu = package(&target, &vehicle, &options.binaries, Standard::Fmi2)?;
+    // The same library exports the fmi3… functions: the FMI 3.0 archive differs in its model description
+    // and folder names only.
+    let vehicle_fmu3 = package(&target, &vehicle, &options.binaries, Standard::Fmi3)?;
+    let driver_fmu = package(&target, &driver, &[], Standard::Fmi2)?;
     let system = ssp::write(&target.join("ssp"), &vehicle_fmu, &driver_fmu)?;
-    Ok(vec![vehicle_fmu, driver_fmu, system])
+    Ok(vec![vehicle_fmu, vehicle_fmu3, driver_fmu, system])
 }
 
-/// Writes `target/fmu/<modelIdentifier>.fmu` from `fmu`'s linux64 library (built by `build_portable`) and
-/// any prebuilt `binaries` of other platforms.
-fn package(target: &Path, fmu: &FmuSource, binaries_given: &[(String, PathBuf)]) -> Result<PathBuf, String> {
-    let xml = std::fs::read_to_string(&fmu.xml).map_err(|e| format!("{}: {e}", fmu.xml.display()))?;
-    let md = ModelDescription::parse(&xml)?;
+/// Which standard an archive follows: FMI 2.0 (`<modelIdentifier>.fmu`, the model description as written) or
+/// FMI 3.0 (`<modelIdentifier>3.fmu`, its model description generated from the 2.0 one by
+/// `fmi_layer::codegen::fmi3_model_description`, the same library: it exports both APIs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Standard {
+    Fmi2,
+    Fmi3,
+}
+
+impl Standard {
+    /// The archive's binaries/ folder of an FMI 2.0 platform name (FMI 3.0 names architecture and OS).
+    fn platform_dir(self, fmi2_platform: &str) -> &str {
+        match (self, fmi2_platform) {
+            (Standard::Fmi2, p) => p,
+            (Standard::Fmi3, "win32") => "x86-windows",
+            (Standard::Fmi3, "win64") => "x86_64-windows",
+            (Standard::Fmi3, "linux32") => "x86-linux",
+            (Standard::Fmi3, "linux64") => "x86_64-linux",
+            (Standard::Fmi3, "darwin32") => "x86-darwin",
+            (Standard::Fmi3, "darwin64") => "x86_64-darwin",
+            (Standard::Fmi3, p) => p,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Standard::Fmi2 => "FMI 2.0",
+            Standard::Fmi3 => "FMI 3.0",
+        }
+    }
+}
+
+/// Writes `target/fmu/<modelIdentifier>.fmu` (FMI 2.0) or `<modelIdentifier>3.fmu` (FMI 3.0) from `fmu`'s
+/// linux64 library (built by `build_portable`) and any prebuilt `binaries` of other platforms.
+fn package(
+    target: &Path,
+    fmu: &FmuSource,
+    binaries_given: &[(String, PathBuf)],
+    standard: Standard,
+) -> Result<PathBuf, String> {
+    let xml2 = std::fs::read_to_string(&fmu.xml).map_err(|e| format!("{}: {e}", fmu.xml.display()))?;
+    let md = ModelDescription::parse(&xml2)?;
+    let xml = match standard {
+        Standard::Fmi2 => xml2.clone(),
+        Standard::Fmi3 => fmi_layer::codegen::fmi3_model_description(&xml2)
+            .map_err(|e| format!("{}: FMI 3.0 model description: {e}", fmu.xml.display()))?,
+    };
     let lib = target.join(PORTABLE_TARGET_DIR).join("release").join(format!("lib{}.so", fmu.lib_stem));
     let linux64 = std::fs::read(&lib).map_err(|e| {
         format!("{}: {e} (build it with `cargo run --release -p packaging`, without --no-build)", lib.display())
@@ -257,18 +302,19 @@ fn package(target: &Path, fmu: &FmuSource, binaries_given: &[(String, PathBuf)])
 
     let out_dir = target.join("fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| format!("{}: {e}", out_dir.display()))?;
-    let fmu_path = out_dir.join(format!("{}.fmu", md.model_identifier));
-    let mut entries: Vec<(String, Vec<u8>, u32)> =
-        vec![("modelDescription.xml".into(), xml.clone().into_bytes(), 0o644)];
+    let suffix = if standard == Standard::Fmi3 { "3" } else { "" };
+    let fmu_path = out_dir.join(format!("{}{suffix}.fmu", md.model_identifier));
+    let mut entries: Vec<(String, Vec<u8>, u32)> = vec![("modelDescription.xml".into(), xml.into_bytes(), 0o644)];
     for (platform, ext, data) in binaries.iter() {
-        entries.push((format!("binaries/{platform}/{}.{ext}", md.model_identifier), data.clone(), 0o755));
+        let dir = standard.platform_dir(platform);
+        entries.push((format!("binaries/{dir}/{}.{ext}", md.model_identifier), data.clone(), 0o755));
     }
     for (name, data) in &fmu.resources {
         entries.push((format!("resources/{name}"), data.clone(), 0o644));
     }
     let names: Vec<&str> = fmu.resources.iter().map(|(n, _)| n.as_str()).collect();
-    let platforms: Vec<&str> = binaries.iter().map(|(p, _, _)| p.as_str()).collect();
-    let doc = documentation(&md, &names, &platforms, fmu.doc);
+    let platforms: Vec<&str> = binaries.iter().map(|(p, _, _)| standard.platform_dir(p)).collect();
+    let doc = documentation(&md, &names, &platforms, fmu.doc, standard);
     entries.push(("documentation/index.html".into(), doc.into_bytes(), 0o644));
     write_zip(&fmu_path, &entries)?;
     Ok(fmu_path)
@@ -495,7 +541,13 @@ brake_torque_*</code> &rarr; vehicle, 10 ms communication steps.</p>
             manoeuvre. <code>path_file</code> names another file (absolute, or relative to <code>resources/</code>).</p>",
 };
 
-fn documentation(md: &ModelDescription, resources: &[&str], platforms: &[&str], text: &DocText) -> String {
+fn documentation(
+    md: &ModelDescription,
+    resources: &[&str],
+    platforms: &[&str],
+    text: &DocText,
+    standard: Standard,
+) -> String {
     let mut h = String::new();
     let title = esc(&md.model_name);
     writeln!(
@@ -507,7 +559,7 @@ body {{ font-family: sans-serif; max-width: 72em; margin: 2em auto; line-height:
 table {{ border-collapse: collapse; font-size: 90%; }} td, th {{ border: 1px solid #bbb; padding: 2px 6px; text-align: left; vertical-align: top; }}
 th {{ background: #eee; }} code, pre {{ background: #f4f4f4; }} pre {{ padding: 0.6em; overflow-x: auto; }}
 </style></head><body>
-<h1>{title} — FMI 2.0 Co-Simulation</h1>
+<h1>{title} — {standard} Co-Simulation</h1>
 <p>{desc}</p>
 <p>Version {version}, GUID <code>{guid}</code>, model identifier <code>{id}</code>. Default experiment: {de}.</p>
 
@@ -520,6 +572,7 @@ th {{ background: #eee; }} code, pre {{ background: #f4f4f4; }} pre {{ padding: 
         id = esc(&md.model_identifier),
         de = esc(&md.default_experiment),
         about = text.about,
+        standard = standard.name(),
     )
     .unwrap();
     for (k, v) in &md.capabilities {
@@ -572,6 +625,14 @@ th {{ background: #eee; }} code, pre {{ background: #f4f4f4; }} pre {{ padding: 
     }
     writeln!(h, "</table>\n<p>The status categories are on from instantiation; <code>logEvents</code> and <code>logCalls</code> follow \
         <code>loggingOn</code>. <code>fmi2SetDebugLogging</code> switches any of them.</p>").unwrap();
+    if standard == Standard::Fmi3 {
+        writeln!(h, "<h2>FMI 3.0</h2>\n<p>The variables above keep their names, value references and types (Real is Float64, \
+            Integer Int32). FMI 3.0 has no <code>fmi2SetRealInputDerivatives</code>: the steering inputs' derivatives are \
+            Float64 inputs with <code>derivative</code> (<code>rack_velocity</code>, <code>rack_acceleration</code>, \
+            <code>pitman_arm_rate</code>, <code>pitman_arm_acceleration</code>), applied to the next <code>fmi3DoStep</code> only, \
+            as the 2.0 input derivatives are. The <code>fmi2…</code> functions named above are the 2.0 FMU's; their 3.0 \
+            counterparts behave the same.</p>").unwrap();
+    }
     writeln!(h, "<h2>Files</h2>\n<ul>").unwrap();
     for r in resources {
         writeln!(h, "<li><code>resources/{}</code></li>", esc(r)).unwrap();

@@ -87,14 +87,14 @@ pub const MAX_ARRAY_LEN: usize = 1 << 20;
 ///
 /// # Safety
 /// A non-NULL `p` must point to `n` valid elements.
-unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> FmiResult<&'a [T]> {
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> FmiResult<&'a [T]> {
     check_array(p.is_null(), n, MAX_ARRAY_LEN, what)?;
     Ok(if n == 0 { &[] } else { std::slice::from_raw_parts(p, n) })
 }
 
 /// # Safety
 /// As `slice`, mutable.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> FmiResult<&'a mut [T]> {
+pub(crate) unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> FmiResult<&'a mut [T]> {
     check_array(p.is_null(), n, MAX_ARRAY_LEN, what)?;
     Ok(if n == 0 { &mut [] } else { std::slice::from_raw_parts_mut(p, n) })
 }
@@ -106,12 +106,12 @@ pub const MAX_STATE_BYTES: usize = 64 << 20;
 ///
 /// # Safety
 /// As `slice`.
-unsafe fn bytes<'a>(p: *const fmi2Byte, n: usize, what: &str) -> FmiResult<&'a [u8]> {
+pub(crate) unsafe fn bytes<'a>(p: *const fmi2Byte, n: usize, what: &str) -> FmiResult<&'a [u8]> {
     check_array(p.is_null(), n, MAX_STATE_BYTES, what)?;
     Ok(if n == 0 { &[] } else { std::slice::from_raw_parts(p as *const u8, n) })
 }
 
-fn check_array(null: bool, n: usize, limit: usize, what: &str) -> FmiResult<()> {
+pub(crate) fn check_array(null: bool, n: usize, limit: usize, what: &str) -> FmiResult<()> {
     if n > limit {
         Err(Failure::error(format!("{what}: length {n} is not plausible (at most {limit})")))
     } else if null && n > 0 {
@@ -123,7 +123,7 @@ fn check_array(null: bool, n: usize, limit: usize, what: &str) -> FmiResult<()> 
 
 /// # Safety
 /// `p` must be NULL or a NUL-terminated string.
-unsafe fn string<'a>(p: fmi2String) -> Option<&'a str> {
+pub(crate) unsafe fn string<'a>(p: fmi2String) -> Option<&'a str> {
     if p.is_null() {
         None
     } else {
@@ -220,23 +220,31 @@ pub unsafe fn instantiate<M: FmuModel>(
                 return fail(format!("GUID mismatch: the importer passed {other:?}, this binary is {guid_expected}"))
             }
         }
-        let resources = parse_resource_location(string(resource_location));
-        let context = ModelContext { instance_name: name.to_string(), resources: resources.clone() };
-        match Instance::<M>::new(context, logger) {
-            Ok(inst) => {
-                inst.logger
-                    .event(&format!("instantiated {model_identifier} ({guid_expected}), resources: {resources:?}"));
-                Box::into_raw(Box::new(inst)) as fmi2Component
-            }
-            Err(e) => {
-                // The logger moved into the failed construction: report through a fresh one.
-                let logger = Logger::new(functions.logger, functions.componentEnvironment, name, categories, true);
-                logger.log(Status::Error, logger::ERROR, &format!("fmi2Instantiate: {e}"));
-                std::ptr::null_mut()
-            }
-        }
+        create::<M>(name, parse_resource_location(string(resource_location)), logger)
     }));
     result.unwrap_or(std::ptr::null_mut())
+}
+
+/// The instance of both APIs' instantiate functions, once their arguments are checked: a pointer to a new
+/// `Instance` with every start value applied, or NULL (logged) if the model refuses one.
+pub(crate) fn create<M: FmuModel>(name: &str, resources: ResourceLocation, logger: Logger) -> fmi2Component {
+    let description = M::description();
+    let context = ModelContext { instance_name: name.to_string(), resources: resources.clone() };
+    // The logger moves into the construction: a failure is reported through a copy.
+    let reporter = logger.reporting_copy();
+    match Instance::<M>::new(context, logger) {
+        Ok(inst) => {
+            inst.logger.event(&format!(
+                "instantiated {} ({}), resources: {resources:?}",
+                description.model_identifier, description.guid
+            ));
+            Box::into_raw(Box::new(inst)) as fmi2Component
+        }
+        Err(e) => {
+            reporter.log(Status::Error, logger::ERROR, &format!("fmi2Instantiate: {e}"));
+            std::ptr::null_mut()
+        }
+    }
 }
 
 /// # Safety

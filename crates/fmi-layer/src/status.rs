@@ -5,6 +5,14 @@ use fmi_sys::fmi2::{
     fmi2Status_fmi2Warning,
 };
 
+// `Status::raw` serves the FMI 3.0 entry points too: the two enums must agree.
+const _: () = {
+    use fmi_sys::fmi3::*;
+    assert!(fmi3Status_fmi3OK == fmi2Status_fmi2OK && fmi3Status_fmi3Warning == fmi2Status_fmi2Warning);
+    assert!(fmi3Status_fmi3Discard == fmi2Status_fmi2Discard && fmi3Status_fmi3Error == fmi2Status_fmi2Error);
+    assert!(fmi3Status_fmi3Fatal == fmi2Status_fmi2Fatal);
+};
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Status {
     Ok,
@@ -15,6 +23,8 @@ pub enum Status {
 }
 
 impl Status {
+    /// The status as both APIs encode it: fmi2Status and fmi3Status are the same C enum values (0 OK to 4
+    /// Fatal; FMI 3.0 only drops fmi2Pending, which this layer never returns).
     pub fn raw(self) -> fmi2Status {
         match self {
             Status::Ok => fmi2Status_fmi2OK,

@@ -66,6 +66,22 @@ pub struct Variable<K: 'static> {
     pub var: K,
 }
 
+/// An input derivative as an FMI 3.0 variable: FMI 3.0 has no `fmi2SetRealInputDerivatives`; an importer
+/// sets the derivative of order `order` of the Real input `of` (its value reference) as the Float64 input
+/// `vr`, declared with `derivative="…"` in the 3.0 model description. Declared in the 2.0 model description's
+/// `VendorAnnotations` (`codegen`), so that the 2.0 XML stays the one source of both descriptions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InputDerivative {
+    pub name: &'static str,
+    pub vr: u32,
+    /// The value reference of the input it is a derivative of.
+    pub of: u32,
+    /// 1 or 2.
+    pub order: i32,
+    pub unit: Option<&'static str>,
+    pub description: &'static str,
+}
+
 /// What the generic layer needs of a model description (generated from the XML by `codegen`).
 #[derive(Debug)]
 pub struct Description<K: 'static> {
@@ -78,6 +94,11 @@ pub struct Description<K: 'static> {
     pub variables: &'static [Variable<K>],
     /// The index in `variables` of a value reference (a generated `match`), `None` if unknown.
     pub index_of: fn(u32) -> Option<usize>,
+    /// The FMI 3.0 input-derivative variables (none in an FMU that does not declare them).
+    pub input_derivatives: &'static [InputDerivative],
+    /// The value reference of FMI 3.0's independent variable (time), if declared: FMI 3.0 requires one,
+    /// the FMI 2.0 description has none.
+    pub independent_vr: Option<u32>,
 }
 
 impl<K> Description<K> {
@@ -85,6 +106,11 @@ impl<K> Description<K> {
     /// are unique overall, and a reference asked for with the wrong type is an error).
     pub fn lookup(&self, vr: u32, ty: VarType) -> Option<&'static Variable<K>> {
         (self.index_of)(vr).map(|i| &self.variables[i]).filter(|v| v.ty == ty)
+    }
+
+    /// The position in `input_derivatives` of an FMI 3.0 input-derivative value reference.
+    pub fn input_derivative(&self, vr: u32) -> Option<usize> {
+        self.input_derivatives.iter().position(|d| d.vr == vr)
     }
 
     pub fn by_name(&self, name: &str) -> Option<&'static Variable<K>> {

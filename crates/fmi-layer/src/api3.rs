@@ -1,0 +1,341 @@
+//! The FMI 3.0 Co-Simulation C boundary, generic over the model: only what differs from FMI 2.0. An FMI
+//! 3.0 instance is the same `Instance` (state machine, value dispatch, FMU state) as an FMI 2.0 one; its
+//! logger speaks FMI 3.0 (callback and function names). The functions whose C signature is the same in both
+//! APIs (free instance, debug logging, exit initialization, terminate, reset, Int32 ↔ Integer, String, the
+//! FMU state functions) are `api`'s own, called by `export_fmi3!` directly; here are the rest: instantiation,
+//! `fmi3EnterInitializationMode` (FMI 2.0's setup experiment and enter initialization in one call), the
+//! `nValues` of the value functions, one-byte Booleans, the input-derivative variables, `fmi3DoStep`'s
+//! out-arguments, and the refusal of everything a Co-Simulation FMU without event mode, clocks or
+//! Model Exchange does not offer.
+
+use super::api::{check_array, create, slice, slice_mut, string, with_instance, MAX_ARRAY_LEN};
+use super::logger::{self, Logger};
+use super::model::{FmuModel, ResourceLocation};
+use super::status::{Failure, FmiResult, Status};
+use fmi_sys::fmi3::*;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+
+pub fn get_version() -> *const std::os::raw::c_char {
+    c"3.0".as_ptr()
+}
+
+/// `resourcePath` of FMI 3.0: a native path (not a URI, unlike FMI 2.0's `fmuResourceLocation`), with a
+/// trailing separator; NULL or empty when the FMU has no resources folder.
+pub fn parse_resource_path(path: Option<&str>) -> ResourceLocation {
+    match path.filter(|p| !p.is_empty()) {
+        Some(p) => ResourceLocation::Dir(PathBuf::from(p)),
+        None => ResourceLocation::None,
+    }
+}
+
+/// # Safety
+/// Pointers as the FMI 3.0 standard defines them (NULL is handled).
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn instantiate_co_simulation<M: FmuModel>(
+    instance_name: fmi3String,
+    instantiation_token: fmi3String,
+    resource_path: fmi3String,
+    logging_on: bool,
+    event_mode_used: bool,
+    required_intermediate_variables: *const fmi3ValueReference,
+    n_required_intermediate_variables: usize,
+    instance_environment: fmi3InstanceEnvironment,
+    log_message: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let name = string(instance_name).unwrap_or("");
+        let description = M::description();
+        let categories = description.log_categories;
+        let logger = Logger::new_fmi3(log_message, instance_environment, name, categories, logging_on);
+        let fail = |msg: String| {
+            logger.log(Status::Error, logger::ERROR, &format!("fmi3InstantiateCoSimulation: {msg}"));
+            std::ptr::null_mut()
+        };
+        if instance_name.is_null() {
+            return fail("instanceName is NULL".into());
+        }
+        match string(instantiation_token) {
+            Some(t) if t == description.guid => {}
+            other => {
+                return fail(format!(
+                    "instantiationToken mismatch: the importer passed {other:?}, this binary is {}",
+                    description.guid
+                ))
+            }
+        }
+        // hasEventMode = false: an importer that would enter event mode cannot run this FMU.
+        if event_mode_used {
+            return fail("eventModeUsed = fmi3True, but this FMU has no event mode (hasEventMode = false)".into());
+        }
+        // providesIntermediateUpdate = false: no intermediate variable can be served.
+        if let Err(f) = check_array(
+            required_intermediate_variables.is_null(),
+            n_required_intermediate_variables,
+            MAX_ARRAY_LEN,
+            "requiredIntermediateVariables",
+        ) {
+            return fail(f.message);
+        }
+        if n_required_intermediate_variables > 0 {
+            return fail(format!(
+                "{n_required_intermediate_variables} required intermediate variables, but this FMU provides no \
+                 intermediate update (providesIntermediateUpdate = false)"
+            ));
+        }
+        create::<M>(name, parse_resource_path(string(resource_path)), logger)
+    }));
+    result.unwrap_or(std::ptr::null_mut())
+}
+
+/// fmi3InstantiateModelExchange / fmi3InstantiateScheduledExecution: NULL, with the reason logged when a
+/// callback is given.
+///
+/// # Safety
+/// As `instantiate_co_simulation`.
+pub unsafe fn refuse_instantiation<M: FmuModel>(
+    function: &str,
+    instance_name: fmi3String,
+    instance_environment: fmi3InstanceEnvironment,
+    log_message: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        let name = string(instance_name).unwrap_or("");
+        let description = M::description();
+        let logger = Logger::new_fmi3(log_message, instance_environment, name, description.log_categories, true);
+        logger.log(
+            Status::Error,
+            logger::ERROR,
+            &format!(
+                "{function}: {} is a Co-Simulation FMU only (fmi3InstantiateCoSimulation)",
+                description.model_identifier
+            ),
+        );
+    }));
+    std::ptr::null_mut()
+}
+
+/// A function this FMU does not offer: fmi3Error, logged with `why`.
+///
+/// # Safety
+/// `c` NULL or a live instance.
+pub unsafe fn unsupported<M: FmuModel>(c: fmi3Instance, function: &str, why: &str) -> fmi3Status {
+    with_instance::<M>(c, function, |_| Err(Failure::error(format!("{function}: {why}"))))
+}
+
+/// FMI 3.0 has `nValues` next to `nValueReferences`: for scalar variables they must agree.
+fn check_n_values(function: &str, n_value_references: usize, n_values: usize) -> FmiResult<()> {
+    if n_values == n_value_references {
+        Ok(())
+    } else {
+        Err(Failure::error(format!(
+            "{function}: nValues = {n_values} differs from nValueReferences = {n_value_references} (every variable is a scalar)"
+        )))
+    }
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn enter_initialization_mode<M: FmuModel>(
+    c: fmi3Instance,
+    tolerance_defined: bool,
+    tolerance: f64,
+    start_time: f64,
+    stop_time_defined: bool,
+    stop_time: f64,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3EnterInitializationMode", |i| {
+        // FMI 2.0's fmi2SetupExperiment and fmi2EnterInitializationMode in one call: the experiment is
+        // checked and taken first, and nothing changes if it is refused.
+        i.setup_experiment(tolerance_defined.then_some(tolerance), start_time, stop_time_defined.then_some(stop_time))?;
+        i.enter_initialization_mode()
+    })
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_float64<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *mut f64,
+    n_values: usize,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3GetFloat64", |i| {
+        check_n_values("fmi3GetFloat64", n, n_values)?;
+        i.get_float64(slice(vr, n, "valueReferences")?, slice_mut(value, n, "values")?)
+    })
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn set_float64<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *const f64,
+    n_values: usize,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3SetFloat64", |i| {
+        check_n_values("fmi3SetFloat64", n, n_values)?;
+        i.set_float64(slice(vr, n, "valueReferences")?, slice(value, n, "values")?)
+    })
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_int32<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *mut i32,
+    n_values: usize,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3GetInt32", |i| {
+        check_n_values("fmi3GetInt32", n, n_values)?;
+        i.get_integer(slice(vr, n, "valueReferences")?, slice_mut(value, n, "values")?)
+    })
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn set_int32<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *const i32,
+    n_values: usize,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3SetInt32", |i| {
+        check_n_values("fmi3SetInt32", n, n_values)?;
+        i.set_integer(slice(vr, n, "valueReferences")?, slice(value, n, "values")?)
+    })
+}
+
+/// # Safety
+/// FMI pointers. `fmi3Boolean` is C's `bool`; the values are read as bytes (any non-zero byte is true),
+/// so that a master's byte other than 0 or 1 is not undefined behaviour here.
+pub unsafe fn get_boolean<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *mut bool,
+    n_values: usize,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3GetBoolean", |i| {
+        check_n_values("fmi3GetBoolean", n, n_values)?;
+        let vrs = slice(vr, n, "valueReferences")?;
+        let out = slice_mut(value, n, "values")?;
+        let mut tmp = vec![false; n];
+        let status = i.get_boolean(vrs, &mut tmp)?;
+        out.copy_from_slice(&tmp);
+        Ok(status)
+    })
+}
+
+/// # Safety
+/// As `get_boolean`.
+pub unsafe fn set_boolean<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *const bool,
+    n_values: usize,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3SetBoolean", |i| {
+        check_n_values("fmi3SetBoolean", n, n_values)?;
+        let vrs = slice(vr, n, "valueReferences")?;
+        let values: Vec<bool> = slice(value as *const u8, n, "values")?.iter().map(|&b| b != 0).collect();
+        i.set_boolean(vrs, &values)
+    })
+}
+
+/// The String functions: the arguments of `api`'s after the `nValues` check.
+///
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_string<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *mut fmi3String,
+    n_values: usize,
+) -> fmi3Status {
+    if n != n_values {
+        return unsupported::<M>(
+            c,
+            "fmi3GetString",
+            &format!("nValues = {n_values} differs from nValueReferences = {n}"),
+        );
+    }
+    super::api::get_string::<M>(c, vr, n, value)
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn set_string<M: FmuModel>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    value: *const fmi3String,
+    n_values: usize,
+) -> fmi3Status {
+    if n != n_values {
+        return unsupported::<M>(
+            c,
+            "fmi3SetString",
+            &format!("nValues = {n_values} differs from nValueReferences = {n}"),
+        );
+    }
+    super::api::set_string::<M>(c, vr, n, value)
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_output_derivatives<M: FmuModel>(c: fmi3Instance) -> fmi3Status {
+    with_instance::<M>(c, "fmi3GetOutputDerivatives", |i| i.get_real_output_derivatives())
+}
+
+/// fmi3DoStep: the step of FMI 2.0, and its out-arguments: no event handling or early return ever
+/// (hasEventMode and mightReturnEarlyFromDoStep are false); `terminateSimulation` when the step ended
+/// the run (fmi3Discard, as fmi2Terminated); `lastSuccessfulTime` the FMU time after the call (the step's
+/// end, or where the run ended). The out-pointers are checked before the step is taken.
+///
+/// # Safety
+/// FMI pointers.
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn do_step<M: FmuModel>(
+    c: fmi3Instance,
+    t: f64,
+    h: f64,
+    event_handling_needed: *mut bool,
+    terminate_simulation: *mut bool,
+    early_return: *mut bool,
+    last_successful_time: *mut f64,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3DoStep", |i| {
+        let event = slice_mut(event_handling_needed, 1, "eventHandlingNeeded")?;
+        let terminate = slice_mut(terminate_simulation, 1, "terminateSimulation")?;
+        let early = slice_mut(early_return, 1, "earlyReturn")?;
+        let last = slice_mut(last_successful_time, 1, "lastSuccessfulTime")?;
+        let result = i.do_step(t, h);
+        event[0] = false;
+        early[0] = false;
+        terminate[0] = i.core.terminated;
+        last[0] = i.core.time;
+        result
+    })
+}
+
+/// Why a Model Exchange function is refused.
+pub const NOT_MODEL_EXCHANGE: &str = "this FMU is Co-Simulation only (no Model Exchange interface)";
+/// Why a clock or Scheduled Execution function is refused.
+pub const NO_CLOCKS: &str = "this FMU has no clocks (no Scheduled Execution interface)";
+/// Why an event-mode function is refused.
+pub const NO_EVENT_MODE: &str =
+    "this FMU has no event mode (hasEventMode = false; fmi3InstantiateCoSimulation refuses eventModeUsed)";
+
+/// The value types this FMU has no variables of: their getters and setters are fmi3Error.
+pub fn no_variables_of(ty: &str) -> String {
+    format!("this FMU has no {ty} variables (Float64, Int32, Boolean and String only)")
+}
