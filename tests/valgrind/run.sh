@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # valgrind memcheck over the whole lifecycle (tests/valgrind/lifecycle.c) of both packaged FMUs, the vehicle
-# (target/fmu/RtVehicle.fmu) and the driver (target/fmu/RtDriver.fmu), which share the FMI layer (build them
-# with `cargo run --release -p packaging`). Each fails on any memory error and on any byte left at exit,
+# (target/fmu/RtVehicle.fmu) and the driver (target/fmu/RtDriver.fmu), which share the FMI layer, and of the
+# vehicle's FMI 3.0 archive (target/fmu/RtVehicle3.fmu: the same library through its fmi3… functions,
+# tests/valgrind/lifecycle3.c) (build them with `cargo run --release -p packaging`). Each fails on any memory error and on any byte left at exit,
 # "still reachable" included: the driver frees every instance and dlcloses the library, after which the
 # packaged binaries leave 0 bytes in use (measured), so a reachable block is memory the FMU kept past
 # fmi2FreeInstance, e.g. in a process-global table, which counting only "lost" blocks would miss (a state
@@ -13,21 +14,27 @@ cd "$(dirname "$0")/../.."
 work=target/valgrind
 rm -rf "$work" && mkdir -p "$work"
 cc -O1 -g -Wall -Wextra -o "$work/lifecycle" tests/valgrind/lifecycle.c -ldl
+cc -O1 -g -Wall -Wextra -o "$work/lifecycle3" tests/valgrind/lifecycle3.c -ldl
 # Not `set -e` here: the summaries are printed whatever the outcome, a failing run's above all.
 status=0
-for fmu in RtVehicle:vehicle RtDriver:driver; do
-    identifier=${fmu%%:*} model=${fmu##*:}
-    dir="$work/$identifier"
+for fmu in RtVehicle:vehicle RtDriver:driver RtVehicle3:vehicle; do
+    archive=${fmu%%:*} model=${fmu##*:}
+    identifier=${archive%3}
+    dir="$work/$archive"
     mkdir -p "$dir/fmu"
-    python3 -c "import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])" "target/fmu/$identifier.fmu" "$dir/fmu"
+    python3 -c "import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])" "target/fmu/$archive.fmu" "$dir/fmu"
+    if [ "$archive" = "$identifier" ]; then  # FMI 2.0: binaries/linux64, a file: URI
+        master=("$work/lifecycle" "$dir/fmu/binaries/linux64/$identifier.so" "file://$(pwd)/$dir/fmu/resources" "$model")
+    else  # FMI 3.0: binaries/x86_64-linux, a native path with a trailing separator
+        master=("$work/lifecycle3" "$dir/fmu/binaries/x86_64-linux/$identifier.so" "$(pwd)/$dir/fmu/resources/")
+    fi
     one=0
     valgrind --error-exitcode=1 --leak-check=full --show-leak-kinds=all --errors-for-leak-kinds=all \
-        --log-file="$dir/memcheck.log" \
-        "$work/lifecycle" "$dir/fmu/binaries/linux64/$identifier.so" "file://$(pwd)/$dir/fmu/resources" "$model" || one=$?
+        --log-file="$dir/memcheck.log" "${master[@]}" || one=$?
     grep -E "Process terminating|All heap blocks were freed|ERROR SUMMARY|definitely lost:|indirectly lost:|possibly lost:|still reachable:|in use at exit" \
-        "$dir/memcheck.log" | sed "s/^==[0-9]*== */memcheck $identifier: /"
+        "$dir/memcheck.log" | sed "s/^==[0-9]*== */memcheck $archive: /"
     if [ "$one" -ne 0 ]; then
-        echo "memcheck $identifier FAILED (exit status $one): $dir/memcheck.log"
+        echo "memcheck $archive FAILED (exit status $one): $dir/memcheck.log"
         [ "$status" -ne 0 ] || status=$one
     fi
 done
