@@ -1149,6 +1149,9 @@ fn deserialized_states_are_validated_like_the_setters() {
         (edited(&format!("{sim}/state/0"), "HUGE".into()).replace("\"HUGE\"", "1e400"), "not a serialized state"),
         (edited("/core/mode", "Fatal".into()), "Fatal"),
         (edited("/core/needs_init", true.into()), "needs_init"),
+        (edited("/core/terminated", true.into()), "terminated = true"),
+        (edited("/core/derivative_inputs", serde_json::json!([0.0])), "input-derivative values"),
+        (edited("/core/derivative_inputs/1", "HUGE".into()).replace("\"HUGE\"", "1e400"), "not a serialized state"),
         (edited("/core/model/sim", serde_json::Value::Null), "without a simulation"),
         (edited("/core/model/config/speed_mode", "Coast".into()), "configuration differs"),
         (edited(&format!("{sim}/vehicle_fingerprint"), (fp ^ 1).into()), "vehicle differs"),
@@ -1334,4 +1337,101 @@ fn a_fixed_step_integrator_ignores_the_experiment_tolerance() {
         sim.state().iter().map(|v| v.to_bits()).collect::<Vec<_>>()
     };
     assert_eq!(run(Some(1e-6)), run(None));
+}
+
+// ---- FMI 3.0: the same instances and state machine through `api3` ---------------------------------------
+
+/// The importer's `fmi3LogMessageCallback`: no instance name, no format.
+unsafe extern "C" fn record3(env: *mut c_void, status: u32, category: *const c_char, message: *const c_char) {
+    let rec = &*(env as *const Recorder);
+    rec.messages.lock().unwrap().push((
+        status,
+        CStr::from_ptr(category).to_string_lossy().into_owned(),
+        CStr::from_ptr(message).to_string_lossy().into_owned(),
+    ));
+}
+
+unsafe fn instantiate3<M: FmuModel>(rec: &Recorder, token: &str, event_mode_used: bool) -> *mut c_void {
+    let (name, token) = (CString::new("m3").unwrap(), CString::new(token).unwrap());
+    fmi_layer::api3::instantiate_co_simulation::<M>(
+        name.as_ptr(),
+        token.as_ptr(),
+        std::ptr::null(),
+        true,
+        event_mode_used,
+        std::ptr::null(),
+        0,
+        rec as *const Recorder as *mut c_void,
+        Some(record3),
+    )
+}
+
+/// fmi3DoStep through `api3`: (status, terminateSimulation, lastSuccessfulTime).
+unsafe fn step3<M: FmuModel>(c: *mut c_void, t: f64, h: f64) -> (u32, bool, f64) {
+    let (mut event, mut terminate, mut early, mut last) = (true, true, true, -1.0);
+    let s = fmi_layer::api3::do_step::<M>(c, t, h, &mut event, &mut terminate, &mut early, &mut last);
+    assert!(!event && !early, "no event handling or early return, ever");
+    (s, terminate, last)
+}
+
+#[test]
+fn fmi3_runs_the_fmi2_state_machine_with_input_derivatives_as_variables() {
+    use fmi_layer::api3;
+    let rec = Recorder::default();
+    unsafe {
+        assert!(instantiate3::<Mock>(&rec, "{wrong}", false).is_null());
+        assert!(rec.last().contains("instantiationToken mismatch"), "{}", rec.last());
+        assert!(instantiate3::<Mock>(&rec, GUID, true).is_null());
+        assert!(rec.last().contains("no event mode"), "{}", rec.last());
+        let a = instantiate3::<Mock>(&rec, GUID, false);
+        let b = instantiate3::<Mock>(&rec, GUID, false);
+        assert!(!a.is_null() && !b.is_null());
+        // fmi3EnterInitializationMode takes the experiment: a bad one changes nothing.
+        assert_eq!(api3::enter_initialization_mode::<Mock>(a, true, -1.0, 0.0, false, 0.0), ERROR);
+        assert!(rec.last().starts_with("fmi3EnterInitializationMode: tolerance -1"), "{}", rec.last());
+        for c in [a, b] {
+            assert_eq!(api3::enter_initialization_mode::<Mock>(c, false, 0.0, 0.0, true, 1.0), OK);
+            assert_eq!(api::exit_initialization_mode::<Mock>(c), OK);
+        }
+        let rate = DESCRIPTION.input_derivatives.iter().find(|d| d.name == "rack_velocity").unwrap();
+        assert_eq!((rate.of, rate.order), (vr::RACK_DISPLACEMENT, 1));
+        let time = DESCRIPTION.independent_vr.expect("the 3.0 time variable");
+        // The rack and its velocity in one call on a; the rack alone on b: the velocity reaches the model
+        // (the mock adds it to the rack in its step), for the next step only.
+        let vrs = [vr::RACK_DISPLACEMENT, rate.vr];
+        assert_eq!(api3::set_float64::<Mock>(a, vrs.as_ptr(), 2, [0.5, 2.0].as_ptr(), 2), OK);
+        assert_eq!(api3::set_float64::<Mock>(b, vrs.as_ptr(), 1, [0.5].as_ptr(), 1), OK);
+        assert_eq!(step3::<Mock>(a, 0.0, 0.01), (OK, false, 0.01));
+        assert_eq!(step3::<Mock>(b, 0.0, 0.01), (OK, false, 0.01));
+        let state = |c| (*(c as *const fmi_layer::instance::Instance<Mock>)).core.model.state;
+        assert_ne!(state(a), state(b), "the velocity variable changed the step");
+        let mut got = [0.0; 3];
+        let read = [rate.vr, time, vr::RACK_DISPLACEMENT];
+        assert_eq!(api3::get_float64::<Mock>(a, read.as_ptr(), 3, got.as_mut_ptr(), 3), OK);
+        assert_eq!(got, [2.0, 0.01, 0.5], "the velocity as set, the FMU time, the rack");
+        // nValues must equal nValueReferences; NaN is refused with the value kept, in FMI 3.0's words.
+        assert_eq!(api3::get_float64::<Mock>(a, read.as_ptr(), 3, got.as_mut_ptr(), 2), ERROR);
+        assert_eq!(api3::set_float64::<Mock>(a, vrs.as_ptr(), 2, [0.1, f64::NAN].as_ptr(), 2), ERROR);
+        assert!(rec.last().starts_with("fmi3SetFloat64: ") && !rec.last().contains("fmi2"), "{}", rec.last());
+        assert_eq!(api3::get_float64::<Mock>(a, read.as_ptr(), 3, got.as_mut_ptr(), 3), OK);
+        assert_eq!(got, [2.0, 0.01, 0.5], "nothing of the refused call applied");
+        // The time variable is not settable.
+        assert_eq!(api3::set_float64::<Mock>(a, [time].as_ptr(), 1, [3.0].as_ptr(), 1), ERROR);
+        // A NULL out-pointer is refused before the step.
+        let (mut f, mut l) = (false, 0.0);
+        let s = api3::do_step::<Mock>(a, 0.01, 0.01, &mut f, std::ptr::null_mut(), &mut f, &mut l);
+        assert_eq!((s, step3::<Mock>(a, 0.01, 0.01)), (ERROR, (OK, false, 0.02)));
+        // A diverging step: fmi3Discard, terminateSimulation, lastSuccessfulTime where the run ended.
+        assert_eq!(api3::set_float64::<Mock>(a, vrs.as_ptr(), 1, [777.0].as_ptr(), 1), OK);
+        assert_eq!(step3::<Mock>(a, 0.02, 0.01), (DISCARD, true, 0.02));
+        assert!(rec.last().contains("terminateSimulation") || rec.last().contains("fmi3DoStep"), "{}", rec.last());
+        // A panic is an error, and the instance goes to the Error state.
+        assert_eq!(api3::set_float64::<Mock>(b, vrs.as_ptr(), 1, [666.0].as_ptr(), 1), OK);
+        assert_eq!(step3::<Mock>(b, 0.01, 0.01).0, ERROR);
+        assert!(rec.last().contains("fmi3DoStep: internal error (panic: mock panic)"), "{}", rec.last());
+        assert_eq!(api3::unsupported::<Mock>(b, "fmi3EnterEventMode", api3::NO_EVENT_MODE), ERROR);
+        assert!(rec.last().starts_with("fmi3EnterEventMode: this FMU has no event mode"), "{}", rec.last());
+        api::free_instance::<Mock>(a);
+        api::free_instance::<Mock>(b);
+    }
 }

@@ -1,5 +1,7 @@
 """Randomized, type-correct FMI 2.0 call sequences against an FMU's shared library (ctypes): the vehicle
-(RtVehicle) or the driver (RtDriver), which share the generic FMI layer.
+(RtVehicle) or the driver (RtDriver), which share the generic FMI layer; and FMI 3.0 ones (`Sequence3`)
+against the vehicle's FMI 3.0 archive (RtVehicle3.fmu, its library in binaries/x86_64-linux/), the same
+library through its fmi3… functions.
 
 Run by tests/fmu/test_c_api_fuzz.py in child processes, so that a crash is reported, not fatal:
 
@@ -126,9 +128,19 @@ def load(path):
 
 def model_description(path):
     """(guid, modelIdentifier, variables, attributes): variables as (name, vr, type, causality) in the XML's
-    order; attributes: name -> {"start", "min", "max"} as strings (absent when not declared)."""
+    order; attributes: name -> {"start", "min", "max"} as strings (absent when not declared). An FMI 3.0
+    description gives the same, with its types in FMI 2.0's words (Float64 as Real, Int32 as Integer) and
+    its instantiationToken as the GUID."""
     root = ET.parse(path).getroot()
     variables, attributes = [], {}
+    if root.get("fmiVersion") == "3.0":
+        words = {"Float64": "Real", "Int32": "Integer", "Boolean": "Boolean", "String": "String"}
+        for v in root.find("ModelVariables"):
+            start = v.find("Start").get("value") if v.tag == "String" else v.get("start")
+            variables.append((v.get("name"), int(v.get("valueReference")), words[v.tag], v.get("causality")))
+            attributes[v.get("name")] = {k: x for k, x in (("start", start), ("min", v.get("min")), ("max", v.get("max")))
+                                         if x is not None}
+        return root.get("instantiationToken"), root.find("CoSimulation").get("modelIdentifier"), variables, attributes
     for sv in root.iter("ScalarVariable"):
         typed = next(c for c in sv if c.tag in ("Real", "Integer", "Boolean", "String"))
         variables.append((sv.get("name"), int(sv.get("valueReference")), typed.tag, sv.get("causality")))
@@ -722,6 +734,340 @@ class Sequence:
                 "problems": self.problems}
 
 
+# ---- FMI 3.0 (the vehicle's RtVehicle3.fmu: the same library through its fmi3… functions) ----------------
+
+LOG3 = C.CFUNCTYPE(None, C.c_void_p, C.c_int, C.c_char_p, C.c_char_p)
+ENV_NAMES = {}  # instanceEnvironment -> instance name: FMI 3.0's callback names no instance
+
+
+def _log3(env, status, category, message):
+    key = ENV_NAMES.get(env, ANY)
+    LOG[key] = LOG.get(key, 0) + 1
+    LOG[ANY] = LOG.get(ANY, 0) + 1
+    LAST[key] = (message or b"").decode("utf-8", "replace")
+
+
+LOG3_CALLBACK = LOG3(_log3)
+B = C.c_bool
+V3 = [C.c_void_p]
+VRP = C.POINTER(C.c_uint32)
+
+
+def load3(path):
+    """The fmi3… functions this sequence calls, with their C types (fmi3FunctionTypes.h)."""
+    lib = C.CDLL(path)
+    n = C.c_size_t
+    value = lambda t: V3 + [VRP, n, C.POINTER(t), n]  # noqa: E731 (get/set of a value type)
+    sig = {
+        "fmi3InstantiateCoSimulation": (C.c_void_p, [C.c_char_p, C.c_char_p, C.c_char_p, B, B, B, B, VRP, n, C.c_void_p, LOG3, C.c_void_p]),
+        "fmi3InstantiateModelExchange": (C.c_void_p, [C.c_char_p, C.c_char_p, C.c_char_p, B, B, C.c_void_p, LOG3]),
+        "fmi3InstantiateScheduledExecution": (C.c_void_p, [C.c_char_p, C.c_char_p, C.c_char_p, B, B, C.c_void_p, LOG3,
+                                                           C.c_void_p, C.c_void_p, C.c_void_p]),
+        "fmi3FreeInstance": (None, V3),
+        "fmi3GetVersion": (C.c_char_p, []),
+        "fmi3SetDebugLogging": (C.c_int, V3 + [B, n, C.POINTER(C.c_char_p)]),
+        "fmi3EnterInitializationMode": (C.c_int, V3 + [B, C.c_double, C.c_double, B, C.c_double]),
+        "fmi3ExitInitializationMode": (C.c_int, V3), "fmi3Terminate": (C.c_int, V3), "fmi3Reset": (C.c_int, V3),
+        "fmi3GetFloat64": (C.c_int, value(C.c_double)), "fmi3SetFloat64": (C.c_int, value(C.c_double)),
+        "fmi3GetInt32": (C.c_int, value(C.c_int32)), "fmi3SetInt32": (C.c_int, value(C.c_int32)),
+        "fmi3GetBoolean": (C.c_int, value(C.c_uint8)), "fmi3SetBoolean": (C.c_int, value(C.c_uint8)),
+        "fmi3GetString": (C.c_int, value(C.c_char_p)), "fmi3SetString": (C.c_int, value(C.c_char_p)),
+        "fmi3GetFloat32": (C.c_int, value(C.c_float)), "fmi3SetUInt64": (C.c_int, value(C.c_uint64)),
+        "fmi3GetInt8": (C.c_int, value(C.c_int8)), "fmi3SetInt16": (C.c_int, value(C.c_int16)),
+        "fmi3GetFMUState": (C.c_int, V3 + [C.POINTER(C.c_void_p)]), "fmi3SetFMUState": (C.c_int, V3 + [C.c_void_p]),
+        "fmi3FreeFMUState": (C.c_int, V3 + [C.POINTER(C.c_void_p)]),
+        "fmi3SerializedFMUStateSize": (C.c_int, V3 + [C.c_void_p, C.POINTER(n)]),
+        "fmi3SerializeFMUState": (C.c_int, V3 + [C.c_void_p, C.c_char_p, n]),
+        "fmi3DeserializeFMUState": (C.c_int, V3 + [C.c_char_p, n, C.POINTER(C.c_void_p)]),
+        "fmi3DoStep": (C.c_int, V3 + [C.c_double, C.c_double, B, C.POINTER(B), C.POINTER(B), C.POINTER(B), C.POINTER(C.c_double)]),
+        "fmi3GetOutputDerivatives": (C.c_int, V3 + [VRP, n, C.POINTER(C.c_int32), C.POINTER(C.c_double), n]),
+        "fmi3EnterEventMode": (C.c_int, V3), "fmi3EnterStepMode": (C.c_int, V3), "fmi3EnterConfigurationMode": (C.c_int, V3),
+        "fmi3EnterContinuousTimeMode": (C.c_int, V3), "fmi3EvaluateDiscreteStates": (C.c_int, V3),
+        "fmi3UpdateDiscreteStates": (C.c_int, V3 + [C.POINTER(B)] * 5 + [C.POINTER(C.c_double)]),
+        "fmi3GetContinuousStates": (C.c_int, V3 + [C.POINTER(C.c_double), n]),
+        "fmi3GetNumberOfContinuousStates": (C.c_int, V3 + [C.POINTER(n)]),
+        "fmi3SetTime": (C.c_int, V3 + [C.c_double]),
+        "fmi3GetClock": (C.c_int, V3 + [VRP, n, C.POINTER(B)]),
+        "fmi3GetIntervalDecimal": (C.c_int, V3 + [VRP, n, C.POINTER(C.c_double), C.POINTER(C.c_int)]),
+        "fmi3ActivateModelPartition": (C.c_int, V3 + [C.c_uint32, C.c_double]),
+        "fmi3GetNumberOfVariableDependencies": (C.c_int, V3 + [C.c_uint32, C.POINTER(n)]),
+        "fmi3GetDirectionalDerivative": (C.c_int, V3 + [VRP, n, VRP, n, C.POINTER(C.c_double), n, C.POINTER(C.c_double), n]),
+    }
+    for name, (res, args) in sig.items():
+        f = getattr(lib, name)
+        f.restype, f.argtypes = res, args
+    return lib
+
+
+class Sequence3(Sequence):
+    """An FMI 3.0 sequence: the plumbing, files, values and serialized-state edits of `Sequence`, the calls
+    of FMI 3.0 (fmi3EnterInitializationMode with the experiment, nValues, one-byte Booleans, the
+    input-derivative and time variables, fmi3DoStep's out-arguments, the functions a Co-Simulation FMU
+    without event mode, clocks or Model Exchange refuses). Same checks; besides, an fmi3OK fmi3DoStep must
+    say no event, no early return, not terminated, lastSuccessfulTime = t + h, and an fmi3Discard one
+    terminateSimulation."""
+
+    def __init__(self, lib, fmu, resources, workdir, seed):
+        super().__init__(lib, fmu, resources, workdir, seed)
+        # A native path with a trailing separator (FMI 3.0's resourcePath), from the file: URI of the 2.0 driver.
+        self.resources = resources[len("file://"):] if resources.startswith("file://") else resources
+        self.resources = self.resources.rstrip("/") + "/"
+
+    def instantiate(self):
+        r = self.rng
+        name = f"fuzz{self.seed}_{len(self.instances)}"
+        if r.random() < 0.15:
+            self.bad_instantiate(name)
+            return
+        env = len(ENV_NAMES) + 1
+        ENV_NAMES[env] = name
+        resources = self.resources if r.random() < 0.9 else r.choice(["", "/nonexistent/", "relative/"])
+        c = self.timed(f"fmi3InstantiateCoSimulation({name!r}, {resources!r})", self.lib.fmi3InstantiateCoSimulation,
+                       name.encode(), self.guid.encode(), resources.encode(), False, bool(r.randint(0, 1)), False,
+                       bool(r.randint(0, 1)), None, 0, env, LOG3_CALLBACK, None)
+        if c:
+            self.instances.append([c, name, 0.0])
+            i = len(self.instances) - 1
+            if r.random() < 0.75:
+                self.call(i, "enter", self.lib.fmi3EnterInitializationMode, c, False, 0.0, 0.0, False, 0.0)
+                for _ in range(r.randint(0, 2)):
+                    self.one(i)
+                self.call(i, "exit", self.lib.fmi3ExitInitializationMode, c)
+
+    def bad_instantiate(self, name):
+        r, lib = self.rng, self.lib
+        what = r.choice(["wrong token", "NULL token", "NULL instanceName", "eventModeUsed", "intermediate variables",
+                         "2^40 intermediate variables", "Model Exchange", "Scheduled Execution"])
+        before = LOG.get(ANY, 0)
+        token, iname = self.guid.encode(), name.encode()
+        if what == "Model Exchange":
+            c = self.timed(what, lib.fmi3InstantiateModelExchange, iname, token, b"", False, False, None, LOG3_CALLBACK)
+        elif what == "Scheduled Execution":
+            c = self.timed(what, lib.fmi3InstantiateScheduledExecution, iname, token, b"", False, False, None,
+                           LOG3_CALLBACK, None, None, None)
+        else:
+            token = {"wrong token": b"{00000000-0000-0000-0000-000000000000}", "NULL token": None}.get(what, token)
+            iname = None if what == "NULL instanceName" else iname
+            n = {"intermediate variables": 1, "2^40 intermediate variables": 1 << 40}.get(what, 0)
+            vrs = self.arr(C.c_uint32, [200]) if n == 1 else None
+            c = self.timed(f"fmi3InstantiateCoSimulation({what})", lib.fmi3InstantiateCoSimulation, iname, token,
+                           self.resources.encode(), False, False, what == "eventModeUsed", False, vrs, n, None,
+                           LOG3_CALLBACK, None)
+        if c:
+            self.problems.append(f"instantiation with {what} returned an instance")
+            lib.fmi3FreeInstance(c)
+        elif LOG.get(ANY, 0) == before:
+            self.problems.append(f"instantiation with {what} returned NULL without a log message")
+
+    def step(self, i):
+        r, lib = self.rng, self.lib
+        c, _, t = self.instances[i]
+        h = r.choice(STEPS)
+        when = t if r.random() < 0.9 else t + r.choice([1.0, -1.0, 1e-3])
+        flags = [B(True), B(True), B(True)]
+        last = C.c_double(-1.0)
+        outs = [C.byref(flags[0]), C.byref(flags[1]), C.byref(flags[2]), C.byref(last)]
+        if r.random() < 0.05:
+            outs[r.randrange(4)] = None
+        s = self.call(i, f"fmi3DoStep(t={when}, h={h})", lib.fmi3DoStep, c, when, h, True, *outs)
+        if s == OK:
+            self.ok_steps += 1
+            self.instances[i][2] = t + h
+            if any(f.value for f in flags) or last.value != when + h:
+                self.problems.append(f"fmi3DoStep OK with flags {[f.value for f in flags]}, lastSuccessfulTime "
+                                     f"{last.value} (t + h = {when + h})")
+            out = (C.c_double * len(self.outputs))()
+            g = self.call(i, "fmi3GetFloat64(outputs)", lib.fmi3GetFloat64, c, self.arr(C.c_uint32, self.outputs),
+                          len(self.outputs), out, len(self.outputs))
+            if g == OK and not all(math.isfinite(v) for v in out):
+                self.problems.append(f"non-finite output after an OK step of h = {h}")
+            elif g == ERROR:
+                self.problems.append(f"fmi3GetFloat64(outputs) failed after an OK step of h = {h}: "
+                                     f"{LAST.get(self.instances[i][1])}")
+        elif s == DISCARD and not flags[1].value:
+            self.problems.append("fmi3DoStep returned fmi3Discard with terminateSimulation = false")
+
+    def values(self, i, kind, setter):
+        """A get or set of one of the four value types, with a random nValues now and then."""
+        r, lib, c = self.rng, self.lib, self.instances[i][0]
+        ctype, name, pool = {"Real": (C.c_double, "Float64", REALS), "Integer": (C.c_int32, "Int32", INTS),
+                             "Boolean": (C.c_uint8, "Boolean", [0, 1, 2, 255]), "String": (C.c_char_p, "String", self.files)}[kind]
+        vrs = [self.fmu.file_vr] if kind == "String" and r.random() < 0.8 else self.vrs(kind)
+        n_values = len(vrs) if r.random() < 0.9 else r.choice([0, len(vrs) + 1, 1 << 40])
+        fn = getattr(lib, f"fmi3{'Set' if setter else 'Get'}{name}")
+        if setter:
+            vals = self.arr(ctype, [r.choice(pool) for _ in vrs])
+        else:
+            vals = (ctype * max(1, len(vrs)))()
+        # A wrong nValues is refused before either array is read (so a huge one with a short array is safe).
+        self.call(i, f"{fn.__name__}({vrs}, nValues={n_values})", fn, c, self.arr(C.c_uint32, vrs), len(vrs), vals,
+                  n_values)
+
+    def one(self, i=None):
+        r = self.rng
+        if i is None and (not self.instances or r.random() < 0.02):
+            self.instantiate()
+            return
+        i = r.randrange(len(self.instances)) if i is None else i
+        c, lib = self.instances[i][0], self.lib
+        k = r.randrange(20) if r.random() < 0.7 else r.choice([2, 3, 4, 5, 6])
+        if k == 0:
+            self.call(i, "enter", lib.fmi3EnterInitializationMode, c, bool(r.randint(0, 1)), r.choice(REALS),
+                      r.choice([0.0, 0.0, 10.0, -1.0, float("nan")]), bool(r.randint(0, 1)), r.choice([1.0, 8.0, -1.0, 1e9]))
+        elif k == 1:
+            if self.call(i, "exit", lib.fmi3ExitInitializationMode, c) == OK:
+                t = C.c_double()
+                if lib.fmi3GetFloat64(c, self.arr(C.c_uint32, [self.time_vr()]), 1, C.byref(t), 1) == OK:
+                    self.instances[i][2] = t.value
+        elif k in (2, 3, 4):
+            self.step(i)
+        elif k in (5, 6, 7):
+            self.values(i, r.choice(["Real", "Real", "Integer", "Boolean", "String"]), setter=r.random() < 0.5)
+        elif k == 8:
+            slot = C.c_void_p(r.choice([None, None, self.stale_state(i)]))
+            if self.call(i, "fmi3GetFMUState", lib.fmi3GetFMUState, c, C.byref(slot)) == OK:
+                self.states.append((i, slot.value))
+        elif k == 9:
+            self.call(i, "fmi3SetFMUState", lib.fmi3SetFMUState, c, C.c_void_p(self.any_state(i)))
+        elif k == 10:
+            p = self.any_state(i)
+            slot = C.c_void_p(p)
+            if self.call(i, "fmi3FreeFMUState", lib.fmi3FreeFMUState, c, C.byref(slot)) == OK and VALID_POINTERS_ONLY:
+                self.states = [(j, q) for (j, q) in self.states if q != p]
+        elif k == 11:
+            self.serialize(i, C.c_void_p(self.any_state(i)))
+        elif k == 12:
+            if r.random() < 0.4:
+                if not self.blobs:
+                    self.snapshot(i)
+                blob, invalid = self.invalid_blob()
+            else:
+                blob, invalid = self.mutated_blob(), None
+            slot = C.c_void_p(r.choice([None, self.any_state(i)] + ([] if VALID_POINTERS_ONLY else [0xdeadbeef])))
+            label = f"fmi3DeserializeFMUState({len(blob)} bytes{', ' + invalid if invalid else ''})"
+            if self.call(i, label, lib.fmi3DeserializeFMUState, c, blob, len(blob), C.byref(slot)) == OK:
+                self.states.append((i, slot.value))
+                if invalid:
+                    self.problems.append(f"{label} accepted a state the API could not have produced")
+        elif k == 13:
+            if self.call(i, "fmi3Reset", lib.fmi3Reset, c) == OK:
+                self.instances[i][2] = 0.0
+        elif k == 14:
+            self.call(i, "fmi3Terminate", lib.fmi3Terminate, c)
+        elif k == 15:
+            cats = r.choice([[], [b"logEvents"], [b"logStatusError"], [b"logNonsense"], [b"logCalls", b"logEvents"]])
+            on = True if (not cats or b"logStatusError" in cats) else bool(r.randint(0, 1))
+            self.call(i, f"fmi3SetDebugLogging({on}, {cats})", lib.fmi3SetDebugLogging, c, on, len(cats),
+                      (C.c_char_p * max(1, len(cats)))(*cats))
+        elif k == 16:
+            self.unsupported(i)
+        elif k == 17:
+            n = r.choice([1, 3, 1 << 20, (1 << 20) + 1, 1 << 32, 1 << 40, 2**64 - 1])
+            fn = r.choice([lib.fmi3GetFloat64, lib.fmi3SetFloat64, lib.fmi3GetInt32, lib.fmi3SetInt32,
+                           lib.fmi3GetBoolean, lib.fmi3SetBoolean, lib.fmi3GetString, lib.fmi3SetString])
+            self.call(i, f"{fn.__name__}(NULL, {n}, NULL, {n})", fn, c, None, n, None, n)
+        elif k == 18:
+            self.hostile_parameter(i)
+        else:
+            # The input derivatives and the time as FMI 3.0 variables, values at and beyond the edges.
+            vrs = [r.choice(self.derivative_vrs() + [self.time_vr()]) for _ in range(r.randint(1, 3))]
+            vals = [r.choice(REALS) for _ in vrs]
+            fn = r.choice([lib.fmi3SetFloat64, lib.fmi3GetFloat64])
+            self.call(i, f"{fn.__name__}({vrs}, {vals})", fn, c, self.arr(C.c_uint32, vrs), len(vrs),
+                      self.arr(C.c_double, vals), len(vrs))
+
+    def derivative_vrs(self):
+        return [vr for (name, vr, kind, causality) in self.vars if causality == "input" and name.endswith(
+            ("_velocity", "_acceleration", "_rate"))]
+
+    def time_vr(self):
+        return next(vr for (_, vr, _, causality) in self.vars if causality == "independent")
+
+    def hostile_parameter(self, i):
+        r, lib, c = self.rng, self.lib, self.instances[i][0]
+        name, vr, kind, _ = r.choice([v for v in self.vars if v[3] in ("parameter", "input")])
+        if kind == "Real":
+            v = r.choice([1e-9, 5e-324, -1.0, -5.0, 0.0, -0.0, 1e-6, 0.1, 0.1000001, 60.0001, 1e300, float("nan"),
+                          float("inf")])
+            self.call(i, f"fmi3SetFloat64({name} = {v!r})", lib.fmi3SetFloat64, c, self.arr(C.c_uint32, [vr]), 1,
+                      self.arr(C.c_double, [v]), 1)
+        elif kind == "Integer":
+            v = r.choice(INTS)
+            self.call(i, f"fmi3SetInt32({name} = {v})", lib.fmi3SetInt32, c, self.arr(C.c_uint32, [vr]), 1,
+                      self.arr(C.c_int32, [v]), 1)
+        else:
+            v = r.choice(self.files + [b"\xff\xfe not utf-8", b"x" * 5000])
+            self.call(i, f"fmi3SetString({name} = {v[:60]!r})", lib.fmi3SetString, c, self.arr(C.c_uint32, [vr]), 1,
+                      self.arr(C.c_char_p, [v]), 1)
+
+    def unsupported(self, i):
+        """What this FMU does not offer, with pointers that are NULL now and then: fmi3Error, logged."""
+        r, lib, c = self.rng, self.lib, self.instances[i][0]
+        nul = r.random() < 0.3
+        vr = None if nul else self.arr(C.c_uint32, [self.outputs[0]])
+        d = None if nul else (C.c_double * 1)()
+        b = None if nul else C.byref(B())
+        n = C.c_size_t()
+        calls = [
+            ("fmi3GetFloat32", lambda: lib.fmi3GetFloat32(c, vr, 1, None if nul else (C.c_float * 1)(), 1)),
+            ("fmi3SetUInt64", lambda: lib.fmi3SetUInt64(c, vr, 1, None if nul else (C.c_uint64 * 1)(), 1)),
+            ("fmi3GetInt8", lambda: lib.fmi3GetInt8(c, vr, 1, None if nul else (C.c_int8 * 1)(), 1)),
+            ("fmi3SetInt16", lambda: lib.fmi3SetInt16(c, vr, 1, None if nul else (C.c_int16 * 1)(), 1)),
+            ("fmi3GetOutputDerivatives", lambda: lib.fmi3GetOutputDerivatives(c, vr, 1, None if nul else self.arr(C.c_int32, [1]), d, 1)),
+            ("fmi3EnterEventMode", lambda: lib.fmi3EnterEventMode(c)),
+            ("fmi3EnterStepMode", lambda: lib.fmi3EnterStepMode(c)),
+            ("fmi3EnterConfigurationMode", lambda: lib.fmi3EnterConfigurationMode(c)),
+            ("fmi3EnterContinuousTimeMode", lambda: lib.fmi3EnterContinuousTimeMode(c)),
+            ("fmi3EvaluateDiscreteStates", lambda: lib.fmi3EvaluateDiscreteStates(c)),
+            ("fmi3UpdateDiscreteStates", lambda: lib.fmi3UpdateDiscreteStates(c, b, b, b, b, b, d)),
+            ("fmi3GetContinuousStates", lambda: lib.fmi3GetContinuousStates(c, d, 1)),
+            ("fmi3GetNumberOfContinuousStates", lambda: lib.fmi3GetNumberOfContinuousStates(c, None if nul else C.byref(n))),
+            ("fmi3SetTime", lambda: lib.fmi3SetTime(c, 1.0)),
+            ("fmi3GetClock", lambda: lib.fmi3GetClock(c, vr, 1, b)),
+            ("fmi3GetIntervalDecimal", lambda: lib.fmi3GetIntervalDecimal(c, vr, 1, d, None)),
+            ("fmi3ActivateModelPartition", lambda: lib.fmi3ActivateModelPartition(c, 1, 0.0)),
+            ("fmi3GetNumberOfVariableDependencies", lambda: lib.fmi3GetNumberOfVariableDependencies(c, 200, None if nul else C.byref(n))),
+            ("fmi3GetDirectionalDerivative", lambda: lib.fmi3GetDirectionalDerivative(c, vr, 1, vr, 1, d, 1, d, 1)),
+        ]
+        name, fn = r.choice(calls)
+        if self.call(i, f"{name}({'NULL' if nul else 'ptr'})", fn) != ERROR:
+            self.problems.append(f"{name} did not return fmi3Error")
+        if r.random() < 0.1:
+            v = self.timed("fmi3GetVersion", lib.fmi3GetVersion)
+            if v != b"3.0":
+                self.problems.append(f"fmi3GetVersion returned {v!r}")
+
+    def serialize(self, i, st):
+        lib, c = self.lib, self.instances[i][0]
+        size = C.c_size_t(0)
+        if self.call(i, "fmi3SerializedFMUStateSize", lib.fmi3SerializedFMUStateSize, c, st, C.byref(size)) == OK:
+            buf = C.create_string_buffer(size.value)
+            if self.call(i, "fmi3SerializeFMUState", lib.fmi3SerializeFMUState, c, st, buf, size.value) == OK:
+                self.blobs.append(buf.raw)
+
+    def snapshot(self, i):
+        lib, c = self.lib, self.instances[i][0]
+        slot = C.c_void_p(None)
+        if self.call(i, "fmi3GetFMUState (snapshot)", lib.fmi3GetFMUState, c, C.byref(slot)) != OK:
+            return
+        self.serialize(i, slot)
+        self.call(i, "fmi3FreeFMUState (snapshot)", lib.fmi3FreeFMUState, c, C.byref(slot))
+
+    def run(self):
+        for _ in range(40):
+            self.one()
+        for idx, (c, _, _) in enumerate(self.instances):
+            if self.rng.random() < 0.5:
+                for (j, p) in list(self.states):
+                    if VALID_POINTERS_ONLY and j != idx:
+                        continue
+                    slot = C.c_void_p(p)
+                    self.timed("fmi3FreeFMUState (cleanup)", self.lib.fmi3FreeFMUState, c, C.byref(slot))
+            self.timed("fmi3FreeInstance", self.lib.fmi3FreeInstance, c)
+        return {"seed": self.seed, "calls": self.calls, "ok_steps": self.ok_steps, "slowest": self.slowest,
+                "problems": self.problems}
+
+
 def prepare(workdir, profile):
     fifo = os.path.join(workdir, "fifo")
     if not os.path.exists(fifo):
@@ -741,9 +1087,11 @@ def main():
     fmu_dir = os.path.dirname(os.path.dirname(os.path.dirname(library)))
     fmu = Fmu(os.path.join(fmu_dir, "modelDescription.xml"))
     prepare(workdir, fmu.profile)
-    lib = load(library)
+    # An FMI 3.0 archive's library (binaries/x86_64-linux/) is driven through its fmi3… functions.
+    fmi3 = os.path.basename(os.path.dirname(library)) == "x86_64-linux"
+    lib = load3(library) if fmi3 else load(library)
     for seed in range(int(first), int(first) + int(count)):
-        print(json.dumps(Sequence(lib, fmu, resources, workdir, seed).run()), flush=True)
+        print(json.dumps((Sequence3 if fmi3 else Sequence)(lib, fmu, resources, workdir, seed).run()), flush=True)
 
 
 if __name__ == "__main__":

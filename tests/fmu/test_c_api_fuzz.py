@@ -1,5 +1,6 @@
 """A fuzz test of the C API (issue 7): randomized, type-correct FMI call sequences against the packaged
-binaries of both FMUs, the vehicle (RtVehicle.fmu) and the driver (RtDriver.fmu), which share the FMI layer
+binaries of both FMUs, the vehicle (RtVehicle.fmu) and the driver (RtDriver.fmu), which share the FMI layer,
+and of the vehicle's FMI 3.0 archive (RtVehicle3.fmu, the same library through its fmi3… functions)
 (tests/fmu/fuzz_driver.py: value references and the String parameter read from each model description,
 what it cannot say in its PROFILES), each batch in a child process so that a crash or a hang is reported
 with the sequence and the call that caused it instead of ending the test run.
@@ -98,7 +99,7 @@ def run_batch(library, resources, first, count):
     return results, findings
 
 
-def describe(f, identifier):
+def describe(f, identifier, platform):
     if f["call"] is None:
         return f"{f['how']} (after {MAX_FINDINGS_PER_BATCH} findings in the batch)"
     detail = "; ".join(f["detail"])
@@ -106,17 +107,22 @@ def describe(f, identifier):
     shown = (["…"] if len(before) > 8 else []) + before[-8:]
     return (f"seed {f['seed']}: {f['how']} in {f['call']} ({f['alone']}){': ' + detail if detail else ''}\n"
             f"    after: {' | '.join(shown) or '(nothing)'}\n"
-            f"    replay: python tests/fmu/fuzz_driver.py FMU_DIR/binaries/linux64/{identifier}.so file://FMU_DIR/resources "
+            f"    replay: python tests/fmu/fuzz_driver.py FMU_DIR/binaries/{platform}/{identifier}.so file://FMU_DIR/resources "
             f"$(mktemp -d) {f['seed']} 1")
 
 
-@pytest.mark.parametrize("fmu", [FMU_PATH, DRIVER_PATH], ids=lambda p: p.stem)
+FMU3_PATH = FMU_PATH.with_name("RtVehicle3.fmu")  # the vehicle's FMI 3.0 archive: the fmi3… functions
+
+
+@pytest.mark.parametrize("fmu", [FMU_PATH, DRIVER_PATH, FMU3_PATH], ids=lambda p: p.stem)
 def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, tmp_path, capsys):
     if not fmu.is_file():
         pytest.fail(f"{fmu} does not exist: run `cargo run --release -p packaging` first")
-    identifier = fmu.stem  # the modelIdentifier: RtVehicle, RtDriver
+    fmi3 = fmu == FMU3_PATH
+    identifier = "RtVehicle" if fmi3 else fmu.stem  # the modelIdentifier: RtVehicle, RtDriver
     unzipped = extract(str(fmu), unzipdir=str(tmp_path / "fmu"))
-    library = str(pathlib.Path(unzipped) / "binaries" / "linux64" / f"{identifier}.so")
+    platform = "x86_64-linux" if fmi3 else "linux64"  # fuzz_driver.py speaks FMI 3.0 to a library there
+    library = str(pathlib.Path(unzipped) / "binaries" / platform / f"{identifier}.so")
     resources = (pathlib.Path(unzipped) / "resources").as_uri()
     batches = [(first, min(BATCH, SEQUENCES - first)) for first in range(0, SEQUENCES, BATCH)]
     t0 = time.perf_counter()
@@ -130,9 +136,9 @@ def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, tmp_path, 
     slowest = max((r["slowest"] for r in results), default=(0.0, ""))
     steps = sum(r["ok_steps"] for r in results)
     with capsys.disabled():
-        print(f"\nfuzz {identifier}: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} fmi2OK steps) "
+        print(f"\nfuzz {fmu.stem}: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} fmi2OK steps) "
               f"in {elapsed:.1f} s; slowest call {slowest[0]:.3f} s ({slowest[1]}); "
               f"{len([f for f in findings if f['call']])} crashes or hangs, {len(problems)} other problems")
-    assert not findings, "\n".join(describe(f, identifier) for f in findings)
+    assert not findings, "\n".join(describe(f, identifier, platform) for f in findings)
     assert not problems, problems[:20]
     assert len(results) == SEQUENCES

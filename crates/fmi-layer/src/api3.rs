@@ -318,11 +318,10 @@ pub unsafe fn do_step<M: FmuModel>(
         let terminate = slice_mut(terminate_simulation, 1, "terminateSimulation")?;
         let early = slice_mut(early_return, 1, "earlyReturn")?;
         let last = slice_mut(last_successful_time, 1, "lastSuccessfulTime")?;
+        // Written before the step too, so that a step that panics leaves them telling where the FMU is.
+        (event[0], early[0], terminate[0], last[0]) = (false, false, i.core.terminated, i.core.time);
         let result = i.do_step(t, h);
-        event[0] = false;
-        early[0] = false;
-        terminate[0] = i.core.terminated;
-        last[0] = i.core.time;
+        (terminate[0], last[0]) = (i.core.terminated, i.core.time);
         result
     })
 }

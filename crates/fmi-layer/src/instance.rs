@@ -674,6 +674,10 @@ impl<M: FmuModel> Core<M> {
         match self.mode {
             Fatal => return Err("a state in the Fatal mode cannot be restored".into()),
             StepFailed if !self.terminated => return Err("mode StepFailed with terminated = false".into()),
+            // Only a failed step sets `terminated` (and fmi2ExitInitializationMode clears it): ready to step
+            // with it set, a state would step OK and still tell the master the run has ended (fmi3DoStep's
+            // terminateSimulation, fmi2GetBooleanStatus(fmi2Terminated)); found by the FMI 3.0 fuzz test.
+            StepComplete if self.terminated => return Err("mode StepComplete with terminated = true".into()),
             Instantiated | InitializationMode if self.terminated => {
                 return Err(format!("mode {:?} with terminated = true", self.mode))
             }
