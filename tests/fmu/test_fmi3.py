@@ -63,9 +63,13 @@ def test_validate_fmu_reports_no_problem(fmu3_path):
     assert validate_fmu(fmu3_path) == []
 
 
-def test_layout(fmu3_path, md3):
+def test_layout(fmu3_path, fmu2_path, md3):
     names = zipfile.ZipFile(fmu3_path).namelist()
     assert "binaries/x86_64-linux/RtVehicle.so" in names
+    # The 2.0 archive's binary (portable, glibc >= 2.17: test_portable.py), and the same resources.
+    three, two = zipfile.ZipFile(fmu3_path), zipfile.ZipFile(fmu2_path)
+    assert three.read("binaries/x86_64-linux/RtVehicle.so") == two.read("binaries/linux64/RtVehicle.so")
+    assert sorted(n for n in names if n.startswith("resources/")) == sorted(n for n in two.namelist() if n.startswith("resources/"))
     assert not any(n.startswith("binaries/linux64") for n in names)
     assert "resources/hmmwv.json" in names and "documentation/index.html" in names
     assert md3.fmiVersion == "3.0" and md3.coSimulation.modelIdentifier == "RtVehicle"

@@ -539,3 +539,96 @@ fn camel(s: &str) -> Result<&'static str, String> {
         other => return Err(format!("unknown attribute value {other:?}")),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const VEHICLE: &str = include_str!("../../../modelDescription/modelDescription.xml");
+
+    /// Name → (element, attributes) of every variable of an FMI 3.0 description.
+    fn variables3(xml: &str) -> std::collections::HashMap<String, (String, Vec<(String, String)>)> {
+        let doc = roxmltree::Document::parse(xml).unwrap();
+        let vars = child(doc.root_element(), "ModelVariables").unwrap();
+        vars.children()
+            .filter(|n| n.is_element())
+            .map(|n| {
+                let mut attrs: Vec<_> = n.attributes().map(|a| (a.name().to_string(), a.value().to_string())).collect();
+                if let Some(start) = child(n, "Start") {
+                    attrs.push(("start".into(), start.attribute("value").unwrap().into()));
+                }
+                (n.attribute("name").unwrap().to_string(), (n.tag_name().name().to_string(), attrs))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_fmi2_variable_is_in_the_fmi3_description_unchanged() {
+        let three = fmi3_model_description(VEHICLE).unwrap();
+        let vars3 = variables3(&three);
+        let doc = roxmltree::Document::parse(VEHICLE).unwrap();
+        let svs: Vec<_> = child(doc.root_element(), "ModelVariables")
+            .unwrap()
+            .children()
+            .filter(|n| n.has_tag_name("ScalarVariable"))
+            .collect();
+        for sv in &svs {
+            let name = sv.attribute("name").unwrap();
+            let (tag, attrs) = vars3.get(name).unwrap_or_else(|| panic!("{name} missing from the 3.0 description"));
+            let get = |a: &str| attrs.iter().find(|(k, _)| k == a).map(|(_, v)| v.as_str());
+            let ty = sv.children().find(|n| n.is_element()).unwrap();
+            let expected = [("Real", "Float64"), ("Integer", "Int32"), ("Boolean", "Boolean"), ("String", "String")];
+            assert!(expected.contains(&(ty.tag_name().name(), tag.as_str())), "{name}: {tag}");
+            for a in ["valueReference", "causality", "variability", "initial", "description"] {
+                assert_eq!(get(a), sv.attribute(a), "{name}.{a}");
+            }
+            for a in ["unit", "start", "min", "max"] {
+                assert_eq!(get(a), ty.attribute(a), "{name}.{a}");
+            }
+        }
+        // Plus the independent time and the four input derivatives, each the derivative of its input (or of
+        // the velocity, for an acceleration), as value references.
+        assert_eq!(vars3.len(), svs.len() + 5);
+        let attr = |name: &str, a: &str| {
+            vars3[name].1.iter().find(|(k, _)| k == a).map(|(_, v)| v.clone()).unwrap_or_default()
+        };
+        assert_eq!(attr("time", "causality"), "independent");
+        assert_eq!(attr("rack_velocity", "derivative"), attr("rack_displacement", "valueReference"));
+        assert_eq!(attr("rack_acceleration", "derivative"), attr("rack_velocity", "valueReference"));
+        assert_eq!(attr("pitman_arm_acceleration", "derivative"), attr("pitman_arm_rate", "valueReference"));
+        assert!(three.contains("instantiationToken=\"{8d3f6a52-4c1e-4b7a-9e2d-5f0a7c31b6e4}\""));
+        assert!(three.contains("<Output valueReference=\"200\" dependencies=\"\"/>"));
+        // The generated Rust table agrees (unique value references and names over both lists).
+        generate("vehicle", VEHICLE).unwrap();
+    }
+
+    #[test]
+    fn bad_annotations_are_refused_with_the_reason() {
+        let with = |decl: &str| {
+            VEHICLE.replace(
+                "<InputDerivative name=\"rack_velocity\"",
+                &format!("{decl}\n        <InputDerivative name=\"rack_velocity\""),
+            )
+        };
+        let cases = [
+            (
+                "<InputDerivative name=\"x\" valueReference=\"12\" of=\"initial_speed\" order=\"1\"/>",
+                "not a Real input",
+            ),
+            (
+                "<InputDerivative name=\"x\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"2\"/>",
+                "needs its order 1",
+            ),
+            ("<InputDerivative name=\"x\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"3\"/>", "order 3"),
+            ("<InputDerivative name=\"x\" valueReference=\"12\" of=\"nothing\" order=\"1\"/>", "no variable nothing"),
+            ("<InputDerivative name=\"x\" valueReference=\"200\" of=\"drive_torque_fl\" order=\"1\"/>", "used twice"),
+            ("<InputDerivative name=\"ay\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"1\"/>", "used twice"),
+        ];
+        for (decl, needle) in cases {
+            let e = generate("vehicle", &with(decl)).expect_err(decl);
+            assert!(e.contains(needle), "{decl}: {e}");
+        }
+        let e = fmi3_model_description(&VEHICLE.replace("<ModelVariables>", "<TypeDefinitions/>\n<ModelVariables>"));
+        assert!(e.unwrap_err().contains("TypeDefinitions is not converted"));
+    }
+}
