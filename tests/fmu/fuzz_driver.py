@@ -481,18 +481,7 @@ class Sequence:
                 if self.call(i, "fmi2SerializeFMUstate", lib.fmi2SerializeFMUstate, c, st, buf, size.value) == OK:
                     self.blobs.append(buf.raw)
         elif k in (17, 18):
-            if r.random() < 0.4:
-                if not self.blobs:
-                    self.snapshot(i)
-                blob, invalid = self.invalid_blob()
-            else:
-                blob, invalid = self.mutated_blob(), None
-            slot = fmi2FMUstate(r.choice([None, self.any_state(i)] + ([] if VALID_POINTERS_ONLY else [0xdeadbeef])))
-            label = f"fmi2DeSerializeFMUstate({len(blob)} bytes{', ' + invalid if invalid else ''})"
-            if self.call(i, label, lib.fmi2DeSerializeFMUstate, c, blob, len(blob), C.byref(slot)) == OK:
-                self.states.append((i, slot.value))
-                if invalid:
-                    self.problems.append(f"{label} accepted a state the API could not have produced")
+            self.deserialize(i)
         elif k == 19:
             if self.call(i, "fmi2Reset", lib.fmi2Reset, c) == OK:
                 self.instances[i][2] = 0.0
@@ -613,6 +602,26 @@ class Sequence:
             blob = self.mutated_blob()
             self.call(i, "fmi2DeSerializeFMUstate(slot pointer NULL)", lib.fmi2DeSerializeFMUstate, c, blob, len(blob), None)
 
+    # The names of the functions both APIs call the same way (the FMU-state and free functions).
+    DESERIALIZE, FREE_STATE, FREE_INSTANCE = "fmi2DeSerializeFMUstate", "fmi2FreeFMUstate", "fmi2FreeInstance"
+
+    def deserialize(self, i):
+        """A serialized state of this run, edited to be invalid (which must be refused) or mutated, into a
+        fresh, a live or a garbage slot."""
+        r, c = self.rng, self.instances[i][0]
+        if r.random() < 0.4:
+            if not self.blobs:
+                self.snapshot(i)
+            blob, invalid = self.invalid_blob()
+        else:
+            blob, invalid = self.mutated_blob(), None
+        slot = fmi2FMUstate(r.choice([None, self.any_state(i)] + ([] if VALID_POINTERS_ONLY else [0xdeadbeef])))
+        label = f"{self.DESERIALIZE}({len(blob)} bytes{', ' + invalid if invalid else ''})"
+        if self.call(i, label, getattr(self.lib, self.DESERIALIZE), c, blob, len(blob), C.byref(slot)) == OK:
+            self.states.append((i, slot.value))
+            if invalid:
+                self.problems.append(f"{label} accepted a state the API could not have produced")
+
     def hostile_parameter(self, i):
         """A parameter or input set to an edge of its range or beyond (internal_step 1e-9, 5e-324, -1,
         a brake torque of -5, a mode of 5, ...), in whatever state the instance is."""
@@ -728,8 +737,8 @@ class Sequence:
                     if VALID_POINTERS_ONLY and j != idx:
                         continue
                     slot = fmi2FMUstate(p)
-                    self.timed("fmi2FreeFMUstate (cleanup)", self.lib.fmi2FreeFMUstate, c, C.byref(slot))
-            self.timed("fmi2FreeInstance", self.lib.fmi2FreeInstance, c)
+                    self.timed(f"{self.FREE_STATE} (cleanup)", getattr(self.lib, self.FREE_STATE), c, C.byref(slot))
+            self.timed(self.FREE_INSTANCE, getattr(self.lib, self.FREE_INSTANCE), c)
         return {"seed": self.seed, "calls": self.calls, "ok_steps": self.ok_steps, "slowest": self.slowest,
                 "problems": self.problems}
 
@@ -806,6 +815,8 @@ class Sequence3(Sequence):
     without event mode, clocks or Model Exchange refuses). Same checks; besides, an fmi3OK fmi3DoStep must
     say no event, no early return, not terminated, lastSuccessfulTime = t + h, and an fmi3Discard one
     terminateSimulation."""
+
+    DESERIALIZE, FREE_STATE, FREE_INSTANCE = "fmi3DeserializeFMUState", "fmi3FreeFMUState", "fmi3FreeInstance"
 
     def __init__(self, lib, fmu, resources, workdir, seed):
         super().__init__(lib, fmu, resources, workdir, seed)
@@ -937,18 +948,7 @@ class Sequence3(Sequence):
         elif k == 11:
             self.serialize(i, C.c_void_p(self.any_state(i)))
         elif k == 12:
-            if r.random() < 0.4:
-                if not self.blobs:
-                    self.snapshot(i)
-                blob, invalid = self.invalid_blob()
-            else:
-                blob, invalid = self.mutated_blob(), None
-            slot = C.c_void_p(r.choice([None, self.any_state(i)] + ([] if VALID_POINTERS_ONLY else [0xdeadbeef])))
-            label = f"fmi3DeserializeFMUState({len(blob)} bytes{', ' + invalid if invalid else ''})"
-            if self.call(i, label, lib.fmi3DeserializeFMUState, c, blob, len(blob), C.byref(slot)) == OK:
-                self.states.append((i, slot.value))
-                if invalid:
-                    self.problems.append(f"{label} accepted a state the API could not have produced")
+            self.deserialize(i)
         elif k == 13:
             if self.call(i, "fmi3Reset", lib.fmi3Reset, c) == OK:
                 self.instances[i][2] = 0.0
@@ -1052,20 +1052,6 @@ class Sequence3(Sequence):
             return
         self.serialize(i, slot)
         self.call(i, "fmi3FreeFMUState (snapshot)", lib.fmi3FreeFMUState, c, C.byref(slot))
-
-    def run(self):
-        for _ in range(40):
-            self.one()
-        for idx, (c, _, _) in enumerate(self.instances):
-            if self.rng.random() < 0.5:
-                for (j, p) in list(self.states):
-                    if VALID_POINTERS_ONLY and j != idx:
-                        continue
-                    slot = C.c_void_p(p)
-                    self.timed("fmi3FreeFMUState (cleanup)", self.lib.fmi3FreeFMUState, c, C.byref(slot))
-            self.timed("fmi3FreeInstance", self.lib.fmi3FreeInstance, c)
-        return {"seed": self.seed, "calls": self.calls, "ok_steps": self.ok_steps, "slowest": self.slowest,
-                "problems": self.problems}
 
 
 def prepare(workdir, profile):

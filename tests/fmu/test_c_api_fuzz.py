@@ -136,7 +136,7 @@ def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, tmp_path, 
     slowest = max((r["slowest"] for r in results), default=(0.0, ""))
     steps = sum(r["ok_steps"] for r in results)
     with capsys.disabled():
-        print(f"\nfuzz {fmu.stem}: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} fmi2OK steps) "
+        print(f"\nfuzz {fmu.stem}: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} {'fmi3OK' if fmi3 else 'fmi2OK'} steps) "
               f"in {elapsed:.1f} s; slowest call {slowest[0]:.3f} s ({slowest[1]}); "
               f"{len([f for f in findings if f['call']])} crashes or hangs, {len(problems)} other problems")
     assert not findings, "\n".join(describe(f, identifier, platform) for f in findings)

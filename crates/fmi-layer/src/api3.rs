@@ -9,6 +9,7 @@
 //! Model Exchange does not offer.
 
 use super::api::{check_array, create, slice, slice_mut, string, with_instance, MAX_ARRAY_LEN};
+use super::instance::Instance;
 use super::logger::{self, Logger};
 use super::model::{FmuModel, ResourceLocation};
 use super::status::{Failure, FmiResult, Status};
@@ -152,80 +153,78 @@ pub unsafe fn enter_initialization_mode<M: FmuModel>(
     })
 }
 
+/// The part the value functions share: the instance, `nValues` = `nValueReferences`, the value references.
+///
+/// # Safety
+/// FMI pointers.
+unsafe fn values<M: FmuModel>(
+    c: fmi3Instance,
+    function: &str,
+    vr: *const fmi3ValueReference,
+    n: usize,
+    n_values: usize,
+    f: impl FnOnce(&mut Instance<M>, &[u32]) -> FmiResult,
+) -> fmi3Status {
+    with_instance::<M>(c, function, |i| {
+        check_n_values(function, n, n_values)?;
+        f(i, slice(vr, n, "valueReferences")?)
+    })
+}
+
 /// # Safety
 /// FMI pointers.
 pub unsafe fn get_float64<M: FmuModel>(
     c: fmi3Instance,
-    vr: *const fmi3ValueReference,
+    vr: *const u32,
     n: usize,
-    value: *mut f64,
-    n_values: usize,
+    v: *mut f64,
+    nv: usize,
 ) -> fmi3Status {
-    with_instance::<M>(c, "fmi3GetFloat64", |i| {
-        check_n_values("fmi3GetFloat64", n, n_values)?;
-        i.get_float64(slice(vr, n, "valueReferences")?, slice_mut(value, n, "values")?)
-    })
+    values::<M>(c, "fmi3GetFloat64", vr, n, nv, |i, vrs| i.get_float64(vrs, slice_mut(v, n, "values")?))
 }
 
 /// # Safety
 /// FMI pointers.
 pub unsafe fn set_float64<M: FmuModel>(
     c: fmi3Instance,
-    vr: *const fmi3ValueReference,
+    vr: *const u32,
     n: usize,
-    value: *const f64,
-    n_values: usize,
+    v: *const f64,
+    nv: usize,
 ) -> fmi3Status {
-    with_instance::<M>(c, "fmi3SetFloat64", |i| {
-        check_n_values("fmi3SetFloat64", n, n_values)?;
-        i.set_float64(slice(vr, n, "valueReferences")?, slice(value, n, "values")?)
-    })
+    values::<M>(c, "fmi3SetFloat64", vr, n, nv, |i, vrs| i.set_float64(vrs, slice(v, n, "values")?))
 }
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_int32<M: FmuModel>(
-    c: fmi3Instance,
-    vr: *const fmi3ValueReference,
-    n: usize,
-    value: *mut i32,
-    n_values: usize,
-) -> fmi3Status {
-    with_instance::<M>(c, "fmi3GetInt32", |i| {
-        check_n_values("fmi3GetInt32", n, n_values)?;
-        i.get_integer(slice(vr, n, "valueReferences")?, slice_mut(value, n, "values")?)
-    })
+pub unsafe fn get_int32<M: FmuModel>(c: fmi3Instance, vr: *const u32, n: usize, v: *mut i32, nv: usize) -> fmi3Status {
+    values::<M>(c, "fmi3GetInt32", vr, n, nv, |i, vrs| i.get_integer(vrs, slice_mut(v, n, "values")?))
 }
 
 /// # Safety
 /// FMI pointers.
 pub unsafe fn set_int32<M: FmuModel>(
     c: fmi3Instance,
-    vr: *const fmi3ValueReference,
+    vr: *const u32,
     n: usize,
-    value: *const i32,
-    n_values: usize,
+    v: *const i32,
+    nv: usize,
 ) -> fmi3Status {
-    with_instance::<M>(c, "fmi3SetInt32", |i| {
-        check_n_values("fmi3SetInt32", n, n_values)?;
-        i.set_integer(slice(vr, n, "valueReferences")?, slice(value, n, "values")?)
-    })
+    values::<M>(c, "fmi3SetInt32", vr, n, nv, |i, vrs| i.set_integer(vrs, slice(v, n, "values")?))
 }
 
 /// # Safety
-/// FMI pointers. `fmi3Boolean` is C's `bool`; the values are read as bytes (any non-zero byte is true),
-/// so that a master's byte other than 0 or 1 is not undefined behaviour here.
+/// FMI pointers. `fmi3Boolean` is C's `bool`; the values set are read as bytes (any non-zero byte is
+/// true), so that a master's byte other than 0 or 1 is not undefined behaviour here.
 pub unsafe fn get_boolean<M: FmuModel>(
     c: fmi3Instance,
-    vr: *const fmi3ValueReference,
+    vr: *const u32,
     n: usize,
-    value: *mut bool,
-    n_values: usize,
+    v: *mut bool,
+    nv: usize,
 ) -> fmi3Status {
-    with_instance::<M>(c, "fmi3GetBoolean", |i| {
-        check_n_values("fmi3GetBoolean", n, n_values)?;
-        let vrs = slice(vr, n, "valueReferences")?;
-        let out = slice_mut(value, n, "values")?;
+    values::<M>(c, "fmi3GetBoolean", vr, n, nv, |i, vrs| {
+        let out = slice_mut(v, n, "values")?;
         let mut tmp = vec![false; n];
         let status = i.get_boolean(vrs, &mut tmp)?;
         out.copy_from_slice(&tmp);
@@ -237,15 +236,13 @@ pub unsafe fn get_boolean<M: FmuModel>(
 /// As `get_boolean`.
 pub unsafe fn set_boolean<M: FmuModel>(
     c: fmi3Instance,
-    vr: *const fmi3ValueReference,
+    vr: *const u32,
     n: usize,
-    value: *const bool,
-    n_values: usize,
+    v: *const bool,
+    nv: usize,
 ) -> fmi3Status {
-    with_instance::<M>(c, "fmi3SetBoolean", |i| {
-        check_n_values("fmi3SetBoolean", n, n_values)?;
-        let vrs = slice(vr, n, "valueReferences")?;
-        let values: Vec<bool> = slice(value as *const u8, n, "values")?.iter().map(|&b| b != 0).collect();
+    values::<M>(c, "fmi3SetBoolean", vr, n, nv, |i, vrs| {
+        let values: Vec<bool> = slice(v as *const u8, n, "values")?.iter().map(|&b| b != 0).collect();
         i.set_boolean(vrs, &values)
     })
 }

@@ -155,18 +155,6 @@ macro_rules! export_fmi3 {
         const _: fmi3ResetTYPE = Some(fmi3Reset);
 
         #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetFloat32(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3Float32,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetFloat32", &$crate::api3::no_variables_of("Float32"))
-        }
-        const _: fmi3GetFloat32TYPE = Some(fmi3GetFloat32);
-
-        #[no_mangle]
         pub unsafe extern "C" fn fmi3GetFloat64(
             instance: fmi3Instance,
             valueReferences: *const fmi3ValueReference,
@@ -179,54 +167,6 @@ macro_rules! export_fmi3 {
         const _: fmi3GetFloat64TYPE = Some(fmi3GetFloat64);
 
         #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetInt8(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3Int8,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetInt8", &$crate::api3::no_variables_of("Int8"))
-        }
-        const _: fmi3GetInt8TYPE = Some(fmi3GetInt8);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetUInt8(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3UInt8,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetUInt8", &$crate::api3::no_variables_of("UInt8"))
-        }
-        const _: fmi3GetUInt8TYPE = Some(fmi3GetUInt8);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetInt16(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3Int16,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetInt16", &$crate::api3::no_variables_of("Int16"))
-        }
-        const _: fmi3GetInt16TYPE = Some(fmi3GetInt16);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetUInt16(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3UInt16,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetUInt16", &$crate::api3::no_variables_of("UInt16"))
-        }
-        const _: fmi3GetUInt16TYPE = Some(fmi3GetUInt16);
-
-        #[no_mangle]
         pub unsafe extern "C" fn fmi3GetInt32(
             instance: fmi3Instance,
             valueReferences: *const fmi3ValueReference,
@@ -237,42 +177,6 @@ macro_rules! export_fmi3 {
             $crate::api3::get_int32::<$model>(instance, valueReferences, nValueReferences, values, nValues)
         }
         const _: fmi3GetInt32TYPE = Some(fmi3GetInt32);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetUInt32(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3UInt32,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetUInt32", &$crate::api3::no_variables_of("UInt32"))
-        }
-        const _: fmi3GetUInt32TYPE = Some(fmi3GetUInt32);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetInt64(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3Int64,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetInt64", &$crate::api3::no_variables_of("Int64"))
-        }
-        const _: fmi3GetInt64TYPE = Some(fmi3GetInt64);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3GetUInt64(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *mut fmi3UInt64,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetUInt64", &$crate::api3::no_variables_of("UInt64"))
-        }
-        const _: fmi3GetUInt64TYPE = Some(fmi3GetUInt64);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetBoolean(
@@ -297,6 +201,27 @@ macro_rules! export_fmi3 {
             $crate::api3::get_string::<$model>(instance, valueReferences, nValueReferences, values, nValues)
         }
         const _: fmi3GetStringTYPE = Some(fmi3GetString);
+
+        // The value types this FMU has no variables of (fmi3Error, logged).
+        $crate::__fmi3_no_values! {
+            $model;
+            fmi3GetFloat32, fmi3GetFloat32TYPE, *mut fmi3Float32, "Float32";
+            fmi3SetFloat32, fmi3SetFloat32TYPE, *const fmi3Float32, "Float32";
+            fmi3GetInt8, fmi3GetInt8TYPE, *mut fmi3Int8, "Int8";
+            fmi3SetInt8, fmi3SetInt8TYPE, *const fmi3Int8, "Int8";
+            fmi3GetUInt8, fmi3GetUInt8TYPE, *mut fmi3UInt8, "UInt8";
+            fmi3SetUInt8, fmi3SetUInt8TYPE, *const fmi3UInt8, "UInt8";
+            fmi3GetInt16, fmi3GetInt16TYPE, *mut fmi3Int16, "Int16";
+            fmi3SetInt16, fmi3SetInt16TYPE, *const fmi3Int16, "Int16";
+            fmi3GetUInt16, fmi3GetUInt16TYPE, *mut fmi3UInt16, "UInt16";
+            fmi3SetUInt16, fmi3SetUInt16TYPE, *const fmi3UInt16, "UInt16";
+            fmi3GetUInt32, fmi3GetUInt32TYPE, *mut fmi3UInt32, "UInt32";
+            fmi3SetUInt32, fmi3SetUInt32TYPE, *const fmi3UInt32, "UInt32";
+            fmi3GetInt64, fmi3GetInt64TYPE, *mut fmi3Int64, "Int64";
+            fmi3SetInt64, fmi3SetInt64TYPE, *const fmi3Int64, "Int64";
+            fmi3GetUInt64, fmi3GetUInt64TYPE, *mut fmi3UInt64, "UInt64";
+            fmi3SetUInt64, fmi3SetUInt64TYPE, *const fmi3UInt64, "UInt64";
+        }
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetBinary(
@@ -323,18 +248,6 @@ macro_rules! export_fmi3 {
         const _: fmi3GetClockTYPE = Some(fmi3GetClock);
 
         #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetFloat32(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3Float32,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetFloat32", &$crate::api3::no_variables_of("Float32"))
-        }
-        const _: fmi3SetFloat32TYPE = Some(fmi3SetFloat32);
-
-        #[no_mangle]
         pub unsafe extern "C" fn fmi3SetFloat64(
             instance: fmi3Instance,
             valueReferences: *const fmi3ValueReference,
@@ -347,54 +260,6 @@ macro_rules! export_fmi3 {
         const _: fmi3SetFloat64TYPE = Some(fmi3SetFloat64);
 
         #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetInt8(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3Int8,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetInt8", &$crate::api3::no_variables_of("Int8"))
-        }
-        const _: fmi3SetInt8TYPE = Some(fmi3SetInt8);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetUInt8(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3UInt8,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetUInt8", &$crate::api3::no_variables_of("UInt8"))
-        }
-        const _: fmi3SetUInt8TYPE = Some(fmi3SetUInt8);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetInt16(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3Int16,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetInt16", &$crate::api3::no_variables_of("Int16"))
-        }
-        const _: fmi3SetInt16TYPE = Some(fmi3SetInt16);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetUInt16(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3UInt16,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetUInt16", &$crate::api3::no_variables_of("UInt16"))
-        }
-        const _: fmi3SetUInt16TYPE = Some(fmi3SetUInt16);
-
-        #[no_mangle]
         pub unsafe extern "C" fn fmi3SetInt32(
             instance: fmi3Instance,
             valueReferences: *const fmi3ValueReference,
@@ -405,42 +270,6 @@ macro_rules! export_fmi3 {
             $crate::api3::set_int32::<$model>(instance, valueReferences, nValueReferences, values, nValues)
         }
         const _: fmi3SetInt32TYPE = Some(fmi3SetInt32);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetUInt32(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3UInt32,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetUInt32", &$crate::api3::no_variables_of("UInt32"))
-        }
-        const _: fmi3SetUInt32TYPE = Some(fmi3SetUInt32);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetInt64(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3Int64,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetInt64", &$crate::api3::no_variables_of("Int64"))
-        }
-        const _: fmi3SetInt64TYPE = Some(fmi3SetInt64);
-
-        #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetUInt64(
-            instance: fmi3Instance,
-            _valueReferences: *const fmi3ValueReference,
-            _nValueReferences: usize,
-            _values: *const fmi3UInt64,
-            _nValues: usize,
-        ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetUInt64", &$crate::api3::no_variables_of("UInt64"))
-        }
-        const _: fmi3SetUInt64TYPE = Some(fmi3SetUInt64);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3SetBoolean(
@@ -912,5 +741,27 @@ macro_rules! export_fmi3 {
             $crate::api3::unsupported::<$model>(instance, "fmi3ActivateModelPartition", $crate::api3::NO_CLOCKS)
         }
         const _: fmi3ActivateModelPartitionTYPE = Some(fmi3ActivateModelPartition);
+    };
+}
+
+/// The getters and setters of a value type without variables, for `export_fmi3!`: `name, TYPE, value pointer
+/// type, type name;` each (the same shim sixteen times, so written once).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __fmi3_no_values {
+    ($model:ty; $($name:ident, $type_check:ident, $values:ty, $what:literal;)*) => {
+        $(
+            #[no_mangle]
+            pub unsafe extern "C" fn $name(
+                instance: $crate::fmi_sys::fmi3::fmi3Instance,
+                _valueReferences: *const $crate::fmi_sys::fmi3::fmi3ValueReference,
+                _nValueReferences: usize,
+                _values: $values,
+                _nValues: usize,
+            ) -> $crate::fmi_sys::fmi3::fmi3Status {
+                $crate::api3::unsupported::<$model>(instance, stringify!($name), &$crate::api3::no_variables_of($what))
+            }
+            const _: $crate::fmi_sys::fmi3::$type_check = Some($name);
+        )*
     };
 }
