@@ -22,9 +22,13 @@ pub fn get_version() -> *const std::os::raw::c_char {
 }
 
 /// `resourcePath` of FMI 3.0: a native path (not a URI, unlike FMI 2.0's `fmuResourceLocation`), with a
-/// trailing separator; NULL or empty when the FMU has no resources folder.
+/// trailing separator; NULL or empty when the FMU has no resources folder. A `file:` URI, which an importer
+/// written for FMI 2.0 may still pass, is read as FMI 2.0 reads it rather than as a relative path.
 pub fn parse_resource_path(path: Option<&str>) -> ResourceLocation {
     match path.filter(|p| !p.is_empty()) {
+        Some(p) if p.get(..5).is_some_and(|scheme| scheme.eq_ignore_ascii_case("file:")) => {
+            super::api::parse_resource_location(Some(p))
+        }
         Some(p) => ResourceLocation::Dir(PathBuf::from(p)),
         None => ResourceLocation::None,
     }
@@ -334,4 +338,19 @@ pub const NO_EVENT_MODE: &str =
 /// The value types this FMU has no variables of: their getters and setters are fmi3Error.
 pub fn no_variables_of(ty: &str) -> String {
     format!("this FMU has no {ty} variables (Float64, Int32, Boolean and String only)")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resource_paths_are_native_paths_and_a_file_uri_is_tolerated() {
+        assert_eq!(parse_resource_path(None), ResourceLocation::None);
+        assert_eq!(parse_resource_path(Some("")), ResourceLocation::None);
+        let dir = |p: &str| ResourceLocation::Dir(PathBuf::from(p));
+        // A native path is taken as it is: a '%' is a character, not an escape.
+        assert_eq!(parse_resource_path(Some("/tmp/my%20fmu/resources/")), dir("/tmp/my%20fmu/resources/"));
+        assert_eq!(parse_resource_path(Some("FILE:///tmp/a%20b/resources")), dir("/tmp/a b/resources"));
+    }
 }
