@@ -178,6 +178,12 @@ fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), ModelError>
 /// Check a request without running it: the parameters, the vehicle data, the configuration, the speed, a
 /// scene's amplitude and the metrics. What a study checks at each parameter's ends before any run.
 pub fn check(request: &RunRequest) -> Result<(), ModelError> {
+    checked(request).map(|_| ())
+}
+
+/// `check`, handing on what it built: the case, the vehicle data and the configuration (a run uses them, so
+/// the vehicle file is read and validated once per run).
+fn checked(request: &RunRequest) -> Result<(Case, VehicleData, SimConfig), ModelError> {
     let case = Case::parse(&request.case)?;
     let (data, config) = prepare(request)?;
     config.validate()?;
@@ -200,7 +206,7 @@ pub fn check(request: &RunRequest) -> Result<(), ModelError> {
     let keys = metric_keys(&request.case, data.steering_input())?;
     for asked in &request.metrics {
         if !keys.contains(asked) {
-            let own: Vec<&String> = keys.iter().filter(|k| !k.contains(':') || k.starts_with("pass:")).collect();
+            let own: Vec<&String> = keys.iter().filter(|k| is_own_metric(k)).collect();
             return Err(input(format!(
                 "unknown metric '{asked}' for {}: its own are {:?}; any output by peak:, max:, min:, rms: or final: \
                  and its name",
@@ -208,14 +214,17 @@ pub fn check(request: &RunRequest) -> Result<(), ModelError> {
             )));
         }
     }
-    Ok(())
+    Ok((case, data, config))
+}
+
+/// Whether a metric key is the case's own (a manoeuvre's metric or pass flag), not a statistic of an output.
+fn is_own_metric(key: &str) -> bool {
+    !key.contains(':') || key.starts_with("pass:")
 }
 
 /// Run a request: check it, run the case, compute the metrics asked for.
 pub fn run(request: &RunRequest) -> Result<RunResult, ModelError> {
-    check(request)?;
-    let case = Case::parse(&request.case)?;
-    let (data, config) = prepare(request)?;
+    let (case, data, config) = checked(request)?;
     let mut metrics = BTreeMap::new();
     let (rows, cost) = match case {
         Case::Manoeuvre(m) => {
@@ -292,7 +301,7 @@ pub fn describe() -> Value {
             let own: Vec<String> = metric_keys(case, steering)
                 .expect("a known case")
                 .into_iter()
-                .filter(|k| !k.contains(':') || k.starts_with("pass:"))
+                .filter(|k| is_own_metric(k))
                 .collect();
             by_steering.insert(steering.name().to_string(), Value::from(own));
         }
