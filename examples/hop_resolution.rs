@@ -35,7 +35,8 @@ fn main() {
     println!("| vehicle | case | h (ms) | \\|hλ\\| hop | outcome | error / tolerance |\n|---|---|---|---|---|---|");
     for data in vehicles {
         let (a, _) = calibration::amplitude_for(&data).unwrap();
-        for case in stability::cases_for(&data, a).into_iter().filter(|c| c.group == "road" || c.name.contains("20 cm")) {
+        for case in stability::cases_for(&data, a).into_iter().filter(|c| c.group == "road" || c.name.contains("20 cm"))
+        {
             // The suite's reference and tolerance: RK4 at its reference step, checked against half of it; 1 %,
             // or ten times the reference's own change when that is larger.
             let rk4 = rt_vehicle::integrate::IntegratorKind::Rk4;
