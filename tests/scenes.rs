@@ -361,6 +361,8 @@ fn with_refusals_off_an_unstable_step_runs_and_goes_unstable() {
     assert!(peak(&config, true).is_err(), "refused with the check");
     match peak(&config, false) {
         Ok(p) => assert!(p > 2.0 * reference, "AB3 at 8.3 ms without refusals: peak yaw rate {p} vs {reference}"),
-        Err(e) => assert_ne!(e.cause(), rt_vehicle::error::Cause::StepSizeInstability, "refused though refusals are off: {e}"),
+        Err(e) => {
+            assert_ne!(e.cause(), rt_vehicle::error::Cause::StepSizeInstability, "refused though refusals are off: {e}")
+        }
     }
 }

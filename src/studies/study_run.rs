@@ -298,11 +298,8 @@ pub fn describe() -> Value {
     for case in &cases {
         let mut by_steering = serde_json::Map::new();
         for steering in [SteeringInput::RackDisplacement, SteeringInput::PitmanArmAngle] {
-            let own: Vec<String> = metric_keys(case, steering)
-                .expect("a known case")
-                .into_iter()
-                .filter(|k| is_own_metric(k))
-                .collect();
+            let own: Vec<String> =
+                metric_keys(case, steering).expect("a known case").into_iter().filter(|k| is_own_metric(k)).collect();
             by_steering.insert(steering.name().to_string(), Value::from(own));
         }
         metrics.insert(case.to_string(), Value::Object(by_steering));
