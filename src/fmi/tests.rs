@@ -196,6 +196,9 @@ struct Mock {
     time: f64,
     d1: Option<f64>,
     initialized: u32,
+    /// The interface it was made through (`ModelContext`): FMI 3.0 Co-Simulation takes `rack_velocity` as the
+    /// next step's input derivative, as the vehicle does.
+    interface: fmi_layer::Interface,
 }
 
 impl FmuModel for Mock {
@@ -205,7 +208,7 @@ impl FmuModel for Mock {
         &super::variables::DESCRIPTION
     }
 
-    fn new(_: &ModelContext) -> Self {
+    fn new(context: &ModelContext) -> Self {
         let n = VARIABLES.len();
         Mock {
             reals: vec![0.0; n],
@@ -215,6 +218,7 @@ impl FmuModel for Mock {
             time: 0.0,
             d1: None,
             initialized: 0,
+            interface: context.interface,
         }
     }
     fn get_real(&self, var: &Variable) -> Result<f64, String> {
@@ -232,6 +236,9 @@ impl FmuModel for Mock {
     fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
         if value < -1e6 {
             return Err("too small".into());
+        }
+        if var.vr == vr::RACK_VELOCITY && self.interface == fmi_layer::Interface::CoSimulation3 {
+            self.d1 = Some(value);
         }
         self.reals[var.index] = value;
         Ok(())
@@ -354,6 +361,18 @@ fn every_variable_of_the_model_description_is_served_by_the_vehicle() {
                 VarType::String => api::get_string::<VehicleModel>(inst.c, vrs.as_ptr(), 1, &mut std::ptr::null()),
             }
         };
+        // (Until the vehicle serves Model Exchange, its state, derivative and indicator variables say "not yet".)
+        if status != OK
+            && rec.last().contains("not yet")
+            && matches!(
+                v.var,
+                super::variables::Var::State(_)
+                    | super::variables::Var::Derivative(_)
+                    | super::variables::Var::EventIndicator(_)
+            )
+        {
+            continue;
+        }
         assert_eq!(status, OK, "{} is not served: {}", v.name, rec.last());
         // Start values read back.
         match v.start {
@@ -1150,8 +1169,6 @@ fn deserialized_states_are_validated_like_the_setters() {
         (edited("/core/mode", "Fatal".into()), "Fatal"),
         (edited("/core/needs_init", true.into()), "needs_init"),
         (edited("/core/terminated", true.into()), "terminated = true"),
-        (edited("/core/derivative_inputs", serde_json::json!([0.0])), "input-derivative values"),
-        (edited("/core/derivative_inputs/1", "HUGE".into()).replace("\"HUGE\"", "1e400"), "not a serialized state"),
         (edited("/core/model/sim", serde_json::Value::Null), "without a simulation"),
         (edited("/core/model/config/speed_mode", "Coast".into()), "configuration differs"),
         (edited(&format!("{sim}/vehicle_fingerprint"), (fp ^ 1).into()), "vehicle differs"),
@@ -1160,6 +1177,14 @@ fn deserialized_states_are_validated_like_the_setters() {
         assert_eq!(deserialize(&inst, &text, &mut slot), ERROR, "accepted a state expected to fail with {needle:?}");
         assert!(rec.last().contains(needle), "{needle:?} not in {}", rec.last());
     }
+    // A state saved before Model Exchange support (its FMI 3.0 input derivatives kept by the layer) is read.
+    let mut old = value.clone();
+    old.pointer_mut("/core")
+        .unwrap()
+        .as_object_mut()
+        .unwrap()
+        .insert("derivative_inputs".into(), serde_json::json!([0.0, 0.0, 0.0, 0.0]));
+    assert_eq!(deserialize(&inst, &old.to_string(), &mut slot), OK, "{}", rec.last());
     // The slot still holds the good state, and the instance steps on.
     unsafe { assert_eq!(api::set_fmu_state::<VehicleModel>(inst.c, slot), OK) };
     assert_eq!(vehicle_step(&inst, 0.01), (OK, 0.02));
@@ -1375,7 +1400,7 @@ unsafe fn step3<M: FmuModel>(c: *mut c_void, t: f64, h: f64) -> (u32, bool, f64)
 }
 
 #[test]
-fn fmi3_runs_the_fmi2_state_machine_with_input_derivatives_as_variables() {
+fn fmi3_runs_the_fmi2_state_machine_with_input_derivatives_as_inputs() {
     use fmi_layer::api3;
     let rec = Recorder::default();
     unsafe {
@@ -1409,6 +1434,8 @@ fn fmi3_runs_the_fmi2_state_machine_with_input_derivatives_as_variables() {
         let read = [rate.vr, time, vr::RACK_DISPLACEMENT];
         assert_eq!(api3::get_float64::<Mock>(a, read.as_ptr(), 3, got.as_mut_ptr(), 3), OK);
         assert_eq!(got, [2.0, 0.01, 0.5], "the velocity as set, the FMU time, the rack");
+        // The four rates are ordinary Real inputs of the 2.0 description, set and read like any.
+        assert_eq!(DESCRIPTION.lookup(rate.vr, VarType::Real).unwrap().causality, Causality::Input);
         // nValues must equal nValueReferences; NaN is refused with the value kept, in FMI 3.0's words.
         assert_eq!(api3::get_float64::<Mock>(a, read.as_ptr(), 3, got.as_mut_ptr(), 2), ERROR);
         assert_eq!(api3::set_float64::<Mock>(a, vrs.as_ptr(), 2, [0.1, f64::NAN].as_ptr(), 2), ERROR);

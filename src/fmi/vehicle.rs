@@ -25,6 +25,10 @@ enum InputSlot {
     Steering(SteeringInput),
     Drive(usize),
     Brake(usize),
+    // TODO(model side): the steering rates (FMI 3.0 Co-Simulation: the next step's input derivative; Model
+    // Exchange: the current rate; FMI 2.0 Co-Simulation: stored, not read). Minimal compile fix of fmi-layer ME
+    // step 1: stored only.
+    SteeringRate(usize),
 }
 
 /// Exhaustive: an input added to the model description does not compile until it has a place here.
@@ -40,6 +44,10 @@ fn input_slot(input: I) -> InputSlot {
         I::BrakeTorqueFr => InputSlot::Brake(1),
         I::BrakeTorqueRl => InputSlot::Brake(2),
         I::BrakeTorqueRr => InputSlot::Brake(3),
+        I::RackVelocity => InputSlot::SteeringRate(0),
+        I::RackAcceleration => InputSlot::SteeringRate(1),
+        I::PitmanArmRate => InputSlot::SteeringRate(2),
+        I::PitmanArmAcceleration => InputSlot::SteeringRate(3),
     }
 }
 
@@ -156,6 +164,10 @@ pub struct VehicleModel {
     pub drive: [f64; 4],
     pub brake: [f64; 4],
     pub sim: Option<Simulation>,
+    /// The steering-rate inputs [rack_velocity, rack_acceleration, pitman_arm_rate, pitman_arm_acceleration]
+    /// (compile fix of fmi-layer ME step 1: stored, not yet read).
+    #[serde(default)]
+    pub steering_rates: [f64; 4],
     /// Wall-clock seconds of the last `fmi2DoStep` (diagnostic, not deterministic).
     pub step_cpu_time: f64,
     /// How many of the simulation's physical events were logged.
@@ -283,6 +295,7 @@ impl FmuModel for VehicleModel {
             road_file: String::new(),
             steering: [0.0; 2],
             steering_derivatives: [[None; 2]; 2],
+            steering_rates: [0.0; 4],
             drive: [0.0; 4],
             brake: [0.0; 4],
             sim: None,
@@ -314,7 +327,11 @@ impl FmuModel for VehicleModel {
                 InputSlot::Steering(input) => self.steering[steering_slot(input)],
                 InputSlot::Drive(c) => self.drive[c],
                 InputSlot::Brake(c) => self.brake[c],
+                InputSlot::SteeringRate(k) => self.steering_rates[k],
             },
+            Var::State(_) | Var::Derivative(_) | Var::EventIndicator(_) => {
+                return Err(format!("{}: Model Exchange variables not yet served by the vehicle", var.name))
+            }
             Var::Parameter(P::InitialSpeed) => c.initial_speed,
             Var::Parameter(P::InternalStep) => c.internal_step,
             Var::Parameter(P::RoadGrade) => c.options.slope[0],
@@ -363,7 +380,10 @@ impl FmuModel for VehicleModel {
             )
             | Var::Input(_)
             | Var::Local(_)
-            | Var::Output(_) => return Err(format!("{} is not an Integer of this model", var.name)),
+            | Var::Output(_)
+            | Var::State(_)
+            | Var::Derivative(_)
+            | Var::EventIndicator(_) => return Err(format!("{} is not an Integer of this model", var.name)),
         })
     }
 
@@ -394,6 +414,7 @@ impl FmuModel for VehicleModel {
                     }
                     self.brake[c] = value;
                 }
+                InputSlot::SteeringRate(k) => self.steering_rates[k] = value,
             },
             Var::Parameter(P::InitialSpeed) => self.config.initial_speed = ranged(var, value)?,
             Var::Parameter(P::InternalStep) => self.config.internal_step = ranged(var, value)?,
@@ -415,7 +436,10 @@ impl FmuModel for VehicleModel {
                 | P::Contact,
             )
             | Var::Local(_)
-            | Var::Output(_) => return Err(format!("{} is not a settable Real of this model", var.name)),
+            | Var::Output(_)
+            | Var::State(_)
+            | Var::Derivative(_)
+            | Var::EventIndicator(_) => return Err(format!("{} is not a settable Real of this model", var.name)),
         }
         Ok(())
     }
@@ -444,7 +468,10 @@ impl FmuModel for VehicleModel {
             )
             | Var::Input(_)
             | Var::Local(_)
-            | Var::Output(_) => Err(format!("{} is not a settable Integer of this model", var.name)),
+            | Var::Output(_)
+            | Var::State(_)
+            | Var::Derivative(_)
+            | Var::EventIndicator(_) => Err(format!("{} is not a settable Integer of this model", var.name)),
         }
     }
 
@@ -477,7 +504,7 @@ impl FmuModel for VehicleModel {
                 }
                 // The wheel torques are held over a step: their derivatives are accepted (fmpy sends them
                 // for every continuous input) and not used.
-                InputSlot::Drive(_) | InputSlot::Brake(_) => {}
+                InputSlot::Drive(_) | InputSlot::Brake(_) | InputSlot::SteeringRate(_) => {}
             },
             _ => return Err(format!("{} is not a Real input", var.name)),
         }

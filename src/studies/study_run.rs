@@ -146,6 +146,7 @@ fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), ModelError>
             Some(dir) => ResourceLocation::Dir(dir.clone()),
             None => ResourceLocation::None,
         },
+        interface: crate::fmi::model::Interface::CoSimulation2,
     };
     let mut model = VehicleModel::new(&context);
     for (name, value) in &request.parameters {

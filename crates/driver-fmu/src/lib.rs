@@ -189,6 +189,10 @@ impl FmuModel for DriverModel {
                 }
             }
             Var::Local(l) => match l {},
+            // The driver declares no continuous states or event indicators (Co-Simulation only).
+            Var::State(_) | Var::Derivative(_) | Var::EventIndicator(_) => {
+                return Err(format!("{} is not a variable of this model", var.name))
+            }
         })
     }
 
@@ -212,7 +216,9 @@ impl FmuModel for DriverModel {
                 in_range(var, value)?;
                 self.reals[p as usize] = value;
             }
-            Var::Output(_) | Var::Local(_) => return Err(format!("{} is not a settable Real", var.name)),
+            Var::Output(_) | Var::Local(_) | Var::State(_) | Var::Derivative(_) | Var::EventIndicator(_) => {
+                return Err(format!("{} is not a settable Real", var.name))
+            }
         }
         Ok(())
     }

@@ -4,7 +4,7 @@
 
 use super::instance::Instance;
 use super::logger::{self, Logger};
-use super::model::{FmuModel, ModelContext, ResourceLocation};
+use super::model::{FmuModel, Interface, ModelContext, ResourceLocation};
 use super::status::{Failure, FmiResult, Status};
 use fmi_sys::fmi2::*;
 use std::ffi::CStr;
@@ -220,16 +220,21 @@ pub unsafe fn instantiate<M: FmuModel>(
                 return fail(format!("GUID mismatch: the importer passed {other:?}, this binary is {guid_expected}"))
             }
         }
-        create::<M>(name, parse_resource_location(string(resource_location)), logger)
+        create::<M>(name, parse_resource_location(string(resource_location)), Interface::CoSimulation2, logger)
     }));
     result.unwrap_or(std::ptr::null_mut())
 }
 
 /// The instance of both APIs' instantiate functions, once their arguments are checked: a pointer to a new
 /// `Instance` with every start value applied, or NULL (logged) if the model refuses one.
-pub(crate) fn create<M: FmuModel>(name: &str, resources: ResourceLocation, logger: Logger) -> fmi2Component {
+pub(crate) fn create<M: FmuModel>(
+    name: &str,
+    resources: ResourceLocation,
+    interface: Interface,
+    logger: Logger,
+) -> fmi2Component {
     let description = M::description();
-    let context = ModelContext { instance_name: name.to_string(), resources: resources.clone() };
+    let context = ModelContext { instance_name: name.to_string(), resources: resources.clone(), interface };
     // The logger moves into the construction: a failure is reported through a copy.
     let reporter = logger.reporting_copy();
     match Instance::<M>::new(context, logger) {

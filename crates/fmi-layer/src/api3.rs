@@ -11,7 +11,7 @@
 use super::api::{check_array, create, slice, slice_mut, string, with_instance, MAX_ARRAY_LEN};
 use super::instance::Instance;
 use super::logger::{self, Logger};
-use super::model::{FmuModel, ResourceLocation};
+use super::model::{FmuModel, Interface, ResourceLocation};
 use super::status::{Failure, FmiResult, Status};
 use fmi_sys::fmi3::*;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -88,7 +88,7 @@ pub unsafe fn instantiate_co_simulation<M: FmuModel>(
                  intermediate update (providesIntermediateUpdate = false)"
             ));
         }
-        create::<M>(name, parse_resource_path(string(resource_path)), logger)
+        create::<M>(name, parse_resource_path(string(resource_path)), Interface::CoSimulation3, logger)
     }));
     result.unwrap_or(std::ptr::null_mut())
 }

@@ -6,11 +6,20 @@
 //! includes it.
 //!
 //! The build fails with a clear message when the XML breaks a rule the FMU code relies on (duplicate value
-//! references or names, a start value missing on an input/parameter or present on a calculated variable).
+//! references or names, a start value missing on an input/parameter or present on a calculated variable, a
+//! state derivative that does not name a continuous local Real, event indicators that do not match
+//! `numberOfEventIndicators`, …).
+//!
+//! Model Exchange: the continuous states are the variables a `derivative` attribute of a variable listed in
+//! `ModelStructure/Derivatives` names (in the order of that list), the derivatives those variables, the event
+//! indicators the variables the `VendorAnnotations` list as `<EventIndicator valueReference=…/>` (FMI 2.0 has
+//! no way to name them), in that order. Each is a variant of its own in `Var` (`State(k)`, `Derivative(k)`,
+//! `EventIndicator(k)`, `k` its position in its vector).
 //!
 //! FMI 3.0: `fmi3_model_description` writes the 3.0 `modelDescription.xml` from the same 2.0 file (the
-//! packager calls it), and `input_derivatives` reads the input-derivative variables FMI 3.0 needs in place of
-//! `fmi2SetRealInputDerivatives`, declared in the 2.0 file's `VendorAnnotations` (`Tool name="fmi-layer"`).
+//! packager calls it), and `input_derivatives` reads which Real inputs are derivatives of other inputs (the
+//! 3.0 `derivative` attribute; FMI 2.0 has `fmi2SetRealInputDerivatives` instead), declared in the 2.0 file's
+//! `VendorAnnotations` (`Tool name="fmi-layer"`).
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
@@ -69,6 +78,15 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
     let model_name = root.attribute("modelName").ok_or("no modelName")?;
     let cs = child(root, "CoSimulation").ok_or("no CoSimulation element")?;
     let model_identifier = cs.attribute("modelIdentifier").ok_or("no modelIdentifier")?;
+    if let Some(me) = child(root, "ModelExchange") {
+        if me.attribute("modelIdentifier") != Some(model_identifier) {
+            return Err(format!(
+                "ModelExchange's modelIdentifier {:?} differs from CoSimulation's {model_identifier:?} (one library \
+                 serves both)",
+                me.attribute("modelIdentifier")
+            ));
+        }
+    }
 
     let categories: Vec<&str> = child(root, "LogCategories")
         .map(|c| c.children().filter(|n| n.has_tag_name("Category")).filter_map(|n| n.attribute("name")).collect())
@@ -84,6 +102,7 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
     };
 
     let vars = child(root, "ModelVariables").ok_or("no ModelVariables")?;
+    let roles = roles(&doc)?;
     let mut rows = String::new();
     let mut consts = String::new();
     let mut lookup = String::new();
@@ -92,6 +111,7 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
         (String::new(), String::new(), String::new(), String::new());
     let mut vrs = HashSet::new();
     let mut names = HashSet::new();
+    let mut constants = HashSet::new();
     for (index, sv) in vars.children().filter(|n| n.has_tag_name("ScalarVariable")).enumerate() {
         let name = sv.attribute("name").ok_or("a ScalarVariable without name")?;
         let vr: u32 = sv
@@ -143,38 +163,58 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
             None => "None".into(),
         };
         let variant = variant_name(name);
-        let var = match causality {
-            "input" => {
-                writeln!(inputs, "    {variant},").unwrap();
-                format!("Var::Input(Input::{variant})")
-            }
-            "parameter" => {
-                writeln!(parameters, "    {variant},").unwrap();
-                format!("Var::Parameter(Parameter::{variant})")
-            }
-            "local" => {
-                writeln!(locals, "    {variant},").unwrap();
-                format!("Var::Local(Local::{variant})")
-            }
-            "output" => {
-                writeln!(outputs, "    {variant},").unwrap();
-                format!("Var::Output(Output::{variant})")
-            }
-            other => return Err(format!("{name}: causality {other} is not served by this FMU's code")),
+        let role = roles.role(index);
+        if role.is_some() && (causality != "local" || variability != "continuous" || ty_name != "Real") {
+            return Err(format!(
+                "{name}: a continuous state, state derivative or event indicator must be a local continuous Real \
+                 (causality {causality}, variability {variability}, type {ty_name})"
+            ));
+        }
+        let var = match (role, causality) {
+            (Some((kind, k)), _) => format!("Var::{kind}({k})"),
+            (None, causality) => match causality {
+                "input" => {
+                    writeln!(inputs, "    {variant},").unwrap();
+                    format!("Var::Input(Input::{variant})")
+                }
+                "parameter" => {
+                    writeln!(parameters, "    {variant},").unwrap();
+                    format!("Var::Parameter(Parameter::{variant})")
+                }
+                "local" => {
+                    writeln!(locals, "    {variant},").unwrap();
+                    format!("Var::Local(Local::{variant})")
+                }
+                "output" => {
+                    writeln!(outputs, "    {variant},").unwrap();
+                    format!("Var::Output(Output::{variant})")
+                }
+                other => return Err(format!("{name}: causality {other} is not served by this FMU's code")),
+            },
         };
+        if let Some(n) = ty.attribute("nominal") {
+            if !(num(n).map_err(|e| format!("{name}: nominal: {e}"))? > 0.0) {
+                return Err(format!("{name}: nominal {n} must be positive"));
+            }
+        }
         writeln!(
             rows,
             "    Variable {{ index: {index}, name: {name:?}, vr: {vr}, causality: Causality::{}, variability: \
              Variability::{}, initial: Initial::{}, ty: VarType::{ty_name}, start: {start_code}, min: {}, max: {}, \
-             unit: {unit}, var: {var} }},",
+             unit: {unit}, nominal: {}, var: {var} }},",
             camel(causality)?,
             camel(variability)?,
             camel(initial)?,
             bound("min")?,
             bound("max")?,
+            bound("nominal")?,
         )
         .unwrap();
-        writeln!(consts, "    pub const {}: u32 = {vr};", name.to_uppercase()).unwrap();
+        let constant = constant_name(name);
+        if !constants.insert(constant.clone()) {
+            return Err(format!("{name}: its constant vr::{constant} repeats another variable's"));
+        }
+        writeln!(consts, "    pub const {constant}: u32 = {vr};").unwrap();
         writeln!(lookup, "        {vr} => Some({index}),").unwrap();
     }
 
@@ -186,17 +226,10 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
     }
     let mut derivative_rows = String::new();
     for d in input_derivatives(&doc)? {
-        if !vrs.insert(d.vr) {
-            return Err(format!("input derivative {}: value reference {} is used twice", d.name, d.vr));
-        }
-        if !names.insert(d.name) {
-            return Err(format!("input derivative name {} is used twice", d.name));
-        }
         writeln!(
             derivative_rows,
-            "    ::fmi_layer::variables::InputDerivative {{ name: {:?}, vr: {}, of: {}, order: {}, unit: {:?}, \
-             description: {:?} }},",
-            d.name, d.vr, d.of_vr, d.order, d.unit, d.description
+            "    ::fmi_layer::variables::InputDerivative {{ name: {:?}, vr: {}, of: {}, order: {} }},",
+            d.name, d.vr, d.of_vr, d.order
         )
         .unwrap();
     }
@@ -211,7 +244,9 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
         code,
         "/// A variable by role and name.\n\
          #[derive(Debug, Clone, Copy, PartialEq, Eq)]\npub enum Var {{\n    Input(Input),\n    Parameter(Parameter),\n    \
-         Output(Output),\n    Local(Local),\n}}"
+         Output(Output),\n    Local(Local),\n    /// Model Exchange: continuous state k (its position in the state vector).\n    \
+         State(usize),\n    /// The derivative of continuous state k.\n    Derivative(usize),\n    \
+         /// Event indicator k.\n    EventIndicator(usize),\n}}"
     )
     .unwrap();
     writeln!(code, "/// The `guid` attribute of the model description, checked in fmi2Instantiate.").unwrap();
@@ -239,15 +274,24 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
     writeln!(code, "/// The index in `VARIABLES` of a value reference, `None` if unknown.").unwrap();
     writeln!(code, "pub const fn variable_index(vr: u32) -> Option<usize> {{\n    match vr {{\n{lookup}        _ => None,\n    }}\n}}")
         .unwrap();
-    writeln!(code, "/// The FMI 3.0 input-derivative variables (the XML's VendorAnnotations).").unwrap();
+    writeln!(code, "/// The inputs that are derivatives of other inputs (the XML's VendorAnnotations).").unwrap();
     writeln!(code, "pub const INPUT_DERIVATIVES: &[::fmi_layer::variables::InputDerivative] = &[\n{derivative_rows}];")
         .unwrap();
+    writeln!(code, "/// Model Exchange: the continuous states, in state-vector order (indices into `VARIABLES`).")
+        .unwrap();
+    writeln!(code, "pub const STATES: &[usize] = &{:?};", roles.states).unwrap();
+    writeln!(code, "/// The state derivatives, `DERIVATIVES[k]` of `STATES[k]` (indices into `VARIABLES`).").unwrap();
+    writeln!(code, "pub const DERIVATIVES: &[usize] = &{:?};", roles.derivatives).unwrap();
+    writeln!(code, "/// The event indicators, in order (indices into `VARIABLES`).").unwrap();
+    writeln!(code, "pub const EVENT_INDICATORS: &[usize] = &{:?};", roles.event_indicators).unwrap();
     writeln!(code, "/// What the generic FMI layer reads of this model description.").unwrap();
     writeln!(
         code,
         "pub static DESCRIPTION: Description<Var> = Description {{ guid: GUID, model_identifier: MODEL_IDENTIFIER, \
          log_categories: LOG_CATEGORIES, variables: VARIABLES, index_of: variable_index, \
-         input_derivatives: INPUT_DERIVATIVES, independent_vr: {:?} }};",
+         input_derivatives: INPUT_DERIVATIVES, states: STATES, derivatives: DERIVATIVES, \
+         event_indicators: EVENT_INDICATORS, model_exchange: {}, independent_vr: {:?} }};",
+        roles.model_exchange,
         independent.map(|(_, vr, _)| vr)
     )
     .unwrap();
@@ -257,17 +301,138 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
 /// One `InputDerivative` of the 2.0 file's annotation, resolved against its variables.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InputDerivativeDecl<'a> {
+    /// The Real input (an FMI 2.0 variable) that holds the derivative.
     pub name: &'a str,
     pub vr: u32,
     /// The input it is a derivative of: its name and value reference.
     pub of: &'a str,
     pub of_vr: u32,
     pub order: i32,
-    pub unit: Option<&'a str>,
-    pub description: &'a str,
     /// The value reference the 3.0 `derivative` attribute names: the input itself for order 1, the
     /// derivative of order 1 for order 2.
     pub derivative_of_vr: u32,
+}
+
+/// The Model Exchange roles of the variables, read from the model structure and the annotation.
+#[derive(Debug, Default)]
+struct Roles {
+    /// Indices (0-based) into the variables, in vector order.
+    states: Vec<usize>,
+    derivatives: Vec<usize>,
+    event_indicators: Vec<usize>,
+    model_exchange: bool,
+}
+
+impl Roles {
+    /// The `Var` variant and the position of variable `index`, if it has a Model Exchange role.
+    fn role(&self, index: usize) -> Option<(&'static str, usize)> {
+        let find = |list: &[usize]| list.iter().position(|&i| i == index);
+        find(&self.states)
+            .map(|k| ("State", k))
+            .or_else(|| find(&self.derivatives).map(|k| ("Derivative", k)))
+            .or_else(|| find(&self.event_indicators).map(|k| ("EventIndicator", k)))
+    }
+}
+
+/// The continuous states, their derivatives and the event indicators of an FMI 2.0 description, checked: every
+/// variable with a `derivative` attribute is listed in `ModelStructure/Derivatives` and every one listed has
+/// one; it names another variable (the state), named by no other derivative, that is no derivative itself;
+/// states and derivatives with `initial` calculated or approx are in `InitialUnknowns` (FMI 2.0 §2.2.8); the
+/// annotation's event indicators are variables, none twice, as many as `numberOfEventIndicators`.
+fn roles(doc: &roxmltree::Document) -> Result<Roles, String> {
+    let root = doc.root_element();
+    let vars = child(root, "ModelVariables").ok_or("no ModelVariables")?;
+    let svs: Vec<_> = vars.children().filter(|n| n.has_tag_name("ScalarVariable")).collect();
+    let name = |i: usize| svs[i].attribute("name").unwrap_or("?");
+    // A 1-based ScalarVariable index of the model structure, as a 0-based index.
+    let index = |what: &str, text: &str| -> Result<usize, String> {
+        let i: usize = text.trim().parse().map_err(|e| format!("{what}: index {text:?}: {e}"))?;
+        if i == 0 || i > svs.len() {
+            return Err(format!("{what}: index {i} names no ScalarVariable (1..={})", svs.len()));
+        }
+        Ok(i - 1)
+    };
+    let derivative_of =
+        |i: usize| svs[i].children().find(|n| n.has_tag_name("Real")).and_then(|r| r.attribute("derivative"));
+    let mut roles = Roles { model_exchange: child(root, "ModelExchange").is_some(), ..Roles::default() };
+    let structure = child(root, "ModelStructure").ok_or("no ModelStructure")?;
+    let unknowns = |list: &str| {
+        child(structure, list).into_iter().flat_map(|n| n.children()).filter(|n| n.has_tag_name("Unknown"))
+    };
+    for u in unknowns("Derivatives") {
+        let d =
+            index("ModelStructure/Derivatives", u.attribute("index").ok_or("a Derivatives Unknown without index")?)?;
+        let of = derivative_of(d).ok_or_else(|| {
+            format!("{} is listed in ModelStructure/Derivatives but has no derivative attribute", name(d))
+        })?;
+        let state = index(&format!("{}: derivative", name(d)), of)?;
+        if state == d {
+            return Err(format!("{} is declared the derivative of itself", name(d)));
+        }
+        if roles.derivatives.contains(&d) {
+            return Err(format!("{} is listed twice in ModelStructure/Derivatives", name(d)));
+        }
+        if roles.states.contains(&state) {
+            return Err(format!("{}: state {} has two derivatives", name(d), name(state)));
+        }
+        roles.states.push(state);
+        roles.derivatives.push(d);
+    }
+    for (i, _) in svs.iter().enumerate() {
+        if derivative_of(i).is_some() && !roles.derivatives.contains(&i) {
+            return Err(format!(
+                "{} has a derivative attribute but is not listed in ModelStructure/Derivatives (a state derivative \
+                 must be; this layer serves no other derivatives)",
+                name(i)
+            ));
+        }
+        if roles.derivatives.contains(&i) && roles.states.contains(&i) {
+            return Err(format!(
+                "{} is a state and a state derivative (second-order chains are not supported by this layer: give \
+                 the derivative a variable of its own)",
+                name(i)
+            ));
+        }
+    }
+    let initial_unknowns: Vec<usize> = unknowns("InitialUnknowns")
+        .map(|u| index("ModelStructure/InitialUnknowns", u.attribute("index").unwrap_or("")))
+        .collect::<Result<_, _>>()?;
+    for &i in roles.states.iter().chain(&roles.derivatives) {
+        if matches!(svs[i].attribute("initial").unwrap_or("calculated"), "calculated" | "approx")
+            && !initial_unknowns.contains(&i)
+        {
+            return Err(format!(
+                "{} (a state or state derivative, initial calculated or approx) is missing from \
+                 ModelStructure/InitialUnknowns (FMI 2.0 §2.2.8)",
+                name(i)
+            ));
+        }
+    }
+    for e in fmi3_annotation(doc).into_iter().flat_map(|a| a.children()).filter(|n| n.has_tag_name("EventIndicator")) {
+        let text = e.attribute("valueReference").ok_or("an EventIndicator without valueReference")?;
+        let vr: u32 = text.trim().parse().map_err(|err| format!("EventIndicator valueReference {text:?}: {err}"))?;
+        let i = svs
+            .iter()
+            .position(|sv| sv.attribute("valueReference").and_then(|v| v.trim().parse::<u32>().ok()) == Some(vr))
+            .ok_or_else(|| format!("EventIndicator: value reference {vr} names no ScalarVariable"))?;
+        if roles.event_indicators.contains(&i) {
+            return Err(format!("EventIndicator {} is listed twice", name(i)));
+        }
+        if roles.states.contains(&i) || roles.derivatives.contains(&i) {
+            return Err(format!("EventIndicator {} is a state or a state derivative", name(i)));
+        }
+        roles.event_indicators.push(i);
+    }
+    let declared = root.attribute("numberOfEventIndicators").unwrap_or("0");
+    let declared: usize = declared.trim().parse().map_err(|e| format!("numberOfEventIndicators {declared:?}: {e}"))?;
+    if declared != roles.event_indicators.len() {
+        return Err(format!(
+            "numberOfEventIndicators = {declared}, but the VendorAnnotations (Tool fmi-layer, Fmi3) list {} \
+             EventIndicator elements",
+            roles.event_indicators.len()
+        ));
+    }
+    Ok(roles)
 }
 
 /// The annotation's `Fmi3` element (`VendorAnnotations/Tool name="fmi-layer"/Fmi3`), if any.
@@ -288,7 +453,7 @@ pub fn fmi3_independent<'a, 'input: 'a>(
     Ok(Some((name, vr, i.attribute("description").unwrap_or(""))))
 }
 
-/// The input derivatives declared in the 2.0 model description:
+/// The inputs that are derivatives of other inputs, declared in the 2.0 model description:
 ///
 /// ```xml
 /// <VendorAnnotations>
@@ -297,14 +462,26 @@ pub fn fmi3_independent<'a, 'input: 'a>(
 ///       <InputDerivative name="rack_velocity" valueReference="10" of="rack_displacement" order="1" unit="m/s"/>
 /// ```
 ///
-/// (the FMI 2.0 schema allows one element under a `Tool`, hence `Fmi3`). Checked: `of` is a Real input,
-/// the order 1 or 2, an order 2 has its order 1.
+/// (the FMI 2.0 schema allows one element under a `Tool`, hence `Fmi3`). Each names a Real input of the 2.0
+/// description by name and value reference (the variable holds the derivative; `unit`, if given, is its unit);
+/// `of` is a Real input, the order 1 or 2, an order 2 has its order 1 declared before it.
 pub fn input_derivatives<'a, 'input: 'a>(
     doc: &'a roxmltree::Document<'input>,
 ) -> Result<Vec<InputDerivativeDecl<'a>>, String> {
     let root = doc.root_element();
     let Some(fmi3) = fmi3_annotation(doc) else { return Ok(Vec::new()) };
     let vars = child(root, "ModelVariables").ok_or("no ModelVariables")?;
+    let real_input = |name: &str| -> Result<(roxmltree::Node<'a, 'input>, u32), String> {
+        let sv = vars
+            .children()
+            .find(|v| v.has_tag_name("ScalarVariable") && v.attribute("name") == Some(name))
+            .ok_or_else(|| format!("no variable {name}"))?;
+        if sv.attribute("causality") != Some("input") || child(sv, "Real").is_none() {
+            return Err(format!("{name} is not a Real input"));
+        }
+        let vr = sv.attribute("valueReference").unwrap_or("").parse().map_err(|e| format!("{name}: {e}"))?;
+        Ok((sv, vr))
+    };
     let mut out: Vec<InputDerivativeDecl<'a>> = Vec::new();
     for d in fmi3.children().filter(|n| n.has_tag_name("InputDerivative")) {
         let attr = |a: &str| d.attribute(a).ok_or_else(|| format!("an InputDerivative without {a}"));
@@ -312,14 +489,21 @@ pub fn input_derivatives<'a, 'input: 'a>(
         let vr: u32 = attr("valueReference")?.parse().map_err(|e| format!("{name}: valueReference: {e}"))?;
         let of = attr("of")?;
         let order: i32 = attr("order")?.parse().map_err(|e| format!("{name}: order: {e}"))?;
-        let base = vars
-            .children()
-            .find(|v| v.has_tag_name("ScalarVariable") && v.attribute("name") == Some(of))
-            .ok_or_else(|| format!("{name}: no variable {of}"))?;
-        if base.attribute("causality") != Some("input") || child(base, "Real").is_none() {
-            return Err(format!("{name}: {of} is not a Real input"));
+        let (sv, own_vr) = real_input(name).map_err(|e| format!("input derivative {name}: {e}"))?;
+        if own_vr != vr {
+            return Err(format!("input derivative {name}: valueReference {vr}, but the variable {name} has {own_vr}"));
         }
-        let of_vr: u32 = base.attribute("valueReference").unwrap_or("").parse().map_err(|e| format!("{of}: {e}"))?;
+        let unit = child(sv, "Real").and_then(|r| r.attribute("unit"));
+        if d.attribute("unit").is_some_and(|u| Some(u) != unit) {
+            return Err(format!(
+                "input derivative {name}: unit {:?}, but the variable's is {unit:?}",
+                d.attribute("unit")
+            ));
+        }
+        let (_, of_vr) = real_input(of).map_err(|e| format!("input derivative {name}: {e}"))?;
+        if of == name {
+            return Err(format!("input derivative {name}: a derivative of itself"));
+        }
         let derivative_of_vr = match order {
             1 => of_vr,
             2 => out
@@ -332,18 +516,22 @@ pub fn input_derivatives<'a, 'input: 'a>(
         if out.iter().any(|p| p.of == of && p.order == order) {
             return Err(format!("{name}: a derivative of order {order} of {of} is declared twice"));
         }
-        let (unit, description) = (d.attribute("unit"), d.attribute("description").unwrap_or(""));
-        out.push(InputDerivativeDecl { name, vr, of, of_vr, order, unit, description, derivative_of_vr });
+        if out.iter().any(|p| p.name == name) {
+            return Err(format!("input derivative {name} is declared twice"));
+        }
+        out.push(InputDerivativeDecl { name, vr, of, of_vr, order, derivative_of_vr });
     }
     Ok(out)
 }
 
-/// The FMI 3.0 Co-Simulation model description of the FMU whose FMI 2.0 description is `text`: the same
-/// variables (Real → Float64, Integer → Int32, Boolean, String) with the same names, value references,
-/// causalities, variabilities, initials, units, starts and ranges, the input derivatives of the annotation
-/// as Float64 inputs with `derivative`, units, log categories and default experiment copied, the model
-/// structure by value reference. Whatever the converter does not know (type definitions, ModelExchange,
-/// state derivatives, unknown attributes) is an error, never dropped.
+/// The FMI 3.0 model description of the FMU whose FMI 2.0 description is `text`: Co-Simulation, and Model
+/// Exchange when the 2.0 file declares it; the same variables (Real → Float64, Integer → Int32, Boolean,
+/// String) with the same names, value references, causalities, variabilities, initials, units, starts and
+/// ranges; `derivative` by value reference (a state derivative's names its state; an input of the
+/// annotation's `InputDerivative` list the input it is the derivative of); units, log categories and default
+/// experiment copied; the model structure by value reference (outputs, state derivatives, initial unknowns,
+/// the annotation's event indicators). Whatever the converter does not know (type definitions, unknown
+/// attributes) is an error, never dropped.
 pub fn fmi3_model_description(text: &str) -> Result<String, String> {
     let doc = roxmltree::Document::parse(text).map_err(|e| format!("not well-formed XML: {e}"))?;
     let root = doc.root_element();
@@ -351,11 +539,12 @@ pub fn fmi3_model_description(text: &str) -> Result<String, String> {
         return Err("fmiVersion must be 2.0".into());
     }
     let cs = child(root, "CoSimulation").ok_or("no CoSimulation element")?;
-    for unsupported in ["ModelExchange", "TypeDefinitions"] {
-        if child(root, unsupported).is_some() {
-            return Err(format!("{unsupported} is not converted to FMI 3.0"));
-        }
+    if child(root, "TypeDefinitions").is_some() {
+        return Err("TypeDefinitions is not converted to FMI 3.0".into());
     }
+    // The same checks as the generated code's (states, derivatives, event indicators).
+    let roles = roles(&doc)?;
+    let input_derivatives = input_derivatives(&doc)?;
     let mut x = String::new();
     x.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     x.push_str("<!-- Generated from the FMI 2.0 modelDescription.xml by fmi_layer::codegen::fmi3_model_description. Do not edit. -->\n");
@@ -374,8 +563,28 @@ pub fn fmi3_model_description(text: &str) -> Result<String, String> {
     root_attr(&mut x, "license", "license");
     x.push_str("\n  generationTool=\"rt-vehicle (fmi_layer::codegen, from the FMI 2.0 modelDescription.xml)\"");
     root_attr(&mut x, "variableNamingConvention", "variableNamingConvention");
-    x.push_str(">\n\n  <CoSimulation");
+    x.push_str(">\n");
     let model_identifier = cs.attribute("modelIdentifier").ok_or("no modelIdentifier")?;
+    if let Some(me) = child(root, "ModelExchange") {
+        x.push_str("\n  <ModelExchange");
+        write!(x, "\n    modelIdentifier=\"{}\"", esc(model_identifier)).unwrap();
+        for (two, three) in [
+            ("needsExecutionTool", "needsExecutionTool"),
+            ("canBeInstantiatedOnlyOncePerProcess", "canBeInstantiatedOnlyOncePerProcess"),
+            ("canGetAndSetFMUstate", "canGetAndSetFMUState"),
+            ("canSerializeFMUstate", "canSerializeFMUState"),
+            ("providesDirectionalDerivative", "providesDirectionalDerivatives"),
+        ] {
+            if let Some(v) = me.attribute(two) {
+                write!(x, "\n    {three}=\"{}\"", esc(v)).unwrap();
+            }
+        }
+        // FMI 2.0's completedIntegratorStepNotNeeded is FMI 3.0's needsCompletedIntegratorStep, negated.
+        let not_needed = me.attribute("completedIntegratorStepNotNeeded") == Some("true");
+        write!(x, "\n    needsCompletedIntegratorStep=\"{}\"", !not_needed).unwrap();
+        x.push_str("\n    providesEvaluateDiscreteStates=\"false\"/>\n");
+    }
+    x.push_str("\n  <CoSimulation");
     write!(x, "\n    modelIdentifier=\"{}\"", esc(model_identifier)).unwrap();
     // FMI 2.0 capability → FMI 3.0 (renamed where 3.0 renamed it; canInterpolateInputs has no 3.0 attribute:
     // the input derivatives are variables; canNotUseMemoryManagementFunctions and canRunAsynchronuously
@@ -454,31 +663,21 @@ pub fn fmi3_model_description(text: &str) -> Result<String, String> {
                 (_, other) => return Err(format!("{name}: attribute {other} of {three} is not converted to FMI 3.0")),
             }
         }
+        if let Some(d) = input_derivatives.iter().find(|d| Some(d.name) == sv.attribute("name")) {
+            write!(x, " derivative=\"{}\"", d.derivative_of_vr).unwrap();
+        }
         match string_start {
             // FMI 3.0 gives a String's start as an element (String variables may be arrays).
             Some(start) => write!(x, ">\n      <Start value=\"{}\"/>\n    </String>\n", esc(start)).unwrap(),
             None => x.push_str("/>\n"),
         }
     }
-    for d in input_derivatives(&doc)? {
-        writeln!(
-            x,
-            "    <Float64 name=\"{}\" valueReference=\"{}\" description=\"{}\" causality=\"input\" \
-             variability=\"continuous\"{} start=\"0\" derivative=\"{}\"/>",
-            esc(d.name),
-            d.vr,
-            esc(d.description),
-            d.unit.map(|u| format!(" unit=\"{}\"", esc(u))).unwrap_or_default(),
-            d.derivative_of_vr
-        )
-        .unwrap();
-    }
     x.push_str("  </ModelVariables>\n\n  <ModelStructure>\n");
     let structure = child(root, "ModelStructure").ok_or("no ModelStructure")?;
-    if child(structure, "Derivatives").is_some_and(|d| d.children().any(|n| n.is_element())) {
-        return Err("ModelStructure/Derivatives is not converted to FMI 3.0 (a Co-Simulation FMU has none)".into());
-    }
-    for (two, three) in [("Outputs", "Output"), ("InitialUnknowns", "InitialUnknown")] {
+    // In the order of the 3.0 schema: outputs, state derivatives, initial unknowns, event indicators.
+    for (two, three) in
+        [("Outputs", "Output"), ("Derivatives", "ContinuousStateDerivative"), ("InitialUnknowns", "InitialUnknown")]
+    {
         for u in child(structure, two).into_iter().flat_map(|n| n.children()).filter(|n| n.has_tag_name("Unknown")) {
             let vr = vr_of_index(u.attribute("index").ok_or("an Unknown without index")?)?;
             write!(x, "    <{three} valueReference=\"{vr}\"").unwrap();
@@ -492,6 +691,9 @@ pub fn fmi3_model_description(text: &str) -> Result<String, String> {
             x.push_str("/>\n");
         }
     }
+    for &i in &roles.event_indicators {
+        writeln!(x, "    <EventIndicator valueReference=\"{}\"/>", vr_of_index(&(i + 1).to_string())?).unwrap();
+    }
     x.push_str("  </ModelStructure>\n\n</fmiModelDescription>\n");
     Ok(x)
 }
@@ -499,6 +701,16 @@ pub fn fmi3_model_description(text: &str) -> Result<String, String> {
 /// An XML attribute value.
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// `drive_torque_fl` → `DRIVE_TORQUE_FL`, `der(state_x)` → `DER_STATE_X`: a Rust identifier.
+fn constant_name(name: &str) -> String {
+    let words: Vec<&str> = name.split(|c: char| !c.is_ascii_alphanumeric()).filter(|w| !w.is_empty()).collect();
+    let mut constant = words.join("_").to_uppercase();
+    if !constant.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        constant.insert(0, 'V');
+    }
+    constant
 }
 
 /// `drive_torque_fl` → `DriveTorqueFl`.
@@ -586,9 +798,9 @@ mod tests {
                 assert_eq!(get(a), ty.attribute(a), "{name}.{a}");
             }
         }
-        // Plus the independent time and the four input derivatives, each the derivative of its input (or of
+        // Plus the independent time; the four input derivatives are the derivatives of their input (or of
         // the velocity, for an acceleration), as value references.
-        assert_eq!(vars3.len(), svs.len() + 5);
+        assert_eq!(vars3.len(), svs.len() + 1);
         let attr = |name: &str, a: &str| {
             vars3[name].1.iter().find(|(k, _)| k == a).map(|(_, v)| v.clone()).unwrap_or_default()
         };
@@ -597,9 +809,95 @@ mod tests {
         assert_eq!(attr("rack_acceleration", "derivative"), attr("rack_velocity", "valueReference"));
         assert_eq!(attr("pitman_arm_acceleration", "derivative"), attr("pitman_arm_rate", "valueReference"));
         assert!(three.contains("instantiationToken=\"{8d3f6a52-4c1e-4b7a-9e2d-5f0a7c31b6e4}\""));
-        assert!(three.contains("<Output valueReference=\"200\" dependencies=\"\"/>"));
-        // The generated Rust table agrees (unique value references and names over both lists).
-        generate("vehicle", VEHICLE).unwrap();
+        // A state derivative names its state by value reference; the model structure lists the 34 state
+        // derivatives and the 4 event indicators; Model Exchange is declared beside Co-Simulation.
+        assert_eq!(attr("der(state_chassis_x)", "derivative"), attr("state_chassis_x", "valueReference"));
+        assert_eq!(three.matches("<ContinuousStateDerivative valueReference=").count(), 34);
+        assert_eq!(three.matches("<EventIndicator valueReference=").count(), 4);
+        assert!(three.contains("<EventIndicator valueReference=\"1200\"/>"));
+        assert!(three.contains("<ModelExchange") && three.contains("needsCompletedIntegratorStep=\"false\""));
+        // The generated Rust table agrees (unique value references and names).
+        let code = generate("vehicle", VEHICLE).unwrap();
+        assert!(code.contains("pub const DER_STATE_CHASSIS_X: u32 = 1100;"), "{code}");
+        assert!(code.contains("var: Var::State(0) }"));
+        assert!(code.contains("var: Var::Derivative(33) }"));
+        assert!(code.contains("var: Var::EventIndicator(3) }"));
+        assert!(code.contains("model_exchange: true"));
+    }
+
+    #[test]
+    fn inconsistent_model_exchange_declarations_are_refused_with_the_reason() {
+        let cases = [
+            // A derivative naming a parameter.
+            (
+                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"76\"/>", "<Real unit=\"m/s\" derivative=\"10\"/>"),
+                "must be a local continuous Real",
+            ),
+            // Two derivatives of one state.
+            (
+                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"77\"/>", "<Real unit=\"m/s\" derivative=\"76\"/>"),
+                "has two derivatives",
+            ),
+            // A derivative outside ModelStructure/Derivatives.
+            (
+                VEHICLE.replace("      <Unknown index=\"143\"/>\n    </Derivatives>", "    </Derivatives>"),
+                "not listed in ModelStructure/Derivatives",
+            ),
+            // A derivative without the attribute.
+            (
+                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"109\"/>", "<Real unit=\"m/s\"/>"),
+                "has no derivative attribute",
+            ),
+            // A derivative pointing nowhere.
+            (
+                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"76\"/>", "<Real unit=\"m/s\" derivative=\"999\"/>"),
+                "names no ScalarVariable",
+            ),
+            // Event indicators against numberOfEventIndicators.
+            (
+                VEHICLE.replace("numberOfEventIndicators=\"4\"", "numberOfEventIndicators=\"3\""),
+                "numberOfEventIndicators = 3",
+            ),
+            (
+                VEHICLE
+                    .replace("<EventIndicator valueReference=\"1203\"/>", "<EventIndicator valueReference=\"1202\"/>"),
+                "listed twice",
+            ),
+            (
+                VEHICLE
+                    .replace("<EventIndicator valueReference=\"1203\"/>", "<EventIndicator valueReference=\"4242\"/>"),
+                "names no ScalarVariable",
+            ),
+            (
+                VEHICLE.replace("<EventIndicator valueReference=\"1203\"/>", "<EventIndicator valueReference=\"1\"/>"),
+                "must be a local continuous Real",
+            ),
+            // A state missing from the initial unknowns.
+            (
+                VEHICLE.replace(
+                    "      <Unknown index=\"76\"/>\n      <Unknown index=\"77\"/>",
+                    "      <Unknown index=\"77\"/>",
+                ),
+                "missing from ModelStructure/InitialUnknowns",
+            ),
+            // Two libraries.
+            (
+                VEHICLE.replace(
+                    "<ModelExchange\n    modelIdentifier=\"RtVehicle\"",
+                    "<ModelExchange\n    modelIdentifier=\"Other\"",
+                ),
+                "differs from CoSimulation's",
+            ),
+        ];
+        for (xml, needle) in cases {
+            assert_ne!(xml, VEHICLE, "{needle}: the edit did not apply");
+            let e = generate("vehicle", &xml).expect_err(needle);
+            assert!(e.contains(needle), "{needle}: {e}");
+        }
+        // The 3.0 converter refuses the same.
+        let e =
+            fmi3_model_description(&VEHICLE.replace("numberOfEventIndicators=\"4\"", "numberOfEventIndicators=\"0\""));
+        assert!(e.unwrap_err().contains("numberOfEventIndicators = 0"));
     }
 
     #[test]
@@ -610,19 +908,38 @@ mod tests {
                 &format!("{decl}\n        <InputDerivative name=\"rack_velocity\""),
             )
         };
+        // drive_torque_fr (vr 3) stands for the derivative variable: a Real input of the 2.0 description.
         let cases = [
             (
-                "<InputDerivative name=\"x\" valueReference=\"12\" of=\"initial_speed\" order=\"1\"/>",
+                "<InputDerivative name=\"drive_torque_fr\" valueReference=\"3\" of=\"initial_speed\" order=\"1\"/>",
                 "not a Real input",
             ),
             (
-                "<InputDerivative name=\"x\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"2\"/>",
+                "<InputDerivative name=\"drive_torque_fr\" valueReference=\"3\" of=\"drive_torque_fl\" order=\"2\"/>",
                 "needs its order 1",
             ),
-            ("<InputDerivative name=\"x\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"3\"/>", "order 3"),
-            ("<InputDerivative name=\"x\" valueReference=\"12\" of=\"nothing\" order=\"1\"/>", "no variable nothing"),
-            ("<InputDerivative name=\"x\" valueReference=\"200\" of=\"drive_torque_fl\" order=\"1\"/>", "used twice"),
-            ("<InputDerivative name=\"ay\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"1\"/>", "used twice"),
+            (
+                "<InputDerivative name=\"drive_torque_fr\" valueReference=\"3\" of=\"drive_torque_fl\" order=\"3\"/>",
+                "order 3",
+            ),
+            (
+                "<InputDerivative name=\"drive_torque_fr\" valueReference=\"3\" of=\"nothing\" order=\"1\"/>",
+                "no variable nothing",
+            ),
+            ("<InputDerivative name=\"nix\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"1\"/>", "no variable nix"),
+            ("<InputDerivative name=\"ay\" valueReference=\"200\" of=\"drive_torque_fl\" order=\"1\"/>", "not a Real input"),
+            (
+                "<InputDerivative name=\"drive_torque_fr\" valueReference=\"12\" of=\"drive_torque_fl\" order=\"1\"/>",
+                "the variable drive_torque_fr has 3",
+            ),
+            (
+                "<InputDerivative name=\"drive_torque_fr\" valueReference=\"3\" of=\"drive_torque_fl\" order=\"1\" unit=\"m\"/>",
+                "unit",
+            ),
+            (
+                "<InputDerivative name=\"drive_torque_fr\" valueReference=\"3\" of=\"drive_torque_fr\" order=\"1\"/>",
+                "a derivative of itself",
+            ),
         ];
         for (decl, needle) in cases {
             let e = generate("vehicle", &with(decl)).expect_err(decl);

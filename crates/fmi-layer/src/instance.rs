@@ -52,11 +52,9 @@ pub struct Core<M> {
     /// A parameter or input changed before step mode: `initialize` must run (again).
     pub needs_init: bool,
     pub model: M,
-    /// The FMI 3.0 input-derivative variables (`Description::input_derivatives`), as last set: what
-    /// fmi3GetFloat64 reads back. The model received each value when it was set (absent from states
-    /// saved before FMI 3.0 support: then zeros).
-    #[serde(default)]
-    pub derivative_inputs: Vec<f64>,
+    // (States saved before Model Exchange support carry a `derivative_inputs` list: the input derivatives
+    // of FMI 3.0 as the layer kept them. They are ordinary inputs of the model now, which received each
+    // value when it was set; the list is ignored.)
 }
 
 /// The FMU states an instance has handed out (`fmi2FMUstate` is the address of one of its boxes). They
@@ -405,60 +403,27 @@ impl<M: FmuModel> Instance<M> {
         self.apply("fmi2SetString", vrs, VarType::String, values, |m, var, v| m.set_string(var, v))
     }
 
-    /// fmi3GetFloat64: the Real variables as fmi2GetReal reads them, the input-derivative variables and
-    /// the independent variable (the FMU time). Without one of those two among `vrs` (a running master's
-    /// usual call) it is fmi2GetReal itself.
+    /// fmi3GetFloat64: the Real variables as fmi2GetReal reads them, and the independent variable (the FMU
+    /// time). Without the latter among `vrs` (a running master's usual call) it is fmi2GetReal itself.
     pub fn get_float64(&mut self, vrs: &[u32], out: &mut [f64]) -> FmiResult {
-        let description = M::description();
-        let fmi3_only = |vr: u32| description.input_derivative(vr).is_some() || description.independent_vr == Some(vr);
-        if !vrs.iter().any(|&vr| fmi3_only(vr)) {
+        let independent = M::description().independent_vr;
+        if !vrs.iter().any(|&vr| Some(vr) == independent) {
             return self.get_real(vrs, out);
         }
         for (i, &vr) in vrs.iter().enumerate() {
-            if !fmi3_only(vr) {
+            if Some(vr) == independent {
+                self.require("fmi2GetReal", GETTABLE)?;
+                out[i] = self.core.time;
+            } else {
                 self.get_real(&vrs[i..=i], &mut out[i..=i])?;
-                continue;
             }
-            self.require("fmi2GetReal", GETTABLE)?;
-            out[i] = match description.input_derivative(vr) {
-                Some(k) => self.core.derivative_inputs[k],
-                None => self.core.time,
-            };
         }
         Ok(Status::Ok)
     }
 
-    /// fmi3SetFloat64: the Real variables as fmi2SetReal sets them, and the input-derivative variables,
-    /// which go to the model as fmi2SetRealInputDerivatives does (for the next step only). Every value
-    /// reference, state and value is checked before any is applied.
+    /// fmi3SetFloat64: fmi2SetReal (the input derivatives of FMI 3.0 are ordinary inputs of the model).
     pub fn set_float64(&mut self, vrs: &[u32], values: &[f64]) -> FmiResult {
-        let description = M::description();
-        if !vrs.iter().any(|&vr| description.input_derivative(vr).is_some()) {
-            return self.set_real(vrs, values);
-        }
-        for (&vr, &value) in vrs.iter().zip(values) {
-            if description.input_derivative(vr).is_none() {
-                self.check_settable("fmi2SetReal", std::slice::from_ref(&vr), VarType::Real)?;
-            }
-            if !value.is_finite() {
-                return Err(Failure::error(format!(
-                    "fmi2SetReal: value reference {vr} = {value} is not finite (value kept)"
-                )));
-            }
-        }
-        for (&vr, &value) in vrs.iter().zip(values) {
-            match description.input_derivative(vr) {
-                Some(k) => {
-                    let d = &description.input_derivatives[k];
-                    self.set_real_input_derivatives(&[d.of], &[d.order], &[value])?;
-                    self.core.derivative_inputs[k] = value;
-                }
-                None => {
-                    self.set_real(&[vr], &[value])?;
-                }
-            }
-        }
-        Ok(Status::Ok)
+        self.set_real(vrs, values)
     }
 
     pub fn set_real_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> FmiResult {
@@ -688,13 +653,6 @@ impl<M: FmuModel> Core<M> {
         if self.needs_init && matches!(self.mode, StepComplete | StepFailed | Terminated) {
             return Err(format!("mode {:?} with needs_init = true", self.mode));
         }
-        let n = M::description().input_derivatives.len();
-        if self.derivative_inputs.is_empty() {
-            self.derivative_inputs = vec![0.0; n]; // a state saved before FMI 3.0 support
-        }
-        if self.derivative_inputs.len() != n || self.derivative_inputs.iter().any(|v| !v.is_finite()) {
-            return Err(format!("{} input-derivative values, all finite, expected {n}", self.derivative_inputs.len()));
-        }
         let initialized = !self.needs_init;
         self.model.validate_restored(context, initialized, time - start)
     }
@@ -723,6 +681,5 @@ fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
         terminated: false,
         needs_init: true,
         model,
-        derivative_inputs: vec![0.0; M::description().input_derivatives.len()],
     })
 }

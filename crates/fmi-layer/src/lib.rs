@@ -25,4 +25,4 @@ pub mod status;
 pub mod variables;
 
 pub use fmi_sys;
-pub use model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
+pub use model::{FmuModel, Interface, ModelContext, ResourceLocation, StepFailure};

@@ -21,11 +21,42 @@ pub enum ResourceLocation {
     Unsupported(String),
 }
 
+/// The FMI interface an instance was made through (`fmi2Instantiate`'s `fmuType`, or which of FMI 3.0's
+/// instantiate functions).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+pub enum Interface {
+    CoSimulation2,
+    ModelExchange2,
+    CoSimulation3,
+    ModelExchange3,
+}
+
+impl Interface {
+    pub fn is_model_exchange(self) -> bool {
+        matches!(self, Interface::ModelExchange2 | Interface::ModelExchange3)
+    }
+
+    pub fn is_fmi3(self) -> bool {
+        matches!(self, Interface::CoSimulation3 | Interface::ModelExchange3)
+    }
+
+    /// "Co-Simulation" or "Model Exchange", for messages.
+    pub fn kind(self) -> &'static str {
+        if self.is_model_exchange() {
+            "Model Exchange"
+        } else {
+            "Co-Simulation"
+        }
+    }
+}
+
 /// What a model may know about its environment (not part of the FMU state).
 #[derive(Debug, Clone)]
 pub struct ModelContext {
     pub instance_name: String,
     pub resources: ResourceLocation,
+    /// The interface the instance was made through, set at instantiation.
+    pub interface: Interface,
 }
 
 /// Why a communication step did not complete.
@@ -103,4 +134,52 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
     /// Advance from `t` (the FMU's own time, checked by the caller) by `h > 0`. On failure the values the
     /// getters return must stay finite (the last good ones).
     fn do_step(&mut self, t: f64, h: f64, log: &Logger) -> Result<(), StepFailure>;
+
+    // ---- Model Exchange ------------------------------------------------------------------------------
+    //
+    // Called by the generic layer only on an instance made for Model Exchange, in a mode where the call is
+    // legal, with slices of the declared lengths (`description().states.len()`, `….event_indicators.len()`)
+    // and finite values. The state, derivative and event-indicator *variables* (`Var::State`,
+    // `Var::Derivative`, `Var::EventIndicator`) are read through `get_real`, after `refresh`, like any other.
+    // The layer has no discrete states and no time events of its own: an event update reports nothing
+    // changed and no next event time. The defaults refuse, so that a Co-Simulation-only model compiles.
+
+    /// Model Exchange: the continuous states (len = description().states.len()).
+    fn continuous_states(&mut self, x: &mut [f64]) -> Result<(), String> {
+        let _ = x;
+        Err(NO_MODEL_EXCHANGE.into())
+    }
+
+    /// Set them (finite: checked by the caller). Err: refused, the model keeps its states.
+    fn set_continuous_states(&mut self, x: &[f64]) -> Result<(), String> {
+        let _ = x;
+        Err(NO_MODEL_EXCHANGE.into())
+    }
+
+    /// The independent variable (ME: fmi2SetTime); the FMU time is `t`.
+    fn set_time(&mut self, t: f64) -> Result<(), String> {
+        let _ = t;
+        Err(NO_MODEL_EXCHANGE.into())
+    }
+
+    /// ẋ at the current time, states and inputs. Err names the cause (fmi2Error, the instance stays usable).
+    fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), String> {
+        let _ = dx;
+        Err(NO_MODEL_EXCHANGE.into())
+    }
+
+    /// The event indicators at the current time, states and inputs (len = description().event_indicators.len()).
+    fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), String> {
+        let _ = z;
+        Err(NO_MODEL_EXCHANGE.into())
+    }
+
+    /// The nominal values of the continuous states (positive, finite).
+    fn nominals_of_continuous_states(&mut self, n: &mut [f64]) -> Result<(), String> {
+        let _ = n;
+        Err(NO_MODEL_EXCHANGE.into())
+    }
 }
+
+/// What the default Model Exchange methods of `FmuModel` answer.
+pub const NO_MODEL_EXCHANGE: &str = "Model Exchange is not supported by this model";

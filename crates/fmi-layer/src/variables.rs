@@ -62,24 +62,25 @@ pub struct Variable<K: 'static> {
     pub min: Option<f64>,
     pub max: Option<f64>,
     pub unit: Option<&'static str>,
+    /// The `nominal` attribute of a Real, if given.
+    pub nominal: Option<f64>,
     /// Which variable this is, for exhaustive matches.
     pub var: K,
 }
 
-/// An input derivative as an FMI 3.0 variable: FMI 3.0 has no `fmi2SetRealInputDerivatives`; an importer
-/// sets the derivative of order `order` of the Real input `of` (its value reference) as the Float64 input
-/// `vr`, declared with `derivative="…"` in the 3.0 model description. Declared in the 2.0 model description's
-/// `VendorAnnotations` (`codegen`), so that the 2.0 XML stays the one source of both descriptions.
+/// A Real input that is a derivative of another Real input, as the 2.0 model description's `VendorAnnotations`
+/// declare it (`codegen`): an ordinary FMI 2.0 input variable, written in the 3.0 model description with
+/// `derivative="…"` (FMI 3.0 has no `fmi2SetRealInputDerivatives`; an importer sets the derivative as this
+/// variable). What it means for a step is the model's business (it knows its interface: `ModelContext`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InputDerivative {
     pub name: &'static str,
+    /// The value reference of the input variable that holds the derivative.
     pub vr: u32,
     /// The value reference of the input it is a derivative of.
     pub of: u32,
     /// 1 or 2.
     pub order: i32,
-    pub unit: Option<&'static str>,
-    pub description: &'static str,
 }
 
 /// What the generic layer needs of a model description (generated from the XML by `codegen`).
@@ -94,8 +95,17 @@ pub struct Description<K: 'static> {
     pub variables: &'static [Variable<K>],
     /// The index in `variables` of a value reference (a generated `match`), `None` if unknown.
     pub index_of: fn(u32) -> Option<usize>,
-    /// The FMI 3.0 input-derivative variables (none in an FMU that does not declare them).
+    /// The inputs that are derivatives of other inputs (none in an FMU that does not declare them).
     pub input_derivatives: &'static [InputDerivative],
+    /// Model Exchange: the continuous states, in the order of the state vector (the order of the model
+    /// structure's `Derivatives`), as indices into `variables`.
+    pub states: &'static [usize],
+    /// The state derivatives, `derivatives[k]` the derivative of `states[k]`, as indices into `variables`.
+    pub derivatives: &'static [usize],
+    /// The event indicators, in the order of the indicator vector, as indices into `variables`.
+    pub event_indicators: &'static [usize],
+    /// The model description declares `<ModelExchange>`.
+    pub model_exchange: bool,
     /// The value reference of FMI 3.0's independent variable (time), if declared: FMI 3.0 requires one,
     /// the FMI 2.0 description has none.
     pub independent_vr: Option<u32>,
@@ -108,9 +118,9 @@ impl<K> Description<K> {
         (self.index_of)(vr).map(|i| &self.variables[i]).filter(|v| v.ty == ty)
     }
 
-    /// The position in `input_derivatives` of an FMI 3.0 input-derivative value reference.
-    pub fn input_derivative(&self, vr: u32) -> Option<usize> {
-        self.input_derivatives.iter().position(|d| d.vr == vr)
+    /// The position in the state vector of a continuous-state variable (index into `variables`).
+    pub fn state_position(&self, index: usize) -> Option<usize> {
+        self.states.iter().position(|&s| s == index)
     }
 
     pub fn by_name(&self, name: &str) -> Option<&'static Variable<K>> {
