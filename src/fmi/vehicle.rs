@@ -7,10 +7,11 @@
 //! none when nothing is read. A failed step leaves the last good state, so its outputs are served.
 
 use super::logger::Logger;
-use super::model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
+use super::model::{FmuModel, Interface, ModelContext, ResourceLocation, StepFailure};
 use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, Variable, VARIABLES};
 use crate::model::params::SteeringInput;
 use crate::model::params::VehicleData;
+use crate::model::steering::RackMotion;
 use crate::sim::scenes::SceneNeeds;
 use crate::sim::{modes, Channel, RackSample, SimConfig, Simulation, OUTPUT_NAMES, TOLERANCE_MAX, TOLERANCE_MIN};
 use serde::{Deserialize, Serialize};
@@ -25,10 +26,10 @@ enum InputSlot {
     Steering(SteeringInput),
     Drive(usize),
     Brake(usize),
-    // TODO(model side): the steering rates (FMI 3.0 Co-Simulation: the next step's input derivative; Model
-    // Exchange: the current rate; FMI 2.0 Co-Simulation: stored, not read). Minimal compile fix of fmi-layer ME
-    // step 1: stored only.
-    SteeringRate(usize),
+    /// A steering input's derivative of order 1 or 2 (`rack_velocity`, …): in Model Exchange the current
+    /// rate; in FMI 3.0 Co-Simulation the next step's input derivative; in FMI 2.0 Co-Simulation stored and
+    /// not read (fmi2SetRealInputDerivatives passes it there).
+    SteeringRate(SteeringInput, usize),
 }
 
 /// Exhaustive: an input added to the model description does not compile until it has a place here.
@@ -44,10 +45,10 @@ fn input_slot(input: I) -> InputSlot {
         I::BrakeTorqueFr => InputSlot::Brake(1),
         I::BrakeTorqueRl => InputSlot::Brake(2),
         I::BrakeTorqueRr => InputSlot::Brake(3),
-        I::RackVelocity => InputSlot::SteeringRate(0),
-        I::RackAcceleration => InputSlot::SteeringRate(1),
-        I::PitmanArmRate => InputSlot::SteeringRate(2),
-        I::PitmanArmAcceleration => InputSlot::SteeringRate(3),
+        I::RackVelocity => InputSlot::SteeringRate(SteeringInput::RackDisplacement, 1),
+        I::RackAcceleration => InputSlot::SteeringRate(SteeringInput::RackDisplacement, 2),
+        I::PitmanArmRate => InputSlot::SteeringRate(SteeringInput::PitmanArmAngle, 1),
+        I::PitmanArmAcceleration => InputSlot::SteeringRate(SteeringInput::PitmanArmAngle, 2),
     }
 }
 
@@ -143,6 +144,11 @@ fn check_steering(input: SteeringInput, value: f64, active: SteeringInput, limit
     Ok(())
 }
 
+/// A state saved before instances knew their interface came from FMI 2.0 Co-Simulation.
+fn co_simulation_2() -> Interface {
+    Interface::CoSimulation2
+}
+
 /// The instance model state: parameters, inputs and the simulation.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct VehicleModel {
@@ -164,10 +170,17 @@ pub struct VehicleModel {
     pub drive: [f64; 4],
     pub brake: [f64; 4],
     pub sim: Option<Simulation>,
-    /// The steering-rate inputs [rack_velocity, rack_acceleration, pitman_arm_rate, pitman_arm_acceleration]
-    /// (compile fix of fmi-layer ME step 1: stored, not yet read).
+    /// The steering inputs' rates as last set, [input][order − 1]: [[rack_velocity, rack_acceleration],
+    /// [pitman_arm_rate, pitman_arm_acceleration]].
     #[serde(default)]
-    pub steering_rates: [f64; 4],
+    pub steering_rates: [[f64; 2]; 2],
+    /// The interface the instance was made through (Model Exchange keeps the full state layout and reads
+    /// the inputs at the current time).
+    #[serde(default = "co_simulation_2")]
+    pub interface: Interface,
+    /// The FMU's start time (Model Exchange: the simulation's clock is the FMU time minus it).
+    #[serde(default)]
+    pub start_time: f64,
     /// Wall-clock seconds of the last `fmi2DoStep` (diagnostic, not deterministic).
     pub step_cpu_time: f64,
     /// How many of the simulation's physical events were logged.
@@ -243,7 +256,41 @@ impl VehicleModel {
         if let Some(t) = self.experiment_tolerance {
             config.tolerance = t;
         }
+        // Model Exchange: a fixed number of continuous states, whatever the options leave out.
+        config.options.keep_unused_states |= self.interface.is_model_exchange();
         Ok(config)
+    }
+
+    /// The simulation, for a variable that needs one.
+    fn initialized(&self, var: &Variable) -> Result<&Simulation, String> {
+        self.sim.as_ref().ok_or_else(|| format!("{} is available once the model is initialized", var.name))
+    }
+
+    /// ẋ (full layout) and the contact indicators at the current state, evaluated by `refresh`.
+    fn evaluation(&self, var: &Variable) -> Result<([f64; crate::sim::CONTINUOUS_STATES], [f64; 4]), String> {
+        self.initialized(var)?
+            .current_evaluation()
+            .ok_or_else(|| format!("{} was not computed for the current state (refresh first)", var.name))
+    }
+
+    /// The simulation of a Model Exchange instance.
+    fn exchange(&mut self) -> Result<&mut Simulation, String> {
+        if !self.interface.is_model_exchange() {
+            return Err("a Model Exchange call on a Co-Simulation instance".into());
+        }
+        self.sim.as_mut().ok_or_else(|| "the model is not initialized".to_string())
+    }
+
+    /// Model Exchange: the inputs act at once (the steering with its rates, the wheel torques).
+    fn apply_inputs_now(&mut self) {
+        if !self.interface.is_model_exchange() {
+            return;
+        }
+        if let Some(sim) = self.sim.as_mut() {
+            let k = steering_slot(sim.vehicle().steering.input);
+            let [velocity, acceleration] = self.steering_rates[k];
+            sim.set_inputs_now(RackMotion { position: self.steering[k], velocity, acceleration }, self.drive, self.brake);
+        }
     }
 
     /// Whether the wheel torque inputs are live in this step (any set non-zero).
@@ -287,7 +334,7 @@ impl FmuModel for VehicleModel {
         &super::variables::DESCRIPTION
     }
 
-    fn new(_context: &ModelContext) -> Self {
+    fn new(context: &ModelContext) -> Self {
         VehicleModel {
             config: SimConfig::default(),
             vehicle_file: String::new(),
@@ -295,7 +342,9 @@ impl FmuModel for VehicleModel {
             road_file: String::new(),
             steering: [0.0; 2],
             steering_derivatives: [[None; 2]; 2],
-            steering_rates: [0.0; 4],
+            steering_rates: [[0.0; 2]; 2],
+            interface: context.interface,
+            start_time: 0.0,
             drive: [0.0; 4],
             brake: [0.0; 4],
             sim: None,
@@ -327,11 +376,11 @@ impl FmuModel for VehicleModel {
                 InputSlot::Steering(input) => self.steering[steering_slot(input)],
                 InputSlot::Drive(c) => self.drive[c],
                 InputSlot::Brake(c) => self.brake[c],
-                InputSlot::SteeringRate(k) => self.steering_rates[k],
+                InputSlot::SteeringRate(input, order) => self.steering_rates[steering_slot(input)][order - 1],
             },
-            Var::State(_) | Var::Derivative(_) | Var::EventIndicator(_) => {
-                return Err(format!("{}: Model Exchange variables not yet served by the vehicle", var.name))
-            }
+            Var::State(i) => self.initialized(var)?.full_state_value(i),
+            Var::Derivative(i) => self.evaluation(var)?.0[i],
+            Var::EventIndicator(i) => self.evaluation(var)?.1[i],
             Var::Parameter(P::InitialSpeed) => c.initial_speed,
             Var::Parameter(P::InternalStep) => c.internal_step,
             Var::Parameter(P::RoadGrade) => c.options.slope[0],
@@ -414,7 +463,12 @@ impl FmuModel for VehicleModel {
                     }
                     self.brake[c] = value;
                 }
-                InputSlot::SteeringRate(k) => self.steering_rates[k] = value,
+                InputSlot::SteeringRate(input, order) => {
+                    self.steering_rates[steering_slot(input)][order - 1] = value;
+                    if self.interface == Interface::CoSimulation3 {
+                        self.steering_derivatives[steering_slot(input)][order - 1] = Some(value);
+                    }
+                }
             },
             Var::Parameter(P::InitialSpeed) => self.config.initial_speed = ranged(var, value)?,
             Var::Parameter(P::InternalStep) => self.config.internal_step = ranged(var, value)?,
@@ -440,6 +494,9 @@ impl FmuModel for VehicleModel {
             | Var::State(_)
             | Var::Derivative(_)
             | Var::EventIndicator(_) => return Err(format!("{} is not a settable Real of this model", var.name)),
+        }
+        if var.causality == Causality::Input {
+            self.apply_inputs_now();
         }
         Ok(())
     }
@@ -504,7 +561,7 @@ impl FmuModel for VehicleModel {
                 }
                 // The wheel torques are held over a step: their derivatives are accepted (fmpy sends them
                 // for every continuous input) and not used.
-                InputSlot::Drive(_) | InputSlot::Brake(_) | InputSlot::SteeringRate(_) => {}
+                InputSlot::Drive(_) | InputSlot::Brake(_) | InputSlot::SteeringRate(..) => {}
             },
             _ => return Err(format!("{} is not a Real input", var.name)),
         }
@@ -512,7 +569,9 @@ impl FmuModel for VehicleModel {
     }
 
     fn initialize(&mut self, context: &ModelContext, start_time: f64, log: &Logger) -> Result<(), String> {
-        let _ = start_time; // the simulation's clock starts at 0; the generic layer keeps the FMU time
+        // The simulation's clock starts at 0; the generic layer keeps the FMU time (Model Exchange's
+        // fmi2SetTime gives FMU times).
+        self.start_time = start_time;
         let config = self.config(context)?;
         let vehicle = self.vehicle_data(context, log)?;
         // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
@@ -538,6 +597,7 @@ impl FmuModel for VehicleModel {
         self.sim = Some(sim);
         self.step_cpu_time = 0.0;
         self.events_logged = 0;
+        self.apply_inputs_now();
         Ok(())
     }
 
@@ -554,7 +614,7 @@ impl FmuModel for VehicleModel {
         for input in [SteeringInput::RackDisplacement, SteeringInput::PitmanArmAngle] {
             let k = steering_slot(input);
             finite(input.name(), self.steering[k])?;
-            for d in self.steering_derivatives[k].iter().flatten() {
+            for d in self.steering_derivatives[k].iter().flatten().chain(&self.steering_rates[k]) {
                 finite(&format!("a {} derivative", input.name()), *d)?;
             }
         }
@@ -613,14 +673,44 @@ impl FmuModel for VehicleModel {
 
     fn refresh(&mut self, var: &Variable, log: &Logger) -> Result<(), StepFailure> {
         let Some(sim) = self.sim.as_mut() else { return Ok(()) };
-        if var.causality != Causality::Output {
-            return Ok(());
-        }
-        let read = sim.output(output_channel(var).index());
+        let read = match var.var {
+            Var::Output(_) => sim.output(output_channel(var).index()).map(|_| ()),
+            Var::Derivative(_) | Var::EventIndicator(_) => sim.evaluate_now(),
+            _ => return Ok(()),
+        };
         self.log_events(log);
-        if let Err(e) = read {
-            return Err(self.end_at_last_good_state(e));
+        match read {
+            Ok(()) => Ok(()),
+            // Model Exchange: the importer's solver chose the state; it may try another.
+            Err(e) if self.interface.is_model_exchange() => Err(StepFailure::Refused(format!("{}: {e}", var.name))),
+            Err(e) => Err(self.end_at_last_good_state(e)),
         }
+    }
+
+    fn continuous_states(&mut self, x: &mut [f64]) -> Result<(), String> {
+        self.exchange()?.continuous_states(x).map_err(|e| e.to_string())
+    }
+
+    fn set_continuous_states(&mut self, x: &[f64]) -> Result<(), String> {
+        self.exchange()?.set_continuous_states(x).map_err(|e| e.to_string())
+    }
+
+    fn set_time(&mut self, t: f64) -> Result<(), String> {
+        let start = self.start_time;
+        self.exchange()?.set_time(t - start).map_err(|e| e.to_string())
+    }
+
+    fn derivatives(&mut self, dx: &mut [f64]) -> Result<(), String> {
+        self.exchange()?.derivatives(dx).map_err(|e| e.to_string())
+    }
+
+    fn event_indicators(&mut self, z: &mut [f64]) -> Result<(), String> {
+        z.copy_from_slice(&self.exchange()?.contact_indicators().map_err(|e| e.to_string())?);
+        Ok(())
+    }
+
+    fn nominals_of_continuous_states(&mut self, n: &mut [f64]) -> Result<(), String> {
+        n.copy_from_slice(&self.exchange()?.nominals_of_continuous_states());
         Ok(())
     }
 }

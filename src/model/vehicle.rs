@@ -197,6 +197,8 @@ pub struct Diagnostics {
     pub drive_torque: [f64; 4],
     pub max_residual: f64,
     pub newton_iterations: u32,
+    /// Each wheel's contact event indicator (`tire::contact_indicator`; Model Exchange).
+    pub contact_indicator: [f64; 4],
 }
 
 /// Per-corner force element data (the spring free length is what the ride-height retune changes).
@@ -786,7 +788,9 @@ impl Vehicle {
             }
             Some(ct) => {
                 let v_c = a0 * point_velocity(&y_k, &(a0.tr_mul(&(ct.point - r0))));
-                let fz = tire::normal_force(&self.tire, ct.penetration, tire::penetration_rate(&ct, &v_c));
+                let penetration_rate = tire::penetration_rate(&ct, &v_c);
+                let fz = tire::normal_force(&self.tire, ct.penetration, penetration_rate);
+                diag.contact_indicator[i] = tire::contact_indicator(&self.tire, ct.penetration, penetration_rate);
                 let friction = options.road_friction * road.friction(ct.point.x, ct.point.y);
                 let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
                 // 1 when rolling above the low-speed range (the model of §6.7 exactly), 0 at standstill.
@@ -845,6 +849,11 @@ impl Vehicle {
                 diag.tan_alpha[i] = tan_alpha;
             }
             None => {
+                // The signed clearance (negative), exact for an upright wheel: continuous with the
+                // deflection at touchdown.
+                let clearance = centre_abs.z - road.height_and_gradient(centre_abs.x, centre_abs.y).0
+                    - self.tire.unloaded_radius_m;
+                diag.contact_indicator[i] = -clearance.abs();
                 if options.slip == SlipModel::Relaxation {
                     let lifted = tire::SlipStateContext { in_contact: false, blend: 1.0, sliding_limit: [1.0; 2] };
                     relaxation_rates = tire::relaxation_rates(&self.tire, 0.0, 0.0, 0.0, xi, &lifted);

@@ -9,6 +9,7 @@
 //! - `outputs()`: every CLI column by name (`OUTPUT_NAMES`), plus diagnostics.
 
 pub mod calibration;
+mod exchange;
 pub mod inputs;
 pub mod modes;
 pub mod outputs;
@@ -27,6 +28,7 @@ use crate::model::vehicle::{idx, Diagnostics, Inputs, Layout, Run, Vehicle, Warm
 use nalgebra::{Complex, SMatrix};
 use serde::{Deserialize, Serialize};
 
+pub use exchange::CONTINUOUS_STATES;
 pub use inputs::{Breakpoints, RackProfile, RackSample, RackSource};
 
 pub use outputs::{Channel, Outputs, CSV_COLUMNS, OUTPUT_NAMES};
@@ -648,6 +650,10 @@ pub struct Simulation {
     /// from (`chassis_point_acceleration`).
     #[serde(skip)]
     output_accelerations: Option<[V3; 2]>,
+    /// ẋ (the run's layout) and the contact event indicators of that evaluation (Model Exchange reads
+    /// them: `exchange`).
+    #[serde(skip)]
+    output_derivative: Option<([f64; idx::DIM], [f64; 4])>,
     /// The state at the start of the last `advance`, to roll a failed one back or undo a finished one
     /// (scratch: not part of a saved state, so a restored simulation cannot undo its last interval).
     #[serde(skip)]
@@ -707,6 +713,7 @@ impl Simulation {
             brake: [0.0; 4],
             outputs_values: vec![0.0; OUTPUT_NAMES.len()],
             output_accelerations: None,
+            output_derivative: None,
             fresh: Fresh::None,
             state_before: Vec::with_capacity(idx::DIM), // the largest layout: no allocation per step
             before: None,
@@ -1346,6 +1353,9 @@ impl Simulation {
         let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;
         self.output_accelerations = Some([d.chassis_acceleration, d.chassis_angular_acceleration]);
+        let mut full = [0.0; idx::DIM];
+        full[..dx.len()].copy_from_slice(dx);
+        self.output_derivative = Some((full, d.contact_indicator));
         let o = &mut self.outputs_values;
         let mut written = 0u64; // the channels set below (each once, with the state's: all of them)
         let mut set = |channel: Channel, value: f64| {

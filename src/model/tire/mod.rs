@@ -140,6 +140,17 @@ pub fn normal_force(p: &TireParams, penetration: f64, penetration_rate: f64) -> 
     (spring + p.vertical_damping_Ns_per_m * penetration_rate).max(0.0)
 }
 
+/// Model Exchange's event indicator of one wheel's contact (m): positive while the tire carries load, zero
+/// where the normal force starts or stops, negative in the air. In contact it is the smaller of the
+/// deflection δ (touchdown: the force jumps to c_z δ̇ there) and the unclamped force over k_z (lift-off: the
+/// clamp of `normal_force` takes hold there, at δ > 0). In the air the caller passes the (negative) signed
+/// clearance.
+pub fn contact_indicator(p: &TireParams, penetration: f64, penetration_rate: f64) -> f64 {
+    let spring = (p.vertical_stiffness_N_per_m + p.vertical_stiffness2_N_per_m2 * penetration) * penetration;
+    let unclamped = (spring + p.vertical_damping_Ns_per_m * penetration_rate) / p.vertical_stiffness_N_per_m;
+    penetration.min(unclamped)
+}
+
 /// F_x, F_y, M_z (and M_x) from load, slip ratio κ, tan α and inclination γ_w (physics.md §6.5–§6.6,
 /// fallbacks §6.8, the Magic Formula of `magic_formula.rs`). No load (F_z <= 0, or not finite) gives no
 /// shear force.
