@@ -11,8 +11,9 @@
   it at each communication point is that slope;
 - FMU state get/set and serialize/deserialize replay bit-identically;
 - bad calls: fmi3SetFloat64 with NaN (fmi3Error, value kept, the instance steps on), a `vehicle_file` naming a
-  missing file (fmi3Error from fmi3ExitInitializationMode, fixed and retried), the functions an FMU without Model
-  Exchange, event mode or clocks does not offer (fmi3Error, logged; the other instantiate functions NULL).
+  missing file (fmi3Error from fmi3ExitInitializationMode, fixed and retried), the functions a Co-Simulation
+  instance without event mode or clocks does not offer (fmi3Error, logged; Scheduled Execution NULL). Model
+  Exchange: test_model_exchange.py.
 """
 
 import math
@@ -73,7 +74,14 @@ def test_layout(fmu3_path, fmu2_path, md3):
     assert not any(n.startswith("binaries/linux64") for n in names)
     assert "resources/hmmwv.json" in names and "documentation/index.html" in names
     assert md3.fmiVersion == "3.0" and md3.coSimulation.modelIdentifier == "RtVehicle"
-    assert md3.modelExchange is None and md3.scheduledExecution is None
+    assert md3.scheduledExecution is None
+    # Model Exchange beside Co-Simulation (test_model_exchange.py), one library.
+    me = md3.modelExchange
+    assert me.modelIdentifier == "RtVehicle" and not me.needsCompletedIntegratorStep
+    # (fmpy 0.3 reads FMI 2.0's attribute name, providesDirectionalDerivative, in a 3.0 file: read the XML.)
+    assert three.read("modelDescription.xml").decode().count('providesDirectionalDerivatives="true"') == 2
+    assert me.canGetAndSetFMUstate and me.canSerializeFMUstate
+    assert len(md3.derivatives) == 34 and len(md3.eventIndicators) == 4
     cs = md3.coSimulation
     assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate and cs.canHandleVariableCommunicationStepSize
     assert not cs.hasEventMode and cs.maxOutputDerivativeOrder in (None, 0)
@@ -91,13 +99,15 @@ def test_every_fmi2_variable_is_in_fmi3_unchanged(fmu2_path, md3):
             assert getattr(w, attr) == getattr(v, attr), f"{v.name}.{attr}: {getattr(w, attr)!r} != {getattr(v, attr)!r}"
         assert w.type == types[v.type], v.name
     extra = {n: v for n, v in three.items() if n not in {v.name for v in md2.modelVariables}}
-    assert set(extra) == {"time", "rack_velocity", "rack_acceleration", "pitman_arm_rate", "pitman_arm_acceleration"}
+    assert set(extra) == {"time"}
     assert extra["time"].causality == "independent"
+    # The rate inputs (FMI 2.0 inputs too) carry 3.0's derivative attribute; a state derivative names its state.
     chain = {"rack_velocity": "rack_displacement", "rack_acceleration": "rack_velocity",
-             "pitman_arm_rate": "pitman_arm_angle", "pitman_arm_acceleration": "pitman_arm_rate"}
+             "pitman_arm_rate": "pitman_arm_angle", "pitman_arm_acceleration": "pitman_arm_rate",
+             "der(state_chassis_x)": "state_chassis_x"}
     for name, of in chain.items():
-        v = extra[name]
-        assert v.causality == "input" and v.type == "Float64" and v.derivative is three[of], name
+        v = three[name]
+        assert v.type == "Float64" and v.derivative is three[of], name
     assert [u.variable.name for u in md3.outputs] == [u.variable.name for u in md2.outputs]
 
 
@@ -307,11 +317,12 @@ def test_what_the_fmu_does_not_offer_is_an_error(make3, md3, unzip3):
     # The instance is unharmed by the refused calls.
     assert all(math.isfinite(x) for x in run(fmu, md3, 0.0, 2)[-1])
     cb = fmi3LogMessageCallback(_record)
-    lib.fmi3InstantiateModelExchange.restype = c_void_p
-    made = lib.fmi3InstantiateModelExchange(c_char_p(b"me"), c_char_p(md3.guid.encode()), c_char_p(b""), c_bool(False),
-                                            c_bool(False), c_void_p(None), cb)
+    lib.fmi3InstantiateScheduledExecution.restype = c_void_p
+    lib.fmi3InstantiateScheduledExecution.argtypes = [c_char_p, c_char_p, c_char_p, c_bool, c_bool, c_void_p,
+                                                      fmi3LogMessageCallback, c_void_p, c_void_p, c_void_p]
+    made = lib.fmi3InstantiateScheduledExecution(b"se", md3.guid.encode(), b"", False, False, None, cb, None, None, None)
     assert not made
-    assert "Co-Simulation FMU only" in LOG3[-1][2]
+    assert "has no such interface" in LOG3[-1][2]
 
 
 def test_wrong_token_and_event_mode_are_refused(md3, unzip3):

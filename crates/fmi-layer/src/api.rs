@@ -115,7 +115,7 @@ pub(crate) fn check_array(null: bool, n: usize, limit: usize, what: &str) -> Fmi
     if n > limit {
         Err(Failure::error(format!("{what}: length {n} is not plausible (at most {limit})")))
     } else if null && n > 0 {
-        Err(Failure::error(format!("{what} is NULL with nvr = {n}")))
+        Err(Failure::error(format!("{what} is NULL with length {n}")))
     } else {
         Ok(())
     }
@@ -211,16 +211,22 @@ pub unsafe fn instantiate<M: FmuModel>(
         if instance_name.is_null() {
             return fail("instanceName is NULL".into());
         }
-        if fmu_type != fmi2Type_fmi2CoSimulation {
-            return fail(format!("{model_identifier} supports Co-Simulation only (fmuType = {fmu_type})"));
-        }
+        #[allow(non_upper_case_globals)]
+        let interface = match fmu_type {
+            fmi2Type_fmi2CoSimulation => Interface::CoSimulation2,
+            fmi2Type_fmi2ModelExchange if description.model_exchange => Interface::ModelExchange2,
+            fmi2Type_fmi2ModelExchange => {
+                return fail(format!("{model_identifier} supports Co-Simulation only (fmuType = fmi2ModelExchange)"))
+            }
+            other => return fail(format!("fmuType = {other} is neither fmi2ModelExchange nor fmi2CoSimulation")),
+        };
         match string(guid) {
             Some(g) if g == guid_expected => {}
             other => {
                 return fail(format!("GUID mismatch: the importer passed {other:?}, this binary is {guid_expected}"))
             }
         }
-        create::<M>(name, parse_resource_location(string(resource_location)), Interface::CoSimulation2, logger)
+        create::<M>(name, parse_resource_location(string(resource_location)), interface, logger)
     }));
     result.unwrap_or(std::ptr::null_mut())
 }
@@ -240,13 +246,20 @@ pub(crate) fn create<M: FmuModel>(
     match Instance::<M>::new(context, logger) {
         Ok(inst) => {
             inst.logger.event(&format!(
-                "instantiated {} ({}), resources: {resources:?}",
-                description.model_identifier, description.guid
+                "instantiated {} ({}) for {}, resources: {resources:?}",
+                description.model_identifier,
+                description.guid,
+                interface.kind()
             ));
             Box::into_raw(Box::new(inst)) as fmi2Component
         }
         Err(e) => {
-            reporter.log(Status::Error, logger::ERROR, &format!("fmi2Instantiate: {e}"));
+            let function = match interface {
+                Interface::ModelExchange3 => "fmi3InstantiateModelExchange",
+                Interface::CoSimulation3 => "fmi3InstantiateCoSimulation",
+                Interface::CoSimulation2 | Interface::ModelExchange2 => "fmi2Instantiate",
+            };
+            reporter.log(Status::Error, logger::ERROR, &format!("{function}: {e}"));
             std::ptr::null_mut()
         }
     }
@@ -464,8 +477,112 @@ pub unsafe fn get_real_output_derivatives<M: FmuModel>(c: fmi2Component) -> fmi2
 
 /// # Safety
 /// FMI pointers.
-pub unsafe fn get_directional_derivative<M: FmuModel>(c: fmi2Component) -> fmi2Status {
-    with_instance::<M>(c, "fmi2GetDirectionalDerivative", |i| i.get_directional_derivative())
+pub unsafe fn get_directional_derivative<M: FmuModel>(
+    c: fmi2Component,
+    unknowns: *const fmi2ValueReference,
+    n_unknowns: usize,
+    knowns: *const fmi2ValueReference,
+    n_knowns: usize,
+    seed: *const fmi2Real,
+    sensitivity: *mut fmi2Real,
+) -> fmi2Status {
+    with_instance::<M>(c, "fmi2GetDirectionalDerivative", |i| {
+        i.get_directional_derivative(
+            slice(unknowns, n_unknowns, "vUnknown_ref")?,
+            slice(knowns, n_knowns, "vKnown_ref")?,
+            slice(seed, n_knowns, "dvKnown")?,
+            slice_mut(sensitivity, n_unknowns, "dvUnknown")?,
+        )
+    })
+}
+
+// ---- Model Exchange -----------------------------------------------------------------------------------
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn enter_event_mode<M: FmuModel>(c: fmi2Component) -> fmi2Status {
+    with_instance::<M>(c, "fmi2EnterEventMode", |i| i.enter_event_mode())
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn new_discrete_states<M: FmuModel>(c: fmi2Component, event_info: *mut fmi2EventInfo) -> fmi2Status {
+    with_instance::<M>(c, "fmi2NewDiscreteStates", |i| {
+        let info = event_info.as_mut().ok_or_else(|| Failure::error("fmi2NewDiscreteStates: fmi2eventInfo is NULL"))?;
+        let update = i.new_discrete_states()?;
+        info.newDiscreteStatesNeeded = update.discrete_states_need_update as fmi2Boolean;
+        info.terminateSimulation = update.terminate_simulation as fmi2Boolean;
+        info.nominalsOfContinuousStatesChanged = update.nominals_of_continuous_states_changed as fmi2Boolean;
+        info.valuesOfContinuousStatesChanged = update.values_of_continuous_states_changed as fmi2Boolean;
+        info.nextEventTimeDefined = update.next_event_time.is_some() as fmi2Boolean;
+        info.nextEventTime = update.next_event_time.unwrap_or(0.0);
+        Ok(Status::Ok)
+    })
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn enter_continuous_time_mode<M: FmuModel>(c: fmi2Component) -> fmi2Status {
+    with_instance::<M>(c, "fmi2EnterContinuousTimeMode", |i| i.enter_continuous_time_mode())
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn completed_integrator_step<M: FmuModel>(
+    c: fmi2Component,
+    _no_set_prior: fmi2Boolean,
+    enter_event_mode: *mut fmi2Boolean,
+    terminate_simulation: *mut fmi2Boolean,
+) -> fmi2Status {
+    with_instance::<M>(c, "fmi2CompletedIntegratorStep", |i| {
+        let event = slice_mut(enter_event_mode, 1, "enterEventMode")?;
+        let terminate = slice_mut(terminate_simulation, 1, "terminateSimulation")?;
+        let (e, t) = i.completed_integrator_step()?;
+        (event[0], terminate[0]) = (e as fmi2Boolean, t as fmi2Boolean);
+        Ok(Status::Ok)
+    })
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn set_time<M: FmuModel>(c: fmi2Component, time: fmi2Real) -> fmi2Status {
+    with_instance::<M>(c, "fmi2SetTime", |i| i.set_time(time))
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn set_continuous_states<M: FmuModel>(c: fmi2Component, x: *const fmi2Real, nx: usize) -> fmi2Status {
+    with_instance::<M>(c, "fmi2SetContinuousStates", |i| i.set_continuous_states(slice(x, nx, "x")?))
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_derivatives<M: FmuModel>(c: fmi2Component, dx: *mut fmi2Real, nx: usize) -> fmi2Status {
+    with_instance::<M>(c, "fmi2GetDerivatives", |i| i.get_derivatives(slice_mut(dx, nx, "derivatives")?))
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_event_indicators<M: FmuModel>(c: fmi2Component, z: *mut fmi2Real, ni: usize) -> fmi2Status {
+    with_instance::<M>(c, "fmi2GetEventIndicators", |i| i.get_event_indicators(slice_mut(z, ni, "eventIndicators")?))
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_continuous_states<M: FmuModel>(c: fmi2Component, x: *mut fmi2Real, nx: usize) -> fmi2Status {
+    with_instance::<M>(c, "fmi2GetContinuousStates", |i| i.get_continuous_states(slice_mut(x, nx, "x")?))
+}
+
+/// # Safety
+/// FMI pointers.
+pub unsafe fn get_nominals_of_continuous_states<M: FmuModel>(
+    c: fmi2Component,
+    x: *mut fmi2Real,
+    nx: usize,
+) -> fmi2Status {
+    with_instance::<M>(c, "fmi2GetNominalsOfContinuousStates", |i| {
+        i.get_nominals_of_continuous_states(slice_mut(x, nx, "x_nominal")?)
+    })
 }
 
 /// # Safety

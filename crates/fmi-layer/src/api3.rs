@@ -1,12 +1,12 @@
-//! The FMI 3.0 Co-Simulation C boundary, generic over the model: only what differs from FMI 2.0. An FMI
+//! The FMI 3.0 Co-Simulation and Model Exchange C boundary, generic over the model: only what differs from FMI 2.0. An FMI
 //! 3.0 instance is the same `Instance` (state machine, value dispatch, FMU state) as an FMI 2.0 one; its
 //! logger speaks FMI 3.0 (callback and function names). The functions whose C signature is the same in both
 //! APIs (free instance, debug logging, exit initialization, terminate, reset, Int32 ↔ Integer, String, the
 //! FMU state functions) are `api`'s own, called by `export_fmi3!` directly; here are the rest: instantiation,
 //! `fmi3EnterInitializationMode` (FMI 2.0's setup experiment and enter initialization in one call), the
-//! `nValues` of the value functions, one-byte Booleans, the input-derivative variables, `fmi3DoStep`'s
-//! out-arguments, and the refusal of everything a Co-Simulation FMU without event mode, clocks or
-//! Model Exchange does not offer.
+//! `nValues` of the value functions, one-byte Booleans, `fmi3DoStep`'s and the Model Exchange functions'
+//! out-arguments, the directional derivative's `nSeed` and `nSensitivity`, and the refusal of everything an
+//! FMU without clocks or event mode in Co-Simulation does not offer.
 
 use super::api::{check_array, create, slice, slice_mut, string, with_instance, MAX_ARRAY_LEN};
 use super::instance::Instance;
@@ -93,8 +93,50 @@ pub unsafe fn instantiate_co_simulation<M: FmuModel>(
     result.unwrap_or(std::ptr::null_mut())
 }
 
-/// fmi3InstantiateModelExchange / fmi3InstantiateScheduledExecution: NULL, with the reason logged when a
-/// callback is given.
+/// fmi3InstantiateModelExchange: the instance, or NULL with the reason logged (a wrong token, an FMU whose
+/// description declares no Model Exchange).
+///
+/// # Safety
+/// Pointers as the FMI 3.0 standard defines them (NULL is handled).
+pub unsafe fn instantiate_model_exchange<M: FmuModel>(
+    instance_name: fmi3String,
+    instantiation_token: fmi3String,
+    resource_path: fmi3String,
+    logging_on: bool,
+    instance_environment: fmi3InstanceEnvironment,
+    log_message: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    const F: &str = "fmi3InstantiateModelExchange";
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let name = string(instance_name).unwrap_or("");
+        let description = M::description();
+        let logger = Logger::new_fmi3(log_message, instance_environment, name, description.log_categories, logging_on);
+        let fail = |msg: String| {
+            logger.log(Status::Error, logger::ERROR, &format!("{F}: {msg}"));
+            std::ptr::null_mut()
+        };
+        if instance_name.is_null() {
+            return fail("instanceName is NULL".into());
+        }
+        if !description.model_exchange {
+            return fail(format!("{} is a Co-Simulation FMU only", description.model_identifier));
+        }
+        match string(instantiation_token) {
+            Some(t) if t == description.guid => {}
+            other => {
+                return fail(format!(
+                    "instantiationToken mismatch: the importer passed {other:?}, this binary is {}",
+                    description.guid
+                ))
+            }
+        }
+        create::<M>(name, parse_resource_path(string(resource_path)), Interface::ModelExchange3, logger)
+    }));
+    result.unwrap_or(std::ptr::null_mut())
+}
+
+/// fmi3InstantiateScheduledExecution (and fmi3InstantiateModelExchange of an FMU without Model Exchange):
+/// NULL, with the reason logged when a callback is given.
 ///
 /// # Safety
 /// As `instantiate_co_simulation`.
@@ -112,8 +154,9 @@ pub unsafe fn refuse_instantiation<M: FmuModel>(
             Status::Error,
             logger::ERROR,
             &format!(
-                "{function}: {} is a Co-Simulation FMU only (fmi3InstantiateCoSimulation)",
-                description.model_identifier
+                "{function}: {} has no such interface (fmi3InstantiateCoSimulation{})",
+                description.model_identifier,
+                if description.model_exchange { ", fmi3InstantiateModelExchange" } else { "" }
             ),
         );
     }));
@@ -327,8 +370,6 @@ pub unsafe fn do_step<M: FmuModel>(
     })
 }
 
-/// Why a Model Exchange function is refused.
-pub const NOT_MODEL_EXCHANGE: &str = "this FMU is Co-Simulation only (no Model Exchange interface)";
 /// Why a clock or Scheduled Execution function is refused.
 pub const NO_CLOCKS: &str = "this FMU has no clocks (no Scheduled Execution interface)";
 /// Why an event-mode function is refused.
@@ -338,6 +379,106 @@ pub const NO_EVENT_MODE: &str =
 /// The value types this FMU has no variables of: their getters and setters are fmi3Error.
 pub fn no_variables_of(ty: &str) -> String {
     format!("this FMU has no {ty} variables (Float64, Int32, Boolean and String only)")
+}
+
+// ---- Model Exchange and directional derivatives ---------------------------------------------------------
+
+/// fmi3CompletedIntegratorStep: FMI 2.0's, with one-byte Booleans.
+///
+/// # Safety
+/// FMI pointers.
+pub unsafe fn completed_integrator_step<M: FmuModel>(
+    c: fmi3Instance,
+    enter_event_mode: *mut bool,
+    terminate_simulation: *mut bool,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3CompletedIntegratorStep", |i| {
+        let event = slice_mut(enter_event_mode, 1, "enterEventMode")?;
+        let terminate = slice_mut(terminate_simulation, 1, "terminateSimulation")?;
+        (event[0], terminate[0]) = i.completed_integrator_step()?;
+        Ok(Status::Ok)
+    })
+}
+
+/// fmi3UpdateDiscreteStates: FMI 2.0's fmi2NewDiscreteStates with one out-argument each; every out-pointer
+/// is checked before any is written.
+///
+/// # Safety
+/// FMI pointers.
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn update_discrete_states<M: FmuModel>(
+    c: fmi3Instance,
+    discrete_states_need_update: *mut bool,
+    terminate_simulation: *mut bool,
+    nominals_changed: *mut bool,
+    values_changed: *mut bool,
+    next_event_time_defined: *mut bool,
+    next_event_time: *mut f64,
+) -> fmi3Status {
+    with_instance::<M>(c, "fmi3UpdateDiscreteStates", |i| {
+        let need = slice_mut(discrete_states_need_update, 1, "discreteStatesNeedUpdate")?;
+        let terminate = slice_mut(terminate_simulation, 1, "terminateSimulation")?;
+        let nominals = slice_mut(nominals_changed, 1, "nominalsOfContinuousStatesChanged")?;
+        let values = slice_mut(values_changed, 1, "valuesOfContinuousStatesChanged")?;
+        let defined = slice_mut(next_event_time_defined, 1, "nextEventTimeDefined")?;
+        let time = slice_mut(next_event_time, 1, "nextEventTime")?;
+        let u = i.new_discrete_states()?;
+        (need[0], terminate[0]) = (u.discrete_states_need_update, u.terminate_simulation);
+        (nominals[0], values[0]) = (u.nominals_of_continuous_states_changed, u.values_of_continuous_states_changed);
+        (defined[0], time[0]) = (u.next_event_time.is_some(), u.next_event_time.unwrap_or(0.0));
+        Ok(Status::Ok)
+    })
+}
+
+/// fmi3GetNumberOfContinuousStates (`event_indicators` false) / fmi3GetNumberOfEventIndicators.
+///
+/// # Safety
+/// FMI pointers.
+pub unsafe fn number_of<M: FmuModel>(
+    c: fmi3Instance,
+    function: &str,
+    event_indicators: bool,
+    n: *mut usize,
+) -> fmi3Status {
+    with_instance::<M>(c, function, |i| {
+        let out = slice_mut(n, 1, "n")?;
+        out[0] = i.number_of(function, event_indicators)?;
+        Ok(Status::Ok)
+    })
+}
+
+/// fmi3GetDirectionalDerivative: FMI 2.0's, with `nSeed` = `nKnowns` and `nSensitivity` = `nUnknowns`
+/// (every variable is a scalar).
+///
+/// # Safety
+/// FMI pointers.
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn get_directional_derivative<M: FmuModel>(
+    c: fmi3Instance,
+    unknowns: *const fmi3ValueReference,
+    n_unknowns: usize,
+    knowns: *const fmi3ValueReference,
+    n_knowns: usize,
+    seed: *const f64,
+    n_seed: usize,
+    sensitivity: *mut f64,
+    n_sensitivity: usize,
+) -> fmi3Status {
+    const F: &str = "fmi3GetDirectionalDerivative";
+    with_instance::<M>(c, F, |i| {
+        if n_seed != n_knowns || n_sensitivity != n_unknowns {
+            return Err(Failure::error(format!(
+                "{F}: nSeed = {n_seed} and nSensitivity = {n_sensitivity} must equal nKnowns = {n_knowns} and \
+                 nUnknowns = {n_unknowns} (every variable is a scalar)"
+            )));
+        }
+        i.get_directional_derivative(
+            slice(unknowns, n_unknowns, "unknowns")?,
+            slice(knowns, n_knowns, "knowns")?,
+            slice(seed, n_seed, "seed")?,
+            slice_mut(sensitivity, n_sensitivity, "sensitivity")?,
+        )
+    })
 }
 
 #[cfg(test)]

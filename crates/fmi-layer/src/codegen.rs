@@ -193,7 +193,8 @@ pub fn generate(xml: &str, text: &str) -> Result<String, String> {
             },
         };
         if let Some(n) = ty.attribute("nominal") {
-            if !(num(n).map_err(|e| format!("{name}: nominal: {e}"))? > 0.0) {
+            let n = num(n).map_err(|e| format!("{name}: nominal: {e}"))?;
+            if n.is_nan() || n <= 0.0 {
                 return Err(format!("{name}: nominal {n} must be positive"));
             }
         }

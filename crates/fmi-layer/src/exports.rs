@@ -1,7 +1,9 @@
-//! The exported FMI 2.0 common and Co-Simulation functions (`#[no_mangle] extern "C"`), bound to a model
-//! by `export_fmi2!(Model)` in the FMU crate (one invocation per cdylib: the symbols are global). Each one
-//! forwards to the generic `api` function, which checks pointers and arguments and catches panics. The
-//! Model Exchange functions are not exported (the FMUs are Co-Simulation only).
+//! The exported FMI 2.0 common, Co-Simulation and Model Exchange functions (`#[no_mangle] extern "C"`), bound
+//! to a model by `export_fmi2!(Model)` in the FMU crate (one invocation per cdylib: the symbols are global).
+//! Each one forwards to the generic `api` function, which checks pointers and arguments and catches panics.
+//! The Model Exchange functions are checked against the header's `…TYPE` at compile time; an instance of an
+//! FMU whose model description declares no Model Exchange is never made for it (fmi2Instantiate refuses),
+//! and the functions refuse a Co-Simulation instance.
 
 /// Defines the `fmi2…` symbols in the invoking module for the model type `$model` (an `FmuModel`).
 #[macro_export]
@@ -222,15 +224,113 @@ macro_rules! export_fmi2 {
         #[no_mangle]
         pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
             c: fmi2Component,
-            _vUnknown_ref: *const fmi2ValueReference,
-            _nUnknown: usize,
-            _vKnown_ref: *const fmi2ValueReference,
-            _nKnown: usize,
-            _dvKnown: *const fmi2Real,
-            _dvUnknown: *mut fmi2Real,
+            vUnknown_ref: *const fmi2ValueReference,
+            nUnknown: usize,
+            vKnown_ref: *const fmi2ValueReference,
+            nKnown: usize,
+            dvKnown: *const fmi2Real,
+            dvUnknown: *mut fmi2Real,
         ) -> fmi2Status {
-            $crate::api::get_directional_derivative::<$model>(c)
+            $crate::api::get_directional_derivative::<$model>(
+                c,
+                vUnknown_ref,
+                nUnknown,
+                vKnown_ref,
+                nKnown,
+                dvKnown,
+                dvUnknown,
+            )
         }
+        const _: fmi2GetDirectionalDerivativeTYPE = Some(fmi2GetDirectionalDerivative);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2EnterEventMode(c: fmi2Component) -> fmi2Status {
+            $crate::api::enter_event_mode::<$model>(c)
+        }
+        const _: fmi2EnterEventModeTYPE = Some(fmi2EnterEventMode);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2NewDiscreteStates(
+            c: fmi2Component,
+            fmi2eventInfo: *mut fmi2EventInfo,
+        ) -> fmi2Status {
+            $crate::api::new_discrete_states::<$model>(c, fmi2eventInfo)
+        }
+        const _: fmi2NewDiscreteStatesTYPE = Some(fmi2NewDiscreteStates);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: fmi2Component) -> fmi2Status {
+            $crate::api::enter_continuous_time_mode::<$model>(c)
+        }
+        const _: fmi2EnterContinuousTimeModeTYPE = Some(fmi2EnterContinuousTimeMode);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
+            c: fmi2Component,
+            noSetFMUStatePriorToCurrentPoint: fmi2Boolean,
+            enterEventMode: *mut fmi2Boolean,
+            terminateSimulation: *mut fmi2Boolean,
+        ) -> fmi2Status {
+            $crate::api::completed_integrator_step::<$model>(
+                c,
+                noSetFMUStatePriorToCurrentPoint,
+                enterEventMode,
+                terminateSimulation,
+            )
+        }
+        const _: fmi2CompletedIntegratorStepTYPE = Some(fmi2CompletedIntegratorStep);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2SetTime(c: fmi2Component, time: fmi2Real) -> fmi2Status {
+            $crate::api::set_time::<$model>(c, time)
+        }
+        const _: fmi2SetTimeTYPE = Some(fmi2SetTime);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2SetContinuousStates(
+            c: fmi2Component,
+            x: *const fmi2Real,
+            nx: usize,
+        ) -> fmi2Status {
+            $crate::api::set_continuous_states::<$model>(c, x, nx)
+        }
+        const _: fmi2SetContinuousStatesTYPE = Some(fmi2SetContinuousStates);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2GetDerivatives(
+            c: fmi2Component,
+            derivatives: *mut fmi2Real,
+            nx: usize,
+        ) -> fmi2Status {
+            $crate::api::get_derivatives::<$model>(c, derivatives, nx)
+        }
+        const _: fmi2GetDerivativesTYPE = Some(fmi2GetDerivatives);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2GetEventIndicators(
+            c: fmi2Component,
+            eventIndicators: *mut fmi2Real,
+            ni: usize,
+        ) -> fmi2Status {
+            $crate::api::get_event_indicators::<$model>(c, eventIndicators, ni)
+        }
+        const _: fmi2GetEventIndicatorsTYPE = Some(fmi2GetEventIndicators);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2GetContinuousStates(c: fmi2Component, x: *mut fmi2Real, nx: usize) -> fmi2Status {
+            $crate::api::get_continuous_states::<$model>(c, x, nx)
+        }
+        const _: fmi2GetContinuousStatesTYPE = Some(fmi2GetContinuousStates);
+
+        #[no_mangle]
+        pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
+            c: fmi2Component,
+            x_nominal: *mut fmi2Real,
+            nx: usize,
+        ) -> fmi2Status {
+            $crate::api::get_nominals_of_continuous_states::<$model>(c, x_nominal, nx)
+        }
+        const _: fmi2GetNominalsOfContinuousStatesTYPE = Some(fmi2GetNominalsOfContinuousStates);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi2SetRealInputDerivatives(

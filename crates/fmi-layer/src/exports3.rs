@@ -2,9 +2,10 @@
 //! FMU crate (one invocation per cdylib, next to `export_fmi2!`: the `fmi3…` and `fmi2…` symbols do not
 //! collide). Every function of the standard's `fmi3Functions.h` is exported, so that an importer that
 //! resolves them all loads the library; each forwards to the generic `api` (the functions FMI 2.0 shares)
-//! or `api3` function, which checks pointers and arguments and catches panics. What a Co-Simulation FMU
-//! without event mode, clocks, Model Exchange or the other value types does not offer returns fmi3Error
-//! with a logged reason; the other instantiate functions return NULL. Each function is checked against the
+//! or `api3` function, which checks pointers and arguments and catches panics. What an FMU without clocks,
+//! without event mode in Co-Simulation, or without the other value types does not offer returns fmi3Error
+//! with a logged reason; fmi3InstantiateScheduledExecution returns NULL (and fmi3InstantiateModelExchange
+//! when the model description declares no Model Exchange). Each function is checked against the
 //! header's `…TYPE` at compile time (`const _: fmi3…TYPE = Some(fmi3…)`): a signature that drifts from the
 //! standard does not build.
 
@@ -37,16 +38,18 @@ macro_rules! export_fmi3 {
         #[no_mangle]
         pub unsafe extern "C" fn fmi3InstantiateModelExchange(
             instanceName: fmi3String,
-            _instantiationToken: fmi3String,
-            _resourcePath: fmi3String,
+            instantiationToken: fmi3String,
+            resourcePath: fmi3String,
             _visible: fmi3Boolean,
-            _loggingOn: fmi3Boolean,
+            loggingOn: fmi3Boolean,
             instanceEnvironment: fmi3InstanceEnvironment,
             logMessage: fmi3LogMessageCallback,
         ) -> fmi3Instance {
-            $crate::api3::refuse_instantiation::<$model>(
-                "fmi3InstantiateModelExchange",
+            $crate::api3::instantiate_model_exchange::<$model>(
                 instanceName,
+                instantiationToken,
+                resourcePath,
+                loggingOn,
                 instanceEnvironment,
                 logMessage,
             )
@@ -138,7 +141,7 @@ macro_rules! export_fmi3 {
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3EnterEventMode(instance: fmi3Instance) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3EnterEventMode", $crate::api3::NO_EVENT_MODE)
+            $crate::api::enter_event_mode::<$model>(instance)
         }
         const _: fmi3EnterEventModeTYPE = Some(fmi3EnterEventMode);
 
@@ -404,19 +407,25 @@ macro_rules! export_fmi3 {
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetDirectionalDerivative(
             instance: fmi3Instance,
-            _unknowns: *const fmi3ValueReference,
-            _nUnknowns: usize,
-            _knowns: *const fmi3ValueReference,
-            _nKnowns: usize,
-            _seed: *const fmi3Float64,
-            _nSeed: usize,
-            _sensitivity: *mut fmi3Float64,
-            _nSensitivity: usize,
+            unknowns: *const fmi3ValueReference,
+            nUnknowns: usize,
+            knowns: *const fmi3ValueReference,
+            nKnowns: usize,
+            seed: *const fmi3Float64,
+            nSeed: usize,
+            sensitivity: *mut fmi3Float64,
+            nSensitivity: usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(
+            $crate::api3::get_directional_derivative::<$model>(
                 instance,
-                "fmi3GetDirectionalDerivative",
-                "not supported (providesDirectionalDerivatives = false)",
+                unknowns,
+                nUnknowns,
+                knowns,
+                nKnowns,
+                seed,
+                nSeed,
+                sensitivity,
+                nSensitivity,
             )
         }
         const _: fmi3GetDirectionalDerivativeTYPE = Some(fmi3GetDirectionalDerivative);
@@ -564,24 +573,28 @@ macro_rules! export_fmi3 {
         #[no_mangle]
         pub unsafe extern "C" fn fmi3UpdateDiscreteStates(
             instance: fmi3Instance,
-            _discreteStatesNeedUpdate: *mut fmi3Boolean,
-            _terminateSimulation: *mut fmi3Boolean,
-            _nominalsOfContinuousStatesChanged: *mut fmi3Boolean,
-            _valuesOfContinuousStatesChanged: *mut fmi3Boolean,
-            _nextEventTimeDefined: *mut fmi3Boolean,
-            _nextEventTime: *mut fmi3Float64,
+            discreteStatesNeedUpdate: *mut fmi3Boolean,
+            terminateSimulation: *mut fmi3Boolean,
+            nominalsOfContinuousStatesChanged: *mut fmi3Boolean,
+            valuesOfContinuousStatesChanged: *mut fmi3Boolean,
+            nextEventTimeDefined: *mut fmi3Boolean,
+            nextEventTime: *mut fmi3Float64,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3UpdateDiscreteStates", $crate::api3::NO_EVENT_MODE)
+            $crate::api3::update_discrete_states::<$model>(
+                instance,
+                discreteStatesNeedUpdate,
+                terminateSimulation,
+                nominalsOfContinuousStatesChanged,
+                valuesOfContinuousStatesChanged,
+                nextEventTimeDefined,
+                nextEventTime,
+            )
         }
         const _: fmi3UpdateDiscreteStatesTYPE = Some(fmi3UpdateDiscreteStates);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3EnterContinuousTimeMode(instance: fmi3Instance) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(
-                instance,
-                "fmi3EnterContinuousTimeMode",
-                $crate::api3::NOT_MODEL_EXCHANGE,
-            )
+            $crate::api::enter_continuous_time_mode::<$model>(instance)
         }
         const _: fmi3EnterContinuousTimeModeTYPE = Some(fmi3EnterContinuousTimeMode);
 
@@ -589,104 +602,84 @@ macro_rules! export_fmi3 {
         pub unsafe extern "C" fn fmi3CompletedIntegratorStep(
             instance: fmi3Instance,
             _noSetFMUStatePriorToCurrentPoint: fmi3Boolean,
-            _enterEventMode: *mut fmi3Boolean,
-            _terminateSimulation: *mut fmi3Boolean,
+            enterEventMode: *mut fmi3Boolean,
+            terminateSimulation: *mut fmi3Boolean,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(
-                instance,
-                "fmi3CompletedIntegratorStep",
-                $crate::api3::NOT_MODEL_EXCHANGE,
-            )
+            $crate::api3::completed_integrator_step::<$model>(instance, enterEventMode, terminateSimulation)
         }
         const _: fmi3CompletedIntegratorStepTYPE = Some(fmi3CompletedIntegratorStep);
 
         #[no_mangle]
-        pub unsafe extern "C" fn fmi3SetTime(instance: fmi3Instance, _time: fmi3Float64) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetTime", $crate::api3::NOT_MODEL_EXCHANGE)
+        pub unsafe extern "C" fn fmi3SetTime(instance: fmi3Instance, time: fmi3Float64) -> fmi3Status {
+            $crate::api::set_time::<$model>(instance, time)
         }
         const _: fmi3SetTimeTYPE = Some(fmi3SetTime);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3SetContinuousStates(
             instance: fmi3Instance,
-            _continuousStates: *const fmi3Float64,
-            _nContinuousStates: usize,
+            continuousStates: *const fmi3Float64,
+            nContinuousStates: usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3SetContinuousStates", $crate::api3::NOT_MODEL_EXCHANGE)
+            $crate::api::set_continuous_states::<$model>(instance, continuousStates, nContinuousStates)
         }
         const _: fmi3SetContinuousStatesTYPE = Some(fmi3SetContinuousStates);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetContinuousStateDerivatives(
             instance: fmi3Instance,
-            _derivatives: *mut fmi3Float64,
-            _nContinuousStates: usize,
+            derivatives: *mut fmi3Float64,
+            nContinuousStates: usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(
-                instance,
-                "fmi3GetContinuousStateDerivatives",
-                $crate::api3::NOT_MODEL_EXCHANGE,
-            )
+            $crate::api::get_derivatives::<$model>(instance, derivatives, nContinuousStates)
         }
         const _: fmi3GetContinuousStateDerivativesTYPE = Some(fmi3GetContinuousStateDerivatives);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetEventIndicators(
             instance: fmi3Instance,
-            _eventIndicators: *mut fmi3Float64,
-            _nEventIndicators: usize,
+            eventIndicators: *mut fmi3Float64,
+            nEventIndicators: usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetEventIndicators", $crate::api3::NOT_MODEL_EXCHANGE)
+            $crate::api::get_event_indicators::<$model>(instance, eventIndicators, nEventIndicators)
         }
         const _: fmi3GetEventIndicatorsTYPE = Some(fmi3GetEventIndicators);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetContinuousStates(
             instance: fmi3Instance,
-            _continuousStates: *mut fmi3Float64,
-            _nContinuousStates: usize,
+            continuousStates: *mut fmi3Float64,
+            nContinuousStates: usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(instance, "fmi3GetContinuousStates", $crate::api3::NOT_MODEL_EXCHANGE)
+            $crate::api::get_continuous_states::<$model>(instance, continuousStates, nContinuousStates)
         }
         const _: fmi3GetContinuousStatesTYPE = Some(fmi3GetContinuousStates);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetNominalsOfContinuousStates(
             instance: fmi3Instance,
-            _nominals: *mut fmi3Float64,
-            _nContinuousStates: usize,
+            nominals: *mut fmi3Float64,
+            nContinuousStates: usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(
-                instance,
-                "fmi3GetNominalsOfContinuousStates",
-                $crate::api3::NOT_MODEL_EXCHANGE,
-            )
+            $crate::api::get_nominals_of_continuous_states::<$model>(instance, nominals, nContinuousStates)
         }
         const _: fmi3GetNominalsOfContinuousStatesTYPE = Some(fmi3GetNominalsOfContinuousStates);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetNumberOfEventIndicators(
             instance: fmi3Instance,
-            _nEventIndicators: *mut usize,
+            nEventIndicators: *mut usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(
-                instance,
-                "fmi3GetNumberOfEventIndicators",
-                $crate::api3::NOT_MODEL_EXCHANGE,
-            )
+            $crate::api3::number_of::<$model>(instance, "fmi3GetNumberOfEventIndicators", true, nEventIndicators)
         }
         const _: fmi3GetNumberOfEventIndicatorsTYPE = Some(fmi3GetNumberOfEventIndicators);
 
         #[no_mangle]
         pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(
             instance: fmi3Instance,
-            _nContinuousStates: *mut usize,
+            nContinuousStates: *mut usize,
         ) -> fmi3Status {
-            $crate::api3::unsupported::<$model>(
-                instance,
-                "fmi3GetNumberOfContinuousStates",
-                $crate::api3::NOT_MODEL_EXCHANGE,
-            )
+            $crate::api3::number_of::<$model>(instance, "fmi3GetNumberOfContinuousStates", false, nContinuousStates)
         }
         const _: fmi3GetNumberOfContinuousStatesTYPE = Some(fmi3GetNumberOfContinuousStates);
 

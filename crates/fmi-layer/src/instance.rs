@@ -1,24 +1,29 @@
-//! One FMU instance: the FMI 2.0 Co-Simulation state machine around a generic `FmuModel`.
+//! One FMU instance: the FMI 2.0 Co-Simulation and Model Exchange state machines (and FMI 3.0's, which
+//! `api3` maps onto them) around a generic `FmuModel`.
 //!
-//! Everything of an instance lives here (no global state). The `Core` is the FMU state: mode, times, the
-//! terminated flag and the model. Get/set FMU state clones it; serialization writes it as JSON.
+//! Everything of an instance lives here (no global state). The `Core` is the FMU state: interface, mode,
+//! times, the terminated flag and the model. Get/set FMU state clones it; serialization writes it as JSON.
 
 use super::logger::{self, Logger};
-use super::model::{FmuModel, ModelContext, StepFailure};
+use super::model::{FmuModel, Interface, ModelContext, StepFailure};
 use super::status::{Failure, FmiResult, Status};
 use super::variables::{Causality, Initial, Start, VarType, Variable};
 use serde::{Deserialize, Serialize};
 use std::ffi::{c_void, CString};
 
-/// The states of the FMI 2.0 Co-Simulation state machine (standard §4.2.4).
+/// The states of the FMI 2.0 Co-Simulation (standard §4.2.4) and Model Exchange (§3.2.3) state machines.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Mode {
     Instantiated,
     InitializationMode,
-    /// "slaveInitialized / stepComplete": ready for fmi2DoStep.
+    /// Co-Simulation: "slaveInitialized / stepComplete": ready for fmi2DoStep.
     StepComplete,
-    /// A step returned fmi2Discard and ended the run (`fmi2Terminated` is true).
+    /// Co-Simulation: a step returned fmi2Discard and ended the run (`fmi2Terminated` is true).
     StepFailed,
+    /// Model Exchange: Event Mode (after fmi2ExitInitializationMode and fmi2EnterEventMode).
+    EventMode,
+    /// Model Exchange: Continuous-Time Mode (the integrator sets time and states, reads derivatives).
+    ContinuousTimeMode,
     Terminated,
     Error,
     Fatal,
@@ -26,9 +31,51 @@ pub enum Mode {
 
 use Mode::*;
 
-const ANY_BUT_FATAL: &[Mode] = &[Instantiated, InitializationMode, StepComplete, StepFailed, Terminated, Error];
-const GETTABLE: &[Mode] = &[InitializationMode, StepComplete, StepFailed, Terminated, Error];
+const ANY_BUT_FATAL: &[Mode] =
+    &[Instantiated, InitializationMode, StepComplete, StepFailed, EventMode, ContinuousTimeMode, Terminated, Error];
+const GETTABLE: &[Mode] =
+    &[InitializationMode, StepComplete, StepFailed, EventMode, ContinuousTimeMode, Terminated, Error];
 const STATUS_QUERY: &[Mode] = &[StepComplete, StepFailed, Terminated, Error];
+
+// Model Exchange: where each function is legal, FMI 2.0 (§3.2.3's table, as the Reference FMUs' masks) and
+// FMI 3.0 (§3.3's state machine). A call elsewhere is fmi2Error / fmi3Error, logged, the mode unchanged.
+const ME_EVENT_OR_CT: &[Mode] = &[EventMode, ContinuousTimeMode];
+const ME_CT: &[Mode] = &[ContinuousTimeMode];
+const ME_EVENT: &[Mode] = &[EventMode];
+/// fmi2GetEventIndicators, fmi2GetContinuousStates.
+const ME2_STATES: &[Mode] = &[InitializationMode, EventMode, ContinuousTimeMode, Terminated, Error];
+/// fmi2GetDerivatives (not in Initialization Mode in FMI 2.0).
+const ME2_DERIVATIVES: &[Mode] = &[EventMode, ContinuousTimeMode, Terminated, Error];
+/// fmi2GetNominalsOfContinuousStates (Instantiated, but not Initialization Mode, in FMI 2.0).
+const ME2_NOMINALS: &[Mode] = &[Instantiated, EventMode, ContinuousTimeMode, Terminated, Error];
+/// FMI 3.0: fmi3GetContinuousStateDerivatives, fmi3GetEventIndicators, fmi3GetContinuousStates,
+/// fmi3GetNominalsOfContinuousStates.
+const ME3_EVALUATION: &[Mode] = &[InitializationMode, EventMode, ContinuousTimeMode, Terminated];
+/// fmi2GetDirectionalDerivative (FMI 3.0: the same but Error and StepFailed, which an FMI 3.0 instance of this
+/// layer reaches only after a panic or a failed step, where a derivative is as good as a value).
+const DIRECTIONAL: &[Mode] =
+    &[InitializationMode, StepComplete, StepFailed, EventMode, ContinuousTimeMode, Terminated, Error];
+
+/// What fmi2NewDiscreteStates / fmi3UpdateDiscreteStates report. This layer's models have no discrete
+/// states and no time events: nothing changes at an event (the event indicators only tell the integrator
+/// where the right-hand side has a kink, so that it restarts there), so every flag is false and no next
+/// event time is defined.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EventUpdate {
+    pub discrete_states_need_update: bool,
+    pub terminate_simulation: bool,
+    pub nominals_of_continuous_states_changed: bool,
+    pub values_of_continuous_states_changed: bool,
+    pub next_event_time: Option<f64>,
+}
+
+/// The relative size of a directional-derivative difference step, of max(|value|, nominal) of each known.
+/// Central differences err by truncation ~ε²·(a relative third derivative) and by round-off ~η/ε, η the
+/// relative noise of the values differenced: not 1e-16 here but about 1e-12, where the model's Newton solves
+/// (constraints, equilibrium of the tire's contact) stop. The sum is smallest near ε = η^(1/3) = 1e-4, at
+/// about 1e-8 relative; ε = 1e-6 would leave ~1e-6 of round-off. docs/fmu.md gives the accuracy measured
+/// against 4th-order differences (tests/fmu/test_model_exchange.py).
+pub const DIRECTIONAL_EPSILON: f64 = 1e-4;
 
 /// Relative tolerance on times (communication points against the FMU's own time, stop time).
 pub const TIME_TOLERANCE: f64 = 1e-9;
@@ -37,13 +84,22 @@ pub fn times_match(a: f64, b: f64) -> bool {
     (a - b).abs() <= TIME_TOLERANCE * 1f64.max(a.abs()).max(b.abs())
 }
 
+/// The interface of states saved before Model Exchange support: Co-Simulation (FMI 2.0 and 3.0 shared one).
+fn co_simulation() -> Interface {
+    Interface::CoSimulation2
+}
+
 /// The FMU state: everything a replay needs.
 #[derive(Clone, Serialize, Deserialize)]
 pub struct Core<M> {
+    /// The interface the state was made through: a Model Exchange state is not set into a Co-Simulation
+    /// instance, nor the other way round (FMI 2.0 and 3.0 of one kind share their states).
+    #[serde(default = "co_simulation")]
+    pub interface: Interface,
     pub mode: Mode,
     pub start_time: f64,
     pub stop_time: Option<f64>,
-    /// The FMU's time: the end of the last successful communication step.
+    /// The FMU's time: the end of the last successful communication step (Model Exchange: as last set).
     pub time: f64,
     /// The start of the last communication step (where the run ends if that step is undone).
     #[serde(default)]
@@ -167,6 +223,30 @@ impl<M: FmuModel> Instance<M> {
         }
     }
 
+    /// The interface the instance was made through.
+    pub fn interface(&self) -> Interface {
+        self.context.interface
+    }
+
+    /// A function of one interface only (`model_exchange` says which) called on an instance of the other.
+    fn require_interface(&self, function: &str, model_exchange: bool) -> FmiResult<()> {
+        let interface = self.context.interface;
+        if interface.is_model_exchange() == model_exchange {
+            return Ok(());
+        }
+        let wanted = if model_exchange { "Model Exchange" } else { "Co-Simulation" };
+        Err(Failure::error(format!(
+            "{function} is a {wanted} function, and this instance was made for {}",
+            interface.kind()
+        )))
+    }
+
+    /// A Model Exchange function in the modes FMI 2.0 (`two`) or FMI 3.0 (`three`) allows it in.
+    fn require_me(&self, function: &str, two: &[Mode], three: &[Mode]) -> FmiResult<()> {
+        self.require_interface(function, true)?;
+        self.require(function, if self.context.interface.is_fmi3() { three } else { two })
+    }
+
     pub fn set_debug_logging(&mut self, on: bool, categories: &[String]) -> FmiResult {
         self.require("fmi2SetDebugLogging", ANY_BUT_FATAL)?;
         self.logger.set_debug_logging(on, categories).map_err(Failure::error)?;
@@ -222,13 +302,14 @@ impl<M: FmuModel> Instance<M> {
         self.initialize_if_needed()?;
         self.core.time = self.core.start_time;
         self.core.terminated = false;
-        self.core.mode = StepComplete;
+        // Model Exchange leaves initialization into Event Mode (FMI 2.0 §3.2.3, FMI 3.0 §3.3).
+        self.core.mode = if self.context.interface.is_model_exchange() { EventMode } else { StepComplete };
         self.logger.event(&format!("initialized at t = {}", self.core.time));
         Ok(Status::Ok)
     }
 
     pub fn terminate(&mut self) -> FmiResult {
-        self.require("fmi2Terminate", &[StepComplete, StepFailed])?;
+        self.require("fmi2Terminate", &[StepComplete, StepFailed, EventMode, ContinuousTimeMode])?;
         self.core.mode = Terminated;
         self.logger.event(&format!("terminated at t = {}", self.core.time));
         Ok(Status::Ok)
@@ -267,6 +348,14 @@ impl<M: FmuModel> Instance<M> {
             let var = self.lookup(function, vr, ty)?;
             match self.core.model.refresh(var, &self.logger) {
                 Ok(()) => {}
+                // Model Exchange has no step to undo: the importer is told to reduce its step (fmi2Discard, as
+                // FMI 2.0 §3.2.2 allows of fmi2GetReal), and nothing changes.
+                Err(StepFailure::Terminate(why)) if self.context.interface.is_model_exchange() => {
+                    return Err(Failure::discard(format!(
+                        "{function}: {} cannot be evaluated at t = {} and the current states: {why}",
+                        var.name, self.core.time
+                    )));
+                }
                 Err(StepFailure::Terminate(why)) => {
                     // The last step is undone: the run ends at its start, as if that step had failed.
                     let reached = self.core.time;
@@ -287,17 +376,20 @@ impl<M: FmuModel> Instance<M> {
         Ok(())
     }
 
-    /// Validates a set call (state, value references, causality and variability) without collecting.
+    /// Validates a set call (state, value references, causality and variability) without collecting. In
+    /// Event Mode as at a communication point (inputs and tunable parameters); in Continuous-Time Mode only
+    /// continuous inputs (FMI 2.0 §3.2.3's table, footnote 5).
     fn check_settable(&self, function: &str, vrs: &[u32], ty: VarType) -> FmiResult<()> {
-        self.require(function, &[Instantiated, InitializationMode, StepComplete])?;
+        self.require(function, &[Instantiated, InitializationMode, StepComplete, EventMode, ContinuousTimeMode])?;
         let mode = self.core.mode;
         for &vr in vrs {
             let var = self.lookup(function, vr, ty)?;
+            let continuous = var.variability == super::variables::Variability::Continuous;
             let ok = match var.causality {
-                Causality::Input => true,
+                Causality::Input => mode != ContinuousTimeMode || continuous,
                 Causality::Parameter => match var.variability {
-                    super::variables::Variability::Tunable => true,
-                    _ => mode != StepComplete,
+                    super::variables::Variability::Tunable => mode != ContinuousTimeMode,
+                    _ => matches!(mode, Instantiated | InitializationMode),
                 },
                 _ => false,
             };
@@ -305,6 +397,11 @@ impl<M: FmuModel> Instance<M> {
                 return Err(if var.causality == Causality::Parameter {
                     Failure::error(format!(
                         "{function}: {} is a fixed parameter: settable only before fmi2ExitInitializationMode (state {mode:?})",
+                        var.name
+                    ))
+                } else if var.causality == Causality::Input {
+                    Failure::error(format!(
+                        "{function}: {} is a discrete input: settable in Event Mode, not in Continuous-Time Mode",
                         var.name
                     ))
                 } else {
@@ -428,6 +525,7 @@ impl<M: FmuModel> Instance<M> {
 
     pub fn set_real_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> FmiResult {
         const F: &str = "fmi2SetRealInputDerivatives";
+        self.require_interface(F, false)?;
         self.require(F, &[Instantiated, InitializationMode, StepComplete])?;
         // Check all before applying any, without collecting (no allocation on the stepping path).
         for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
@@ -459,14 +557,157 @@ impl<M: FmuModel> Instance<M> {
         Err(Failure::error("fmi2GetRealOutputDerivatives is not supported (maxOutputDerivativeOrder = 0)"))
     }
 
-    pub fn get_directional_derivative(&mut self) -> FmiResult {
-        Err(Failure::error("fmi2GetDirectionalDerivative is not supported (providesDirectionalDerivative = false)"))
+    /// fmi2GetDirectionalDerivative / fmi3GetDirectionalDerivative: `out[i]` = Σ_j ∂unknown_i/∂known_j ·
+    /// seed_j, by central differences along the seed on clones of the model (the instance's own model is never
+    /// changed). A known is a continuous state (perturbed through `set_continuous_states`) or a Real input
+    /// (through `set_real`); an unknown any Real variable `get_real` serves, read after `refresh`. The step
+    /// is `DIRECTIONAL_EPSILON` of max(|value|, nominal) of each known (states: the model's nominals; inputs:
+    /// the XML's `nominal`, else 1), taken along the seed; where the model refuses a value on one side (an
+    /// input at the end of its range, e.g. a brake torque of 0), the one-sided difference of second order.
+    pub fn get_directional_derivative(
+        &mut self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> FmiResult {
+        const F: &str = "fmi2GetDirectionalDerivative";
+        self.require(F, DIRECTIONAL)?;
+        let description = M::description();
+        let mut unknown_vars = Vec::with_capacity(unknowns.len());
+        for &vr in unknowns {
+            let var = description.lookup(vr, VarType::Real).ok_or_else(|| {
+                Failure::error(format!("{F}: unknown {vr} is not the value reference of a Real variable"))
+            })?;
+            unknown_vars.push(var);
+        }
+        // The knowns, merged (a value reference may repeat: its seeds add up).
+        let mut state_seed = vec![0.0; description.states.len()];
+        let mut input_seed: Vec<(&'static Variable<M::Var>, f64)> = Vec::new();
+        for (&vr, &d) in knowns.iter().zip(seed) {
+            let var = description.lookup(vr, VarType::Real).ok_or_else(|| {
+                Failure::error(format!("{F}: known {vr} is not the value reference of a Real variable"))
+            })?;
+            if !d.is_finite() {
+                return Err(Failure::error(format!("{F}: the seed of {} is not finite ({d})", var.name)));
+            }
+            match (description.state_position(var.index), var.causality) {
+                (Some(k), _) => state_seed[k] += d,
+                (None, Causality::Input) => match input_seed.iter_mut().find(|(v, _)| v.vr == vr) {
+                    Some((_, s)) => *s += d,
+                    None => input_seed.push((var, d)),
+                },
+                (None, causality) => {
+                    return Err(Failure::error(format!(
+                        "{F}: known {} ({causality:?}) is neither a continuous state nor a Real input",
+                        var.name
+                    )))
+                }
+            }
+        }
+        if self.core.mode == InitializationMode {
+            self.initialize_if_needed()?;
+        }
+        out.iter_mut().for_each(|o| *o = 0.0);
+        let any_state = state_seed.iter().any(|&d| d != 0.0);
+        if !any_state && input_seed.iter().all(|&(_, d)| d == 0.0) {
+            return Ok(Status::Ok); // a zero seed: a zero derivative, nothing to evaluate
+        }
+        let model = &mut self.core.model;
+        let fail = |what: String| Failure::error(format!("{F}: {what}"));
+        // Where the knowns are, and their scales.
+        let (mut x0, mut nominals) = (Vec::new(), Vec::new());
+        if any_state {
+            x0 = vec![0.0; description.states.len()];
+            nominals = vec![1.0; description.states.len()];
+            model.continuous_states(&mut x0).map_err(|e| fail(format!("the continuous states: {e}")))?;
+            model.nominals_of_continuous_states(&mut nominals).map_err(|e| fail(format!("the nominals: {e}")))?;
+        }
+        let mut u0 = Vec::with_capacity(input_seed.len());
+        for &(var, _) in &input_seed {
+            u0.push(model.get_real(var).map_err(|e| fail(format!("{}: {e}", var.name)))?);
+        }
+        // The step along the seed: no known moves by more than ε·max(|value|, nominal).
+        let mut h = f64::INFINITY;
+        for (k, &d) in state_seed.iter().enumerate().filter(|(_, &d)| d != 0.0) {
+            h = h.min(DIRECTIONAL_EPSILON * x0[k].abs().max(nominals[k].abs()) / d.abs());
+        }
+        for (i, &(var, d)) in input_seed.iter().enumerate().filter(|(_, (_, d))| *d != 0.0) {
+            h = h.min(DIRECTIONAL_EPSILON * u0[i].abs().max(var.nominal.unwrap_or(1.0)) / d.abs());
+        }
+        if !(h.is_finite() && h > 0.0) {
+            return Err(fail(format!("no finite difference step can be taken (step {h})")));
+        }
+        // The unknowns at the knowns moved by θ along the seed, on a clone; Err(refused) when the model
+        // refuses the moved values (the side is then not used), Err(failed) when it cannot evaluate there.
+        let silent = Logger::silent();
+        let evaluate = |theta: f64, values: &mut [f64]| -> Result<bool, Failure> {
+            let mut m = self.core.model.clone();
+            if any_state {
+                let x: Vec<f64> = x0.iter().zip(&state_seed).map(|(x, d)| x + theta * d).collect();
+                if m.set_continuous_states(&x).is_err() {
+                    return Ok(false);
+                }
+            }
+            for (i, &(var, d)) in input_seed.iter().enumerate() {
+                if d != 0.0 && m.set_real(var, u0[i] + theta * d).is_err() {
+                    return Ok(false);
+                }
+            }
+            for var in &unknown_vars {
+                if let Err(StepFailure::Terminate(why) | StepFailure::Error(why) | StepFailure::Refused(why)) =
+                    m.refresh(var, &silent)
+                {
+                    return Err(fail(format!("{} cannot be evaluated at the perturbed point: {why}", var.name)));
+                }
+            }
+            for (slot, var) in values.iter_mut().zip(&unknown_vars) {
+                *slot = m.get_real(var).map_err(|e| fail(format!("{} at the perturbed point: {e}", var.name)))?;
+                if !slot.is_finite() {
+                    return Err(fail(format!("{} is not finite at the perturbed point ({slot})", var.name)));
+                }
+            }
+            Ok(true)
+        };
+        let n = unknowns.len();
+        let (mut plus, mut minus) = (vec![0.0; n], vec![0.0; n]);
+        let (up, down) = (evaluate(h, &mut plus)?, evaluate(-h, &mut minus)?);
+        match (up, down) {
+            (true, true) => {
+                for i in 0..n {
+                    out[i] = (plus[i] - minus[i]) / (2.0 * h);
+                }
+            }
+            // One side refused: (-3 f(0) + 4 f(±h) - f(±2h)) / (±2h), of second order as well.
+            (true, false) | (false, true) => {
+                let sign = if up { 1.0 } else { -1.0 };
+                let near = if up { plus } else { minus };
+                let (mut at0, mut far) = (vec![0.0; n], vec![0.0; n]);
+                if !evaluate(0.0, &mut at0)? || !evaluate(2.0 * sign * h, &mut far)? {
+                    return Err(fail(format!(
+                        "the model refuses the knowns moved by {:e} along the seed on both sides",
+                        2.0 * h
+                    )));
+                }
+                for i in 0..n {
+                    out[i] = (-3.0 * at0[i] + 4.0 * near[i] - far[i]) / (2.0 * sign * h);
+                }
+            }
+            (false, false) => {
+                return Err(fail(format!(
+                    "the model refuses the knowns moved by ±{h:e} along the seed (an input at a fixed value, or \
+                     another steering input than this vehicle's?)"
+                )))
+            }
+        }
+        Ok(Status::Ok)
     }
 
     // ---- stepping --------------------------------------------------------------------------------
 
     pub fn do_step(&mut self, t: f64, h: f64) -> FmiResult {
         const F: &str = "fmi2DoStep";
+        self.require_interface(F, false)?;
         if self.core.mode == StepFailed {
             return Err(Failure::error(format!(
                 "{F}: the run ended at t = {} (fmi2Terminated is true); call fmi2Terminate, fmi2Reset or fmi2SetFMUstate",
@@ -513,6 +754,170 @@ impl<M: FmuModel> Instance<M> {
         }
     }
 
+    // ---- Model Exchange ------------------------------------------------------------------------------
+
+    /// fmi2EnterEventMode (FMI 2.0: from Event or Continuous-Time Mode; FMI 3.0: from Continuous-Time Mode).
+    pub fn enter_event_mode(&mut self) -> FmiResult {
+        const F: &str = "fmi2EnterEventMode";
+        if !self.context.interface.is_model_exchange() && self.context.interface.is_fmi3() {
+            return Err(Failure::error(format!(
+                "{F}: this FMU's Co-Simulation has no event mode (hasEventMode = false; \
+                 fmi3InstantiateCoSimulation refuses eventModeUsed)"
+            )));
+        }
+        self.require_me(F, ME_EVENT_OR_CT, ME_CT)?;
+        self.core.mode = EventMode;
+        Ok(Status::Ok)
+    }
+
+    /// fmi2NewDiscreteStates / fmi3UpdateDiscreteStates: nothing to update (`EventUpdate`).
+    pub fn new_discrete_states(&mut self) -> FmiResult<EventUpdate> {
+        const F: &str = "fmi2NewDiscreteStates";
+        if !self.context.interface.is_model_exchange() && self.context.interface.is_fmi3() {
+            return Err(Failure::error(format!(
+                "{F}: this FMU's Co-Simulation has no event mode (hasEventMode = false)"
+            )));
+        }
+        self.require_me(F, ME_EVENT, ME_EVENT)?;
+        Ok(EventUpdate::default())
+    }
+
+    pub fn enter_continuous_time_mode(&mut self) -> FmiResult {
+        self.require_me("fmi2EnterContinuousTimeMode", ME_EVENT, ME_EVENT)?;
+        self.core.mode = ContinuousTimeMode;
+        Ok(Status::Ok)
+    }
+
+    /// fmi2CompletedIntegratorStep: (enterEventMode, terminateSimulation), never either (no step events;
+    /// completedIntegratorStepNotNeeded).
+    pub fn completed_integrator_step(&mut self) -> FmiResult<(bool, bool)> {
+        self.require_me("fmi2CompletedIntegratorStep", ME_CT, ME_CT)?;
+        Ok((false, false))
+    }
+
+    /// fmi2SetTime: finite, not before the start time, not after a defined stop time (FMI 2.0 §2.1.6: past
+    /// it the FMU must refuse), with `TIME_TOLERANCE`. Nothing changes if refused.
+    pub fn set_time(&mut self, t: f64) -> FmiResult {
+        const F: &str = "fmi2SetTime";
+        self.require_me(F, ME_EVENT_OR_CT, ME_EVENT_OR_CT)?;
+        let start = self.core.start_time;
+        if !t.is_finite() {
+            return Err(Failure::error(format!("{F}: time {t} is not finite (the FMU time stays {})", self.core.time)));
+        }
+        if t < start && !times_match(t, start) {
+            return Err(Failure::error(format!("{F}: time {t} is before the start time {start}")));
+        }
+        if let Some(stop) = self.core.stop_time {
+            if t > stop && !times_match(t, stop) {
+                return Err(Failure::error(format!("{F}: time {t} is beyond the stop time {stop}")));
+            }
+        }
+        self.core.model.set_time(t).map_err(|e| Failure::error(format!("{F}: time {t} refused: {e}")))?;
+        self.core.time = t;
+        Ok(Status::Ok)
+    }
+
+    /// The length check of a vector argument: `n` must be the declared count.
+    fn check_len(function: &str, what: &str, n: usize, declared: usize) -> FmiResult<()> {
+        if n == declared {
+            Ok(())
+        } else {
+            Err(Failure::error(format!("{function}: {what} = {n}, but the model description declares {declared}")))
+        }
+    }
+
+    /// fmi2SetContinuousStates (Continuous-Time Mode): every value finite (else the first non-finite one is
+    /// named and nothing changes), then the model's.
+    pub fn set_continuous_states(&mut self, x: &[f64]) -> FmiResult {
+        const F: &str = "fmi2SetContinuousStates";
+        self.require_me(F, ME_CT, ME_CT)?;
+        let description = M::description();
+        Self::check_len(F, "nx", x.len(), description.states.len())?;
+        if let Some((k, v)) = x.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            let name = description.variables[description.states[k]].name;
+            return Err(Failure::error(format!("{F}: {name} (state {k}) = {v} is not finite (the states are kept)")));
+        }
+        self.core
+            .model
+            .set_continuous_states(x)
+            .map_err(|e| Failure::error(format!("{F}: refused (the states are kept): {e}")))?;
+        Ok(Status::Ok)
+    }
+
+    /// Initialization Mode: the model's initial state first (the parameters may have changed).
+    fn initialized_for_evaluation(&mut self) -> FmiResult<()> {
+        if self.core.mode == InitializationMode {
+            self.initialize_if_needed()?;
+        }
+        Ok(())
+    }
+
+    /// A vector the model filled: every element finite, else the first non-finite one is named.
+    fn check_finite(function: &str, values: &[f64], indices: &[usize]) -> FmiResult<()> {
+        match values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            Some((k, v)) => Err(Failure::error(format!(
+                "{function}: {} is not finite ({v})",
+                M::description().variables[indices[k]].name
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    pub fn get_derivatives(&mut self, dx: &mut [f64]) -> FmiResult {
+        const F: &str = "fmi2GetDerivatives";
+        self.require_me(F, ME2_DERIVATIVES, ME3_EVALUATION)?;
+        let description = M::description();
+        Self::check_len(F, "nx", dx.len(), description.states.len())?;
+        self.initialized_for_evaluation()?;
+        self.core.model.derivatives(dx).map_err(|e| Failure::error(format!("{F}: {e}")))?;
+        Self::check_finite(F, dx, description.derivatives)?;
+        Ok(Status::Ok)
+    }
+
+    pub fn get_event_indicators(&mut self, z: &mut [f64]) -> FmiResult {
+        const F: &str = "fmi2GetEventIndicators";
+        self.require_me(F, ME2_STATES, ME3_EVALUATION)?;
+        let description = M::description();
+        Self::check_len(F, "ni", z.len(), description.event_indicators.len())?;
+        self.initialized_for_evaluation()?;
+        self.core.model.event_indicators(z).map_err(|e| Failure::error(format!("{F}: {e}")))?;
+        Self::check_finite(F, z, description.event_indicators)?;
+        Ok(Status::Ok)
+    }
+
+    pub fn get_continuous_states(&mut self, x: &mut [f64]) -> FmiResult {
+        const F: &str = "fmi2GetContinuousStates";
+        self.require_me(F, ME2_STATES, ME3_EVALUATION)?;
+        let description = M::description();
+        Self::check_len(F, "nx", x.len(), description.states.len())?;
+        self.initialized_for_evaluation()?;
+        self.core.model.continuous_states(x).map_err(|e| Failure::error(format!("{F}: {e}")))?;
+        Self::check_finite(F, x, description.states)?;
+        Ok(Status::Ok)
+    }
+
+    pub fn get_nominals_of_continuous_states(&mut self, nominals: &mut [f64]) -> FmiResult {
+        const F: &str = "fmi2GetNominalsOfContinuousStates";
+        self.require_me(F, ME2_NOMINALS, ME3_EVALUATION)?;
+        let description = M::description();
+        Self::check_len(F, "nx", nominals.len(), description.states.len())?;
+        self.initialized_for_evaluation()?;
+        self.core.model.nominals_of_continuous_states(nominals).map_err(|e| Failure::error(format!("{F}: {e}")))?;
+        if let Some((k, v)) = nominals.iter().enumerate().find(|(_, v)| !(v.is_finite() && **v > 0.0)) {
+            let name = description.variables[description.states[k]].name;
+            return Err(Failure::error(format!("{F}: the nominal of {name} is not finite and positive ({v})")));
+        }
+        Ok(Status::Ok)
+    }
+
+    /// fmi3GetNumberOfContinuousStates / fmi3GetNumberOfEventIndicators: the declared counts (any mode; this
+    /// FMU has no structural parameters).
+    pub fn number_of(&self, function: &str, event_indicators: bool) -> FmiResult<usize> {
+        self.require_interface(function, true)?;
+        let description = M::description();
+        Ok(if event_indicators { description.event_indicators.len() } else { description.states.len() })
+    }
+
     pub fn cancel_step(&mut self) -> FmiResult {
         Err(Failure::error("fmi2CancelStep: fmi2DoStep is synchronous (it never returns fmi2Pending)"))
     }
@@ -522,11 +927,13 @@ impl<M: FmuModel> Instance<M> {
     }
 
     pub fn last_successful_time(&self) -> FmiResult<f64> {
+        self.require_interface("fmi2GetRealStatus", false)?;
         self.require("fmi2GetRealStatus", STATUS_QUERY)?;
         Ok(self.core.time)
     }
 
     pub fn terminated(&self) -> FmiResult<bool> {
+        self.require_interface("fmi2GetBooleanStatus", false)?;
         self.require("fmi2GetBooleanStatus", STATUS_QUERY)?;
         Ok(self.core.terminated)
     }
@@ -607,6 +1014,14 @@ impl<M: FmuModel> Instance<M> {
             )));
         }
         let mut core = parsed.core;
+        let (theirs, ours) = (core.interface, self.context.interface);
+        if theirs.is_model_exchange() != ours.is_model_exchange() {
+            return Err(Failure::error(format!(
+                "{F}: a state of a {} instance cannot be set into this {} instance",
+                theirs.kind(),
+                ours.kind()
+            )));
+        }
         core.validate(&self.context).map_err(|e| Failure::error(format!("{F}: invalid state: {e}")))?;
         match self.saved.get_mut(*slot) {
             Some(existing) => *existing = core,
@@ -636,8 +1051,19 @@ impl<M: FmuModel> Core<M> {
                 return Err(format!("stop time {stop} is not finite or before the time {time}"));
             }
         }
+        let model_exchange = self.interface.is_model_exchange();
         match self.mode {
             Fatal => return Err("a state in the Fatal mode cannot be restored".into()),
+            StepComplete | StepFailed if model_exchange => {
+                return Err(format!("mode {:?} in a Model Exchange state", self.mode))
+            }
+            EventMode | ContinuousTimeMode if !model_exchange => {
+                return Err(format!("mode {:?} in a Co-Simulation state", self.mode))
+            }
+            // Model Exchange never ends a run by itself.
+            EventMode | ContinuousTimeMode if self.terminated => {
+                return Err(format!("mode {:?} with terminated = true", self.mode))
+            }
             StepFailed if !self.terminated => return Err("mode StepFailed with terminated = false".into()),
             // Only a failed step sets `terminated` (and fmi2ExitInitializationMode clears it): ready to step
             // with it set, a state would step OK and still tell the master the run has ended (fmi3DoStep's
@@ -650,7 +1076,9 @@ impl<M: FmuModel> Core<M> {
         }
         // needs_init = false: the model holds a simulation computed from its parameters (always so once
         // initialization mode has been left; a value set since then would be an input, not a parameter).
-        if self.needs_init && matches!(self.mode, StepComplete | StepFailed | Terminated) {
+        if self.needs_init
+            && matches!(self.mode, StepComplete | StepFailed | EventMode | ContinuousTimeMode | Terminated)
+        {
             return Err(format!("mode {:?} with needs_init = true", self.mode));
         }
         let initialized = !self.needs_init;
@@ -673,6 +1101,7 @@ fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
         result.map_err(|e| format!("start value of {} rejected by the model: {e}", var.name))?;
     }
     Ok(Core {
+        interface: context.interface,
         mode: Instantiated,
         start_time: 0.0,
         stop_time: None,

@@ -26,3 +26,6 @@ pub mod variables;
 
 pub use fmi_sys;
 pub use model::{FmuModel, Interface, ModelContext, ResourceLocation, StepFailure};
+
+#[cfg(test)]
+mod tests;

@@ -200,6 +200,8 @@ const FMI3_NAMES: &[(&str, &str)] = &[
     ("fmi2SerializeFMUstate", "fmi3SerializeFMUState"),
     ("fmi2DeSerializeFMUstate", "fmi3DeserializeFMUState"),
     ("fmi2GetRealOutputDerivatives", "fmi3GetOutputDerivatives"),
+    ("fmi2GetDerivatives", "fmi3GetContinuousStateDerivatives"),
+    ("fmi2NewDiscreteStates", "fmi3UpdateDiscreteStates"),
     ("fmi2SetRealInputDerivatives", "an input-derivative variable"),
     ("fmi2Terminated", "terminateSimulation"),
     ("fmi2LastSuccessfulTime", "lastSuccessfulTime"),
