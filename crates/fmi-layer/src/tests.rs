@@ -309,9 +309,9 @@ fn bad_model_exchange_arguments_are_errors_and_change_nothing() {
     // Times: finite, within [start, stop].
     assert!(error(i.set_time(f64::NAN)).contains("time NaN is not finite"));
     assert!(error(i.set_time(-1.0)).contains("before the start time 0"));
-    assert!(error(i.set_time(10.5)).contains("beyond the stop time 10"));
-    i.set_time(10.0 + 1e-12).unwrap();
-    assert_eq!(i.core.time, 10.0 + 1e-12);
+    // Past the stop time: accepted (an integrator's trial points; see `Instance::set_time`).
+    i.set_time(10.5).unwrap();
+    assert_eq!(i.core.time, 10.5);
     // Continuous-Time Mode: continuous inputs only; parameters not at all.
     i.set_real(&[1], &[0.5]).unwrap();
     assert!(error(i.set_integer(&[50], &[2])).contains("gear is a discrete input"));
