@@ -5,7 +5,14 @@ library through its fmi3… functions.
 
 Run by tests/fmu/test_c_api_fuzz.py in child processes, so that a crash is reported, not fatal:
 
-    python fuzz_driver.py LIBRARY RESOURCES_URI WORKDIR FIRST_SEED COUNT
+    python fuzz_driver.py LIBRARY RESOURCES_URI WORKDIR FIRST_SEED COUNT [cs|me]
+
+`me` runs Model Exchange sequences (`SequenceME`, `SequenceME3`): instances made for Model Exchange, the
+calls of the Co-Simulation sequences mixed with the Model Exchange ones (event and continuous-time modes,
+time, garbage and misshapen state vectors, the vector getters with wrong lengths and NULL, directional
+derivatives of odd value references and seeds, integrator-like explicit Euler steps). Besides the checks
+below: an fmi2OK vector getter gives finite values (nominals positive), non-finite states are never
+accepted, an fmi2OK event update reports nothing, an fmi2OK directional derivative is finite.
 
 LIBRARY is FMU_DIR/binaries/linux64/<modelIdentifier>.so of an unzipped FMU: the GUID, the value references,
 the outputs, the String parameter naming a data file (vehicle_file, path_file) and the parameters' ranges
@@ -119,11 +126,40 @@ def load(path):
         "fmi2GetDirectionalDerivative": (C.c_int, [fmi2Component, vr_p, n, vr_p, n, C.POINTER(C.c_double), C.POINTER(C.c_double)]),
         "fmi2GetTypesPlatform": (C.c_char_p, []),
         "fmi2GetVersion": (C.c_char_p, []),
+        "fmi2EnterEventMode": (C.c_int, [fmi2Component]),
+        "fmi2NewDiscreteStates": (C.c_int, [fmi2Component, C.c_void_p]),
+        "fmi2EnterContinuousTimeMode": (C.c_int, [fmi2Component]),
+        "fmi2CompletedIntegratorStep": (C.c_int, [fmi2Component, C.c_int, C.POINTER(C.c_int), C.POINTER(C.c_int)]),
+        "fmi2SetTime": (C.c_int, [fmi2Component, C.c_double]),
+        "fmi2SetContinuousStates": (C.c_int, [fmi2Component, C.POINTER(C.c_double), n]),
+        "fmi2GetDerivatives": (C.c_int, [fmi2Component, C.POINTER(C.c_double), n]),
+        "fmi2GetEventIndicators": (C.c_int, [fmi2Component, C.POINTER(C.c_double), n]),
+        "fmi2GetContinuousStates": (C.c_int, [fmi2Component, C.POINTER(C.c_double), n]),
+        "fmi2GetNominalsOfContinuousStates": (C.c_int, [fmi2Component, C.POINTER(C.c_double), n]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)
         f.restype, f.argtypes = res, args
     return lib
+
+
+def model_exchange(path):
+    """Model Exchange as the model description declares it: None, or (the value references of the states, of
+    their derivatives, the number of event indicators)."""
+    root = ET.parse(path).getroot()
+    if root.find("ModelExchange") is None:
+        return None
+    structure = root.find("ModelStructure")
+    if root.get("fmiVersion") == "3.0":
+        derivatives = [int(d.get("valueReference")) for d in structure.findall("ContinuousStateDerivative")]
+        by_vr = {int(v.get("valueReference")): v for v in root.find("ModelVariables")}
+        states = [int(by_vr[d].get("derivative")) for d in derivatives]
+        return states, derivatives, len(structure.findall("EventIndicator"))
+    svs = list(root.find("ModelVariables"))
+    typed = lambda sv: next(c for c in sv if c.tag in ("Real", "Integer", "Boolean", "String"))  # noqa: E731
+    listed = [svs[int(u.get("index")) - 1] for u in structure.find("Derivatives")]
+    states = [int(svs[int(typed(sv).get("derivative")) - 1].get("valueReference")) for sv in listed]
+    return states, [int(sv.get("valueReference")) for sv in listed], int(root.get("numberOfEventIndicators", "0"))
 
 
 def model_description(path):
@@ -289,6 +325,7 @@ class Fmu:
 
     def __init__(self, path):
         self.guid, self.identifier, self.vars, self.attributes = model_description(path)
+        self.model_exchange = model_exchange(path)
         self.profile = PROFILES[self.identifier]
         self.parameters = [v for v in self.vars if v[3] == "parameter"]
         self.inputs = [v for v in self.vars if v[3] == "input"]
@@ -389,7 +426,11 @@ class Sequence:
         args = [name.encode(), 1, self.guid.encode(), self.resources.encode(), cb, 0, 0]
         what = r.choice(["Model Exchange", "fmuType 7", "fmuType -1", "wrong GUID", "NULL GUID", "empty GUID",
                          "NULL instanceName", "NULL functions"])
-        where, value = {"Model Exchange": (1, 0), "fmuType 7": (1, 7), "fmuType -1": (1, -1),
+        if what == "Model Exchange" and self.fmu.model_exchange:
+            # An FMU with Model Exchange makes an instance for it (SequenceME): a wrong GUID is refused.
+            args[2] = b"{00000000-0000-0000-0000-000000000000}"
+            what = "Model Exchange, wrong GUID"
+        where, value = {"Model Exchange": (1, 0), "Model Exchange, wrong GUID": (1, 0), "fmuType 7": (1, 7), "fmuType -1": (1, -1),
                         "wrong GUID": (2, b"{00000000-0000-0000-0000-000000000000}"), "NULL GUID": (2, None),
                         "empty GUID": (2, b""), "NULL instanceName": (0, None), "NULL functions": (4, None)}[what]
         args[where] = value
@@ -801,6 +842,12 @@ def load3(path):
         "fmi3ActivateModelPartition": (C.c_int, V3 + [C.c_uint32, C.c_double]),
         "fmi3GetNumberOfVariableDependencies": (C.c_int, V3 + [C.c_uint32, C.POINTER(n)]),
         "fmi3GetDirectionalDerivative": (C.c_int, V3 + [VRP, n, VRP, n, C.POINTER(C.c_double), n, C.POINTER(C.c_double), n]),
+        "fmi3CompletedIntegratorStep": (C.c_int, V3 + [B, C.POINTER(B), C.POINTER(B)]),
+        "fmi3SetContinuousStates": (C.c_int, V3 + [C.POINTER(C.c_double), n]),
+        "fmi3GetContinuousStateDerivatives": (C.c_int, V3 + [C.POINTER(C.c_double), n]),
+        "fmi3GetEventIndicators": (C.c_int, V3 + [C.POINTER(C.c_double), n]),
+        "fmi3GetNominalsOfContinuousStates": (C.c_int, V3 + [C.POINTER(C.c_double), n]),
+        "fmi3GetNumberOfEventIndicators": (C.c_int, V3 + [C.POINTER(n)]),
     }
     for name, (res, args) in sig.items():
         f = getattr(lib, name)
@@ -817,6 +864,7 @@ class Sequence3(Sequence):
     terminateSimulation."""
 
     DESERIALIZE, FREE_STATE, FREE_INSTANCE = "fmi3DeserializeFMUState", "fmi3FreeFMUState", "fmi3FreeInstance"
+    ME_INSTANCES = False
 
     def __init__(self, lib, fmu, resources, workdir, seed):
         super().__init__(lib, fmu, resources, workdir, seed)
@@ -852,6 +900,8 @@ class Sequence3(Sequence):
         before = LOG.get(ANY, 0)
         token, iname = self.guid.encode(), name.encode()
         if what == "Model Exchange":
+            if self.fmu.model_exchange:  # made by SequenceME3; a wrong token is refused
+                token, what = b"{00000000-0000-0000-0000-000000000000}", "Model Exchange, wrong token"
             c = self.timed(what, lib.fmi3InstantiateModelExchange, iname, token, b"", False, False, None, LOG3_CALLBACK)
         elif what == "Scheduled Execution":
             c = self.timed(what, lib.fmi3InstantiateScheduledExecution, iname, token, b"", False, False, None,
@@ -1029,6 +1079,8 @@ class Sequence3(Sequence):
             ("fmi3GetNumberOfVariableDependencies", lambda: lib.fmi3GetNumberOfVariableDependencies(c, 200, None if nul else C.byref(n))),
             ("fmi3GetDirectionalDerivative", lambda: lib.fmi3GetDirectionalDerivative(c, vr, 1, vr, 1, d, 1, d, 1)),
         ]
+        if self.ME_INSTANCES:  # what a Model Exchange instance offers is in MeCalls
+            calls = [(name, fn) for (name, fn) in calls if name not in MeCalls.FMI3_ME_FUNCTIONS]
         name, fn = r.choice(calls)
         if self.call(i, f"{name}({'NULL' if nul else 'ptr'})", fn) != ERROR:
             self.problems.append(f"{name} did not return fmi3Error")
@@ -1054,6 +1106,253 @@ class Sequence3(Sequence):
         self.call(i, "fmi3FreeFMUState (snapshot)", lib.fmi3FreeFMUState, c, C.byref(slot))
 
 
+# ---- Model Exchange (the vehicle's RtVehicle.fmu and RtVehicle3.fmu) ---------------------------------------
+
+TIMES = [0.0, 1e-3, 0.01, 0.5, 8.0, 100.0, -1.0, -1e-300, 5e-324, 1e300, float("nan"), float("inf"), -float("inf")]
+
+
+class MeCalls:
+    """The Model Exchange calls of `SequenceME` and `SequenceME3`: mixed into a sequence of the same API, whose
+    own calls (values, FMU states, reset, terminate, fmi2DoStep, which an ME instance refuses) make the rest.
+    The API's names and the few signatures that differ are the class's `API`."""
+
+    ME_INSTANCES = True
+    FMI3_ME_FUNCTIONS = {"fmi3EnterEventMode", "fmi3EnterContinuousTimeMode", "fmi3UpdateDiscreteStates",
+                         "fmi3GetContinuousStates", "fmi3GetNumberOfContinuousStates", "fmi3SetTime",
+                         "fmi3GetDirectionalDerivative"}
+
+    def me_init(self):
+        self.x_vrs, self.dx_vrs, self.nz = self.fmu.model_exchange
+        self.nx = len(self.x_vrs)
+        self.x = {}  # instance index -> the last states read with OK (an integrator's view)
+
+    def fn(self, what):
+        return getattr(self.lib, self.API[what])
+
+    def vector(self, i, what, n=None, nul=False, values=None):
+        """A vector call (c, double*, size_t) with `n` (default: its declared length), NULL now and then; the
+        status and the values."""
+        c = self.instances[i][0]
+        declared = self.nz if what == "indicators" else self.nx
+        n = declared if n is None else n
+        buf = None if nul else (C.c_double * max(1, n))(*(values or [])[:max(1, n)])
+        label = f"{self.API[what]}(n={n}{', NULL' if nul else ''}{', x=' + repr(values[:3]) + '…' if values else ''})"
+        s = self.call(i, label, self.fn(what), c, buf, n)
+        return s, (list(buf)[:n] if buf is not None else [])
+
+    def me_one(self, i):
+        r, c = self.rng, self.instances[i][0]
+        k = r.randrange(11)
+        nul = r.random() < 0.1
+        if k == 0:
+            self.call(i, self.API["event"], self.fn("event"), c)
+        elif k == 1:
+            self.event_update(i, nul)
+        elif k == 2:
+            self.call(i, self.API["ct"], self.fn("ct"), c)
+        elif k == 3:
+            self.completed_step(i, nul)
+        elif k == 4:
+            t = r.choice(TIMES + [self.instances[i][2] + r.choice([1e-3, 0.01])])
+            if self.call(i, f"{self.API['time']}({t})", self.fn("time"), c, t) == OK:
+                if not math.isfinite(t):
+                    self.problems.append(f"{self.API['time']} accepted the time {t}")
+                self.instances[i][2] = t
+        elif k == 5:
+            self.set_states(i, nul)
+        elif k in (6, 7):
+            what = r.choice(["derivatives", "indicators", "states", "nominals"])
+            n = None if r.random() < 0.8 else r.choice([0, 1, self.nx + 1, self.nz + 1, 1 << 40])
+            if n is not None and n > 1 << 20:
+                nul = True
+            s, values = self.vector(i, what, n, nul)
+            if s == OK and n in (None, self.nx if what != "indicators" else self.nz):
+                if not all(math.isfinite(v) for v in values):
+                    self.problems.append(f"{self.API[what]} OK with non-finite values")
+                if what == "nominals" and not all(v > 0 for v in values):
+                    self.problems.append(f"{self.API[what]} OK with a nominal <= 0")
+                if what == "states":
+                    self.x[i] = values
+        elif k == 8:
+            self.directional(i, nul)
+        else:
+            self.euler(i)
+
+    def set_states(self, i, nul):
+        r = self.rng
+        x = list(self.x.get(i, [0.0] * self.nx))
+        how = r.choice(["as read", "perturbed", "garbage", "non-finite", "wrong length"])
+        if how == "perturbed":
+            x = [v * (1 + r.choice([1e-6, -1e-3, 0.1])) + r.choice([0.0, 1e-9]) for v in x]
+        elif how == "garbage":
+            x = [r.choice(REALS[:15] + [1e5]) for _ in x]
+        elif how == "non-finite":
+            x[r.randrange(self.nx)] = r.choice([float("nan"), float("inf"), -float("inf")])
+        n = self.nx if how != "wrong length" else r.choice([0, self.nx - 1, self.nx + 1])
+        s, _ = self.vector(i, "set", n, nul, values=x + [0.0] * max(0, n - len(x)))
+        if s == OK and how == "non-finite":
+            self.problems.append(f"{self.API['set']} accepted non-finite states")
+        if s == OK and how == "wrong length":
+            self.problems.append(f"{self.API['set']} accepted nx = {n}")
+
+    def euler(self, i):
+        """What an integrator does: time, derivatives, states moved along them."""
+        c, t = self.instances[i][0], self.instances[i][2]
+        h = self.rng.choice([1e-4, 1e-3, 0.01])
+        if self.call(i, f"{self.API['time']}({t + h}) (Euler)", self.fn("time"), c, t + h) != OK:
+            return
+        self.instances[i][2] = t + h
+        s, dx = self.vector(i, "derivatives")
+        if s != OK:
+            return
+        if not all(math.isfinite(v) for v in dx):
+            self.problems.append(f"{self.API['derivatives']} OK with non-finite values")
+            return
+        s, x = self.vector(i, "states")
+        if s == OK:
+            moved = [a + h * b for a, b in zip(x, dx)]
+            if self.vector(i, "set", values=moved)[0] == OK:
+                self.x[i] = moved
+                self.ok_steps += 1  # (Model Exchange: the Euler steps taken)
+
+    def directional(self, i, nul):
+        r = self.rng
+        inputs = [vr for (_, vr, kind, causality) in self.vars if causality == "input" and kind == "Real"]
+        parameters = [vr for (_, vr, kind, causality) in self.vars if causality == "parameter"]
+        garbage = [9999, 4242, 0, 2**32 - 1]
+        unknowns = [r.choice(self.dx_vrs + self.outputs + self.x_vrs + garbage) for _ in range(r.randint(1, 4))]
+        knowns = [r.choice(self.x_vrs + inputs + parameters[:2] + garbage[:2]) for _ in range(r.randint(0, 3))]
+        seed = [r.choice([1.0, 1.0, -2.0, 0.0, 1e-300, 1e300, float("nan"), float("inf")]) for _ in knowns]
+        nu, nk = len(unknowns), len(knowns)
+        if r.random() < 0.05:
+            nu, nk, nul = r.choice([(1 << 40, nk), (nu, 1 << 40)]) + (True,)
+        u = None if nul and r.random() < 0.5 else self.arr(C.c_uint, unknowns)
+        kk = None if nul and r.random() < 0.5 else self.arr(C.c_uint, knowns)
+        sd = self.arr(C.c_double, seed)
+        out = (C.c_double * max(1, len(unknowns)))()
+        label = f"{self.API['dd']}(unknowns={unknowns}, knowns={knowns}, seed={seed}, nu={nu}, nk={nk})"
+        s = self.call(i, label, *self.dd_args(i, u, nu, kk, nk, sd, out))
+        if s == OK and not all(math.isfinite(v) for v in out[:len(unknowns)]):
+            self.problems.append(f"{label} OK with non-finite values")
+
+
+class SequenceME(MeCalls, Sequence):
+    """FMI 2.0 Model Exchange sequences (RtVehicle.fmu)."""
+
+    API = {"event": "fmi2EnterEventMode", "update": "fmi2NewDiscreteStates", "ct": "fmi2EnterContinuousTimeMode",
+           "completed": "fmi2CompletedIntegratorStep", "time": "fmi2SetTime", "set": "fmi2SetContinuousStates",
+           "derivatives": "fmi2GetDerivatives", "indicators": "fmi2GetEventIndicators",
+           "states": "fmi2GetContinuousStates", "nominals": "fmi2GetNominalsOfContinuousStates",
+           "dd": "fmi2GetDirectionalDerivative"}
+
+    def __init__(self, lib, fmu, resources, workdir, seed):
+        super().__init__(lib, fmu, resources, workdir, seed)
+        self.me_init()
+
+    def instantiate(self):
+        r = self.rng
+        name = f"fuzz{self.seed}_{len(self.instances)}"
+        c = self.timed(f"fmi2Instantiate({name!r}, ModelExchange)", self.lib.fmi2Instantiate, name.encode(), 0,
+                       self.guid.encode(), self.resources.encode(), C.cast(C.pointer(CALLBACKS), C.c_void_p), 0,
+                       r.randint(0, 1))
+        if not c:
+            self.problems.append("fmi2Instantiate(fmi2ModelExchange) returned NULL")
+            return
+        self.instances.append([c, name, 0.0])
+        i = len(self.instances) - 1
+        if r.random() < 0.8:
+            self.call(i, "setup", self.lib.fmi2SetupExperiment, c, 0, 0.0, 0.0, 0, 0.0)
+            self.call(i, "enter", self.lib.fmi2EnterInitializationMode, c)
+            self.call(i, "exit", self.lib.fmi2ExitInitializationMode, c)
+            if r.random() < 0.7:
+                self.call(i, "fmi2EnterContinuousTimeMode", self.lib.fmi2EnterContinuousTimeMode, c)
+
+    def one(self, i=None):
+        if self.instances and self.rng.random() < 0.6:
+            self.me_one(self.rng.randrange(len(self.instances)) if i is None else i)
+        else:
+            super().one(i)
+
+    def event_update(self, i, nul):
+        class EventInfo(C.Structure):
+            _fields_ = [(f, C.c_int) for f in ("need", "terminate", "nominals", "values", "defined")] + [("t", C.c_double)]
+
+        info = EventInfo(7, 7, 7, 7, 7, 7.0)
+        s = self.call(i, f"fmi2NewDiscreteStates({'NULL' if nul else 'ptr'})", self.lib.fmi2NewDiscreteStates,
+                      self.instances[i][0], None if nul else C.cast(C.pointer(info), C.c_void_p))
+        if s == OK and (info.need or info.terminate or info.nominals or info.values or info.defined):
+            self.problems.append("fmi2NewDiscreteStates OK with a flag set")
+
+    def completed_step(self, i, nul):
+        a, b = C.c_int(7), C.c_int(7)
+        s = self.call(i, "fmi2CompletedIntegratorStep", self.lib.fmi2CompletedIntegratorStep, self.instances[i][0], 1,
+                      None if nul else C.byref(a), C.byref(b))
+        if s == OK and (a.value or b.value):
+            self.problems.append("fmi2CompletedIntegratorStep OK with enterEventMode or terminateSimulation")
+
+    def dd_args(self, i, u, nu, k, nk, seed, out):
+        return self.lib.fmi2GetDirectionalDerivative, self.instances[i][0], u, nu, k, nk, seed, out
+
+
+class SequenceME3(MeCalls, Sequence3):
+    """FMI 3.0 Model Exchange sequences (RtVehicle3.fmu)."""
+
+    API = {"event": "fmi3EnterEventMode", "update": "fmi3UpdateDiscreteStates", "ct": "fmi3EnterContinuousTimeMode",
+           "completed": "fmi3CompletedIntegratorStep", "time": "fmi3SetTime", "set": "fmi3SetContinuousStates",
+           "derivatives": "fmi3GetContinuousStateDerivatives", "indicators": "fmi3GetEventIndicators",
+           "states": "fmi3GetContinuousStates", "nominals": "fmi3GetNominalsOfContinuousStates",
+           "dd": "fmi3GetDirectionalDerivative"}
+
+    def __init__(self, lib, fmu, resources, workdir, seed):
+        super().__init__(lib, fmu, resources, workdir, seed)
+        self.me_init()
+
+    def instantiate(self):
+        r = self.rng
+        name = f"fuzz{self.seed}_{len(self.instances)}"
+        env = len(ENV_NAMES) + 1
+        ENV_NAMES[env] = name
+        c = self.timed(f"fmi3InstantiateModelExchange({name!r})", self.lib.fmi3InstantiateModelExchange, name.encode(),
+                       self.guid.encode(), self.resources.encode(), False, bool(r.randint(0, 1)), env, LOG3_CALLBACK)
+        if not c:
+            self.problems.append("fmi3InstantiateModelExchange returned NULL")
+            return
+        self.instances.append([c, name, 0.0])
+        i = len(self.instances) - 1
+        if r.random() < 0.8:
+            self.call(i, "enter", self.lib.fmi3EnterInitializationMode, c, False, 0.0, 0.0, False, 0.0)
+            self.call(i, "exit", self.lib.fmi3ExitInitializationMode, c)
+            if r.random() < 0.7:
+                self.call(i, "fmi3EnterContinuousTimeMode", self.lib.fmi3EnterContinuousTimeMode, c)
+
+    def one(self, i=None):
+        if self.instances and self.rng.random() < 0.6:
+            self.me_one(self.rng.randrange(len(self.instances)) if i is None else i)
+        else:
+            super().one(i)
+
+    def event_update(self, i, nul):
+        flags = [B(True) for _ in range(5)]
+        t = C.c_double(7.0)
+        outs = [C.byref(f) for f in flags] + [C.byref(t)]
+        if nul:
+            outs[self.rng.randrange(6)] = None
+        s = self.call(i, "fmi3UpdateDiscreteStates", self.lib.fmi3UpdateDiscreteStates, self.instances[i][0], *outs)
+        if s == OK and any(f.value for f in flags):
+            self.problems.append("fmi3UpdateDiscreteStates OK with a flag set")
+
+    def completed_step(self, i, nul):
+        a, b = B(True), B(True)
+        s = self.call(i, "fmi3CompletedIntegratorStep", self.lib.fmi3CompletedIntegratorStep, self.instances[i][0], True,
+                      None if nul else C.byref(a), C.byref(b))
+        if s == OK and (a.value or b.value):
+            self.problems.append("fmi3CompletedIntegratorStep OK with enterEventMode or terminateSimulation")
+
+    def dd_args(self, i, u, nu, k, nk, seed, out):
+        n_seed = nk if self.rng.random() < 0.9 else nk + 1  # nSeed must be nKnowns
+        return self.lib.fmi3GetDirectionalDerivative, self.instances[i][0], u, nu, k, nk, seed, n_seed, out, nu
+
+
 def prepare(workdir, profile):
     fifo = os.path.join(workdir, "fifo")
     if not os.path.exists(fifo):
@@ -1070,14 +1369,16 @@ def prepare(workdir, profile):
 
 def main():
     library, resources, workdir, first, count = sys.argv[1:6]
+    me = len(sys.argv) > 6 and sys.argv[6] == "me"
     fmu_dir = os.path.dirname(os.path.dirname(os.path.dirname(library)))
     fmu = Fmu(os.path.join(fmu_dir, "modelDescription.xml"))
     prepare(workdir, fmu.profile)
     # An FMI 3.0 archive's library (binaries/x86_64-linux/) is driven through its fmi3… functions.
     fmi3 = os.path.basename(os.path.dirname(library)) == "x86_64-linux"
     lib = load3(library) if fmi3 else load(library)
+    kind = {(False, False): Sequence, (True, False): Sequence3, (False, True): SequenceME, (True, True): SequenceME3}
     for seed in range(int(first), int(first) + int(count)):
-        print(json.dumps((Sequence3 if fmi3 else Sequence)(lib, fmu, resources, workdir, seed).run()), flush=True)
+        print(json.dumps(kind[(fmi3, me)](lib, fmu, resources, workdir, seed).run()), flush=True)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,8 @@
 """A fuzz test of the C API (issue 7): randomized, type-correct FMI call sequences against the packaged
 binaries of both FMUs, the vehicle (RtVehicle.fmu) and the driver (RtDriver.fmu), which share the FMI layer,
-and of the vehicle's FMI 3.0 archive (RtVehicle3.fmu, the same library through its fmi3… functions)
+and of the vehicle's FMI 3.0 archive (RtVehicle3.fmu, the same library through its fmi3… functions); and
+Model Exchange sequences of the vehicle, FMI 2.0 and 3.0 (instances made for Model Exchange; garbage and
+misshapen state vectors, calls out of order, directional derivatives of odd value references and seeds)
 (tests/fmu/fuzz_driver.py: value references and the String parameter read from each model description,
 what it cannot say in its PROFILES), each batch in a child process so that a crash or a hang is reported
 with the sequence and the call that caused it instead of ending the test run.
@@ -42,12 +44,12 @@ DRIVER = pathlib.Path(__file__).with_name("fuzz_driver.py")
 ANNOUNCED = re.compile(r"^seed (\d+) call (\d+): (.*)$")
 
 
-def run_child(library, resources, first, count):
+def run_child(library, resources, first, count, interface="cs"):
     """(results, death): the JSON result of every sequence that finished; for a child that did not end
     normally, (seed, call, how, detail, calls of that seed up to it), else None."""
     with tempfile.TemporaryDirectory() as work:
         try:
-            p = subprocess.run([sys.executable, str(DRIVER), library, resources, work, str(first), str(count)],
+            p = subprocess.run([sys.executable, str(DRIVER), library, resources, work, str(first), str(count), interface],
                                capture_output=True, timeout=60 + 3 * count)
             stdout, stderr, how = p.stdout, p.stderr, None
             if p.returncode < 0:
@@ -75,18 +77,18 @@ def run_child(library, resources, first, count):
     return results, (seed, "(before the first call)", how, said[:2], [])
 
 
-def run_batch(library, resources, first, count):
+def run_batch(library, resources, first, count, interface="cs"):
     """(results, findings): every finished sequence of seeds [first, first + count), and one finding per
     child that died, after which the batch continues with the next seed."""
     results, findings = [], []
     seed, end = first, first + count
     while seed < end:
-        rs, death = run_child(library, resources, seed, end - seed)
+        rs, death = run_child(library, resources, seed, end - seed, interface)
         results += rs
         if death is None:
             break
         culprit, call, how, detail, calls = death
-        _, alone = run_child(library, resources, culprit, 1)
+        _, alone = run_child(library, resources, culprit, 1, interface)
         findings.append({
             "seed": culprit, "call": call, "how": how, "detail": detail, "calls": calls,
             "alone": "reproduces alone" if alone else "does not reproduce alone (RTV_FUZZ seeds before it matter)",
@@ -99,7 +101,7 @@ def run_batch(library, resources, first, count):
     return results, findings
 
 
-def describe(f, identifier, platform):
+def describe(f, identifier, platform, interface):
     if f["call"] is None:
         return f"{f['how']} (after {MAX_FINDINGS_PER_BATCH} findings in the batch)"
     detail = "; ".join(f["detail"])
@@ -108,14 +110,16 @@ def describe(f, identifier, platform):
     return (f"seed {f['seed']}: {f['how']} in {f['call']} ({f['alone']}){': ' + detail if detail else ''}\n"
             f"    after: {' | '.join(shown) or '(nothing)'}\n"
             f"    replay: python tests/fmu/fuzz_driver.py FMU_DIR/binaries/{platform}/{identifier}.so file://FMU_DIR/resources "
-            f"$(mktemp -d) {f['seed']} 1")
+            f"$(mktemp -d) {f['seed']} 1 {interface}")
 
 
 FMU3_PATH = FMU_PATH.with_name("RtVehicle3.fmu")  # the vehicle's FMI 3.0 archive: the fmi3… functions
 
 
-@pytest.mark.parametrize("fmu", [FMU_PATH, DRIVER_PATH, FMU3_PATH], ids=lambda p: p.stem)
-def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, tmp_path, capsys):
+@pytest.mark.parametrize("fmu, interface", [(FMU_PATH, "cs"), (DRIVER_PATH, "cs"), (FMU3_PATH, "cs"), (FMU_PATH, "me"),
+                                            (FMU3_PATH, "me")],
+                         ids=["RtVehicle", "RtDriver", "RtVehicle3", "RtVehicle-ME", "RtVehicle3-ME"])
+def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, interface, tmp_path, capsys):
     if not fmu.is_file():
         pytest.fail(f"{fmu} does not exist: run `cargo run --release -p packaging` first")
     fmi3 = fmu == FMU3_PATH
@@ -127,7 +131,7 @@ def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, tmp_path, 
     batches = [(first, min(BATCH, SEQUENCES - first)) for first in range(0, SEQUENCES, BATCH)]
     t0 = time.perf_counter()
     with ThreadPoolExecutor(max_workers=2) as pool:
-        outcomes = list(pool.map(lambda b: run_batch(library, resources, *b), batches))
+        outcomes = list(pool.map(lambda b: run_batch(library, resources, *b, interface), batches))
     elapsed = time.perf_counter() - t0
     results = [r for (rs, _) in outcomes for r in rs]
     findings = [f for (_, fs) in outcomes for f in fs]
@@ -136,9 +140,9 @@ def test_random_call_sequences_never_crash_hang_or_fail_silently(fmu, tmp_path, 
     slowest = max((r["slowest"] for r in results), default=(0.0, ""))
     steps = sum(r["ok_steps"] for r in results)
     with capsys.disabled():
-        print(f"\nfuzz {fmu.stem}: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} {'fmi3OK' if fmi3 else 'fmi2OK'} steps) "
+        print(f"\nfuzz {fmu.stem}{' Model Exchange' if interface == 'me' else ''}: {len(results)} of {SEQUENCES} sequences finished, {calls} calls ({steps} {'fmi3OK' if fmi3 else 'fmi2OK'} steps) "
               f"in {elapsed:.1f} s; slowest call {slowest[0]:.3f} s ({slowest[1]}); "
               f"{len([f for f in findings if f['call']])} crashes or hangs, {len(problems)} other problems")
-    assert not findings, "\n".join(describe(f, identifier, platform) for f in findings)
+    assert not findings, "\n".join(describe(f, identifier, platform, interface) for f in findings)
     assert not problems, problems[:20]
     assert len(results) == SEQUENCES

@@ -5,8 +5,9 @@
  * read, FMU states got, set, serialized, deserialized (also into a slot that holds a state) and some left
  * alive at fmi3FreeInstance, reset, terminate, free; then, on a third instance, the hostile calls: an array
  * length of 2^32 with NULL arrays, nValues differing from nValueReferences, NaN, /dev/zero as vehicle_file,
- * a step of 1e5 s (refused), fmi3DoStep with a NULL out-pointer, a function of Model Exchange, the other
- * instantiate functions. Exits 1 if a call returns another status than expected. */
+ * a step of 1e5 s (refused), fmi3DoStep with a NULL out-pointer, a function of Model Exchange on this
+ * Co-Simulation instance, the other instantiate functions (Model Exchange: lifecycle_me.c). Exits 1 if a
+ * call returns another status than expected. */
 #include <dlfcn.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -80,7 +81,8 @@ int main(int argc, char **argv) {
            "a wrong instantiation token refused");
     expect(instantiate("events", TOKEN, res, false, false, true, false, NULL, 0, NULL, log_message, NULL) == NULL,
            "eventModeUsed refused");
-    expect(instantiate_me("me", TOKEN, res, false, false, NULL, log_message) == NULL, "Model Exchange refused");
+    expect(instantiate_me("me", "{nope}", res, false, false, NULL, log_message) == NULL,
+           "Model Exchange with a wrong token refused (lifecycle_me.c runs Model Exchange)");
 
     fmi3ValueReference step_vr = INTERNAL_STEP, formulation_vr = FORMULATION, file_vr = VEHICLE_FILE;
     fmi3ValueReference rack[2] = {RACK, RACK_VELOCITY};

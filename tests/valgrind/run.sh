@@ -2,7 +2,8 @@
 # valgrind memcheck over the whole lifecycle (tests/valgrind/lifecycle.c) of both packaged FMUs, the vehicle
 # (target/fmu/RtVehicle.fmu) and the driver (target/fmu/RtDriver.fmu), which share the FMI layer, and of the
 # vehicle's FMI 3.0 archive (target/fmu/RtVehicle3.fmu: the same library through its fmi3… functions,
-# tests/valgrind/lifecycle3.c) (build them with `cargo run --release -p packaging`). Each fails on any memory error and on any byte left at exit,
+# tests/valgrind/lifecycle3.c), and Model Exchange of the vehicle, FMI 2.0 and 3.0 (tests/valgrind/lifecycle_me.c)
+# (build them with `cargo run --release -p packaging`). Each fails on any memory error and on any byte left at exit,
 # "still reachable" included: the driver frees every instance and dlcloses the library, after which the
 # packaged binaries leave 0 bytes in use (measured), so a reachable block is memory the FMU kept past
 # fmi2FreeInstance, e.g. in a process-global table, which counting only "lost" blocks would miss (a state
@@ -15,26 +16,33 @@ work=target/valgrind
 rm -rf "$work" && mkdir -p "$work"
 cc -O1 -g -Wall -Wextra -o "$work/lifecycle" tests/valgrind/lifecycle.c -ldl
 cc -O1 -g -Wall -Wextra -o "$work/lifecycle3" tests/valgrind/lifecycle3.c -ldl
+cc -O1 -g -Wall -Wextra -o "$work/lifecycle_me" tests/valgrind/lifecycle_me.c -ldl -lm
 # Not `set -e` here: the summaries are printed whatever the outcome, a failing run's above all.
 status=0
-for fmu in RtVehicle:vehicle RtDriver:driver RtVehicle3:vehicle; do
+for fmu in RtVehicle:vehicle RtDriver:driver RtVehicle3:vehicle RtVehicle:me RtVehicle3:me; do
     archive=${fmu%%:*} model=${fmu##*:}
     identifier=${archive%3}
-    dir="$work/$archive"
+    name=$archive
+    [ "$model" != me ] || name="$archive-ME"
+    dir="$work/$name"
     mkdir -p "$dir/fmu"
     python3 -c "import sys, zipfile; zipfile.ZipFile(sys.argv[1]).extractall(sys.argv[2])" "target/fmu/$archive.fmu" "$dir/fmu"
     if [ "$archive" = "$identifier" ]; then  # FMI 2.0: binaries/linux64, a file: URI
-        master=("$work/lifecycle" "$dir/fmu/binaries/linux64/$identifier.so" "file://$(pwd)/$dir/fmu/resources" "$model")
+        library="$dir/fmu/binaries/linux64/$identifier.so" resources="file://$(pwd)/$dir/fmu/resources"
+        master=("$work/lifecycle" "$library" "$resources" "$model")
+        [ "$model" != me ] || master=("$work/lifecycle_me" "$library" "$resources" 2)
     else  # FMI 3.0: binaries/x86_64-linux, a native path with a trailing separator
-        master=("$work/lifecycle3" "$dir/fmu/binaries/x86_64-linux/$identifier.so" "$(pwd)/$dir/fmu/resources/")
+        library="$dir/fmu/binaries/x86_64-linux/$identifier.so" resources="$(pwd)/$dir/fmu/resources/"
+        master=("$work/lifecycle3" "$library" "$resources")
+        [ "$model" != me ] || master=("$work/lifecycle_me" "$library" "$resources" 3)
     fi
     one=0
     valgrind --error-exitcode=1 --leak-check=full --show-leak-kinds=all --errors-for-leak-kinds=all \
         --log-file="$dir/memcheck.log" "${master[@]}" || one=$?
     grep -E "Process terminating|All heap blocks were freed|ERROR SUMMARY|definitely lost:|indirectly lost:|possibly lost:|still reachable:|in use at exit" \
-        "$dir/memcheck.log" | sed "s/^==[0-9]*== */memcheck $archive: /"
+        "$dir/memcheck.log" | sed "s/^==[0-9]*== */memcheck $name: /"
     if [ "$one" -ne 0 ]; then
-        echo "memcheck $archive FAILED (exit status $one): $dir/memcheck.log"
+        echo "memcheck $name FAILED (exit status $one): $dir/memcheck.log"
         [ "$status" -ne 0 ] || status=$one
     fi
 done
