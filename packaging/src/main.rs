@@ -377,6 +377,8 @@ struct ModelDescription {
     version: String,
     default_experiment: String,
     capabilities: Vec<(String, String)>,
+    /// The Model Exchange element's attributes, if the FMU declares Model Exchange.
+    model_exchange: Option<Vec<(String, String)>>,
     categories: Vec<(String, String)>,
     vars: Vec<Var>,
 }
@@ -433,6 +435,8 @@ impl ModelDescription {
             version: attr(root, "version"),
             default_experiment,
             capabilities: cs.attributes().map(|a| (a.name().to_string(), a.value().to_string())).collect(),
+            model_exchange: child(root, "ModelExchange")
+                .map(|me| me.attributes().map(|a| (a.name().to_string(), a.value().to_string())).collect()),
             categories,
             vars,
         })
@@ -559,7 +563,7 @@ body {{ font-family: sans-serif; max-width: 72em; margin: 2em auto; line-height:
 table {{ border-collapse: collapse; font-size: 90%; }} td, th {{ border: 1px solid #bbb; padding: 2px 6px; text-align: left; vertical-align: top; }}
 th {{ background: #eee; }} code, pre {{ background: #f4f4f4; }} pre {{ padding: 0.6em; overflow-x: auto; }}
 </style></head><body>
-<h1>{title} — {standard} Co-Simulation</h1>
+<h1>{title} — {standard} Co-Simulation{me}</h1>
 <p>{desc}</p>
 <p>Version {version}, GUID <code>{guid}</code>, model identifier <code>{id}</code>. Default experiment: {de}.</p>
 
@@ -573,10 +577,14 @@ th {{ background: #eee; }} code, pre {{ background: #f4f4f4; }} pre {{ padding: 
         de = esc(&md.default_experiment),
         about = text.about,
         standard = standard.name(),
+        me = if md.model_exchange.is_some() { " and Model Exchange" } else { "" },
     )
     .unwrap();
     for (k, v) in &md.capabilities {
         writeln!(h, "<tr><td><code>{}</code></td><td>{}</td></tr>", esc(k), esc(v)).unwrap();
+    }
+    for (k, v) in md.model_exchange.iter().flatten() {
+        writeln!(h, "<tr><td>Model Exchange: <code>{}</code></td><td>{}</td></tr>", esc(k), esc(v)).unwrap();
     }
     writeln!(h, "</table>\n<p>Save/restore (<code>fmi2GetFMUstate</code>, <code>fmi2SerializeFMUstate</code>) captures the whole instance \
         (simulation, inputs, parameters): a replay from a restored state is bit-identical.</p>").unwrap();
