@@ -36,7 +36,7 @@ fn main() {
     for i in 0..n {
         let input = black_box(wheels[i % 4]);
         let f = tire::shear_forces(model, &p, &input);
-        let m_rr = tire::rolling_resistance_moment(&p, input.fz, 0.45, 60.0, f.fx, 27.0);
+        let m_rr = tire::rolling_resistance_moment(&p, input.fz, 0.45, 60.0, f.fx, 27.0, input.inclination);
         sum += f.fx + f.fy + f.mz + f.mx + m_rr;
     }
     println!("{which}: {n} evaluations, checksum {sum}");

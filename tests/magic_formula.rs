@@ -16,11 +16,16 @@ fn hmmwv_tir() -> PathBuf {
     chrono_data().join("hmmwv/tire/HMMWV_Pac02Tire.tir")
 }
 
+fn mf61_tir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/tires/mf61_example.tir")
+}
+
 #[test]
 fn every_shipped_file_keeps_iso_signs_and_side_symmetry() {
     let files = chrono_tir_files();
     assert_eq!(files.len(), 5, "{files:?}");
-    for path in files {
+    // And the MF 6.1 test file (its camber structure is 6.1's own).
+    for path in files.into_iter().chain([mf61_tir()]) {
         let mf = MagicFormula::read(&path).unwrap_or_else(|e| panic!("{e}"));
         let name = path.display();
         let fz = mf.fz0;
@@ -76,6 +81,35 @@ fn the_hmmwv_on_the_pac2002_tire_runs_every_scene() {
         assert!(text.lines().count() > 100, "{scene}: {} lines", text.lines().count());
         assert!(!text.contains("NaN") && !text.contains("inf"), "{scene}");
     }
+}
+
+#[test]
+fn the_mf61_file_drives_the_cli() {
+    // `rtv tire` curves and a J-turn on the MF 6.1 test file.
+    let out = std::env::temp_dir().join(format!("rtv_mf61_{}.csv", std::process::id()));
+    let run = Command::new(env!("CARGO_BIN_EXE_rtv"))
+        .args(["tire", "--fz", "6300", "--camber", "2", "--sweep", "alpha", "--tir"])
+        .arg(mf61_tir())
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(text.lines().count(), 402);
+    // The warnings name the keys of parts not modelled.
+    assert!(String::from_utf8_lossy(&run.stderr).contains("PDXP1"));
+    let run = Command::new(env!("CARGO_BIN_EXE_rtv"))
+        .args(["scene", "jturn", "--tire"])
+        .arg(mf61_tir())
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let _ = std::fs::remove_file(&out);
+    assert!(text.lines().count() > 100 && !text.contains("NaN") && !text.contains("inf"));
 }
 
 #[test]

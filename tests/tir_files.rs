@@ -34,6 +34,31 @@ fn every_shipped_tir_file_reads() {
 }
 
 #[test]
+fn the_mf61_test_file_reads() {
+    // resources/tires/mf61_example.tir (docs/tire_magic_formula.md, "MF 6.1 / 6.2"): FITTYP = 61, SI units,
+    // and the keys the MF 6.1 equations add are numbers.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/tires/mf61_example.tir");
+    let f = TirFile::read(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(f.format().unwrap(), TirFormat::Mf61);
+    for kind in [UnitKind::Length, UnitKind::Force, UnitKind::Angle, UnitKind::Mass, UnitKind::Time, UnitKind::Pressure]
+    {
+        assert_eq!(f.unit_factor(kind).unwrap(), 1.0, "{kind:?}");
+    }
+    for (section, key) in [
+        ("OPERATING_CONDITIONS", "NOMPRES"),
+        ("OPERATING_CONDITIONS", "INFLPRES"),
+        ("LATERAL_COEFFICIENTS", "PKY4"),
+        ("LATERAL_COEFFICIENTS", "PKY6"),
+        ("LATERAL_COEFFICIENTS", "PPY5"),
+        ("STRUCTURAL", "LONGITUDINAL_STIFFNESS"),
+        ("ALIGNING_COEFFICIENTS", "PPZ1"),
+        ("ROLLING_COEFFICIENTS", "QSY8"),
+    ] {
+        f.number(section, key).unwrap_or_else(|e| panic!("{e}"));
+    }
+}
+
+#[test]
 fn a_truncated_file_is_a_named_error() {
     let path = chrono_tir_files().into_iter().find(|p| p.ends_with("HMMWV_Pac02Tire.tir")).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();

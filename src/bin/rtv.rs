@@ -814,7 +814,7 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
                 // The model's adapted slips: tan α' = −tan α, γ_w = −γ (model::tire::magic_formula).
                 let input = SlipInput { side, ..SlipInput::rolling(fz, kappa, -alpha.tan(), -gamma) };
                 let f = tire::shear_forces(model, &p, &input);
-                let my = tire::rolling_resistance_moment(&p, fz, p.unloaded_radius_m, 1e3, f.fx, speed);
+                let my = tire::rolling_resistance_moment(&p, fz, p.unloaded_radius_m, 1e3, f.fx, speed, -gamma);
                 [f.fx, f.fy, f.mx, my, f.mz]
             })
         }

@@ -835,8 +835,15 @@ impl Vehicle {
                 };
                 let shear = tire::shear_forces(self.tire_model, &self.tire, &input);
                 let moments = [shear.mx * blend, shear.mz * blend];
-                let m_rr =
-                    tire::rolling_resistance_moment(&self.tire, fz, ct.loaded_radius, spin_rel, shear.fx, slip.vx);
+                let m_rr = tire::rolling_resistance_moment(
+                    &self.tire,
+                    fz,
+                    ct.loaded_radius,
+                    spin_rel,
+                    shear.fx,
+                    slip.vx,
+                    ct.inclination,
+                );
                 let force_ground = ct.force(fz, &shear);
                 let moment_ground = ct.moment_about_centre(&axle_ground, &force_ground, moments, m_rr);
                 let (force, moment_w) = (a0.tr_mul(&force_ground), a0.tr_mul(&moment_ground));

@@ -144,7 +144,7 @@ impl VehicleData {
         let t = &mut self.tire;
         t.unloaded_radius_m = mf.unloaded_radius;
         t.vertical_stiffness_N_per_m = mf.vertical_stiffness;
-        t.vertical_stiffness2_N_per_m2 = 0.0;
+        t.vertical_stiffness2_N_per_m2 = mf.vertical_stiffness2;
         t.vertical_damping_Ns_per_m = mf.vertical_damping;
         t.tir_file = Some(path.display().to_string());
         t.magic_formula = Some(Box::new(mf));

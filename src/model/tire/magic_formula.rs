@@ -1,4 +1,5 @@
-//! The Magic Formula tire, PAC2002 equations (issue 18; docs/tire.md, "Magic Formula").
+//! The Magic Formula tire, PAC2002 and MF 6.1/6.2 equations (issue 18; docs/tire.md, "Magic Formula";
+//! docs/tire_magic_formula.md, "MF 6.1 / 6.2").
 //!
 //! Steady-state forces and moments from a `.tir` property file: pure and combined slip (the Pacejka
 //! weighting functions G_xα, G_yκ, not a friction ellipse), camber, load dependence through
@@ -8,6 +9,18 @@
 //! set MSC ADAMS documents), written from the book; Chrono's `ChPac02Tire` was read for comparison (it
 //! differs on purpose in a few places: it uses a friction ellipse for combined slip by default, scales K_y by
 //! LMUY and writes μ_y with (1 + PDY3 γ²); here the book's forms are used).
+//!
+//! MF 6.1 (`FITTYP = 61`; 62 reads the same, its additions are MF-Swift's vertical and contact models, read
+//! as warnings) is a format switch (`version`) on the same code, one function per difference: the
+//! pressure-dependent vertical stiffness, K_yα with PKY4/PKY5 (`ky_load_shape`), the camber stiffness K_yγ0
+//! and the camber force structure S_Vyγ/S_Hy (`lateral_shifts`), PEY5, RBX3, RBY4, QDZ10/QDZ11 and LKZC in the
+//! residual torque, the trail acting on F_y at γ = 0 (`trail_force`), M_x with QSX12–14 (`overturning_moment`),
+//! M_y with camber, load and pressure powers (`rolling_resistance`), relaxation lengths from the carcass
+//! stiffnesses (`relaxation_lengths`). Written from Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. 2012,
+//! §4.3.2, and Besselink, Schmeitz & Pacejka (2010), *Vehicle System Dynamics* 48 S1, checked against the
+//! MATLAB Magic Formula library mfeval (Marco Furlan), read through its Julia port (github
+//! matheusft/MFeval_julia: Fy0.jl, Mz.jl, Mx.jl, My.jl, relaxation.jl, geometry.jl). Where mfeval follows the
+//! TNO solver empirically rather than the book (M_z's trail times LFZO, s with F_z0), the book is used.
 //!
 //! Sign convention: ISO 8855 / TYDEX W axes, which the `.tir` coefficients are fitted in — x forward, y to
 //! the left, z up; κ = −V_sx/|V_x| (> 0 driving); slip angle α with tan α = V_sy/|V_x| (> 0 when the contact
@@ -32,9 +45,12 @@ const EPS_FORCE_N: f64 = 1e-6;
 const EPS_STIFFNESS_N: f64 = 1e-6;
 
 /// Declares the coefficients struct and its reader: the required ones must be in the file, the others
-/// default as the format defines (0 for coefficients, 1 for scaling factors).
+/// default as the format defines (0 for coefficients, 1 for scaling factors). Each block is tagged with the
+/// formats it belongs to: `all`, `pac2002` (PAC2002 only), `mf6` (MF 6.1/6.2 only). A key of the other
+/// format is not read (it keeps its default, and `warn_unused` names it): a PAC2002 file's PHY3 means nothing
+/// to the 6.1 equations, and a 6.1 file's PKY4 nothing to PAC2002's.
 macro_rules! coefficients {
-    ($( [$section:literal] { $( $name:ident $(= $default:expr)? ),* $(,)? } )*) => {
+    ($( [$section:literal $tag:ident] { $( $name:ident $(= $default:expr)? ),* $(,)? } )*) => {
         /// Every coefficient the model uses, dimensionless as the file gives them (the Magic Formula's
         /// coefficients are ratios; forces, lengths and speeds are converted to SI on reading).
         #[allow(non_snake_case)]
@@ -42,11 +58,16 @@ macro_rules! coefficients {
         pub struct Coefficients { $( $( pub $name: f64, )* )* }
 
         impl Coefficients {
-            /// Every (section, key) the coefficients are read from.
-            const KEYS: &'static [(&'static str, &'static str)] = &[$( $( ($section, stringify!($name)), )* )*];
+            /// Every (section, key, formats) the coefficients are read from.
+            const KEYS: &'static [(&'static str, &'static str, Formats)] =
+                &[$( $( ($section, stringify!($name), Formats::$tag), )* )*];
 
-            fn read(file: &TirFile) -> Result<Coefficients, String> {
-                Ok(Coefficients { $( $( $name: coefficients!(@read file, $section, $name $(, $default)?), )* )* })
+            fn read(file: &TirFile, format: TirFormat) -> Result<Coefficients, String> {
+                Ok(Coefficients { $( $( $name: if Formats::$tag.has(format) {
+                    coefficients!(@read file, $section, $name $(, $default)?)
+                } else {
+                    coefficients!(@default $($default)?)
+                }, )* )* })
             }
         }
     };
@@ -56,43 +77,90 @@ macro_rules! coefficients {
     (@read $file:ident, $section:literal, $name:ident) => {
         $file.number($section, stringify!($name))?
     };
+    (@default $default:expr) => { $default };
+    // A required key of the other format: never used by this one's equations.
+    (@default) => { 0.0 };
+}
+
+/// Which formats a coefficient belongs to (the tags of `coefficients!`).
+#[allow(non_camel_case_types)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Formats {
+    all,
+    pac2002,
+    mf6,
+}
+
+impl Formats {
+    fn has(self, format: TirFormat) -> bool {
+        match self {
+            Formats::all => true,
+            Formats::pac2002 => format == TirFormat::Pac2002,
+            Formats::mf6 => format != TirFormat::Pac2002,
+        }
+    }
 }
 
 coefficients! {
-    ["SCALING_COEFFICIENTS"] {
-        LFZO = 1.0, LCX = 1.0, LMUX = 1.0, LEX = 1.0, LKX = 1.0, LHX = 1.0, LVX = 1.0, LGAX = 1.0,
-        LCY = 1.0, LMUY = 1.0, LEY = 1.0, LKY = 1.0, LHY = 1.0, LVY = 1.0, LGAY = 1.0,
-        LTR = 1.0, LRES = 1.0, LGAZ = 1.0, LXAL = 1.0, LYKA = 1.0, LVYKA = 1.0, LS = 1.0,
+    ["SCALING_COEFFICIENTS" all] {
+        LFZO = 1.0, LCX = 1.0, LMUX = 1.0, LEX = 1.0, LKX = 1.0, LHX = 1.0, LVX = 1.0,
+        LCY = 1.0, LMUY = 1.0, LEY = 1.0, LKY = 1.0, LHY = 1.0, LVY = 1.0,
+        LTR = 1.0, LRES = 1.0, LXAL = 1.0, LYKA = 1.0, LVYKA = 1.0, LS = 1.0,
         LSGKP = 1.0, LSGAL = 1.0, LMX = 1.0, LVMX = 1.0, LMY = 1.0, LCZ = 1.0,
     }
-    ["LONGITUDINAL_COEFFICIENTS"] {
+    // PAC2002 scales the inclination of each force (γ_x = γ LGAX, …); MF 6.1 scales the camber stiffnesses.
+    ["SCALING_COEFFICIENTS" pac2002] { LGAX = 1.0, LGAY = 1.0, LGAZ = 1.0 }
+    ["SCALING_COEFFICIENTS" mf6] { LKYC = 1.0, LKZC = 1.0 }
+    ["LONGITUDINAL_COEFFICIENTS" all] {
         PCX1, PDX1, PDX2 = 0.0, PDX3 = 0.0, PEX1 = 0.0, PEX2 = 0.0, PEX3 = 0.0, PEX4 = 0.0,
         PKX1, PKX2 = 0.0, PKX3 = 0.0, PHX1 = 0.0, PHX2 = 0.0, PVX1 = 0.0, PVX2 = 0.0,
         PPX1 = 0.0, PPX2 = 0.0, PPX3 = 0.0, PPX4 = 0.0,
         RBX1 = 0.0, RBX2 = 0.0, RCX1 = 1.0, REX1 = 0.0, REX2 = 0.0, RHX1 = 0.0,
         PTX1 = 0.0, PTX2 = 0.0, PTX3 = 0.0,
     }
-    ["OVERTURNING_COEFFICIENTS"] {
+    ["LONGITUDINAL_COEFFICIENTS" mf6] { RBX3 = 0.0 }
+    ["OVERTURNING_COEFFICIENTS" all] {
         QSX1 = 0.0, QSX2 = 0.0, QSX3 = 0.0, QSX4 = 0.0, QSX5 = 0.0, QSX6 = 0.0, QSX7 = 0.0, QSX8 = 0.0,
-        QSX9 = 0.0, QSX10 = 0.0, QSX11 = 0.0, QPX1 = 0.0,
+        QSX9 = 0.0, QSX10 = 0.0, QSX11 = 0.0,
     }
-    ["LATERAL_COEFFICIENTS"] {
+    ["OVERTURNING_COEFFICIENTS" pac2002] { QPX1 = 0.0 }
+    ["OVERTURNING_COEFFICIENTS" mf6] { QSX12 = 0.0, QSX13 = 0.0, QSX14 = 0.0, PPMX1 = 0.0 }
+    ["LATERAL_COEFFICIENTS" all] {
         PCY1, PDY1, PDY2 = 0.0, PDY3 = 0.0, PEY1 = 0.0, PEY2 = 0.0, PEY3 = 0.0, PEY4 = 0.0,
-        PKY1, PKY2, PKY3 = 0.0, PHY1 = 0.0, PHY2 = 0.0, PHY3 = 0.0,
+        PKY1, PKY2, PKY3 = 0.0, PHY1 = 0.0, PHY2 = 0.0,
         PVY1 = 0.0, PVY2 = 0.0, PVY3 = 0.0, PVY4 = 0.0, PPY1 = 0.0, PPY2 = 0.0, PPY3 = 0.0, PPY4 = 0.0,
         RBY1 = 0.0, RBY2 = 0.0, RBY3 = 0.0, RCY1 = 1.0, REY1 = 0.0, REY2 = 0.0, RHY1 = 0.0, RHY2 = 0.0,
         RVY1 = 0.0, RVY2 = 0.0, RVY3 = 0.0, RVY4 = 0.0, RVY5 = 0.0, RVY6 = 0.0,
         PTY1 = 0.0, PTY2 = 1.0,
     }
-    ["ROLLING_COEFFICIENTS"] {
-        QSY1 = 0.0, QSY2 = 0.0, QSY3 = 0.0, QSY4 = 0.0,
-    }
-    ["ALIGNING_COEFFICIENTS"] {
+    ["LATERAL_COEFFICIENTS" pac2002] { PHY3 = 0.0 }
+    // PKY4 (the sine's shape, 2 in PAC2002) and PKY6 (the camber stiffness) have no neutral value.
+    ["LATERAL_COEFFICIENTS" mf6] { PEY5 = 0.0, PKY4, PKY5 = 0.0, PKY6, PKY7 = 0.0, PPY5 = 0.0, RBY4 = 0.0 }
+    ["ROLLING_COEFFICIENTS" all] { QSY1 = 0.0, QSY2 = 0.0, QSY3 = 0.0, QSY4 = 0.0 }
+    // QSY7 = 1 where absent: M_y proportional to F_z, as in PAC2002.
+    ["ROLLING_COEFFICIENTS" mf6] { QSY5 = 0.0, QSY6 = 0.0, QSY7 = 1.0, QSY8 = 0.0 }
+    ["ALIGNING_COEFFICIENTS" all] {
         QBZ1, QBZ2 = 0.0, QBZ3 = 0.0, QBZ4 = 0.0, QBZ5 = 0.0, QBZ9 = 0.0, QBZ10 = 0.0,
         QCZ1, QDZ1, QDZ2 = 0.0, QDZ3 = 0.0, QDZ4 = 0.0, QDZ6 = 0.0, QDZ7 = 0.0, QDZ8 = 0.0, QDZ9 = 0.0,
         QEZ1 = 0.0, QEZ2 = 0.0, QEZ3 = 0.0, QEZ4 = 0.0, QEZ5 = 0.0,
-        QHZ1 = 0.0, QHZ2 = 0.0, QHZ3 = 0.0, QHZ4 = 0.0, QPZ1 = 0.0, QPZ2 = 0.0,
+        QHZ1 = 0.0, QHZ2 = 0.0, QHZ3 = 0.0, QHZ4 = 0.0,
         SSZ1 = 0.0, SSZ2 = 0.0, SSZ3 = 0.0, SSZ4 = 0.0,
+    }
+    ["ALIGNING_COEFFICIENTS" pac2002] { QPZ1 = 0.0, QPZ2 = 0.0 }
+    ["ALIGNING_COEFFICIENTS" mf6] { QDZ10 = 0.0, QDZ11 = 0.0, PPZ1 = 0.0, PPZ2 = 0.0 }
+    // MF 6.1's carcass stiffnesses (relaxation lengths σ = |K/C|) and vertical stiffness terms.
+    ["STRUCTURAL" mf6] { PCFX1 = 0.0, PCFX2 = 0.0, PCFX3 = 0.0, PCFY1 = 0.0, PCFY2 = 0.0, PCFY3 = 0.0 }
+    ["VERTICAL" mf6] { PFZ1 = 0.0, Q_FZ2 = 0.0 }
+}
+
+impl Coefficients {
+    /// MF 6.1 names three pressure coefficients of PAC2002's roles differently: PPZ1 (peak trail, PAC2002's
+    /// QPZ1), PPZ2 (residual torque, QPZ2) and PPMX1 (camber M_x, QPX1). They are moved to PAC2002's names, so
+    /// that one expression serves both formats.
+    fn use_mf6_names(&mut self) {
+        self.QPZ1 = self.PPZ1;
+        self.QPZ2 = self.PPZ2;
+        self.QPX1 = self.PPMX1;
     }
 }
 
@@ -108,16 +176,28 @@ pub enum TireSide {
 pub struct MagicFormula {
     /// The file it was read from (for messages and summaries).
     pub source: String,
+    /// "PAC2002", "MF 6.1" or "MF 6.2", for summaries; `version` is the switch the equations use.
     pub format: String,
+    pub version: TirFormat,
     pub c: Coefficients,
     /// Nominal load F_z0 (FNOMIN), N, and the scaled one F_z0' = LFZO F_z0.
     pub fz0: f64,
     pub fz0_scaled: f64,
     /// Free radius R0, m.
     pub unloaded_radius: f64,
-    /// Vertical stiffness (VERTICAL_STIFFNESS · LCZ), N/m, and damping, N·s/m.
+    /// Vertical stiffness (VERTICAL_STIFFNESS · LCZ), N/m, and damping, N·s/m. MF 6.x: the linear term of
+    /// F_z = k_z δ + k_z2 δ² with Q_FZ2 and the pressure term PFZ1 (`vertical_stiffnesses`).
     pub vertical_stiffness: f64,
+    pub vertical_stiffness2: f64,
     pub vertical_damping: f64,
+    /// MF 6.x: VERTICAL_STIFFNESS · LCZ at the nominal pressure, N/m (what `vertical_stiffness` follows from).
+    pub nominal_vertical_stiffness: f64,
+    /// MF 6.x: the carcass stiffnesses [C_x0, C_y0] (`[STRUCTURAL]` LONGITUDINAL_STIFFNESS,
+    /// LATERAL_STIFFNESS), N/m, where the file gives both: the relaxation lengths are then |K/C|.
+    pub carcass_stiffness: Option<[f64; 2]>,
+    /// Nominal and inflation pressure, Pa (0 where the file gives none).
+    pub nominal_pressure: f64,
+    pub inflation_pressure: f64,
     /// Measurement speed (LONGVL), m/s: the reference of the rolling-resistance speed terms.
     pub reference_speed: f64,
     /// Pressure ratio dp_i = (IP − IP_NOM)/IP_NOM (0 where the file gives no pressures).
@@ -151,14 +231,29 @@ pub struct MfLoads {
 /// The quantities of the pure-slip evaluation the combined slip and the moments reuse.
 struct Pure {
     fx0: f64,
-    fy0: f64,
     kx: f64,
+    y: Lateral,
+}
+
+/// The pure lateral slip's force and the factors the combined slip and M_z reuse.
+struct Lateral {
+    fy0: f64,
     ky: f64,
     mu_y: f64,
     by: f64,
     cy: f64,
     shy: f64,
     svy: f64,
+}
+
+/// A stiffness moved away from 0 by `EPS_STIFFNESS_N`, keeping its sign, to divide by (4.E39's K'_yα).
+#[inline(always)]
+fn nonzero_stiffness(k: f64) -> f64 {
+    if k < 0.0 {
+        k - EPS_STIFFNESS_N
+    } else {
+        k + EPS_STIFFNESS_N
+    }
 }
 
 /// y = D sin(C atan(B x − E (B x − atan(B x)))), the Magic Formula itself.
@@ -188,17 +283,11 @@ fn sin_2atan(x: f64) -> f64 {
 }
 
 impl MagicFormula {
-    /// Reads a property file. PAC2002 files are read; MF 6.1/6.2 files are refused until their equations
-    /// (load-dependent camber stiffness PKY4–PKY7, turn slip) are implemented.
+    /// Reads a property file: PAC2002, MF 6.1 or MF 6.2 (the 6.2 additions are the vertical and contact
+    /// models of MF-Swift, read as warnings). Turn slip and USE_MODE variants are refused.
     pub fn from_tir(file: &TirFile) -> Result<MagicFormula, String> {
         let name = &file.name;
         let format = file.format()?;
-        if format != TirFormat::Pac2002 {
-            return Err(format!(
-                "{name}: {format:?} property files are recognised but their equations (MF 6.1/6.2 camber \
-                 stiffness PKY4–PKY7, pressure in K_y, turn slip) are not implemented; PAC2002 files are read"
-            ));
-        }
         if let Ok(mode) = file.number("MODEL", "USE_MODE") {
             // 4: combined slip (this model); 14: the same with relaxation (the model always relaxes its
             // slips). 0–3 switch forces off, negative values mirror: not implemented.
@@ -224,15 +313,30 @@ impl MagicFormula {
         let force = file.unit_factor(UnitKind::Force)?;
         let time = file.unit_factor(UnitKind::Time)?;
         let pressure = file.unit_factor(UnitKind::Pressure)?;
-        let c = Coefficients::read(file)?;
+        let mut c = Coefficients::read(file, format)?;
         let fz0 = file.number("VERTICAL", "FNOMIN")? * force;
         let unloaded_radius = file.number("DIMENSION", "UNLOADED_RADIUS")? * length;
         let vertical_stiffness = file.number("VERTICAL", "VERTICAL_STIFFNESS")? * force / length * c.LCZ;
         let vertical_damping = file.number_or("VERTICAL", "VERTICAL_DAMPING", 0.0)? * force * time / length;
         let reference_speed = file.number("MODEL", "LONGVL")? * length / time;
-        let ip = file.number_or("TIRE_CONDITIONS", "IP", 0.0)? * pressure;
-        let ip_nom = file.number_or("TIRE_CONDITIONS", "IP_NOM", 0.0)? * pressure;
-        let pressure_ratio = if ip > 0.0 && ip_nom > 0.0 { (ip - ip_nom) / ip_nom } else { 0.0 };
+        // PAC2002: [TIRE_CONDITIONS] IP, IP_NOM (optional); MF 6.x: [OPERATING_CONDITIONS] NOMPRES (required:
+        // every pressure term is relative to it) and INFLPRES (NOMPRES where absent).
+        let (ip, ip_nom) = if format == TirFormat::Pac2002 {
+            (file.number_or("TIRE_CONDITIONS", "IP", 0.0)?, file.number_or("TIRE_CONDITIONS", "IP_NOM", 0.0)?)
+        } else {
+            c.use_mf6_names();
+            let nominal = file.number("OPERATING_CONDITIONS", "NOMPRES")?;
+            (file.number_or("OPERATING_CONDITIONS", "INFLPRES", nominal)?, nominal)
+        };
+        let carcass_stiffness = match (
+            file.number_or("STRUCTURAL", "LONGITUDINAL_STIFFNESS", 0.0)?,
+            file.number_or("STRUCTURAL", "LATERAL_STIFFNESS", 0.0)?,
+        ) {
+            (cx, cy) if format != TirFormat::Pac2002 && cx > 0.0 && cy > 0.0 => {
+                Some([cx * force / length, cy * force / length])
+            }
+            _ => None,
+        };
         let measured_side = match file.text("MODEL", "TYRESIDE").map(str::to_ascii_uppercase).as_deref() {
             Some("RIGHT") => TireSide::Right,
             _ => TireSide::Left,
@@ -243,15 +347,26 @@ impl MagicFormula {
         let half_pi = std::f64::consts::FRAC_PI_2;
         let mut mf = MagicFormula {
             source: name.clone(),
-            format: "PAC2002".into(),
+            format: match format {
+                TirFormat::Pac2002 => "PAC2002",
+                TirFormat::Mf61 => "MF 6.1",
+                TirFormat::Mf62 => "MF 6.2",
+            }
+            .into(),
+            version: format,
             fz0_scaled: c.LFZO * fz0,
             c,
             fz0,
             unloaded_radius,
             vertical_stiffness,
+            vertical_stiffness2: 0.0,
             vertical_damping,
+            nominal_vertical_stiffness: vertical_stiffness,
+            carcass_stiffness,
+            nominal_pressure: ip_nom * pressure,
+            inflation_pressure: ip * pressure,
             reference_speed,
-            pressure_ratio,
+            pressure_ratio: 0.0,
             measured_side,
             kappa_range: range("LONG_SLIP_RANGE", "KPUMIN", "KPUMAX", [-1.5, 1.5])?,
             // Kept inside ±(π/2 − 0.01): the bound is applied to tan α (ALPMAX = 1.5708 is a hair past π/2).
@@ -262,8 +377,10 @@ impl MagicFormula {
             fz_max: file.number_or("VERTICAL_FORCE_RANGE", "FZMAX", f64::INFINITY)? * force,
             warnings: file.warnings.clone(),
         };
+        mf.set_inflation_pressure(mf.inflation_pressure)?;
         mf.check()?;
         mf.warn_unused(file);
+        mf.warn_pressure_range(file, pressure)?;
         // A fit over braking slips only (KPUMAX = 0, the FED tire) would clamp every driving slip to 0 and
         // leave the car without traction: its range is taken symmetric, and the file's reader is told.
         for (key, range) in [("KPUMIN/KPUMAX", &mut mf.kappa_range), ("ALPMIN/ALPMAX", &mut mf.alpha_range)] {
@@ -280,31 +397,40 @@ impl MagicFormula {
         Ok(mf)
     }
 
-    /// Sections and keys of the file this model does not read (vendor sections, MF 6.x extras, the
-    /// vertical and structural data of other tire models), one warning per section.
+    /// Sections and keys of the file this model does not read (vendor sections, the other format's keys,
+    /// the MF 6.2/MF-Swift extras: turn slip, contact patch, belt dynamics, bottoming; the vertical and
+    /// structural data of other tire models), one warning per section.
     fn warn_unused(&mut self, file: &TirFile) {
-        const OTHERS: [(&str, &str); 18] = [
-            ("UNITS", "*"),
-            ("MODEL", "*"),
-            ("DIMENSION", "UNLOADED_RADIUS"),
-            ("VERTICAL", "FNOMIN"),
-            ("VERTICAL", "VERTICAL_STIFFNESS"),
-            ("VERTICAL", "VERTICAL_DAMPING"),
-            ("TIRE_CONDITIONS", "IP"),
-            ("TIRE_CONDITIONS", "IP_NOM"),
-            ("LONG_SLIP_RANGE", "KPUMIN"),
-            ("LONG_SLIP_RANGE", "KPUMAX"),
-            ("SLIP_ANGLE_RANGE", "ALPMIN"),
-            ("SLIP_ANGLE_RANGE", "ALPMAX"),
-            ("INCLINATION_ANGLE_RANGE", "CAMMIN"),
-            ("INCLINATION_ANGLE_RANGE", "CAMMAX"),
-            ("VERTICAL_FORCE_RANGE", "FZMAX"),
-            ("MDI_HEADER", "*"),
-            ("SHAPE", "*"),
-            ("VERTICAL_FORCE_RANGE", "FZMIN"),
+        const OTHERS: [(&str, &str, Formats); 22] = [
+            ("UNITS", "*", Formats::all),
+            ("MODEL", "*", Formats::all),
+            ("DIMENSION", "UNLOADED_RADIUS", Formats::all),
+            ("VERTICAL", "FNOMIN", Formats::all),
+            ("VERTICAL", "VERTICAL_STIFFNESS", Formats::all),
+            ("VERTICAL", "VERTICAL_DAMPING", Formats::all),
+            ("TIRE_CONDITIONS", "IP", Formats::pac2002),
+            ("TIRE_CONDITIONS", "IP_NOM", Formats::pac2002),
+            ("OPERATING_CONDITIONS", "INFLPRES", Formats::mf6),
+            ("OPERATING_CONDITIONS", "NOMPRES", Formats::mf6),
+            ("INFLATION_PRESSURE_RANGE", "*", Formats::mf6),
+            ("STRUCTURAL", "LONGITUDINAL_STIFFNESS", Formats::mf6),
+            ("STRUCTURAL", "LATERAL_STIFFNESS", Formats::mf6),
+            ("LONG_SLIP_RANGE", "*", Formats::all),
+            ("SLIP_ANGLE_RANGE", "*", Formats::all),
+            ("INCLINATION_ANGLE_RANGE", "*", Formats::all),
+            ("VERTICAL_FORCE_RANGE", "FZMAX", Formats::all),
+            ("VERTICAL_FORCE_RANGE", "FZMIN", Formats::all),
+            ("MDI_HEADER", "*", Formats::all),
+            ("SHAPE", "*", Formats::all),
+            ("LONG_SLIP_RANGE", "KPUMIN", Formats::all),
+            ("LONG_SLIP_RANGE", "KPUMAX", Formats::all),
         ];
+        let version = self.version;
         let used = |section: &str, key: &str| {
-            Coefficients::KEYS.iter().chain(OTHERS.iter()).any(|(s, k)| *s == section && (*k == "*" || *k == key))
+            Coefficients::KEYS
+                .iter()
+                .chain(OTHERS.iter())
+                .any(|(s, k, formats)| *s == section && (*k == "*" || *k == key) && formats.has(version))
         };
         for (section, entries) in &file.sections {
             let unused: Vec<&str> = entries.keys().filter(|k| !used(section, k)).map(String::as_str).collect();
@@ -312,12 +438,65 @@ impl MagicFormula {
                 let shown = unused.iter().take(6).copied().collect::<Vec<_>>().join(", ");
                 let more = if unused.len() > 6 { format!(" and {} more", unused.len() - 6) } else { String::new() };
                 self.warnings.push(format!(
-                    "{}: [{section}] {} key(s) not used by this model: {shown}{more}",
+                    "{}: [{section}] {} key(s) not used by this model (not modelled, or not of {}): {shown}{more}",
                     self.source,
-                    unused.len()
+                    unused.len(),
+                    self.format
                 ));
             }
         }
+    }
+
+    /// Sets the inflation pressure (Pa) and what follows from it: dp_i = (p − p_nom)/p_nom (Pacejka 2012,
+    /// 4.E2b) and, for MF 6.x, the vertical stiffnesses. PAC2002 files without IP/IP_NOM, and a non-positive
+    /// pressure, keep dp_i = 0.
+    pub fn set_inflation_pressure(&mut self, pressure_pa: f64) -> Result<(), String> {
+        let nominal = self.nominal_pressure;
+        self.inflation_pressure = pressure_pa;
+        self.pressure_ratio = if pressure_pa > 0.0 && nominal > 0.0 { (pressure_pa - nominal) / nominal } else { 0.0 };
+        if self.version != TirFormat::Pac2002 {
+            if !(nominal > 0.0) {
+                return Err(format!("{}: NOMPRES = {nominal} Pa must be positive", self.source));
+            }
+            [self.vertical_stiffness, self.vertical_stiffness2] = self.vertical_stiffnesses()?;
+        }
+        Ok(())
+    }
+
+    /// MF 6.x vertical stiffness (Besselink et al. 2010, eq. 4–5; the MF-Tyre 6.1 manual): F_z = (1 + PFZ1
+    /// dp_i) (Q_FZ1 ρ/R0 + Q_FZ2 (ρ/R0)²) F_z0 with Q_FZ1 = √((C_z0 R0/F_z0)² − 4 Q_FZ2), so that the slope at
+    /// F_z0 is C_z0 = VERTICAL_STIFFNESS (Q_FZ1 as mfeval's readTIR derives it). As [k_z, k_z2] of the model's
+    /// F_z = k_z δ + k_z2 δ² (the speed and force corrections Q_V2, Q_FCX, Q_FCY are not modelled).
+    fn vertical_stiffnesses(&self) -> Result<[f64; 2], String> {
+        let (r0, fz0, q2) = (self.unloaded_radius, self.fz0, self.c.Q_FZ2);
+        let k = self.nominal_vertical_stiffness * r0 / fz0;
+        if !(k * k - 4.0 * q2 > 0.0) {
+            return Err(format!(
+                "{}: [VERTICAL] Q_FZ2 = {q2} exceeds (VERTICAL_STIFFNESS R0/FNOMIN)²/4 = {}: no vertical stiffness",
+                self.source,
+                k * k / 4.0
+            ));
+        }
+        let q1 = (k * k - 4.0 * q2).sqrt();
+        let p = 1.0 + self.c.PFZ1 * self.pressure_ratio;
+        Ok([p * q1 * fz0 / r0, p * q2 * fz0 / (r0 * r0)])
+    }
+
+    /// MF 6.x: a warning when INFLPRES is outside the file's [INFLATION_PRESSURE_RANGE] PRESMIN/PRESMAX (the
+    /// pressure terms were fitted there).
+    fn warn_pressure_range(&mut self, file: &TirFile, unit: f64) -> Result<(), String> {
+        if self.version == TirFormat::Pac2002 {
+            return Ok(());
+        }
+        let lo = file.number_or("INFLATION_PRESSURE_RANGE", "PRESMIN", f64::NEG_INFINITY)? * unit;
+        let hi = file.number_or("INFLATION_PRESSURE_RANGE", "PRESMAX", f64::INFINITY)? * unit;
+        if !(lo..=hi).contains(&self.inflation_pressure) {
+            self.warnings.push(format!(
+                "{}: INFLPRES = {} Pa is outside PRESMIN/PRESMAX = {lo}/{hi} Pa: the pressure terms extrapolate",
+                self.source, self.inflation_pressure
+            ));
+        }
+        Ok(())
     }
 
     /// Values a usable tire must have; each error names the file and the key.
@@ -342,6 +521,9 @@ impl MagicFormula {
         }
         if self.c.PKY1 == 0.0 {
             return Err(format!("{name}: PKY1 = 0 gives no cornering stiffness"));
+        }
+        if self.version != TirFormat::Pac2002 && self.c.PKY4 == 0.0 {
+            return Err(format!("{name}: PKY4 = 0 gives no cornering stiffness"));
         }
         // PDY1 < 0 in some MF-Tyre 5 exports ("W-axis system", the FED tire): D_y and B_y = K_y/(C_y D_y)
         // change sign together, so F_y ≈ K_y α keeps the sign of PKY1 either way.
@@ -396,31 +578,93 @@ impl MagicFormula {
         ]
     }
 
-    /// K_yα with the camber factor, N/rad (negative in the ISO files).
+    /// K_yα with the camber factor, N/rad (negative in the ISO files): PKY1 F_z0' (1 + PPY1 dp_i) ×
+    /// (load shape) (1 − PKY3 |γ|) LKY (PAC2002 4.E25; MF 6.1 4.E25 of Pacejka 2012).
     #[inline(always)]
     fn ky(&self, fz: f64, gamma_y: f64) -> f64 {
         let (c, dpi) = (&self.c, self.pressure_ratio);
         c.PKY1
             * self.fz0_scaled
             * (1.0 + c.PPY1 * dpi)
-            * sin_2atan(fz / (c.PKY2 * self.fz0_scaled * (1.0 + c.PPY2 * dpi)))
+            * self.ky_load_shape(fz, gamma_y)
             * (1.0 - c.PKY3 * gamma_y.abs())
             * c.LKY
     }
 
-    /// Relaxation lengths (σ_κ, σ_α) at load `fz`, m (PTX1–3, PTY1–2; PAC2002).
+    /// K_yα's load dependence: PAC2002's sin(2 atan(F_z/(PKY2 F_z0' (1 + PPY2 dp_i)))), written 2x/(1 + x²);
+    /// MF 6.1's sin(PKY4 atan(F_z/((PKY2 + PKY5 γ²)(1 + PPY2 dp_i) F_z0'))), the same at PKY4 = 2, PKY5 = 0.
+    #[inline(always)]
+    fn ky_load_shape(&self, fz: f64, gamma: f64) -> f64 {
+        let (c, dpi) = (&self.c, self.pressure_ratio);
+        match self.version {
+            TirFormat::Pac2002 => sin_2atan(fz / (c.PKY2 * self.fz0_scaled * (1.0 + c.PPY2 * dpi))),
+            _ => {
+                let x = fz / ((c.PKY2 + c.PKY5 * gamma * gamma) * (1.0 + c.PPY2 * dpi) * self.fz0_scaled);
+                (c.PKY4 * x.atan()).sin()
+            }
+        }
+    }
+
+    /// Camber stiffness K_yγ = ∂F_y/∂γ at α = κ = γ = 0 (where the other shifts vanish), N/rad, ISO signs
+    /// (negative in the usual files: a wheel leaning right, γ > 0, is pushed right). MF 6.1: K_yγ0 = F_z
+    /// (PKY6 + PKY7 dF_z)(1 + PPY5 dp_i) LKYC (Pacejka 2012 4.E30); PAC2002: PHY3 K_yα0 + F_z (PVY3 + PVY4
+    /// dF_z) LMUY, times LGAY (what S_Hy and S_Vy give through the slope K_yα).
+    pub fn camber_stiffness(&self, fz: f64) -> f64 {
+        let (c, dfz) = (&self.c, self.load_increment(fz));
+        match self.version {
+            TirFormat::Pac2002 => (c.PHY3 * self.ky(fz, 0.0) + fz * (c.PVY3 + c.PVY4 * dfz) * c.LMUY) * c.LGAY,
+            _ => self.camber_stiffness_mf6(fz, dfz),
+        }
+    }
+
+    /// MF 6.1's K_yγ0 (4.E30).
+    #[inline(always)]
+    fn camber_stiffness_mf6(&self, fz: f64, dfz: f64) -> f64 {
+        let c = &self.c;
+        fz * (c.PKY6 + c.PKY7 * dfz) * (1.0 + c.PPY5 * self.pressure_ratio) * c.LKYC
+    }
+
+    /// The lateral shifts (S_Hy, S_Vy) at inclination γ_y. PAC2002 (4.E27, 4.E29): the camber shifts PHY3 γ
+    /// and F_z (PVY3 + PVY4 dF_z) γ. MF 6.1 (Pacejka 2012 4.E27–4.E29): the vertical one is S_Vyγ = F_z
+    /// (PVY3 + PVY4 dF_z) γ LKYC LMUY, and the horizontal one makes the slope at α = 0 the camber stiffness:
+    /// S_Hy = (PHY1 + PHY2 dF_z) LHY + (K_yγ0 γ − S_Vyγ)/K_yα.
+    #[inline(always)]
+    fn lateral_shifts(&self, fz: f64, dfz: f64, gamma_y: f64, ky: f64, lmuy: f64) -> (f64, f64) {
+        let c = &self.c;
+        let shy = (c.PHY1 + c.PHY2 * dfz) * c.LHY;
+        let pvy = (c.PVY1 + c.PVY2 * dfz) * c.LVY;
+        let pvy_gamma = (c.PVY3 + c.PVY4 * dfz) * gamma_y;
+        match self.version {
+            TirFormat::Pac2002 => (shy + c.PHY3 * gamma_y, fz * (pvy + pvy_gamma) * lmuy),
+            _ => {
+                let svy_gamma = fz * pvy_gamma * c.LKYC * lmuy;
+                let kyg0 = self.camber_stiffness_mf6(fz, dfz);
+                (shy + (kyg0 * gamma_y - svy_gamma) / nonzero_stiffness(ky), fz * pvy * lmuy + svy_gamma)
+            }
+        }
+    }
+
+    /// Relaxation lengths (σ_κ, σ_α) at load `fz`, m. MF 6.x files with carcass stiffnesses: σ = |K/C| with
+    /// C_x = C_x0 (1 + PCFX1 dF_z + PCFX2 dF_z²)(1 + PCFX3 dp_i), C_y likewise with PCFY1–3 (Besselink et al.
+    /// 2010, eq. 17–19), at γ = 0. Otherwise PAC2002's PTX1–3, PTY1–2 (what `has_relaxation` asks for).
     pub fn relaxation_lengths(&self, fz: f64) -> [f64; 2] {
         let c = &self.c;
         let dfz = self.load_increment(fz);
+        if let Some([cx0, cy0]) = self.carcass_stiffness {
+            let dpi = self.pressure_ratio;
+            let cx = cx0 * (1.0 + c.PCFX1 * dfz + c.PCFX2 * dfz * dfz) * (1.0 + c.PCFX3 * dpi);
+            let cy = cy0 * (1.0 + c.PCFY1 * dfz + c.PCFY2 * dfz * dfz) * (1.0 + c.PCFY3 * dpi);
+            return [(self.longitudinal_stiffness(fz) / cx).abs(), (self.cornering_stiffness(fz) / cy).abs()];
+        }
         let r0 = self.unloaded_radius;
         let sigma_kappa = fz * (c.PTX1 + c.PTX2 * dfz) * (-c.PTX3 * dfz).exp() * (r0 / self.fz0_scaled) * c.LSGKP;
         let sigma_alpha = c.PTY1 * sin_2atan(fz / (c.PTY2 * self.fz0_scaled)) * r0 * c.LFZO * c.LSGAL;
         [sigma_kappa, sigma_alpha]
     }
 
-    /// Whether the file gives relaxation lengths (PTX1 and PTY1 non-zero).
+    /// Whether the file gives relaxation lengths: MF 6.x carcass stiffnesses, or PTX1 and PTY1 non-zero.
     pub fn has_relaxation(&self) -> bool {
-        self.c.PTX1 != 0.0 && self.c.PTY1 != 0.0
+        self.carcass_stiffness.is_some() || (self.c.PTX1 != 0.0 && self.c.PTY1 != 0.0)
     }
 
     /// Pure slip: F_x0(κ), F_y0(α) and what combined slip and M_z reuse. ISO inputs (α is tan α, as the
@@ -431,7 +675,7 @@ impl MagicFormula {
         let dfz = self.load_increment(fz);
         let dpi = self.pressure_ratio;
 
-        // Longitudinal (4.E9–4.E18).
+        // Longitudinal (4.E9–4.E18; MF 6.1 the same).
         let gamma_x = gamma * c.LGAX;
         let shx = (c.PHX1 + c.PHX2 * dfz) * c.LHX;
         let kappa_x = kappa + shx;
@@ -447,10 +691,18 @@ impl MagicFormula {
         let bx = kx / (cx * dx + EPS_FORCE_N);
         let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * lmux;
         let fx0 = magic(bx, cx, dx, ex, kappa_x) + svx;
+        let y = self.lateral(fz, dfz, alpha, gamma, lmuy);
+        Pure { fx0, kx, y }
+    }
 
-        // Lateral (4.E19–4.E30).
+    /// Pure lateral slip F_y0(α) at inclination γ (4.E19–4.E30; MF 6.1 adds PEY5 γ² to E_y and its camber
+    /// structure in `ky`, `lateral_shifts`).
+    #[inline(always)]
+    fn lateral(&self, fz: f64, dfz: f64, alpha: f64, gamma: f64, lmuy: f64) -> Lateral {
+        let (c, dpi) = (&self.c, self.pressure_ratio);
         let gamma_y = gamma * c.LGAY;
-        let shy = (c.PHY1 + c.PHY2 * dfz) * c.LHY + c.PHY3 * gamma_y;
+        let ky = self.ky(fz, gamma_y);
+        let (shy, svy) = self.lateral_shifts(fz, dfz, gamma_y, ky, lmuy);
         let alpha_y = alpha + shy;
         let cy = c.PCY1 * c.LCY;
         let mu_y = (c.PDY1 + c.PDY2 * dfz)
@@ -458,12 +710,13 @@ impl MagicFormula {
             * (1.0 - c.PDY3 * gamma_y * gamma_y)
             * lmuy;
         let dy = mu_y * fz;
-        let ey = ((c.PEY1 + c.PEY2 * dfz) * (1.0 - (c.PEY3 + c.PEY4 * gamma_y) * alpha_y.signum()) * c.LEY).min(1.0);
-        let ky = self.ky(fz, gamma_y);
+        let ey = ((c.PEY1 + c.PEY2 * dfz)
+            * (1.0 + c.PEY5 * gamma_y * gamma_y - (c.PEY3 + c.PEY4 * gamma_y) * alpha_y.signum())
+            * c.LEY)
+            .min(1.0);
         let by = ky / (cy * dy + EPS_FORCE_N);
-        let svy = fz * ((c.PVY1 + c.PVY2 * dfz) * c.LVY + (c.PVY3 + c.PVY4 * dfz) * gamma_y) * lmuy;
         let fy0 = magic(by, cy, dy, ey, alpha_y) + svy;
-        Pure { fx0, fy0, kx, ky, mu_y, by, cy, shy, svy }
+        Lateral { fy0, ky, mu_y, by, cy, shy, svy }
     }
 
     /// The loads of the tire as measured (its own side), ISO inputs, combined slip (USE_MODE 4).
@@ -487,30 +740,30 @@ impl MagicFormula {
         let (lmux, lmuy) = (c.LMUX * friction, c.LMUY * friction);
         let p = self.pure(fz, kappa, alpha, gamma, [lmux, lmuy]);
 
-        // Combined slip (4.E50–4.E67).
+        // Combined slip (4.E50–4.E67; MF 6.1 adds RBX3 γ² and RBY4 γ² to B_xα and B_yκ).
         let shxa = c.RHX1;
         let alpha_s = alpha + shxa;
-        let bxa = c.RBX1 * cos_atan(c.RBX2 * kappa) * c.LXAL;
+        let bxa = (c.RBX1 + c.RBX3 * gamma * gamma) * cos_atan(c.RBX2 * kappa) * c.LXAL;
         let exa = (c.REX1 + c.REX2 * dfz).min(1.0);
         let gxa = cosine_shape(bxa, c.RCX1, exa, alpha_s) / cosine_shape(bxa, c.RCX1, exa, shxa);
         let fx = gxa * p.fx0;
 
         let shyk = c.RHY1 + c.RHY2 * dfz;
         let kappa_s = kappa + shyk;
-        let byk = c.RBY1 * cos_atan(c.RBY2 * (alpha - c.RBY3)) * c.LYKA;
+        let byk = (c.RBY1 + c.RBY4 * gamma * gamma) * cos_atan(c.RBY2 * (alpha - c.RBY3)) * c.LYKA;
         let eyk = (c.REY1 + c.REY2 * dfz).min(1.0);
-        let dvyk = p.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma) * cos_atan(c.RVY4 * alpha);
+        let dvyk = p.y.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma) * cos_atan(c.RVY4 * alpha);
         let svyk = dvyk * (c.RVY5 * (c.RVY6 * kappa).atan()).sin() * c.LVYKA;
         let gyk = cosine_shape(byk, c.RCY1, eyk, kappa_s) / cosine_shape(byk, c.RCY1, eyk, shyk);
-        let fy = gyk * p.fy0 + svyk;
+        let fy = gyk * p.y.fy0 + svyk;
 
-        // Aligning moment (4.E31–4.E49, combined 4.E71–4.E78).
+        // Aligning moment (4.E31–4.E49, combined 4.E71–4.E78; MF 6.1's QDZ10–11 and LKZC in D_r).
         let r0 = self.unloaded_radius;
         let gamma_z = gamma * c.LGAZ;
         let cos_alpha = cos_atan(alpha);
         let sht = c.QHZ1 + c.QHZ2 * dfz + (c.QHZ3 + c.QHZ4 * dfz) * gamma_z;
-        let ky_safe = if p.ky < 0.0 { p.ky - EPS_STIFFNESS_N } else { p.ky + EPS_STIFFNESS_N };
-        let shf = p.shy + p.svy / ky_safe;
+        let ky_safe = nonzero_stiffness(p.y.ky);
+        let shf = p.y.shy + p.y.svy / ky_safe;
         let alpha_t = alpha + sht;
         let alpha_r = alpha + shf;
         let bt =
@@ -526,9 +779,12 @@ impl MagicFormula {
         let et = ((c.QEZ1 + c.QEZ2 * dfz + c.QEZ3 * dfz * dfz)
             * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_z) * FRAC_2_PI * (bt * ct * alpha_t).atan()))
         .min(1.0);
-        let br = c.QBZ9 * c.LKY / lmuy + c.QBZ10 * p.by * p.cy;
+        let br = c.QBZ9 * c.LKY / lmuy + c.QBZ10 * p.y.by * p.y.cy;
         let dr = fz
-            * ((c.QDZ6 + c.QDZ7 * dfz) * c.LRES + (c.QDZ8 + c.QDZ9 * dfz) * (1.0 + c.QPZ2 * dpi) * gamma_z)
+            * ((c.QDZ6 + c.QDZ7 * dfz) * c.LRES
+                + ((c.QDZ8 + c.QDZ9 * dfz) * (1.0 + c.QPZ2 * dpi) + (c.QDZ10 + c.QDZ11 * dfz) * gamma_z.abs())
+                    * gamma_z
+                    * c.LKZC)
             * r0
             * lmuy;
         // Equivalent slips: the κ part weighted by K_x/K_y (tan α_eq = √(tan² α + (K_x/K_y)² κ²)), with the
@@ -542,9 +798,48 @@ impl MagicFormula {
         let trail = dt * cosine_shape(bt, ct, et, alpha_t_eq) * cos_alpha;
         let mzr = dr * cos_atan(br * alpha_r_eq) * cos_alpha;
         let s = r0 * (c.SSZ1 + c.SSZ2 * (fy / self.fz0_scaled) + (c.SSZ3 + c.SSZ4 * dfz) * gamma) * c.LS;
-        let mz = -trail * (fy - svyk) + mzr + s * fx;
+        let mz = -trail * self.trail_force(fz, dfz, alpha, gamma, lmuy, &p, gyk, fy - svyk) + mzr + s * fx;
 
-        // Overturning moment (MF 6.1 form; PAC2002 files fill QSX1–3, the rest are 0).
+        MfLoads {
+            fx,
+            fy,
+            mx: self.overturning_moment(fz, fy, gamma),
+            mz,
+            rolling_resistance: self.rolling_resistance(fz, fx, vx, gamma),
+        }
+    }
+
+    /// The lateral force the pneumatic trail acts on: PAC2002's F_y − S_Vyκ (`fy_less_svyk`); MF 6.1's
+    /// F'_y = G_yκ F_y0(γ = 0) (Pacejka 2012 4.E74: the camber thrust gives no trail moment, its moment is
+    /// in M_zr), which at γ = 0 is the same force.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn trail_force(
+        &self,
+        fz: f64,
+        dfz: f64,
+        alpha: f64,
+        gamma: f64,
+        lmuy: f64,
+        pure: &Pure,
+        gyk: f64,
+        fy_less_svyk: f64,
+    ) -> f64 {
+        match self.version {
+            TirFormat::Pac2002 => fy_less_svyk,
+            _ if gamma == 0.0 => gyk * pure.y.fy0,
+            _ => gyk * self.lateral(fz, dfz, alpha, 0.0, lmuy).fy0,
+        }
+    }
+
+    /// Overturning moment M_x (MF 6.1 form, Pacejka 2012 4.E69 as the TNO manual and Besselink et al. 2010
+    /// write it; PAC2002 files fill QSX1–3, the rest are 0): R0 F_z LMX (QSX1 LVMX − QSX2 γ (1 + PPMX1 dp_i) +
+    /// QSX3 F_y/F_z0' + QSX4 cos(QSX5 atan((QSX6 F_z/F_z0')²)) sin(QSX7 γ + QSX8 atan(QSX9 F_y/F_z0')) +
+    /// QSX10 atan(QSX11 F_z/F_z0') γ) + R0 LMX (F_y (QSX13 + QSX14 |γ|) − F_z QSX12 γ |γ|), the last term MF
+    /// 6.x only.
+    #[inline(always)]
+    fn overturning_moment(&self, fz: f64, fy: f64, gamma: f64) -> f64 {
+        let (c, r0, dpi) = (&self.c, self.unloaded_radius, self.pressure_ratio);
         let fy_n = fy / self.fz0_scaled;
         let fz_n = fz / self.fz0_scaled;
         let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi) + c.QSX3 * fy_n;
@@ -556,19 +851,37 @@ impl MagicFormula {
                 + c.QSX10 * (c.QSX11 * fz_n).atan() * gamma;
         }
         let mx = r0 * fz * c.LMX * mx_terms;
-
-        MfLoads { fx, fy, mx, mz, rolling_resistance: self.rolling_resistance(fz, fx, vx) }
+        match self.version {
+            TirFormat::Pac2002 => mx,
+            _ => mx + r0 * c.LMX * (fy * (c.QSX13 + c.QSX14 * gamma.abs()) - fz * c.QSX12 * gamma * gamma.abs()),
+        }
     }
 
-    /// Rolling-resistance moment magnitude R0 F_z (QSY1 + QSY2 F_x/F_z0' + QSY3 |V_x/V_ref| + QSY4
-    /// (V_x/V_ref)⁴) LMY, N·m (4.E70, LONGVL as the reference speed).
-    pub fn rolling_resistance(&self, fz: f64, fx: f64, vx: f64) -> f64 {
+    /// Rolling-resistance moment magnitude, N·m, at inclination γ (ISO). PAC2002 (4.E70, LONGVL as the
+    /// reference speed): R0 F_z (QSY1 + QSY2 F_x/F_z0' + QSY3 |V_x/V_ref| + QSY4 (V_x/V_ref)⁴) LMY. MF 6.1
+    /// (Besselink et al. 2010, eq. A48, as mfeval uses it): R0 F_z0 LMY (QSY1 + QSY2 F_x/F_z0 + QSY3 |V_x/V_ref|
+    /// + QSY4 (V_x/V_ref)⁴ + (QSY5 + QSY6 F_z/F_z0) γ²) (F_z/F_z0)^QSY7 (p/p_nom)^QSY8, F_z0 = FNOMIN.
+    pub fn rolling_resistance(&self, fz: f64, fx: f64, vx: f64, gamma: f64) -> f64 {
         let c = &self.c;
         let v = vx / self.reference_speed;
-        self.unloaded_radius
-            * fz
-            * (c.QSY1 + c.QSY2 * fx / self.fz0_scaled + c.QSY3 * v.abs() + c.QSY4 * v.powi(4))
-            * c.LMY
+        match self.version {
+            TirFormat::Pac2002 => {
+                self.unloaded_radius
+                    * fz
+                    * (c.QSY1 + c.QSY2 * fx / self.fz0_scaled + c.QSY3 * v.abs() + c.QSY4 * v.powi(4))
+                    * c.LMY
+            }
+            _ => {
+                let fz_n = fz / self.fz0;
+                let terms = c.QSY1
+                    + c.QSY2 * fx / self.fz0
+                    + c.QSY3 * v.abs()
+                    + c.QSY4 * v.powi(4)
+                    + (c.QSY5 + c.QSY6 * fz_n) * gamma * gamma;
+                let pressure = if c.QSY8 == 0.0 { 1.0 } else { (1.0 + self.pressure_ratio).powf(c.QSY8) };
+                self.unloaded_radius * self.fz0 * c.LMY * terms * fz_n.powf(c.QSY7) * pressure
+            }
+        }
     }
 
     /// The loads of this tire mounted on `side`, ISO inputs: mirrored when that is not the measured side.
@@ -656,7 +969,7 @@ mod tests {
         let kx = mf.longitudinal_stiffness(fz);
         assert!((slope - kx).abs() < 1e-6 * kx, "{slope} vs {kx}");
         let shy = mf.c.PHY1 + mf.c.PHY2 * dfz;
-        let fy = |a: f64| mf.pure(fz, 0.0, a, 0.0, [mf.c.LMUX, mf.c.LMUY]).fy0;
+        let fy = |a: f64| mf.pure(fz, 0.0, a, 0.0, [mf.c.LMUX, mf.c.LMUY]).y.fy0;
         let slope = (fy(-shy + h) - fy(-shy - h)) / (2.0 * h);
         assert!((slope + mf.cornering_stiffness(fz)).abs() < 1e-6 * mf.cornering_stiffness(fz), "{slope}");
     }
@@ -733,5 +1046,258 @@ mod tests {
         let missing = base.replace("PKY1 ", "XKY1 ");
         let e = MagicFormula::from_tir(&TirFile::parse("k.tir", &missing).unwrap()).unwrap_err();
         assert!(e.contains("k.tir") && e.contains("PKY1") && e.contains("missing"), "{e}");
+    }
+
+    fn resource(name: &str) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/tires").join(name)
+    }
+
+    fn mf61() -> MagicFormula {
+        MagicFormula::read(&resource("mf61_example.tir")).unwrap()
+    }
+
+    fn mf61_text() -> String {
+        std::fs::read_to_string(resource("mf61_example.tir")).unwrap()
+    }
+
+    /// |a − b| within `rel` of the larger magnitude (or of `floor`, for values that vanish).
+    fn close(a: f64, b: f64, rel: f64, floor: f64) -> bool {
+        (a - b).abs() <= rel * a.abs().max(b.abs()).max(floor)
+    }
+
+    #[test]
+    fn mf61_at_nominal_pressure_and_zero_camber_is_pac2002() {
+        // resources/tires/mf61_example.tir is HMMWV_Pac02Tire.tir with the MF 6.1 keys set to PAC2002's
+        // values (PKY4 = 2, PKY5 = 0, …): at INFLPRES = NOMPRES and γ = 0 the loads agree to rounding.
+        let (pac, six) = (MagicFormula::read(&resource("HMMWV_Pac02Tire.tir")).unwrap(), mf61());
+        assert_eq!((pac.version, six.version), (TirFormat::Pac2002, TirFormat::Mf61));
+        assert_eq!(six.pressure_ratio, 0.0);
+        let mut worst = 0.0f64;
+        for side in [TireSide::Left, TireSide::Right] {
+            for fz in [800.0, 4000.0, 6300.0, 9500.0, 20000.0, 60000.0] {
+                for kappa in [-0.9, -0.1, -0.004, 0.0, 0.002, 0.03, 0.2, 1.0] {
+                    for alpha in [-0.7, -0.12, -0.01, 0.0, 0.003, 0.05, 0.3, 1.2] {
+                        let (a, b) = (
+                            pac.loads_on(side, fz, kappa, alpha, 0.0, 17.0),
+                            six.loads_on(side, fz, kappa, alpha, 0.0, 17.0),
+                        );
+                        for (x, y, floor) in [
+                            (a.fx, b.fx, 1e-3 * fz),
+                            (a.fy, b.fy, 1e-3 * fz),
+                            (a.mz, b.mz, 1e-5 * fz),
+                            (a.mx, b.mx, 1e-5 * fz),
+                            (a.rolling_resistance, b.rolling_resistance, 1e-5 * fz),
+                        ] {
+                            worst = worst.max((x - y).abs() / x.abs().max(y.abs()).max(floor));
+                            assert!(close(x, y, 1e-9, floor), "{side:?} {fz} {kappa} {alpha}: {a:?} vs {b:?}");
+                        }
+                    }
+                }
+            }
+        }
+        println!("largest relative difference PAC2002 vs MF 6.1: {worst:.1e}");
+        for fz in [3000.0, 6300.0, 9500.0] {
+            assert!(close(pac.longitudinal_stiffness(fz), six.longitudinal_stiffness(fz), 1e-12, 0.0));
+            assert!(close(pac.cornering_stiffness(fz), six.cornering_stiffness(fz), 1e-12, 0.0));
+            assert_eq!(pac.peak_friction(fz), six.peak_friction(fz));
+            // The least-squares PKY6/PKY7 follow PAC2002's camber stiffness to 0.01 F_z per rad (the fit's
+            // largest residual over 0.3–2 F_z0' is 0.0058 F_z; at low load the two terms of PAC2002's nearly
+            // cancel, so a relative bound would not hold).
+            let (kp, k6) = (pac.camber_stiffness(fz), six.camber_stiffness(fz));
+            assert!((kp - k6).abs() < 0.01 * fz, "{fz}: {kp} vs {k6}");
+        }
+        assert!(close(pac.vertical_stiffness, six.vertical_stiffness, 1e-12, 0.0));
+        assert_eq!(six.vertical_stiffness2, 0.0);
+        // With camber the two formats differ (the camber force structure): not the same model.
+        let (a, b) = (pac.loads_iso(6300.0, 0.0, 0.05, 0.05, 17.0), six.loads_iso(6300.0, 0.0, 0.05, 0.05, 17.0));
+        assert!(!close(a.fy, b.fy, 1e-6, 0.0) && !close(a.mz, b.mz, 1e-6, 0.0), "{a:?} {b:?}");
+    }
+
+    #[test]
+    fn mf61_pressure_moves_the_slip_stiffnesses_as_ppx_and_ppy_say() {
+        let mut mf = mf61();
+        let c = mf.c.clone();
+        let p0 = mf.nominal_pressure;
+        let fz = 6300.0;
+        let (kx0, ky0) = (mf.longitudinal_stiffness(fz), mf.cornering_stiffness(fz));
+        // K_yα (4.E25) as a function of dp_i, and its derivative, written out here.
+        let fz0s = mf.fz0_scaled;
+        let x0 = fz / (c.PKY2 * fz0s);
+        let ky_of = |dpi: f64| {
+            let x = x0 / (1.0 + c.PPY2 * dpi);
+            (c.PKY1 * fz0s * (1.0 + c.PPY1 * dpi) * (c.PKY4 * x.atan()).sin() * c.LKY).abs()
+        };
+        let dky_of = |dpi: f64| {
+            let x = x0 / (1.0 + c.PPY2 * dpi);
+            let dx = -x * c.PPY2 / (1.0 + c.PPY2 * dpi);
+            let base = c.PKY1 * fz0s * c.LKY;
+            (base * c.PPY1 * (c.PKY4 * x.atan()).sin()
+                + base * (1.0 + c.PPY1 * dpi) * (c.PKY4 * x.atan()).cos() * c.PKY4 / (1.0 + x * x) * dx)
+                * c.PKY1.signum()
+        };
+        for ratio in [0.6, 0.9, 1.15, 1.4] {
+            let p = ratio * p0;
+            let dpi = ratio - 1.0;
+            mf.set_inflation_pressure(p).unwrap();
+            let kx = mf.longitudinal_stiffness(fz);
+            let kx_expected = kx0 * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi);
+            assert!(close(kx, kx_expected, 1e-12, 0.0), "{ratio}: {kx} vs {kx_expected}");
+            assert!(close(mf.cornering_stiffness(fz), ky_of(dpi), 1e-12, 0.0));
+            // Analytic derivatives in p against central differences (h = 10 Pa).
+            let h = 10.0;
+            let fd = |f: &dyn Fn(&MagicFormula) -> f64| {
+                let mut m = mf.clone();
+                m.set_inflation_pressure(p + h).unwrap();
+                let up = f(&m);
+                m.set_inflation_pressure(p - h).unwrap();
+                (up - f(&m)) / (2.0 * h)
+            };
+            let dkx = kx0 * (c.PPX1 + 2.0 * c.PPX2 * dpi) / p0;
+            let dkx_fd = fd(&|m: &MagicFormula| m.longitudinal_stiffness(fz));
+            assert!(close(dkx_fd, dkx, 1e-6, 0.0), "{ratio}: dK_x/dp {dkx_fd} vs {dkx}");
+            let dky_fd = fd(&|m: &MagicFormula| m.cornering_stiffness(fz));
+            assert!(close(dky_fd, dky_of(dpi) / p0, 1e-6, 0.0), "{ratio}: dK_y/dp {dky_fd} vs {}", dky_of(dpi) / p0);
+            // The forces follow: the slope at zero slip is the new stiffness (as slope_at_zero_is_the_slip_stiffness).
+            let dfz = mf.load_increment(fz);
+            let shx = mf.c.PHX1 + mf.c.PHX2 * dfz;
+            let e = 1e-7;
+            let fx = |k: f64| mf.pure(fz, k, 0.0, 0.0, [mf.c.LMUX, mf.c.LMUY]).fx0;
+            let slope = (fx(-shx + e) - fx(-shx - e)) / (2.0 * e);
+            assert!(close(slope, kx, 1e-6, 0.0), "{ratio}: slope {slope} vs {kx}");
+        }
+        // The file's signs: more pressure, less slip stiffness (PPX1, PPY1 < 0), over this range.
+        mf.set_inflation_pressure(1.2 * p0).unwrap();
+        assert!(mf.longitudinal_stiffness(fz) < kx0 && mf.cornering_stiffness(fz) < ky0);
+        mf.set_inflation_pressure(0.8 * p0).unwrap();
+        assert!(mf.longitudinal_stiffness(fz) > kx0 && mf.cornering_stiffness(fz) > ky0);
+        // And the vertical stiffness (PFZ1 > 0) softens.
+        assert!(close(mf.vertical_stiffness, 441_900.0 * (1.0 - 0.2 * mf.c.PFZ1), 1e-12, 0.0));
+    }
+
+    #[test]
+    fn camber_stiffness_is_the_slope_of_the_camber_force_with_iso_sign() {
+        // At α = −S_Hy0 (the shifts without camber cancelled) and κ = 0, ∂F_y0/∂γ at γ = 0 is K_yγ: MF 6.1's
+        // K_yγ0 (4.E30), PAC2002's PHY3 K_yα0 + F_z (PVY3 + PVY4 dF_z).
+        for mf in [mf61(), MagicFormula::read(&resource("HMMWV_Pac02Tire.tir")).unwrap()] {
+            for fz in [3000.0, 6300.0, 12000.0] {
+                let dfz = mf.load_increment(fz);
+                let alpha = -(mf.c.PHY1 + mf.c.PHY2 * dfz) * mf.c.LHY;
+                let fy = |g: f64| mf.lateral(fz, dfz, alpha, g, mf.c.LMUY).fy0;
+                // Small h: K_yα's (1 − PKY3 |γ|) gives the difference quotient an O(h) error.
+                let h = 1e-7;
+                let slope = (fy(h) - fy(-h)) / (2.0 * h);
+                let k = mf.camber_stiffness(fz);
+                assert!(close(slope, k, 1e-6, 0.0), "{} {fz}: slope {slope} vs K_yγ {k}", mf.format);
+                // ISO: γ > 0 leans the top of the wheel to the right (−y); the camber thrust pushes that way.
+                assert!(k < 0.0, "{}", mf.format);
+                assert!(mf.loads_iso(fz, 0.0, 0.0, 0.05, 17.0).fy < mf.loads_iso(fz, 0.0, 0.0, 0.0, 17.0).fy);
+            }
+        }
+    }
+
+    #[test]
+    fn mf61_moments_and_relaxation_follow_their_equations() {
+        let text = mf61_text()
+            .replace("QSX12                      = 0 ", "QSX12 = 0.3 ")
+            .replace("QSX13                      = 0 ", "QSX13 = 0.05 ")
+            .replace("QSX14                      = 0 ", "QSX14 = 0.4 ")
+            .replace("QSY5                       = 0 ", "QSY5 = 0.002 ")
+            .replace("QSY6                       = 0 ", "QSY6 = 0.001 ")
+            .replace("QDZ10                      = 0 ", "QDZ10 = 0.02 ");
+        let mut mf = MagicFormula::from_tir(&TirFile::parse("x.tir", &text).unwrap()).unwrap();
+        mf.set_inflation_pressure(0.9 * mf.nominal_pressure).unwrap();
+        let c = mf.c.clone();
+        assert_eq!((c.QSX12, c.QSX13, c.QSX14, c.QSY5, c.QSY6, c.QDZ10), (0.3, 0.05, 0.4, 0.002, 0.001, 0.02));
+        let (fz, g) = (6300.0, 0.04);
+        let l = mf.loads_iso(fz, 0.02, 0.03, g, 20.0);
+        let r0 = mf.unloaded_radius;
+        // M_x: QSX1–11 are 0 in the file; what is left is the MF 6.x term R0 LMX (F_y (QSX13 + QSX14 |γ|) −
+        // F_z QSX12 γ |γ|).
+        let mx = r0 * (l.fy * (0.05 + 0.4 * g) - fz * 0.3 * g * g);
+        assert!(close(l.mx, mx, 1e-12, 0.0), "{} vs {mx}", l.mx);
+        // M_y (A48): R0 F_z0 (QSY1 + (QSY5 + QSY6 F_z/F_z0) γ²) (F_z/F_z0)^QSY7 (p/p0)^QSY8.
+        let my = r0 * mf.fz0 * (0.008 + (0.002 + 0.001 * fz / mf.fz0) * g * g) * (fz / mf.fz0) * 0.9f64.powf(-0.4);
+        assert!(close(l.rolling_resistance, my, 1e-12, 0.0), "{} vs {my}", l.rolling_resistance);
+        // QDZ10 moves M_z only with camber.
+        let upright = mf61();
+        let base = MagicFormula::from_tir(&TirFile::parse("y.tir", &mf61_text()).unwrap()).unwrap();
+        assert_eq!(base.loads_iso(fz, 0.0, 0.03, 0.0, 20.0).mz, upright.loads_iso(fz, 0.0, 0.03, 0.0, 20.0).mz);
+        let mut m = base.clone();
+        m.c.QDZ10 = 0.02;
+        assert_eq!(m.loads_iso(fz, 0.0, 0.03, 0.0, 20.0).mz, base.loads_iso(fz, 0.0, 0.03, 0.0, 20.0).mz);
+        assert!(m.loads_iso(fz, 0.0, 0.03, g, 20.0).mz != base.loads_iso(fz, 0.0, 0.03, g, 20.0).mz);
+        // Relaxation lengths |K/C| from the carcass stiffnesses.
+        let [sx, sy] = upright.relaxation_lengths(fz);
+        assert!(upright.has_relaxation());
+        assert!(close(sx, upright.longitudinal_stiffness(fz) / 765_000.0, 1e-12, 0.0));
+        assert!(close(sy, upright.cornering_stiffness(fz) / 482_000.0, 1e-12, 0.0));
+    }
+
+    #[test]
+    fn mf62_reads_as_mf61_and_its_extra_keys_are_warnings() {
+        let text = mf61_text().replace("FITTYP                     = 61", "FITTYP = 62").replace(
+            "[STRUCTURAL]",
+            "Q_CAM1 = 0.1\nQ_FYS1 = 0.01\nBOTTOM_OFFST = 0.01\nBOTTOM_STIFF = 2e6\n[STRUCTURAL]",
+        );
+        let six2 = MagicFormula::from_tir(&TirFile::parse("62.tir", &text).unwrap()).unwrap();
+        assert_eq!((six2.version, six2.format.as_str()), (TirFormat::Mf62, "MF 6.2"));
+        let six1 = mf61();
+        for &(k, a, g) in &[(0.05, 0.08, 0.03), (-0.3, 0.02, -0.05), (0.0, -0.2, 0.0)] {
+            assert_eq!(six1.loads_iso(7000.0, k, a, g, 15.0), six2.loads_iso(7000.0, k, a, g, 15.0));
+        }
+        let has = |needle: &str| six2.warnings.iter().any(|w| w.contains(needle));
+        for key in ["Q_CAM1", "BOTTOM_OFFST", "Q_RA1", "PDXP1", "LMUV", "BREFF", "YAW_STIFFNESS"] {
+            assert!(has(key), "{key}: {:?}", six2.warnings);
+        }
+        // What the 6.1 equations read is not listed; PAC2002-only keys in a 6.1 file are.
+        for key in ["PKY6", "PPY5", "NOMPRES", "QDZ10", "PCFX1", "LONGITUDINAL_STIFFNESS", "PRESMIN"] {
+            assert!(!has(key), "{key}: {:?}", six2.warnings);
+        }
+        let with_phy3 = mf61_text().replace("PHY1 ", "PHY3 = 0.1\nPHY1 ");
+        let mf = MagicFormula::from_tir(&TirFile::parse("p.tir", &with_phy3).unwrap()).unwrap();
+        assert!(mf.warnings.iter().any(|w| w.contains("PHY3")) && mf.c.PHY3 == 0.0, "{:?}", mf.warnings);
+        // A pressure outside PRESMIN/PRESMAX is a warning.
+        let high = mf61_text().replace("INFLPRES                   = 800000", "INFLPRES = 1500000");
+        let mf = MagicFormula::from_tir(&TirFile::parse("h.tir", &high).unwrap()).unwrap();
+        assert!(mf.warnings.iter().any(|w| w.contains("PRESMIN/PRESMAX")), "{:?}", mf.warnings);
+        assert!(close(mf.pressure_ratio, 0.875, 1e-15, 0.0));
+    }
+
+    #[test]
+    fn an_mf61_file_without_what_its_equations_need_is_a_named_error() {
+        let text = mf61_text();
+        let line_of = |needle: &str| text.lines().position(|l| l.starts_with(needle)).unwrap() + 1;
+        for (key, section) in [
+            ("PKY4", "[LATERAL_COEFFICIENTS]"),
+            ("PKY6", "[LATERAL_COEFFICIENTS]"),
+            ("NOMPRES", "[OPERATING_CONDITIONS]"),
+        ] {
+            let cut = text.lines().filter(|l| !l.starts_with(key)).collect::<Vec<_>>().join("\n");
+            let e = MagicFormula::from_tir(&TirFile::parse("cut61.tir", &cut).unwrap()).unwrap_err();
+            let line = line_of(section);
+            assert!(
+                e.contains("cut61.tir")
+                    && e.contains(key)
+                    && e.contains("missing")
+                    && e.contains(&format!("line {line}")),
+                "{key}: {e}"
+            );
+        }
+        let bad = text.replace("PKY7                       = -0.09308", "PKY7                       = fast");
+        let e = MagicFormula::from_tir(&TirFile::parse("bad61.tir", &bad).unwrap()).unwrap_err();
+        assert!(
+            e.contains("bad61.tir") && e.contains("PKY7") && e.contains(&format!("line {}", line_of("PKY7"))),
+            "{e}"
+        );
+        let zero = text.replace("PKY4                       = 2 ", "PKY4 = 0 ");
+        let e = MagicFormula::from_tir(&TirFile::parse("z.tir", &zero).unwrap()).unwrap_err();
+        assert!(e.contains("z.tir") && e.contains("PKY4"), "{e}");
+        // Turn slip and the USE_MODE variants stay refused for MF 6.x too.
+        let mode = text.replace("USE_MODE                   = 4", "USE_MODE = 2");
+        let e = MagicFormula::from_tir(&TirFile::parse("m.tir", &mode).unwrap()).unwrap_err();
+        assert!(e.contains("m.tir") && e.contains("USE_MODE"), "{e}");
+        let turn = text.replace("[MODEL]", "[MODEL]\nTURNSLIP = 'YES'");
+        let e = MagicFormula::from_tir(&TirFile::parse("t.tir", &turn).unwrap()).unwrap_err();
+        assert!(e.contains("t.tir") && e.contains("turn slip"), "{e}");
     }
 }

@@ -211,11 +211,20 @@ const ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S: f64 = 0.5;
 
 /// Rolling-resistance moment about the spin axis a (§6.6): M_rr = -f_rr F_z R_l tanh(Ω_rel/0.5 rad/s), or
 /// with a `.tir` file the Magic Formula's M_y magnitude R0 F_z (QSY1 + QSY2 F_x/F_z0 + QSY3 |V_x/V_ref| +
-/// QSY4 (V_x/V_ref)⁴) LMY in place of f_rr F_z R_l. The tanh keeps the right-hand side smooth through
-/// standstill, where sign(Ω_rel) would chatter.
-pub fn rolling_resistance_moment(p: &TireParams, fz: f64, loaded_radius: f64, omega_rel: f64, fx: f64, vx: f64) -> f64 {
+/// QSY4 (V_x/V_ref)⁴) LMY in place of f_rr F_z R_l (MF 6.x: its form with the inclination, load and pressure
+/// terms, `MagicFormula::rolling_resistance`; `inclination` is the wheel's γ_w, its sign does not matter).
+/// The tanh keeps the right-hand side smooth through standstill, where sign(Ω_rel) would chatter.
+pub fn rolling_resistance_moment(
+    p: &TireParams,
+    fz: f64,
+    loaded_radius: f64,
+    omega_rel: f64,
+    fx: f64,
+    vx: f64,
+    inclination: f64,
+) -> f64 {
     let magnitude = match &p.magic_formula {
-        Some(mf) => mf.rolling_resistance(fz, fx, vx),
+        Some(mf) => mf.rolling_resistance(fz, fx, vx, -inclination),
         None => p.rolling_resistance * fz * loaded_radius,
     };
     -magnitude * (omega_rel / ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S).tanh()
@@ -321,10 +330,10 @@ mod tests {
         let p = params();
         let (fz, radius) = (6300.0, 0.455);
         let full = p.rolling_resistance * fz * radius;
-        assert!((rolling_resistance_moment(&p, fz, radius, 50.0, 0.0, 0.0) + full).abs() < 1e-9 * full);
-        assert!((rolling_resistance_moment(&p, fz, radius, -50.0, 0.0, 0.0) - full).abs() < 1e-9 * full);
-        assert_eq!(rolling_resistance_moment(&p, fz, radius, 0.0, 0.0, 0.0), 0.0);
-        let half_width = rolling_resistance_moment(&p, fz, radius, 0.25, 0.0, 0.0);
+        assert!((rolling_resistance_moment(&p, fz, radius, 50.0, 0.0, 0.0, 0.0) + full).abs() < 1e-9 * full);
+        assert!((rolling_resistance_moment(&p, fz, radius, -50.0, 0.0, 0.0, 0.0) - full).abs() < 1e-9 * full);
+        assert_eq!(rolling_resistance_moment(&p, fz, radius, 0.0, 0.0, 0.0, 0.0), 0.0);
+        let half_width = rolling_resistance_moment(&p, fz, radius, 0.25, 0.0, 0.0, 0.0);
         assert!((half_width + full * 0.5f64.tanh()).abs() < 1e-12 * full);
     }
 

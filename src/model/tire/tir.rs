@@ -41,6 +41,8 @@ pub struct TirFile {
     pub sections: BTreeMap<String, BTreeMap<String, Entry>>,
     /// Rows of the table sections (`{...}` header skipped).
     pub tables: BTreeMap<String, Vec<Vec<f64>>>,
+    /// The (first) line of each `[SECTION]` header, 1-based: where a missing key was expected.
+    pub section_lines: BTreeMap<String, usize>,
     /// What was read but is not used, or read leniently.
     pub warnings: Vec<String>,
 }
@@ -132,6 +134,7 @@ impl TirFile {
             name: name.to_string(),
             sections: BTreeMap::new(),
             tables: BTreeMap::new(),
+            section_lines: BTreeMap::new(),
             warnings: Vec::new(),
         };
         let mut section: Option<String> = None;
@@ -149,6 +152,7 @@ impl TirFile {
                 let s = rest[..end].trim().to_ascii_uppercase();
                 table = false;
                 file.sections.entry(s.clone()).or_default();
+                file.section_lines.entry(s.clone()).or_insert(line);
                 section = Some(s);
                 continue;
             }
@@ -217,11 +221,22 @@ impl TirFile {
         self.sections.get(section).and_then(|s| s.get(key))
     }
 
-    /// A number the model needs: an error naming the file, section and key if it is missing, and the line if
+    /// A number the model needs: an error naming the file, section and key if it is missing (with the line
+    /// of the section's header, where it was expected, or that the section is missing too), and the line if
     /// it is not a number.
     pub fn number(&self, section: &str, key: &str) -> Result<f64, String> {
         match self.entry(section, key) {
-            None => Err(format!("{}: [{section}] {key} is missing, and the model needs it", self.name)),
+            None => Err(match self.section_lines.get(section) {
+                Some(line) => format!(
+                    "{}, line {line}: [{section}] {key} is missing from the section starting there, and the model \
+                     needs it",
+                    self.name
+                ),
+                None => format!(
+                    "{}: [{section}] {key} is missing (no [{section}] section), and the model needs it",
+                    self.name
+                ),
+            }),
             Some(e) => self.as_number(section, key, e),
         }
     }
@@ -293,7 +308,7 @@ impl TirFile {
 }
 
 /// The property-file formats read.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum TirFormat {
     Pac2002,
     Mf61,
@@ -321,7 +336,9 @@ mod tests {
         let e = f.number("VERTICAL", "VERTICAL_STIFFNESS").unwrap_err();
         assert!(e.contains("t.tir") && e.contains("line 15") && e.contains("VERTICAL_STIFFNESS"), "{e}");
         let e = f.number("VERTICAL", "VERTICAL_DAMPING").unwrap_err();
-        assert!(e.contains("t.tir") && e.contains("VERTICAL_DAMPING") && e.contains("missing"), "{e}");
+        assert!(e.contains("t.tir, line 13") && e.contains("VERTICAL_DAMPING") && e.contains("missing"), "{e}");
+        let e = f.number("STRUCTURAL", "PCFX1").unwrap_err();
+        assert!(e.contains("t.tir") && e.contains("PCFX1") && e.contains("no [STRUCTURAL] section"), "{e}");
         assert_eq!(f.number_or("VERTICAL", "VERTICAL_DAMPING", 0.0).unwrap(), 0.0);
     }
 
