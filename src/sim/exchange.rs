@@ -10,6 +10,13 @@
 //!   warm starts of the initial state (the evaluation restores them: `evaluate_outputs`), never from the
 //!   last evaluation's. ẋ is then a function of (t, x, inputs) alone, to the last bit: a solver that steps
 //!   back in time, or repeats an evaluation, gets the same answer.
+//! - **Time events at the road's features.** On a flat stretch at steady speed nothing changes, and a
+//!   variable-step solver grows its step past a bump it never sees (fmusim's CVODE, which sets no largest
+//!   step, stepped over the paper's whole bump course: docs/fmi_checkers.md). The bump course's edges are
+//!   known, so the model asks the solver to stop when a wheel reaches the next one at the current speed
+//!   (`next_road_event_time`); from there the solver meets the bump with a fresh step. File roads (OpenCRG,
+//!   OpenDRIVE, ISO 8608) have no such list: there the importer's largest step must stay below the shortest
+//!   feature's length over the speed (docs/fmu.md).
 //! - **Inputs** act at the current time: the steering input with the rates the importer gives
 //!   (`rack_velocity`, `rack_acceleration`: the kinematically driven steering moves the wheels by them),
 //!   the wheel torques as they are.
@@ -17,6 +24,7 @@
 use super::inputs::RackSource;
 use super::{Fresh, Simulation};
 use crate::error::{Cause, ModelError};
+use crate::model::road::RoadModel;
 use crate::model::steering::RackMotion;
 use crate::model::vehicle::{idx, Layout};
 
@@ -104,6 +112,37 @@ impl Simulation {
     /// The contact event indicators (`tire::contact_indicator`) at the current time, state and inputs.
     pub fn contact_indicators(&mut self) -> Result<[f64; 4], ModelError> {
         Ok(self.evaluated()?.1)
+    }
+
+    /// When a wheel centre reaches the next edge of a bump at the current forward speed (simulation time), or
+    /// `None` (no bump ahead, a road without a list of features, standing still). The edges are a bump's
+    /// start and end, and one unloaded radius before and after them, where the enveloping contact begins
+    /// and ends to feel it.
+    pub fn next_road_event_time(&mut self) -> Result<Option<f64>, ModelError> {
+        /// An edge closer than this is where the wheel is now (the last event's): the next one is sought.
+        const AT_EDGE_M: f64 = 1e-6;
+        /// Below this forward speed a bump is reached by no time worth predicting.
+        const CREEPING_M_S: f64 = 1e-3;
+        let RoadModel::Bumps(bumps) = &self.road else { return Ok(None) };
+        let vx = self.state[idx::V0];
+        if vx.abs() < CREEPING_M_S {
+            return Ok(None);
+        }
+        let bumps = bumps.clone();
+        self.evaluate_now()?;
+        let r0 = self.vehicle().tire.unloaded_radius_m;
+        let mut next = f64::INFINITY;
+        for [x, y] in self.cache.diagnostics.wheel_centre_xy {
+            for b in bumps.iter().filter(|b| b.side * y > 0.0) {
+                let end = b.x_start + b.length;
+                for edge in [b.x_start - r0, b.x_start, end, end + r0] {
+                    if (edge - x) * vx.signum() > AT_EDGE_M {
+                        next = next.min((edge - x) / vx);
+                    }
+                }
+            }
+        }
+        Ok(next.is_finite().then_some(self.time + next))
     }
 
     /// Nominal magnitudes of the continuous states, for the solver's error weights: the sizes a state moves
@@ -219,6 +258,28 @@ mod tests {
         sim.set_continuous_states(&x).unwrap();
         let z = sim.contact_indicators().unwrap();
         assert!(z.iter().all(|z| *z < -0.5 && *z > -1.0), "{z:?}");
+    }
+
+    /// On the paper's bump course the next event is a wheel reaching a bump edge: the front left wheel's
+    /// first bump starts 10 m ahead (PAPER_BUMPS_LEFT_M), one unloaded radius earlier the envelope meets it.
+    #[test]
+    fn the_next_time_event_is_a_wheel_at_a_bump_edge() {
+        let config = SimConfig { road: crate::sim::RoadChoice::PaperBumps, initial_speed: 5.0, ..SimConfig::default() }
+            .with_options(|o| o.keep_unused_states = true);
+        let mut sim = Simulation::new(VehicleData::default_hmmwv(), config).unwrap();
+        let r0 = sim.vehicle().tire.unloaded_radius_m;
+        let t = sim.next_road_event_time().unwrap().expect("bumps ahead");
+        assert!((t - (10.0 - r0) / 5.0).abs() < 1e-9, "{t}");
+        // At that time (the car moved on at its speed) the next one is the bump's start itself.
+        let mut x = [0.0; CONTINUOUS_STATES];
+        sim.continuous_states(&mut x).unwrap();
+        x[idx::R0] += 5.0 * t;
+        sim.set_time(t).unwrap();
+        sim.set_continuous_states(&x).unwrap();
+        let next = sim.next_road_event_time().unwrap().unwrap();
+        assert!((next - 10.0 / 5.0).abs() < 1e-9, "{next}");
+        // A flat road has none.
+        assert_eq!(exchange_simulation().next_road_event_time().unwrap(), None);
     }
 
     #[test]
