@@ -1129,6 +1129,29 @@ class MeCalls:
     def fn(self, what):
         return getattr(self.lib, self.API[what])
 
+    def instantiate(self):
+        """An instance made for Model Exchange (`make`, the API's), mostly initialized (`initialize`) and in
+        Continuous-Time Mode."""
+        r = self.rng
+        name = f"fuzz{self.seed}_{len(self.instances)}"
+        c = self.make(name)
+        if not c:
+            self.problems.append(f"{self.API['instantiate']} returned NULL")
+            return
+        self.instances.append([c, name, 0.0])
+        i = len(self.instances) - 1
+        if r.random() < 0.8:
+            self.initialize(i)
+            self.call(i, "exit", self.fn("exit"), c)
+            if r.random() < 0.7:
+                self.call(i, self.API["ct"], self.fn("ct"), c)
+
+    def one(self, i=None):
+        if self.instances and self.rng.random() < 0.6:
+            self.me_one(self.rng.randrange(len(self.instances)) if i is None else i)
+        else:
+            super().one(i)
+
     def vector(self, i, what, n=None, nul=False, values=None):
         """A vector call (c, double*, size_t) with `n` (default: its declared length), NULL now and then; the
         status and the values."""
@@ -1239,7 +1262,8 @@ class MeCalls:
 class SequenceME(MeCalls, Sequence):
     """FMI 2.0 Model Exchange sequences (RtVehicle.fmu)."""
 
-    API = {"event": "fmi2EnterEventMode", "update": "fmi2NewDiscreteStates", "ct": "fmi2EnterContinuousTimeMode",
+    API = {"instantiate": "fmi2Instantiate", "exit": "fmi2ExitInitializationMode",
+           "event": "fmi2EnterEventMode", "update": "fmi2NewDiscreteStates", "ct": "fmi2EnterContinuousTimeMode",
            "completed": "fmi2CompletedIntegratorStep", "time": "fmi2SetTime", "set": "fmi2SetContinuousStates",
            "derivatives": "fmi2GetDerivatives", "indicators": "fmi2GetEventIndicators",
            "states": "fmi2GetContinuousStates", "nominals": "fmi2GetNominalsOfContinuousStates",
@@ -1249,29 +1273,15 @@ class SequenceME(MeCalls, Sequence):
         super().__init__(lib, fmu, resources, workdir, seed)
         self.me_init()
 
-    def instantiate(self):
-        r = self.rng
-        name = f"fuzz{self.seed}_{len(self.instances)}"
-        c = self.timed(f"fmi2Instantiate({name!r}, ModelExchange)", self.lib.fmi2Instantiate, name.encode(), 0,
-                       self.guid.encode(), self.resources.encode(), C.cast(C.pointer(CALLBACKS), C.c_void_p), 0,
-                       r.randint(0, 1))
-        if not c:
-            self.problems.append("fmi2Instantiate(fmi2ModelExchange) returned NULL")
-            return
-        self.instances.append([c, name, 0.0])
-        i = len(self.instances) - 1
-        if r.random() < 0.8:
-            self.call(i, "setup", self.lib.fmi2SetupExperiment, c, 0, 0.0, 0.0, 0, 0.0)
-            self.call(i, "enter", self.lib.fmi2EnterInitializationMode, c)
-            self.call(i, "exit", self.lib.fmi2ExitInitializationMode, c)
-            if r.random() < 0.7:
-                self.call(i, "fmi2EnterContinuousTimeMode", self.lib.fmi2EnterContinuousTimeMode, c)
+    def make(self, name):
+        return self.timed(f"fmi2Instantiate({name!r}, ModelExchange)", self.lib.fmi2Instantiate, name.encode(), 0,
+                          self.guid.encode(), self.resources.encode(), C.cast(C.pointer(CALLBACKS), C.c_void_p), 0,
+                          self.rng.randint(0, 1))
 
-    def one(self, i=None):
-        if self.instances and self.rng.random() < 0.6:
-            self.me_one(self.rng.randrange(len(self.instances)) if i is None else i)
-        else:
-            super().one(i)
+    def initialize(self, i):
+        c = self.instances[i][0]
+        self.call(i, "setup", self.lib.fmi2SetupExperiment, c, 0, 0.0, 0.0, 0, 0.0)
+        self.call(i, "enter", self.lib.fmi2EnterInitializationMode, c)
 
     def event_update(self, i, nul):
         class EventInfo(C.Structure):
@@ -1297,7 +1307,8 @@ class SequenceME(MeCalls, Sequence):
 class SequenceME3(MeCalls, Sequence3):
     """FMI 3.0 Model Exchange sequences (RtVehicle3.fmu)."""
 
-    API = {"event": "fmi3EnterEventMode", "update": "fmi3UpdateDiscreteStates", "ct": "fmi3EnterContinuousTimeMode",
+    API = {"instantiate": "fmi3InstantiateModelExchange", "exit": "fmi3ExitInitializationMode",
+           "event": "fmi3EnterEventMode", "update": "fmi3UpdateDiscreteStates", "ct": "fmi3EnterContinuousTimeMode",
            "completed": "fmi3CompletedIntegratorStep", "time": "fmi3SetTime", "set": "fmi3SetContinuousStates",
            "derivatives": "fmi3GetContinuousStateDerivatives", "indicators": "fmi3GetEventIndicators",
            "states": "fmi3GetContinuousStates", "nominals": "fmi3GetNominalsOfContinuousStates",
@@ -1307,29 +1318,15 @@ class SequenceME3(MeCalls, Sequence3):
         super().__init__(lib, fmu, resources, workdir, seed)
         self.me_init()
 
-    def instantiate(self):
-        r = self.rng
-        name = f"fuzz{self.seed}_{len(self.instances)}"
+    def make(self, name):
         env = len(ENV_NAMES) + 1
-        ENV_NAMES[env] = name
-        c = self.timed(f"fmi3InstantiateModelExchange({name!r})", self.lib.fmi3InstantiateModelExchange, name.encode(),
-                       self.guid.encode(), self.resources.encode(), False, bool(r.randint(0, 1)), env, LOG3_CALLBACK)
-        if not c:
-            self.problems.append("fmi3InstantiateModelExchange returned NULL")
-            return
-        self.instances.append([c, name, 0.0])
-        i = len(self.instances) - 1
-        if r.random() < 0.8:
-            self.call(i, "enter", self.lib.fmi3EnterInitializationMode, c, False, 0.0, 0.0, False, 0.0)
-            self.call(i, "exit", self.lib.fmi3ExitInitializationMode, c)
-            if r.random() < 0.7:
-                self.call(i, "fmi3EnterContinuousTimeMode", self.lib.fmi3EnterContinuousTimeMode, c)
+        ENV_NAMES[env] = name  # the FMI 3.0 callback names no instance
+        return self.timed(f"fmi3InstantiateModelExchange({name!r})", self.lib.fmi3InstantiateModelExchange,
+                          name.encode(), self.guid.encode(), self.resources.encode(), False,
+                          bool(self.rng.randint(0, 1)), env, LOG3_CALLBACK)
 
-    def one(self, i=None):
-        if self.instances and self.rng.random() < 0.6:
-            self.me_one(self.rng.randrange(len(self.instances)) if i is None else i)
-        else:
-            super().one(i)
+    def initialize(self, i):
+        self.call(i, "enter", self.lib.fmi3EnterInitializationMode, self.instances[i][0], False, 0.0, 0.0, False, 0.0)
 
     def event_update(self, i, nul):
         flags = [B(True) for _ in range(5)]

@@ -17,7 +17,6 @@
 - a smoke run: simulate_fmu(fmi_type="ModelExchange") over 0.2 s, 2.0 and 3.0, finite outputs.
 """
 
-import json
 import math
 import pathlib
 import shutil
@@ -26,11 +25,10 @@ from ctypes import CDLL, c_double, c_int, c_void_p
 import numpy as np
 import pytest
 from fmpy import read_model_description, simulate_fmu
-from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Model, FMU2Slave
+from fmpy.fmi2 import FMU2Model
 from fmpy.fmi3 import FMU3Model
 
-from conftest import CALLBACKS, ERROR, OK, ROOT, SUMMARY, messages, packaged, unzipped
+from conftest import CALLBACKS, ERROR, ROOT, SUMMARY, messages, packaged, status, unzipped
 
 FMU3_PATH = ROOT / "target" / "fmu" / "RtVehicle3.fmu"
 NX, NZ = 34, 4
@@ -66,14 +64,6 @@ LOG3 = []
 
 def _record3(env, status, category, message):
     LOG3.append((status, (category or b"").decode(), (message or b"").decode("utf-8", "replace")))
-
-
-def status(fn, *args):
-    try:
-        fn(*args)
-        return OK
-    except FMICallException as e:
-        return e.status
 
 
 def vec(values=None, n=NX):

@@ -34,19 +34,23 @@ pub fn parse_resource_path(path: Option<&str>) -> ResourceLocation {
     }
 }
 
+/// What both instantiate functions do: the instance name and the token checked, then the interface's own
+/// checks (`refusal`: the reason to refuse, if any), then the instance; NULL with the reason logged through
+/// the callback.
+///
 /// # Safety
 /// Pointers as the FMI 3.0 standard defines them (NULL is handled).
 #[allow(clippy::too_many_arguments)]
-pub unsafe fn instantiate_co_simulation<M: FmuModel>(
+unsafe fn instantiate<M: FmuModel>(
+    function: &str,
+    interface: Interface,
     instance_name: fmi3String,
     instantiation_token: fmi3String,
     resource_path: fmi3String,
     logging_on: bool,
-    event_mode_used: bool,
-    required_intermediate_variables: *const fmi3ValueReference,
-    n_required_intermediate_variables: usize,
     instance_environment: fmi3InstanceEnvironment,
     log_message: fmi3LogMessageCallback,
+    refusal: impl FnOnce() -> Option<String>,
 ) -> fmi3Instance {
     let result = catch_unwind(AssertUnwindSafe(|| {
         let name = string(instance_name).unwrap_or("");
@@ -54,7 +58,7 @@ pub unsafe fn instantiate_co_simulation<M: FmuModel>(
         let categories = description.log_categories;
         let logger = Logger::new_fmi3(log_message, instance_environment, name, categories, logging_on);
         let fail = |msg: String| {
-            logger.log(Status::Error, logger::ERROR, &format!("fmi3InstantiateCoSimulation: {msg}"));
+            logger.log(Status::Error, logger::ERROR, &format!("{function}: {msg}"));
             std::ptr::null_mut()
         };
         if instance_name.is_null() {
@@ -69,28 +73,58 @@ pub unsafe fn instantiate_co_simulation<M: FmuModel>(
                 ))
             }
         }
-        // hasEventMode = false: an importer that would enter event mode cannot run this FMU.
-        if event_mode_used {
-            return fail("eventModeUsed = fmi3True, but this FMU has no event mode (hasEventMode = false)".into());
+        if let Some(why) = refusal() {
+            return fail(why);
         }
-        // providesIntermediateUpdate = false: no intermediate variable can be served.
-        if let Err(f) = check_array(
-            required_intermediate_variables.is_null(),
-            n_required_intermediate_variables,
-            MAX_ARRAY_LEN,
-            "requiredIntermediateVariables",
-        ) {
-            return fail(f.message);
-        }
-        if n_required_intermediate_variables > 0 {
-            return fail(format!(
-                "{n_required_intermediate_variables} required intermediate variables, but this FMU provides no \
-                 intermediate update (providesIntermediateUpdate = false)"
-            ));
-        }
-        create::<M>(name, parse_resource_path(string(resource_path)), Interface::CoSimulation3, logger)
+        create::<M>(name, parse_resource_path(string(resource_path)), interface, logger)
     }));
     result.unwrap_or(std::ptr::null_mut())
+}
+
+/// # Safety
+/// Pointers as the FMI 3.0 standard defines them (NULL is handled).
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn instantiate_co_simulation<M: FmuModel>(
+    instance_name: fmi3String,
+    instantiation_token: fmi3String,
+    resource_path: fmi3String,
+    logging_on: bool,
+    event_mode_used: bool,
+    required_intermediate_variables: *const fmi3ValueReference,
+    n_required_intermediate_variables: usize,
+    instance_environment: fmi3InstanceEnvironment,
+    log_message: fmi3LogMessageCallback,
+) -> fmi3Instance {
+    let refusal = || {
+        // hasEventMode = false: an importer that would enter event mode cannot run this FMU.
+        if event_mode_used {
+            return Some("eventModeUsed = fmi3True, but this FMU has no event mode (hasEventMode = false)".into());
+        }
+        // providesIntermediateUpdate = false: no intermediate variable can be served.
+        let n = n_required_intermediate_variables;
+        if let Err(f) =
+            check_array(required_intermediate_variables.is_null(), n, MAX_ARRAY_LEN, "requiredIntermediateVariables")
+        {
+            return Some(f.message);
+        }
+        (n > 0).then(|| {
+            format!(
+                "{n} required intermediate variables, but this FMU provides no intermediate update \
+                 (providesIntermediateUpdate = false)"
+            )
+        })
+    };
+    instantiate::<M>(
+        "fmi3InstantiateCoSimulation",
+        Interface::CoSimulation3,
+        instance_name,
+        instantiation_token,
+        resource_path,
+        logging_on,
+        instance_environment,
+        log_message,
+        refusal,
+    )
 }
 
 /// fmi3InstantiateModelExchange: the instance, or NULL with the reason logged (a wrong token, an FMU whose
@@ -106,33 +140,21 @@ pub unsafe fn instantiate_model_exchange<M: FmuModel>(
     instance_environment: fmi3InstanceEnvironment,
     log_message: fmi3LogMessageCallback,
 ) -> fmi3Instance {
-    const F: &str = "fmi3InstantiateModelExchange";
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        let name = string(instance_name).unwrap_or("");
-        let description = M::description();
-        let logger = Logger::new_fmi3(log_message, instance_environment, name, description.log_categories, logging_on);
-        let fail = |msg: String| {
-            logger.log(Status::Error, logger::ERROR, &format!("{F}: {msg}"));
-            std::ptr::null_mut()
-        };
-        if instance_name.is_null() {
-            return fail("instanceName is NULL".into());
-        }
-        if !description.model_exchange {
-            return fail(format!("{} is a Co-Simulation FMU only", description.model_identifier));
-        }
-        match string(instantiation_token) {
-            Some(t) if t == description.guid => {}
-            other => {
-                return fail(format!(
-                    "instantiationToken mismatch: the importer passed {other:?}, this binary is {}",
-                    description.guid
-                ))
-            }
-        }
-        create::<M>(name, parse_resource_path(string(resource_path)), Interface::ModelExchange3, logger)
-    }));
-    result.unwrap_or(std::ptr::null_mut())
+    let description = M::description();
+    let refusal = || {
+        (!description.model_exchange).then(|| format!("{} is a Co-Simulation FMU only", description.model_identifier))
+    };
+    instantiate::<M>(
+        "fmi3InstantiateModelExchange",
+        Interface::ModelExchange3,
+        instance_name,
+        instantiation_token,
+        resource_path,
+        logging_on,
+        instance_environment,
+        log_message,
+        refusal,
+    )
 }
 
 /// fmi3InstantiateScheduledExecution (and fmi3InstantiateModelExchange of an FMU without Model Exchange):

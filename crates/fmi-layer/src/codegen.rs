@@ -567,42 +567,18 @@ pub fn fmi3_model_description(text: &str) -> Result<String, String> {
     x.push_str(">\n");
     let model_identifier = cs.attribute("modelIdentifier").ok_or("no modelIdentifier")?;
     if let Some(me) = child(root, "ModelExchange") {
-        x.push_str("\n  <ModelExchange");
-        write!(x, "\n    modelIdentifier=\"{}\"", esc(model_identifier)).unwrap();
-        for (two, three) in [
-            ("needsExecutionTool", "needsExecutionTool"),
-            ("canBeInstantiatedOnlyOncePerProcess", "canBeInstantiatedOnlyOncePerProcess"),
-            ("canGetAndSetFMUstate", "canGetAndSetFMUState"),
-            ("canSerializeFMUstate", "canSerializeFMUState"),
-            ("providesDirectionalDerivative", "providesDirectionalDerivatives"),
-        ] {
-            if let Some(v) = me.attribute(two) {
-                write!(x, "\n    {three}=\"{}\"", esc(v)).unwrap();
-            }
-        }
+        interface_element(&mut x, "ModelExchange", model_identifier, me, &[]);
         // FMI 2.0's completedIntegratorStepNotNeeded is FMI 3.0's needsCompletedIntegratorStep, negated.
         let not_needed = me.attribute("completedIntegratorStepNotNeeded") == Some("true");
         write!(x, "\n    needsCompletedIntegratorStep=\"{}\"", !not_needed).unwrap();
         x.push_str("\n    providesEvaluateDiscreteStates=\"false\"/>\n");
     }
-    x.push_str("\n  <CoSimulation");
-    write!(x, "\n    modelIdentifier=\"{}\"", esc(model_identifier)).unwrap();
-    // FMI 2.0 capability → FMI 3.0 (renamed where 3.0 renamed it; canInterpolateInputs has no 3.0 attribute:
-    // the input derivatives are variables; canNotUseMemoryManagementFunctions and canRunAsynchronuously
-    // are gone).
-    for (two, three) in [
-        ("needsExecutionTool", "needsExecutionTool"),
-        ("canBeInstantiatedOnlyOncePerProcess", "canBeInstantiatedOnlyOncePerProcess"),
-        ("canGetAndSetFMUstate", "canGetAndSetFMUState"),
-        ("canSerializeFMUstate", "canSerializeFMUState"),
-        ("providesDirectionalDerivative", "providesDirectionalDerivatives"),
+    // canInterpolateInputs has no 3.0 attribute: the input derivatives are variables.
+    let own = [
         ("canHandleVariableCommunicationStepSize", "canHandleVariableCommunicationStepSize"),
         ("maxOutputDerivativeOrder", "maxOutputDerivativeOrder"),
-    ] {
-        if let Some(v) = cs.attribute(two) {
-            write!(x, "\n    {three}=\"{}\"", esc(v)).unwrap();
-        }
-    }
+    ];
+    interface_element(&mut x, "CoSimulation", model_identifier, cs, &own);
     // What the FMI 3.0 layer does not offer: event mode, intermediate update, early return.
     x.push_str(
         "\n    hasEventMode=\"false\"\n    providesIntermediateUpdate=\"false\"\n    mightReturnEarlyFromDoStep=\"false\"\
@@ -697,6 +673,28 @@ pub fn fmi3_model_description(text: &str) -> Result<String, String> {
     }
     x.push_str("  </ModelStructure>\n\n</fmiModelDescription>\n");
     Ok(x)
+}
+
+/// The FMI 2.0 capabilities both interface elements have, with their FMI 3.0 names (renamed where 3.0 renamed
+/// them; canNotUseMemoryManagementFunctions and canRunAsynchronuously are gone).
+const COMMON_CAPABILITIES: [(&str, &str); 5] = [
+    ("needsExecutionTool", "needsExecutionTool"),
+    ("canBeInstantiatedOnlyOncePerProcess", "canBeInstantiatedOnlyOncePerProcess"),
+    ("canGetAndSetFMUstate", "canGetAndSetFMUState"),
+    ("canSerializeFMUstate", "canSerializeFMUState"),
+    ("providesDirectionalDerivative", "providesDirectionalDerivatives"),
+];
+
+/// Opens the FMI 3.0 interface element `tag` (left open for the caller's own attributes): the model
+/// identifier, then the capabilities of the 2.0 element `node` that `COMMON_CAPABILITIES` and `own` name,
+/// in 3.0's names.
+fn interface_element(x: &mut String, tag: &str, model_identifier: &str, node: roxmltree::Node, own: &[(&str, &str)]) {
+    write!(x, "\n  <{tag}\n    modelIdentifier=\"{}\"", esc(model_identifier)).unwrap();
+    for (two, three) in COMMON_CAPABILITIES.iter().chain(own) {
+        if let Some(v) = node.attribute(*two) {
+            write!(x, "\n    {three}=\"{}\"", esc(v)).unwrap();
+        }
+    }
 }
 
 /// An XML attribute value.
@@ -828,62 +826,32 @@ mod tests {
 
     #[test]
     fn inconsistent_model_exchange_declarations_are_refused_with_the_reason() {
+        let edit = |from: &str, to: &str| VEHICLE.replace(from, to);
+        // The derivative attribute `of` (a 1-based index) of a velocity derivative (unit m/s) made `to`.
+        let derivative = |of: u32, to: &str| edit(&format!("<Real unit=\"m/s\" derivative=\"{of}\"/>"), to);
+        // The last event indicator (1203) made `vr`.
+        let indicator = |vr: u32| {
+            edit("<EventIndicator valueReference=\"1203\"/>", &format!("<EventIndicator valueReference=\"{vr}\"/>"))
+        };
         let cases = [
-            // A derivative naming a parameter.
+            (derivative(76, "<Real unit=\"m/s\" derivative=\"10\"/>"), "must be a local continuous Real"), // a parameter
+            (derivative(77, "<Real unit=\"m/s\" derivative=\"76\"/>"), "has two derivatives"),
+            (derivative(109, "<Real unit=\"m/s\"/>"), "has no derivative attribute"),
+            (derivative(76, "<Real unit=\"m/s\" derivative=\"999\"/>"), "names no ScalarVariable"),
             (
-                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"76\"/>", "<Real unit=\"m/s\" derivative=\"10\"/>"),
-                "must be a local continuous Real",
-            ),
-            // Two derivatives of one state.
-            (
-                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"77\"/>", "<Real unit=\"m/s\" derivative=\"76\"/>"),
-                "has two derivatives",
-            ),
-            // A derivative outside ModelStructure/Derivatives.
-            (
-                VEHICLE.replace("      <Unknown index=\"143\"/>\n    </Derivatives>", "    </Derivatives>"),
+                edit("      <Unknown index=\"143\"/>\n    </Derivatives>", "    </Derivatives>"),
                 "not listed in ModelStructure/Derivatives",
             ),
-            // A derivative without the attribute.
+            (edit("numberOfEventIndicators=\"4\"", "numberOfEventIndicators=\"3\""), "numberOfEventIndicators = 3"),
+            (indicator(1202), "listed twice"),
+            (indicator(4242), "names no ScalarVariable"),
+            (indicator(1), "must be a local continuous Real"), // an input
             (
-                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"109\"/>", "<Real unit=\"m/s\"/>"),
-                "has no derivative attribute",
-            ),
-            // A derivative pointing nowhere.
-            (
-                VEHICLE.replace("<Real unit=\"m/s\" derivative=\"76\"/>", "<Real unit=\"m/s\" derivative=\"999\"/>"),
-                "names no ScalarVariable",
-            ),
-            // Event indicators against numberOfEventIndicators.
-            (
-                VEHICLE.replace("numberOfEventIndicators=\"4\"", "numberOfEventIndicators=\"3\""),
-                "numberOfEventIndicators = 3",
-            ),
-            (
-                VEHICLE
-                    .replace("<EventIndicator valueReference=\"1203\"/>", "<EventIndicator valueReference=\"1202\"/>"),
-                "listed twice",
-            ),
-            (
-                VEHICLE
-                    .replace("<EventIndicator valueReference=\"1203\"/>", "<EventIndicator valueReference=\"4242\"/>"),
-                "names no ScalarVariable",
-            ),
-            (
-                VEHICLE.replace("<EventIndicator valueReference=\"1203\"/>", "<EventIndicator valueReference=\"1\"/>"),
-                "must be a local continuous Real",
-            ),
-            // A state missing from the initial unknowns.
-            (
-                VEHICLE.replace(
-                    "      <Unknown index=\"76\"/>\n      <Unknown index=\"77\"/>",
-                    "      <Unknown index=\"77\"/>",
-                ),
+                edit("      <Unknown index=\"76\"/>\n      <Unknown index=\"77\"/>", "      <Unknown index=\"77\"/>"),
                 "missing from ModelStructure/InitialUnknowns",
             ),
-            // Two libraries.
             (
-                VEHICLE.replace(
+                edit(
                     "<ModelExchange\n    modelIdentifier=\"RtVehicle\"",
                     "<ModelExchange\n    modelIdentifier=\"Other\"",
                 ),

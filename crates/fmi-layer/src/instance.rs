@@ -844,70 +844,93 @@ impl<M: FmuModel> Instance<M> {
         Ok(Status::Ok)
     }
 
-    /// Initialization Mode: the model's initial state first (the parameters may have changed).
-    fn initialized_for_evaluation(&mut self) -> FmiResult<()> {
+    /// The vector getters: the mode (FMI 2.0's `two`, FMI 3.0's `three`), the length (`what` = the declared
+    /// count of the variables `indices`), in Initialization Mode the model's initial state first (the
+    /// parameters may have changed), the model's `fill`, then every value finite (and with `positive`, > 0),
+    /// else the first other one is named.
+    #[allow(clippy::too_many_arguments)]
+    fn evaluate(
+        &mut self,
+        function: &str,
+        two: &[Mode],
+        three: &[Mode],
+        what: &str,
+        indices: &'static [usize],
+        positive: bool,
+        out: &mut [f64],
+        fill: fn(&mut M, &mut [f64]) -> Result<(), String>,
+    ) -> FmiResult {
+        self.require_me(function, two, three)?;
+        Self::check_len(function, what, out.len(), indices.len())?;
         if self.core.mode == InitializationMode {
             self.initialize_if_needed()?;
         }
-        Ok(())
-    }
-
-    /// A vector the model filled: every element finite, else the first non-finite one is named.
-    fn check_finite(function: &str, values: &[f64], indices: &[usize]) -> FmiResult<()> {
-        match values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        fill(&mut self.core.model, out).map_err(|e| Failure::error(format!("{function}: {e}")))?;
+        match out.iter().enumerate().find(|(_, v)| !v.is_finite() || (positive && **v <= 0.0)) {
             Some((k, v)) => Err(Failure::error(format!(
-                "{function}: {} is not finite ({v})",
-                M::description().variables[indices[k]].name
+                "{function}: {} is not finite{} ({v})",
+                M::description().variables[indices[k]].name,
+                if positive { " and positive" } else { "" }
             ))),
-            None => Ok(()),
+            None => Ok(Status::Ok),
         }
     }
 
     pub fn get_derivatives(&mut self, dx: &mut [f64]) -> FmiResult {
-        const F: &str = "fmi2GetDerivatives";
-        self.require_me(F, ME2_DERIVATIVES, ME3_EVALUATION)?;
-        let description = M::description();
-        Self::check_len(F, "nx", dx.len(), description.states.len())?;
-        self.initialized_for_evaluation()?;
-        self.core.model.derivatives(dx).map_err(|e| Failure::error(format!("{F}: {e}")))?;
-        Self::check_finite(F, dx, description.derivatives)?;
-        Ok(Status::Ok)
+        let derivatives = M::description().derivatives;
+        self.evaluate(
+            "fmi2GetDerivatives",
+            ME2_DERIVATIVES,
+            ME3_EVALUATION,
+            "nx",
+            derivatives,
+            false,
+            dx,
+            M::derivatives,
+        )
     }
 
     pub fn get_event_indicators(&mut self, z: &mut [f64]) -> FmiResult {
-        const F: &str = "fmi2GetEventIndicators";
-        self.require_me(F, ME2_STATES, ME3_EVALUATION)?;
-        let description = M::description();
-        Self::check_len(F, "ni", z.len(), description.event_indicators.len())?;
-        self.initialized_for_evaluation()?;
-        self.core.model.event_indicators(z).map_err(|e| Failure::error(format!("{F}: {e}")))?;
-        Self::check_finite(F, z, description.event_indicators)?;
-        Ok(Status::Ok)
+        let indicators = M::description().event_indicators;
+        self.evaluate(
+            "fmi2GetEventIndicators",
+            ME2_STATES,
+            ME3_EVALUATION,
+            "ni",
+            indicators,
+            false,
+            z,
+            M::event_indicators,
+        )
     }
 
     pub fn get_continuous_states(&mut self, x: &mut [f64]) -> FmiResult {
-        const F: &str = "fmi2GetContinuousStates";
-        self.require_me(F, ME2_STATES, ME3_EVALUATION)?;
-        let description = M::description();
-        Self::check_len(F, "nx", x.len(), description.states.len())?;
-        self.initialized_for_evaluation()?;
-        self.core.model.continuous_states(x).map_err(|e| Failure::error(format!("{F}: {e}")))?;
-        Self::check_finite(F, x, description.states)?;
-        Ok(Status::Ok)
+        let states = M::description().states;
+        self.evaluate(
+            "fmi2GetContinuousStates",
+            ME2_STATES,
+            ME3_EVALUATION,
+            "nx",
+            states,
+            false,
+            x,
+            M::continuous_states,
+        )
     }
 
+    /// The nominals, of the states (named by the state variable when not finite and positive).
     pub fn get_nominals_of_continuous_states(&mut self, nominals: &mut [f64]) -> FmiResult {
-        const F: &str = "fmi2GetNominalsOfContinuousStates";
-        self.require_me(F, ME2_NOMINALS, ME3_EVALUATION)?;
-        let description = M::description();
-        Self::check_len(F, "nx", nominals.len(), description.states.len())?;
-        self.initialized_for_evaluation()?;
-        self.core.model.nominals_of_continuous_states(nominals).map_err(|e| Failure::error(format!("{F}: {e}")))?;
-        if let Some((k, v)) = nominals.iter().enumerate().find(|(_, v)| !(v.is_finite() && **v > 0.0)) {
-            let name = description.variables[description.states[k]].name;
-            return Err(Failure::error(format!("{F}: the nominal of {name} is not finite and positive ({v})")));
-        }
-        Ok(Status::Ok)
+        let (states, fill) = (M::description().states, M::nominals_of_continuous_states);
+        self.evaluate(
+            "fmi2GetNominalsOfContinuousStates",
+            ME2_NOMINALS,
+            ME3_EVALUATION,
+            "nx",
+            states,
+            true,
+            nominals,
+            fill,
+        )
     }
 
     /// fmi3GetNumberOfContinuousStates / fmi3GetNumberOfEventIndicators: the declared counts (any mode; this
