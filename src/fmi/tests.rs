@@ -361,18 +361,6 @@ fn every_variable_of_the_model_description_is_served_by_the_vehicle() {
                 VarType::String => api::get_string::<VehicleModel>(inst.c, vrs.as_ptr(), 1, &mut std::ptr::null()),
             }
         };
-        // (Until the vehicle serves Model Exchange, its state, derivative and indicator variables say "not yet".)
-        if status != OK
-            && rec.last().contains("not yet")
-            && matches!(
-                v.var,
-                super::variables::Var::State(_)
-                    | super::variables::Var::Derivative(_)
-                    | super::variables::Var::EventIndicator(_)
-            )
-        {
-            continue;
-        }
         assert_eq!(status, OK, "{} is not served: {}", v.name, rec.last());
         // Start values read back.
         match v.start {
