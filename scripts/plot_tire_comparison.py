@@ -113,8 +113,8 @@ def main(argv):
         "",
         "Written by `bash scripts/tire_comparison.sh` (runs `rtv tire`, `rtv manoeuvre steady-state` and",
         "`rtv scene jturn` with and without `--tire resources/tires/HMMWV_Pac02Tire.tir`, then",
-        "`scripts/plot_tire_comparison.py`); do not edit by hand. The model is described in docs/tire.md,",
-        "\"Magic Formula\".",
+        "`scripts/plot_tire_comparison.py`); do not edit by hand above the section \"MF 6.1 / 6.2\", which is",
+        "written by hand and kept by the script. The model is described in docs/tire.md, \"Magic Formula\".",
         "",
         "## Steady-state curves (ISO 8855 signs, camber 0, `rtv tire`)",
         "",
@@ -143,7 +143,14 @@ def main(argv):
         "![J-turn](tire_mf_jturn.png)",
         "",
     ]
-    open(f"{docs}/tire_magic_formula.md", "w").write("\n".join(lines))
+    # The hand-written section from "## MF 6.1 / 6.2" on is kept as it is.
+    path = f"{docs}/tire_magic_formula.md"
+    try:
+        old = open(path).read()
+    except FileNotFoundError:
+        old = ""
+    kept = old[old.index("## MF 6.1 / 6.2") :] if "## MF 6.1 / 6.2" in old else ""
+    open(path, "w").write("\n".join(lines) + ("\n" + kept if kept else ""))
     return 0
 
 

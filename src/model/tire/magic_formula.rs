@@ -1135,11 +1135,17 @@ mod tests {
                 + base * (1.0 + c.PPY1 * dpi) * (c.PKY4 * x.atan()).cos() * c.PKY4 / (1.0 + x * x) * dx)
                 * c.PKY1.signum()
         };
-        for ratio in [0.6, 0.9, 1.15, 1.4] {
+        for ratio in [0.6, 0.9, 1.0, 1.15, 1.4] {
             let p = ratio * p0;
             let dpi = ratio - 1.0;
             mf.set_inflation_pressure(p).unwrap();
             let kx = mf.longitudinal_stiffness(fz);
+            println!(
+                "p = {ratio} p_nom: K_xκ {kx:.0} N, |K_yα| {:.0} N/rad, μ {:?}, k_z {:.0} N/m at F_z {fz} N",
+                mf.cornering_stiffness(fz),
+                mf.peak_friction(fz).map(|m| (m * 1e4).round() / 1e4),
+                mf.vertical_stiffness
+            );
             let kx_expected = kx0 * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi);
             assert!(close(kx, kx_expected, 1e-12, 0.0), "{ratio}: {kx} vs {kx_expected}");
             assert!(close(mf.cornering_stiffness(fz), ky_of(dpi), 1e-12, 0.0));
@@ -1228,6 +1234,14 @@ mod tests {
         assert!(m.loads_iso(fz, 0.0, 0.03, g, 20.0).mz != base.loads_iso(fz, 0.0, 0.03, g, 20.0).mz);
         // Relaxation lengths |K/C| from the carcass stiffnesses.
         let [sx, sy] = upright.relaxation_lengths(fz);
+        let pac = MagicFormula::read(&resource("HMMWV_Pac02Tire.tir")).unwrap();
+        for load in [3000.0, 6620.0, 12000.0] {
+            println!(
+                "relaxation lengths at {load} N: MF 6.1 file {:.4?} m, PAC2002 file {:.4?} m",
+                upright.relaxation_lengths(load),
+                pac.relaxation_lengths(load)
+            );
+        }
         assert!(upright.has_relaxation());
         assert!(close(sx, upright.longitudinal_stiffness(fz) / 765_000.0, 1e-12, 0.0));
         assert!(close(sy, upright.cornering_stiffness(fz) / 482_000.0, 1e-12, 0.0));
