@@ -12,7 +12,8 @@ calls of the Co-Simulation sequences mixed with the Model Exchange ones (event a
 time, garbage and misshapen state vectors, the vector getters with wrong lengths and NULL, directional
 derivatives of odd value references and seeds, integrator-like explicit Euler steps). Besides the checks
 below: an fmi2OK vector getter gives finite values (nominals positive), non-finite states are never
-accepted, an fmi2OK event update reports nothing, an fmi2OK directional derivative is finite.
+accepted, an fmi2OK event update reports nothing to update (a next event time, if any, finite), an fmi2OK
+directional derivative is finite.
 
 LIBRARY is FMU_DIR/binaries/linux64/<modelIdentifier>.so of an unzipped FMU: the GUID, the value references,
 the outputs, the String parameter naming a data file (vehicle_file, path_file) and the parameters' ranges
@@ -1290,8 +1291,11 @@ class SequenceME(MeCalls, Sequence):
         info = EventInfo(7, 7, 7, 7, 7, 7.0)
         s = self.call(i, f"fmi2NewDiscreteStates({'NULL' if nul else 'ptr'})", self.lib.fmi2NewDiscreteStates,
                       self.instances[i][0], None if nul else C.cast(C.pointer(info), C.c_void_p))
-        if s == OK and (info.need or info.terminate or info.nominals or info.values or info.defined):
+        # Nothing to update; a next event time (a time event of the model), if defined, is a finite time.
+        if s == OK and (info.need or info.terminate or info.nominals or info.values):
             self.problems.append("fmi2NewDiscreteStates OK with a flag set")
+        if s == OK and info.defined and not math.isfinite(info.t):
+            self.problems.append(f"fmi2NewDiscreteStates OK with nextEventTime {info.t}")
 
     def completed_step(self, i, nul):
         a, b = C.c_int(7), C.c_int(7)
@@ -1335,8 +1339,10 @@ class SequenceME3(MeCalls, Sequence3):
         if nul:
             outs[self.rng.randrange(6)] = None
         s = self.call(i, "fmi3UpdateDiscreteStates", self.lib.fmi3UpdateDiscreteStates, self.instances[i][0], *outs)
-        if s == OK and any(f.value for f in flags):
+        if s == OK and any(f.value for f in flags[:4]):
             self.problems.append("fmi3UpdateDiscreteStates OK with a flag set")
+        if s == OK and flags[4].value and not math.isfinite(t.value):
+            self.problems.append(f"fmi3UpdateDiscreteStates OK with nextEventTime {t.value}")
 
     def completed_step(self, i, nul):
         a, b = B(True), B(True)
