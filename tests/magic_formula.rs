@@ -85,29 +85,26 @@ fn the_hmmwv_on_the_pac2002_tire_runs_every_scene() {
 
 #[test]
 fn the_mf61_file_drives_the_cli() {
-    // `rtv tire` curves and a J-turn on the MF 6.1 test file.
+    // `rtv tire` curves and a J-turn on the MF 6.1 test file: each run succeeds and writes its CSV.
     let out = std::env::temp_dir().join(format!("rtv_mf61_{}.csv", std::process::id()));
-    let run = Command::new(env!("CARGO_BIN_EXE_rtv"))
-        .args(["tire", "--fz", "6300", "--camber", "2", "--sweep", "alpha", "--tir"])
-        .arg(mf61_tir())
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let text = std::fs::read_to_string(&out).unwrap();
+    let run = |args: &[&str], file_option: &str| {
+        let run = Command::new(env!("CARGO_BIN_EXE_rtv"))
+            .args(args)
+            .arg(file_option)
+            .arg(mf61_tir())
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+        assert!(run.status.success(), "{args:?}: {stderr}");
+        (std::fs::read_to_string(&out).unwrap(), stderr)
+    };
+    let (text, stderr) = run(&["tire", "--fz", "6300", "--camber", "2", "--sweep", "alpha"], "--tir");
     assert_eq!(text.lines().count(), 402);
     // The warnings name the keys of parts not modelled.
-    assert!(String::from_utf8_lossy(&run.stderr).contains("PDXP1"));
-    let run = Command::new(env!("CARGO_BIN_EXE_rtv"))
-        .args(["scene", "jturn", "--tire"])
-        .arg(mf61_tir())
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
-    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(stderr.contains("PDXP1"), "{stderr}");
+    let (text, _) = run(&["scene", "jturn"], "--tire");
     let _ = std::fs::remove_file(&out);
     assert!(text.lines().count() > 100 && !text.contains("NaN") && !text.contains("inf"));
 }

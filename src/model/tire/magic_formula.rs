@@ -202,6 +202,8 @@ pub struct MagicFormula {
     pub reference_speed: f64,
     /// Pressure ratio dp_i = (IP − IP_NOM)/IP_NOM (0 where the file gives no pressures).
     pub pressure_ratio: f64,
+    /// MF 6.x: M_y's pressure factor (p/p_nom)^QSY8, computed with the pressure (1 for PAC2002).
+    pub rolling_pressure_factor: f64,
     /// The side the file was measured on.
     pub measured_side: TireSide,
     /// Input ranges the fit holds on: κ, α (rad), γ (rad), and the largest load, N.
@@ -367,6 +369,7 @@ impl MagicFormula {
             inflation_pressure: ip * pressure,
             reference_speed,
             pressure_ratio: 0.0,
+            rolling_pressure_factor: 1.0,
             measured_side,
             kappa_range: range("LONG_SLIP_RANGE", "KPUMIN", "KPUMAX", [-1.5, 1.5])?,
             // Kept inside ±(π/2 − 0.01): the bound is applied to tan α (ALPMAX = 1.5708 is a hair past π/2).
@@ -459,6 +462,8 @@ impl MagicFormula {
                 return Err(format!("{}: NOMPRES = {nominal} Pa must be positive", self.source));
             }
             [self.vertical_stiffness, self.vertical_stiffness2] = self.vertical_stiffnesses()?;
+            let qsy8 = self.c.QSY8;
+            self.rolling_pressure_factor = if qsy8 == 0.0 { 1.0 } else { (1.0 + self.pressure_ratio).powf(qsy8) };
         }
         Ok(())
     }
@@ -598,6 +603,10 @@ impl MagicFormula {
         let (c, dpi) = (&self.c, self.pressure_ratio);
         match self.version {
             TirFormat::Pac2002 => sin_2atan(fz / (c.PKY2 * self.fz0_scaled * (1.0 + c.PPY2 * dpi))),
+            // The usual PKY4 = 2 without the atan and sin calls (the same to rounding, ≈ 1e-16).
+            _ if c.PKY4 == 2.0 => {
+                sin_2atan(fz / ((c.PKY2 + c.PKY5 * gamma * gamma) * (1.0 + c.PPY2 * dpi) * self.fz0_scaled))
+            }
             _ => {
                 let x = fz / ((c.PKY2 + c.PKY5 * gamma * gamma) * (1.0 + c.PPY2 * dpi) * self.fz0_scaled);
                 (c.PKY4 * x.atan()).sin()
@@ -878,8 +887,9 @@ impl MagicFormula {
                     + c.QSY3 * v.abs()
                     + c.QSY4 * v.powi(4)
                     + (c.QSY5 + c.QSY6 * fz_n) * gamma * gamma;
-                let pressure = if c.QSY8 == 0.0 { 1.0 } else { (1.0 + self.pressure_ratio).powf(c.QSY8) };
-                self.unloaded_radius * self.fz0 * c.LMY * terms * fz_n.powf(c.QSY7) * pressure
+                // QSY7 = 1 (M_y ∝ F_z) without the powf call: x^1 is x exactly.
+                let load = if c.QSY7 == 1.0 { fz_n } else { fz_n.powf(c.QSY7) };
+                self.unloaded_radius * self.fz0 * c.LMY * terms * load * self.rolling_pressure_factor
             }
         }
     }
@@ -1021,7 +1031,7 @@ mod tests {
         )
         .unwrap();
         let text = format!("{base}\n[ACME_VENDOR]\nSECRET_SAUCE = 3\n");
-        let mf = MagicFormula::from_tir(&TirFile::parse("v.tir", &text).unwrap()).unwrap();
+        let mf = parse("v.tir", &text).unwrap();
         let has = |needle: &str| mf.warnings.iter().any(|w| w.contains(needle));
         assert!(has("[ACME_VENDOR]") && has("SECRET_SAUCE"), "{:?}", mf.warnings);
         // Effective rolling radius and the MF 6.1 rolling-resistance terms are not modelled: said so.
@@ -1037,15 +1047,9 @@ mod tests {
                 .join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
         )
         .unwrap();
-        let mode = base.replace("USE_MODE                   = 4", "USE_MODE                   = 2");
-        let e = MagicFormula::from_tir(&TirFile::parse("m.tir", &mode).unwrap()).unwrap_err();
-        assert!(e.contains("m.tir") && e.contains("USE_MODE"), "{e}");
-        let deg = base.replace("ANGLE                      = 'radian'", "ANGLE = 'deg'");
-        let e = MagicFormula::from_tir(&TirFile::parse("d.tir", &deg).unwrap()).unwrap_err();
-        assert!(e.contains("d.tir") && e.contains("ANGLE"), "{e}");
-        let missing = base.replace("PKY1 ", "XKY1 ");
-        let e = MagicFormula::from_tir(&TirFile::parse("k.tir", &missing).unwrap()).unwrap_err();
-        assert!(e.contains("k.tir") && e.contains("PKY1") && e.contains("missing"), "{e}");
+        refused("m.tir", &base.replace("USE_MODE                   = 4", "USE_MODE = 2"), &["USE_MODE"]);
+        refused("d.tir", &base.replace("ANGLE                      = 'radian'", "ANGLE = 'deg'"), &["ANGLE"]);
+        refused("k.tir", &base.replace("PKY1 ", "XKY1 "), &["PKY1", "missing"]);
     }
 
     fn resource(name: &str) -> std::path::PathBuf {
@@ -1058,6 +1062,17 @@ mod tests {
 
     fn mf61_text() -> String {
         std::fs::read_to_string(resource("mf61_example.tir")).unwrap()
+    }
+
+    /// The Magic Formula of a file's text, named `name`.
+    fn parse(name: &str, text: &str) -> Result<MagicFormula, String> {
+        MagicFormula::from_tir(&TirFile::parse(name, text).unwrap())
+    }
+
+    /// `text` is refused with an error naming `name` and each of `needles`.
+    fn refused(name: &str, text: &str, needles: &[&str]) {
+        let e = parse(name, text).unwrap_err();
+        assert!(e.contains(name) && needles.iter().all(|n| e.contains(n)), "{name}: {e}");
     }
 
     /// |a − b| within `rel` of the larger magnitude (or of `floor`, for values that vanish).
@@ -1210,7 +1225,7 @@ mod tests {
             .replace("QSY5                       = 0 ", "QSY5 = 0.002 ")
             .replace("QSY6                       = 0 ", "QSY6 = 0.001 ")
             .replace("QDZ10                      = 0 ", "QDZ10 = 0.02 ");
-        let mut mf = MagicFormula::from_tir(&TirFile::parse("x.tir", &text).unwrap()).unwrap();
+        let mut mf = parse("x.tir", &text).unwrap();
         mf.set_inflation_pressure(0.9 * mf.nominal_pressure).unwrap();
         let c = mf.c.clone();
         assert_eq!((c.QSX12, c.QSX13, c.QSX14, c.QSY5, c.QSY6, c.QDZ10), (0.3, 0.05, 0.4, 0.002, 0.001, 0.02));
@@ -1226,7 +1241,7 @@ mod tests {
         assert!(close(l.rolling_resistance, my, 1e-12, 0.0), "{} vs {my}", l.rolling_resistance);
         // QDZ10 moves M_z only with camber.
         let upright = mf61();
-        let base = MagicFormula::from_tir(&TirFile::parse("y.tir", &mf61_text()).unwrap()).unwrap();
+        let base = parse("y.tir", &mf61_text()).unwrap();
         assert_eq!(base.loads_iso(fz, 0.0, 0.03, 0.0, 20.0).mz, upright.loads_iso(fz, 0.0, 0.03, 0.0, 20.0).mz);
         let mut m = base.clone();
         m.c.QDZ10 = 0.02;
@@ -1253,7 +1268,7 @@ mod tests {
             "[STRUCTURAL]",
             "Q_CAM1 = 0.1\nQ_FYS1 = 0.01\nBOTTOM_OFFST = 0.01\nBOTTOM_STIFF = 2e6\n[STRUCTURAL]",
         );
-        let six2 = MagicFormula::from_tir(&TirFile::parse("62.tir", &text).unwrap()).unwrap();
+        let six2 = parse("62.tir", &text).unwrap();
         assert_eq!((six2.version, six2.format.as_str()), (TirFormat::Mf62, "MF 6.2"));
         let six1 = mf61();
         for &(k, a, g) in &[(0.05, 0.08, 0.03), (-0.3, 0.02, -0.05), (0.0, -0.2, 0.0)] {
@@ -1268,11 +1283,11 @@ mod tests {
             assert!(!has(key), "{key}: {:?}", six2.warnings);
         }
         let with_phy3 = mf61_text().replace("PHY1 ", "PHY3 = 0.1\nPHY1 ");
-        let mf = MagicFormula::from_tir(&TirFile::parse("p.tir", &with_phy3).unwrap()).unwrap();
+        let mf = parse("p.tir", &with_phy3).unwrap();
         assert!(mf.warnings.iter().any(|w| w.contains("PHY3")) && mf.c.PHY3 == 0.0, "{:?}", mf.warnings);
         // A pressure outside PRESMIN/PRESMAX is a warning.
         let high = mf61_text().replace("INFLPRES                   = 800000", "INFLPRES = 1500000");
-        let mf = MagicFormula::from_tir(&TirFile::parse("h.tir", &high).unwrap()).unwrap();
+        let mf = parse("h.tir", &high).unwrap();
         assert!(mf.warnings.iter().any(|w| w.contains("PRESMIN/PRESMAX")), "{:?}", mf.warnings);
         assert!(close(mf.pressure_ratio, 0.875, 1e-15, 0.0));
     }
@@ -1287,7 +1302,7 @@ mod tests {
             ("NOMPRES", "[OPERATING_CONDITIONS]"),
         ] {
             let cut = text.lines().filter(|l| !l.starts_with(key)).collect::<Vec<_>>().join("\n");
-            let e = MagicFormula::from_tir(&TirFile::parse("cut61.tir", &cut).unwrap()).unwrap_err();
+            let e = parse("cut61.tir", &cut).unwrap_err();
             let line = line_of(section);
             assert!(
                 e.contains("cut61.tir")
@@ -1298,20 +1313,10 @@ mod tests {
             );
         }
         let bad = text.replace("PKY7                       = -0.09308", "PKY7                       = fast");
-        let e = MagicFormula::from_tir(&TirFile::parse("bad61.tir", &bad).unwrap()).unwrap_err();
-        assert!(
-            e.contains("bad61.tir") && e.contains("PKY7") && e.contains(&format!("line {}", line_of("PKY7"))),
-            "{e}"
-        );
-        let zero = text.replace("PKY4                       = 2 ", "PKY4 = 0 ");
-        let e = MagicFormula::from_tir(&TirFile::parse("z.tir", &zero).unwrap()).unwrap_err();
-        assert!(e.contains("z.tir") && e.contains("PKY4"), "{e}");
+        refused("bad61.tir", &bad, &["PKY7", &format!("line {}", line_of("PKY7"))]);
+        refused("z.tir", &text.replace("PKY4                       = 2 ", "PKY4 = 0 "), &["PKY4"]);
         // Turn slip and the USE_MODE variants stay refused for MF 6.x too.
-        let mode = text.replace("USE_MODE                   = 4", "USE_MODE = 2");
-        let e = MagicFormula::from_tir(&TirFile::parse("m.tir", &mode).unwrap()).unwrap_err();
-        assert!(e.contains("m.tir") && e.contains("USE_MODE"), "{e}");
-        let turn = text.replace("[MODEL]", "[MODEL]\nTURNSLIP = 'YES'");
-        let e = MagicFormula::from_tir(&TirFile::parse("t.tir", &turn).unwrap()).unwrap_err();
-        assert!(e.contains("t.tir") && e.contains("turn slip"), "{e}");
+        refused("m.tir", &text.replace("USE_MODE                   = 4", "USE_MODE = 2"), &["USE_MODE"]);
+        refused("t.tir", &text.replace("[MODEL]", "[MODEL]\nTURNSLIP = 'YES'"), &["turn slip"]);
     }
 }
