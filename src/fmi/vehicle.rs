@@ -607,6 +607,9 @@ impl FmuModel for VehicleModel {
                 return Err(format!("experiment tolerance {t} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]"));
             }
         }
+        // A state saved through another interface of the same kind (2.0 and 3.0 Co-Simulation, say) takes
+        // this instance's: it decides how the steering rates are read.
+        self.interface = context.interface;
         let config = self.config(context)?;
         config.validate().map_err(|e| format!("parameters: {e}"))?;
         let finite =
@@ -709,8 +712,20 @@ impl FmuModel for VehicleModel {
         Ok(())
     }
 
+    fn next_event_time(&mut self) -> Result<Option<f64>, String> {
+        let start = self.start_time;
+        Ok(self.exchange()?.next_road_event_time().map_err(|e| e.to_string())?.map(|t| t + start))
+    }
+
+    /// Before initialization (FMI 2.0 allows the call in Instantiated) from the parameters alone.
     fn nominals_of_continuous_states(&mut self, n: &mut [f64]) -> Result<(), String> {
-        n.copy_from_slice(&self.exchange()?.nominals_of_continuous_states());
+        if !self.interface.is_model_exchange() {
+            return Err("a Model Exchange call on a Co-Simulation instance".into());
+        }
+        n.copy_from_slice(&match &self.sim {
+            Some(sim) => sim.nominals_of_continuous_states(),
+            None => crate::sim::nominals_of_continuous_states(self.config.initial_speed, None),
+        });
         Ok(())
     }
 }

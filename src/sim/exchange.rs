@@ -31,6 +31,19 @@ use crate::model::vehicle::{idx, Layout};
 /// The number of continuous states in Model Exchange.
 pub const CONTINUOUS_STATES: usize = idx::DIM;
 
+/// The nominals at an initial speed, for wheels of `unloaded_radius` (before the vehicle is read: 0.5 m,
+/// a car's to a truck's within a factor of two, which is all a nominal needs).
+pub fn nominals_of_continuous_states(initial_speed: f64, unloaded_radius: Option<f64>) -> [f64; CONTINUOUS_STATES] {
+    let mut n = [1.0; CONTINUOUS_STATES];
+    let spin = (initial_speed.abs() / unloaded_radius.unwrap_or(0.5)).max(1.0);
+    n[idx::R0..idx::R0 + 3].fill(10.0);
+    n[idx::V0..idx::V0 + 3].fill(initial_speed.abs().max(1.0));
+    n[idx::U..idx::U + 4].fill(0.1);
+    n[idx::SPIN..idx::SPIN + 4].fill(spin);
+    n[idx::XI..idx::XI + 8].fill(0.01);
+    n
+}
+
 impl Simulation {
     fn require_full_layout(&self) -> Result<Layout, ModelError> {
         let layout = Layout::of(&self.config.options);
@@ -149,14 +162,7 @@ impl Simulation {
     /// by in a manoeuvre (metres, a rotation, m/s, rad/s, the arms' travel, the spin rate at speed, the
     /// tread's deflection).
     pub fn nominals_of_continuous_states(&self) -> [f64; CONTINUOUS_STATES] {
-        let mut n = [1.0; CONTINUOUS_STATES];
-        let spin = (self.config.initial_speed.abs() / self.vehicle().tire.unloaded_radius_m).max(1.0);
-        n[idx::R0..idx::R0 + 3].fill(10.0);
-        n[idx::V0..idx::V0 + 3].fill(self.config.initial_speed.abs().max(1.0));
-        n[idx::U..idx::U + 4].fill(0.1);
-        n[idx::SPIN..idx::SPIN + 4].fill(spin);
-        n[idx::XI..idx::XI + 8].fill(0.01);
-        n
+        nominals_of_continuous_states(self.config.initial_speed, Some(self.vehicle().tire.unloaded_radius_m))
     }
 
     /// State `i` of the full layout (zero for a state the run's options leave out): what a Co-Simulation

@@ -28,7 +28,7 @@ use crate::model::vehicle::{idx, Diagnostics, Inputs, Layout, Run, Vehicle, Warm
 use nalgebra::{Complex, SMatrix};
 use serde::{Deserialize, Serialize};
 
-pub use exchange::CONTINUOUS_STATES;
+pub use exchange::{nominals_of_continuous_states, CONTINUOUS_STATES};
 pub use inputs::{Breakpoints, RackProfile, RackSample, RackSource};
 
 pub use outputs::{Channel, Outputs, CSV_COLUMNS, OUTPUT_NAMES};

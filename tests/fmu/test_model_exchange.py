@@ -3,7 +3,8 @@
 
 - both archives declare Model Exchange: 34 continuous states, 4 event indicators, each derivative naming its
   state (fmi3GetNumberOf... agree);
-- the protocol: instantiate, initialize (Event Mode), the event update (nothing changes, no time event),
+- the protocol: instantiate, initialize (Event Mode), the event update (nothing changes; on the flat road no
+  time event),
   Continuous-Time Mode, time and states set, derivatives, event indicators, nominals, states read back, the
   state, derivative and indicator variables equal to the vectors, an Event Mode round trip, terminate;
 - FMU state get/set and serialize/deserialize in Continuous-Time Mode replay bit-identically;
@@ -196,7 +197,7 @@ def test_the_protocol(make_me, md2, three):
         m.fmu.exitInitializationMode()
     else:
         m.init()
-    # Event Mode: the event update changes nothing and defines no time event.
+    # Event Mode: the event update changes nothing and, on the flat road, defines no time event.
     update = m.event_update()
     assert not any(update[:5]), update
     m.fmu.enterContinuousTimeMode()
@@ -436,3 +437,34 @@ def test_simulate_fmu_model_exchange_smoke(three):
     for name in ["vx", "ay", "yaw_rate", "wheel_z_fl"]:
         assert np.all(np.isfinite(r[name])), name
     assert r["vx"][-1] == pytest.approx(27.7778, rel=1e-3), "straight ahead at the initial speed"
+
+
+@pytest.mark.parametrize("three", [False, True], ids=["fmi2", "fmi3"])
+def test_time_events_at_the_bump_edges(make_me, three):
+    """On the paper's bump course (road = 2) the event update names the time a wheel reaches the next bump
+    edge at the current speed: the front left wheel's first bump starts 10 m ahead, and the first event is
+    one unloaded radius (0.4–0.6 m for the HMMWV's tire) before it."""
+    m = make_me(three)
+    speed = 10.0
+    if three:
+        m.fmu.enterInitializationMode(startTime=0.0, stopTime=5.0)
+        m.fmu.setInt32([m.vr["road"]], [2])
+    else:
+        m.fmu.setupExperiment(startTime=0.0, stopTime=5.0)
+        m.fmu.enterInitializationMode()
+        m.fmu.setInteger([m.vr["road"]], [2])
+    m.set(initial_speed=speed)
+    m.fmu.exitInitializationMode()
+    update = m.event_update()
+    assert not any(update[:4]), update
+    defined, at = update[4], update[5]
+    assert defined and (10.0 - 0.6) / speed < at < (10.0 - 0.4) / speed, update
+    # After that time (the car moved on), the next one lies further.
+    m.fmu.enterContinuousTimeMode()
+    x = m.x()
+    x[0] += speed * at
+    m.fmu.setTime(at)
+    m.set_x(x)
+    m.fmu.enterEventMode()
+    later = m.event_update()
+    assert later[4] and later[5] == pytest.approx(10.0 / speed, abs=1e-6), later

@@ -57,9 +57,9 @@ const DIRECTIONAL: &[Mode] =
     &[InitializationMode, StepComplete, StepFailed, EventMode, ContinuousTimeMode, Terminated, Error];
 
 /// What fmi2NewDiscreteStates / fmi3UpdateDiscreteStates report. This layer's models have no discrete
-/// states and no time events: nothing changes at an event (the event indicators only tell the integrator
-/// where the right-hand side has a kink, so that it restarts there), so every flag is false and no next
-/// event time is defined.
+/// states: nothing changes at an event (the event indicators only tell the integrator where the right-hand
+/// side has a kink, so that it restarts there), so every flag is false; the next event time is the model's
+/// (`FmuModel::next_event_time`), if it has one after the current time.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct EventUpdate {
     pub discrete_states_need_update: bool,
@@ -781,7 +781,8 @@ impl<M: FmuModel> Instance<M> {
             )));
         }
         self.require_me(F, ME_EVENT, ME_EVENT)?;
-        Ok(EventUpdate::default())
+        let next = self.core.model.next_event_time().map_err(|e| Failure::error(format!("{F}: {e}")))?;
+        Ok(EventUpdate { next_event_time: next.filter(|t| *t > self.core.time), ..EventUpdate::default() })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> FmiResult {

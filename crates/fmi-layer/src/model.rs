@@ -179,6 +179,14 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
         let _ = n;
         Err(NO_MODEL_EXCHANGE.into())
     }
+
+    /// Model Exchange: the next time event (FMU time), asked at each event update: a time where the
+    /// importer's solver should stop and restart because the right-hand side will change there in a way no
+    /// event indicator announces before it happens (e.g. a road feature ahead of a vehicle at steady speed).
+    /// Default: none.
+    fn next_event_time(&mut self) -> Result<Option<f64>, String> {
+        Ok(None)
+    }
 }
 
 /// What the default Model Exchange methods of `FmuModel` answer.
