@@ -127,10 +127,12 @@ impl Simulation {
         Ok(self.evaluated()?.1)
     }
 
-    /// When a wheel centre reaches the next edge of a bump at the current forward speed (simulation time), or
-    /// `None` (no bump ahead, a road without a list of features, standing still). The edges are a bump's
-    /// start and end, and one unloaded radius before and after them, where the enveloping contact begins
-    /// and ends to feel it.
+    /// When a wheel centre reaches the next mark of a bump at the current forward speed (simulation time), or
+    /// `None` (no bump ahead, a road without a list of features, standing still). The marks are a bump's
+    /// start, quarter points and end, and one unloaded radius before and after it, where the enveloping
+    /// contact begins and ends to feel it. The inner marks matter: an implicit solver stepping from a bump's
+    /// start to its end evaluates only where the road is level again, finds nothing to correct and accepts
+    /// the step (fmusim's CVODE did, with events at the edges alone).
     pub fn next_road_event_time(&mut self) -> Result<Option<f64>, ModelError> {
         /// An edge closer than this is where the wheel is now (the last event's): the next one is sought.
         const AT_EDGE_M: f64 = 1e-6;
@@ -148,7 +150,9 @@ impl Simulation {
         for [x, y] in self.cache.diagnostics.wheel_centre_xy {
             for b in bumps.iter().filter(|b| b.side * y > 0.0) {
                 let end = b.x_start + b.length;
-                for edge in [b.x_start - r0, b.x_start, end, end + r0] {
+                let quarter = 0.25 * b.length;
+                let marks = [b.x_start - r0, b.x_start, b.x_start + quarter, b.x_start + 2.0 * quarter, end - quarter, end, end + r0];
+                for edge in marks {
                     if (edge - x) * vx.signum() > AT_EDGE_M {
                         next = next.min((edge - x) / vx);
                     }

@@ -110,6 +110,9 @@ pub struct Core<M> {
     /// A parameter or input changed before step mode: `initialize` must run (again).
     pub needs_init: bool,
     pub model: M,
+    /// Model Exchange: the next event time the last event update announced (the model's time event).
+    #[serde(default)]
+    pub announced_event_time: Option<f64>,
     // (States saved before Model Exchange support carry a `derivative_inputs` list: the input derivatives
     // of FMI 3.0 as the layer kept them. They are ordinary inputs of the model now, which received each
     // value when it was set; the list is ignored.)
@@ -781,8 +784,15 @@ impl<M: FmuModel> Instance<M> {
             )));
         }
         self.require_me(F, ME_EVENT, ME_EVENT)?;
+        // At a time event the model announced, the solver must restart: the model announces one where its
+        // right-hand side changes in a way a step must not straddle (a road feature ahead). Importers that
+        // reset their solver only when this flag is set (fmusim) would otherwise go on with a step that
+        // passes over it, as CVODE integrates past its output time and interpolates back.
+        let restart = self.core.announced_event_time.is_some_and(|t| times_match(t, self.core.time));
         let next = self.core.model.next_event_time().map_err(|e| Failure::error(format!("{F}: {e}")))?;
-        Ok(EventUpdate { next_event_time: next.filter(|t| *t > self.core.time), ..EventUpdate::default() })
+        let next = next.filter(|t| *t > self.core.time);
+        self.core.announced_event_time = next;
+        Ok(EventUpdate { next_event_time: next, values_of_continuous_states_changed: restart, ..EventUpdate::default() })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> FmiResult {
@@ -1134,5 +1144,6 @@ fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
         terminated: false,
         needs_init: true,
         model,
+        announced_event_time: None,
     })
 }
