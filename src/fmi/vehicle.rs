@@ -289,7 +289,11 @@ impl VehicleModel {
         if let Some(sim) = self.sim.as_mut() {
             let k = steering_slot(sim.vehicle().steering.input);
             let [velocity, acceleration] = self.steering_rates[k];
-            sim.set_inputs_now(RackMotion { position: self.steering[k], velocity, acceleration }, self.drive, self.brake);
+            sim.set_inputs_now(
+                RackMotion { position: self.steering[k], velocity, acceleration },
+                self.drive,
+                self.brake,
+            );
         }
     }
 

@@ -36,6 +36,12 @@ pub trait OdeSystem {
     fn state_name(&self, i: usize) -> String {
         format!("state {i}")
     }
+    /// Indicators of the last evaluation whose upward zero crossing makes the right-hand side jump (a tire
+    /// touching down: its normal force jumps from 0 to c_z δ̇). RK4 locates such a crossing inside a step
+    /// and steps across it (`touchdown`). At most `touchdown::MAX_SWITCHES`. Default: none.
+    fn switch_indicators(&self) -> &[f64] {
+        &[]
+    }
 }
 
 /// The integration schemes, selectable at run time.
@@ -56,6 +62,7 @@ pub mod dopri5;
 pub mod imex_ab3;
 pub mod rk4;
 pub mod stability;
+pub mod touchdown;
 
 pub use ab3::Ab3;
 pub use dopri5::Dopri5;

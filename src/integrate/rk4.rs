@@ -1,5 +1,8 @@
 //! Classic 4-stage Runge–Kutta (physics.md §7.2). Four evaluations per step; stable for
-//! hλ ∈ [−2.785, 0] on the real axis and |hλ| ≤ 2.828 on the imaginary axis (§7.4).
+//! hλ ∈ [−2.785, 0] on the real axis and |hλ| ≤ 2.828 on the imaginary axis (§7.4). A step across a tire's
+//! touchdown, where the right-hand side jumps, is split there (`touchdown`): without that the step is only
+//! first order.
+use super::touchdown::{self, Indicators};
 use super::{commit, eval, fit, Integrator, OdeSystem};
 use crate::error::ModelError;
 use serde::{Deserialize, Serialize};
@@ -17,7 +20,13 @@ pub struct Rk4 {
     k4: Vec<f64>,
     /// Stage state, then the candidate x_{n+1}.
     #[serde(skip)]
-    xs: Vec<f64>,
+    pub(super) xs: Vec<f64>,
+    /// The switch indicators at the four stages of the latest step (`OdeSystem::switch_indicators`).
+    #[serde(skip)]
+    pub(super) g: [Indicators; 4],
+    /// The touchdown location's scratch.
+    #[serde(skip)]
+    pub(super) location: touchdown::Scratch,
 }
 
 impl Rk4 {
@@ -30,6 +39,7 @@ impl Rk4 {
         for v in [&mut self.k1, &mut self.k2, &mut self.k3, &mut self.k4, &mut self.xs] {
             fit(v, n);
         }
+        self.location.fit(n);
     }
 
     /// Scratch capacities (for the no-allocation tests).
@@ -47,24 +57,34 @@ impl Rk4 {
         h: f64,
         x: &mut [f64],
     ) -> Result<(), ModelError> {
+        self.stages(sys, t, h, x)?;
+        commit(sys, t + h, &mut self.xs, x)
+    }
+
+    /// Stages 2–4 of a step of size h from (t, x) with `self.k1` = f(t, x): the candidate x_{n+1} in
+    /// `self.xs` (not projected), the switch indicators at each stage in `self.g[1..4]`.
+    pub(super) fn stages(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &[f64]) -> Result<(), ModelError> {
         let h2 = 0.5 * h;
         for i in 0..x.len() {
             self.xs[i] = x[i] + h2 * self.k1[i];
         }
         eval(sys, t + h2, &self.xs, &mut self.k2)?;
+        self.g[1].record(sys);
         for i in 0..x.len() {
             self.xs[i] = x[i] + h2 * self.k2[i];
         }
         eval(sys, t + h2, &self.xs, &mut self.k3)?;
+        self.g[2].record(sys);
         for i in 0..x.len() {
             self.xs[i] = x[i] + h * self.k3[i];
         }
         eval(sys, t + h, &self.xs, &mut self.k4)?;
+        self.g[3].record(sys);
         let h6 = h / 6.0;
         for i in 0..x.len() {
             self.xs[i] = x[i] + h6 * (self.k1[i] + 2.0 * self.k2[i] + 2.0 * self.k3[i] + self.k4[i]);
         }
-        commit(sys, t + h, &mut self.xs, x)
+        Ok(())
     }
 }
 
@@ -72,7 +92,8 @@ impl Integrator for Rk4 {
     fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError> {
         self.fit(x.len());
         eval(sys, t, x, &mut self.k1)?;
-        self.step_from_k1(sys, t, h, x)
+        self.g[0].record(sys);
+        touchdown::step(self, sys, t, h, x)
     }
 
     fn restart(&mut self) {}

@@ -199,6 +199,10 @@ pub struct Diagnostics {
     pub newton_iterations: u32,
     /// Each wheel's contact event indicator (`tire::contact_indicator`; Model Exchange).
     pub contact_indicator: [f64; 4],
+    /// Each wheel's signed penetration δ, m: the tire's deflection in contact, minus the clearance in the
+    /// air. Its upward zero crossing is a touchdown, where the normal force jumps to c_z δ̇ (the fixed-step
+    /// schemes locate it: `integrate::touchdown`).
+    pub penetration: [f64; 4],
 }
 
 /// Per-corner force element data (the spring free length is what the ride-height retune changes).
@@ -791,6 +795,7 @@ impl Vehicle {
                 let penetration_rate = tire::penetration_rate(&ct, &v_c);
                 let fz = tire::normal_force(&self.tire, ct.penetration, penetration_rate);
                 diag.contact_indicator[i] = tire::contact_indicator(&self.tire, ct.penetration, penetration_rate);
+                diag.penetration[i] = ct.penetration;
                 let friction = options.road_friction * road.friction(ct.point.x, ct.point.y);
                 let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
                 // 1 when rolling above the low-speed range (the model of §6.7 exactly), 0 at standstill.
@@ -858,9 +863,10 @@ impl Vehicle {
             None => {
                 // The signed clearance (negative), exact for an upright wheel: continuous with the
                 // deflection at touchdown.
-                let clearance = centre_abs.z - road.height_and_gradient(centre_abs.x, centre_abs.y).0
-                    - self.tire.unloaded_radius_m;
+                let clearance =
+                    centre_abs.z - road.height_and_gradient(centre_abs.x, centre_abs.y).0 - self.tire.unloaded_radius_m;
                 diag.contact_indicator[i] = -clearance.abs();
+                diag.penetration[i] = -clearance.abs();
                 if options.slip == SlipModel::Relaxation {
                     let lifted = tire::SlipStateContext { in_contact: false, blend: 1.0, sliding_limit: [1.0; 2] };
                     relaxation_rates = tire::relaxation_rates(&self.tire, 0.0, 0.0, 0.0, xi, &lifted);

@@ -151,7 +151,15 @@ impl Simulation {
             for b in bumps.iter().filter(|b| b.side * y > 0.0) {
                 let end = b.x_start + b.length;
                 let quarter = 0.25 * b.length;
-                let marks = [b.x_start - r0, b.x_start, b.x_start + quarter, b.x_start + 2.0 * quarter, end - quarter, end, end + r0];
+                let marks = [
+                    b.x_start - r0,
+                    b.x_start,
+                    b.x_start + quarter,
+                    b.x_start + 2.0 * quarter,
+                    end - quarter,
+                    end,
+                    end + r0,
+                ];
                 for edge in marks {
                     if (edge - x) * vx.signum() > AT_EDGE_M {
                         next = next.min((edge - x) / vx);

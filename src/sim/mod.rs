@@ -254,6 +254,7 @@ pub struct FirstStage {
     warm_before: [WarmStart; 4],
     warm_after: [WarmStart; 4],
     tire_loads: [f64; 4],
+    penetration: [f64; 4],
     dx: [f64; idx::DIM],
 }
 
@@ -288,6 +289,7 @@ impl OdeSystem for VehicleOde<'_> {
             dxdt.copy_from_slice(&f.dx[..f.dim]);
             self.cache.corners = f.warm_after;
             self.cache.tire_loads = f.tire_loads;
+            self.cache.diagnostics.penetration = f.penetration;
             return Ok(());
         }
         self.evaluations += 1;
@@ -310,6 +312,14 @@ impl OdeSystem for VehicleOde<'_> {
 
     fn step_limit(&self) -> f64 {
         stepping::step_limit(&self.cache.tire_loads)
+    }
+
+    fn switch_indicators(&self) -> &[f64] {
+        if self.run.options.switches.tires {
+            &self.cache.diagnostics.penetration
+        } else {
+            &[]
+        }
     }
 }
 
@@ -1342,6 +1352,7 @@ impl Simulation {
                 warm_before: Default::default(),
                 warm_after: Default::default(),
                 tire_loads: [0.0; 4],
+                penetration: [0.0; 4],
                 dx: [0.0; idx::DIM],
             });
             stage.dim = dx.len();
@@ -1349,6 +1360,7 @@ impl Simulation {
             stage.dx[..dx.len()].copy_from_slice(dx);
             (stage.inputs, stage.warm_before, stage.warm_after) = (inputs, warm_starts, warm_after);
             stage.tire_loads = self.cache.tire_loads;
+            stage.penetration = d.penetration;
         }
         let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;
