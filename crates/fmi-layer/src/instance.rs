@@ -792,7 +792,11 @@ impl<M: FmuModel> Instance<M> {
         let next = self.core.model.next_event_time().map_err(|e| Failure::error(format!("{F}: {e}")))?;
         let next = next.filter(|t| *t > self.core.time);
         self.core.announced_event_time = next;
-        Ok(EventUpdate { next_event_time: next, values_of_continuous_states_changed: restart, ..EventUpdate::default() })
+        Ok(EventUpdate {
+            next_event_time: next,
+            values_of_continuous_states_changed: restart,
+            ..EventUpdate::default()
+        })
     }
 
     pub fn enter_continuous_time_mode(&mut self) -> FmiResult {
