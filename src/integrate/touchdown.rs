@@ -246,6 +246,7 @@ mod tests {
     struct Drop {
         locate: bool,
         penetration: [f64; 1],
+        evaluations: u64,
     }
 
     const M: f64 = 50.0;
@@ -259,6 +260,7 @@ mod tests {
             2
         }
         fn derivative(&mut self, _t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), ModelError> {
+            self.evaluations += 1;
             let (delta, delta_rate) = (-x[0], -x[1]);
             self.penetration[0] = delta;
             let f = if delta > 0.0 { (K * delta + C * delta_rate).max(0.0) } else { 0.0 };
@@ -297,17 +299,18 @@ mod tests {
     }
 
     /// The error at T_END (z in m plus v in m/s over 100 1/s) of RK4 at step h.
-    fn error(h: f64, locate: bool) -> (f64, u64) {
+    fn error(h: f64, locate: bool) -> (f64, u64, u64) {
         const T_END: f64 = 0.13;
         let n = (T_END / h).round() as usize;
-        let mut sys = Drop { locate, penetration: [0.0] };
+        let mut sys = Drop { locate, penetration: [0.0], evaluations: 0 };
         let mut rk = Rk4::new();
         let mut x = [Z0, 0.0];
         for i in 0..n {
             rk.step(&mut sys, i as f64 * h, h, &mut x).unwrap();
         }
         let e = exact(n as f64 * h);
-        ((x[0] - e[0]).abs() + (x[1] - e[1]).abs() / 100.0, rk.location.located)
+        let extra = sys.evaluations - 4 * n as u64;
+        ((x[0] - e[0]).abs() + (x[1] - e[1]).abs() / 100.0, rk.location.located, extra)
     }
 
     /// Located, the touchdown leaves RK4 its fourth order; straddled, its error is first order in h times a
@@ -316,8 +319,8 @@ mod tests {
     #[test]
     fn a_located_touchdown_keeps_rk4_fourth_order() {
         let hs = [2e-3, 1e-3, 5e-4];
-        let located: Vec<(f64, u64)> = hs.iter().map(|&h| error(h, true)).collect();
-        let straddled: Vec<(f64, u64)> = hs.iter().map(|&h| error(h, false)).collect();
+        let located: Vec<(f64, u64, u64)> = hs.iter().map(|&h| error(h, true)).collect();
+        let straddled: Vec<(f64, u64, u64)> = hs.iter().map(|&h| error(h, false)).collect();
         for w in 0..2 {
             let order_located = (located[w].0 / located[w + 1].0).log2();
             let order_straddled = (straddled[w].0 / straddled[w + 1].0).log2();
@@ -326,7 +329,8 @@ mod tests {
             assert!(order_located > 3.5, "order {order_located}");
             let _ = order_straddled;
         }
-        assert!(located.iter().all(|&(_, n)| n == 1), "{located:?}");
+        println!("extra evaluations of the located touchdown: {:?}", located.iter().map(|l| l.2).collect::<Vec<_>>());
+        assert!(located.iter().all(|&(_, n, extra)| n == 1 && extra <= 4 * MAX_ITERATIONS as u64 + 8), "{located:?}");
         assert!(located.iter().zip(&straddled).all(|(l, s)| l.0 < 1e-3 * s.0));
     }
 
@@ -334,7 +338,7 @@ mod tests {
     #[test]
     fn steps_without_a_touchdown_are_plain_rk4() {
         let h = 1e-3;
-        let (mut a, mut b) = (Drop { locate: true, penetration: [0.0] }, Drop { locate: false, penetration: [0.0] });
+        let (mut a, mut b) = (Drop { locate: true, penetration: [0.0], evaluations: 0 }, Drop { locate: false, penetration: [0.0], evaluations: 0 });
         let (mut ra, mut rb) = (Rk4::new(), Rk4::new());
         let (mut xa, mut xb) = ([Z0, 0.0], [Z0, 0.0]);
         for i in 0..90 {
