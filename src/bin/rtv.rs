@@ -24,6 +24,7 @@ use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{modes, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
 use rt_vehicle::studies::kc;
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
 use std::io::Write;
 use std::process::ExitCode;
 use std::time::Instant;
@@ -293,16 +294,19 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let mut out = csv_writer(opts.get("out"))?;
     let columns = scene.columns(keep_all);
     let header = columns.iter().map(|&i| column_name(&data_input, i)).collect::<Vec<_>>().join(",");
-    let mut lines = vec![header];
+    // The rows are kept in one buffer and written after the run (the CPU figure is the simulation's).
+    let mut text = header + "\n";
     let evaluate = keep_all || scene.needs.evaluates_outputs();
     let t = Instant::now();
     let result = run_columns(&mut sim, end, interval, &columns, evaluate, |row| {
-        lines.push(row.iter().map(|v| format!("{v:.10e}")).collect::<Vec<_>>().join(","));
+        for (k, v) in row.iter().enumerate() {
+            let separator = if k + 1 == row.len() { "\n" } else { "," };
+            // Writing into a String cannot fail.
+            let _ = write!(text, "{v:.10e}{separator}");
+        }
     });
     let cpu = t.elapsed();
-    for l in &lines {
-        writeln!(out, "{l}").map_err(|e| failed(format!("write failed: {e}")))?;
-    }
+    out.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
     eprintln!(
         "{}: {:.3} s simulated in {:.3} s CPU ({:.0}x real time; set-up {:.3} s), {} evaluations, {:.2} us each",
