@@ -2,6 +2,8 @@
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
+pub mod eigen;
+
 pub type V3 = Vector3<f64>;
 pub type M3 = Matrix3<f64>;
 

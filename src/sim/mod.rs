@@ -19,6 +19,7 @@ pub mod stepping;
 use crate::error::{Cause, Context, ModelError};
 use crate::integrate::stability::{bdf2_damped_up_to, damped_up_to, is_damped, largest_stable_step, DAMPED_GROWTH_MAX};
 use crate::integrate::{substeps, AnyIntegrator, Integrator, IntegratorKind, OdeSystem};
+use crate::math::eigen::eigenvalues;
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
 use crate::model::equilibrium::{retune_ride_height, steady_rolling};
 use crate::model::params::VehicleData;
@@ -571,9 +572,10 @@ pub fn hop_resolution(kind: IntegratorKind) -> f64 {
 /// coupling moves the largest eigenvalue by up to 0.2 % on the shipped vehicles, and its forward
 /// differences are accurate to about 1e-4 relative: 2 % covers both with room.
 pub const MODE_MARGIN: f64 = 1.02;
-/// The Schur iteration of the step check: converged when the subdiagonal is below this (relative to its
-/// neighbours), within this many sweeps (it takes a few tens on the shipped vehicles; at 1e-13 it stalled
-/// on the HMMWV at full lock at 150 km/h with a wheel in the air).
+/// The QR iteration of the step check (`math::eigen::eigenvalues`): converged when the subdiagonal is below
+/// this (relative to its neighbours), within this many sweeps (it takes a few tens on the shipped vehicles;
+/// at 1e-13 nalgebra's Schur iteration, used before, stalled on the HMMWV at full lock at 150 km/h with a
+/// wheel in the air).
 const EIGEN_TOLERANCE: f64 = 1e-10;
 const EIGEN_MAX_ITERATIONS: usize = 2000;
 
@@ -1133,12 +1135,16 @@ impl Simulation {
                 let lateral = if slip_states.is_some() { at(i, 4, 4) } else { 0.0 };
                 modes[8 + i] = FastMode { kind: ModeKind::LateralTread, corner: i, lambda: Complex::new(lateral, 0.0) };
             }
-            // The QR iteration with a bound (nalgebra's `complex_eigenvalues` iterates without one); where a
-            // wheel is off the road its rows nearly vanish and the iteration may stall at the tight
-            // tolerance: then once more at a loose one (eigenvalues to 1e-7 relative are plenty here).
-            let schur = nalgebra::linalg::Schur::try_new(jac, EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS)
-                .or_else(|| nalgebra::linalg::Schur::try_new(jac, 1e3 * EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS));
-            let schur = schur.ok_or_else(|| {
+            // The QR iteration with a bound, eigenvalues only (`math::eigen`; nalgebra's
+            // `complex_eigenvalues` iterates without a bound, and its `Schur::try_new` also accumulates the
+            // orthogonal factor, unused here); where a wheel is off the road its rows nearly vanish and the
+            // iteration may stall at the tight tolerance: then once more at a loose one (eigenvalues to 1e-7
+            // relative are plenty here). Their order matters below only where two give exactly the same
+            // largest stable step (the first is named); a conjugate pair comes with its positive imaginary part
+            // first, as from nalgebra.
+            let coupled = eigenvalues(&jac, EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS)
+                .or_else(|| eigenvalues(&jac, 1e3 * EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS));
+            let coupled = coupled.ok_or_else(|| {
                 ModelError::new(
                     Cause::StepSizeInstability,
                     format!(
@@ -1149,7 +1155,6 @@ impl Simulation {
                     ),
                 )
             })?;
-            let coupled = schur.complex_eigenvalues();
             let len = 4 * per_corner;
             let states = std::array::from_fn(|k| if k < len { state_of(k / per_corner, k % per_corner) } else { 0 });
             let mut jacobian = [0.0; 400];
@@ -1158,7 +1163,7 @@ impl Simulation {
                     jacobian[r * len + c] = jac[(r, c)];
                 }
             }
-            Ok(WheelModes { per_wheel: modes, coupled: std::array::from_fn(|k| coupled[k]), states, len, jacobian })
+            Ok(WheelModes { per_wheel: modes, coupled, states, len, jacobian })
         })();
         self.cache.corners = warm_starts;
         self.evaluations += 1 + 4 * per_corner as u64;
