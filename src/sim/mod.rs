@@ -1093,7 +1093,13 @@ impl Simulation {
         let mut f0 = [0.0; idx::DIM];
         // On C¹-rounded road edges: a perturbation that straddles a C⁰ edge would see an arbitrarily large
         // stiffness that is no mode (a step the integrator takes through the edge anyway).
-        let mut evaluate = |x: &[f64], out: &mut [f64]| vehicle.derivative(&run, x, &inputs, &mut self.cache, out);
+        // Each evaluation also says which wheels are in contact: a perturbation that moves a wheel across
+        // touchdown, where the normal force jumps by c_z δ̇, would see an arbitrarily large stiffness that is
+        // no mode either; that column is differenced from the other side.
+        let mut evaluate = |x: &[f64], out: &mut [f64]| {
+            vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
+            Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
+        };
         // The wheel states of corner i, and the step of each difference: [θ_L, θ̇_L, Ω, ξ_x, ξ_y].
         let per_corner = if slip_states.is_some() { 5 } else { 3 };
         let state_of = |i: usize, s: usize| -> usize {
@@ -1106,17 +1112,22 @@ impl Simulation {
         };
         const DELTA: [f64; 5] = [1e-6, 1e-5, 1e-5, 1e-7, 1e-7];
         let result = (|| {
-            evaluate(&x[..n], &mut f0[..n])?;
+            let in_contact = evaluate(&x[..n], &mut f0[..n])?;
             let mut jac = SMatrix::<f64, 20, 20>::zeros();
             let mut out = [0.0; idx::DIM];
             for col in 0..4 * per_corner {
                 let (ci, cs) = (col / per_corner, col % per_corner);
                 let mut xp = x;
-                xp[state_of(ci, cs)] += DELTA[cs];
-                evaluate(&xp[..n], &mut out[..n])?;
+                let mut delta = DELTA[cs];
+                xp[state_of(ci, cs)] += delta;
+                if evaluate(&xp[..n], &mut out[..n])? != in_contact {
+                    delta = -delta;
+                    xp[state_of(ci, cs)] = x[state_of(ci, cs)] + delta;
+                    evaluate(&xp[..n], &mut out[..n])?;
+                }
                 for row in 0..4 * per_corner {
                     let k = state_of(row / per_corner, row % per_corner);
-                    jac[(row, col)] = (out[k] - f0[k]) / DELTA[cs];
+                    jac[(row, col)] = (out[k] - f0[k]) / delta;
                 }
             }
             let at = |i: usize, r: usize, c: usize| jac[(i * per_corner + r, i * per_corner + c)];
@@ -1490,5 +1501,34 @@ mod tests {
         // Any other failure carries none.
         let e = simulation(SimConfig::default()).advance(-1.0).expect_err("a negative interval is refused");
         assert_eq!((e.cause(), e.largest_stable_step()), (Cause::Input, None));
+    }
+
+    /// A wheel within a difference step of touchdown: the Jacobian's column that would move it across (where
+    /// the normal force jumps by c_z δ̇) is differenced from the other side, so no spurious stiff mode
+    /// appears. Found as a refusal with a "wheel hop" of −65+9828i 1/s on the 2 in RMS course at 20 km/h.
+    /// Both sides of touchdown are tried: the arm's difference moves the wheel one way only.
+    #[test]
+    fn the_step_check_does_not_difference_across_a_touchdown() {
+        let options = Options { keep_unused_states: true, ..Options::default() };
+        for target in [1e-9, -1e-9] {
+            let mut sim = simulation(SimConfig { options, ..SimConfig::default() });
+            // The chassis lifted until the front left tire's deflection is `target`, everything else as it starts.
+            sim.contact_indicators().unwrap();
+            let resting = sim.cache.diagnostics.penetration[0];
+            let mut x = sim.state.clone();
+            x[idx::R0 + 2] += resting - target;
+            // Falling at 0.5 m/s: the jump at touchdown is c_z δ̇ (at δ̇ = 0 there is none to see).
+            x[idx::V0 + 2] = -0.5;
+            sim.set_continuous_states(&x).unwrap();
+            sim.contact_indicators().unwrap();
+            // Its sign as asked, and well within the reach of a difference step (an arm angle of 1e-6 rad moves
+            // the wheel by ~4e-7 m); the clearance in the air is measured as for an upright wheel, the
+            // deflection in the wheel's plane, so the lift gives a few 1e-9 m rather than exactly `target`.
+            let reached = sim.cache.diagnostics.penetration[0];
+            assert!(reached * target > 0.0 && reached.abs() < 1e-8, "{reached}");
+            let largest = sim.wheel_modes().unwrap().coupled.iter().map(|l| l.norm()).fold(0.0, f64::max);
+            // The HMMWV's wheel modes at rest are a few hundred 1/s; the jump read as a stiffness gives ~1e4.
+            assert!(largest < 2000.0, "deflection {target}: |λ| = {largest}");
+        }
     }
 }
