@@ -60,7 +60,7 @@ fn main() {
                     Err(e) => format!("stopped: {}", e.to_string().chars().take(60).collect::<String>()),
                 };
                 println!(
-                    "| {} | {} | {:.2} | {:.3} | {} | {:.2} |",
+                    "| {} | {} | {:.2} | {:.3} | {} | {:.3} |",
                     data.name.chars().take(20).collect::<String>(),
                     case.name,
                     h * 1e3,
