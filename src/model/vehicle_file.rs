@@ -119,8 +119,11 @@ fn unit_of(field: &str) -> &'static str {
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
 impl VehicleData {
+    /// The compiled-in HMMWV. Its bytes are resources/hmmwv.json, which the test suite checks against the
+    /// schema (tests/vehicle_files.rs, every shipped file): compiling the schema again at every start would
+    /// only repeat that (8.8 M instructions, a fifth of a J-turn's set-up). The loader's own checks run.
     pub fn default_hmmwv() -> VehicleData {
-        VehicleData::from_json(DEFAULT_VEHICLE_JSON).expect("shipped vehicle data must be valid")
+        VehicleData::parse(DEFAULT_VEHICLE_JSON, None, false).expect("shipped vehicle data must be valid")
     }
 
     /// Reads a vehicle file: a regular file of at most `MAX_FILE_BYTES` (a FIFO would block the caller, a
@@ -160,12 +163,19 @@ impl VehicleData {
     /// `from_json` for a file in folder `dir`, against which a relative `tire.tir_file` is resolved (the
     /// working directory when `None`).
     pub fn from_json_in(text: &str, dir: Option<&Path>) -> Result<VehicleData, DataError> {
-        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| err("(file)", e.to_string()))?;
+        VehicleData::parse(text, dir, true)
+    }
+
+    /// `from_json_in`, with the schema check only where `schema` is asked (and the feature is built).
+    fn parse(text: &str, dir: Option<&Path>, schema: bool) -> Result<VehicleData, DataError> {
         // The FMU's library is built without the schema (feature `schema`): the loader's own checks below.
         #[cfg(feature = "schema")]
-        check_schema(&value)?;
+        if schema {
+            let value: serde_json::Value = serde_json::from_str(text).map_err(|e| err("(file)", e.to_string()))?;
+            check_schema(&value)?;
+        }
         #[cfg(not(feature = "schema"))]
-        let _ = &value;
+        let _ = schema;
         let mut data: VehicleData = serde_json::from_str(text).map_err(|e| {
             // serde_json names the missing or unknown field in its message; keep its line and column.
             err("(file)", e.to_string())
