@@ -5,9 +5,10 @@
 //! The bound is set below the smallest |hλ| at which a run that finishes is off.
 //!
 //! ```sh
-//! cargo run --release --example hop_resolution -- imex-ab3 [VEHICLE.json ...] > docs/hop_resolution_imex.md
+//! cargo run --release --example hop_resolution -- imex-ab3|rk4 [VEHICLE.json ...] > docs/hop_resolution_<scheme>.md
 //! ```
-//! (docs/hop_resolution_imex.md is this command's output on the HMMWV and both imports.)
+//! (docs/hop_resolution_imex.md and docs/hop_resolution_rk4.md are this command's output on the HMMWV and
+//! both imports.)
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::sim::calibration;
 use rt_vehicle::sim::{ModeKind, Simulation};
@@ -24,13 +25,20 @@ fn main() {
     let steps = [1.0 / 120.0, 1.0 / 240.0, 1.0 / 480.0, 1.0 / 960.0, 1.0 / 1920.0, 1.0 / 3840.0];
     println!("# {kind:?} on obstacles with the step check's refusals off: the wheel-hop resolution bound\n");
     println!(
-        "Written by `cargo run --release --example hop_resolution -- {} > docs/hop_resolution_imex.md`. Each road \
+        "Written by `cargo run --release --example hop_resolution -- {} > docs/hop_resolution_{}.md`. Each road \
          case of the stability suite runs at the suite's steps halved down to 0.26 ms with the step check refusing \
          nothing (`Simulation::set_step_refusals(false)`; IMEX-AB3's own accuracy monitor still refuses: \
          \"stopped\"), judged against the suite's reference and tolerance (the last column: error over tolerance, \
-         above 1 is off). |hλ| is the fastest wheel-hop mode's at the start. `sim::hop_resolution` is set 20 % below \
-         the smallest |hλ| of a run that finishes off.\n",
-        args.join(" ")
+         above 1 is off). |hλ| is the fastest wheel-hop mode's at the start. IMEX-AB3's bound (`sim::hop_resolution`) \
+         is set 20 % below the smallest |hλ| of a run that finishes off; RK4's (0.25) acts together with the \
+         bump-resolution rule (at least 20 steps per bump), which refuses its runs that finish off below it (the \
+         HMMWV's 20 cm bump at 2.08 ms; docs/integrators.md).\n",
+        args.join(" "),
+        if kind == rt_vehicle::integrate::IntegratorKind::ImexAb3 {
+            "imex".to_string()
+        } else {
+            format!("{kind:?}").to_lowercase()
+        }
     );
     println!("| vehicle | case | h (ms) | \\|hλ\\| hop | outcome | error / tolerance |\n|---|---|---|---|---|---|");
     for data in vehicles {

@@ -338,7 +338,10 @@ mod tests {
     #[test]
     fn steps_without_a_touchdown_are_plain_rk4() {
         let h = 1e-3;
-        let (mut a, mut b) = (Drop { locate: true, penetration: [0.0], evaluations: 0 }, Drop { locate: false, penetration: [0.0], evaluations: 0 });
+        let (mut a, mut b) = (
+            Drop { locate: true, penetration: [0.0], evaluations: 0 },
+            Drop { locate: false, penetration: [0.0], evaluations: 0 },
+        );
         let (mut ra, mut rb) = (Rk4::new(), Rk4::new());
         let (mut xa, mut xb) = ([Z0, 0.0], [Z0, 0.0]);
         for i in 0..90 {
