@@ -186,9 +186,16 @@ pub(crate) fn commit(
     candidate: &mut [f64],
     x: &mut [f64],
 ) -> Result<(), ModelError> {
+    projected(sys, t_new, candidate)?;
+    x.copy_from_slice(candidate);
+    Ok(())
+}
+
+/// Project a candidate state in place and check it is finite (`commit` without the copy: a state that is
+/// evaluated before it is accepted, as the touchdown location's trial ends are).
+pub(crate) fn projected(sys: &mut dyn OdeSystem, t_new: f64, candidate: &mut [f64]) -> Result<(), ModelError> {
     sys.project(candidate);
     if candidate.iter().all(|v| v.is_finite()) {
-        x.copy_from_slice(candidate);
         Ok(())
     } else {
         Err(ModelError::new(Cause::NonFinite, format!("integration diverged: non-finite state at t = {t_new}")))

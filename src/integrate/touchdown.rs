@@ -21,8 +21,8 @@
 //! reaches 0 continuously there (the clamp of `tire::normal_force`), a kink, not a jump. Each located
 //! touchdown costs about 4 evaluations per bracketing sub-step (3–6 of them) and 2 more.
 use super::rk4::Rk4;
-use super::{commit, eval, fit, OdeSystem};
-use crate::error::{Cause, ModelError};
+use super::{commit, eval, fit, projected, OdeSystem};
+use crate::error::ModelError;
 
 /// The most switch indicators a system may have (one per wheel).
 pub const MAX_SWITCHES: usize = 4;
@@ -176,13 +176,7 @@ fn bracket(
         s = s.clamp(lo + margin, hi - margin);
         rk.stages(sys, a, s, x)?;
         let stage_max = at(&rk.g[1]).max(at(&rk.g[2])).max(at(&rk.g[3]));
-        sys.project(&mut rk.xs);
-        if !rk.xs.iter().all(|v| v.is_finite()) {
-            return Err(ModelError::new(
-                Cause::NonFinite,
-                format!("integration diverged: non-finite state at t = {}", a + s),
-            ));
-        }
+        projected(sys, a + s, &mut rk.xs)?;
         eval(sys, a + s, &rk.xs, &mut rk.location.k_try)?;
         let mut g = Indicators::default();
         g.record(sys);

@@ -865,8 +865,8 @@ impl Vehicle {
                 // deflection at touchdown.
                 let clearance =
                     centre_abs.z - road.height_and_gradient(centre_abs.x, centre_abs.y).0 - self.tire.unloaded_radius_m;
-                diag.contact_indicator[i] = -clearance.abs();
                 diag.penetration[i] = -clearance.abs();
+                diag.contact_indicator[i] = diag.penetration[i];
                 if options.slip == SlipModel::Relaxation {
                     let lifted = tire::SlipStateContext { in_contact: false, blend: 1.0, sliding_limit: [1.0; 2] };
                     relaxation_rates = tire::relaxation_rates(&self.tire, 0.0, 0.0, 0.0, xi, &lifted);
