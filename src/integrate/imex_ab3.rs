@@ -33,8 +33,9 @@
 //! - History and J are plain data (bit-exact serde): an FMU state restores the scheme exactly.
 use super::{ab3::same_step, commit, eval, fit, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{Const, SMatrix, SVector, LU};
 use serde::{Deserialize, Serialize};
+use std::cell::RefCell;
 
 /// The most fast states the implicit block holds.
 pub const MAX_FAST: usize = 20;
@@ -131,6 +132,29 @@ pub struct ImexAb3 {
     /// state's scales.
     #[serde(skip)]
     scratch: [Vec<f64>; 11],
+    /// The LU factors of a0 I − hJ already formed with the current J (`Factors`).
+    #[serde(skip)]
+    factors: RefCell<Factors>,
+}
+
+/// LU factors of a0 I − hJ, by (a0, h): a step forms the same matrix as the step before it (and its
+/// second-order estimate one more), so each is factored once per J and step size instead of twice per
+/// step (a quarter of the scheme's instructions on the 8.33 ms J-turn went to those factorizations).
+/// Cleared when J changes; the results are those of a fresh factorization, bit for bit.
+#[derive(Debug, Clone, Default)]
+struct Factors {
+    /// (a0, h) as bits, and the factors; the most recent `FACTOR_SLOTS` (a start uses six).
+    slots: Vec<(u64, u64, LU<f64, Const<MAX_FAST>, Const<MAX_FAST>>)>,
+    next: usize,
+}
+
+const FACTOR_SLOTS: usize = 6;
+
+impl Factors {
+    fn clear(&mut self) {
+        self.slots.clear();
+        self.next = 0;
+    }
 }
 
 /// The SBDF coefficients of order 1–3: the weight of x_{n+1}, of the past states, of the past E.
@@ -146,6 +170,7 @@ fn coefficients(order: usize) -> (f64, [f64; 3], [f64; 3]) {
 struct Block<'a> {
     fast: &'a [usize],
     jac: &'a [f64],
+    factors: &'a RefCell<Factors>,
 }
 
 impl Block<'_> {
@@ -161,36 +186,71 @@ impl Block<'_> {
     ) -> Result<(), ModelError> {
         let (a0, ax, ae) = coefficients(order);
         let m = self.fast.len();
-        let points: [(&[f64], &[f64]); 3] = [(x, f), (&hist.x1, &hist.f1), (&hist.x2, &hist.f2)];
-        // Explicit rows: E = f.
-        for (i, o) in out.iter_mut().enumerate() {
-            let mut rhs = 0.0;
-            for (k, (xk, fk)) in points.iter().enumerate().take(order) {
-                rhs += ax[k] * xk[i] + h * ae[k] * fk[i];
+        let n = out.len();
+        let he = ae.map(|e| h * e);
+        let (x0, f0, x1, f1, x2, f2) = (&x[..n], &f[..n], &hist.x1[..], &hist.f1[..], &hist.x2[..], &hist.f2[..]);
+        // Σ_k ax_k x_k + h Σ_k ae_k f_k: each row's step times a0 (E = f on the explicit rows); one loop per
+        // order, with the slices' lengths known (this is most of the scheme's own cost per step).
+        match order {
+            1 => out.iter_mut().enumerate().for_each(|(i, o)| *o = ax[0] * x0[i] + he[0] * f0[i]),
+            2 => {
+                let (x1, f1) = (&x1[..n], &f1[..n]);
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = ax[0] * x0[i] + he[0] * f0[i] + (ax[1] * x1[i] + he[1] * f1[i]);
+                }
             }
-            *o = rhs / a0;
+            _ => {
+                let (x1, f1, x2, f2) = (&x1[..n], &f1[..n], &x2[..n], &f2[..n]);
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = ax[0] * x0[i]
+                        + he[0] * f0[i]
+                        + (ax[1] * x1[i] + he[1] * f1[i])
+                        + (ax[2] * x2[i] + he[2] * f2[i]);
+                }
+            }
         }
+        // Fast rows: E_k = f_k − J x_k, and (a0 I − hJ) x_{n+1} = Σ ax_k x_k + h Σ ae_k E_k, where
+        // Σ ae_k J x_k = J Σ ae_k x_k: one product with J per step instead of one per past point.
+        let past = [x0, x1, x2];
+        let mut weighted = [0.0; MAX_FAST];
+        for (w, &c) in weighted.iter_mut().zip(self.fast) {
+            *w = past[..order].iter().zip(&ae).map(|(xk, e)| e * xk[c]).sum();
+        }
+        let mut rhs = SVector::<f64, MAX_FAST>::zeros();
+        for (r, &i) in self.fast.iter().enumerate() {
+            let jw: f64 = self.jac[r * m..(r + 1) * m].iter().zip(&weighted).map(|(j, w)| j * w).sum();
+            rhs[r] = out[i] - h * jw;
+        }
+        out.iter_mut().for_each(|o| *o /= a0);
         if m == 0 {
             return Ok(());
         }
-        // Fast rows: E_k = f_k − J x_k, and (a0 I − hJ) x_{n+1} = rhs.
-        let mut rhs = SVector::<f64, MAX_FAST>::zeros();
-        for (r, &i) in self.fast.iter().enumerate() {
-            let row = &self.jac[r * m..(r + 1) * m];
-            let mut v = 0.0;
-            for (k, (xk, fk)) in points.iter().enumerate().take(order) {
-                let jx: f64 = row.iter().zip(self.fast).map(|(j, &c)| j * xk[c]).sum();
-                v += ax[k] * xk[i] + h * ae[k] * (fk[i] - jx);
+        let key = (a0.to_bits(), h.to_bits());
+        let mut factors = self.factors.borrow_mut();
+        let slot = match factors.slots.iter().position(|(a, b, _)| (*a, *b) == key) {
+            Some(slot) => slot,
+            None => {
+                let mut a = SMatrix::<f64, MAX_FAST, MAX_FAST>::identity();
+                for r in 0..m {
+                    for c in 0..m {
+                        a[(r, c)] = if r == c { a0 } else { 0.0 } - h * self.jac[r * m + c];
+                    }
+                }
+                let lu = a.lu();
+                let filled = factors.slots.len();
+                factors.slots.reserve_exact(FACTOR_SLOTS - filled);
+                if factors.slots.len() < FACTOR_SLOTS {
+                    factors.slots.push((key.0, key.1, lu));
+                    factors.slots.len() - 1
+                } else {
+                    let slot = factors.next;
+                    factors.slots[slot] = (key.0, key.1, lu);
+                    factors.next = (slot + 1) % FACTOR_SLOTS;
+                    slot
+                }
             }
-            rhs[r] = v;
-        }
-        let mut a = SMatrix::<f64, MAX_FAST, MAX_FAST>::identity();
-        for r in 0..m {
-            for c in 0..m {
-                a[(r, c)] = if r == c { a0 } else { 0.0 } - h * self.jac[r * m + c];
-            }
-        }
-        let z = a.lu().solve(&rhs).ok_or_else(|| {
+        };
+        let z = factors.slots[slot].2.solve(&rhs).ok_or_else(|| {
             ModelError::new(Cause::StepSizeInstability, format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s"))
         })?;
         for (r, &i) in self.fast.iter().enumerate() {
@@ -213,6 +273,7 @@ impl ImexAb3 {
         self.fast.extend_from_slice(fast);
         self.jac.clear();
         self.jac.extend_from_slice(jac);
+        self.factors.get_mut().clear();
     }
 
     /// The order of the steps from the next one: 3 (SBDF3), or 2 (SBDF2, whose implicit part BDF2 is
@@ -283,7 +344,7 @@ impl Integrator for ImexAb3 {
         let mut order = self.main.order(h);
         let cap = self.order();
         let mut substepped = false;
-        let block = Block { fast: &self.fast, jac: &self.jac };
+        let block = Block { fast: &self.fast, jac: &self.jac, factors: &self.factors };
         let start = &mut self.start;
         let main = &self.main;
         // The local error estimate of a third-order step: the second-order step's difference from it (the

@@ -20,32 +20,34 @@ pub fn is_stable(kind: IntegratorKind, z: C) -> bool {
 /// The amplification of one step: |R(z)| (RK4) or the largest root modulus (AB3). DOPRI5 chooses its own
 /// steps by its error estimate, which keeps hλ inside its region: it is never refused (growth 0).
 pub fn growth(kind: IntegratorKind, z: C) -> f64 {
-    growth_from(kind, z, &mut None)
+    match (kind, multistep_cubic(kind, z)) {
+        (_, Some((a, b, c))) => largest_modulus(cubic_roots(a, b, c)),
+        (IntegratorKind::Rk4, _) => rk4_growth(z),
+        _ => 0.0,
+    }
 }
 
-/// `growth`, the multistep schemes' cubic solved from `roots` (the roots at a nearby z, as along a ray)
-/// when given, which then holds the new roots.
-fn growth_from(kind: IntegratorKind, z: C, roots: &mut Option<[C; 3]>) -> f64 {
+/// RK4's |R(z)|.
+fn rk4_growth(z: C) -> f64 {
+    (C::new(1.0, 0.0) + z * (C::new(1.0, 0.0) + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))).norm()
+}
+
+/// The multistep schemes' characteristic cubic at z, monic: ζ³ + a ζ² + b ζ + c (`None` for the one-step
+/// schemes).
+fn multistep_cubic(kind: IntegratorKind, z: C) -> Option<(C, C, C)> {
     match kind {
-        IntegratorKind::Dopri5 => 0.0,
-        IntegratorKind::Rk4 => {
-            (C::new(1.0, 0.0) + z * (C::new(1.0, 0.0) + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))).norm()
-        }
         IntegratorKind::Ab3 => {
+            // ζ³ − (1 + 23z/12) ζ² + (16z/12) ζ − 5z/12.
             let twelfth = z / 12.0;
-            // Monic cubic ζ³ + a ζ² + b ζ + c.
-            let a = -(C::new(1.0, 0.0) + twelfth * 23.0);
-            let b = twelfth * 16.0;
-            let c = -twelfth * 5.0;
-            largest_modulus(cubic_roots_from(a, b, c, roots))
+            Some((-(C::new(1.0, 0.0) + twelfth * 23.0), twelfth * 16.0, -twelfth * 5.0))
         }
         // The modes judged are the wheels' fast ones, which IMEX-AB3 treats implicitly with the Jacobian the
         // check has just computed: BDF3's root condition, (11/6 − z) ζ³ − 3 ζ² + 3/2 ζ − 1/3 = 0.
         IntegratorKind::ImexAb3 => {
             let lead = C::new(11.0 / 6.0, 0.0) - z;
-            let (a, b, c) = (-3.0 / lead, 1.5 / lead, -(1.0 / 3.0) / lead);
-            largest_modulus(cubic_roots_from(a, b, c, roots))
+            Some((-3.0 / lead, 1.5 / lead, -(1.0 / 3.0) / lead))
         }
+        IntegratorKind::Rk4 | IntegratorKind::Dopri5 => None,
     }
 }
 
@@ -65,19 +67,50 @@ pub const DAMPED_GROWTH_MAX: f64 = 0.9;
 /// suite's floor (docs/stability_pac02.md). A weakly damped mode (Re z near 0) keeps the allowance of its
 /// own decay, e^{Re z/2}, which an accurate step stays below. On the negative real axis the bound costs
 /// RK4 2.5 % of its range (|z| ≤ 2.716 instead of 2.785) and AB3 11 % (0.486 instead of 6/11).
+///
+/// For the multistep schemes the test needs no roots: every root of the cubic must lie within the radius
+/// `damps` allows, which the Schur–Cohn test decides (`cubic_roots_within`) in a fixed dozen complex
+/// operations where the roots took an iteration (the step check of IMEX-AB3 judges 20 eigenvalues at 32
+/// points of a ray each: with the roots, that was 39 % of the 8.33 ms J-turn's instructions). The two agree
+/// but where a root lies within rounding of the radius (`schur_cohn_agrees_with_the_roots`).
 pub fn is_damped(kind: IntegratorKind, z: C) -> bool {
-    damped_from(kind, z, &mut None)
-}
-
-/// `is_damped`, its cubic solved from nearby roots (`growth_from`).
-fn damped_from(kind: IntegratorKind, z: C, roots: &mut Option<[C; 3]>) -> bool {
-    // One growth for both tests (each is a cubic's roots for the multistep schemes).
-    damps(growth_from(kind, z, roots), z)
+    match multistep_cubic(kind, z) {
+        Some((a, b, c)) => cubic_roots_within(a, b, c, damping_radius(z)),
+        None => damps(growth(kind, z), z),
+    }
 }
 
 /// Whether a growth per step `g` at z is damped (`is_damped`'s test).
 fn damps(g: f64, z: C) -> bool {
     g <= 1.0 + 1e-12 && g <= DAMPED_GROWTH_MAX.max((0.5 * z.re).exp()) + 1e-12
+}
+
+/// The largest growth per step `damps` accepts at z: min(1, max(0.9, e^{Re z/2})), each with its 1e-12.
+fn damping_radius(z: C) -> f64 {
+    // e^{Re z/2} ≤ 0.9 for Re z ≤ 2 ln 0.9: no exponential needed there.
+    let decay = if z.re <= -0.2108 { DAMPED_GROWTH_MAX } else { DAMPED_GROWTH_MAX.max((0.5 * z.re).exp()) };
+    (1.0f64 + 1e-12).min(decay + 1e-12)
+}
+
+/// Whether every root of ζ³ + a ζ² + b ζ + c has modulus below `r`: the Schur–Cohn recursion on the
+/// polynomial in w = ζ / r. A polynomial p of degree n has all its roots in the open unit disk if and only
+/// if |p_0| < |p_n| and the degree n − 1 polynomial (conj(p_n) p(w) − p_0 p*(w)) / w does, p* being p with
+/// its coefficients reversed and conjugated (Rouché's theorem on the unit circle, where |p*| = |p|; see
+/// Henrici, Applied and Computational Complex Analysis I, §6.8).
+fn cubic_roots_within(a: C, b: C, c: C, r: f64) -> bool {
+    let mut p = [c / (r * r * r), b / (r * r), a / r, C::new(1.0, 0.0)];
+    for n in (1..=3).rev() {
+        if p[0].norm_sqr() >= p[n].norm_sqr() {
+            return false;
+        }
+        let (lead, low) = (p[n].conj(), p[0]);
+        let mut next = [C::new(0.0, 0.0); 4];
+        for k in 1..=n {
+            next[k - 1] = lead * p[k] - low * p[n - k].conj();
+        }
+        p = next;
+    }
+    true
 }
 
 /// The growth per step of BDF2, the implicit part of IMEX-AB3 when it steps at second order: the larger
@@ -126,26 +159,11 @@ pub fn damped_up_to(kind: IntegratorKind, lambda: C, h: f64) -> bool {
 
 /// Damped at 32 points of (0, h] along the ray hλ.
 fn damped_along(kind: IntegratorKind, lambda: C, h: f64) -> bool {
-    // Each point's cubic starts from the previous point's roots: a few sweeps instead of tens (the step
-    // check of IMEX-AB3 scans 20 eigenvalues so at every check).
-    let mut roots = None;
-    (1..=32).all(|k| damped_from(kind, lambda * (h * k as f64 / 32.0), &mut roots))
+    (1..=32).all(|k| is_damped(kind, lambda * (h * k as f64 / 32.0)))
 }
 
 /// Roots of ζ³ + a ζ² + b ζ + c by the Durand–Kerner (Weierstrass) iteration: simple and robust for a
 /// cubic whose roots are well separated or not (it converges for any start not on a symmetry line).
-/// From `start` (the roots of a nearby cubic) when given and distinct, which then holds the roots; a start
-/// that does not converge in 200 sweeps is dropped for the fixed seeds.
-fn cubic_roots_from(a: C, b: C, c: C, start: &mut Option<[C; 3]>) -> [C; 3] {
-    let distinct = |r: &[C; 3]| {
-        (r[0] - r[1]).norm_sqr() > 1e-20 && (r[0] - r[2]).norm_sqr() > 1e-20 && (r[1] - r[2]).norm_sqr() > 1e-20
-    };
-    let warm = start.filter(distinct).and_then(|r| durand_kerner(a, b, c, r));
-    let roots = warm.unwrap_or_else(|| cubic_roots(a, b, c));
-    *start = Some(roots);
-    roots
-}
-
 fn cubic_roots(a: C, b: C, c: C) -> [C; 3] {
     let seed = C::new(0.4, 0.9);
     let start = [C::new(1.0, 0.0), seed, seed * seed];
@@ -225,6 +243,44 @@ mod tests {
         let h = 1.0 / 120.0;
         assert!(!damped_up_to(IntegratorKind::ImexAb3, lambda, h));
         assert!(bdf2_damped_up_to(lambda, h));
+    }
+
+    #[test]
+    fn schur_cohn_agrees_with_the_roots() {
+        // The damping test without roots against the roots' largest modulus (Durand–Kerner), on a grid of z
+        // over both multistep schemes' regions and well beyond (including the unstable right half-plane and
+        // BDF3's lobe near the imaginary axis); points whose largest root lies within 1e-9 of the radius are
+        // ties that rounding decides either way. Each scheme's grid has both outcomes many times.
+        // AB3's region reaches −6/11 on the real axis; BDF3's lobe lies near the imaginary axis up to about 3i.
+        for (kind, size) in [(IntegratorKind::Ab3, 1.0), (IntegratorKind::ImexAb3, 6.0)] {
+            let (mut damped, mut not, mut ties) = (0, 0, 0);
+            for i in 0..=240 {
+                for j in 0..=160 {
+                    let z = C::new(size * (-1.0 + 1.1 * i as f64 / 240.0), size * 0.7 * j as f64 / 160.0);
+                    let by_roots = growth(kind, z);
+                    if (by_roots - damping_radius(z)).abs() < 1e-9 {
+                        ties += 1;
+                        continue;
+                    }
+                    let expected = damps(by_roots, z);
+                    assert_eq!(is_damped(kind, z), expected, "{kind:?} at z = {z}: largest root {by_roots}");
+                    assert_eq!(is_damped(kind, z.conj()), expected, "{kind:?} at z = {}", z.conj());
+                    if expected {
+                        damped += 1;
+                    } else {
+                        not += 1;
+                    }
+                }
+            }
+            assert!(damped > 1000 && not > 1000 && ties < 10, "{kind:?}: {damped} damped, {not} not, {ties} ties");
+        }
+        // A polynomial with known roots: (ζ − 0.5)(ζ + 0.8i)(ζ − 0.95) within 0.96, not within 0.94.
+        let roots = [C::new(0.5, 0.0), C::new(0.0, -0.8), C::new(0.95, 0.0)];
+        let a = -(roots[0] + roots[1] + roots[2]);
+        let b = roots[0] * roots[1] + roots[0] * roots[2] + roots[1] * roots[2];
+        let c = -(roots[0] * roots[1] * roots[2]);
+        assert!(cubic_roots_within(a, b, c, 0.96));
+        assert!(!cubic_roots_within(a, b, c, 0.94));
     }
 
     #[test]

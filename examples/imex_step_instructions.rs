@@ -1,0 +1,75 @@
+//! Instructions per IMEX-AB3 step against one synthesis evaluation (issue 19: a step may cost at most 1.5×
+//! an evaluation), free of machine noise: run under callgrind with N = 0 and N = 2000 steps and divide the
+//! difference by N; `examples/evaluation_instructions.rs` gives the evaluation's own count the same way.
+//!
+//! ```sh
+//! cargo build --release --example imex_step_instructions
+//! for n in 0 2000; do valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$n \
+//!     target/release/examples/imex_step_instructions $n 2>&1 | grep "Collected"; done
+//! ```
+//! The state is the J-turn's cornering at t = 4 s (as `evaluation_instructions`), and the steps go on from
+//! there at 8.33 ms with the inputs held: steady cornering, the scheme's plain third-order step (one
+//! evaluation, its SBDF2 estimate, two solves with the factors of a0 I − hJ kept between steps). The two
+//! starting steps (five evaluations each) and the J's factorization are in both runs of the difference as
+//! long as N ≥ 2; the program prints how many steps were retaken, which would add to the count (0 here).
+use rt_vehicle::error::ModelError;
+use rt_vehicle::integrate::imex_ab3::ImexAb3;
+use rt_vehicle::integrate::{Integrator, OdeSystem};
+use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
+use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::sim::{stepping, SimConfig};
+
+/// The vehicle with its inputs held (the J-turn's steer is constant after 1.5 s).
+struct Held<'a> {
+    vehicle: &'a Vehicle,
+    run: Run<'a>,
+    inputs: Inputs,
+    cache: Workspace,
+}
+
+impl OdeSystem for Held<'_> {
+    fn dim(&self) -> usize {
+        self.run.layout().dim
+    }
+    fn derivative(&mut self, _t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), ModelError> {
+        self.vehicle.derivative(&self.run, x, &self.inputs, &mut self.cache, dxdt)
+    }
+    fn project(&self, x: &mut [f64]) {
+        let e = &mut x[idx::E0..idx::E0 + 4];
+        let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
+        e.iter_mut().for_each(|v| *v /= n);
+    }
+    fn error_scale(&self, scale: &mut [f64]) {
+        stepping::error_scale(&self.run.layout(), scale);
+    }
+}
+
+fn main() {
+    let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(2000);
+    let data = VehicleData::default_hmmwv();
+    let scene = Scene::for_vehicle(SceneKind::JTurn, Amplitude::Calibrated, &data).unwrap();
+    let mut sim = scene.start(data, &SimConfig::default()).unwrap();
+    run(&mut sim, 4.0, 0.01, |_| {}).unwrap();
+    let modes = sim.wheel_modes().unwrap();
+    let inputs = sim.inputs();
+    let (vehicle, mut x) = (sim.vehicle().clone(), sim.state().to_vec());
+    let mut system = Held {
+        vehicle: &vehicle,
+        run: Run::new(&vehicle, &sim.config().options, sim.road()),
+        inputs,
+        cache: Workspace::default(),
+    };
+    let mut scheme = ImexAb3::new();
+    scheme.set_fast_jacobian(&modes.states[..modes.len], &modes.jacobian[..modes.len * modes.len]);
+    scheme.set_error_limit(5e-3);
+    let h = 1.0 / 120.0;
+    // The two starting steps, in both runs.
+    for k in 0..2 {
+        scheme.step(&mut system, 4.0 + k as f64 * h, h, &mut x).unwrap();
+    }
+    for k in 0..n {
+        scheme.step(&mut system, 4.0 + (k + 2) as f64 * h, h, &mut x).unwrap();
+    }
+    println!("{n} steps after the start, {} retaken; yaw rate {:.6e} rad/s", scheme.substepped, x[idx::W0 + 2]);
+}
