@@ -6,16 +6,20 @@
 //!
 //! ```sh
 //! cargo run --release --example hop_resolution -- imex-ab3|rk4 [VEHICLE.json ...] > docs/hop_resolution_<scheme>.md
+//! cargo run --release --example hop_resolution -- imex-ab3|rk4 --stiff > docs/hop_resolution_stiff_<scheme>.md
 //! ```
 //! (docs/hop_resolution_imex.md and docs/hop_resolution_rk4.md are this command's output on the HMMWV and
-//! both imports.)
+//! both imports; with `--stiff`, the suite's stiff variants on the paper's bump course instead, on the HMMWV:
+//! where a fixed step resolves their wheel hop, apart from the check that refuses them.)
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::sim::calibration;
 use rt_vehicle::sim::{ModeKind, Simulation};
 use rt_vehicle::studies::stability;
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let stiff = args.iter().any(|a| a == "--stiff");
+    args.retain(|a| a != "--stiff");
     let kind = rt_vehicle::sim::modes::INTEGRATORS.by_name(args.first().map_or("imex-ab3", |s| s.as_str())).unwrap();
     let vehicles: Vec<VehicleData> = if args.len() > 1 {
         args[1..].iter().map(|p| VehicleData::from_file(std::path::Path::new(p)).unwrap()).collect()
@@ -23,9 +27,10 @@ fn main() {
         vec![VehicleData::default_hmmwv()]
     };
     let steps = [1.0 / 120.0, 1.0 / 240.0, 1.0 / 480.0, 1.0 / 960.0, 1.0 / 1920.0, 1.0 / 3840.0];
-    println!("# {kind:?} on obstacles with the step check's refusals off: the wheel-hop resolution bound\n");
+    let title = if stiff { "the stiff variants on the paper's bump course" } else { "obstacles" };
+    println!("# {kind:?} on {title} with the step check's refusals off: the wheel-hop resolution bound\n");
     println!(
-        "Written by `cargo run --release --example hop_resolution -- {} > docs/hop_resolution_{}.md`. Each road \
+        "Written by `cargo run --release --example hop_resolution -- {} > docs/hop_resolution_{}{}.md`. Each {} \
          case of the stability suite runs at the suite's steps halved down to 0.26 ms with the step check refusing \
          nothing (`Simulation::set_step_refusals(false)`; IMEX-AB3's own accuracy monitor still refuses: \
          \"stopped\"), judged against the suite's reference and tolerance (the last column: error over tolerance, \
@@ -33,17 +38,25 @@ fn main() {
          is set 20 % below the smallest |hλ| of a run that finishes off; RK4's (0.25) acts together with the \
          bump-resolution rule (at least 20 steps per bump), which refuses its runs that finish off below it (the \
          HMMWV's 20 cm bump at 2.08 ms; docs/integrators.md).\n",
-        args.join(" "),
+        args.iter().chain(stiff.then(|| "--stiff".to_string()).as_ref()).cloned().collect::<Vec<_>>().join(" "),
+        if stiff { "stiff_" } else { "" },
         if kind == rt_vehicle::integrate::IntegratorKind::ImexAb3 {
             "imex".to_string()
         } else {
             format!("{kind:?}").to_lowercase()
-        }
+        },
+        if stiff { "stiff bump" } else { "road" },
     );
     println!("| vehicle | case | h (ms) | \\|hλ\\| hop | outcome | error / tolerance |\n|---|---|---|---|---|---|");
     for data in vehicles {
         let (a, _) = calibration::amplitude_for(&data).unwrap();
-        for case in stability::cases_for(&data, a).into_iter().filter(|c| c.group == "road" || c.name.contains("20 cm"))
+        for case in stability::cases_for(&data, a).into_iter().filter(|c| {
+            if stiff {
+                c.group == "stiff" && c.name.contains("bump")
+            } else {
+                c.group == "road" || c.name.contains("20 cm")
+            }
+        })
         {
             // The suite's reference and tolerance: RK4 at its reference step, checked against half of it; 1 %,
             // or ten times the reference's own change when that is larger.
