@@ -56,8 +56,7 @@ fn main() {
             } else {
                 c.group == "road" || c.name.contains("20 cm")
             }
-        })
-        {
+        }) {
             // The suite's reference and tolerance: RK4 at its reference step, checked against half of it; 1 %,
             // or ten times the reference's own change when that is larger.
             let rk4 = rt_vehicle::integrate::IntegratorKind::Rk4;

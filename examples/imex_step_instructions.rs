@@ -36,9 +36,7 @@ impl OdeSystem for Held<'_> {
         self.vehicle.derivative(&self.run, x, &self.inputs, &mut self.cache, dxdt)
     }
     fn project(&self, x: &mut [f64]) {
-        let e = &mut x[idx::E0..idx::E0 + 4];
-        let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
-        e.iter_mut().for_each(|v| *v /= n);
+        stepping::normalize_attitude(x);
     }
     fn error_scale(&self, scale: &mut [f64]) {
         stepping::error_scale(&self.run.layout(), scale);

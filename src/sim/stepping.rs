@@ -29,6 +29,13 @@ pub const BREAKPOINT_TIME_TOL: f64 = 1e-9;
 /// there, but up to 60× on the bumps).
 pub const LOCAL_PER_TOLERANCE: f64 = 5.0;
 
+/// The projection after every accepted step: the attitude quaternion back to unit length.
+pub fn normalize_attitude(x: &mut [f64]) {
+    let e = &mut x[idx::E0..idx::E0 + 4];
+    let n = e.iter().map(|v| v * v).sum::<f64>().sqrt();
+    e.iter_mut().for_each(|v| *v /= n);
+}
+
 /// Absolute scales of the vehicle's state for the error norm: what a small change of each component is.
 /// Positions 1 cm (the road is a function of the wheel's position: a position error moves the bumps);
 /// attitude (quaternion) 1e-3; velocities 0.01 m/s; angular rates 1e-3 rad/s; arm angles 1e-3 rad, their rates
