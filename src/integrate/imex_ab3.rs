@@ -9,7 +9,7 @@
 //!
 //! - The slow rows (chassis, suspension, speed hold) are an explicit three-step Adams-type extrapolation of
 //!   order 3 with one evaluation per step, as AB3 is; the fast rows solve one 20×20 linear system per step
-//!   (stack-allocated LU).
+//!   (stack-allocated LU, factored once per J and step size: `Factors`).
 //! - J comes from the simulation (`set_fast_jacobian`): the step check's forward-difference Jacobian of the
 //!   wheels' fast states, refreshed whenever the check runs. E is recomputed from the stored f and x with
 //!   the current J at every step, so a refresh changes the split but never the sum E + J x = f: the scheme
