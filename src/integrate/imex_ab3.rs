@@ -37,7 +37,7 @@ use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
 /// The most fast states the implicit block holds.
-pub const MAX_FAST: usize = 20;
+pub const MAX_FAST: usize = 26;
 /// Sub-steps of each of the two starting steps (and of a retaken step).
 pub const START_SUBSTEPS: usize = 4;
 /// A retaken step's third-order sub-steps are held to this many times the limit: 1, the same limit (a looser
@@ -105,9 +105,18 @@ impl History {
 pub struct ImexAb3 {
     /// The fast states' indices in x.
     fast: Vec<usize>,
-    /// J, row-major, fast × fast.
+    /// J, row-major, fast × cols (`cols` empty: fast × fast).
     #[serde(with = "super::exact::vec_bits")]
     jac: Vec<f64>,
+    /// The states of J's columns; empty: the fast states (a square block). A column of a state outside
+    /// the block couples the fast rows to the explicit rows' new values (solved slow first, then fast).
+    #[serde(default)]
+    cols: Vec<usize>,
+    /// The leading fast states that the accuracy monitor leaves out at third order (the wheels' stiff
+    /// states, damped rather than followed); the others (chassis velocities in the block) are watched.
+    /// `None`: all the fast states.
+    #[serde(default)]
+    unwatched: Option<usize>,
     /// History at the step size.
     main: History,
     /// History of the starting sub-steps.
@@ -142,10 +151,13 @@ fn coefficients(order: usize) -> (f64, [f64; 3], [f64; 3]) {
     }
 }
 
-/// The implicit block: its states and J (row-major).
+/// The implicit block: its states, J (row-major, fast × cols) and the states of J's columns.
 struct Block<'a> {
     fast: &'a [usize],
     jac: &'a [f64],
+    cols: &'a [usize],
+    /// The fast states the monitor leaves out: `fast[..unwatched]`.
+    unwatched: usize,
 }
 
 impl Block<'_> {
@@ -173,22 +185,28 @@ impl Block<'_> {
         if m == 0 {
             return Ok(());
         }
-        // Fast rows: E_k = f_k − J x_k, and (a0 I − hJ) x_{n+1} = rhs.
+        // Fast rows: E_k = f_k − J x_k, and (a0 I − hJ) x_{n+1} = rhs, where the columns of states outside
+        // the block take the explicit rows' new values (computed above): slow first, then fast.
+        let nc = self.cols.len();
         let mut rhs = SVector::<f64, MAX_FAST>::zeros();
+        let mut a = SMatrix::<f64, MAX_FAST, MAX_FAST>::identity();
         for (r, &i) in self.fast.iter().enumerate() {
-            let row = &self.jac[r * m..(r + 1) * m];
+            let row = &self.jac[r * nc..(r + 1) * nc];
             let mut v = 0.0;
             for (k, (xk, fk)) in points.iter().enumerate().take(order) {
-                let jx: f64 = row.iter().zip(self.fast).map(|(j, &c)| j * xk[c]).sum();
+                let jx: f64 = row.iter().zip(self.cols).map(|(j, &c)| j * xk[c]).sum();
                 v += ax[k] * xk[i] + h * ae[k] * (fk[i] - jx);
             }
-            rhs[r] = v;
-        }
-        let mut a = SMatrix::<f64, MAX_FAST, MAX_FAST>::identity();
-        for r in 0..m {
-            for c in 0..m {
-                a[(r, c)] = if r == c { a0 } else { 0.0 } - h * self.jac[r * m + c];
+            for s in 0..m {
+                a[(r, s)] = if r == s { a0 } else { 0.0 };
             }
+            for (j, &c) in row.iter().zip(self.cols) {
+                match self.fast.iter().position(|&f| f == c) {
+                    Some(s) => a[(r, s)] -= h * j,
+                    None => v += h * j * out[c],
+                }
+            }
+            rhs[r] = v;
         }
         let z = a.lu().solve(&rhs).ok_or_else(|| {
             ModelError::new(Cause::StepSizeInstability, format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s"))
@@ -208,11 +226,28 @@ impl ImexAb3 {
     /// The implicit block: J = ∂f/∂x restricted to the states `fast` (row-major, `fast.len()`² values).
     /// Takes effect at the next step; an empty `fast` makes the scheme fully explicit.
     pub fn set_fast_jacobian(&mut self, fast: &[usize], jac: &[f64]) {
-        assert!(fast.len() <= MAX_FAST && jac.len() == fast.len() * fast.len(), "a fast block of at most 20");
+        assert!(fast.len() <= MAX_FAST && jac.len() == fast.len() * fast.len(), "a fast block of at most 26");
         self.fast.clear();
         self.fast.extend_from_slice(fast);
         self.jac.clear();
         self.jac.extend_from_slice(jac);
+        self.cols.clear();
+        self.unwatched = None;
+    }
+
+    /// The implicit block with rows `fast` and columns `cols` (J row-major, `fast.len()` × `cols.len()`):
+    /// the columns of states outside the block couple the fast rows to the explicit rows' new values. The
+    /// accuracy monitor leaves out `fast[..unwatched]` at third order and watches the rest.
+    pub fn set_partial_jacobian(&mut self, fast: &[usize], cols: &[usize], jac: &[f64], unwatched: usize) {
+        assert!(fast.len() <= MAX_FAST && jac.len() == fast.len() * cols.len() && unwatched <= fast.len());
+        assert!(fast.iter().all(|f| cols.contains(f)), "every fast state has its column");
+        self.fast.clear();
+        self.fast.extend_from_slice(fast);
+        self.cols.clear();
+        self.cols.extend_from_slice(cols);
+        self.jac.clear();
+        self.jac.extend_from_slice(jac);
+        self.unwatched = Some(unwatched);
     }
 
     /// The order of the steps from the next one: 3 (SBDF3), or 2 (SBDF2, whose implicit part BDF2 is
@@ -247,7 +282,12 @@ impl ImexAb3 {
     /// A restored scheme must be one this scheme could have built for a system of dimension `dim`.
     pub fn validate(&self, dim: usize) -> Result<(), String> {
         let m = self.fast.len();
-        if m > MAX_FAST || self.jac.len() != m * m || self.fast.iter().any(|&i| i >= dim) {
+        let nc = if self.cols.is_empty() { m } else { self.cols.len() };
+        if m > MAX_FAST
+            || self.jac.len() != m * nc
+            || self.fast.iter().chain(&self.cols).any(|&i| i >= dim)
+            || self.unwatched.is_some_and(|u| u > m)
+        {
             return Err(format!("IMEX-AB3: a fast block of {m} states with {} Jacobian values", self.jac.len()));
         }
         if !self.jac.iter().all(|v| v.is_finite()) {
@@ -283,7 +323,12 @@ impl Integrator for ImexAb3 {
         let mut order = self.main.order(h);
         let cap = self.order();
         let mut substepped = false;
-        let block = Block { fast: &self.fast, jac: &self.jac };
+        let block = Block {
+            fast: &self.fast,
+            jac: &self.jac,
+            cols: if self.cols.is_empty() { &self.fast } else { &self.cols },
+            unwatched: self.unwatched.unwrap_or(self.fast.len()),
+        };
         let start = &mut self.start;
         let main = &self.main;
         // The local error estimate of a third-order step: the second-order step's difference from it (the
@@ -298,7 +343,7 @@ impl Integrator for ImexAb3 {
                 block.step(hist, 2, hh, x, f, x2)?;
                 sys.error_scale(scale);
                 let (mut worst, mut at) = (0.0f64, 0);
-                for i in (0..n).filter(|i| cap == 2 || !block.fast.contains(i)) {
+                for i in (0..n).filter(|i| cap == 2 || !block.fast[..block.unwatched].contains(i)) {
                     let e = (xn[i] - x2[i]).abs() / scale[i];
                     if e > worst {
                         (worst, at) = (e, i);

@@ -582,6 +582,12 @@ pub const MODE_MARGIN: f64 = 1.02;
 const EIGEN_TOLERANCE: f64 = 1e-10;
 const EIGEN_MAX_ITERATIONS: usize = 2000;
 
+/// Whether IMEX-AB3's implicit block takes the chassis velocities too (prototype switch: RTV_IMEX_BLOCK=wheels
+/// turns it off).
+fn imex_chassis_implicit() -> bool {
+    std::env::var("RTV_IMEX_BLOCK").map_or(true, |v| v != "wheels")
+}
+
 /// The fast modes at a state: per wheel (named) and of the wheels' fast states together.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelModes {
@@ -592,6 +598,9 @@ pub struct WheelModes {
     pub states: [usize; 20],
     pub len: usize,
     pub jacobian: [f64; 400],
+    /// All rows of the wheel-state columns: ∂f/∂x_states[c] in `columns[c][..dim]` (IMEX-AB3's partial
+    /// Jacobian takes the chassis-velocity rows from them).
+    pub columns: [[f64; idx::DIM]; 20],
 }
 
 /// Which fast sub-system a mode belongs to.
@@ -1117,6 +1126,7 @@ impl Simulation {
         let result = (|| {
             let in_contact = evaluate(&x[..n], &mut f0[..n])?;
             let mut jac = SMatrix::<f64, 20, 20>::zeros();
+            let mut columns = [[0.0; idx::DIM]; 20];
             let mut out = [0.0; idx::DIM];
             for col in 0..4 * per_corner {
                 let (ci, cs) = (col / per_corner, col % per_corner);
@@ -1131,6 +1141,9 @@ impl Simulation {
                 for row in 0..4 * per_corner {
                     let k = state_of(row / per_corner, row % per_corner);
                     jac[(row, col)] = (out[k] - f0[k]) / delta;
+                }
+                for k in 0..n {
+                    columns[col][k] = (out[k] - f0[k]) / delta;
                 }
             }
             let at = |i: usize, r: usize, c: usize| jac[(i * per_corner + r, i * per_corner + c)];
@@ -1177,11 +1190,68 @@ impl Simulation {
                     jacobian[r * len + c] = jac[(r, c)];
                 }
             }
-            Ok(WheelModes { per_wheel: modes, coupled, states, len, jacobian })
+            Ok(WheelModes { per_wheel: modes, coupled, states, len, jacobian, columns })
         })();
         self.cache.corners = warm_starts;
         self.evaluations += 1 + 4 * per_corner as u64;
         result
+    }
+
+    /// IMEX-AB3's partial Jacobian: rows of the wheels' fast states and the chassis velocities (v, ω), columns
+    /// of every state, by forward differences: the wheel columns from the step check (`columns`), the others
+    /// here (one evaluation each). Returns (rows, columns, J row-major).
+    fn imex_partial_jacobian(
+        &mut self,
+        wheel: &[usize],
+        columns: &[[f64; idx::DIM]; 20],
+    ) -> Result<(Vec<usize>, Vec<usize>, Vec<f64>), ModelError> {
+        let vehicle = attached(&self.vehicle)?;
+        let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
+        let n = run.layout().dim;
+        let inputs = self.inputs_at(self.time);
+        let warm_starts = self.cache.corners;
+        let mut x = [0.0; idx::DIM];
+        x[..n].copy_from_slice(&self.state);
+        let mut f0 = [0.0; idx::DIM];
+        let mut evaluate = |x: &[f64], out: &mut [f64]| {
+            vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
+            Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
+        };
+        let mut rows: Vec<usize> = wheel.to_vec();
+        rows.extend(idx::V0..idx::W0 + 3);
+        let cols: Vec<usize> = (0..n).collect();
+        let mut jac = vec![0.0; rows.len() * n];
+        let mut evaluations = 0;
+        let result = (|| {
+            let in_contact = evaluate(&x[..n], &mut f0[..n])?;
+            evaluations += 1;
+            let mut out = [0.0; idx::DIM];
+            for c in 0..n {
+                let column: [f64; idx::DIM] = match wheel.iter().position(|&w| w == c) {
+                    Some(k) => columns[k],
+                    None => {
+                        let mut xp = x;
+                        let mut delta = 1e-7 * (1.0 + x[c].abs());
+                        xp[c] += delta;
+                        evaluations += 1;
+                        if evaluate(&xp[..n], &mut out[..n])? != in_contact {
+                            delta = -delta;
+                            xp[c] = x[c] + delta;
+                            evaluations += 1;
+                            evaluate(&xp[..n], &mut out[..n])?;
+                        }
+                        std::array::from_fn(|k| if k < n { (out[k] - f0[k]) / delta } else { 0.0 })
+                    }
+                };
+                for (r, &i) in rows.iter().enumerate() {
+                    jac[r * n + c] = column[i];
+                }
+            }
+            Ok::<_, ModelError>(())
+        })();
+        self.cache.corners = warm_starts;
+        self.evaluations += evaluations;
+        result.map(|()| (rows, cols, jac))
     }
 
     /// Refuse a step at which a fast mode of the current state lies outside the integrator's stability
@@ -1192,11 +1262,19 @@ impl Simulation {
         self.last_mode_check = Some(self.time);
         self.loads_at_mode_check = self.cache.tire_loads;
         let kind = self.config.integrator;
-        let WheelModes { per_wheel: modes, coupled, states, len, jacobian } = self.wheel_modes()?;
+        let WheelModes { per_wheel: modes, coupled, states, len, jacobian, columns } = self.wheel_modes()?;
         // IMEX-AB3 integrates these states implicitly with this Jacobian until the next check, and refuses a
         // step whose local error estimate on the other states exceeds its limit.
+        let partial = if matches!(self.integrator, AnyIntegrator::ImexAb3(_)) && imex_chassis_implicit() {
+            Some(self.imex_partial_jacobian(&states[..len], &columns)?)
+        } else {
+            None
+        };
         if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
-            scheme.set_fast_jacobian(&states[..len], &jacobian[..len * len]);
+            match &partial {
+                Some((rows, cols, jac)) => scheme.set_partial_jacobian(rows, cols, jac, len),
+                None => scheme.set_fast_jacobian(&states[..len], &jacobian[..len * len]),
+            }
             scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
         }
         // Each eigenvalue of the wheel states together, judged with the margin for what the block leaves
