@@ -43,6 +43,8 @@ pub const START_SUBSTEPS: usize = 4;
 /// A retaken step's third-order sub-steps are held to this many times the limit: 1, the same limit (a looser
 /// 8 × let the MacPherson import's tire k_z × 10 J-turn through 1 % off; docs/integrators.md).
 pub const SUBSTEP_LIMIT_FACTOR: f64 = 1.0;
+/// A retaken step's sub-step above the limit is retaken once more in four sub-steps (prototype).
+const NESTED_RETAKE: bool = true;
 
 /// Past states and derivatives at one step size.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -121,6 +123,9 @@ pub struct ImexAb3 {
     main: History,
     /// History of the starting sub-steps.
     start: History,
+    /// History of a retaken sub-step's own sub-steps (within one step only).
+    #[serde(skip)]
+    inner: History,
     /// The largest local error estimate relative to the state's scales and the limit (`set_error_limit`)
     /// since the last `take_largest_error`.
     #[serde(skip)]
@@ -139,7 +144,7 @@ pub struct ImexAb3 {
     /// sub-step's extrapolation (the full step, the midpoint and its f), the second-order candidate and the
     /// state's scales.
     #[serde(skip)]
-    scratch: [Vec<f64>; 11],
+    scratch: [Vec<f64>; 14],
 }
 
 /// The SBDF coefficients of order 1–3: the weight of x_{n+1}, of the past states, of the past E.
@@ -313,11 +318,12 @@ impl Integrator for ImexAb3 {
         let n = x.len();
         self.main.fit(n);
         self.start.fit(n);
+        self.inner.fit(n);
         let mut scratch = std::mem::take(&mut self.scratch);
         for v in scratch.iter_mut() {
             fit(v, n);
         }
-        let [fnow, fsub, xold, xs, xsold, xn, xa, xm, fm, x2, scale] = &mut scratch;
+        let [fnow, fsub, xold, xs, xsold, xn, xa, xm, fm, x2, scale, xi, xiold, fi] = &mut scratch;
         let error_limit = if self.error_limit > 0.0 { self.error_limit } else { f64::INFINITY };
         let mut largest = self.largest_error;
         let mut order = self.main.order(h);
@@ -330,6 +336,7 @@ impl Integrator for ImexAb3 {
             unwatched: self.unwatched.unwrap_or(self.fast.len()),
         };
         let start = &mut self.start;
+        let inner = &mut self.inner;
         let main = &self.main;
         // The local error estimate of a third-order step: the second-order step's difference from it (the
         // same history, one more solve) on the states outside the implicit block, relative to their
@@ -398,7 +405,58 @@ impl Integrator for ImexAb3 {
                     // that even a quarter step does not resolve is refused.
                     let (worst, at) = estimate(start, hs, xs, fsub, xn, x2, sys)?;
                     let sub_limit = SUBSTEP_LIMIT_FACTOR * error_limit;
-                    if worst > sub_limit {
+                    second = cap == 2;
+                    if worst > sub_limit && NESTED_RETAKE {
+                        // Retaken once more: this sub-step in four of its own (a fresh history at hs/4, the
+                        // first an extrapolated Euler step), the third and fourth held to the limit. The start
+                        // history goes on at hs: its points are this sub-step's ends, which do not change.
+                        let hi = hs / START_SUBSTEPS as f64;
+                        inner.count = 0;
+                        xi.copy_from_slice(xs);
+                        for k2 in 0..START_SUBSTEPS {
+                            let ti = ts + k2 as f64 * hi;
+                            if k2 == 0 {
+                                fi.copy_from_slice(fsub);
+                            } else {
+                                eval(sys, ti, xi, fi)?;
+                            }
+                            let inner_order = inner.order(hi);
+                            let mut inner_second = false;
+                            if inner_order == 1 {
+                                block.step(inner, 1, hi, xi, fi, xa)?;
+                                block.step(inner, 1, 0.5 * hi, xi, fi, xn)?;
+                                commit(sys, ti + 0.5 * hi, xn, xm)?;
+                                eval(sys, ti + 0.5 * hi, xm, fm)?;
+                                block.step(inner, 1, 0.5 * hi, xm, fm, xn)?;
+                                for (o, &a) in xn.iter_mut().zip(xa.iter()) {
+                                    *o = 2.0 * *o - a;
+                                }
+                            } else if inner_order >= 3 {
+                                let (worst, at) = estimate(inner, hi, xi, fi, xn, x2, sys)?;
+                                if worst > sub_limit {
+                                    let smaller = hi * (sub_limit / worst).cbrt() * 0.9;
+                                    return Err(ModelError::step_refused(
+                                        smaller,
+                                        format!(
+                                            "IMEX-AB3's local error estimate at t = {ti:.4} s is {worst:.2e} of the {}'s \
+                                             scale in a sixteenth of a step it retook, above its limit {sub_limit:.2e}: \
+                                             the step h = {h:.3e} s does not resolve this transient even in sixteen \
+                                             sub-steps; use h ≤ {smaller:.2e} s or a larger tolerance",
+                                            sys.state_name(at)
+                                        ),
+                                    ));
+                                }
+                                inner_second = cap == 2;
+                            } else {
+                                block.step(inner, inner_order.min(cap), hi, xi, fi, xn)?;
+                            }
+                            xiold.copy_from_slice(xi);
+                            commit(sys, ti + hi, if inner_second { x2 } else { xn }, xi)?;
+                            inner.push(xiold, fi, hi, inner_order);
+                        }
+                        xn.copy_from_slice(xi);
+                        second = false;
+                    } else if worst > sub_limit {
                         let smaller = hs * (sub_limit / worst).cbrt() * 0.9;
                         return Err(ModelError::step_refused(
                             smaller,
@@ -411,7 +469,6 @@ impl Integrator for ImexAb3 {
                             ),
                         ));
                     }
-                    second = cap == 2;
                 } else {
                     block.step(start, sub_order.min(cap), hs, xs, fsub, xn)?;
                 }
