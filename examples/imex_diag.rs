@@ -248,12 +248,16 @@ fn main() {
                 shown += 1;
             }
             let exact = ev.iter().map(|l| (l.re * h).exp()).fold(0.0, f64::max);
-            let choices: [(&str, Box<dyn Fn(usize, usize) -> bool>); 5] = [
+            let choices: [(&str, Box<dyn Fn(usize, usize) -> bool>); 9] = [
                 ("fast 20x20 (now)", Box::new(move |r, c| fast(r) && fast(c))),
                 ("fast+v,ω square", Box::new(move |r, c| (fast(r) || vel(r)) && (fast(c) || vel(c)))),
                 ("fast rows, all cols", Box::new(move |r, _| fast(r))),
                 ("fast+v,ω rows, all cols", Box::new(move |r, _| fast(r) || vel(r))),
                 ("all (linearly implicit)", Box::new(|_, _| true)),
+                ("fast+v,ω rows, cols -x,y", Box::new(move |r, c| (fast(r) || vel(r)) && c >= 2)),
+                ("fast+v,ω rows, cols -pos", Box::new(move |r, c| (fast(r) || vel(r)) && c >= 3)),
+                ("fast+v,ω rows, cols -pos,zv", Box::new(move |r, c| (fast(r) || vel(r)) && c >= 3 && c != 33)),
+                ("fast+v,ω rows, cols -x,y,zv", Box::new(move |r, c| (fast(r) || vel(r)) && c >= 2 && c != 33)),
             ];
             for (name, mask) in choices.iter() {
                 let mut line = format!("   {name:26}");
