@@ -582,6 +582,18 @@ pub const MODE_MARGIN: f64 = 1.02;
 const EIGEN_TOLERANCE: f64 = 1e-10;
 const EIGEN_MAX_ITERATIONS: usize = 2000;
 
+/// The most rows of IMEX-AB3's partial Jacobian: the 20 wheel states and the 6 chassis velocities.
+const MAX_IMEX: usize = 26;
+
+/// IMEX-AB3's partial Jacobian (`Simulation::imex_partial_jacobian`): `rows[..m]` × `cols[..nc]`, row-major.
+struct PartialJacobian {
+    rows: [usize; MAX_IMEX],
+    m: usize,
+    cols: [usize; idx::DIM],
+    nc: usize,
+    jac: [f64; MAX_IMEX * idx::DIM],
+}
+
 /// Whether IMEX-AB3's implicit block takes the chassis velocities too (prototype switch: RTV_IMEX_BLOCK=wheels
 /// turns it off).
 fn imex_chassis_implicit() -> bool {
@@ -1204,7 +1216,7 @@ impl Simulation {
         &mut self,
         wheel: &[usize],
         columns: &[[f64; idx::DIM]; 20],
-    ) -> Result<(Vec<usize>, Vec<usize>, Vec<f64>), ModelError> {
+    ) -> Result<PartialJacobian, ModelError> {
         let vehicle = attached(&self.vehicle)?;
         let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
         let n = run.layout().dim;
@@ -1217,15 +1229,23 @@ impl Simulation {
             vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
             Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
         };
-        let mut rows: Vec<usize> = wheel.to_vec();
-        rows.extend(idx::V0..idx::W0 + 3);
+        // On the stack: no heap allocation per check.
+        let mut p =
+            PartialJacobian { rows: [0; MAX_IMEX], m: 0, cols: [0; idx::DIM], nc: 0, jac: [0.0; MAX_IMEX * idx::DIM] };
+        for &w in wheel.iter().chain(&[idx::V0, idx::V0 + 1, idx::V0 + 2, idx::W0, idx::W0 + 1, idx::W0 + 2]) {
+            p.rows[p.m] = w;
+            p.m += 1;
+        }
         // Every state's column but the horizontal position and the speed-hold integral (slow, and their
         // columns do not move the linearised step's spectral radius: examples/imex_diag.rs); the quaternion's
         // do (without them the tire k_z x10 J-turn's hop–roll mode grows 2 % per step at 8.33 ms).
         let layout = run.layout();
-        let cols: Vec<usize> = (2..n).filter(|&c| layout.zv != Some(c)).collect();
-        let nc = cols.len();
-        let mut jac = vec![0.0; rows.len() * nc];
+        for c in (2..n).filter(|&c| layout.zv != Some(c)) {
+            p.cols[p.nc] = c;
+            p.nc += 1;
+        }
+        let (rows, cols, nc) = (&p.rows[..p.m], &p.cols[..p.nc], p.nc);
+        let jac = &mut p.jac;
         let mut evaluations = 0;
         let result = (|| {
             let in_contact = evaluate(&x[..n], &mut f0[..n])?;
@@ -1256,7 +1276,7 @@ impl Simulation {
         })();
         self.cache.corners = warm_starts;
         self.evaluations += evaluations;
-        result.map(|()| (rows, cols, jac))
+        result.map(|()| p)
     }
 
     /// Refuse a step at which a fast mode of the current state lies outside the integrator's stability
@@ -1277,7 +1297,7 @@ impl Simulation {
         };
         if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
             match &partial {
-                Some((rows, cols, jac)) => scheme.set_partial_jacobian(rows, cols, jac, len),
+                Some(p) => scheme.set_partial_jacobian(&p.rows[..p.m], &p.cols[..p.nc], &p.jac[..p.m * p.nc], len),
                 None => scheme.set_fast_jacobian(&states[..len], &jacobian[..len * len]),
             }
             scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
