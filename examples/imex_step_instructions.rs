@@ -9,7 +9,8 @@
 //! ```
 //! The state is the J-turn's cornering at t = 4 s (as `evaluation_instructions`), and the steps go on from
 //! there at 8.33 ms with the inputs held: steady cornering, the scheme's plain third-order step (one
-//! evaluation, its SBDF2 estimate, two solves with the factors of a0 I − hJ kept between steps). The two
+//! evaluation, its SBDF2 estimate, two solves with the factors of a0 I − hJ kept between steps) with the
+//! simulation's own implicit block (the wheel states and the chassis velocities, `imex_partial_jacobian`). The two
 //! starting steps (five evaluations each) and the J's factorization are in both runs of the difference as
 //! long as N ≥ 2; the program prints how many steps were retaken, which would add to the count (0 here).
 use rt_vehicle::error::ModelError;
@@ -50,6 +51,7 @@ fn main() {
     let mut sim = scene.start(data, &SimConfig::default()).unwrap();
     run(&mut sim, 4.0, 0.01, |_| {}).unwrap();
     let modes = sim.wheel_modes().unwrap();
+    let block = sim.imex_partial_jacobian(&modes).unwrap();
     let inputs = sim.inputs();
     let (vehicle, mut x) = (sim.vehicle().clone(), sim.state().to_vec());
     let mut system = Held {
@@ -59,7 +61,12 @@ fn main() {
         cache: Workspace::default(),
     };
     let mut scheme = ImexAb3::new();
-    scheme.set_fast_jacobian(&modes.states[..modes.len], &modes.jacobian[..modes.len * modes.len]);
+    scheme.set_partial_jacobian(
+        &block.rows[..block.m],
+        &block.cols[..block.nc],
+        &block.jac[..block.m * block.nc],
+        modes.len,
+    );
     scheme.set_error_limit(5e-3);
     let h = 1.0 / 120.0;
     // The two starting steps, in both runs.

@@ -50,6 +50,27 @@ fn advancing_a_simulation_does_not_allocate() {
 }
 
 #[test]
+fn imex_ab3_does_not_allocate() {
+    // IMEX-AB3 at the paper's frame, its step checks included (24 in 2 s: the partial Jacobian and the
+    // factors of a0 I − hJ are refreshed on the stack and in sized buffers).
+    let config = SimConfig {
+        integrator: rt_vehicle::integrate::IntegratorKind::ImexAb3,
+        internal_step: 1.0 / 120.0,
+        ..SimConfig::default()
+    };
+    let mut sim = Simulation::new(VehicleData::default_hmmwv(), config).unwrap();
+    sim.set_rack_profile(rt_vehicle::sim::RackProfile::Sine { amplitude: 0.002, period: 2.0 });
+    sim.advance(1.0 / 120.0).unwrap();
+    let before = allocations();
+    for _ in 0..240 {
+        sim.advance(1.0 / 120.0).unwrap();
+        std::hint::black_box(sim.outputs().unwrap());
+    }
+    let n = allocations() - before;
+    assert_eq!(n, 0, "{n} allocations in 240 IMEX-AB3 steps");
+}
+
+#[test]
 fn fmi2_do_step_does_not_allocate() {
     use fmi_sys::fmi2::fmi2Status_fmi2OK as OK;
     use rt_vehicle::fmi::exports::{fmi2GetReal, fmi2SetReal, fmi2SetRealInputDerivatives};

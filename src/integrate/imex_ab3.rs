@@ -3,15 +3,20 @@
 //!
 //! The scheme is the third-order semi-implicit BDF of Ascher, Ruuth and Wetton (SIAM J. Numer. Anal. 32,
 //! 1995, "SBDF3") on the split f(x) = E(x) + J x, where J is the Jacobian of f in the fast states
-//! (each wheel's hop θ_L, θ̇_L, spin Ω and tread ξ_x, ξ_y: at most 20), zero elsewhere, and E = f − J x:
+//! (each wheel's hop θ_L, θ̇_L, spin Ω and tread ξ_x, ξ_y, and the chassis's velocities v, ω: at most 26),
+//! zero elsewhere, and E = f − J x:
 //!
 //!   (11/6 I − hJ) x_{n+1} = 3 x_n − 3/2 x_{n−1} + 1/3 x_{n−2} + h (3 E_n − 3 E_{n−1} + E_{n−2}).
 //!
-//! - The slow rows (chassis, suspension, speed hold) are an explicit three-step Adams-type extrapolation of
-//!   order 3 with one evaluation per step, as AB3 is; the fast rows solve one 20×20 linear system per step
-//!   (stack-allocated LU, factored once per J and step size: `Factors`).
-//! - J comes from the simulation (`set_fast_jacobian`): the step check's forward-difference Jacobian of the
-//!   wheels' fast states, refreshed whenever the check runs. E is recomputed from the stored f and x with
+//! - The slow rows (chassis position and attitude, speed hold) are an explicit three-step Adams-type
+//!   extrapolation of order 3 with one evaluation per step, as AB3 is; the fast rows solve one linear system
+//!   per step (stack-allocated LU, factored once per J and step size: `Factors`).
+//! - J comes from the simulation (`set_partial_jacobian`): rows of the fast states, columns of (nearly)
+//!   every state, by forward differences at each step check. A column of a slow state couples the fast rows
+//!   to that state's new value, which the explicit rows give first: slow first, then fast. (The chassis
+//!   velocities are in the block because a wheel couples them stiffly to its own states: a locked wheel's
+//!   tread, a stiff tire's hop with the roll and pitch rates; explicit, they grew the tire k_z × 10 J-turn
+//!   by 13–17 % per step at 8.33 ms: docs/integrators.md.) E is recomputed from the stored f and x with
 //!   the current J at every step, so a refresh changes the split but never the sum E + J x = f: the scheme
 //!   stays consistent of order 3 with any J; how close J is to the true Jacobian decides only stability.
 //! - A mode in J is damped where BDF3 is (A(86°)-stable: the spin–tread mode, −46 ± 91i 1/s, lies at 63°);
@@ -28,8 +33,8 @@
 //!   relative to the state scales) is held to a limit
 //!   (`set_error_limit`). A step above it is retaken as a start is, in four sub-steps at h/4 (at most five
 //!   evaluations, as a start; their local error is about 1/64 of the full step's on a smooth solution), and
-//!   the history restarts from it; a sub-step whose estimate exceeds `SUBSTEP_LIMIT_FACTOR` × the limit
-//!   refuses the step.
+//!   the history restarts from it; a sub-step whose estimate exceeds `SUBSTEP_LIMIT_FACTOR` × the limit is
+//!   retaken once more in four of its own (h/16), and one of those above the limit refuses the step.
 //! - History and J are plain data (bit-exact serde): an FMU state restores the scheme exactly.
 use super::{ab3::same_step, commit, eval, fit, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
@@ -37,8 +42,12 @@ use nalgebra::{Const, SMatrix, SVector, LU};
 use serde::{Deserialize, Serialize};
 use std::cell::RefCell;
 
-/// The most fast states the implicit block holds.
-pub const MAX_FAST: usize = 20;
+/// The most fast states the implicit block holds (the wheels' 20 and the chassis's 6 velocities).
+pub const MAX_FAST: usize = 26;
+/// The most columns of the partial Jacobian.
+pub const MAX_COLUMNS: usize = 64;
+/// How many times a step may be retaken in four sub-steps, one inside another (h/4, then h/16).
+const RETAKE_LEVELS: usize = 2;
 /// Sub-steps of each of the two starting steps (and of a retaken step).
 pub const START_SUBSTEPS: usize = 4;
 /// A retaken step's third-order sub-steps are held to this many times the limit: 1, the same limit (a looser
@@ -104,15 +113,31 @@ impl History {
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct ImexAb3 {
-    /// The fast states' indices in x.
+    /// The fast states' indices in x (the implicit block's rows).
     fast: Vec<usize>,
-    /// J, row-major, fast × fast.
+    /// J, row-major, fast × cols.
     #[serde(with = "super::exact::vec_bits")]
     jac: Vec<f64>,
+    /// The states of J's columns (every fast state among them); empty, in a state saved before they
+    /// existed: the fast states (a square block).
+    #[serde(default)]
+    cols: Vec<usize>,
+    /// The leading fast states the accuracy monitor leaves out at third order (the wheels' stiff states,
+    /// damped rather than followed); the rest of the block (the chassis velocities) is watched. `None`: every
+    /// fast state is left out.
+    #[serde(default)]
+    unwatched: Option<usize>,
+    /// Where each column's state sits in the block (`NOT_FAST` for a state outside it): from `fast` and
+    /// `cols`, rebuilt when they change.
+    #[serde(skip)]
+    slots: Vec<usize>,
     /// History at the step size.
     main: History,
     /// History of the starting sub-steps.
     start: History,
+    /// History of a retaken sub-step's own sub-steps (within one step).
+    #[serde(skip)]
+    inner: History,
     /// The largest local error estimate relative to the state's scales and the limit (`set_error_limit`)
     /// since the last `take_largest_error`.
     #[serde(skip)]
@@ -127,15 +152,18 @@ pub struct ImexAb3 {
     /// damp it and A-stable BDF2 does. 0 (a state saved before it existed): 3.
     #[serde(default)]
     order_cap: usize,
-    /// Scratch: f_n, a sub-step's f, x_n, a sub-step's state and its start, the candidate, the first
-    /// sub-step's extrapolation (the full step, the midpoint and its f), the second-order candidate and the
-    /// state's scales.
+    /// Scratch: f_n, x_n, the candidate, the first sub-step's extrapolation (the full step, the midpoint and
+    /// its f), the second-order candidate, the state's scales and which states the monitor watches; per
+    /// level of sub-steps, their state, its start and f.
     #[serde(skip)]
-    scratch: [Vec<f64>; 11],
+    scratch: [Vec<f64>; 15],
     /// The LU factors of a0 I − hJ already formed with the current J (`Factors`).
     #[serde(skip)]
     factors: RefCell<Factors>,
 }
+
+/// A column's state outside the block.
+const NOT_FAST: usize = usize::MAX;
 
 /// LU factors of a0 I − hJ, by (a0, h): a step forms the same matrix as the step before it (and its
 /// second-order estimate one more), so each is factored once per J and step size instead of twice per
@@ -166,10 +194,13 @@ fn coefficients(order: usize) -> (f64, [f64; 3], [f64; 3]) {
     }
 }
 
-/// The implicit block: its states and J (row-major).
+/// The implicit block: its states, J (row-major, fast × cols), the states of J's columns and where each
+/// sits in the block.
 struct Block<'a> {
     fast: &'a [usize],
     jac: &'a [f64],
+    cols: &'a [usize],
+    slots: &'a [usize],
     factors: &'a RefCell<Factors>,
 }
 
@@ -185,7 +216,7 @@ impl Block<'_> {
         out: &mut [f64],
     ) -> Result<(), ModelError> {
         let (a0, ax, ae) = coefficients(order);
-        let m = self.fast.len();
+        let (m, nc) = (self.fast.len(), self.cols.len());
         let n = out.len();
         let he = ae.map(|e| h * e);
         let (x0, f0, x1, f1, x2, f2) = (&x[..n], &f[..n], &hist.x1[..], &hist.f1[..], &hist.x2[..], &hist.f2[..]);
@@ -209,16 +240,22 @@ impl Block<'_> {
                 }
             }
         }
-        // Fast rows: E_k = f_k − J x_k, and (a0 I − hJ) x_{n+1} = Σ ax_k x_k + h Σ ae_k E_k, where
-        // Σ ae_k J x_k = J Σ ae_k x_k: one product with J per step instead of one per past point.
+        // Fast rows: E_k = f_k − J x_k, and (a0 I − h J_ff) x_f,n+1 = Σ ax_k x_k + h Σ ae_k E_k + h J_fs x_s,n+1,
+        // where Σ ae_k J x_k = J Σ ae_k x_k (one product with J per step instead of one per past point) and
+        // x_s,n+1, the new values of the columns' states outside the block, are the explicit rows' (slow
+        // first, then fast).
         let past = [x0, x1, x2];
-        let mut weighted = [0.0; MAX_FAST];
-        for (w, &c) in weighted.iter_mut().zip(self.fast) {
+        let mut weighted = [0.0; MAX_COLUMNS];
+        for ((w, &c), &slot) in weighted.iter_mut().zip(self.cols).zip(self.slots) {
             *w = past[..order].iter().zip(&ae).map(|(xk, e)| e * xk[c]).sum();
+            if slot == NOT_FAST {
+                // − x_s,n+1: the explicit row's new value (its step times a0, over a0).
+                *w -= out[c] / a0;
+            }
         }
         let mut rhs = SVector::<f64, MAX_FAST>::zeros();
         for (r, &i) in self.fast.iter().enumerate() {
-            let jw: f64 = self.jac[r * m..(r + 1) * m].iter().zip(&weighted).map(|(j, w)| j * w).sum();
+            let jw: f64 = self.jac[r * nc..(r + 1) * nc].iter().zip(&weighted).map(|(j, w)| j * w).sum();
             rhs[r] = out[i] - h * jw;
         }
         out.iter_mut().for_each(|o| *o /= a0);
@@ -232,8 +269,9 @@ impl Block<'_> {
             None => {
                 let mut a = SMatrix::<f64, MAX_FAST, MAX_FAST>::identity();
                 for r in 0..m {
-                    for c in 0..m {
-                        a[(r, c)] = if r == c { a0 } else { 0.0 } - h * self.jac[r * m + c];
+                    a[(r, r)] = a0;
+                    for (j, &s) in self.slots.iter().enumerate().filter(|(_, &s)| s != NOT_FAST) {
+                        a[(r, s)] -= h * self.jac[r * nc + j];
                     }
                 }
                 let lu = a.lu();
@@ -258,6 +296,146 @@ impl Block<'_> {
         }
         Ok(())
     }
+
+    /// The local error estimate of a third-order step from x into `xn` (and the second-order step from the
+    /// same history, one more solve, into `x2`): their difference relative to the state's scales on the
+    /// watched states (`watch` 1), the largest and where.
+    #[allow(clippy::too_many_arguments)]
+    fn estimate(
+        &self,
+        hist: &History,
+        h: f64,
+        x: &[f64],
+        f: &[f64],
+        out: &mut Shared,
+        sys: &mut dyn OdeSystem,
+    ) -> Result<(f64, usize), ModelError> {
+        self.step(hist, 3, h, x, f, &mut out.xn)?;
+        self.step(hist, 2, h, x, f, &mut out.x2)?;
+        sys.error_scale(&mut out.scale);
+        let (mut worst, mut at) = (0.0f64, 0);
+        for (i, ((a, b), (s, w))) in out.xn.iter().zip(out.x2.iter()).zip(out.scale.iter().zip(out.watch.iter())).enumerate() {
+            let e = w * (a - b).abs() / s;
+            if e > worst {
+                (worst, at) = (e, i);
+            }
+        }
+        Ok((worst, at))
+    }
+}
+
+/// The scratch every level of sub-steps shares: the candidates of a step at third and second order, the
+/// first sub-step's extrapolation (the full step, the midpoint and its f), the state's scales and the
+/// states the monitor watches (1) or leaves out (0).
+struct Shared<'a> {
+    xn: &'a mut Vec<f64>,
+    x2: &'a mut Vec<f64>,
+    xa: &'a mut Vec<f64>,
+    xm: &'a mut Vec<f64>,
+    fm: &'a mut Vec<f64>,
+    scale: &'a mut Vec<f64>,
+    watch: &'a mut Vec<f64>,
+}
+
+/// One level of sub-steps: its history at its step, its state, that state's start and f.
+struct Level<'a> {
+    hist: &'a mut History,
+    xs: &'a mut Vec<f64>,
+    xsold: &'a mut Vec<f64>,
+    fsub: &'a mut Vec<f64>,
+}
+
+/// What a run of sub-steps is held to.
+struct SubSteps<'a> {
+    block: &'a Block<'a>,
+    /// The order cap (`ImexAb3::order`).
+    cap: usize,
+    /// The limit of a retaken sub-step's estimate.
+    limit: f64,
+    /// The whole step, for the refusal's message.
+    h: f64,
+}
+
+impl SubSteps<'_> {
+    /// Four sub-steps of `hs` from `x` at t (f = `f_first` there) with the first level's history, which goes
+    /// on from its last points unless it was reset; the state at t + 4 hs is left in `x`. Where `checked`
+    /// (a retaken step), each third-order sub-step is held to the limit: above it, it is retaken in four of
+    /// its own on the next level, and on the last level the step is refused.
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        levels: &mut [Level],
+        shared: &mut Shared,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        hs: f64,
+        x: &mut [f64],
+        f_first: &[f64],
+        checked: bool,
+    ) -> Result<(), ModelError> {
+        let block = self.block;
+        let (this, deeper) = levels.split_first_mut().expect("a level of sub-steps");
+        this.xs.copy_from_slice(x);
+        for k in 0..START_SUBSTEPS {
+            let ts = t + k as f64 * hs;
+            if k == 0 {
+                this.fsub.copy_from_slice(f_first);
+            } else {
+                eval(sys, ts, this.xs, this.fsub)?;
+            }
+            let order = this.hist.order(hs);
+            // The step that goes on: xn, or x2 where a second-order step is taken from the estimate.
+            let mut second = false;
+            if order == 1 {
+                // The first sub-step: implicit–explicit Euler extrapolated (2 · two half steps − one
+                // step), local error O(h³) like SBDF2's: Euler's O(h²) here would make the scheme
+                // second order overall.
+                block.step(this.hist, 1, hs, this.xs, this.fsub, shared.xa)?;
+                block.step(this.hist, 1, 0.5 * hs, this.xs, this.fsub, shared.xn)?;
+                commit(sys, ts + 0.5 * hs, shared.xn, shared.xm)?;
+                eval(sys, ts + 0.5 * hs, shared.xm, shared.fm)?;
+                block.step(this.hist, 1, 0.5 * hs, shared.xm, shared.fm, shared.xn)?;
+                for (o, &a) in shared.xn.iter_mut().zip(shared.xa.iter()) {
+                    *o = 2.0 * *o - a;
+                }
+            } else if order >= 3 && checked {
+                let (worst, at) = block.estimate(this.hist, hs, this.xs, this.fsub, shared, sys)?;
+                second = self.cap == 2;
+                if worst > self.limit {
+                    if deeper.is_empty() {
+                        let smaller = hs * (self.limit / worst).cbrt() * 0.9;
+                        let parts = (self.h / hs).round();
+                        return Err(ModelError::step_refused(
+                            smaller,
+                            format!(
+                                "IMEX-AB3's local error estimate at t = {ts:.4} s is {worst:.2e} of the {}'s scale in \
+                                 1/{parts} of a step it retook, above its limit {:.2e}: the step h = {:.3e} s does not \
+                                 resolve this transient even in {parts} sub-steps; use h ≤ {smaller:.2e} s or a larger \
+                                 tolerance",
+                                sys.state_name(at),
+                                self.limit,
+                                self.h
+                            ),
+                        ));
+                    }
+                    // Retaken once more, on the next level: four sub-steps of its own from a fresh history.
+                    // This level's history goes on at hs: its points are this sub-step's ends.
+                    deeper[0].hist.count = 0;
+                    this.xsold.copy_from_slice(this.xs);
+                    let quarter = hs / START_SUBSTEPS as f64;
+                    self.run(deeper, shared, sys, ts, quarter, this.xsold, this.fsub, true)?;
+                    shared.xn.copy_from_slice(this.xsold);
+                    second = false;
+                }
+            } else {
+                block.step(this.hist, order.min(self.cap), hs, this.xs, this.fsub, shared.xn)?;
+            }
+            this.hist.push(this.xs, this.fsub, hs, order);
+            commit(sys, ts + hs, if second { shared.x2 } else { shared.xn }, this.xs)?;
+        }
+        x.copy_from_slice(this.xs);
+        Ok(())
+    }
 }
 
 impl ImexAb3 {
@@ -265,15 +443,44 @@ impl ImexAb3 {
         Self::default()
     }
 
-    /// The implicit block: J = ∂f/∂x restricted to the states `fast` (row-major, `fast.len()`² values).
-    /// Takes effect at the next step; an empty `fast` makes the scheme fully explicit.
+    /// The implicit block: J = ∂f/∂x restricted to the states `fast` (row-major, `fast.len()`² values), all
+    /// of them left out of the accuracy monitor. Takes effect at the next step; an empty `fast` makes the
+    /// scheme fully explicit.
     pub fn set_fast_jacobian(&mut self, fast: &[usize], jac: &[f64]) {
-        assert!(fast.len() <= MAX_FAST && jac.len() == fast.len() * fast.len(), "a fast block of at most 20");
+        self.set_partial_jacobian(fast, fast, jac, fast.len());
+    }
+
+    /// The implicit block with rows `fast` and columns `cols` (J row-major, `fast.len()` × `cols.len()`):
+    /// the columns of states outside the block couple the fast rows to the explicit rows' new values. The
+    /// accuracy monitor leaves out `fast[..unwatched]` at third order and watches the rest.
+    pub fn set_partial_jacobian(&mut self, fast: &[usize], cols: &[usize], jac: &[f64], unwatched: usize) {
+        assert!(
+            fast.len() <= MAX_FAST
+                && cols.len() <= MAX_COLUMNS
+                && jac.len() == fast.len() * cols.len()
+                && unwatched <= fast.len(),
+            "a fast block of at most {MAX_FAST} rows and {MAX_COLUMNS} columns"
+        );
+        assert!(fast.iter().all(|f| cols.contains(f)), "every fast state has its column");
         self.fast.clear();
         self.fast.extend_from_slice(fast);
+        self.cols.clear();
+        self.cols.extend_from_slice(cols);
         self.jac.clear();
         self.jac.extend_from_slice(jac);
+        self.unwatched = Some(unwatched);
+        self.rebuild_slots();
         self.factors.get_mut().clear();
+    }
+
+    /// `slots` from `fast` and `cols` (a state saved before the columns existed has a square block).
+    fn rebuild_slots(&mut self) {
+        if self.cols.is_empty() {
+            self.cols.extend_from_slice(&self.fast);
+        }
+        self.slots.clear();
+        let fast = &self.fast;
+        self.slots.extend(self.cols.iter().map(|c| fast.iter().position(|f| f == c).unwrap_or(NOT_FAST)));
     }
 
     /// The order of the steps from the next one: 3 (SBDF3), or 2 (SBDF2, whose implicit part BDF2 is
@@ -308,8 +515,18 @@ impl ImexAb3 {
     /// A restored scheme must be one this scheme could have built for a system of dimension `dim`.
     pub fn validate(&self, dim: usize) -> Result<(), String> {
         let m = self.fast.len();
-        if m > MAX_FAST || self.jac.len() != m * m || self.fast.iter().any(|&i| i >= dim) {
-            return Err(format!("IMEX-AB3: a fast block of {m} states with {} Jacobian values", self.jac.len()));
+        let nc = if self.cols.is_empty() { m } else { self.cols.len() };
+        if m > MAX_FAST
+            || nc > MAX_COLUMNS
+            || self.jac.len() != m * nc
+            || self.fast.iter().chain(&self.cols).any(|&i| i >= dim)
+            || !(self.cols.is_empty() || self.fast.iter().all(|f| self.cols.contains(f)))
+            || self.unwatched.is_some_and(|u| u > m)
+        {
+            return Err(format!(
+                "IMEX-AB3: a fast block of {m} states and {nc} columns with {} Jacobian values",
+                self.jac.len()
+            ));
         }
         if !self.jac.iter().all(|v| v.is_finite()) {
             return Err("IMEX-AB3: the fast Jacobian is not finite".into());
@@ -334,109 +551,59 @@ impl Integrator for ImexAb3 {
         let n = x.len();
         self.main.fit(n);
         self.start.fit(n);
+        self.inner.fit(n);
+        if self.slots.len() != self.cols.len() || self.cols.len() < self.fast.len() {
+            self.rebuild_slots();
+        }
         let mut scratch = std::mem::take(&mut self.scratch);
         for v in scratch.iter_mut() {
             fit(v, n);
         }
-        let [fnow, fsub, xold, xs, xsold, xn, xa, xm, fm, x2, scale] = &mut scratch;
+        let [fnow, xold, xn, x2, xa, xm, fm, scale, watch, xs, xsold, fsub, xi, xiold, fi] = &mut scratch;
+        // The monitor watches every state at second order: BDF2 damps a fast mode that BDF3 would not, and
+        // whether that mode matters (a stiff tire's hop excited by the steer) shows in the fast states' own
+        // estimate (the tire k_z × 100 J-turn at 4.17 ms finished 1.4 % off when only the slow states were
+        // watched). At third order it leaves out the wheels' stiff states, which are damped, not followed.
+        let cap = self.order();
+        watch.fill(1.0);
+        if cap != 2 {
+            let unwatched = self.unwatched.unwrap_or(self.fast.len());
+            self.fast[..unwatched].iter().for_each(|&i| watch[i] = 0.0);
+        }
         let error_limit = if self.error_limit > 0.0 { self.error_limit } else { f64::INFINITY };
         let mut largest = self.largest_error;
         let mut order = self.main.order(h);
-        let cap = self.order();
         let mut substepped = false;
-        let block = Block { fast: &self.fast, jac: &self.jac, factors: &self.factors };
-        let start = &mut self.start;
+        let block =
+            Block { fast: &self.fast, jac: &self.jac, cols: &self.cols, slots: &self.slots, factors: &self.factors };
+        let mut shared = Shared { xn, x2, xa, xm, fm, scale, watch };
+        let mut levels = [
+            Level { hist: &mut self.start, xs, xsold, fsub },
+            Level { hist: &mut self.inner, xs: xi, xsold: xiold, fsub: fi },
+        ];
+        debug_assert_eq!(levels.len(), RETAKE_LEVELS);
         let main = &self.main;
-        // The local error estimate of a third-order step: the second-order step's difference from it (the
-        // same history, one more solve) on the states outside the implicit block, relative to their
-        // scales; the largest and where. At second order every state counts: BDF2 damps a fast mode that
-        // BDF3 would not, and whether that mode matters (a stiff tire's hop excited by the steer) shows in
-        // the fast states' own estimate (the tire k_z × 100 J-turn at 4.17 ms finished 1.4 % off when only
-        // the slow states were watched).
-        let mut estimate =
-            |hist: &History, hh: f64, x: &[f64], f: &[f64], xn: &mut [f64], x2: &mut [f64], sys: &mut dyn OdeSystem| {
-                block.step(hist, 3, hh, x, f, xn)?;
-                block.step(hist, 2, hh, x, f, x2)?;
-                sys.error_scale(scale);
-                let (mut worst, mut at) = (0.0f64, 0);
-                for i in (0..n).filter(|i| cap == 2 || !block.fast.contains(i)) {
-                    let e = (xn[i] - x2[i]).abs() / scale[i];
-                    if e > worst {
-                        (worst, at) = (e, i);
-                    }
-                }
-                Ok::<_, ModelError>((worst, at))
-            };
         let result = (|| -> Result<(), ModelError> {
             eval(sys, t, x, fnow)?;
             xold.copy_from_slice(x);
             if order >= 3 {
-                let (worst, _) = estimate(main, h, x, fnow, xn, x2, sys)?;
+                let (worst, _) = block.estimate(main, h, x, fnow, &mut shared, sys)?;
                 if worst <= error_limit {
                     largest = largest.max(worst);
-                    return commit(sys, t + h, if cap == 2 { x2 } else { xn }, x);
+                    return commit(sys, t + h, if cap == 2 { shared.x2 } else { shared.xn }, x);
                 }
                 // A transient the step does not resolve (an input's blend, a tire's lock): this step is
                 // taken as a start is, in four sub-steps, and the history restarts from it.
                 order = 1;
                 substepped = true;
             }
-            // Starting: sub-steps at h/4 that continue their own history (reset with the main one).
+            // Starting: sub-steps at h/4 that continue their own history (reset with the main one). A retaken
+            // step's third-order sub-steps are held to `SUBSTEP_LIMIT_FACTOR` × the limit.
             if order == 1 {
-                start.count = 0;
+                levels[0].hist.count = 0;
             }
-            let hs = h / START_SUBSTEPS as f64;
-            xs.copy_from_slice(x);
-            for k in 0..START_SUBSTEPS {
-                let ts = t + k as f64 * hs;
-                if k == 0 {
-                    fsub.copy_from_slice(fnow);
-                } else {
-                    eval(sys, ts, xs, fsub)?;
-                }
-                let sub_order = start.order(hs);
-                // The step that goes on: xn, or x2 where a second-order step is taken from the estimate.
-                let mut second = false;
-                if sub_order == 1 {
-                    // The first sub-step: implicit–explicit Euler extrapolated (2 · two half steps − one
-                    // step), local error O(h³) like SBDF2's: Euler's O(h²) here would make the scheme
-                    // second order overall.
-                    block.step(start, 1, hs, xs, fsub, xa)?;
-                    block.step(start, 1, 0.5 * hs, xs, fsub, xn)?;
-                    commit(sys, ts + 0.5 * hs, xn, xm)?;
-                    eval(sys, ts + 0.5 * hs, xm, fm)?;
-                    block.step(start, 1, 0.5 * hs, xm, fm, xn)?;
-                    for (o, &a) in xn.iter_mut().zip(xa.iter()) {
-                        *o = 2.0 * *o - a;
-                    }
-                } else if sub_order >= 3 && substepped {
-                    // A retaken step's sub-steps are held to `SUBSTEP_LIMIT_FACTOR` × the limit: a transient
-                    // that even a quarter step does not resolve is refused.
-                    let (worst, at) = estimate(start, hs, xs, fsub, xn, x2, sys)?;
-                    let sub_limit = SUBSTEP_LIMIT_FACTOR * error_limit;
-                    if worst > sub_limit {
-                        let smaller = hs * (sub_limit / worst).cbrt() * 0.9;
-                        return Err(ModelError::step_refused(
-                            smaller,
-                            format!(
-                                "IMEX-AB3's local error estimate at t = {ts:.4} s is {worst:.2e} of the {}'s scale in a \
-                                 quarter of a step it retook, above its limit {sub_limit:.2e}: the step h = {h:.3e} s \
-                                 does not resolve this transient even in four sub-steps; use h ≤ {smaller:.2e} s or a \
-                                 larger tolerance",
-                                sys.state_name(at)
-                            ),
-                        ));
-                    }
-                    second = cap == 2;
-                } else {
-                    block.step(start, sub_order.min(cap), hs, xs, fsub, xn)?;
-                }
-                xsold.copy_from_slice(xs);
-                commit(sys, ts + hs, if second { x2 } else { xn }, xs)?;
-                start.push(xsold, fsub, hs, sub_order);
-            }
-            x.copy_from_slice(xs);
-            Ok(())
+            let run = SubSteps { block: &block, cap, limit: SUBSTEP_LIMIT_FACTOR * error_limit, h };
+            run.run(&mut levels, &mut shared, sys, t, h / START_SUBSTEPS as f64, x, fnow, substepped)
         })();
         if result.is_ok() {
             self.main.push(xold, fnow, h, order);

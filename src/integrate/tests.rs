@@ -528,6 +528,25 @@ fn observed_order_imex_ab3() {
     assert_order("IMEX-AB3 explicit", e, s, 3.0);
     let (e, s) = orders(&imex_pendula, 200, &xref);
     assert_order("IMEX-AB3 with a block", e, s, 3.0);
+    // A partial block: rows θ_0, θ̇_0, θ_1, θ̇_1, columns of every state (the others explicit, solved first).
+    let partial = || {
+        let mut s = ImexAb3::new();
+        let rows = [0, NP, 1, NP + 1];
+        let cols: Vec<usize> = (0..2 * NP).collect();
+        let mut jac = vec![0.0; rows.len() * cols.len()];
+        let n = cols.len();
+        jac[NP] = 1.0; // dθ_0/dθ̇_0
+        jac[n + 0] = -1.4; // dθ̇_0/dθ_0
+        jac[n + 1] = 0.7;
+        jac[2 * n + NP + 1] = 1.0; // dθ_1/dθ̇_1
+        jac[3 * n + 1] = -1.4; // dθ̇_1/dθ_1
+        jac[3 * n + 0] = 0.7;
+        jac[3 * n + 2] = 0.7; // a column outside the block
+        s.set_partial_jacobian(&rows, &cols, &jac, 2);
+        AnyIntegrator::ImexAb3(s)
+    };
+    let (e, s) = orders(&partial, 200, &xref);
+    assert_order("IMEX-AB3 with a partial block", e, s, 3.0);
 }
 
 #[test]

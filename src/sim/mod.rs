@@ -580,6 +580,18 @@ pub const MODE_MARGIN: f64 = 1.02;
 const EIGEN_TOLERANCE: f64 = 1e-10;
 const EIGEN_MAX_ITERATIONS: usize = 2000;
 
+/// The most rows of IMEX-AB3's partial Jacobian: the 20 wheel states and the 6 chassis velocities.
+pub const MAX_IMEX: usize = 26;
+
+/// IMEX-AB3's partial Jacobian (`Simulation::imex_partial_jacobian`): `rows[..m]` × `cols[..nc]`, row-major.
+pub struct PartialJacobian {
+    pub rows: [usize; MAX_IMEX],
+    pub m: usize,
+    pub cols: [usize; idx::DIM],
+    pub nc: usize,
+    pub jac: [f64; MAX_IMEX * idx::DIM],
+}
+
 /// The fast modes at a state: per wheel (named) and of the wheels' fast states together.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelModes {
@@ -590,6 +602,12 @@ pub struct WheelModes {
     pub states: [usize; 20],
     pub len: usize,
     pub jacobian: [f64; 400],
+    /// All rows of the wheel-state columns: ∂f/∂x_states[c] in `columns[c][..dim]` (IMEX-AB3's partial
+    /// Jacobian takes the chassis-velocity rows from them).
+    pub columns: [[f64; idx::DIM]; 20],
+    /// f at the state (`[..dim]`) and which wheels touch the road there: the base of the differences.
+    pub derivative: [f64; idx::DIM],
+    pub contact: [bool; 4],
 }
 
 /// Which fast sub-system a mode belongs to.
@@ -1115,6 +1133,7 @@ impl Simulation {
         let result = (|| {
             let in_contact = evaluate(&x[..n], &mut f0[..n])?;
             let mut jac = SMatrix::<f64, 20, 20>::zeros();
+            let mut columns = [[0.0; idx::DIM]; 20];
             let mut out = [0.0; idx::DIM];
             for col in 0..4 * per_corner {
                 let (ci, cs) = (col / per_corner, col % per_corner);
@@ -1129,6 +1148,9 @@ impl Simulation {
                 for row in 0..4 * per_corner {
                     let k = state_of(row / per_corner, row % per_corner);
                     jac[(row, col)] = (out[k] - f0[k]) / delta;
+                }
+                for k in 0..n {
+                    columns[col][k] = (out[k] - f0[k]) / delta;
                 }
             }
             let at = |i: usize, r: usize, c: usize| jac[(i * per_corner + r, i * per_corner + c)];
@@ -1175,11 +1197,75 @@ impl Simulation {
                     jacobian[r * len + c] = jac[(r, c)];
                 }
             }
-            Ok(WheelModes { per_wheel: modes, coupled, states, len, jacobian })
+            Ok(WheelModes { per_wheel: modes, coupled, states, len, jacobian, columns, derivative: f0, contact: in_contact })
         })();
         self.cache.corners = warm_starts;
         self.evaluations += 1 + 4 * per_corner as u64;
         result
+    }
+
+    /// IMEX-AB3's partial Jacobian: rows of the wheels' fast states and the chassis velocities (v, ω), columns
+    /// of every state, by forward differences from the step check's base: the wheel columns are the check's
+    /// (`WheelModes::columns`), the others one evaluation each here.
+    pub fn imex_partial_jacobian(&mut self, modes: &WheelModes) -> Result<PartialJacobian, ModelError> {
+        let (wheel, columns, f0, in_contact) = (&modes.states[..modes.len], &modes.columns, &modes.derivative, modes.contact);
+        let vehicle = attached(&self.vehicle)?;
+        let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
+        let n = run.layout().dim;
+        let inputs = self.inputs_at(self.time);
+        let warm_starts = self.cache.corners;
+        let mut x = [0.0; idx::DIM];
+        x[..n].copy_from_slice(&self.state);
+        let mut evaluate = |x: &[f64], out: &mut [f64]| {
+            vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
+            Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
+        };
+        // On the stack: no heap allocation per check.
+        let mut p =
+            PartialJacobian { rows: [0; MAX_IMEX], m: 0, cols: [0; idx::DIM], nc: 0, jac: [0.0; MAX_IMEX * idx::DIM] };
+        for &w in wheel.iter().chain(&[idx::V0, idx::V0 + 1, idx::V0 + 2, idx::W0, idx::W0 + 1, idx::W0 + 2]) {
+            p.rows[p.m] = w;
+            p.m += 1;
+        }
+        // Every state's column but the horizontal position and the speed-hold integral (slow, and their
+        // columns do not move the linearised step's spectral radius: examples/imex_diag.rs); the quaternion's
+        // do (without them the tire k_z x10 J-turn's hop–roll mode grows 2 % per step at 8.33 ms).
+        let layout = run.layout();
+        for c in (2..n).filter(|&c| layout.zv != Some(c)) {
+            p.cols[p.nc] = c;
+            p.nc += 1;
+        }
+        let (rows, cols, nc) = (&p.rows[..p.m], &p.cols[..p.nc], p.nc);
+        let jac = &mut p.jac;
+        let mut evaluations = 0;
+        let result = (|| {
+            let mut out = [0.0; idx::DIM];
+            for (j, &c) in cols.iter().enumerate() {
+                let column: [f64; idx::DIM] = match wheel.iter().position(|&w| w == c) {
+                    Some(k) => columns[k],
+                    None => {
+                        let mut xp = x;
+                        let mut delta = 1e-7 * (1.0 + x[c].abs());
+                        xp[c] += delta;
+                        evaluations += 1;
+                        if evaluate(&xp[..n], &mut out[..n])? != in_contact {
+                            delta = -delta;
+                            xp[c] = x[c] + delta;
+                            evaluations += 1;
+                            evaluate(&xp[..n], &mut out[..n])?;
+                        }
+                        std::array::from_fn(|k| if k < n { (out[k] - f0[k]) / delta } else { 0.0 })
+                    }
+                };
+                for (r, &i) in rows.iter().enumerate() {
+                    jac[r * nc + j] = column[i];
+                }
+            }
+            Ok::<_, ModelError>(())
+        })();
+        self.cache.corners = warm_starts;
+        self.evaluations += evaluations;
+        result.map(|()| p)
     }
 
     /// Refuse a step at which a fast mode of the current state lies outside the integrator's stability
@@ -1190,13 +1276,17 @@ impl Simulation {
         self.last_mode_check = Some(self.time);
         self.loads_at_mode_check = self.cache.tire_loads;
         let kind = self.config.integrator;
-        let WheelModes { per_wheel: modes, coupled, states, len, jacobian } = self.wheel_modes()?;
-        // IMEX-AB3 integrates these states implicitly with this Jacobian until the next check, and refuses a
-        // step whose local error estimate on the other states exceeds its limit.
-        if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
-            scheme.set_fast_jacobian(&states[..len], &jacobian[..len * len]);
-            scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
+        let wheel_modes = self.wheel_modes()?;
+        // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
+        // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.
+        if matches!(self.integrator, AnyIntegrator::ImexAb3(_)) {
+            let p = self.imex_partial_jacobian(&wheel_modes)?;
+            if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
+                scheme.set_partial_jacobian(&p.rows[..p.m], &p.cols[..p.nc], &p.jac[..p.m * p.nc], wheel_modes.len);
+                scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
+            }
         }
+        let WheelModes { per_wheel: modes, coupled, .. } = wheel_modes;
         // Each eigenvalue of the wheel states together, judged with the margin for what the block leaves
         // out, and named by the per-wheel mode nearest to it.
         // Every eigenvalue is judged (a refusal names the one with the smallest stable step); the bisection
