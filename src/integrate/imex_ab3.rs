@@ -1,4 +1,4 @@
-//! IMEX-AB3: the wheels' fast states implicit, everything else explicit, one evaluation per step
+//! IMEX-AB3: the wheels' fast states and the chassis velocities implicit, everything else explicit, one evaluation per step
 //! (docs/integrators.md, "IMEX-AB3").
 //!
 //! The scheme is the third-order semi-implicit BDF of Ascher, Ruuth and Wetton (SIAM J. Numer. Anal. 32,

@@ -53,7 +53,7 @@ pub enum IntegratorKind {
     Rk4,
     /// Dormand–Prince 5(4) with error control: the one scheme that takes a tolerance.
     Dopri5,
-    /// The wheels' fast states implicit (BDF3), the rest explicit, one evaluation per step (`imex_ab3`).
+    /// The wheels' fast states and the chassis velocities implicit (BDF3), the rest explicit, one evaluation per step (`imex_ab3`).
     ImexAb3,
 }
 

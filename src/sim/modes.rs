@@ -93,7 +93,7 @@ pub const INTEGRATORS: Table<IntegratorKind> = Table {
             code: 5,
             name: "imex-ab3",
             description:
-                "IMEX-AB3: the wheels' fast states implicit (BDF3), the rest explicit, one evaluation per step",
+                "IMEX-AB3: the wheels' fast states and the chassis velocities implicit (BDF3), the rest explicit, one evaluation per step",
         },
     ],
 };
