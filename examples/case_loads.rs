@@ -3,7 +3,7 @@
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::sim::outputs::OUTPUT_NAMES;
-use rt_vehicle::sim::{calibration, SimConfig, Simulation};
+use rt_vehicle::sim::{SimConfig, Simulation};
 use rt_vehicle::studies::stability;
 
 fn main() {
@@ -12,8 +12,7 @@ fn main() {
         Ok(p) => VehicleData::from_file(std::path::Path::new(&p)).unwrap(),
         Err(_) => VehicleData::default_hmmwv(),
     };
-    let (amp, _) = calibration::amplitude_for(&data).unwrap();
-    let case = stability::cases_for(&data, amp).into_iter().find(|c| c.name.contains(args[1].as_str())).unwrap();
+    let case = stability::case_named(&data, &args[1]).unwrap();
     let (from, to): (f64, f64) = (args[2].parse().unwrap(), args[3].parse().unwrap());
     let mut d = case.vehicle.clone();
     (case.data)(&mut d);

@@ -8,36 +8,16 @@
 use nalgebra::{Complex, DMatrix, DVector};
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{Run, Workspace};
-use rt_vehicle::sim::{calibration, stepping, SimConfig, Simulation};
+use rt_vehicle::model::vehicle::Run;
+use rt_vehicle::sim::{stepping, SimConfig, Simulation};
 use rt_vehicle::studies::stability;
 
 type C = Complex<f64>;
 
 fn full_jacobian(sim: &Simulation) -> (DMatrix<f64>, Vec<f64>) {
-    let v = sim.vehicle().clone();
-    let inputs = sim.inputs();
-    let run = Run::new(&v, &sim.config().options, sim.road()).on_rounded_road();
-    let x0 = sim.state().to_vec();
-    let n = x0.len();
-    let mut ws = Workspace::default();
-    let mut f = |x: &[f64]| {
-        let mut out = vec![0.0; n];
-        v.derivative(&run, x, &inputs, &mut ws, &mut out).unwrap();
-        out
-    };
-    let mut j = DMatrix::<f64>::zeros(n, n);
-    for k in 0..n {
-        let h = 1e-7 * (1.0 + x0[k].abs());
-        let (mut xp, mut xm) = (x0.clone(), x0.clone());
-        xp[k] += h;
-        xm[k] -= h;
-        let (fp, fm) = (f(&xp), f(&xm));
-        for i in 0..n {
-            j[(i, k)] = (fp[i] - fm[i]) / (2.0 * h);
-        }
-    }
-    let mut scale = vec![0.0; n];
+    let j = sim.state_jacobian().unwrap();
+    let run = Run::new(sim.vehicle(), &sim.config().options, sim.road());
+    let mut scale = vec![0.0; j.nrows()];
     stepping::error_scale(&run.layout(), &mut scale);
     (j, scale)
 }
@@ -155,8 +135,7 @@ fn main() {
         Ok(p) => VehicleData::from_file(std::path::Path::new(&p)).unwrap(),
         Err(_) => VehicleData::default_hmmwv(),
     };
-    let (amp, _) = calibration::amplitude_for(&data).unwrap();
-    let case = stability::cases_for(&data, amp).into_iter().find(|c| c.name.contains(args[1].as_str())).unwrap();
+    let case = stability::case_named(&data, &args[1]).unwrap();
     let h: f64 = args.get(2).map_or(1.0 / 120.0, |s| s.parse().unwrap());
     let every: f64 = args.get(3).map_or(0.25, |s| s.parse().unwrap());
     println!("case: {} at h = {:.3} ms", case.name, h * 1e3);
@@ -174,24 +153,15 @@ fn main() {
             r.evaluations,
             r.result.as_ref().err().map_or("finished".to_string(), |e| e.to_string())
         );
-        for (c, ch) in case.channels.iter().enumerate() {
-            let start = reference.samples[0][c];
-            let exc = reference.samples.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(ch.floor);
-            let (k, diff) = r
-                .samples
-                .iter()
-                .zip(&reference.samples)
-                .map(|(x, y)| (x[c] - y[c]).abs())
-                .enumerate()
-                .fold((0, 0.0), |m, (k, d)| if d > m.1 { (k, d) } else { m });
+        for (c, e) in stability::channel_errors(&case, &r.samples, &reference.samples).iter().enumerate() {
             println!(
                 "    {:10} excursion {:9.3e} worst {:.2e} relative at t = {:.3}: run {:.5e} ref {:.5e}",
-                ch.name,
-                exc,
-                diff / exc,
-                k as f64 * stability::SAMPLE,
-                r.samples[k][c],
-                reference.samples[k][c]
+                e.name,
+                e.excursion,
+                e.difference / e.excursion,
+                e.at as f64 * stability::SAMPLE,
+                r.samples[e.at][c],
+                reference.samples[e.at][c]
             );
         }
     }

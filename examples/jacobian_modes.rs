@@ -4,7 +4,7 @@
 
 use nalgebra::DMatrix;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{Run, Workspace};
+use rt_vehicle::model::vehicle::Run;
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode};
 
 fn main() {
@@ -17,28 +17,8 @@ fn main() {
     let config =
         SimConfig { initial_speed: speed, ..SimConfig::default() }.with_options(|o| o.speed_mode = SpeedMode::Coast);
     let mut sim = Simulation::new(data, config).unwrap();
-    let x0 = sim.state().to_vec();
-    let v = sim.vehicle().clone();
-    let n = x0.len();
-    let inputs = sim.inputs();
-    let run = Run::new(&v, &sim.config().options, sim.road());
-    let f = |x: &[f64]| {
-        let mut out = vec![0.0; n];
-        let mut cache = Workspace::default();
-        v.derivative(&run, x, &inputs, &mut cache, &mut out).unwrap();
-        out
-    };
-    let mut j = DMatrix::<f64>::zeros(n, n);
-    for k in 0..n {
-        let h = 1e-7 * (1.0 + x0[k].abs());
-        let (mut xp, mut xm) = (x0.clone(), x0.clone());
-        xp[k] += h;
-        xm[k] -= h;
-        let (fp, fm) = (f(&xp), f(&xm));
-        for i in 0..n {
-            j[(i, k)] = (fp[i] - fm[i]) / (2.0 * h);
-        }
-    }
+    let n = sim.state().len();
+    let j = sim.state_jacobian().unwrap();
     let mut ev: Vec<_> = j.complex_eigenvalues().iter().cloned().collect();
     ev.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
     println!("largest eigenvalues of the full Jacobian ({n} states):");
@@ -46,6 +26,7 @@ fn main() {
         println!("  {:10.1} {:+10.1}i   |λ| = {:8.1}", e.re, e.im, e.norm());
     }
     use rt_vehicle::model::vehicle::idx;
+    let run = Run::new(sim.vehicle(), &sim.config().options, sim.road());
     let layout = run.layout();
     for i in 0..4 {
         let mut ks = vec![idx::U + i, idx::UD + i, idx::SPIN + i];

@@ -5,14 +5,12 @@
 
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::calibration;
 use rt_vehicle::studies::stability;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let data = VehicleData::from_file(std::path::Path::new(&args[1])).unwrap();
-    let (a, _) = calibration::amplitude_for(&data).unwrap();
-    let case = stability::cases_for(&data, a).into_iter().find(|c| c.name.contains(args[2].as_str())).unwrap();
+    let case = stability::case_named(&data, &args[2]).unwrap();
     let h: f64 = args[3].parse().unwrap();
     let reference = stability::run_case(&case, IntegratorKind::Rk4, stability::REFERENCE_STEP);
     let kind = match args.get(4) {
@@ -32,25 +30,16 @@ fn main() {
             );
         }
     }
-    for (c, ch) in case.channels.iter().enumerate() {
-        let start = reference.samples[0][c];
-        let excursion = reference.samples.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(ch.floor);
-        let (k, diff) = run
-            .samples
-            .iter()
-            .zip(&reference.samples)
-            .map(|(x, y)| (x[c] - y[c]).abs())
-            .enumerate()
-            .fold((0, 0.0), |m, (k, d)| if d > m.1 { (k, d) } else { m });
+    for (c, e) in stability::channel_errors(&case, &run.samples, &reference.samples).iter().enumerate() {
         println!(
             "  {:10} excursion {:9.3e}  worst {:9.3e} ({:.2e} relative) at t = {:.3} s: run {:.6e} reference {:.6e}",
-            ch.name,
-            excursion,
-            diff,
-            diff / excursion,
-            k as f64 * stability::SAMPLE,
-            run.samples[k][c],
-            reference.samples[k][c]
+            e.name,
+            e.excursion,
+            e.difference,
+            e.difference / e.excursion,
+            e.at as f64 * stability::SAMPLE,
+            run.samples[e.at][c],
+            reference.samples[e.at][c]
         );
     }
 }

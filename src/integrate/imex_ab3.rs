@@ -314,7 +314,9 @@ impl Block<'_> {
         self.step(hist, 2, h, x, f, &mut out.x2)?;
         sys.error_scale(&mut out.scale);
         let (mut worst, mut at) = (0.0f64, 0);
-        for (i, ((a, b), (s, w))) in out.xn.iter().zip(out.x2.iter()).zip(out.scale.iter().zip(out.watch.iter())).enumerate() {
+        for (i, ((a, b), (s, w))) in
+            out.xn.iter().zip(out.x2.iter()).zip(out.scale.iter().zip(out.watch.iter())).enumerate()
+        {
             let e = w * (a - b).abs() / s;
             if e > worst {
                 (worst, at) = (e, i);

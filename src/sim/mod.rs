@@ -1089,6 +1089,36 @@ impl Simulation {
         self.wheel_modes().map(|m| m.per_wheel)
     }
 
+    /// The full Jacobian ∂ẋ/∂x at the current state and inputs, by central differences (steps of 1e-7 ×
+    /// (1 + |x_k|)), on the check's C¹-rounded road edges: a diagnostic for what the step check's block
+    /// leaves out (`examples/jacobian_modes.rs`, `examples/imex_diag.rs`). Allocates; not for the run's loop.
+    pub fn state_jacobian(&self) -> Result<nalgebra::DMatrix<f64>, ModelError> {
+        let vehicle = attached(&self.vehicle)?;
+        let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
+        let inputs = self.inputs_at(self.time);
+        let x0 = self.state.clone();
+        let n = x0.len();
+        let mut cache = self.cache.clone();
+        let mut f = |x: &[f64]| -> Result<Vec<f64>, ModelError> {
+            let mut out = vec![0.0; n];
+            cache.corners = self.cache.corners;
+            vehicle.derivative(&run, x, &inputs, &mut cache, &mut out)?;
+            Ok(out)
+        };
+        let mut j = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for k in 0..n {
+            let h = 1e-7 * (1.0 + x0[k].abs());
+            let (mut xp, mut xm) = (x0.clone(), x0.clone());
+            xp[k] += h;
+            xm[k] -= h;
+            let (fp, fm) = (f(&xp)?, f(&xm)?);
+            for i in 0..n {
+                j[(i, k)] = (fp[i] - fm[i]) / (2.0 * h);
+            }
+        }
+        Ok(j)
+    }
+
     /// The Jacobian of f in the wheels' fast states, each corner's θ_L, θ̇_L, Ω, ξ_x, ξ_y (20 states; 12
     /// without relaxation slip), by forward differences, one evaluation per column, and its eigenvalues:
     /// the modes the step must hold, with their couplings (the hop of a corner with its spin–tread mode,
@@ -1197,7 +1227,16 @@ impl Simulation {
                     jacobian[r * len + c] = jac[(r, c)];
                 }
             }
-            Ok(WheelModes { per_wheel: modes, coupled, states, len, jacobian, columns, derivative: f0, contact: in_contact })
+            Ok(WheelModes {
+                per_wheel: modes,
+                coupled,
+                states,
+                len,
+                jacobian,
+                columns,
+                derivative: f0,
+                contact: in_contact,
+            })
         })();
         self.cache.corners = warm_starts;
         self.evaluations += 1 + 4 * per_corner as u64;
@@ -1208,7 +1247,8 @@ impl Simulation {
     /// of every state, by forward differences from the step check's base: the wheel columns are the check's
     /// (`WheelModes::columns`), the others one evaluation each here.
     pub fn imex_partial_jacobian(&mut self, modes: &WheelModes) -> Result<PartialJacobian, ModelError> {
-        let (wheel, columns, f0, in_contact) = (&modes.states[..modes.len], &modes.columns, &modes.derivative, modes.contact);
+        let (wheel, columns, f0, in_contact) =
+            (&modes.states[..modes.len], &modes.columns, &modes.derivative, modes.contact);
         let vehicle = attached(&self.vehicle)?;
         let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
         let n = run.layout().dim;

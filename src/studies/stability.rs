@@ -381,17 +381,47 @@ pub fn run_case_refusing(case: &Case, integrator: IntegratorKind, h: f64, refusa
     Run { samples, evaluations: sim.evaluations(), result }
 }
 
+/// One channel's largest difference of a run from the reference: the channel, its excursion in the reference
+/// (floored by the channel's floor), the difference and the sample where it is largest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChannelError {
+    pub name: &'static str,
+    pub excursion: f64,
+    pub difference: f64,
+    pub at: usize,
+}
+
+/// Each channel's largest difference of `run` from `reference` (`ChannelError`). Samples beyond the shorter
+/// run are not compared.
+pub fn channel_errors(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> Vec<ChannelError> {
+    case.channels
+        .iter()
+        .enumerate()
+        .map(|(c, channel)| {
+            let start = reference[0][c];
+            let excursion = reference.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(channel.floor);
+            let (at, difference) = run
+                .iter()
+                .zip(reference)
+                .map(|(a, b)| (a[c] - b[c]).abs())
+                .enumerate()
+                .fold((0, 0.0), |m, (k, d)| if d > m.1 { (k, d) } else { m });
+            ChannelError { name: channel.name, excursion, difference, at }
+        })
+        .collect()
+}
+
 /// The largest difference of `run` from `reference` over the channels, each relative to its excursion
-/// in the reference (floored by the channel's floor). Samples beyond the shorter run are not compared.
+/// in the reference (`channel_errors`).
 pub fn relative_error(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> f64 {
-    let mut worst = 0.0f64;
-    for (c, channel) in case.channels.iter().enumerate() {
-        let start = reference[0][c];
-        let excursion = reference.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(channel.floor);
-        let diff = run.iter().zip(reference).map(|(a, b)| (a[c] - b[c]).abs()).fold(0.0, f64::max);
-        worst = worst.max(diff / excursion);
-    }
-    worst
+    channel_errors(case, run, reference).iter().map(|e| e.difference / e.excursion).fold(0.0, f64::max)
+}
+
+/// The case of the suite whose name contains `name`, for `data` at its calibrated J-turn amplitude (the
+/// diagnostic examples' way to name one).
+pub fn case_named(data: &VehicleData, name: &str) -> Result<Case, String> {
+    let (a, _) = crate::sim::calibration::amplitude_for(data).map_err(|e| e.to_string())?;
+    cases_for(data, a).into_iter().find(|c| c.name.contains(name)).ok_or_else(|| format!("no case named {name:?}"))
 }
 
 /// The integrators the suite runs.
