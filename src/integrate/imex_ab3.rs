@@ -288,11 +288,14 @@ impl Block<'_> {
                 }
             }
         };
-        let z = factors.slots[slot].2.solve(&rhs).ok_or_else(|| {
-            ModelError::new(Cause::StepSizeInstability, format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s"))
-        })?;
+        if !factors.slots[slot].2.solve_mut(&mut rhs) {
+            return Err(ModelError::new(
+                Cause::StepSizeInstability,
+                format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s"),
+            ));
+        }
         for (r, &i) in self.fast.iter().enumerate() {
-            out[i] = z[r];
+            out[i] = rhs[r];
         }
         Ok(())
     }
