@@ -5,7 +5,9 @@ use rt_vehicle::error::Cause;
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode};
-use rt_vehicle::studies::stability::{cases, evaluate, Outcome, STEPS};
+use rt_vehicle::studies::stability::{
+    cases, evaluate, relative_error, run_case, Outcome, REFERENCE_STEP, STEPS, TOLERANCE,
+};
 
 mod common;
 use common::braked_trace;
@@ -116,4 +118,35 @@ fn the_macpherson_wheel_lock_lands_within_tolerance() {
     }
     let rk4 = report.runs.iter().find(|r| r.integrator == IntegratorKind::Rk4 && r.step == STEPS[3]).unwrap();
     assert!(rk4.ok(tolerance), "RK4 at 1.04 ms: {:?}", rk4.outcome);
+}
+
+/// Issue 19's targets for IMEX-AB3 at the paper's 8.33 ms frame, on the HMMWV: rest, start from rest, the
+/// braked stop, the 20 % grade hold, the wheel lock and every stiff variant of the J-turn run through and stay
+/// within the suite's 1 % of each channel's excursion in the reference (RK4 at the suite's reference step).
+/// With the wheel states alone implicit, all but rest, start and the grade hold were refused at 8.33 ms
+/// (docs/integrators.md, "The chassis velocities in the block").
+#[test]
+fn imex_ab3_runs_the_level_road_targets_at_the_papers_frame() {
+    let targets = [
+        "at rest",
+        "start from rest",
+        "brake to a stop",
+        "hold on a 20 % grade",
+        "wheel lock",
+        "J-turn at 100 km/h, tire k_z x10",
+        "J-turn at 100 km/h, tire k_z x100",
+        "J-turn at 100 km/h, unsprung masses /10",
+        "J-turn at 100 km/h, dampers x10",
+    ];
+    let all = cases();
+    for name in targets {
+        let case = all.iter().find(|c| c.name.starts_with(name)).unwrap_or_else(|| panic!("no case {name}"));
+        let reference = run_case(case, IntegratorKind::Rk4, REFERENCE_STEP);
+        assert!(reference.result.is_ok(), "{name}: reference {:?}", reference.result);
+        let run = run_case(case, IntegratorKind::ImexAb3, STEPS[0]);
+        assert!(run.result.is_ok(), "{name}: IMEX-AB3 at 8.33 ms: {:?}", run.result);
+        assert_eq!(run.samples.len(), reference.samples.len(), "{name}");
+        let error = relative_error(case, &run.samples, &reference.samples);
+        assert!(error <= TOLERANCE, "{name}: IMEX-AB3 at 8.33 ms is {error:.1e} off");
+    }
 }
