@@ -123,8 +123,8 @@ fn the_macpherson_wheel_lock_lands_within_tolerance() {
 /// Issue 19's targets for IMEX-AB3 at the paper's 8.33 ms frame, on the HMMWV: rest, start from rest, the
 /// braked stop, the 20 % grade hold, the wheel lock and every stiff variant of the J-turn run through and stay
 /// within the suite's 1 % of each channel's excursion in the reference (RK4 at the suite's reference step).
-/// With the wheel states alone implicit, all but rest, start and the grade hold were refused at 8.33 ms
-/// (docs/integrators.md, "The chassis velocities in the block").
+/// With the wheel states alone implicit, the braked stop, the wheel lock and the tire k_z × 10, k_z × 100 and
+/// light-wheel J-turns were refused at 8.33 ms (docs/integrators.md, "The chassis velocities in the block").
 #[test]
 fn imex_ab3_runs_the_level_road_targets_at_the_papers_frame() {
     let targets = [
