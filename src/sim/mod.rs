@@ -592,6 +592,30 @@ pub struct PartialJacobian {
     pub jac: [f64; MAX_IMEX * idx::DIM],
 }
 
+/// One forward-difference column of f at `x` in state `c`, against the base evaluation made with the wheels'
+/// contact `in_contact` (`evaluate` returns f's contact): a step that moves a wheel across touchdown, where
+/// the normal force jumps by c_z δ̇, would read that jump as a stiffness that is no mode, so it is taken from
+/// the other side. `out` is left holding f at the perturbed state; returns the step used and the evaluations
+/// made (one, or two where the side was changed).
+fn difference_column(
+    evaluate: &mut impl FnMut(&[f64], &mut [f64]) -> Result<[bool; 4], ModelError>,
+    x: &[f64; idx::DIM],
+    n: usize,
+    c: usize,
+    delta: f64,
+    in_contact: [bool; 4],
+    out: &mut [f64; idx::DIM],
+) -> Result<(f64, u64), ModelError> {
+    let mut xp = *x;
+    xp[c] += delta;
+    if evaluate(&xp[..n], &mut out[..n])? == in_contact {
+        return Ok((delta, 1));
+    }
+    xp[c] = x[c] - delta;
+    evaluate(&xp[..n], &mut out[..n])?;
+    Ok((-delta, 2))
+}
+
 /// The fast modes at a state: per wheel (named) and of the wheels' fast states together.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelModes {
@@ -1160,27 +1184,23 @@ impl Simulation {
             }
         };
         const DELTA: [f64; 5] = [1e-6, 1e-5, 1e-5, 1e-7, 1e-7];
+        let mut evaluations = 0;
         let result = (|| {
             let in_contact = evaluate(&x[..n], &mut f0[..n])?;
+            evaluations += 1;
             let mut jac = SMatrix::<f64, 20, 20>::zeros();
             let mut columns = [[0.0; idx::DIM]; 20];
             let mut out = [0.0; idx::DIM];
             for col in 0..4 * per_corner {
                 let (ci, cs) = (col / per_corner, col % per_corner);
-                let mut xp = x;
-                let mut delta = DELTA[cs];
-                xp[state_of(ci, cs)] += delta;
-                if evaluate(&xp[..n], &mut out[..n])? != in_contact {
-                    delta = -delta;
-                    xp[state_of(ci, cs)] = x[state_of(ci, cs)] + delta;
-                    evaluate(&xp[..n], &mut out[..n])?;
-                }
-                for row in 0..4 * per_corner {
-                    let k = state_of(row / per_corner, row % per_corner);
-                    jac[(row, col)] = (out[k] - f0[k]) / delta;
-                }
+                let (delta, made) =
+                    difference_column(&mut evaluate, &x, n, state_of(ci, cs), DELTA[cs], in_contact, &mut out)?;
+                evaluations += made;
                 for k in 0..n {
                     columns[col][k] = (out[k] - f0[k]) / delta;
+                }
+                for row in 0..4 * per_corner {
+                    jac[(row, col)] = columns[col][state_of(row / per_corner, row % per_corner)];
                 }
             }
             let at = |i: usize, r: usize, c: usize| jac[(i * per_corner + r, i * per_corner + c)];
@@ -1239,7 +1259,7 @@ impl Simulation {
             })
         })();
         self.cache.corners = warm_starts;
-        self.evaluations += 1 + 4 * per_corner as u64;
+        self.evaluations += evaluations;
         result
     }
 
@@ -1284,16 +1304,9 @@ impl Simulation {
                 let column: [f64; idx::DIM] = match wheel.iter().position(|&w| w == c) {
                     Some(k) => columns[k],
                     None => {
-                        let mut xp = x;
-                        let mut delta = 1e-7 * (1.0 + x[c].abs());
-                        xp[c] += delta;
-                        evaluations += 1;
-                        if evaluate(&xp[..n], &mut out[..n])? != in_contact {
-                            delta = -delta;
-                            xp[c] = x[c] + delta;
-                            evaluations += 1;
-                            evaluate(&xp[..n], &mut out[..n])?;
-                        }
+                        let step = 1e-7 * (1.0 + x[c].abs());
+                        let (delta, made) = difference_column(&mut evaluate, &x, n, c, step, in_contact, &mut out)?;
+                        evaluations += made;
                         std::array::from_fn(|k| if k < n { (out[k] - f0[k]) / delta } else { 0.0 })
                     }
                 };
