@@ -4,7 +4,7 @@
 
 use super::exports::{
     fmi2DoStep, fmi2EnterInitializationMode, fmi2ExitInitializationMode, fmi2FreeInstance, fmi2Instantiate,
-    fmi2SetupExperiment,
+    fmi2SetInteger, fmi2SetReal, fmi2SetupExperiment,
 };
 use super::variables::GUID;
 use fmi_sys::fmi2::{fmi2CallbackFunctions, fmi2Component, fmi2Status, fmi2Status_fmi2OK, fmi2Type_fmi2CoSimulation};
@@ -30,6 +30,16 @@ pub struct NativeInstance {
 impl NativeInstance {
     /// Instantiate with default parameters and no resource location, and enter step mode at t = 0.
     pub fn initialized(name: &str) -> Result<NativeInstance, String> {
+        Self::initialized_with(name, &[], &[])
+    }
+
+    /// As `initialized`, with these Integer and Real parameters (value reference, value) set before
+    /// initialization (the integrator and its internal step, say).
+    pub fn initialized_with(
+        name: &str,
+        integers: &[(u32, i32)],
+        reals: &[(u32, f64)],
+    ) -> Result<NativeInstance, String> {
         let name = CString::new(name).map_err(|e| e.to_string())?;
         let guid = CString::new(GUID).map_err(|e| e.to_string())?;
         let quiet = quiet_callbacks();
@@ -41,9 +51,11 @@ impl NativeInstance {
             return Err("fmi2Instantiate returned NULL".into());
         }
         let instance = NativeInstance { component, time: 0.0 };
-        // SAFETY: `component` is a live instance owned by `instance`.
+        // SAFETY: `component` is a live instance owned by `instance`; one value per reference.
         let ok = unsafe {
-            fmi2SetupExperiment(component, 0, 0.0, 0.0, 0, 0.0) == fmi2Status_fmi2OK
+            integers.iter().all(|(vr, v)| fmi2SetInteger(component, vr, 1, v) == fmi2Status_fmi2OK)
+                && reals.iter().all(|(vr, v)| fmi2SetReal(component, vr, 1, v) == fmi2Status_fmi2OK)
+                && fmi2SetupExperiment(component, 0, 0.0, 0.0, 0, 0.0) == fmi2Status_fmi2OK
                 && fmi2EnterInitializationMode(component) == fmi2Status_fmi2OK
                 && fmi2ExitInitializationMode(component) == fmi2Status_fmi2OK
         };
