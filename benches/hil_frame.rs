@@ -79,7 +79,9 @@ fn main() {
     let args: Vec<String> = std::env::args().skip(1).filter(|a| !a.starts_with("--")).collect();
     let pattern = args.first().cloned().unwrap_or_default();
     let n = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(20_000);
-    println!("HIL frame: set rack, fmi2DoStep (1 ms: one RK4 step; 8.33 ms: one IMEX-AB3 step), get outputs; {n} frames");
+    println!(
+        "HIL frame: set rack, fmi2DoStep (1 ms: one RK4 step; 8.33 ms: one IMEX-AB3 step), get outputs; {n} frames"
+    );
     for (label, frame, outputs, rack) in [
         ("every output (47)", KHZ, &all[..], jturn),
         ("pose and velocities (12)", KHZ, &pose[..], jturn),

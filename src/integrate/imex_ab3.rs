@@ -401,8 +401,17 @@ impl Block<'_> {
         if let Rows::Watched { from } = rows {
             // Rows of (a0 I − hJ)⁻¹ by solves with its transpose, once per factorization: then each watched
             // state is one product with the right-hand side instead of two triangular solves.
-            let lu = &slot.lu;
-            let z = slot.watched.get_or_insert_with(|| inverse_rows(lu, from, m));
+            if slot.watched.is_none() {
+                let z = inverse_rows(&slot.lu, from, m);
+                if !z.iter().flatten().all(|v| v.is_finite()) {
+                    return Err(ModelError::new(
+                        Cause::StepSizeInstability,
+                        format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s (a0 = {a0})"),
+                    ));
+                }
+                slot.watched = Some(z);
+            }
+            let z = slot.watched.as_ref().expect("formed above");
             for (k, &i) in self.fast[from..].iter().enumerate() {
                 out[i] = z[k].iter().zip(rhs.as_slice()).map(|(a, b)| a * b).sum();
             }
@@ -411,7 +420,7 @@ impl Block<'_> {
         if !slot.lu.solve_mut(&mut rhs) {
             return Err(ModelError::new(
                 Cause::StepSizeInstability,
-                format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s"),
+                format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s (a0 = {a0})"),
             ));
         }
         for (r, &i) in self.fast.iter().enumerate() {
@@ -834,6 +843,35 @@ mod tests {
             for i in [8, 9, 10, 11] {
                 assert_eq!(whole[i].to_bits(), watched[i].to_bits());
             }
+        }
+    }
+
+    /// A block whose second-order matrix 3/2 I − hJ is singular (hJ has the eigenvalue 3/2) is refused with
+    /// its cause, on the watched rows as on the whole solve, not turned into a non-finite estimate.
+    #[test]
+    fn a_singular_block_is_refused() {
+        let n = 3;
+        let fast = [0, 1];
+        // J = diag(150, 0) at h = 0.01: hJ has 1.5.
+        let jac = [150.0, 0.0, 0.0, 0.0];
+        let mut s = ImexAb3::new();
+        s.set_partial_jacobian(&fast, &fast, &jac, 1);
+        let block = Block {
+            fast: &s.fast,
+            jac: &s.jac,
+            jac_padded: &s.jac_padded,
+            cols: &s.cols,
+            slots: &s.slots,
+            factors: &s.factors,
+        };
+        let hist =
+            History { x1: vec![0.1; n], x2: vec![0.2; n], f1: vec![0.3; n], f2: vec![0.4; n], count: 2, h: 0.01 };
+        let (x, f) = (vec![1.0; n], vec![0.5; n]);
+        for rows in [Rows::All, Rows::Watched { from: 0 }] {
+            let mut out = vec![0.0; n];
+            let err = block.step(&hist, 2, 0.01, &x, &f, rows, &mut out).unwrap_err();
+            assert_eq!(err.cause(), Cause::StepSizeInstability, "{rows:?}");
+            assert!(err.to_string().contains("singular"), "{err}");
         }
     }
 }
