@@ -9,7 +9,8 @@
 //! ```
 //! The state is the J-turn's cornering at t = 4 s (as `evaluation_instructions`), and the steps go on from
 //! there at 8.33 ms with the inputs held: steady cornering, the scheme's plain third-order step (one
-//! evaluation, its SBDF2 estimate, two solves with the factors of a0 I − hJ kept between steps) with the
+//! evaluation, one solve with the factors of a0 I − hJ kept between steps, and its SBDF2 estimate on the
+//! watched rows by the rows of the inverse kept with them) with the
 //! simulation's own implicit block (the wheel states and the chassis velocities, `imex_partial_jacobian`). The two
 //! starting steps (five evaluations each) and the J's factorization are in both runs of the difference as
 //! long as N ≥ 2; the program prints how many steps were retaken, which would add to the count (0 here).
