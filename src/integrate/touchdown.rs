@@ -53,7 +53,7 @@ impl Indicators {
     }
 
     /// The largest indicator of `self` among the switches that are off (≤ 0) in `start`; −∞ if none is.
-    fn largest_of_off(&self, start: &Indicators) -> f64 {
+    pub(super) fn largest_of_off(&self, start: &Indicators) -> f64 {
         (0..start.n.min(self.n)).filter(|&i| start.g[i] <= 0.0).map(|i| self.g[i]).fold(f64::NEG_INFINITY, f64::max)
     }
 }
@@ -231,23 +231,23 @@ fn quadratic_root(g0: f64, g_mid: f64, g_end: f64, r: f64) -> Option<f64> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::integrate::{Integrator, Rk4};
 
     /// A mass dropped onto a tire-like ground contact: height z of the contact point, velocity v;
     /// F = max(0, k δ + c δ̇) for δ = −z > 0, else 0: the force jumps to c δ̇ at touchdown, as the tire's.
-    struct Drop {
-        locate: bool,
-        penetration: [f64; 1],
-        evaluations: u64,
+    pub(crate) struct Drop {
+        pub(crate) locate: bool,
+        pub(crate) penetration: [f64; 1],
+        pub(crate) evaluations: u64,
     }
 
-    const M: f64 = 50.0;
-    const K: f64 = 2.0e5;
-    const C: f64 = 2.0e3;
+    pub(crate) const M: f64 = 50.0;
+    pub(crate) const K: f64 = 2.0e5;
+    pub(crate) const C: f64 = 2.0e3;
     const G: f64 = 9.81;
-    const Z0: f64 = 0.05;
+    pub(crate) const Z0: f64 = 0.05;
 
     impl OdeSystem for Drop {
         fn dim(&self) -> usize {
@@ -273,7 +273,7 @@ mod tests {
 
     /// The exact (z, v) at time t after a drop from rest at Z0 (contact phase: the damped oscillator about
     /// δ = m g / k, valid while the force stays positive, which the test's window keeps).
-    fn exact(t: f64) -> [f64; 2] {
+    pub(crate) fn exact(t: f64) -> [f64; 2] {
         let t_star = (2.0 * Z0 / G).sqrt();
         if t <= t_star {
             return [Z0 - 0.5 * G * t * t, -G * t];
