@@ -44,7 +44,7 @@
 //!   with a wheel in the air, locate the touchdown as RK4 does (`SubSteps::landing`: trials from the step's
 //!   start bracket it, an Euler hop crosses it) and start afresh from it for the rest of the step.
 //! - History and J are plain data (bit-exact serde): an FMU state restores the scheme exactly.
-use super::touchdown::{Indicators, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
+use super::touchdown::{false_position, Indicators, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
 use super::{ab3::same_step, commit, eval, fit, projected, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
 use nalgebra::{Const, SMatrix, SVector, LU};
@@ -589,9 +589,8 @@ impl SubSteps<'_> {
                 if hi - lo <= tolerance {
                     break;
                 }
-                let width = hi - lo;
-                let secant = hi - phi_hi * width / (phi_hi - phi_lo);
-                let s = secant.clamp(lo + 1e-3 * width, hi - 1e-3 * width);
+                let margin = 0.5 * tolerance;
+                let s = false_position(lo, phi_lo, hi, phi_hi).clamp(lo + margin, hi - margin);
                 let g = self.trial(levels, shared, sys, t + a, s, landing)?;
                 let phi = g.largest_of_off(&g0);
                 if phi > 0.0 {

@@ -203,7 +203,7 @@ fn bracket(
 }
 
 /// The zero of the line through (lo, f_lo ≤ 0) and (hi, f_hi > 0).
-fn false_position(lo: f64, f_lo: f64, hi: f64, f_hi: f64) -> f64 {
+pub(super) fn false_position(lo: f64, f_lo: f64, hi: f64, f_hi: f64) -> f64 {
     let s = lo - f_lo * (hi - lo) / (f_hi - f_lo);
     if s.is_finite() {
         s
