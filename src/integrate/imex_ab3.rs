@@ -1030,7 +1030,7 @@ mod tests {
     /// z, made every step in the air fail the estimate: the split is then far from the motion) and both
     /// states watched, at a limit of 1e-3; and how many touchdowns were located.
     fn dropped_mass_error(h: f64, locate: bool) -> (f64, u64) {
-        use crate::integrate::touchdown::tests::{exact, Drop, C, K, M, Z0};
+        use crate::integrate::touchdown::tests::{exact, Drop, Z0};
         let n = (0.13 / h).round() as usize;
         let mut sys = Drop { locate, penetration: [0.0], evaluations: 0 };
         let mut s = ImexAb3::new();

@@ -243,9 +243,9 @@ pub(crate) mod tests {
         pub(crate) evaluations: u64,
     }
 
-    pub(crate) const M: f64 = 50.0;
-    pub(crate) const K: f64 = 2.0e5;
-    pub(crate) const C: f64 = 2.0e3;
+    const M: f64 = 50.0;
+    const K: f64 = 2.0e5;
+    const C: f64 = 2.0e3;
     const G: f64 = 9.81;
     pub(crate) const Z0: f64 = 0.05;
 
