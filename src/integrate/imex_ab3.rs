@@ -44,7 +44,7 @@
 //!   with a wheel in the air, locate the touchdown as RK4 does (`SubSteps::landing`: trials from the step's
 //!   start bracket it, an Euler hop crosses it) and start afresh from it for the rest of the step.
 //! - History and J are plain data (bit-exact serde): an FMU state restores the scheme exactly.
-use super::touchdown::{false_position, Indicators, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
+use super::touchdown::{false_position, Indicators, MAX_HOPS, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
 use super::{ab3::same_step, commit, eval, fit, projected, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
 use nalgebra::{Const, SMatrix, SVector, LU};
@@ -517,9 +517,6 @@ struct Landing<'a> {
     f_try: &'a mut Vec<f64>,
     located: u64,
 }
-
-/// Euler hops across a located bracket at most (each doubling the last while the wheel is still in the air).
-const MAX_HOPS: usize = 4;
 
 impl SubSteps<'_> {
     /// From (t, x) (f = `f_start`, its switch indicators `g_start`) over `run.h`: the state at `t + s` by four

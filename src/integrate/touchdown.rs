@@ -34,7 +34,7 @@ pub const MAX_ITERATIONS: usize = 16;
 /// Touchdowns located in one step at most (each wheel twice).
 pub const MAX_LOCATED_PER_STEP: usize = 2 * MAX_SWITCHES;
 /// Euler hops across a bracket at most (each doubling the last when the wheel is still in the air).
-const MAX_HOPS: usize = 4;
+pub(super) const MAX_HOPS: usize = 4;
 
 /// The switch indicators of one evaluation (`OdeSystem::switch_indicators`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
