@@ -154,15 +154,7 @@ fn main() {
             r.result.as_ref().err().map_or("finished".to_string(), |e| e.to_string())
         );
         for (c, e) in stability::channel_errors(&case, &r.samples, &reference.samples).iter().enumerate() {
-            println!(
-                "    {:10} excursion {:9.3e} worst {:.2e} relative at t = {:.3}: run {:.5e} ref {:.5e}",
-                e.name,
-                e.excursion,
-                e.difference / e.excursion,
-                e.at as f64 * stability::SAMPLE,
-                r.samples[e.at][c],
-                reference.samples[e.at][c]
-            );
+            println!("    {}", e.describe(r.samples[e.at][c], reference.samples[e.at][c]));
         }
     }
     if std::env::var("NOSCAN").is_ok() {

@@ -31,15 +31,6 @@ fn main() {
         }
     }
     for (c, e) in stability::channel_errors(&case, &run.samples, &reference.samples).iter().enumerate() {
-        println!(
-            "  {:10} excursion {:9.3e}  worst {:9.3e} ({:.2e} relative) at t = {:.3} s: run {:.6e} reference {:.6e}",
-            e.name,
-            e.excursion,
-            e.difference,
-            e.difference / e.excursion,
-            e.at as f64 * stability::SAMPLE,
-            run.samples[e.at][c],
-            reference.samples[e.at][c]
-        );
+        println!("  {}", e.describe(run.samples[e.at][c], reference.samples[e.at][c]));
     }
 }

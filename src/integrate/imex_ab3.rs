@@ -298,6 +298,11 @@ fn inverse_rows(
     })
 }
 
+/// The refusal of a step whose a0 I − hJ is singular (the whole solve, or the watched rows of its inverse).
+fn singular(h: f64, a0: f64) -> ModelError {
+    ModelError::new(Cause::StepSizeInstability, format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s (a0 = {a0})"))
+}
+
 /// The SBDF coefficients of order 1–3: the weight of x_{n+1}, of the past states, of the past E.
 fn coefficients(order: usize) -> (f64, [f64; 3], [f64; 3]) {
     match order {
@@ -413,10 +418,7 @@ impl Block<'_> {
             if slot.watched.is_none() {
                 let z = inverse_rows(&slot.lu, from, m);
                 if !z.iter().flatten().all(|v| v.is_finite()) {
-                    return Err(ModelError::new(
-                        Cause::StepSizeInstability,
-                        format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s (a0 = {a0})"),
-                    ));
+                    return Err(singular(h, a0));
                 }
                 slot.watched = Some(z);
             }
@@ -427,10 +429,7 @@ impl Block<'_> {
             return Ok(());
         }
         if !slot.lu.solve_mut(&mut rhs) {
-            return Err(ModelError::new(
-                Cause::StepSizeInstability,
-                format!("IMEX-AB3: a0 I − hJ is singular at h = {h:e} s (a0 = {a0})"),
-            ));
+            return Err(singular(h, a0));
         }
         for (r, &i) in self.fast.iter().enumerate() {
             out[i] = rhs[r];
@@ -519,8 +518,9 @@ struct Landing<'a> {
 }
 
 impl SubSteps<'_> {
-    /// From (t, x) (f = `f_start`, its switch indicators `g_start`) over `run.h`: the state at `t + s` by four
-    /// starting sub-steps of s/4 from t (unchecked: in the air the motion is smooth), its f and indicators.
+    /// From (t, `landing.x0`) (f = `landing.f0`): the state at t + s into `landing.x_try` by four starting
+    /// sub-steps of s/4 (unchecked: in the air the motion is smooth), its f into `landing.f_try`, and its
+    /// switch indicators.
     #[allow(clippy::too_many_arguments)]
     fn trial(
         &self,

@@ -391,6 +391,23 @@ pub struct ChannelError {
     pub at: usize,
 }
 
+impl ChannelError {
+    /// One line for a diagnostic: the channel, its excursion, the difference (absolute and relative), where,
+    /// and the two values there (`run` and `reference`: the channel's samples at `at`).
+    pub fn describe(&self, run: f64, reference: f64) -> String {
+        format!(
+            "{:10} excursion {:9.3e}  worst {:9.3e} ({:.2e} relative) at t = {:.3} s: run {:.6e} reference {:.6e}",
+            self.name,
+            self.excursion,
+            self.difference,
+            self.difference / self.excursion,
+            self.at as f64 * SAMPLE,
+            run,
+            reference
+        )
+    }
+}
+
 /// Each channel's largest difference of `run` from `reference` (`ChannelError`). Samples beyond the shorter
 /// run are not compared.
 pub fn channel_errors(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> Vec<ChannelError> {
