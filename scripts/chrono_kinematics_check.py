@@ -45,7 +45,7 @@ import sys
 import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-DEFAULT_DATA = pathlib.Path(os.environ.get("RTV_CHRONO_DATA", ROOT.parent / "shared" / "data" / "chrono"))
+DEFAULT_DATA = pathlib.Path(os.environ.get("RTV_CHRONO_DATA", ROOT / "data" / "chrono"))
 RTV = pathlib.Path(os.environ.get("RTV_BIN", ROOT / "target" / "release" / "rtv"))
 
 # Newton tolerances of this check (see the module's documentation).
@@ -830,7 +830,7 @@ def markdown(all_results, s, command):
         "",
         "Chrono itself cannot be installed here (no pychrono on PyPI), so the script **re-implements Chrono's "
         "joint set in absolute coordinates from Chrono's own JSON**. It reads the Chrono vehicle file and the "
-        "suspension and steering files it names (`../shared/data/chrono/generic/...`, Chrono commit 7689fbc02d; "
+        "suspension and steering files it names (`data/chrono/generic/...`, Chrono commit 7689fbc02d; "
         "another folder with `--data` or `RTV_CHRONO_DATA`), never the imported `resources/vehicles/*.json`, so "
         "the importer (`src/model/import_chrono.rs`) is under test as well as the model. Points are placed as "
         "Chrono's `Construct` places them: `Suspension Location` as an offset, the right side mirroring y, the "

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Reference heights of every OpenCRG file in shared/data/chrono from an independent reader, PyOpenCRG
+"""Reference heights of every OpenCRG file in data/chrono from an independent reader, PyOpenCRG
 (pip install pyopencrg==0.2.2: pure Python on numpy, written from the OpenCRG reference implementation,
 not from the `opencrg` crate the model uses). tests/roads.rs compares the model's heights against them.
 
@@ -15,7 +15,7 @@ import pyopencrg
 
 
 def main(argv):
-    data = pathlib.Path(argv[1] if len(argv) > 1 else "../shared/data/chrono")
+    data = pathlib.Path(argv[1] if len(argv) > 1 else "data/chrono")
     files = sorted((data / "terrain" / "crg_roads").glob("*.crg"))
     rng = np.random.default_rng(8608)
     print("file,u_m,v_m,z_m")

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Regenerate resources/hmmwv.json (the vehicle file the model reads) from the shared HMMWV data set.
 
-    python3 scripts/make_vehicle_file.py ../shared/data/hmmwv/hmmwv.json > resources/hmmwv.json
+    python3 scripts/make_vehicle_file.py data/hmmwv/hmmwv.json > resources/hmmwv.json
 
 Only numbers the model uses are copied, each under a key that names its unit. The STI tire coefficients
 are the fit of physics.md §6.5 to the TMeasy C++ block (A1, A2 through dfy0 at pn and 2pn; c_s = dfx0/pn),
@@ -66,7 +66,7 @@ A2 = A1 / B
 rack = src["steering"]["proposed_rack_for_rt_vehicle"]
 out = {
     "name": "HMMWV M1025, four SLA suspensions, kinematic rack (rt-vehicle)",
-    "provenance": "Numbers copied or derived from shared/data/hmmwv/hmmwv.json (Project Chrono HMMWV, BSD-3, commit "
+    "provenance": "Numbers copied or derived from data/hmmwv/hmmwv.json (Project Chrono HMMWV, BSD-3, commit "
                   + src["provenance"]["commit"] + ") by scripts/make_vehicle_file.py. STI coefficients fitted to the "
                   "TMeasy C++ block (physics.md 6.5); relaxation lengths, camber and trail coefficients are "
                   "physics.md defaults [O].",

@@ -1,4 +1,4 @@
-//! Roads of one's own (issue 18): every OpenCRG file in shared/data/chrono loads and is placed; the bad
+//! Roads of one's own (issue 18): every OpenCRG file in data/chrono loads and is placed; the bad
 //! inputs of the issue are named errors; the HMMWV drives the shipped half-round obstacle and an RMS course
 //! through the CLI; ISO 8608 roads are deterministic.
 
@@ -10,7 +10,7 @@ use std::process::Command;
 fn crg_dir() -> PathBuf {
     std::env::var_os("RTV_CHRONO_DATA")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono"))
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/chrono"))
         .join("terrain/crg_roads")
 }
 

@@ -1,4 +1,4 @@
-//! Every Pacejka property file in `../shared/data/chrono` (or `RTV_CHRONO_DATA`) reads: its format is one the
+//! Every Pacejka property file in `data/chrono` (or `RTV_CHRONO_DATA`) reads: its format is one the
 //! model reads, its units convert to SI, and the keys the Magic Formula's load and size scaling need are
 //! numbers (`model::tire::tir`, issue 18).
 
@@ -10,7 +10,7 @@ use common::chrono_tir_files;
 #[test]
 fn every_shipped_tir_file_reads() {
     let files = chrono_tir_files();
-    assert_eq!(files.len(), 5, "the five PAC2002 files of shared/data/chrono: {files:?}");
+    assert_eq!(files.len(), 5, "the five PAC2002 files of data/chrono: {files:?}");
     for path in files {
         let f = TirFile::read(&path).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(f.format().unwrap(), TirFormat::Pac2002, "{}", path.display());

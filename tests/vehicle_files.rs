@@ -1,6 +1,6 @@
 //! Vehicle files: the schema accepts every shipped file; the Chrono importer reproduces the shipped imports;
 //! every kind of bad input (importer, loader, `rtv check-vehicle`) is refused with its cause named; a failed
-//! import leaves no file behind. The Chrono data are read from `../shared/data/chrono` (or
+//! import leaves no file behind. The Chrono data are read from `data/chrono` (or
 //! `RTV_CHRONO_DATA`), the folder the shipped imports were made from.
 
 mod common;

@@ -6,11 +6,11 @@ use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::sim::{SimConfig, Simulation, OUTPUT_NAMES};
 use std::path::PathBuf;
 
-/// `../shared/data/chrono` (Project Chrono's data), or the folder `RTV_CHRONO_DATA` names.
+/// `data/chrono` (Project Chrono's data, shipped with its licence), or the folder `RTV_CHRONO_DATA` names.
 pub fn chrono_data() -> PathBuf {
     let dir = std::env::var_os("RTV_CHRONO_DATA")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/chrono"));
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/chrono"));
     assert!(dir.is_dir(), "the Chrono data folder {} is missing (set RTV_CHRONO_DATA)", dir.display());
     dir
 }

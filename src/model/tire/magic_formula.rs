@@ -932,7 +932,7 @@ mod tests {
 
     fn hmmwv() -> MagicFormula {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir");
+            .join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir");
         MagicFormula::read(&path).unwrap()
     }
 
@@ -1027,7 +1027,7 @@ mod tests {
     fn keys_and_vendor_sections_the_model_does_not_read_are_warnings() {
         let base = std::fs::read_to_string(
             std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
+                .join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
         )
         .unwrap();
         let text = format!("{base}\n[ACME_VENDOR]\nSECRET_SAUCE = 3\n");
@@ -1044,7 +1044,7 @@ mod tests {
     fn other_formats_and_modes_are_refused() {
         let base = std::fs::read_to_string(
             std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../shared/data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
+                .join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
         )
         .unwrap();
         refused("m.tir", &base.replace("USE_MODE                   = 4", "USE_MODE = 2"), &["USE_MODE"]);

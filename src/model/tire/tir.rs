@@ -2,7 +2,7 @@
 //! part of the Magic Formula tire (issue 18). This module reads a file into its sections and keys and
 //! converts units; the Magic Formula itself (which keys it needs, their defaults) is built on it.
 //!
-//! The format, as the files in `../shared/data/chrono` and the MF-Tyre documentation have it:
+//! The format, as the files in `data/chrono` and the MF-Tyre documentation have it:
 //! - `[SECTION]` headers; `KEY = value` lines; `$` starts a comment (whole line or after a value), `!` a
 //!   whole-line comment; values are numbers or quoted strings (`'meter'`);
 //! - table sections (`[SHAPE]`, `[DEFLECTION_LOAD_CURVE]`, `[BOTTOMING_CURVE]`) hold a `{...}` header and
