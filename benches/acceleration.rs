@@ -1,4 +1,4 @@
-//! "Acceleration evaluation" of the paper's Table 1 (physics.md §4.10): from per-subsystem terms to
+//! "Acceleration evaluation" of the paper's Table 1 (docs/physics.md §4.10): from per-subsystem terms to
 //! accelerations, for the three solvers of `rt_vehicle::dynamics`, on one fixed random-but-realistic vehicle
 //! (K = 4).
 //!

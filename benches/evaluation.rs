@@ -1,5 +1,5 @@
 //! Function evaluation, assembly and acceleration evaluation of the real vehicle (the paper's Table 1,
-//! physics.md §4.10), and the cost of one fmi2DoStep of 8.3 ms through the C API.
+//! docs/physics.md §4.10), and the cost of one fmi2DoStep of 8.3 ms through the C API.
 //!
 //! `cargo bench --bench evaluation` runs criterion, then prints, from one in-process run, the medians
 //! and the ratios next to the paper's (3.23 for the function evaluation, 19.1 for the acceleration

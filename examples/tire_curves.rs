@@ -1,5 +1,5 @@
 //! Steady-state tire curves of the STI model with the shipped data (the paper's Fig. 3), and the
-//! physics.md §6.5 reference-table comparison.
+//! docs/physics.md §6.5 reference-table comparison.
 //!
 //! `cargo run --example tire_curves -- OUT.csv` writes one row per point:
 //! `sweep,fz_N,kappa,alpha_rad,fx_N,fy_N,mz_Nm`, where `sweep` is `kappa` (F_x against κ at α = 0) or

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Convergence table of the reference traces: max |x(0.1 ms) - x(0.05 ms)| per channel, absolute and
-relative to the channel's peak (physics.md §9.12). Usage: convergence.py COMMIT > tests/reference/README.md"""
+relative to the channel's peak (docs/physics.md §9.12). Usage: convergence.py COMMIT > tests/reference/README.md"""
 import csv
 import sys
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates tests/reference/{bump,jturn,sine}.csv: conventional formulation, RK4 at 0.1 ms, 0.01 s output
-# interval (physics.md §9.12), every channel (--keep-all), and shows convergence against RK4 at 0.05 ms (tests/reference/README.md).
+# interval (docs/physics.md §9.12), every channel (--keep-all), and shows convergence against RK4 at 0.05 ms (tests/reference/README.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bin rtv

@@ -4,8 +4,8 @@
     python3 scripts/make_vehicle_file.py data/hmmwv/hmmwv.json > resources/hmmwv.json
 
 Only numbers the model uses are copied, each under a key that names its unit. The STI tire coefficients
-are the fit of physics.md §6.5 to the TMeasy C++ block (A1, A2 through dfy0 at pn and 2pn; c_s = dfx0/pn),
-rounded as in physics.md's table (whose reference forces the unit tests match).
+are the fit of docs/physics.md §6.5 to the TMeasy C++ block (A1, A2 through dfy0 at pn and 2pn; c_s = dfx0/pn),
+rounded as in docs/physics.md's table (whose reference forces the unit tests match).
 """
 import json
 import sys

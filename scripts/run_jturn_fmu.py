@@ -24,7 +24,7 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave, fmi2LastSuccessfulTime, fmi2Terminated
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-G = 9.81  # the paper's g (physics.md §1), also the model's gravity
+G = 9.81  # the paper's g (docs/physics.md §1), also the model's gravity
 T_START, T_RAMP = 3.0, 0.1
 DEFAULT_AMPLITUDE = 0.003
 

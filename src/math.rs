@@ -1,4 +1,4 @@
-//! Small geometric helpers shared by the kinematics and the force elements (physics.md §3.1).
+//! Small geometric helpers shared by the kinematics and the force elements (docs/physics.md §3.1).
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
@@ -204,7 +204,7 @@ mod tests {
 
     #[test]
     fn bryant_rate_matrix_matches_finite_differences() {
-        // ∂(A x)/∂φ_j = g_j × (A x), g_j the columns of G (physics.md §3.1).
+        // ∂(A x)/∂φ_j = g_j × (A x), g_j the columns of G (docs/physics.md §3.1).
         let phi = V3::new(0.11, -0.07, 0.23);
         let x = V3::new(0.3, -0.2, 0.5);
         let g = bryant_rate_matrix(&phi);

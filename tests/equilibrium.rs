@@ -1,4 +1,4 @@
-//! Initial states: ride-height retune, static equilibrium, steady rolling (physics.md §8.1, §9.6).
+//! Initial states: ride-height retune, static equilibrium, steady rolling (docs/physics.md §8.1, §9.6).
 
 use rt_vehicle::model::equilibrium::{retune_ride_height, static_equilibrium, steady_rolling};
 use rt_vehicle::model::params::VehicleData;

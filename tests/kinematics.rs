@@ -1,5 +1,5 @@
 //! Suspension kinematics of every template against finite differences, and the HMMWV's against the data
-//! set's derived geometry (physics.md §9.1–§9.2). Every shipped vehicle is checked: the HMMWV (double
+//! set's derived geometry (docs/physics.md §9.1–§9.2). Every shipped vehicle is checked: the HMMWV (double
 //! wishbones, rack) and the Chrono imports in `resources/vehicles/` (double wishbones and MacPherson
 //! struts, Pitman arm).
 
@@ -30,7 +30,7 @@ fn phi(c: &Corner, q: &Vector5f, s: f64) -> Vector4<f64> {
 #[test]
 fn constraint_jacobian_matches_central_differences() {
     // Central differences with ε = 1e-6 have truncation error ~ε²·|Φ'''| ≈ 1e-12 and round-off
-    // ~1e-16/ε ≈ 1e-10: agreement to 1e-8 is the physics.md §9.1 bound with margin.
+    // ~1e-16/ε ≈ 1e-10: agreement to 1e-8 is the docs/physics.md §9.1 bound with margin.
     let q = Vector5f::new(0.08, 0.03, -0.05, 0.02, 0.11);
     for (name, c) in corners() {
         let s = 0.02;
@@ -50,7 +50,7 @@ fn constraint_jacobian_matches_central_differences() {
 
 #[test]
 fn gamma_bar_matches_second_difference_of_phi() {
-    // Along q(τ) = q + q̇τ, s(τ) = s + ṡτ + ½s̈τ²: d²Φ/dτ² = Φ_s s̈ − γ = −γ̄ (physics.md §3.3).
+    // Along q(τ) = q + q̇τ, s(τ) = s + ṡτ + ½s̈τ²: d²Φ/dτ² = Φ_s s̈ − γ = −γ̄ (docs/physics.md §3.3).
     // Second differences with τ = 1e-4: truncation ~τ²·Φ'''' ≈ 1e-8·O(1), round-off ~1e-16/τ² ≈ 1e-8.
     let q = Vector5f::new(-0.06, 0.02, 0.04, -0.03, -0.09);
     let qd = Vector5f::new(1.3, -0.7, 0.9, 0.4, -1.1);
@@ -158,7 +158,7 @@ fn suspension_kinematics_match_the_data_set() {
 }
 
 /// Body velocity states and their rates against finite differences along a trajectory of the chassis
-/// and the joints (physics.md §3.4, §9.1): Y_b = Y0 + 𝔅_b q̇ and Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b.
+/// and the joints (docs/physics.md §3.4, §9.1): Y_b = Y0 + 𝔅_b q̇ and Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b.
 #[test]
 fn velocity_state_matrices_match_finite_differences() {
     for (name, data) in vehicles() {

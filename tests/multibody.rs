@@ -1,5 +1,5 @@
 //! The multibody core as a whole: the three formulations agree, free flight conserves momentum, springs
-//! and gravity conserve energy, and a damped settle finds the static equilibrium (physics.md §9.4–§9.6).
+//! and gravity conserve energy, and a damped settle finds the static equilibrium (docs/physics.md §9.4–§9.6).
 
 use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::model::equilibrium::{static_equilibrium, steady_rolling};
@@ -197,7 +197,7 @@ fn free_flight_conserves_linear_and_angular_momentum() {
 #[test]
 fn springs_and_gravity_conserve_energy() {
     // Conservative forces only (cubic springs, gravity; stops, dampers and tires off). RK4 at 1 ms over
-    // 0.3 s; the bound 1e-9 is physics.md §9.5's with the integrator's truncation error as the reason.
+    // 0.3 s; the bound 1e-9 is docs/physics.md §9.5's with the integrator's truncation error as the reason.
     let (v, o) = (free_flight_vehicle(), free_flight(true, true));
     let mut x = tumbling_state(&o);
     let e = |x: &[f64]| {
@@ -218,7 +218,7 @@ fn damped_settle_reaches_the_static_equilibrium_with_original_free_lengths() {
     // dynamic rest must match the static solve within 0.1 mm (issue requirement).
     let mut v = vehicle();
     // Frictionless tires: the static problem has no shear forces (ξ = 0). With friction, the scrub of the
-    // drop is stored as tread deflection (the standstill tire is a spring, physics.md §6.9), which
+    // drop is stored as tread deflection (the standstill tire is a spring, docs/physics.md §6.9), which
     // pre-stresses the car by ~1 mm, as a real car settles: a different rest, not an error.
     v.tire_model = rt_vehicle::model::tire::TireModel::Frictionless;
     let statics = static_equilibrium(&v, &coasting(), &mut Workspace::default()).unwrap();

@@ -1,4 +1,4 @@
-//! The paper's scenes end to end (physics.md §8.3, §9.4, §9.7–§9.11): formulations agree, observed
+//! The paper's scenes end to end (docs/physics.md §8.3, §9.4, §9.7–§9.11): formulations agree, observed
 //! integrator orders, steering sign, steady cornering, calibration, saturation, bump timing, stability.
 
 use rt_vehicle::integrate::IntegratorKind;
@@ -189,7 +189,7 @@ fn bump_peaks_come_in_order_with_the_right_spacing() {
 
 #[test]
 fn paper_integrator_configuration_is_reported_unstable_and_the_default_is_not() {
-    // AB3 at the paper's 8.3 ms with these tire data is unstable (physics.md §7.4): it must be refused
+    // AB3 at the paper's 8.3 ms with these tire data is unstable (docs/physics.md §7.4): it must be refused
     // with the step size named as the cause, never silent.
     let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
     let config = SimConfig { integrator: IntegratorKind::Ab3, internal_step: 0.0083, ..SimConfig::default() };

@@ -21,7 +21,7 @@ use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
 use rt_vehicle::sim::calibration;
 use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
-use rt_vehicle::sim::{modes, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
+use rt_vehicle::sim::{modes, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, OUTPUT_NAMES};
 use rt_vehicle::studies::kc;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -31,8 +31,8 @@ use std::time::Instant;
 
 const USAGE: &str = "usage:
   rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|dopri5|imex-ab3]
-            [--tolerance TOL] [--step S] [--end T] [--output-interval DT] [--speed coast|hold]
-            [--slip relaxation|steady]
+            [--tolerance TOL] [--step S] [--accuracy refuse|warn] [--end T] [--output-interval DT]
+            [--speed coast|hold] [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--tire FILE.tir] [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
             [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
@@ -180,10 +180,17 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
         }
         c.tolerance = number(opts, "tolerance", c.tolerance)?;
     }
-    // The error-controlled integrator's largest step defaults to the output interval (each interval ends on
-    // an output point anyway); the fixed-step ones default to the internal step.
-    let default_step = if c.integrator.is_error_controlled() { interval } else { c.internal_step };
+    // Without --step the step is automatic (`SimConfig::internal_step`): the largest the step check accepts,
+    // at most the scheme's default. The error-controlled integrator's largest step defaults to the output
+    // interval (each interval ends on an output point anyway).
+    let default_step = if c.integrator.is_error_controlled() { interval } else { AUTOMATIC_STEP };
     c.internal_step = number(opts, "step", default_step)?;
+    if opts.contains_key("step") && c.automatic_step() {
+        return Err(bad("--step: a fixed step must be positive (leave --step out for the automatic step)"));
+    }
+    if let Some(a) = opts.get("accuracy") {
+        c.accuracy = modes::ACCURACY_POLICIES.by_name(a).map_err(bad)?;
+    }
     c.options.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
     c.bump = [number(opts, "bump-height", c.bump[0])?, number(opts, "bump-length", c.bump[1])?];
     if let Some(road) = opts.get("road") {
@@ -192,8 +199,8 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
     c.options.road_friction = number(opts, "friction", c.options.road_friction)?;
     c.validate().map_err(|e| bad(e.to_string()))?;
     // The step asked for is the step taken: it must divide the output interval.
-    let ratio = interval / c.internal_step;
-    if (ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0 {
+    let ratio = interval / c.step_bound(interval);
+    if !c.automatic_step() && ((ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0) {
         return Err(bad(format!(
             "--step {} does not divide the output interval {interval} (use a step such as {})",
             c.internal_step,
@@ -222,6 +229,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "integrator",
             "tolerance",
             "step",
+            "accuracy",
             "end",
             "output-interval",
             "speed",
@@ -318,6 +326,10 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         sim.evaluations(),
         cpu.as_secs_f64() * 1e6 / sim.evaluations() as f64
     );
+    if !config.integrator.is_error_controlled() {
+        let how = if config.automatic_step() { "automatic (the largest the step check accepts)" } else { "fixed" };
+        eprintln!("{}: internal step {how}: {}", kind.name(), sim.steps_taken.describe());
+    }
     if let Some((accepted, rejected)) = sim.step_counts() {
         eprintln!(
             "{}: error control at tolerance {:e}: {accepted} steps accepted, {rejected} rejected",

@@ -1,4 +1,4 @@
-//! One rigid body in velocity-state form (physics.md §4.1): Y = [v̂; ω] with v̂ = ṙ − ω × ρ, the mass
+//! One rigid body in velocity-state form (docs/physics.md §4.1): Y = [v̂; ω] with v̂ = ṙ − ω × ρ, the mass
 //! matrix M̂ and the generalized force Q̂ that the subsystem terms (§4.2) and the chassis equation sum.
 //! Everything in one set of axes (the evaluation uses the chassis's, `math::Axes`; the equations are the same
 //! in any), positions ρ measured from the current origin (the chassis CM, §4.0).

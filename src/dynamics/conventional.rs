@@ -1,4 +1,4 @@
-//! The conventional recursive formulation: one dense 42×42 augmented system (physics.md §4.3, the paper's
+//! The conventional recursive formulation: one dense 42×42 augmented system (docs/physics.md §4.3, the paper's
 //! eq. 1). This is the baseline of the paper's Table 1: it is filled and factorized densely, with no sparsity
 //! exploited, by the same LU with partial pivoting that the synthesis solvers use.
 

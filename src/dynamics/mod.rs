@@ -1,8 +1,8 @@
-//! Equation solvers of the recursive formulation (physics.md §4.2–§4.6, §4.10).
+//! Equation solvers of the recursive formulation (docs/physics.md §4.2–§4.6, §4.10).
 //!
 //! The vehicle is a chassis (floating base, velocity state Y₀ ∈ ℝ⁶) carrying K subsystems. Subsystem i has
 //! [`NQ`] = 5 relative coordinates q = (θ_L, φ1, φ2, φ3, θ_U) and [`NC`] = 4 cut constraints Φ(q) = 0. Its
-//! contribution to the equations of motion is summarised by [`SubsystemTerms`] (physics.md §4.2):
+//! contribution to the equations of motion is summarised by [`SubsystemTerms`] (docs/physics.md §4.2):
 //!
 //! ```text
 //!   subsystem:  M_qq q̈ + M_q0 Ẏ₀ + Φ_qᵀ λ = P_q,        Φ_q q̈ = γ̄
@@ -40,7 +40,7 @@ pub const NQ: usize = 5;
 /// Cut constraints per subsystem.
 pub const NC: usize = 4;
 
-/// One subsystem's contribution to the equations of motion (physics.md §4.2).
+/// One subsystem's contribution to the equations of motion (docs/physics.md §4.2).
 /// All quantities are in the global frame, spatial origin at the current chassis CM (§4.0).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SubsystemTerms {

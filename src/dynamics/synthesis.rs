@@ -1,4 +1,4 @@
-//! Subsystem synthesis (physics.md §4.4–§4.6): each subsystem is condensed onto the chassis as an effective
+//! Subsystem synthesis (docs/physics.md §4.4–§4.6): each subsystem is condensed onto the chassis as an effective
 //! inertia M̄ᵢ and an effective force P̄ᵢ, the 6×6 chassis system is solved by Cholesky, and the subsystem
 //! accelerations follow by back-substitution.
 
@@ -169,7 +169,7 @@ pub fn solve_synthesis_gcp<const K: usize>(
     solve_synthesis_gcp_with(chassis, subs, Multipliers::Compute)
 }
 
-/// Subsystem synthesis with generalized coordinate partitioning (physics.md §4.5, §4.6, §4.9 steps 3f–5).
+/// Subsystem synthesis with generalized coordinate partitioning (docs/physics.md §4.5, §4.6, §4.9 steps 3f–5).
 ///
 /// Per subsystem: 4×4 LU of Φ_v, 2 solves (Φ_u, γ̄), the scalar reductions m̃, 𝔪, p̃ and the rank-1 effective
 /// inertia M̄ᵢ; then one 6×6 Cholesky for the chassis and the back-substitution
@@ -220,7 +220,7 @@ fn gcp<const K: usize>(
     Ok(acc)
 }
 
-/// Subsystem synthesis with a 9×9 augmented subsystem solve (physics.md §4.4, the paper's eqs. 2–3).
+/// Subsystem synthesis with a 9×9 augmented subsystem solve (docs/physics.md §4.4, the paper's eqs. 2–3).
 ///
 /// Per subsystem, with 𝐒 = [[M_qq, Φ_qᵀ], [Φ_q, 0]] (9×9, LU with partial pivoting):
 /// 𝐒 [X | x] = [[M_q0; 0] | [P_q; γ̄]] (7 right-hand sides), M̄ᵢ = M_00 − [M_0q 0] X,

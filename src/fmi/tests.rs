@@ -322,7 +322,7 @@ fn the_table_matches_the_brief() {
     expect("speed_mode", Causality::Parameter, Start::Integer(2));
     expect("formulation", Causality::Parameter, Start::Integer(1));
     expect("integrator", Causality::Parameter, Start::Integer(2));
-    expect("internal_step", Causality::Parameter, Start::Real(0.002));
+    expect("internal_step", Causality::Parameter, Start::Real(0.0));
     expect("slip_model", Causality::Parameter, Start::Integer(1));
     expect("road", Causality::Parameter, Start::Integer(1));
     expect("vehicle_file", Causality::Parameter, Start::String(""));
@@ -496,7 +496,7 @@ fn bad_values_are_errors_and_keep_the_old_value() {
         assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[bad]), ERROR);
     }
     assert!(rec.contains("not finite"));
-    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.0]), ERROR);
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[5e-7]), ERROR);
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[-0.001]), ERROR);
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.1000001]), ERROR);
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.1]), OK);
@@ -1050,10 +1050,16 @@ fn array_lengths_are_checked_before_anything_is_allocated() {
 fn internal_step_has_a_range() {
     let rec = Recorder::default();
     let inst = Inst::<VehicleModel>::new(&rec, None);
-    for bad in [1e-9, 5e-324, 0.0, -1.0, 0.2] {
+    for bad in [1e-9, 5e-324, -5e-324, -1.0, 0.2] {
         assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[bad]), ERROR, "{bad}");
-        assert!(rec.last().contains("internal_step must be in [1e-6, 1e-1] s"), "{}", rec.last());
+        assert!(
+            rec.last().contains("is outside [1e-6, 0.1] s (a fixed step; 0 is the automatic step)"),
+            "{}",
+            rec.last()
+        );
     }
+    // 0: the automatic step (the default: the_table_matches_the_brief); the smallest fixed step.
+    assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.0]), OK);
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[1e-6]), OK);
     unsafe {
         api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
@@ -1062,7 +1068,7 @@ fn internal_step_has_a_range() {
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[5e-324]), ERROR);
     assert_eq!(inst.real(vr::INTERNAL_STEP), 1e-6, "the old value is kept");
     let var = DESCRIPTION.by_name("internal_step").unwrap();
-    assert_eq!((var.min, var.max), (Some(1e-6), Some(0.1)), "the model description declares the range");
+    assert_eq!((var.min, var.max), (Some(0.0), Some(0.1)), "the model description declares the range");
 }
 
 #[test]
@@ -1260,6 +1266,7 @@ fn every_mode_table_agrees_with_the_docs_and_the_model_description() {
     check_mode_table(&SLIP_MODELS);
     check_mode_table(&ROADS);
     check_mode_table(&CONTACTS);
+    check_mode_table(&ACCURACY_POLICIES);
 }
 
 #[test]

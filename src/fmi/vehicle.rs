@@ -402,7 +402,8 @@ impl FmuModel for VehicleModel {
                 | P::VehicleFile
                 | P::TireFile
                 | P::RoadFile
-                | P::Contact,
+                | P::Contact
+                | P::AccuracyPolicy,
             ) => return Err(format!("{} is not a Real of this model", var.name)),
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
             Var::Output(_) => self.output(var)?,
@@ -418,6 +419,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.code(o.slip),
             Var::Parameter(P::Road) => modes::ROADS.code(c.road),
             Var::Parameter(P::Contact) => modes::CONTACTS.code(o.contact),
+            Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.code(c.accuracy),
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -475,7 +477,12 @@ impl FmuModel for VehicleModel {
                 }
             },
             Var::Parameter(P::InitialSpeed) => self.config.initial_speed = ranged(var, value)?,
-            Var::Parameter(P::InternalStep) => self.config.internal_step = ranged(var, value)?,
+            // The model description's range [0, 0.1] holds the automatic step 0 and a gap below 1e-6: the
+            // one check of the value (`sim::check_internal_step`) decides.
+            Var::Parameter(P::InternalStep) => {
+                crate::sim::check_internal_step(value).map_err(|e| format!("internal_step: {e}"))?;
+                self.config.internal_step = value
+            }
             Var::Parameter(P::RoadGrade) => self.config.options.slope[0] = ranged(var, value)?,
             Var::Parameter(P::RoadCrossSlope) => self.config.options.slope[1] = ranged(var, value)?,
             Var::Parameter(P::BumpHeight) => self.config.bump[0] = ranged(var, value)?,
@@ -491,7 +498,8 @@ impl FmuModel for VehicleModel {
                 | P::VehicleFile
                 | P::TireFile
                 | P::RoadFile
-                | P::Contact,
+                | P::Contact
+                | P::AccuracyPolicy,
             )
             | Var::Local(_)
             | Var::Output(_)
@@ -514,6 +522,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.by_code(value).map(|m| c.options.slip = m),
             Var::Parameter(P::Road) => modes::ROADS.by_code(value).map(|r| c.road = r),
             Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|m| c.options.contact = m),
+            Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.by_code(value).map(|a| c.accuracy = a),
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep

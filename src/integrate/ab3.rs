@@ -1,4 +1,4 @@
-//! Adams–Bashforth 3 with RK4 start-up (physics.md §7.3):
+//! Adams–Bashforth 3 with RK4 start-up (docs/physics.md §7.3):
 //! x_{n+1} = x_n + h/12 (23 f_n − 16 f_{n−1} + 5 f_{n−2}).
 //!
 //! - One evaluation per step: f_n = f(t_n, x_n) is evaluated at the start of each step, i.e. at the

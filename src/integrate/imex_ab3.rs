@@ -161,6 +161,13 @@ pub struct ImexAb3 {
     /// Touchdowns located inside retaken steps (`SubSteps::landing`).
     #[serde(skip)]
     pub located: u64,
+    /// Whether a sub-step the deepest retake does not resolve runs on instead of being refused (the
+    /// accuracy policy `warn`: `set_run_on`).
+    #[serde(default)]
+    run_on: bool,
+    /// Sub-steps that ran on above the limit so (`run_on`).
+    #[serde(skip)]
+    pub unresolved: u64,
     /// The limit on the local error estimate (relative to the state's scales); infinite: not monitored.
     #[serde(with = "super::exact::f64_bits")]
     error_limit: f64,
@@ -499,6 +506,9 @@ struct SubSteps<'a> {
     cap: usize,
     /// The limit of a retaken sub-step's estimate.
     limit: f64,
+    /// A sub-step the deepest level does not resolve runs on (`ImexAb3::set_run_on`), counted here.
+    run_on: bool,
+    unresolved: &'a std::cell::Cell<u64>,
     /// The whole step, for the refusal's message.
     h: f64,
     /// The rows the estimate's second-order step solves for.
@@ -541,7 +551,7 @@ impl SubSteps<'_> {
     }
 
     /// A retaken step from (t, x) (f = `f_start`) whose wheels in the air at t (`g_start`) may touch down
-    /// within it: the tire's normal force jumps there from 0 to c_z δ̇ (physics.md §6.3), which no sub-step
+    /// within it: the tire's normal force jumps there from 0 to c_z δ̇ (docs/physics.md §6.3), which no sub-step
     /// that straddles it follows (the estimate of the imports' wheel lock at 8.33 ms was 38 × its limit in
     /// sixteenth steps). As RK4's location does (`touchdown`): trials from t (`trial`) bracket the first
     /// touchdown by Illinois' regula falsi on the largest penetration of the wheels that were in the air, to
@@ -689,7 +699,9 @@ impl SubSteps<'_> {
             } else if order >= 3 && checked {
                 let (worst, at) = block.estimate(this.hist, hs, this.xs, this.fsub, self.second, shared, sys)?;
                 second = self.cap == 2;
-                if worst > self.limit {
+                if worst > self.limit && deeper.is_empty() && self.run_on {
+                    self.unresolved.set(self.unresolved.get() + 1);
+                } else if worst > self.limit {
                     if deeper.is_empty() {
                         let smaller = hs * (self.limit / worst).cbrt() * 0.9;
                         let parts = (self.h / hs).round();
@@ -802,6 +814,12 @@ impl ImexAb3 {
         self.error_limit = limit;
     }
 
+    /// With `true`, a sub-step that even the deepest retake does not resolve runs on (counted in
+    /// `unresolved`) instead of being refused: the accuracy policy `warn` (`sim::AccuracyPolicy`).
+    pub fn set_run_on(&mut self, on: bool) {
+        self.run_on = on;
+    }
+
     /// The largest local error estimate since the last call, relative to the state's scales.
     pub fn take_largest_error(&mut self) -> f64 {
         std::mem::take(&mut self.largest_error)
@@ -895,12 +913,21 @@ impl Integrator for ImexAb3 {
         ];
         debug_assert_eq!(levels.len(), RETAKE_LEVELS);
         let main = &self.main;
+        let unresolved = std::cell::Cell::new(0);
         let result = (|| -> Result<(), ModelError> {
             eval(sys, t, x, fnow)?;
             let mut g_start = Indicators::default();
             g_start.record(sys);
             xold.copy_from_slice(x);
-            let run = SubSteps { block: &block, cap, limit: SUBSTEP_LIMIT_FACTOR * error_limit, h, second };
+            let run = SubSteps {
+                block: &block,
+                cap,
+                limit: SUBSTEP_LIMIT_FACTOR * error_limit,
+                h,
+                second,
+                run_on: self.run_on,
+                unresolved: &unresolved,
+            };
             // A wheel in the air at t (its switch off): a touchdown inside the step is not seen by the
             // estimate, which extrapolates f from the past points (the jump shows a step later, from the
             // ground), so the candidate's switches are evaluated (one evaluation, only while a wheel is in
@@ -948,6 +975,7 @@ impl Integrator for ImexAb3 {
             self.largest_error = largest;
             self.substepped += u64::from(substepped);
             self.located += located;
+            self.unresolved += unresolved.get();
         }
         self.scratch = scratch;
         result

@@ -1,4 +1,4 @@
-//! Time integrators behind one small trait, and the one sub-stepping rule (physics.md §7.2).
+//! Time integrators behind one small trait, and the one sub-stepping rule (docs/physics.md §7.2).
 //!
 //! What the rest of the crate uses:
 //! - `OdeSystem`: the model as seen by an integrator.
@@ -79,6 +79,17 @@ impl IntegratorKind {
             // The starting steps' sub-steps, and the extrapolated first one's midpoint.
             IntegratorKind::ImexAb3 => imex_ab3::START_SUBSTEPS as u64 + 1,
             IntegratorKind::Dopri5 => dopri5::EVALUATIONS_PER_STEP,
+        }
+    }
+
+    /// The scheme's default internal step, s: the automatic step's bound (`SimConfig::internal_step`).
+    /// RK4 and AB3 2 ms (the paper's bump, J-turn and sine within the suite's tolerance: docs/integrators.md);
+    /// IMEX-AB3 the paper's real-time frame, 1/120 s. The error-controlled scheme has none (its bound is the
+    /// communication interval).
+    pub fn default_step(self) -> f64 {
+        match self {
+            IntegratorKind::Rk4 | IntegratorKind::Ab3 | IntegratorKind::Dopri5 => 0.002,
+            IntegratorKind::ImexAb3 => 1.0 / 120.0,
         }
     }
 

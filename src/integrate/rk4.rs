@@ -1,4 +1,4 @@
-//! Classic 4-stage Runge–Kutta (physics.md §7.2). Four evaluations per step; stable for
+//! Classic 4-stage Runge–Kutta (docs/physics.md §7.2). Four evaluations per step; stable for
 //! hλ ∈ [−2.785, 0] on the real axis and |hλ| ≤ 2.828 on the imaginary axis (§7.4). A step across a tire's
 //! touchdown, where the right-hand side jumps, is split there (`touchdown`): without that the step is only
 //! first order.

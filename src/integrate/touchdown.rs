@@ -1,6 +1,6 @@
 //! Touchdowns inside a fixed RK4 step (docs/integrators.md, "Touchdowns").
 //!
-//! A tire's normal force jumps from 0 to c_z δ̇ where its penetration δ crosses zero upward (physics.md §6.3).
+//! A tire's normal force jumps from 0 to c_z δ̇ where its penetration δ crosses zero upward (docs/physics.md §6.3).
 //! A Runge–Kutta step whose stages straddle that jump is first order: its quadrature weighs the force before
 //! and after the jump by the stage weights, not by the times spent on either side, and the wheel's momentum
 //! is off by about h·c_z δ̇/6 wherever in the step the touchdown falls. Ending a sub-step just before the

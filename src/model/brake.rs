@@ -1,4 +1,4 @@
-//! Wheel brake (physics.md §5.5): a friction clamp of a given capacity between the wheel and its carrier.
+//! Wheel brake (docs/physics.md §5.5): a friction clamp of a given capacity between the wheel and its carrier.
 //!
 //! A brake either holds the wheel to its carrier or slips at its capacity. The old law, capacity ×
 //! tanh(Ω_rel / 0.5 rad/s), made "holding" a viscous coupling of slope capacity/0.5 rad/s: a stiff

@@ -1,4 +1,4 @@
-//! Initial states computed, not settled (physics.md §8.1): the ride-height retune of the spring free
+//! Initial states computed, not settled (docs/physics.md §8.1): the ride-height retune of the spring free
 //! lengths, the static equilibrium, and steady rolling at speed. Each is a small Newton solve with a
 //! finite-difference Jacobian on residuals taken from the derivative function itself, so the initial
 //! state is an equilibrium of exactly the model that is integrated.

@@ -1,4 +1,4 @@
-//! Scalar force laws of the suspension force elements (physics.md §5): the cubic spring with bump and
+//! Scalar force laws of the suspension force elements (docs/physics.md §5): the cubic spring with bump and
 //! rebound stops, and the length-banded, direction-dependent damper. All are C¹ on purpose: kinks in
 //! the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
 
@@ -71,7 +71,7 @@ impl StopCurve {
     }
 }
 
-/// Spring force along the element, positive pushing the two ends apart (physics.md §5.2):
+/// Spring force along the element, positive pushing the two ends apart (docs/physics.md §5.2):
 /// f = −(k1 x + k3 x³) + stops, x = L − L_free.
 pub fn spring_force(spring: &Spring, free_length: f64, stops: &StopCurve, length: f64) -> f64 {
     let x = length - free_length;

@@ -20,7 +20,7 @@ pub enum Formulation {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum SpeedMode {
     Coast,
-    /// PI drive torque holding the target speed (the default, physics.md §8.2; the target is an input,
+    /// PI drive torque holding the target speed (the default, docs/physics.md §8.2; the target is an input,
     /// `vehicle::Inputs::target_speed`).
     Hold,
 }

@@ -218,7 +218,7 @@ pub struct Tire {
     pub relaxation_length_y_m: f64,
     pub v_min_m_s: f64,
     /// Forward speeds |V_x| between which the tire blends from its standstill form (damped tread spring,
-    /// no aligning moment or camber thrust) into the rolling relaxation model, m/s (physics.md §6.9).
+    /// no aligning moment or camber thrust) into the rolling relaxation model, m/s (docs/physics.md §6.9).
     pub low_speed_blend_m_s: [f64; 2],
     /// Damping of the tread against slip velocity at standstill, per tire, N·s/m (faded out by the blend).
     pub low_speed_damping_Ns_per_m: f64,

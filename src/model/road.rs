@@ -1,4 +1,4 @@
-//! Road surface behind a small trait (physics.md §6.1).
+//! Road surface behind a small trait (docs/physics.md §6.1).
 //!
 //! The shipped roads are a flat plane z = 0 and that plane plus half-sine bumps, each confined to one side of
 //! the road (the paper's unsymmetric bump course). Height and gradient are analytic, so the contact normal
@@ -154,7 +154,7 @@ pub enum RoadModel {
     Map(crate::model::road_xodr::PlacedMap),
 }
 
-/// Bump geometry of the paper's course [P, physics.md §8.3].
+/// Bump geometry of the paper's course [P, docs/physics.md §8.3].
 pub const PAPER_BUMP_LENGTH_M: f64 = 0.5;
 pub const PAPER_BUMP_HEIGHT_M: f64 = 0.05;
 /// Leading edges, measured from the initial front wheel centres: left wheels, then right wheels.

@@ -15,7 +15,7 @@
 //! For the half-sine bumps the integral is exact, from the profile's first and second antiderivatives G1,
 //! G2: h_e = (G2(u + a) − 2 G2(u) + G2(u − a))/a², slope_e = (G1(u + a) − 2 G1(u) + G1(u − a))/a² (u = x −
 //! x_start): no quadrature, whose nodes crossing an edge would leave kinks of their own. The slope is exactly
-//! the derivative of the height, so the contact plane (physics.md §6.2) is consistent. The average is taken
+//! the derivative of the height, so the contact plane (docs/physics.md §6.2) is consistent. The average is taken
 //! along the road's x (the bump course is straight and driven along x); across the road nothing changes.
 use super::road::{HalfSineBump, Road, RoadModel};
 use serde::{Deserialize, Serialize};
@@ -24,7 +24,7 @@ use std::f64::consts::PI;
 /// How the tire meets the road.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum ContactModel {
-    /// The road at the point below the wheel centre (the paper's, physics.md §6.2).
+    /// The road at the point below the wheel centre (the paper's, docs/physics.md §6.2).
     #[default]
     Point,
     /// The road averaged over the contact length (this module).

@@ -1,4 +1,4 @@
-//! The assembled vehicle and its derivative function f(t, x, inputs) (physics.md §4.9).
+//! The assembled vehicle and its derivative function f(t, x, inputs) (docs/physics.md §4.9).
 //!
 //! Stages, in order, once per evaluation: chassis and rack → for each corner: dependent coordinates
 //! (Newton), velocities and γ̄, global (Bae–Haug velocity-state) kinematics, forces, subsystem terms →
@@ -22,7 +22,7 @@ use serde::{Deserialize, Serialize};
 /// Corner order everywhere: front left, front right, rear left, rear right.
 pub const CORNERS: [&str; 4] = ["fl", "fr", "rl", "rr"];
 
-/// State layout (physics.md §7.1): r0, e0 (w, x, y, z), ṙ0, ω0 (ground frame), θ_L and θ̇_L per corner,
+/// State layout (docs/physics.md §7.1): r0, e0 (w, x, y, z), ṙ0, ω0 (ground frame), θ_L and θ̇_L per corner,
 /// absolute spin rates Ω (the 25 states every run has), then, when the options need them, the relaxation
 /// states (ξ_x, ξ_y) per corner and the speed-hold integral (see `Layout`). `XI`, `ZV` and `DIM` are their
 /// places in the full layout (relaxation slip and speed hold, the defaults).

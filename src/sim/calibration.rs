@@ -107,7 +107,7 @@ pub fn steady_ay(data: &VehicleData, a: f64, accuracy: Accuracy) -> Result<f64, 
 }
 
 /// The amplitude for a steady `TARGET_G` by a secant iteration (a_y rises monotonically with the
-/// amplitude, physics.md §9.7), started from the kinematic estimate: the mean road-wheel angle of a
+/// amplitude, docs/physics.md §9.7), started from the kinematic estimate: the mean road-wheel angle of a
 /// neutral-steering vehicle, wheelbase × a_y / V², through the vehicle's steering gain at centre.
 pub fn calibrate(data: &VehicleData, accuracy: Accuracy) -> Result<Calibration, ModelError> {
     let vehicle = Vehicle::new(data)?;

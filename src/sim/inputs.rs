@@ -1,5 +1,5 @@
 //! Rack input signals: analytic scene profiles and the external (FMU) signal between communication
-//! points (physics.md §8.1 item 4, §8.3). Every signal is C¹ with a bounded second derivative: the
+//! points (docs/physics.md §8.1 item 4, §8.3). Every signal is C¹ with a bounded second derivative: the
 //! rheonomic constraint puts s̈ into γ̄, so a jump in position or a Dirac in s̈ would be integrated.
 
 use crate::model::vehicle::RackMotion;
@@ -52,7 +52,7 @@ fn smootherstep(t: f64, start: f64, width: f64) -> Jet {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum RackProfile {
     Zero,
-    /// J-turn: u = A·S((t − start)/ramp) (physics.md §8.3).
+    /// J-turn: u = A·S((t − start)/ramp) (docs/physics.md §8.3).
     Step {
         amplitude: f64,
         start: f64,

@@ -1,5 +1,5 @@
 //! A Simulation = vehicle model + integrator + inputs, stepping in equal internal sub-steps
-//! (physics.md §7.2). Plain data (`Clone + Serialize + Deserialize`): the FMU saves and restores it whole.
+//! (docs/physics.md §7.2). Plain data (`Clone + Serialize + Deserialize`): the FMU saves and restores it whole.
 //!
 //! Its API (what the FMU adapter and the CLI use):
 //! - `SimConfig` (all modes), `Simulation::new(vehicle, config)` computes the initial equilibrium.
@@ -10,6 +10,7 @@
 
 pub mod calibration;
 mod exchange;
+pub mod hop_measurements;
 pub mod inputs;
 pub mod modes;
 pub mod outputs;
@@ -50,8 +51,15 @@ pub struct SimConfig {
     #[serde(flatten)]
     pub options: Options,
     pub integrator: IntegratorKind,
-    /// Largest internal step, s.
+    /// The internal step, s. `AUTOMATIC_STEP` (0, the default): the largest step, at most the scheme's
+    /// default (`IntegratorKind::default_step`), that the step check and the road's resolution accept, chosen
+    /// at the start and again at every check (`Simulation::choose_step`). A positive value is the step taken:
+    /// honoured, or refused with its cause (a HIL rig's frame). For the error-controlled scheme, its largest
+    /// step (automatic: the communication interval).
     pub internal_step: f64,
+    /// What a fixed step that is stable but does not resolve what the road excites gets (`AccuracyPolicy`).
+    #[serde(default)]
+    pub accuracy: AccuracyPolicy,
     pub road: RoadChoice,
     /// The speed the run starts at, steady rolling, and the speed hold's target, m/s.
     pub initial_speed: f64,
@@ -73,6 +81,25 @@ pub struct SimConfig {
 
 fn default_tolerance() -> f64 {
     DEFAULT_TOLERANCE
+}
+
+/// `internal_step`'s value for "automatic" (`SimConfig::internal_step`).
+pub const AUTOMATIC_STEP: f64 = 0.0;
+
+/// The smallest fixed internal step, s: below it a step buys no accuracy (round-off dominates RK4:
+/// docs/integrators.md). The model description's minimum is 0, the automatic step.
+pub const FIXED_STEP_MIN: f64 = 1e-6;
+
+/// What a step that is stable but under-resolves the wheel hop or a bump on a road with bumps gets (the
+/// hop-resolution and bump-resolution bounds of the step check). Instability always refuses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum AccuracyPolicy {
+    /// Refused with its cause (the default): a run is within the suite's tolerance or it stops.
+    #[default]
+    Refuse,
+    /// Run on, and log once the error the hop-resolution measurements expect at that step
+    /// (`expected_hop_error`): for a rig that must keep its frame over obstacles.
+    Warn,
 }
 
 /// The default tolerance of the error-controlled integrator (0.1 % of peak).
@@ -102,6 +129,21 @@ pub use limits::{
     INTERNAL_STEP_MAX, INTERNAL_STEP_MIN, TOLERANCE_MAX, TOLERANCE_MIN,
 };
 
+/// The one check of an internal step's value, wherever it enters (CLI, FMU parameter, restored state):
+/// `AUTOMATIC_STEP`, or a fixed step in [`FIXED_STEP_MIN`, `INTERNAL_STEP_MAX`].
+pub fn check_internal_step(step: f64) -> Result<(), ModelError> {
+    if step == AUTOMATIC_STEP || (FIXED_STEP_MIN..=INTERNAL_STEP_MAX).contains(&step) {
+        return Ok(());
+    }
+    Err(ModelError::new(
+        Cause::Input,
+        format!(
+            "internal step {step} s is outside [{FIXED_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s (a fixed step; 0 is the \
+             automatic step)"
+        ),
+    ))
+}
+
 /// The most derivative evaluations one `advance` may cost (about 1 s here at ~10 µs each): a larger
 /// interval is refused before any work, so that no call hangs (an FMU master's doStep, a CLI run's output
 /// interval). Split such an interval into several.
@@ -110,15 +152,7 @@ pub const MAX_EVALUATIONS_PER_ADVANCE: u64 = 100_000;
 impl SimConfig {
     /// The ranges every entry point (CLI, FMU parameters, restored FMU states) enforces.
     pub fn validate(&self) -> Result<(), ModelError> {
-        if !(INTERNAL_STEP_MIN..=INTERNAL_STEP_MAX).contains(&self.internal_step) {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!(
-                    "internal step {} s is outside [{INTERNAL_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s",
-                    self.internal_step
-                ),
-            ));
-        }
+        check_internal_step(self.internal_step)?;
         if !(INITIAL_SPEED_MIN..=INITIAL_SPEED_MAX).contains(&self.initial_speed) {
             return Err(ModelError::new(
                 Cause::Input,
@@ -175,6 +209,23 @@ impl SimConfig {
         Ok(())
     }
 
+    /// Whether the internal step is chosen by the step check (`AUTOMATIC_STEP`).
+    pub fn automatic_step(&self) -> bool {
+        self.internal_step == AUTOMATIC_STEP
+    }
+
+    /// The largest internal step for an interval `h`: the fixed step, or the automatic step's bound (the
+    /// scheme's default; the interval itself, within the range, for the error-controlled scheme).
+    pub fn step_bound(&self, h: f64) -> f64 {
+        if !self.automatic_step() {
+            self.internal_step
+        } else if self.integrator.is_error_controlled() {
+            h.clamp(FIXED_STEP_MIN, INTERNAL_STEP_MAX)
+        } else {
+            self.integrator.default_step()
+        }
+    }
+
     /// This configuration with its options changed by `change`.
     pub fn with_options(mut self, change: impl FnOnce(&mut Options)) -> SimConfig {
         change(&mut self.options);
@@ -184,6 +235,11 @@ impl SimConfig {
     /// The sub-steps that cover an interval `h`, or an error if they would cost more than
     /// `MAX_EVALUATIONS_PER_ADVANCE` derivative evaluations (nothing is done then).
     pub fn plan(&self, h: f64) -> Result<(usize, f64), ModelError> {
+        self.plan_with(h, self.step_bound(h))
+    }
+
+    /// `plan` with internal steps no larger than `step`.
+    pub fn plan_with(&self, h: f64, step: f64) -> Result<(usize, f64), ModelError> {
         if !(h > 0.0 && h.is_finite()) {
             return Err(ModelError::new(Cause::Input, format!("step must be positive and finite, got {h}")));
         }
@@ -191,21 +247,21 @@ impl SimConfig {
         let per_step = self.integrator.max_evaluations_per_step(idx::DIM);
         // One evaluation is left for the outputs; every input breakpoint inside the interval may add a step.
         let max_steps = (MAX_EVALUATIONS_PER_ADVANCE - 1) / per_step - inputs::MAX_BREAKPOINTS as u64;
-        // Compare before converting: ceil(h / internal_step) may not fit a usize.
-        if h / self.internal_step > max_steps as f64 {
+        // Compare before converting: ceil(h / step) may not fit a usize.
+        if h / step > max_steps as f64 {
             return Err(ModelError::new(
                 Cause::Input,
                 format!(
                     "an interval of {h} s needs {:.3e} internal steps of {} s, more than the {max_steps} one call may \
                  take (at most {MAX_EVALUATIONS_PER_ADVANCE} evaluations, about 1 s): split it into intervals of \
                  at most {} s",
-                    (h / self.internal_step).ceil(),
-                    self.internal_step,
-                    max_steps as f64 * self.internal_step
+                    (h / step).ceil(),
+                    step,
+                    max_steps as f64 * step
                 ),
             ));
         }
-        Ok(substeps(h, self.internal_step))
+        Ok(substeps(h, step))
     }
 }
 
@@ -214,7 +270,8 @@ impl Default for SimConfig {
         SimConfig {
             options: Options::default(),
             integrator: IntegratorKind::Rk4,
-            internal_step: 0.002,
+            internal_step: AUTOMATIC_STEP,
+            accuracy: AccuracyPolicy::Refuse,
             road: RoadChoice::Flat,
             initial_speed: 100.0 / 3.6,
             ride_height_retune: true,
@@ -461,6 +518,12 @@ pub struct Events {
     /// Bit (kind × 4 + wheel) set once the event was seen.
     seen: u16,
     pub messages: Vec<String>,
+    /// Whether the accuracy policy's warning was logged (`AccuracyPolicy::Warn`: once per run).
+    #[serde(default)]
+    pub warned_accuracy: bool,
+    /// Whether the policy's warning for IMEX-AB3's error monitor was logged (once per run).
+    #[serde(default)]
+    pub warned_monitor: bool,
 }
 
 /// |κ| beyond which a driven wheel counts as spun up, or a braked one as locked (the STI force peaks near
@@ -545,6 +608,11 @@ fn loads_changed(at_check: &[f64; 4], now: &[f64; 4]) -> bool {
         let (a, b) = (a.max(0.0), b.max(0.0));
         (a - b).abs() > LOAD_CHANGE_FOR_CHECK * a.max(b)
     })
+}
+
+/// The wheel-hop mode with the largest |λ|.
+fn fastest_hop(modes: &[FastMode; 12]) -> Option<&FastMode> {
+    modes.iter().filter(|m| m.kind == ModeKind::WheelHop).max_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()))
 }
 
 /// Largest |hλ| of the wheel-hop mode on a road with bumps, per scheme (docs/stability.md: above it the
@@ -739,11 +807,70 @@ pub struct Simulation {
     /// truly stable step and the check's own limit apart; never from the CLI or the FMU).
     #[serde(skip)]
     step_refusals_off: bool,
+    /// The internal step's bound in use, s: the fixed step, or the automatic step's last choice (0 before
+    /// the first check chose one).
+    #[serde(default)]
+    step: f64,
+    /// A bound on the automatic step set by a refusal inside a step (IMEX-AB3's error monitor), and the time
+    /// until which it holds (the next scheduled check after it may grow the step again).
+    #[serde(default)]
+    step_ceiling: Option<(f64, f64)>,
+    /// The sub-steps taken so far (what the CLI prints).
+    #[serde(default)]
+    pub steps_taken: StepRecord,
+}
+
+/// The internal steps a run has taken: the smallest and largest sub-step and how often the automatic step
+/// changed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepRecord {
+    pub smallest: f64,
+    pub largest: f64,
+    pub changes: u64,
+}
+
+impl StepRecord {
+    fn note(&mut self, hs: f64) {
+        if self.largest == 0.0 {
+            (self.smallest, self.largest) = (hs, hs);
+        } else {
+            self.smallest = self.smallest.min(hs);
+            self.largest = self.largest.max(hs);
+        }
+    }
+
+    /// "2.0000 ms" or "from 0.7692 ms to 2.0000 ms (3 changes)" (sub-steps that differ by round-off, as
+    /// an interval's last ones may, are one).
+    pub fn describe(&self) -> String {
+        if self.largest - self.smallest <= 1e-9 * self.largest {
+            format!("{:.4} ms", self.largest * 1e3)
+        } else {
+            format!("from {:.4} ms to {:.4} ms ({} changes)", self.smallest * 1e3, self.largest * 1e3, self.changes)
+        }
+    }
+}
+
+/// How many steps the automatic step tries at one check (each refusal names a smaller one: stability, then
+/// the hop's resolution, then the bump's).
+const AUTOMATIC_STEP_TRIES: usize = 6;
+
+/// The automatic step's ladder below `bound`: the largest bound / 2^k no larger than `largest`. Halvings,
+/// not the refusal's own step less a margin: the step then changes only where the modes change by a factor
+/// of two, not at every check (each change restarts a multistep history, whose start is less accurate:
+/// measured, the MacPherson import's 8 in half-round with IMEX-AB3 was 3.8x the suite's tolerance off when
+/// the step followed the refusals, 144 changes in 12.5 s), and the steps are those of the stability suite's
+/// ladder, which judges them against references.
+fn ladder_step(bound: f64, largest: f64) -> f64 {
+    let mut step = bound;
+    while step > largest * (1.0 - 1e-12) && step > FIXED_STEP_MIN {
+        step *= 0.5;
+    }
+    step
 }
 
 impl Simulation {
     /// Build the vehicle, retune the ride height (if asked), and start in steady rolling at the initial
-    /// speed from the computed equilibrium (physics.md §8.1).
+    /// speed from the computed equilibrium (docs/physics.md §8.1).
     pub fn new(vehicle: VehicleData, config: SimConfig) -> Result<Simulation, ModelError> {
         let v = Vehicle::new(&vehicle)?;
         Simulation::from_vehicle(v, config)
@@ -780,6 +907,9 @@ impl Simulation {
             first_stage: None,
             stage_reuse_off: false,
             step_refusals_off: false,
+            step: 0.0,
+            step_ceiling: None,
+            steps_taken: StepRecord::default(),
         };
         sim.evaluate_outputs()?;
         Ok(sim)
@@ -885,7 +1015,7 @@ impl Simulation {
         self.rack = RackSource::Profile(profile);
     }
 
-    /// The external rack input for the next `advance` (physics.md §8.1 item 4).
+    /// The external rack input for the next `advance` (docs/physics.md §8.1 item 4).
     pub fn set_external_rack(&mut self, sample: RackSample) {
         let previous = self.rack.at(self.time).position;
         self.rack = match sample.first_derivative {
@@ -914,7 +1044,61 @@ impl Simulation {
     /// An interval that would cost more than `MAX_EVALUATIONS_PER_ADVANCE` is refused before any work
     /// (`SimConfig::plan`).
     pub fn advance(&mut self, h: f64) -> Result<(), ModelError> {
-        let (n, hs) = self.config.plan(h)?;
+        let mut tries = 0;
+        loop {
+            match self.advance_once(h) {
+                // The automatic step refused inside a step (IMEX-AB3's monitor): again, below the step it names.
+                Err(e) if self.config.automatic_step() && tries < AUTOMATIC_STEP_TRIES => {
+                    let default = self.config.integrator.default_step();
+                    match e.largest_stable_step().map(|s| ladder_step(default, s.min(0.5 * self.step_for(h)))) {
+                        Some(ceiling) if ceiling >= FIXED_STEP_MIN && e.cause() == Cause::StepSizeInstability => {
+                            self.step_ceiling = Some((ceiling, self.time + MODE_CHECK_INTERVAL));
+                            self.step = ceiling;
+                            self.last_mode_check = None;
+                            tries += 1;
+                        }
+                        _ => return Err(e),
+                    }
+                }
+                Ok(()) => {
+                    self.warn_unresolved_steps();
+                    return Ok(());
+                }
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    /// The accuracy policy `Warn` on IMEX-AB3: the first steps its error monitor would have refused, and
+    /// ran on instead, are logged once.
+    fn warn_unresolved_steps(&mut self) {
+        let AnyIntegrator::ImexAb3(scheme) = &self.integrator else { return };
+        if scheme.unresolved == 0 || self.events.warned_monitor {
+            return;
+        }
+        self.events.warned_monitor = true;
+        self.events.messages.push(format!(
+            "warning (accuracy_policy warn): by t = {:.3} s IMEX-AB3 ran on through {} sub-steps whose local error \
+             estimate stayed above its limit {:.1e} even in sixteen sub-steps of a step (a transient the step does not \
+             resolve: a landing, a bump's edge); under the default policy the run would have stopped there",
+            self.time,
+            scheme.unresolved,
+            IMEX_ERROR_PER_TOLERANCE * self.config.tolerance
+        ));
+    }
+
+    /// The internal step's bound for the next interval `h`: the fixed step, or the automatic step's last
+    /// choice (the scheme's default before the first).
+    fn step_for(&self, h: f64) -> f64 {
+        if self.config.automatic_step() && self.step > 0.0 {
+            self.step
+        } else {
+            self.config.step_bound(h)
+        }
+    }
+
+    fn advance_once(&mut self, h: f64) -> Result<(), ModelError> {
+        let (n, hs) = self.config.plan_with(h, self.step_for(h))?;
         // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
         self.state_before.clear();
         self.state_before.extend_from_slice(&self.state);
@@ -975,11 +1159,61 @@ impl Simulation {
         self.step_refusals_off = !on;
     }
 
-    /// `check_fast_modes`, whose refusal is dropped when refusals are off (`set_step_refusals`).
-    fn scheduled_mode_check(&mut self, hs: f64) -> Result<(), ModelError> {
+    /// The scheduled step check before `remaining` seconds of the interval are integrated at sub-steps `hs`:
+    /// `check_fast_modes`, whose refusal is dropped when refusals are off (`set_step_refusals`); or, for the
+    /// automatic step, `choose_step`. `Some` plan (count, size) for the rest of the interval when the step
+    /// changes.
+    fn scheduled_mode_check(&mut self, remaining: f64, hs: f64) -> Result<Option<(usize, f64)>, ModelError> {
+        if self.config.automatic_step() {
+            return self.choose_step(remaining, hs);
+        }
+        self.steps_taken.note(hs);
         match self.check_fast_modes(hs) {
-            Err(e) if self.step_refusals_off && e.cause() == Cause::StepSizeInstability => Ok(()),
-            other => other,
+            Err(e) if self.step_refusals_off && e.cause() == Cause::StepSizeInstability => Ok(None),
+            other => other.map(|()| None),
+        }
+    }
+
+    /// The automatic step: the largest step of the ladder default / 2^k (`ladder_step`) that the check
+    /// accepts, for the rest of the interval (`remaining` s). The default is tried first (a step made smaller
+    /// over an obstacle grows back once it has passed), then the ladder's step below the one each refusal
+    /// names; the modes are measured once. `Some` plan for the rest of the interval when the sub-step is not `hs`.
+    fn choose_step(&mut self, remaining: f64, hs: f64) -> Result<Option<(usize, f64)>, ModelError> {
+        let modes = self.measure_fast_modes()?;
+        let mut bound = self.config.integrator.default_step();
+        match self.step_ceiling {
+            Some((ceiling, until)) if self.time < until => bound = bound.min(ceiling),
+            _ => self.step_ceiling = None,
+        }
+        let mut tries = 0;
+        loop {
+            let (m, hm) = self.config.plan_with(remaining, bound)?;
+            match self.judge_step(&modes, hm) {
+                Ok(()) => {
+                    if self.step != 0.0 && bound != self.step {
+                        self.steps_taken.changes += 1;
+                    }
+                    self.step = bound;
+                    self.steps_taken.note(hm);
+                    if hm == hs {
+                        return Ok(None);
+                    }
+                    self.integrator.restart(); // a multistep history holds points at the old step
+                    return Ok(Some((m, hm)));
+                }
+                Err(e) => match e.largest_stable_step().map(|s| ladder_step(bound, s)) {
+                    Some(smaller) if smaller < bound && smaller >= FIXED_STEP_MIN && tries < AUTOMATIC_STEP_TRIES => {
+                        bound = smaller;
+                        tries += 1;
+                    }
+                    _ => {
+                        return Err(e.note(format_args!(
+                            " (the automatic step found no step the check accepts: set a fixed internal step to \
+                             override)"
+                        )))
+                    }
+                },
+            }
         }
     }
 
@@ -997,24 +1231,34 @@ impl Simulation {
     /// every `MODE_CHECK_CHUNK` of simulated time (whole sub-steps), so that one `advance` of many steps is
     /// checked as often as many short ones are.
     fn integrate_checked(&mut self, h: f64, n: usize, hs: f64) -> Result<(), ModelError> {
+        let (mut n, mut hs) = (n, hs);
         if self.mode_check_due() {
-            self.scheduled_mode_check(hs)?;
+            if let Some(plan) = self.scheduled_mode_check(h, hs)? {
+                (n, hs) = plan;
+            }
         }
-        let chunk = if self.config.integrator.is_error_controlled() {
-            n
-        } else {
-            ((MODE_CHECK_CHUNK / hs).floor() as usize).max(1)
+        let error_controlled = self.config.integrator.is_error_controlled();
+        let chunk_of = |n: usize, hs: f64| {
+            if error_controlled {
+                n
+            } else {
+                ((MODE_CHECK_CHUNK / hs).floor() as usize).max(1)
+            }
         };
+        let mut chunk = chunk_of(n, hs);
         if n <= chunk {
             return self.integrate(h, n, hs);
         }
         let end = self.time + h;
         let mut done = 0;
         while done < n {
-            let steps = chunk.min(n - done);
             if done > 0 && self.mode_check_due() {
-                self.scheduled_mode_check(hs)?;
+                // The automatic step may change here: the rest of the interval in steps of the new size.
+                if let Some((m, hm)) = self.scheduled_mode_check(end - self.time, hs)? {
+                    (n, hs, chunk) = (done + m, hm, chunk_of(m, hm));
+                }
             }
+            let steps = chunk.min(n - done);
             let length = if done + steps == n { end - self.time } else { steps as f64 * hs };
             self.integrate(length, steps, hs)?;
             done += steps;
@@ -1062,6 +1306,7 @@ impl Simulation {
             first_stage: self.first_stage.as_ref(),
         };
         let config = &self.config;
+        let bound = if config.automatic_step() && self.step > 0.0 { self.step } else { config.step_bound(h) };
         let mut check = |t: f64, x: &[f64]| check_divergence(x, &layout, t);
         let result = stepping::integrate(
             &mut self.integrator,
@@ -1071,6 +1316,7 @@ impl Simulation {
             t0,
             h,
             (n, hs),
+            bound,
             &mut self.state,
             &mut check,
         );
@@ -1326,9 +1572,15 @@ impl Simulation {
     /// error names the mode, its eigenvalue and the largest stable step. Modes with Re λ > 0 grow
     /// physically whatever the step and are judged by their imaginary part alone.
     pub fn check_fast_modes(&mut self, h: f64) -> Result<(), ModelError> {
+        let modes = self.measure_fast_modes()?;
+        self.judge_step(&modes, h)
+    }
+
+    /// The step check's measurement: the wheel modes at the current state (and IMEX-AB3's Jacobian from
+    /// them), which `judge_step` then judges a step against (several steps, for the automatic one).
+    fn measure_fast_modes(&mut self) -> Result<WheelModes, ModelError> {
         self.last_mode_check = Some(self.time);
         self.loads_at_mode_check = self.cache.tire_loads;
-        let kind = self.config.integrator;
         let wheel_modes = self.wheel_modes()?;
         // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
         // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.
@@ -1337,8 +1589,16 @@ impl Simulation {
             if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
                 scheme.set_partial_jacobian(&p.rows[..p.m], &p.cols[..p.nc], &p.jac[..p.m * p.nc], wheel_modes.len);
                 scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
+                scheme.set_run_on(self.config.accuracy == AccuracyPolicy::Warn);
             }
         }
+        Ok(wheel_modes)
+    }
+
+    /// Refuse the step `h` if a measured fast mode lies outside the integrator's stability region (see
+    /// `check_fast_modes`), or if it under-resolves what a road with bumps excites (`check_hop_resolution`).
+    fn judge_step(&mut self, wheel_modes: &WheelModes, h: f64) -> Result<(), ModelError> {
+        let kind = self.config.integrator;
         let WheelModes { per_wheel: modes, coupled, .. } = wheel_modes;
         // Each eigenvalue of the wheel states together, judged with the margin for what the block leaves
         // out, and named by the per-wheel mode nearest to it.
@@ -1350,7 +1610,7 @@ impl Simulation {
         // (tire k_z × 100 on the J-turn at 4.17 ms was 1 % off so). Where BDF3 fails a mode and A-stable BDF2
         // damps every one, the scheme steps at second order until the next check (`ImexAb3::set_order`).
         let mut fails = [false; 20];
-        for (f, l) in fails.iter_mut().zip(&coupled) {
+        for (f, l) in fails.iter_mut().zip(coupled.iter()) {
             *f = match kind {
                 IntegratorKind::ImexAb3 => !damped_up_to(kind, judged(l), h),
                 _ => !is_damped(kind, judged(l) * h),
@@ -1397,8 +1657,31 @@ impl Simulation {
                     if kind == IntegratorKind::Ab3 { " or RK4, whose region is about five times larger" } else { "" }
                 ),
             )),
-            _ => self.check_hop_resolution(&modes, h),
+            _ => match self.check_hop_resolution(modes, h) {
+                Err(under) if self.config.accuracy == AccuracyPolicy::Warn => {
+                    self.warn_under_resolved(modes, h, &under);
+                    Ok(())
+                }
+                resolved => resolved,
+            },
         }
+    }
+
+    /// The accuracy policy `Warn`: an under-resolving step runs on, and the first such check logs, once, the
+    /// refusal it would have been and the error the hop-resolution measurements found at that |hλ|.
+    fn warn_under_resolved(&mut self, modes: &[FastMode; 12], h: f64, under: &ModelError) {
+        if self.events.warned_accuracy {
+            return;
+        }
+        self.events.warned_accuracy = true;
+        let expected = match fastest_hop(modes) {
+            Some(m) => hop_measurements::expected_error(self.config.integrator, m.lambda.norm() * h),
+            None => "no wheel-hop mode was measured".to_string(),
+        };
+        self.events.messages.push(format!(
+            "warning (accuracy_policy warn): t = {:.3} s: running on at a step the check would refuse: {under}. {expected}",
+            self.time
+        ));
     }
 
     /// On a road with bumps the road drives the wheel hop at its own frequency, so the mode must be
@@ -1407,11 +1690,7 @@ impl Simulation {
     fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64) -> Result<(), ModelError> {
         let bumpy = matches!(self.road, RoadModel::Bumps(_) | RoadModel::Surface(_) | RoadModel::Map(_));
         let bound = hop_resolution(self.config.integrator);
-        let worst = modes
-            .iter()
-            .filter(|m| m.kind == ModeKind::WheelHop)
-            .max_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()));
-        match worst {
+        match fastest_hop(modes) {
             Some(m) if bumpy && m.lambda.norm() * h > bound => Err(ModelError::step_refused(
                 bound / m.lambda.norm(),
                 format!(

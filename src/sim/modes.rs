@@ -2,7 +2,7 @@
 //! a description. The FMU adapter, the CLI and the docs all read these tables (a test checks that
 //! docs/fmu.md and the model description's min/max agree with them).
 
-use super::{ContactModel, RoadChoice};
+use super::{AccuracyPolicy, ContactModel, RoadChoice};
 use crate::integrate::IntegratorKind;
 use crate::model::tire::SlipModel;
 use crate::model::vehicle::{Formulation, SpeedMode};
@@ -135,6 +135,20 @@ pub const CONTACTS: Table<ContactModel> = Table {
             code: 2,
             name: "envelope",
             description: "enveloping: the road averaged over the contact length",
+        },
+    ],
+};
+
+pub const ACCURACY_POLICIES: Table<AccuracyPolicy> = Table {
+    parameter: "accuracy_policy",
+    option: Some("accuracy"),
+    choices: &[
+        Choice { value: AccuracyPolicy::Refuse, code: 1, name: "refuse", description: "refused with its cause" },
+        Choice {
+            value: AccuracyPolicy::Warn,
+            code: 2,
+            name: "warn",
+            description: "run on, logging once the error the hop-resolution measurements expect",
         },
     ],
 };

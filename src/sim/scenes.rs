@@ -1,4 +1,4 @@
-//! The paper's three scenes (physics.md §8.3): the unsymmetric bump run, the J-turn and the sine steer,
+//! The paper's three scenes (docs/physics.md §8.3): the unsymmetric bump run, the J-turn and the sine steer,
 //! each starting from steady rolling at its speed, and a runner that samples the outputs. Each scene
 //! declares what it needs (`SceneNeeds`); `rtv scene` runs with that and leaves the rest out.
 
@@ -64,7 +64,7 @@ pub fn calibrated_jturn_amplitude() -> f64 {
 /// Sine amplitude relative to the J-turn's: the paper's 10 mm against 8 mm.
 pub const SINE_TO_JTURN: f64 = 10.0 / 8.0;
 pub const PAPER_JTURN_AMPLITUDE: f64 = 0.008;
-/// Width of the C² blends at the sine's velocity kinks (physics.md §8.3).
+/// Width of the C² blends at the sine's velocity kinks (docs/physics.md §8.3).
 pub const SINE_KINK_BLEND: f64 = 0.02;
 
 /// What a scene needs of the model: the one place that decides its pruned configuration
@@ -79,11 +79,11 @@ pub struct SceneNeeds {
     /// that adds them (`rtv scene --brake`, `--drive`) makes them live (`with_torques`).
     pub torques: bool,
     pub road: RoadChoice,
-    /// The slip model and the speed mode (physics.md §8.2: hold for every scene, relaxation slip); they
+    /// The slip model and the speed mode (docs/physics.md §8.2: hold for every scene, relaxation slip); they
     /// decide the states.
     pub slip: SlipModel,
     pub speed_mode: SpeedMode,
-    /// The output channels its summary and its plot read (physics.md §8.3, scripts/plot_scenes.py).
+    /// The output channels its summary and its plot read (docs/physics.md §8.3, scripts/plot_scenes.py).
     pub outputs: &'static [&'static str],
     /// Whether the run watches the physical events (a wheel off the road, locked or spun up: `Events`),
     /// which are seen only by the output evaluation. The bump course can lift a wheel and torques can

@@ -1,4 +1,4 @@
-//! How one interval [t0, t0 + H] is covered by internal steps (physics.md §7.2; docs/integrators.md, "Input
+//! How one interval [t0, t0 + H] is covered by internal steps (docs/physics.md §7.2; docs/integrators.md, "Input
 //! breakpoints" and "Error control").
 //!
 //! - Fixed-step schemes: H in equal sub-steps no larger than the internal step (`substeps`). When an input
@@ -75,7 +75,8 @@ pub fn step_limit(fz: &[f64; 4]) -> f64 {
 }
 
 /// Cover [t0, t0 + h] by steps of `integrator` (see the module documentation); `plan` is the plain rule's
-/// (number, size) of sub-steps; `check(t, x)` runs after every step. On `Err`, `x` holds the last accepted
+/// (number, size) of sub-steps and `bound` the internal step they are no larger than (the error-controlled
+/// scheme's largest step); `check(t, x)` runs after every step. On `Err`, `x` holds the last accepted
 /// state (the simulation rolls the whole interval back).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn integrate(
@@ -86,6 +87,7 @@ pub(super) fn integrate(
     t0: f64,
     h: f64,
     plan: (usize, f64),
+    bound: f64,
     x: &mut [f64],
     check: &mut StepCheck<'_>,
 ) -> Result<(), ModelError> {
@@ -96,11 +98,8 @@ pub(super) fn integrate(
         let mut a = t0;
         loop {
             let b = breakpoints.first_inside(a, t1, eps).unwrap_or(t1);
-            let control = Control {
-                tolerance: config.tolerance * LOCAL_PER_TOLERANCE,
-                h_max: config.internal_step,
-                max_evaluations: left,
-            };
+            let control =
+                Control { tolerance: config.tolerance * LOCAL_PER_TOLERANCE, h_max: bound, max_evaluations: left };
             left -= scheme.integrate(sys, a, b, x, control, check)?;
             if b == t1 {
                 return Ok(());
@@ -123,7 +122,7 @@ pub(super) fn integrate(
     let mut a = t0;
     loop {
         let b = breakpoints.first_inside(a, t1, eps).unwrap_or(t1);
-        let (m, hm) = substeps(b - a, config.internal_step);
+        let (m, hm) = substeps(b - a, bound);
         for k in 0..m {
             integrator.step(sys, a + k as f64 * hm, hm, x)?;
             check(a + (k + 1) as f64 * hm, x)?;

@@ -448,7 +448,7 @@ def test_input_derivatives_change_the_response_and_apply_to_one_step(make):
 
 
 def test_divergence_ends_the_run_with_discard_and_finite_outputs(make):
-    """(steps) AB3 with a 0.1 s step on this stiff model diverges (physics.md 7.4): fmi2Discard, terminated,
+    """(steps) AB3 with a 0.1 s step on this stiff model diverges (docs/physics.md 7.4): fmi2Discard, terminated,
     last successful time before the end, outputs finite and unchanged after the failed step."""
     s = make()
     s.init(integrator=1, internal_step=0.1)

@@ -1,4 +1,4 @@
-//! The steering rack, driven kinematically (physics.md §2, §4.7).
+//! The steering rack, driven kinematically (docs/physics.md §2, §4.7).
 //!
 //! The rack translates along the chassis y axis by the prescribed s(t) = σ_r·u(t) (u: the input, + left
 //! turn). Prescribed relative to the chassis, it belongs kinematically to the chassis: it closes no loop

@@ -1,5 +1,5 @@
 //! The double wishbone (SLA, short-long arm) template: the upper control arm closes the loop
-//! (physics.md §2, §3.2–§3.3; Chrono's `DoubleWishbone`).
+//! (docs/physics.md §2, §3.2–§3.3; Chrono's `DoubleWishbone`).
 //!
 //! Tree: chassis →(revolute θ_L)→ lower arm →(spherical φ1..3)→ upright, and chassis →(revolute θ_U)→
 //! upper arm. The closure is the upper ball joint U–K (3 equations); q[4] = θ_U.

@@ -1,5 +1,5 @@
 //! Suspension templates: each corner is one closed-loop subsystem of the synthesis method
-//! (physics.md §2, §3.2–§3.3).
+//! (docs/physics.md §2, §3.2–§3.3).
 //!
 //! What the rest of the model needs from a corner is here, whatever the template: its dependent
 //! coordinates solved by Newton (`solve_positions_into`), q̇ (`velocities`), γ̄ (`gamma_bar`), its bodies
@@ -179,7 +179,7 @@ pub struct Corner {
     pub lower: BodyInertia,
     /// The body of q[4]: the upper arm (double wishbone); none for the strut slide.
     pub upper: BodyInertia,
-    /// Knuckle + spindle + wheel + tire without the spin inertia (physics.md §4.8).
+    /// Knuckle + spindle + wheel + tire without the spin inertia (docs/physics.md §4.8).
     pub carrier: BodyInertia,
     /// Spin inertia I_s about the axle (spindle + wheel + tire + half-shaft).
     pub spin_inertia: f64,
@@ -516,7 +516,7 @@ impl Corner {
         Vector4::new(e.x, e.y, e.z, phi_d)
     }
 
-    /// Dependent coordinates by Newton from the warm start `v_guess` (physics.md §3.2), to ‖Φ‖∞ ≤ 1e-12 m.
+    /// Dependent coordinates by Newton from the warm start `v_guess` (docs/physics.md §3.2), to ‖Φ‖∞ ≤ 1e-12 m.
     pub fn solve_positions(&self, theta_l: f64, s: f64, v_guess: &[f64; 4]) -> Result<CornerPositions, ModelError> {
         let mut pos = CornerPositions::default();
         self.solve_positions_into(theta_l, s, v_guess, &mut pos)?;
@@ -567,7 +567,8 @@ impl Corner {
         ))
     }
 
-    /// q̇ from u̇ = θ̇_L and the steering rate: v̇ = −Φ_v⁻¹(Φ_u u̇ + Φ_s ṡ) = ∂v/∂u u̇ + ∂v/∂s ṡ (physics.md §3.3).
+    /// q̇ from u̇ = θ̇_L and the steering rate: v̇ = −Φ_v⁻¹(Φ_u u̇ + Φ_s ṡ) = ∂v/∂u u̇ + ∂v/∂s ṡ
+    /// (docs/physics.md §3.3).
     #[inline(always)]
     pub fn velocities(&self, pos: &CornerPositions, theta_l_dot: f64, s_dot: f64) -> Vector5f {
         let vd = pos.dv_du * theta_l_dot + pos.dv_ds * s_dot;
@@ -585,7 +586,7 @@ impl Corner {
         (w_l, w_u, w_k)
     }
 
-    /// γ̄ of Φ_q q̈ = γ̄ := γ − Φ_s s̈ (physics.md §3.3), same row scaling as Φ.
+    /// γ̄ of Φ_q q̈ = γ̄ := γ − Φ_s s̈ (docs/physics.md §3.3), same row scaling as Φ.
     #[inline(always)]
     pub fn gamma_bar(&self, pos: &CornerPositions, qd: &Vector5f, s_dot: f64, s_ddot: f64) -> Vector4<f64> {
         let phid = V3::new(qd[1], qd[2], qd[3]);
@@ -618,7 +619,7 @@ impl Corner {
     }
 
     /// Road-wheel steer angle relative to the chassis: heading h = a × e_z, δ = atan2(h_y, h_x)
-    /// (+ = wheel heading left; physics.md §8.4).
+    /// (+ = wheel heading left; docs/physics.md §8.4).
     pub fn steer_angle(&self, pos: &CornerPositions) -> f64 {
         let h = self.axle_direction(pos).cross(&V3::z());
         h.y.atan2(h.x)

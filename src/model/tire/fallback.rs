@@ -1,4 +1,4 @@
-//! Simple tire models for tests and cross-checks (physics.md §6.8). They share the stiffnesses of the tire's
+//! Simple tire models for tests and cross-checks (docs/physics.md §6.8). They share the stiffnesses of the tire's
 //! force law (the STI fit, or the Magic Formula's with a `.tir` file) so that all models agree at small slip.
 use super::{peak_friction, slip_stiffness, ShearForces, TireParams};
 

@@ -1,10 +1,10 @@
-//! Single-point disc contact on the local road plane (physics.md §6.2).
+//! Single-point disc contact on the local road plane (docs/physics.md §6.2).
 use super::Contact;
 use crate::model::road::Road;
 use nalgebra::Vector3;
 
 /// Below this |n·d| (= |a × n|, the cosine of the inclination) the wheel lies nearly flat on the road and the
-/// contact point along the wheel plane is ill-defined: treat as lifted off (physics.md §6.2).
+/// contact point along the wheel plane is ill-defined: treat as lifted off (docs/physics.md §6.2).
 const MIN_NORMAL_ALONG_DOWN: f64 = 0.1;
 
 /// Contact of the wheel with centre `centre` and spin axis `axle`, both in the ground frame. `centre` is the

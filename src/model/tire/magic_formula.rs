@@ -931,8 +931,7 @@ mod tests {
     use super::*;
 
     fn hmmwv() -> MagicFormula {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir");
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir");
         MagicFormula::read(&path).unwrap()
     }
 
@@ -1026,8 +1025,7 @@ mod tests {
     #[test]
     fn keys_and_vendor_sections_the_model_does_not_read_are_warnings() {
         let base = std::fs::read_to_string(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
         )
         .unwrap();
         let text = format!("{base}\n[ACME_VENDOR]\nSECRET_SAUCE = 3\n");
@@ -1043,8 +1041,7 @@ mod tests {
     #[test]
     fn other_formats_and_modes_are_refused() {
         let base = std::fs::read_to_string(
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir"),
         )
         .unwrap();
         refused("m.tir", &base.replace("USE_MODE                   = 4", "USE_MODE = 2"), &["USE_MODE"]);

@@ -1,4 +1,4 @@
-//! Tires (physics.md §6): contact geometry on the road, normal force, slip, and the force models.
+//! Tires (docs/physics.md §6): contact geometry on the road, normal force, slip, and the force models.
 //!
 //! - [`contact`] (§6.2, `geometry.rs`): single-point disc contact on the local road plane.
 //! - [`normal_force`] (§6.3), [`rolling_resistance_moment`] (§6.6).
@@ -29,7 +29,7 @@ pub use slip::{
     LIFT_OFF_RELAXATION_TIME_S, SMOOTH_MAX_WIDTH_M_S,
 };
 
-/// Single-point contact of a disc wheel with the local road plane (physics.md §6.2), all in the ground
+/// Single-point contact of a disc wheel with the local road plane (docs/physics.md §6.2), all in the ground
 /// frame. Positions are absolute ground coordinates (those the road was queried with).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Contact {
@@ -44,7 +44,7 @@ pub struct Contact {
     pub penetration: f64,
     /// Loaded radius s*.
     pub loaded_radius: f64,
-    /// Inclination γ_w = -asin(a·n) (> 0 when the top of the wheel leans toward +y, physics.md §1).
+    /// Inclination γ_w = -asin(a·n) (> 0 when the top of the wheel leans toward +y, docs/physics.md §1).
     pub inclination: f64,
 }
 
@@ -102,7 +102,7 @@ pub struct ShearForces {
 }
 
 /// What a force law is evaluated at: load, slips, inclination, the side the tire is mounted on and the
-/// low-speed blend b (physics.md §6.9).
+/// low-speed blend b (docs/physics.md §6.9).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SlipInput {
     pub fz: f64,
@@ -130,7 +130,7 @@ impl SlipInput {
 /// without this bound.
 pub const BOTTOMING_FRACTION: f64 = 0.5;
 
-/// Normal force F_z = max(0, k_z δ + k_z2 δ² + c_z δ̇) for δ > 0, else 0 (physics.md §6.3). The clamp at 0 is
+/// Normal force F_z = max(0, k_z δ + k_z2 δ² + c_z δ̇) for δ > 0, else 0 (docs/physics.md §6.3). The clamp at 0 is
 /// the lift-off: the damper may not pull the wheel onto the road.
 pub fn normal_force(p: &TireParams, penetration: f64, penetration_rate: f64) -> f64 {
     if penetration <= 0.0 {
@@ -151,7 +151,7 @@ pub fn contact_indicator(p: &TireParams, penetration: f64, penetration_rate: f64
     penetration.min(unclamped)
 }
 
-/// F_x, F_y, M_z (and M_x) from load, slip ratio κ, tan α and inclination γ_w (physics.md §6.5–§6.6,
+/// F_x, F_y, M_z (and M_x) from load, slip ratio κ, tan α and inclination γ_w (docs/physics.md §6.5–§6.6,
 /// fallbacks §6.8, the Magic Formula of `magic_formula.rs`). No load (F_z <= 0, or not finite) gives no
 /// shear force.
 ///

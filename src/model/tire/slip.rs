@@ -1,8 +1,8 @@
-//! Slip kinematics (physics.md §6.4) and the relaxation-length slip states (§6.7).
+//! Slip kinematics (docs/physics.md §6.4) and the relaxation-length slip states (§6.7).
 use super::{peak_friction, slip_stiffness, Contact, TireParams};
 use nalgebra::Vector3;
 
-/// Width ε of the smooth max in V_ref (physics.md §6.4).
+/// Width ε of the smooth max in V_ref (docs/physics.md §6.4).
 pub const SMOOTH_MAX_WIDTH_M_S: f64 = 0.05;
 /// Time constant with which the relaxation states return to 0 while the wheel is off the ground (§6.7).
 pub const LIFT_OFF_RELAXATION_TIME_S: f64 = 0.05;
@@ -15,7 +15,7 @@ pub struct SlipVelocities {
     pub vsy: f64,
 }
 
-/// Effective rolling radius R_e = R0 - δ/3 [O, physics.md §6.4].
+/// Effective rolling radius R_e = R0 - δ/3 [O, docs/physics.md §6.4].
 pub fn effective_rolling_radius(p: &TireParams, penetration: f64) -> f64 {
     p.unloaded_radius_m - penetration / 3.0
 }
@@ -48,7 +48,7 @@ pub fn reference_speed(p: &TireParams, vx: f64) -> f64 {
     0.5 * (speed + v_min + (speed - v_min).hypot(SMOOTH_MAX_WIDTH_M_S))
 }
 
-/// Steady practical slips (κ, tan α) from the forward speed V_x and slip velocities V_sx, V_sy (physics.md §6.4):
+/// Steady practical slips (κ, tan α) from the forward speed V_x and slip velocities V_sx, V_sy (docs/physics.md §6.4):
 /// κ = -V_sx/V_ref, tan α = -V_sy/V_ref (Pacejka sign: κ > 0 driving, α > 0 gives F_y > 0).
 pub fn steady_slip(p: &TireParams, vx: f64, vsx: f64, vsy: f64) -> (f64, f64) {
     let v_ref = reference_speed(p, vx);
@@ -61,7 +61,7 @@ pub fn steady_slip(p: &TireParams, vx: f64, vsx: f64, vsy: f64) -> (f64, f64) {
 /// limit into the sliding part of the force law, where the force no longer grows.
 pub const DAHL_SLIP_SPEED_M_S: f64 = 0.5;
 
-/// The low-speed blend b(|V_x|) (physics.md §6.9): 0 at and below `low_speed_blend_m_s[0]`, 1 at and above
+/// The low-speed blend b(|V_x|) (docs/physics.md §6.9): 0 at and below `low_speed_blend_m_s[0]`, 1 at and above
 /// `[1]`, the C² smootherstep between. b = 1 is the rolling tire of §6.7 exactly.
 pub fn low_speed_blend(p: &TireParams, vx: f64) -> f64 {
     let [v_lo, v_hi] = p.low_speed_blend_m_s;
@@ -100,7 +100,7 @@ pub fn sliding_limits(p: &TireParams, fz: f64, friction: f64) -> [f64; 2] {
 const MIN_LOAD_N: f64 = 100.0;
 
 /// The slips (κ, tan α) the force law sees: the states, plus at low speed the tread damping
-/// -c (1 - b) V_s / C (physics.md §6.9), i.e. a force -c V_s at small slip (Pacejka's low-speed damping,
+/// -c (1 - b) V_s / C (docs/physics.md §6.9), i.e. a force -c V_s at small slip (Pacejka's low-speed damping,
 /// Tire and Vehicle Dynamics §8.6, faded in the same way). It damps the tread spring at standstill;
 /// through the force law it saturates with the force. Above the blend (b = 1) the states themselves.
 pub fn damped_slip(p: &TireParams, fz: f64, xi: [f64; 2], slip: &SlipVelocities, blend: f64) -> (f64, f64) {
@@ -113,7 +113,7 @@ pub fn damped_slip(p: &TireParams, fz: f64, xi: [f64; 2], slip: &SlipVelocities,
     (xi[0] - damping * slip.vsx / c_x, xi[1] - damping * slip.vsy / c_y)
 }
 
-/// Rates of the slip states (ξ_x, ξ_y) ≈ (κ, tan α); L ξ is the tread deflection (physics.md §6.7, §6.9).
+/// Rates of the slip states (ξ_x, ξ_y) ≈ (κ, tan α); L ξ is the tread deflection (docs/physics.md §6.7, §6.9).
 ///
 /// Rolling (b = 1, |V_x| above the blend): the relaxation-length equations L_x ξ̇_x + |V_x| ξ_x = -V_sx,
 /// L_y ξ̇_y + |V_x| ξ_y = -V_sy, exactly as before (their fixed point is the steady slip). The exact |V_x|

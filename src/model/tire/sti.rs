@@ -1,4 +1,4 @@
-//! STI composite-slip tire model in the SI stiffness form (physics.md §6.5), with the camber thrust and
+//! STI composite-slip tire model in the SI stiffness form (docs/physics.md §6.5), with the camber thrust and
 //! aligning moment of §6.6.
 //!
 //! The original STI model (Allen et al. 1995/1997) works with the contact length a_p and the stiffness
@@ -107,7 +107,7 @@ pub fn sti_forces(p: &TireParams, fz: f64, kappa: f64, tan_alpha: f64, inclinati
     ShearForces { fx: slip.fx, fy: slip.fy_slip + camber_thrust, mz: -s.trail_m * adhesion * slip.fy_slip, mx: 0.0 }
 }
 
-/// physics.md §6.5 reference table, computed by an independent implementation of the formulas with
+/// docs/physics.md §6.5 reference table, computed by an independent implementation of the formulas with
 /// the default coefficients: (F_z, α, κ, γ_w) → (F_x, F_y, M_z), 5 significant figures.
 pub const REFERENCE: [([f64; 4], [f64; 3]); 8] = [
     ([6300.0, 0.02, 0.0, 0.0], [0.0, 942.97, -22.983]),
