@@ -1,7 +1,8 @@
 """Roads of one's own through the FMU (issue 18): `road_file` names an OpenCRG file (the NRMM half-round
-obstacles and RMS courses ship in the FMU's resources/roads/) or an ISO 8608 road; the HMMWV drives every
-half-round file lower than its tire's radius, refuses the taller one by name, and drives an RMS course in fmpy with the enveloping contact at a 1 ms internal step; a bad road is
-an error naming it, and the instance recovers."""
+obstacles and RMS courses ship in the FMU's resources/roads/) or an ISO 8608 road; in fmpy, with the
+enveloping contact at a 1 ms internal step, the HMMWV drives every half-round file lower than its tire's
+radius, refuses the taller one by name, and drives an RMS course; a bad road is an error naming it, and the
+instance recovers."""
 
 import json
 import zipfile
