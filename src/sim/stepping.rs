@@ -23,10 +23,11 @@ pub const BREAKPOINT_TIME_TOL: f64 = 1e-9;
 /// The error norm's tolerance per unit of the requested tolerance. The requested tolerance is a bound on
 /// the outputs' global error relative to their peaks (a_y, yaw rate, roll rate); the error norm bounds
 /// each step's local error in the state, relative to the scales of `error_scale`. Their ratio is measured
-/// (`rtv work-precision`, docs/work_precision.md): 5 keeps every case within 3× of its tolerance, the bump
-/// courses included, whose jumps (C⁰ edges, lift-off) make the global error grow as about tol^0.6; on the
-/// smooth J-turn and sine the achieved error is then 0.002–0.3 of the tolerance (at 100 it was 0.04–0.6
-/// there, but up to 60× on the bumps).
+/// (`rtv work-precision`, docs/work_precision.md): 5 keeps every case within 3× of its tolerance (largest
+/// 2.50, the bump course with the enveloping contact; tests/work_precision.rs asserts the 3× on shortened
+/// runs), the bump courses included, whose jumps (C⁰ edges, lift-off) make the global error grow as about
+/// tol^0.6; on the smooth J-turn and sine the achieved error is then 1e-4 to 0.08 of the tolerance (at 100
+/// it was 0.04–0.6 there, but up to 60× on the bumps).
 pub const LOCAL_PER_TOLERANCE: f64 = 5.0;
 
 /// The projection after every accepted step: the attitude quaternion back to unit length.

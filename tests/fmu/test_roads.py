@@ -1,13 +1,15 @@
 """Roads of one's own through the FMU (issue 18): `road_file` names an OpenCRG file (the NRMM half-round
-obstacles and RMS courses ship in the FMU's resources/roads/) or an ISO 8608 road; the HMMWV drives every
-half-round file and an RMS course in fmpy with the enveloping contact at a 1 ms internal step; a bad road is
-an error naming it, and the instance recovers."""
+obstacles and RMS courses ship in the FMU's resources/roads/) or an ISO 8608 road; in fmpy, with the
+enveloping contact at a 1 ms internal step, the HMMWV drives every half-round file lower than its tire's
+radius, refuses the taller one by name, and drives an RMS course; a bad road is an error naming it, and the
+instance recovers."""
 
+import json
 import zipfile
 
 import pytest
 
-from conftest import ERROR, OK, messages, status
+from conftest import ERROR, OK, ROOT, messages, status
 
 HALF_ROUNDS = [4, 8, 10, 12, 16, 20]
 
@@ -45,20 +47,35 @@ def refused_then_runs(s, bad_roads, **good):
     assert drive(s, 0.5) == OK
 
 
+# The HMMWV's tire radius, m (0.4699).
+TIRE_RADIUS = json.loads((ROOT / "resources" / "hmmwv.json").read_text())["tire"]["unloaded_radius_m"]
+
+
 @pytest.mark.parametrize("height", HALF_ROUNDS)
 def test_the_hmmwv_drives_every_half_round_file(make, height):
-    # 3 m/s (11 km/h): over the obstacle at 50 m with both axles. Obstacles the single-contact tire cannot
-    # envelop (a tire deflected beyond half its radius; on the 20 in one a slip state leaving its bound)
-    # end the run with a discard and a message naming the cause, never with a result: docs/roads.md.
+    # 3 m/s (11 km/h): over the obstacle at 50 m with both axles. The expectation is geometric: a wheel meets
+    # a half-round of radius r first where the line of the two centres is at cos θ = (R − r)/(R + r) from the
+    # vertical; for r > R (the 20 in one, 0.508 m against R = 0.470 m) that is above the wheel's centre: the
+    # contact force pushes the wheel down and back, and no rolling wheel climbs it.
+    # The model must refuse that obstacle with a message naming the cause (measured: "physical event: ... a
+    # tire slip state went above 100" at 17.43 s: the blocked wheel's slip runs away), never give a result.
+    # Up to 16 in (0.406 m < R) it drives over and regains the held speed (measured at 19 s: x 56.9 m, vx
+    # 3.00 to 3.07 m/s; on the 16 in one the speed falls to 0.64 m/s at 51.2 m first, what the ride tests
+    # would refuse as a stall); that these tall ones run is the model's answer, not the vehicle's
+    # (docs/roads.md, "What the model cannot do").
     s = make()
     s.init(road_file=f"roads/halfround_{height}in.crg", contact=2, internal_step=0.001, initial_speed=3.0)
     st = drive(s, 19.0)
-    if st == OK:
+    if height * 0.0254 < TIRE_RADIUS:
+        assert st == OK, (height, messages(s.name)[-3:])
+        # Past the obstacle (at 50 m) with both axles, and moving on: above half the held speed (the ride
+        # tests' stall criterion, docs/roads.md) at the end.
         assert s.get("x") > 55.0
+        assert s.get("vx") > 1.5, s.get("vx")
     else:
+        assert st != OK, f"the {height} in obstacle, taller than the tire's radius, gave a result"
         causes = ("model validity", "physical event")
         assert any(c in m for m in messages(s.name) for c in causes), messages(s.name)[-3:]
-        assert height >= 10, f"the {height} in obstacle was refused"
 
 
 def test_the_hmmwv_drives_an_rms_course(make):

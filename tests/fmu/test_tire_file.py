@@ -1,9 +1,12 @@
 """A tire of its own through the FMU (issue 18): `tire_file` names a Pacejka `.tir` file (the shipped
 resources/tires/HMMWV_Pac02Tire.tir by a path relative to the resources), the J-turn runs on its Magic
-Formula and differs from the STI run; a truncated file is an error naming the file and the key, and the
-instance stays in initialization mode, usable once the parameter is fixed."""
+Formula as the native model does on the same file (`rtv scene jturn --tire`), below the STI tire's a_y; a
+truncated file is an error naming the file and the key, and the instance stays in initialization mode,
+usable once the parameter is fixed."""
 
-import pytest
+import subprocess
+
+import numpy as np
 
 from conftest import ERROR, OK, ROOT, messages, status
 
@@ -18,27 +21,61 @@ def test_the_tire_file_ships_with_chronos_licence(fmu_path):
     assert "resources/tires/LICENSE-chrono" in names
 
 
-def jturn(s, rack=0.003, end=4.0):
-    # The J-turn at the FMU's default 100 km/h: the rack ramps to `rack` over 0.1 s at t = 1 s.
-    h, ay = 0.01, []
-    while s.t < end - 1e-9:
-        s.step(h, rack=min(max((s.t + h - 1.0) / 0.1, 0.0), 1.0) * rack)
-        if s.t > end - 1.0:
-            ay.append(s.get("ay"))
-    return sum(ay) / len(ay)
+# The J-turn scene (src/sim/scenes.rs): at the FMU's default 100 km/h, the rack's smootherstep from 3 s over
+# 0.1 s to 3 mm; 8 s.
+AMPLITUDE, RAMP_START, RAMP, END = 0.003, 3.0, 0.1, 8.0
 
 
-def test_the_magic_formula_tire_turns_the_vehicle(make):
+def rack(t):
+    """The scene's rack, its rate and acceleration at t."""
+    tau = min(max((t - RAMP_START) / RAMP, 0.0), 1.0)
+    return (AMPLITUDE * tau ** 3 * (10 - 15 * tau + 6 * tau ** 2), AMPLITUDE * 30 * tau ** 2 * (1 - tau) ** 2 / RAMP,
+            AMPLITUDE * 60 * tau * (1 - tau) * (1 - 2 * tau) / RAMP ** 2)
+
+
+def jturn(s):
+    """a_y every 10 ms; the rack given with its two derivatives at each communication point."""
+    ay = [s.get("ay")]
+    for k in range(round(END / 0.01)):
+        u, d1, d2 = rack(k * 0.01)
+        s.step(0.01, rack=u, d1=d1, d2=d2)
+        ay.append(s.get("ay"))
+    return np.array(ay)
+
+
+def native_jturn(tmp_path, *tire):
+    """The same J-turn by `rtv scene jturn` (the native run, not the FMU): a_y every 10 ms."""
+    rtv = ROOT / "target" / "release" / "rtv"
+    if not rtv.exists():
+        subprocess.run(["cargo", "build", "--release", "--bin", "rtv"], cwd=ROOT, check=True)
+    out = tmp_path / "jturn.csv"
+    subprocess.run([str(rtv), "scene", "jturn", "--amplitude", str(AMPLITUDE), *tire, "--out", str(out)], check=True,
+                   capture_output=True)
+    return np.genfromtxt(out, delimiter=",", names=True)["ay"]
+
+
+def test_the_magic_formula_tire_turns_the_vehicle(make, tmp_path):
     sti = make()
     sti.init()
     mf = make()
     mf.init(tire_file=TIR)
-    a_sti, a_mf = jturn(sti), jturn(mf)
-    # Both turn left at a plausible lateral acceleration; the tires differ (docs/tire_magic_formula.md:
-    # the Magic Formula file's cornering stiffness is lower, so a_y at one rack travel is lower).
-    assert 0.2 * 9.81 < a_mf < 0.6 * 9.81, a_mf
-    assert a_mf < a_sti, (a_mf, a_sti)
+    ay_sti, ay_mf = jturn(sti), jturn(mf)
     assert mf.fmu.getString([mf.vr["tire_file"]])[0] in (TIR, TIR.encode())
+    # The expectation: the native model on the same file (`rtv scene jturn --tire`). After the ramp the two
+    # agree to 1.1e-6 of peak a_y over 6-8 s (measured): the FMU receives the rack as a quadratic per 10 ms
+    # step (value and two derivatives), which misses the smootherstep's third derivative (1.5e-3 of peak
+    # a_y at the ramp's end, measured), and that transient has decayed three seconds later. 1e-5 of peak
+    # leaves it a factor 10; the STI tire's a_y is 4 % away.
+    native = native_jturn(tmp_path, "--tire", str(ROOT / "resources" / TIR))
+    assert len(native) == len(ay_mf)
+    steady = slice(round(6.0 / 0.01), None)
+    err = np.max(np.abs(ay_mf[steady] - native[steady])) / np.max(np.abs(native))
+    print(f"MF J-turn through the FMU: a_y over 6-8 s within {err:.2e} of peak of the native run")
+    assert err <= 1e-5, f"a_y over 6-8 s: {err:.2e} of peak from the native run on the same tire file"
+    # The tires differ in the direction of their data: the Magic Formula file's cornering stiffness is lower
+    # (`rtv tire`: 38 391 against 47 395 N/rad at 6 300 N, docs/tire_magic_formula.md), so a_y at one rack
+    # travel is lower (measured: 0.3844 against 0.4011 g).
+    assert ay_mf[steady].mean() < ay_sti[steady].mean(), (ay_mf[steady].mean(), ay_sti[steady].mean())
 
 
 def test_a_broken_tire_file_is_an_error_naming_it_and_the_instance_recovers(make, tmp_path):
