@@ -1903,3 +1903,19 @@ fn string_parameters_are_checked_alike_when_set_initialized_and_restored() {
     assert_eq!(deserialize(&inst, &state.to_string(), &mut slot), ERROR);
     assert!(rec.last().contains("contains a NUL character"), "{}", rec.last());
 }
+
+#[test]
+fn a_steering_start_value_at_the_limit_initializes_at_any_speed() {
+    // Newton from the unsteered guess diverged from 35 mm of rack on (the front tires near their grip):
+    // the steady-rolling solve goes there from straight ahead in steps. The HMMWV's rack limit is 69.9 mm.
+    for (speed, rack) in [(27.7778, 0.0699), (60.0, -0.0699), (2.0, 0.0699)] {
+        let calls = Calls {
+            reals: &[(vr::INITIAL_SPEED, speed), (vr::RACK_DISPLACEMENT, rack)],
+            steps: &[(0.01, None); 5],
+            ..Calls::default()
+        };
+        let rows = outputs_through(false, &calls);
+        assert!(output_in(&rows[0], vr::STEER_FL).abs() > 0.3, "{speed} m/s, rack {rack} m: steered at t = 0");
+        assert!(rows == outputs_through(true, &calls), "{speed} m/s, rack {rack} m: FMI 2.0 and 3.0 differ");
+    }
+}

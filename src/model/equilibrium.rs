@@ -15,6 +15,9 @@ use nalgebra::{DMatrix, DVector};
 /// Residual tolerance of the initialisation solves (accelerations in m/s² and rad/s²).
 pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-10;
 
+/// Steps of the steady-rolling solve from straight ahead to a steered start (`steady_rolling_steered`).
+const STEERING_CONTINUATION_STEPS: usize = 8;
+
 /// Newton with a forward-difference Jacobian (step 1e-7 relative). Allocates: initialisation only.
 pub fn newton<F>(
     unknowns: &mut [f64],
@@ -219,7 +222,6 @@ pub fn steady_rolling_steered(
     // The slip and hold unknowns exist when the options use them (a full layout may carry unused ones).
     let options = level(options);
     let run = Run::flat(v, &options);
-    let inputs = held(steering, speed);
     let layout = run.layout();
     let relaxation = layout.xi.filter(|_| options.slip == SlipModel::Relaxation);
     let hold = layout.zv.filter(|_| options.speed_mode == SpeedMode::Hold);
@@ -256,29 +258,35 @@ pub fn steady_rolling_steered(
         x
     };
     let mut dx = vec![0.0; layout.dim];
-    newton(
-        &mut p,
-        |p, r| {
-            let x = assemble(p);
-            v.derivative(&run, &x, &inputs, ws, &mut dx)?;
-            let acc = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
-            r[0] = dx[idx::V0 + 2];
-            r[1] = dx[idx::W0];
-            r[2] = dx[idx::W0 + 1];
-            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
-            r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
-            let mut k = 11;
-            if let Some(xi) = relaxation {
-                r[k..k + 8].copy_from_slice(&dx[xi..xi + 8]);
-                k += 8;
-            }
-            if hold.is_some() {
-                r[k] = acc.x;
-            }
-            Ok(())
-        },
-        EQUILIBRIUM_TOLERANCE,
-        30,
-    )?;
+    // From straight ahead to `steering` in equal steps, each solve starting from the last one's solution: Newton
+    // from the unsteered guess does not reach a strongly steered state (the front tires near their grip).
+    let steps = if steering == 0.0 { 1 } else { STEERING_CONTINUATION_STEPS };
+    for k in 1..=steps {
+        let inputs = held(steering * k as f64 / steps as f64, speed);
+        newton(
+            &mut p,
+            |p, r| {
+                let x = assemble(p);
+                v.derivative(&run, &x, &inputs, ws, &mut dx)?;
+                let acc = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
+                r[0] = dx[idx::V0 + 2];
+                r[1] = dx[idx::W0];
+                r[2] = dx[idx::W0 + 1];
+                r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+                r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
+                let mut k = 11;
+                if let Some(xi) = relaxation {
+                    r[k..k + 8].copy_from_slice(&dx[xi..xi + 8]);
+                    k += 8;
+                }
+                if hold.is_some() {
+                    r[k] = acc.x;
+                }
+                Ok(())
+            },
+            EQUILIBRIUM_TOLERANCE,
+            30,
+        )?;
+    }
     Ok(assemble(&p))
 }
