@@ -12,6 +12,7 @@ use super::variables::{
     vr, Causality, Initial, Start, VarType, Variable, DESCRIPTION, GUID, LOG_CATEGORIES, VARIABLES,
 };
 use super::vehicle::VehicleModel;
+use crate::dynamics::synthetic::XorShift64;
 use crate::sim::OUTPUT_NAMES;
 use fmi_sys::fmi2::*;
 use serde::{Deserialize, Serialize};
@@ -1502,20 +1503,23 @@ fn outputs_through(fmi3: bool, calls: &Calls) -> Vec<Vec<u64>> {
         None => unsafe { instantiate3::<VehicleModel>(&rec, GUID, false) },
     };
     assert!(!c.is_null(), "{}", rec.last());
+    let set_real = |vr: u32, v: f64| {
+        let s = unsafe {
+            if fmi3 {
+                api3::set_float64::<VehicleModel>(c, &vr, 1, &v, 1)
+            } else {
+                api::set_real::<VehicleModel>(c, &vr, 1, &v)
+            }
+        };
+        assert_eq!(s, OK, "{}", rec.last());
+    };
+    calls.reals.iter().for_each(|&(vr, v)| set_real(vr, v));
     unsafe {
         for &(vr, v) in calls.integers {
             let s = if fmi3 {
                 api3::set_int32::<VehicleModel>(c, &vr, 1, &v, 1)
             } else {
                 api::set_integer::<VehicleModel>(c, &vr, 1, &v)
-            };
-            assert_eq!(s, OK, "{}", rec.last());
-        }
-        for &(vr, v) in calls.reals {
-            let s = if fmi3 {
-                api3::set_float64::<VehicleModel>(c, &vr, 1, &v, 1)
-            } else {
-                api::set_real::<VehicleModel>(c, &vr, 1, &v)
             };
             assert_eq!(s, OK, "{}", rec.last());
         }
@@ -1551,18 +1555,17 @@ fn outputs_through(fmi3: bool, calls: &Calls) -> Vec<Vec<u64>> {
     let mut rows = vec![read()];
     let mut t = 0.0;
     for &(h, input) in calls.steps {
-        unsafe {
-            if let Some((vr, v)) = input {
-                let s = if fmi3 {
-                    api3::set_float64::<VehicleModel>(c, &vr, 1, &v, 1)
-                } else {
-                    api::set_real::<VehicleModel>(c, &vr, 1, &v)
-                };
-                assert_eq!(s, OK, "{}", rec.last());
-            }
-            let s = if fmi3 { step3::<VehicleModel>(c, t, h).0 } else { api::do_step::<VehicleModel>(c, t, h, 1) };
-            assert_eq!(s, OK, "{}", rec.last());
+        if let Some((vr, v)) = input {
+            set_real(vr, v);
         }
+        let s = unsafe {
+            if fmi3 {
+                step3::<VehicleModel>(c, t, h).0
+            } else {
+                api::do_step::<VehicleModel>(c, t, h, 1)
+            }
+        };
+        assert_eq!(s, OK, "{}", rec.last());
         t += h;
         rows.push(read());
     }
@@ -1654,25 +1657,13 @@ fn the_wheels_stand_as_the_steering_start_value_puts_them() {
 
 // ---- String parameters: one check wherever a value enters (issue 31, "Bad input") ---------------------------
 
-/// splitmix64: the fuzz test's deterministic stream.
-struct SplitMix(u64);
+/// A number in [0, n) from the fuzz test's stream.
+fn below(rng: &mut XorShift64, n: usize) -> usize {
+    (rng.next_u64() % n as u64) as usize
+}
 
-impl SplitMix {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-
-    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
-        &items[self.below(items.len())]
-    }
+fn pick<'a, T>(rng: &mut XorShift64, items: &'a [T]) -> &'a T {
+    &items[below(rng, items.len())]
 }
 
 /// Pieces the fuzz values are made of: URI and road syntax, bad and good percent escapes, white space,
@@ -1722,28 +1713,28 @@ const FUZZ_PIECES: &[&[u8]] = &[
 /// `count` values for a String parameter from its `seeds` (files and roads in several spellings, good and
 /// bad): seeds as they are, each mutated by one to four insertions of `FUZZ_PIECES`, deletions, byte
 /// replacements and truncations, strings of random pieces, and a few very long strings.
-fn fuzz_values(rng: &mut SplitMix, seeds: &[String], count: usize) -> Vec<Vec<u8>> {
+fn fuzz_values(rng: &mut XorShift64, seeds: &[String], count: usize) -> Vec<Vec<u8>> {
     let mut values: Vec<Vec<u8>> = seeds.iter().map(|s| s.clone().into_bytes()).collect();
     values.push(b"file:///".iter().chain(&b"%41".repeat(20_000)).copied().collect());
     values.push(b"a/".repeat(40_000));
     values.push(b"iso8608:A:1:".iter().chain(&b"9".repeat(5_000)).copied().collect());
     while values.len() < count {
-        let mut v: Vec<u8> = match rng.below(4) {
-            0 => (0..rng.below(12)).flat_map(|_| rng.pick(FUZZ_PIECES).to_vec()).collect(),
-            _ => rng.pick(seeds).clone().into_bytes(),
+        let mut v: Vec<u8> = match below(rng, 4) {
+            0 => (0..below(rng, 12)).flat_map(|_| pick(rng, FUZZ_PIECES).to_vec()).collect(),
+            _ => pick(rng, seeds).clone().into_bytes(),
         };
-        for _ in 0..1 + rng.below(4) {
-            let at = rng.below(v.len() + 1);
-            match rng.below(4) {
+        for _ in 0..1 + below(rng, 4) {
+            let at = below(rng, v.len() + 1);
+            match below(rng, 4) {
                 0 => {
-                    let piece = rng.pick(FUZZ_PIECES).to_vec();
+                    let piece = pick(rng, FUZZ_PIECES).to_vec();
                     v.splice(at..at, piece);
                 }
                 1 if at < v.len() => {
                     v.remove(at);
                 }
-                2 if at < v.len() => v[at] = 1 + rng.below(255) as u8,
-                _ => v.truncate(v.len() - rng.below(4).min(v.len())),
+                2 if at < v.len() => v[at] = 1 + below(rng, 255) as u8,
+                _ => v.truncate(v.len() - below(rng, 4).min(v.len())),
             }
         }
         values.push(v);
@@ -1816,7 +1807,7 @@ fn string_parameters_are_checked_alike_when_set_initialized_and_restored() {
     ];
     let strings = VARIABLES.iter().filter(|v| v.ty == VarType::String && v.causality == Causality::Parameter);
     assert_eq!(strings.count(), parameters.len(), "a String parameter of the model description is not fuzzed");
-    let mut rng = SplitMix(31);
+    let mut rng = XorShift64::new(31);
     let rec = Recorder::default();
     let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
     let init = || unsafe {
