@@ -8,10 +8,12 @@
 
 use super::logger::Logger;
 use super::model::{FmuModel, Interface, ModelContext, ResourceLocation, StepFailure};
-use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, Variable, VARIABLES};
+use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, VarType, Variable, VARIABLES};
 use crate::model::params::SteeringInput;
 use crate::model::params::VehicleData;
+use crate::model::road_iso8608::Iso8608;
 use crate::model::steering::RackMotion;
+use crate::model::vehicle::Vehicle;
 use crate::sim::scenes::SceneNeeds;
 use crate::sim::{modes, Channel, RackSample, SimConfig, Simulation, OUTPUT_NAMES, TOLERANCE_MAX, TOLERANCE_MIN};
 use serde::{Deserialize, Serialize};
@@ -144,6 +146,35 @@ fn check_steering(input: SteeringInput, value: f64, active: SteeringInput, limit
     Ok(())
 }
 
+/// A `road_file` value as (the file it names, `#ROAD_ID` or ""): an OpenDRIVE map may name its road,
+/// `FILE.xodr#ROAD_ID`.
+fn road_file_parts(road: &str) -> (&str, &str) {
+    match road.rfind('#') {
+        Some(k) if crate::model::road_xodr::is_xodr(road) => (&road[..k], &road[k..]),
+        _ => (road, ""),
+    }
+}
+
+/// The one check of a String parameter's value, made wherever a value enters: `fmi2SetString` and
+/// `fmi3SetString`, the initialization, a deserialized state (so that they accept and refuse the same
+/// values). It checks what the value says: a file name (`fmi_layer::resources::check`: a `file:` URI must be
+/// a local file URI), the numbers of an `iso8608:` road. Whether the file is there and what it holds is found
+/// when it is read (at initialization, and when an initialized state is restored). Empty: the default.
+fn check_string_parameter(var: &Variable, value: &str) -> Result<(), String> {
+    let value = value.trim();
+    if value.is_empty() {
+        return Ok(());
+    }
+    match var.var {
+        Var::Parameter(P::VehicleFile | P::TireFile) => fmi_layer::resources::check(var.name, value),
+        Var::Parameter(P::RoadFile) => match Iso8608::parse(value) {
+            Some(spec) => spec.map(|_| ()),
+            None => fmi_layer::resources::check(var.name, road_file_parts(value).0),
+        },
+        _ => Err(format!("{} is not a String parameter of this model", var.name)),
+    }
+}
+
 /// A state saved before instances knew their interface came from FMI 2.0 Co-Simulation.
 fn co_simulation_2() -> Interface {
     Interface::CoSimulation2
@@ -246,11 +277,8 @@ impl VehicleModel {
         } else if road.starts_with("iso8608:") {
             Some(road.to_string())
         } else {
-            // An OpenDRIVE map may name its road: FILE.xodr#ROAD_ID (the file is resolved, the id kept).
-            let (file, road_id) = match road.rsplit_once('#') {
-                Some((file, id)) if crate::model::road_xodr::is_xodr(road) => (file, format!("#{id}")),
-                _ => (road, String::new()),
-            };
+            // The file is resolved, an OpenDRIVE map's road id kept.
+            let (file, road_id) = road_file_parts(road);
             Some(format!("{}{road_id}", fmi_layer::resources::locate("road_file", file, context)?.display()))
         };
         if let Some(t) = self.experiment_tolerance {
@@ -259,6 +287,15 @@ impl VehicleModel {
         // Model Exchange: a fixed number of continuous states, whatever the options leave out.
         config.options.keep_unused_states |= self.interface.is_model_exchange();
         Ok(config)
+    }
+
+    /// `check_string_parameter` of every String parameter (the model description's, each read as
+    /// `get_string` serves it).
+    fn check_string_parameters(&self) -> Result<(), String> {
+        for var in VARIABLES.iter().filter(|v| v.ty == VarType::String && v.causality == Causality::Parameter) {
+            check_string_parameter(var, &self.get_string(var)?)?;
+        }
+        Ok(())
     }
 
     /// The simulation, for a variable that needs one.
@@ -451,6 +488,12 @@ impl FmuModel for VehicleModel {
         }
     }
 
+    /// In FMI 3.0 Co-Simulation a steering rate set is the next step's input derivative; the start values
+    /// (0) are no master's: kept, the first step would hold the rack where FMI 2.0 ramps it.
+    fn start_values_applied(&mut self) {
+        self.steering_derivatives = Default::default();
+    }
+
     fn set_real(&mut self, var: &Variable, value: f64) -> Result<(), String> {
         match var.var {
             Var::Input(i) => match input_slot(i) {
@@ -546,6 +589,7 @@ impl FmuModel for VehicleModel {
     }
 
     fn set_string(&mut self, var: &Variable, value: &str) -> Result<(), String> {
+        check_string_parameter(var, value)?;
         match var.var {
             Var::Parameter(P::VehicleFile) => {
                 self.vehicle_file = value.to_string();
@@ -585,6 +629,7 @@ impl FmuModel for VehicleModel {
         // The simulation's clock starts at 0; the generic layer keeps the FMU time (Model Exchange's
         // fmi2SetTime gives FMU times).
         self.start_time = start_time;
+        self.check_string_parameters()?;
         let config = self.config(context)?;
         let vehicle = self.vehicle_data(context, log)?;
         // Data remarks (e.g. placeholder inertias) are information: the call still succeeds.
@@ -600,10 +645,17 @@ impl FmuModel for VehicleModel {
                 vehicle.steering_limit(),
             )?;
         }
-        let sim = Simulation::new(vehicle, config).map_err(|e| match e.cause() {
-            crate::error::Cause::Input => format!("parameters: {e}"),
-            _ => format!("initial equilibrium: {e}"),
-        })?;
+        // The initial state is computed with the steering input as set before (or in) initialization: the
+        // wheels stand where it puts them from t = 0, in every interface (a step without derivatives then
+        // ramps from there).
+        let steering = self.steering[steering_slot(vehicle.steering_input())];
+        let sim = Vehicle::new(&vehicle)
+            .map_err(crate::error::ModelError::from)
+            .and_then(|v| Simulation::from_vehicle_steered(v, config, steering))
+            .map_err(|e| match e.cause() {
+                crate::error::Cause::Input => format!("parameters: {e}"),
+                _ => format!("initial equilibrium: {e}"),
+            })?;
         for w in sim.road().file().map_or(&[][..], |f| f.warnings()) {
             log.event(&format!("road: {w}"));
         }
@@ -623,6 +675,7 @@ impl FmuModel for VehicleModel {
         // A state saved through another interface of the same kind (2.0 and 3.0 Co-Simulation, say) takes
         // this instance's: it decides how the steering rates are read.
         self.interface = context.interface;
+        self.check_string_parameters()?;
         let config = self.config(context)?;
         config.validate().map_err(|e| format!("parameters: {e}"))?;
         let finite =

@@ -7,12 +7,16 @@ use crate::error::{Cause, ModelError};
 use crate::math::{quat_from_euler, quat_to_matrix, V3};
 use crate::model::options::Options;
 use crate::model::road_envelope::ContactModel;
+use crate::model::steering::RackMotion;
 use crate::model::tire::SlipModel;
 use crate::model::vehicle::{idx, Inputs, Layout, Run, SpeedMode, Vehicle, Workspace};
 use nalgebra::{DMatrix, DVector};
 
 /// Residual tolerance of the initialisation solves (accelerations in m/s² and rad/s²).
 pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-10;
+
+/// Steps of the steady-rolling solve from straight ahead to a steered start (`steady_rolling_steered`).
+const STEERING_CONTINUATION_STEPS: usize = 8;
 
 /// Newton with a forward-difference Jacobian (step 1e-7 relative). Allocates: initialisation only.
 pub fn newton<F>(
@@ -93,8 +97,25 @@ fn at_rest(options: &Options) -> Options {
     Options { speed_mode: SpeedMode::Coast, slip: SlipModel::Relaxation, ..level(options) }
 }
 
-fn evaluate(v: &Vehicle, options: &Options, x: &[f64], ws: &mut Workspace, dx: &mut [f64]) -> Result<(), ModelError> {
-    v.derivative(&Run::flat(v, options), x, &Inputs::default(), ws, dx)
+/// The inputs an initial state is solved with: the steering input (the rack's, m, or the Pitman arm's, rad)
+/// held at `steering`, no wheel torques, the speed hold's target `speed`.
+fn held(steering: f64, speed: f64) -> Inputs {
+    Inputs {
+        rack: RackMotion { position: steering, ..RackMotion::default() },
+        target_speed: speed,
+        ..Inputs::default()
+    }
+}
+
+fn evaluate(
+    v: &Vehicle,
+    options: &Options,
+    x: &[f64],
+    inputs: &Inputs,
+    ws: &mut Workspace,
+    dx: &mut [f64],
+) -> Result<(), ModelError> {
+    v.derivative(&Run::flat(v, options), x, inputs, ws, dx)
 }
 
 /// Ride-height retune (§8.1 step 1): choose the front and rear spring free-length offsets so that the
@@ -115,7 +136,7 @@ pub fn retune_ride_height(v: &mut Vehicle, options: &Options) -> Result<(f64, f6
                 statics.corner_forces[i].spring_free_length = base[i] + if i < 2 { p[3] } else { p[4] };
             }
             let x = rest_state(&layout, p[0], p[1], p[2], &[0.0; 4]);
-            evaluate(&statics, &rest, &x, &mut ws, &mut dx)?;
+            evaluate(&statics, &rest, &x, &Inputs::default(), &mut ws, &mut dx)?;
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
@@ -135,7 +156,19 @@ pub fn retune_ride_height(v: &mut Vehicle, options: &Options) -> Result<(f64, f6
 /// Static equilibrium (§8.1 step 2): height, roll, pitch and the four arm angles with every
 /// acceleration zero; x, y and yaw are free and set to zero. The state is in `v`'s layout.
 pub fn static_equilibrium(v: &Vehicle, options: &Options, ws: &mut Workspace) -> Result<Vec<f64>, ModelError> {
+    static_equilibrium_steered(v, options, 0.0, ws)
+}
+
+/// `static_equilibrium` with the steering input held at `steering` (m of rack or rad of Pitman arm): the
+/// wheels stand where it puts them.
+pub fn static_equilibrium_steered(
+    v: &Vehicle,
+    options: &Options,
+    steering: f64,
+    ws: &mut Workspace,
+) -> Result<Vec<f64>, ModelError> {
     let rest = at_rest(options);
+    let inputs = held(steering, 0.0);
     let layout = Layout::of(&rest);
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let mut dx = vec![0.0; layout.dim];
@@ -143,7 +176,7 @@ pub fn static_equilibrium(v: &Vehicle, options: &Options, ws: &mut Workspace) ->
     newton(
         &mut p,
         |p, r| {
-            evaluate(v, &rest, &state(p), ws, &mut dx)?;
+            evaluate(v, &rest, &state(p), &inputs, ws, &mut dx)?;
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
@@ -163,7 +196,20 @@ pub fn static_equilibrium(v: &Vehicle, options: &Options, ws: &mut Workspace) ->
 /// The state is in the layout of `options`, which it is solved with on the level road (`level`); with the
 /// speed hold, `speed` is its target.
 pub fn steady_rolling(v: &Vehicle, options: &Options, speed: f64, ws: &mut Workspace) -> Result<Vec<f64>, ModelError> {
-    let mut x = static_equilibrium(v, options, ws)?;
+    steady_rolling_steered(v, options, speed, 0.0, ws)
+}
+
+/// `steady_rolling` with the steering input held at `steering` (m of rack or rad of Pitman arm): the wheels
+/// stand where it puts them, rolling straight ahead (the slip states at their steady values for that), from
+/// which the car starts to turn. The FMU starts here from its steering input's start value.
+pub fn steady_rolling_steered(
+    v: &Vehicle,
+    options: &Options,
+    speed: f64,
+    steering: f64,
+    ws: &mut Workspace,
+) -> Result<Vec<f64>, ModelError> {
+    let mut x = static_equilibrium_steered(v, options, steering, ws)?;
     if speed == 0.0 {
         return Ok(x);
     }
@@ -176,7 +222,6 @@ pub fn steady_rolling(v: &Vehicle, options: &Options, speed: f64, ws: &mut Works
     // The slip and hold unknowns exist when the options use them (a full layout may carry unused ones).
     let options = level(options);
     let run = Run::flat(v, &options);
-    let inputs = Inputs { target_speed: speed, ..Inputs::default() };
     let layout = run.layout();
     let relaxation = layout.xi.filter(|_| options.slip == SlipModel::Relaxation);
     let hold = layout.zv.filter(|_| options.speed_mode == SpeedMode::Hold);
@@ -213,29 +258,35 @@ pub fn steady_rolling(v: &Vehicle, options: &Options, speed: f64, ws: &mut Works
         x
     };
     let mut dx = vec![0.0; layout.dim];
-    newton(
-        &mut p,
-        |p, r| {
-            let x = assemble(p);
-            v.derivative(&run, &x, &inputs, ws, &mut dx)?;
-            let acc = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
-            r[0] = dx[idx::V0 + 2];
-            r[1] = dx[idx::W0];
-            r[2] = dx[idx::W0 + 1];
-            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
-            r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
-            let mut k = 11;
-            if let Some(xi) = relaxation {
-                r[k..k + 8].copy_from_slice(&dx[xi..xi + 8]);
-                k += 8;
-            }
-            if hold.is_some() {
-                r[k] = acc.x;
-            }
-            Ok(())
-        },
-        EQUILIBRIUM_TOLERANCE,
-        30,
-    )?;
+    // From straight ahead to `steering` in equal steps, each solve starting from the last one's solution: Newton
+    // from the unsteered guess does not reach a strongly steered state (the front tires near their grip).
+    let steps = if steering == 0.0 { 1 } else { STEERING_CONTINUATION_STEPS };
+    for k in 1..=steps {
+        let inputs = held(steering * k as f64 / steps as f64, speed);
+        newton(
+            &mut p,
+            |p, r| {
+                let x = assemble(p);
+                v.derivative(&run, &x, &inputs, ws, &mut dx)?;
+                let acc = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
+                r[0] = dx[idx::V0 + 2];
+                r[1] = dx[idx::W0];
+                r[2] = dx[idx::W0 + 1];
+                r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+                r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
+                let mut k = 11;
+                if let Some(xi) = relaxation {
+                    r[k..k + 8].copy_from_slice(&dx[xi..xi + 8]);
+                    k += 8;
+                }
+                if hold.is_some() {
+                    r[k] = acc.x;
+                }
+                Ok(())
+            },
+            EQUILIBRIUM_TOLERANCE,
+            30,
+        )?;
+    }
     Ok(assemble(&p))
 }

@@ -272,6 +272,15 @@ pub enum RackSource {
 }
 
 impl RackSource {
+    /// `value` held from t = 0 until the next input (the initial steering: none is a `RackProfile::Zero`).
+    pub fn held(value: f64) -> RackSource {
+        if value == 0.0 {
+            RackSource::Profile(RackProfile::Zero)
+        } else {
+            RackSource::External { t_k: 0.0, start: value, slope: 0.0, curvature: 0.0 }
+        }
+    }
+
     /// The breakpoints of a profile. An external signal has none inside a communication step (it is one
     /// polynomial there); its pieces meet at the communication points, where every step ends anyway.
     pub fn breakpoints(&self) -> Breakpoints {

@@ -22,7 +22,7 @@ use crate::integrate::stability::{bdf2_damped_up_to, damped_up_to, is_damped, la
 use crate::integrate::{substeps, AnyIntegrator, Integrator, IntegratorKind, OdeSystem};
 use crate::math::eigen::eigenvalues;
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
-use crate::model::equilibrium::{retune_ride_height, steady_rolling};
+use crate::model::equilibrium::{retune_ride_height, steady_rolling_steered};
 use crate::model::params::VehicleData;
 use crate::model::road::{RoadModel, PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M};
 use crate::model::tire::SlipModel;
@@ -404,14 +404,17 @@ struct Start {
 }
 
 impl Start {
-    fn new(mut v: Vehicle, config: &SimConfig) -> Result<Start, ModelError> {
+    /// With the steering input held at `steering` (`Simulation::from_vehicle_steered`).
+    fn new(mut v: Vehicle, config: &SimConfig, steering: f64) -> Result<Start, ModelError> {
         config.validate()?;
+        check_initial_steering(&v, steering)?;
         let options = &config.options;
         if config.ride_height_retune {
             retune_ride_height(&mut v, options).context("ride-height retune")?;
         }
         let mut cache = Workspace::default();
-        let state = steady_rolling(&v, options, config.initial_speed, &mut cache).context("initial equilibrium")?;
+        let state = steady_rolling_steered(&v, options, config.initial_speed, steering, &mut cache)
+            .context("initial equilibrium")?;
         let positions = v.corner_positions(&state, 0.0, &mut cache)?;
         let a0 = quat_to_matrix(&state[idx::E0..idx::E0 + 4]);
         let front_wheel_x0 = 0.5
@@ -430,6 +433,18 @@ impl Start {
         };
         Ok(Start { vehicle: v, road, state, cache, front_wheel_x0 })
     }
+}
+
+/// The initial steering input must be one the vehicle's steering takes: finite, within its limit.
+fn check_initial_steering(v: &Vehicle, steering: f64) -> Result<(), ModelError> {
+    let (input, limit) = (v.steering.input, v.steering.travel_limit);
+    if steering.is_finite() && steering.abs() <= limit {
+        return Ok(());
+    }
+    Err(ModelError::new(
+        Cause::Input,
+        format!("initial {} {steering} {} is beyond the steering's limit of ±{limit}", input.name(), input.unit()),
+    ))
 }
 
 /// The head of a state-bound message (`Cause::StateBound`): `advance` names its cause (step size, or a
@@ -756,6 +771,10 @@ pub struct Simulation {
     road: RoadModel,
     /// `fingerprint` of the vehicle, to recognise it when a saved state is restored.
     vehicle_fingerprint: u64,
+    /// The steering input the initial state was computed with (`from_vehicle_steered`; a restored state
+    /// is rebuilt with it).
+    #[serde(default)]
+    initial_steering: f64,
     integrator: AnyIntegrator,
     time: f64,
     state: Vec<f64>,
@@ -878,7 +897,13 @@ impl Simulation {
 
     /// As `new`, from an already built vehicle (tests switch force elements or tire models first).
     pub fn from_vehicle(v: Vehicle, config: SimConfig) -> Result<Simulation, ModelError> {
-        let Start { vehicle: v, road, state, cache, front_wheel_x0 } = Start::new(v, &config)?;
+        Simulation::from_vehicle_steered(v, config, 0.0)
+    }
+
+    /// As `from_vehicle`, starting with the steering input (the rack's, m, or the Pitman arm's, rad) at
+    /// `steering`: the initial state is computed with it, and it is held until the rack is set.
+    pub fn from_vehicle_steered(v: Vehicle, config: SimConfig, steering: f64) -> Result<Simulation, ModelError> {
+        let Start { vehicle: v, road, state, cache, front_wheel_x0 } = Start::new(v, &config, steering)?;
         let vehicle_fingerprint = fingerprint(&v);
         let mut sim = Simulation {
             integrator: AnyIntegrator::new(config.integrator),
@@ -886,10 +911,11 @@ impl Simulation {
             vehicle: Some(v),
             road,
             vehicle_fingerprint,
+            initial_steering: steering,
             time: 0.0,
             state,
             cache,
-            rack: RackSource::Profile(RackProfile::Zero),
+            rack: RackSource::held(steering),
             last_external_slope: None,
             drive: [0.0; 4],
             brake: [0.0; 4],
@@ -922,7 +948,7 @@ impl Simulation {
     pub fn validate_restored(&mut self, data: &VehicleData, elapsed: f64) -> Result<(), ModelError> {
         let bad = |why: String| Err(ModelError::new(Cause::Input, format!("simulation: {why}")));
         self.config.validate()?;
-        let built = Start::new(Vehicle::new(data)?, &self.config)?;
+        let built = Start::new(Vehicle::new(data)?, &self.config, self.initial_steering)?;
         if fingerprint(&built.vehicle) != self.vehicle_fingerprint || built.front_wheel_x0 != self.front_wheel_x0 {
             return bad("its vehicle differs from the one the vehicle data file and the parameters give".into());
         }

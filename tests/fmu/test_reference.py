@@ -51,8 +51,9 @@ KNOT_SHIFT = 1e-7
 
 
 def input_signals(t, rack):
-    """fmpy's input table with every input: with set_input_derivatives=True, fmpy (0.3) fails when a
-    continuous input is missing from the table (its derivative array has one entry per input)."""
+    """fmpy's input table of nine continuous inputs, the rack and the eight torques (zeros): with
+    set_input_derivatives=True fmpy 0.3 fails unless the table has exactly nine, the size of the derivative
+    array it allocates (docs/fmu.md; tests/fmu/test_fmpy_input_derivatives.py)."""
     sig = np.zeros(len(t), dtype=[("time", np.float64)] + [(n, np.float64) for n in INPUTS])
     sig["time"] = t - KNOT_SHIFT
     sig["time"][0] = t[0]

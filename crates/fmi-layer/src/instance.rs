@@ -1138,6 +1138,7 @@ fn fresh_core<M: FmuModel>(context: &ModelContext) -> Result<Core<M>, String> {
         };
         result.map_err(|e| format!("start value of {} rejected by the model: {e}", var.name))?;
     }
+    model.start_values_applied();
     Ok(Core {
         interface: context.interface,
         mode: Instantiated,

@@ -85,6 +85,11 @@ pub trait FmuModel: Clone + Serialize + DeserializeOwned + Send + 'static {
     /// to its start value from the model description through the setters below.
     fn new(context: &ModelContext) -> Self;
 
+    /// Called once every start value is applied (after `new`, and on `fmi2Reset`): the values the setters
+    /// received so far are the model description's, not the master's (a model that reads a set as an
+    /// event, e.g. an input derivative for the next step only, forgets it here). Default: nothing.
+    fn start_values_applied(&mut self) {}
+
     fn get_real(&self, var: &Variable<Self::Var>) -> Result<f64, String>;
     fn get_integer(&self, var: &Variable<Self::Var>) -> Result<i32, String>;
     fn get_boolean(&self, var: &Variable<Self::Var>) -> Result<bool, String> {
