@@ -502,7 +502,8 @@ def smootherstep(tau):
 
 t = np.arange(0.0, 8.0 + 1e-9, 0.01)
 rack = 0.003 * smootherstep((t - 3.0) / 0.1)          # m, left turn positive
-# fmpy needs every continuous input in the table when set_input_derivatives=True (torques: zero)
+# fmpy 0.3 passes exactly nine input derivatives with set_input_derivatives=True: give nine continuous
+# inputs, the rack and the eight torques (zero); docs/fmu.md shows how to lift that limit
 inputs = ["rack_displacement"] + [f"{k}_torque_{c}" for k in ("drive", "brake") for c in ("fl", "fr", "rl", "rr")]
 signals = np.zeros(len(t), dtype=[("time", float)] + [(n, float) for n in inputs])
 signals["time"], signals["rack_displacement"] = t, rack
