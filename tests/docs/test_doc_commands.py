@@ -55,46 +55,47 @@ SCRATCH = "{scratch}"
 # other engineers' builds kept its load average at 7-10: an idle machine takes about half (the CPU seconds
 # were 0.4-0.7 of these). Keyed by the command's text as the doc writes it (comments dropped); a command the
 # docs write twice has its longer time (the first study run runs 1 000 runs, the next ones resume). Measured
-# by `.venv/bin/python tests/docs/test_doc_commands.py --time`, after `bash scripts/test.sh`'s builds.
+# by `.venv/bin/python tests/docs/test_doc_commands.py --time`, after `bash scripts/test.sh`'s builds; the scenes,
+# ride, calibrate, kc and manoeuvres again once the automatic internal step had come.
 TIMES = {
     "bash scripts/jturn.sh": 14.8,
     "bash scripts/setup.sh && cargo build --release -p rtv-study-native": 2.8,
     "bash scripts/setup.sh": 2.7,
     ".venv/bin/rtv-study run examples/studies/dlc_speed_damper.toml": 211.8,
     ".venv/bin/rtv-study describe double-lane-change": 1.3,
-    "cargo run --release --bin rtv -- scene jturn --out jturn.csv": 0.1,
-    "cargo run --release --bin rtv -- scene bump --integrator ab3 --step 0.002 --slip steady --out bump.csv": 0.0,
+    "cargo run --release --bin rtv -- scene jturn --out jturn.csv": 0.4,
+    "cargo run --release --bin rtv -- scene bump --integrator ab3 --slip steady --out bump.csv": 0.7,
     "cargo run --release --bin rtv -- kinematics --axle front --out front.csv": 0.0,
     "cargo run --release --bin rtv -- steering --out steering.csv": 0.0,
-    "cargo run --release --bin rtv -- kc --vehicle resources/vehicles/generic_macpherson.json": 2.9,
+    "cargo run --release --bin rtv -- kc --vehicle resources/vehicles/generic_macpherson.json": 4.5,
     "cargo run --release --bin rtv -- scene sine --tolerance 1e-4 --output-interval 0.04": 0.0,
     "cargo run --release --bin rtv -- scene sine --integrator imex-ab3 --step 0.008333333333333333 "
-    "--output-interval 0.008333333333333333": 0.0,
-    "cargo run --release --bin rtv -- scene jturn --road resources/roads/test_track.xodr --out track.csv": 0.2,
-    "cargo run --release --bin rtv -- scene bump --contact envelope --out bump.csv": 0.1,
-    "cargo run --release --bin rtv -- calibrate": 19.7,
-    "cargo run --release --bin rtv -- scene bump --bump-height 0.2 --initial-speed 16.67 --out big_bump.csv": 0.0,
+    "--output-interval 0.008333333333333333": 0.1,
+    "cargo run --release --bin rtv -- scene jturn --road resources/roads/test_track.xodr --out track.csv": 0.9,
+    "cargo run --release --bin rtv -- scene bump --contact envelope --out bump.csv": 0.4,
+    "cargo run --release --bin rtv -- calibrate": 31.8,
+    "cargo run --release --bin rtv -- scene bump --bump-height 0.2 --initial-speed 16.67 --out big_bump.csv": 0.5,
     "cargo run --release --bin rtv -- scene jturn --amplitude 0 --speed coast --initial-speed 16.67 --brake 4000 "
-    "--out stop.csv": 0.1,
+    "--out stop.csv": 0.8,
     "cargo run --release --bin rtv -- stability --out docs/stability.md": 77.8,
     "cargo run --release --bin rtv -- work-precision": 68.4,
     "cargo run --release --bin rtv -- linearize --ay 2 --out linear.md": 0.1,
     "cargo run --release --bin rtv -- check-vehicle resources/vehicles/generic_macpherson.json": 0.0,
     "cargo run --release --bin rtv -- import-chrono VEHICLE.json --data-dir DIR --out my_car.json": 0.0,
-    "bash scripts/manoeuvres.sh": 10.7,
+    "bash scripts/manoeuvres.sh": 8.9,
     "cargo run --release --bin rtv -- import-chrono data/chrono/generic/vehicle/Vehicle_MacPhersonStruts.json "
     "--data-dir data/chrono --out my_car.json": 0.0,
     "cargo run --release --bin rtv -- check-vehicle my_car.json": 0.0,
     "cargo run --release --bin rtv -- kc --vehicle my_car.json --out docs/kc/my_car.md": 5.6,
-    "cargo run --release --bin rtv -- scene jturn --vehicle my_car.json --out jturn.csv": 0.2,
+    "cargo run --release --bin rtv -- scene jturn --vehicle my_car.json --out jturn.csv": 0.6,
     "cargo run --release --bin rtv -- stability --vehicle my_car.json --out stability.md": 114.4,
     "cargo run --release --bin rtv -- tire --tir my_tire.tir --fz 5000 --sweep combined --out curves.csv": 0.0,
-    "cargo run --release --bin rtv -- scene jturn --tire my_tire.tir --out jturn.csv": 1.9,
-    "cargo run --release --bin rtv -- scene bump --road my_road.crg --contact envelope --step 0.001 --out run.csv": 0.6,
-    "cargo run --release --bin rtv -- scene sine --road iso8608:C:42 --out run.csv": 0.5,
-    "cargo run --release --bin rtv -- scene jturn --friction 0.5 --out run.csv": 0.1,
-    "cargo run --release --bin rtv -- ride halfround --height 8": 8.4,
-    "cargo run --release --bin rtv -- ride rms --course resources/roads/detrended_rms_course_1in.crg": 52.4,
+    "cargo run --release --bin rtv -- scene jturn --tire my_tire.tir --out jturn.csv": 4.4,
+    "cargo run --release --bin rtv -- scene bump --road my_road.crg --contact envelope --step 0.001 --out run.csv": 1.7,
+    "cargo run --release --bin rtv -- scene sine --road iso8608:C:42 --out run.csv": 1.7,
+    "cargo run --release --bin rtv -- scene jturn --friction 0.5 --out run.csv": 1.2,
+    "cargo run --release --bin rtv -- ride halfround --height 8": 15.9,
+    "cargo run --release --bin rtv -- ride rms --course resources/roads/detrended_rms_course_1in.crg": 59.1,
     # Mostly the example's build: the tests' build of the library carries their test support, the example's
     # not, and the library is a cdylib (one file), so each build replaces the other's.
     "cargo run --release --example tire_curves -- out/tire_curves.csv": 119.0,
@@ -107,16 +108,10 @@ TIMES = {
     "--out resources/vehicles/generic_double_wishbone.json": 0.0,
 }
 
-# The commands the lead is making pass: each fails today with the message given, and is reported as an
-# expected failure (pytest's strict xfail: when it passes, the test fails until its line here is removed).
+# Documented commands known to fail, each with the message it fails with and what will make it pass: reported
+# as expected failures (pytest's strict xfail: once it passes, the test fails until its line here is removed).
+# Empty since the automatic internal step (the README's two bump commands failed with step-size instability).
 EXPECTED_TO_FAIL = {
-    "cargo run --release --bin rtv -- scene bump --bump-height 0.2 --initial-speed 16.67 --out big_bump.csv":
-        "until the scene takes an automatic internal step when --step is not given: today 'step-size instability: "
-        "a bump of 0.500 m passes under a wheel in 30.0 ms at 16.7 m/s: at h = 2.000e-3 s that is 15.0 steps, "
-        "fewer than the 20 that resolve it; use h ≤ 1.500e-3 s'",
-    "cargo run --release --bin rtv -- scene bump --integrator ab3 --step 0.002 --slip steady --out bump.csv":
-        "until README drops its --step 0.002: today 'step-size instability: the spin-tread mode of wheel fr … "
-        "Ab3 at h = 2.000e-3 s … (stable up to h = 4.217e-4 s)'",
 }
 
 # Placeholders of the docs and what fills them here; None with a reason: the command is not run.
@@ -285,7 +280,8 @@ def chain(words):
 
 
 def classify(words):
-    """(kind, the arguments after the program) of a documented form, or None."""
+    """(kind, the words rewrite() reads: the arguments after rtv, rtv-study or bash, else the whole line) of a
+    documented form, or None."""
     if not words:
         return None
     if words[0] == "rtv":
@@ -485,9 +481,9 @@ def params():
     running = set()
     for c in COMMANDS:
         # A command that reads what a command not run here wrote is checked, not run.
-        runs = not c.not_run and (SLOW or TIMES.get(c.text, 0.0) <= SLOW_S) and all(id(a) in running for a in c.after)
+        runs = not c.not_run and (SLOW or TIMES.get(c.text, 0.0) <= SLOW_S) and all(a.id in running for a in c.after)
         if runs:
-            running.add(id(c))
+            running.add(c.id)
         marks = []
         if runs and c.text in EXPECTED_TO_FAIL:
             marks.append(pytest.mark.xfail(strict=True, reason=EXPECTED_TO_FAIL[c.text]))
@@ -509,8 +505,8 @@ def test_documented_command(command, runs, scratch, rtv_built):
         p, _ = run(argv, environment(scratch, part), timeout)
         assert p.returncode == 0, \
             f"{command.id}: `{command.text}` exited {p.returncode} (ran `{shlex.join(argv)}`)\n{tail(p.stderr)}"
-        assert not changed(before, repository_files()), \
-            f"{command.id}: `{shlex.join(argv)}` changed the repository: {changed(before, repository_files())}"
+        touched = changed(before, repository_files())
+        assert not touched, f"{command.id}: `{shlex.join(argv)}` changed the repository: {touched}"
 
 
 def documented_subcommands():
