@@ -134,7 +134,9 @@ fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f6
 
 fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure> {
     let mut data = match opts.get("vehicle") {
-        Some(path) => VehicleData::from_file(std::path::Path::new(path)).map_err(|e| failed(format!("--vehicle: {e}")))?,
+        Some(path) => {
+            VehicleData::from_file(std::path::Path::new(path)).map_err(|e| failed(format!("--vehicle: {e}")))?
+        }
         None => VehicleData::default_hmmwv(),
     };
     if let Some(tir) = opts.get("tire") {
