@@ -1,7 +1,7 @@
 //! Steady-state tire curves of the STI model with the shipped data (the paper's Fig. 3), and the
 //! docs/physics.md §6.5 reference-table comparison.
 //!
-//! `cargo run --example tire_curves -- OUT.csv` writes one row per point:
+//! `cargo run --release --example tire_curves -- OUT.csv` writes one row per point:
 //! `sweep,fz_N,kappa,alpha_rad,fx_N,fy_N,mz_Nm`, where `sweep` is `kappa` (F_x against κ at α = 0) or
 //! `alpha` (F_y and M_z against α at κ = 0). Then `scripts/plot_tire_curves.py OUT.csv OUT.png` draws them.
 use rt_vehicle::model::params::VehicleData;
@@ -63,6 +63,13 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     };
     let p = VehicleData::default_hmmwv().tire;
+    // The documented command writes into out/, which a fresh checkout does not have.
+    if let Some(dir) = std::path::Path::new(&out).parent().filter(|d| !d.as_os_str().is_empty()) {
+        if let Err(e) = std::fs::create_dir_all(dir) {
+            eprintln!("cannot create {}: {e}", dir.display());
+            return ExitCode::FAILURE;
+        }
+    }
     if let Err(e) = std::fs::write(&out, curves_csv(&p)) {
         eprintln!("cannot write {out}: {e}");
         return ExitCode::FAILURE;

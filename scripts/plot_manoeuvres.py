@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The four manoeuvres of `rtv manoeuvre` in one PNG (docs/manoeuvres.png).
 
-    python3 scripts/plot_manoeuvres.py DIR    reads DIR/{step-steer,sine-with-dwell,steady-state,fishhook}.csv
+    python3 scripts/plot_manoeuvres.py DIR [PNG]    reads DIR/{step-steer,sine-with-dwell,steady-state,fishhook}.csv,
+                                                    writes PNG (default docs/manoeuvres.png)
 """
 import csv
 import math
@@ -18,6 +19,7 @@ def load(path):
 
 
 d = sys.argv[1]
+png = sys.argv[2] if len(sys.argv) > 2 else "docs/manoeuvres.png"
 deg = 180 / math.pi
 fig, ax = plt.subplots(3, 2, figsize=(12, 11))
 s = load(f"{d}/step-steer.csv")
@@ -67,5 +69,5 @@ a.set_ylabel("y [m]")
 a.legend()
 ax[2][1].axis("off")
 fig.tight_layout()
-fig.savefig("docs/manoeuvres.png", dpi=110)
-print("wrote docs/manoeuvres.png")
+fig.savefig(png, dpi=110)
+print(f"wrote {png}")

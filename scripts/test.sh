@@ -1,14 +1,24 @@
 #!/usr/bin/env bash
 # Runs every test: the install logic (libclang detection), Rust (unit, integration, doc), Python (fmpy on
-# the packaged FMU, the study runner on Dask, its glibc floor, a fuzz test of the C API) and a valgrind memcheck of the lifecycle.
+# the packaged FMU, the study runner on Dask, its glibc floor, a fuzz test of the C API, the documented
+# commands) and a valgrind memcheck of the lifecycle.
+# `--slow` also runs the documented commands that take over a minute (tests/docs; without it their arguments
+# are checked).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+slow=0
+for a in "$@"; do
+    case "$a" in
+        --slow) slow=1 ;;
+        *) echo "usage: bash scripts/test.sh [--slow]" >&2; exit 2 ;;
+    esac
+done
 bash scripts/setup.sh
 bash scripts/test_libclang.sh
 cargo test --workspace --release
 cargo run --release -p packaging
 cargo build --release -p rtv-study-native
-.venv/bin/python -m pytest -q tests/fmu tests/study
+RTV_DOCS_SLOW=$slow .venv/bin/python -m pytest -q tests/fmu tests/study tests/docs
 # setup.sh installs valgrind; a machine without it (not set up by this project) skips the memcheck, saying so.
 if command -v valgrind >/dev/null 2>&1; then
     bash tests/valgrind/run.sh

@@ -2,9 +2,13 @@
 
     rtv-study run STUDY.toml [--out DIR] [--scheduler tcp://HOST:PORT] [--workers N] [--no-progress] [--no-plots]
     rtv-study describe [CASE]      # the cases, their metrics, the statistics, the FMU parameters
+
+RTV_PARSE_ONLY=1 (as for rtv): `run` reads and checks the study file and its arguments, then stops before
+running anything (tests/docs checks the documented studies too long to run this way).
 """
 import argparse
 import json
+import os
 import sys
 
 from . import native, runner
@@ -34,6 +38,9 @@ def main(argv=None):
     d = sub.add_parser("describe", help="what a study may ask for")
     d.add_argument("case", nargs="?")
     args = parser.parse_args(argv)
+    parse_only = os.environ.get("RTV_PARSE_ONLY", "")
+    if parse_only not in ("", "0", "1"):
+        raise SystemExit(f"rtv-study: RTV_PARSE_ONLY={parse_only!r}: 1 checks the arguments only, 0 or unset runs")
     try:
         if args.command == "describe":
             description = native.describe()
@@ -43,6 +50,9 @@ def main(argv=None):
                 print(json.dumps({k: v for k, v in description.items() if k != "metrics"}, indent=1))
             return 0
         study = load(args.study)
+        if parse_only == "1":
+            print(f"rtv-study: {args.study}: valid, {len(study.all_runs())} runs; not run (RTV_PARSE_ONLY=1)")
+            return 0
         try:
             table = runner.run(study, out=args.out, scheduler=args.scheduler, workers=args.workers,
                                progress=not args.no_progress, plots=not args.no_plots)

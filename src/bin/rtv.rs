@@ -11,7 +11,9 @@
 //!   rtv tire --tir FILE.tir --fz N --sweep alpha|kappa|combined   steady-state Magic Formula curves
 //!   rtv linearize [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]   modes and gains about a steady state
 //!
-//! Bad arguments get a clear message and exit code 2; a failed run exits with 1.
+//! Bad arguments get a clear message and exit code 2; a failed run exits with 1. With `RTV_PARSE_ONLY=1` a
+//! command checks its arguments and stops before its work (exit 0): tests/docs checks this way the
+//! documented commands too long for the quick set.
 
 // `!(x > 0.0)` is deliberate: it rejects NaN too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -55,7 +57,10 @@ const USAGE: &str = "usage:
   rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]
   rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
-            [--figure ROOT_LOCUS.png] [--iso4138 on|off] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]";
+            [--figure ROOT_LOCUS.png] [--iso4138 on|off] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]
+environment:
+  RTV_PARSE_ONLY=1   parse and check the arguments (the files they name read, values against their ranges),
+                     then exit 0 without running the command";
 
 struct Failure {
     message: String,
@@ -99,6 +104,23 @@ fn options(args: &[String], known: &[&str]) -> Result<BTreeMap<String, String>, 
     Ok(out)
 }
 
+/// `RTV_PARSE_ONLY=1`: stop here, every argument checked (the usage says so); tells stderr that it did.
+fn parse_only(command: &str) -> bool {
+    let stop = std::env::var_os("RTV_PARSE_ONLY").is_some_and(|v| v == "1");
+    if stop {
+        eprintln!("rtv {command}: arguments checked; not run (RTV_PARSE_ONLY=1)");
+    }
+    stop
+}
+
+/// A road option's file or `iso8608:` road, read before the run so that a bad one is refused naming the
+/// option (files are shared per process: the run does not read it again).
+fn check_road(option: &str, spec: &str) -> Result<(), Failure> {
+    rt_vehicle::model::road::RoadModel::from_file(spec, [0.0, 0.0])
+        .map(|_| ())
+        .map_err(|e| failed(format!("{option}: {e}")))
+}
+
 fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f64, Failure> {
     match opts.get(key) {
         None => Ok(default),
@@ -112,7 +134,9 @@ fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f6
 
 fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure> {
     let mut data = match opts.get("vehicle") {
-        Some(path) => VehicleData::from_file(std::path::Path::new(path))?,
+        Some(path) => {
+            VehicleData::from_file(std::path::Path::new(path)).map_err(|e| failed(format!("--vehicle: {e}")))?
+        }
         None => VehicleData::default_hmmwv(),
     };
     if let Some(tir) = opts.get("tire") {
@@ -197,7 +221,7 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
         c.road_file = Some(road.clone());
     }
     c.options.road_friction = number(opts, "friction", c.options.road_friction)?;
-    c.validate().map_err(|e| bad(e.to_string()))?;
+    c.validate().map_err(|e| bad(refused_option(&c, opts).map_or(e.to_string(), |o| format!("{o}: {e}"))))?;
     // The step asked for is the step taken: it must divide the output interval.
     let ratio = interval / c.step_bound(interval);
     if !c.automatic_step() && ((ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0) {
@@ -210,6 +234,32 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
     // One output interval is one `advance`: refused up front if it would take more than its work limit.
     c.plan(interval).map_err(|e| bad(format!("--output-interval: {e}")))?;
     Ok((c, interval))
+}
+
+/// The option behind a `SimConfig::validate` refusal: the one given whose field, put back to its default,
+/// changes the refusal (validate refuses the first field out of its range, and every default is in range).
+fn refused_option(c: &SimConfig, opts: &BTreeMap<String, String>) -> Option<&'static str> {
+    type Reset = fn(&mut SimConfig, &SimConfig);
+    let fields: [(&'static str, Reset); 9] = [
+        ("--step", |c, d| c.internal_step = d.internal_step),
+        // Without --step, the error-controlled integrator's largest step is the output interval.
+        ("--output-interval", |c, d| c.internal_step = d.internal_step),
+        ("--initial-speed", |c, d| c.initial_speed = d.initial_speed),
+        ("--friction", |c, d| c.options.road_friction = d.options.road_friction),
+        ("--grade", |c, d| c.options.slope[0] = d.options.slope[0]),
+        ("--cross-slope", |c, d| c.options.slope[1] = d.options.slope[1]),
+        ("--tolerance", |c, d| c.tolerance = d.tolerance),
+        ("--bump-height", |c, d| c.bump[0] = d.bump[0]),
+        ("--bump-length", |c, d| c.bump[1] = d.bump[1]),
+    ];
+    let refusal = c.validate().err()?.to_string();
+    let defaults = SimConfig::default();
+    let changes = |reset: &Reset| {
+        let mut t = c.clone();
+        reset(&mut t, &defaults);
+        t.validate().err().map(|e| e.to_string()).as_ref() != Some(&refusal)
+    };
+    fields.iter().find(|(option, reset)| opts.contains_key(&option[2..]) && changes(reset)).map(|(option, _)| *option)
 }
 
 /// A scene run: at most an hour of driving (about 1 min of CPU at the default step) and 1e7 CSV rows.
@@ -291,6 +341,12 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         )));
     }
     scene.check_rack(data.steering_limit()).map_err(|e| bad(format!("--amplitude: {e}")))?;
+    if let Some(road) = opts.get("road") {
+        check_road("--road", road)?;
+    }
+    if parse_only("scene") {
+        return Ok(());
+    }
     let data_input = data.steering_input();
     let started = Instant::now();
     let mut sim = scene.start_keeping(data, &config, keep_all)?;
@@ -377,6 +433,9 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
         _ => return Err(bad(format!("--axle: '{axle_name}' is not front or rear"))),
     };
     let (from, inc, n) = sweep(&opts, -0.15, 0.10, 0.005)?;
+    if parse_only("kinematics") {
+        return Ok(());
+    }
     let drive = rt_vehicle::model::steering::tie_rod_drive(&data)?;
     let left = Corner::from_data(&data, axle, Side::Left, drive)?;
     let right = Corner::from_data(&data, axle, Side::Right, drive)?;
@@ -442,6 +501,9 @@ fn cmd_kc(args: &[String]) -> Result<(), Failure> {
         None => "hmmwv".into(),
     };
     let out = std::path::PathBuf::from(opts.get("out").cloned().unwrap_or_else(|| format!("docs/kc/{stem}.md")));
+    if parse_only("kc") {
+        return Ok(());
+    }
     let dir = out.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| failed(format!("cannot create {}: {e}", dir.display())))?;
     let files = kc::ReportFiles { stem: out.file_stem().map_or(stem, |s| s.to_string_lossy().into_owned()) };
@@ -489,8 +551,23 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["from", "to", "increment", "vehicle", "out"])?;
     let data = vehicle_data(&opts)?;
     let (from, inc, n) = sweep(&opts, -0.06, 0.06, 0.002)?;
-    let v = rt_vehicle::model::vehicle::Vehicle::new(&data)?;
     let input = data.steering_input();
+    // The sweep runs from --from to its last point, so its ends bound every point.
+    for (option, u) in [("--from", from), ("--to", from + n as f64 * inc)] {
+        if u.abs() > data.steering_limit() + 1e-12 {
+            return Err(bad(format!(
+                "{option}: {} {u:+.4} {} is beyond the steering limit ±{} {}",
+                input.name(),
+                input.unit(),
+                data.steering_limit(),
+                input.unit()
+            )));
+        }
+    }
+    if parse_only("steering") {
+        return Ok(());
+    }
+    let v = rt_vehicle::model::vehicle::Vehicle::new(&data)?;
     let column = match input {
         SteeringInput::RackDisplacement => "rack_displacement_m",
         SteeringInput::PitmanArmAngle => "pitman_arm_angle_rad",
@@ -498,15 +575,6 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
     let mut text = format!("{column},steer_l_deg,steer_r_deg\n");
     for k in 0..=n {
         let u = from + k as f64 * inc;
-        if u.abs() > data.steering_limit() + 1e-12 {
-            return Err(failed(format!(
-                "{} {u:+.4} {} is beyond the steering limit ±{} {}",
-                input.name(),
-                input.unit(),
-                data.steering_limit(),
-                input.unit()
-            )));
-        }
         let mut angles = [0.0; 2];
         for (i, a) in angles.iter_mut().enumerate() {
             let c = &v.corners[i];
@@ -522,6 +590,9 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
 fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["vehicle", "tire", "out"])?;
     let data = vehicle_data(&opts)?;
+    if parse_only("calibrate") {
+        return Ok(());
+    }
     let accuracy = calibration::Accuracy::Reference;
     let c = calibration::calibrate(&data, accuracy)?;
     let unit = data.steering_input().unit();
@@ -576,8 +647,14 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
         None => None,
     };
     let data = vehicle_data(&opts)?;
+    if let Some(road) = opts.get("road") {
+        check_road("--road", road)?;
+    }
     let ground =
         rt_vehicle::studies::manoeuvres::Ground::new(opts.get("road").cloned(), number(&opts, "friction", 1.0)?);
+    if parse_only("manoeuvre") {
+        return Ok(());
+    }
     let report = run_on(m, &data, speed, &ground).map_err(|e| failed(format!("{}: {e}", m.name())))?;
     let mut out = csv_writer(opts.get("out"))?;
     let input = data.steering_input();
@@ -625,6 +702,9 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     let filter = opts.get("case").cloned().unwrap_or_default();
     let data = vehicle_data(&opts)?;
     let (amplitude, _) = calibration::amplitude_for(&data)?;
+    if parse_only("stability") {
+        return Ok(());
+    }
     let started = Instant::now();
     let mut reports = Vec::new();
     for case in stability::cases_for(&data, amplitude).iter().filter(|c| c.name.contains(filter.as_str())) {
@@ -670,6 +750,9 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
         }
         cases.retain(|c| wanted.contains(&c.name.as_str()));
     }
+    if parse_only("work-precision") {
+        return Ok(());
+    }
     let started = Instant::now();
     let mut results = Vec::new();
     for case in cases {
@@ -702,6 +785,9 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     for w in &import.warnings {
         eprintln!("import-chrono: warning: {w}");
     }
+    if parse_only("import-chrono") {
+        return Ok(());
+    }
     import_chrono::write_atomically(std::path::Path::new(out), &import.to_json())
         .map_err(|e| failed(format!("import-chrono: cannot write {out}: {e}")))?;
     eprintln!("import-chrono: wrote {out} ({})", import.data.name);
@@ -723,6 +809,9 @@ fn cmd_check_vehicle(args: &[String]) -> Result<(), Failure> {
         }
         failed("")
     })?;
+    if parse_only("check-vehicle") {
+        return Ok(());
+    }
     let s = rt_vehicle::model::summary::summarize(&data).map_err(|e| failed(format!("{file}: {e}")))?;
     let weight: f64 = s.axle_load_n.iter().sum();
     let input = data.steering_input();
@@ -813,7 +902,7 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
     // Loads in ISO axes at (κ, α, γ): [F_x, F_y, M_x, M_y, M_z].
     let evaluate: Box<dyn Fn(f64, f64) -> [f64; 5]> = match opts.get("tir") {
         Some(tir) => {
-            let mf = MagicFormula::read(std::path::Path::new(tir)).map_err(failed)?;
+            let mf = MagicFormula::read(std::path::Path::new(tir)).map_err(|e| failed(format!("--tir: {e}")))?;
             for w in &mf.warnings {
                 eprintln!("warning: {w}");
             }
@@ -835,6 +924,9 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
             })
         }
     };
+    if parse_only("tire") {
+        return Ok(());
+    }
     let mut csv = String::from("alpha_deg,kappa,camber_deg,fz_n,fx_n,fy_n,mx_nm,my_nm,mz_nm\n");
     for (alpha_deg, kappa) in points {
         let [fx, fy, mx, my, mz] = evaluate(kappa, alpha_deg.to_radians());
@@ -859,11 +951,14 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
     if !(step >= 1e-4) {
         return Err(bad("road: --step must be at least 1e-4 m"));
     }
-    let surface = rt_vehicle::model::road_crg::surface_for(spec).map_err(failed)?;
+    let surface = rt_vehicle::model::road_crg::surface_for(spec).map_err(|e| failed(format!("--road: {e}")))?;
     let ([u0, u1], [v0, v1]) = surface.extent();
     let count = ((u1 - u0) / step).floor() as usize + 1;
     if count > 20_000_000 {
         return Err(bad(format!("road: {count} points at --step {step}: use a larger step")));
+    }
+    if parse_only("road") {
+        return Ok(());
     }
     eprintln!("road {}: u {u0}..{u1} m, v {v0}..{v1} m", surface.name);
     let mut csv = String::from("u_m,z_right_m,z_centre_m,z_left_m\n");
@@ -894,24 +989,32 @@ fn cmd_ride(args: &[String]) -> Result<(), Failure> {
         }
     };
     let data = vehicle_data(&opts)?;
-    let sweep = match test {
-        "halfround" => {
-            let road = match (opts.get("road"), opts.get("height")) {
-                (Some(r), _) => r.clone(),
-                (None, Some(h)) => format!("resources/roads/halfround_{h}in.crg"),
-                (None, None) => return Err(bad("ride halfround: --height IN or --road FILE.crg")),
-            };
-            ride::halfround(&data, &road, &list("speeds", &[5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 40.0, 50.0])?)
+    // The road read first: a sweep over a road that cannot be read would refuse every speed and exit 0.
+    let (road, option) = match (test, opts.get("road"), opts.get("height"), opts.get("course")) {
+        ("halfround", Some(r), _, _) => (r.clone(), "--road".to_string()),
+        ("halfround", None, Some(h), _) => (format!("resources/roads/halfround_{h}in.crg"), format!("--height {h}")),
+        ("halfround", None, None, _) => return Err(bad("ride halfround: --height IN or --road FILE.crg")),
+        ("rms", _, _, Some(c)) => (c.clone(), "--course".to_string()),
+        ("rms", _, _, None) => return Err(bad("ride rms: --course FILE.crg")),
+        (other, ..) => return Err(bad(format!("ride: '{other}' is not halfround or rms"))),
+    };
+    check_road(&option, &road)?;
+    let sweep = if test == "halfround" {
+        let speeds = list("speeds", &[5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 40.0, 50.0])?;
+        if parse_only("ride") {
+            return Ok(());
         }
-        "rms" => {
-            let course = opts.get("course").ok_or_else(|| bad("ride rms: --course FILE.crg"))?;
-            let rough = list("rough", &[100.0, 404.8])?;
-            if rough.len() != 2 || !(rough[1] > rough[0]) {
-                return Err(bad("--rough: FROM,TO in the road's u, m"));
-            }
-            ride::rms(&data, course, [rough[0], rough[1]], &list("speeds", &[5.0, 10.0, 15.0, 20.0, 30.0, 40.0])?)
+        ride::halfround(&data, &road, &speeds)
+    } else {
+        let rough = list("rough", &[100.0, 404.8])?;
+        if rough.len() != 2 || !(rough[1] > rough[0]) {
+            return Err(bad("--rough: FROM,TO in the road's u, m"));
         }
-        other => return Err(bad(format!("ride: '{other}' is not halfround or rms"))),
+        let speeds = list("speeds", &[5.0, 10.0, 15.0, 20.0, 30.0, 40.0])?;
+        if parse_only("ride") {
+            return Ok(());
+        }
+        ride::rms(&data, &road, [rough[0], rough[1]], &speeds)
     };
     print!("{}", ride::markdown(&sweep));
     Ok(())
@@ -950,6 +1053,9 @@ fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
         if let Some(v) = speeds.iter().find(|v| !speed_in_range(**v)) {
             return Err(out_of_range(*v));
         }
+        if parse_only("linearize") {
+            return Ok(());
+        }
         let mut text = String::from(
             "speed_m_s,ay_m_s2,mode,share,real_1_s,imag_1_s,undamped_hz,damped_hz,damping_ratio,understeer_deg_per_g\n",
         );
@@ -977,6 +1083,9 @@ fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
     if opts.contains_key("csv") {
         return Err(bad("--csv is written by --sweep-speeds"));
     }
+    if parse_only("linearize") {
+        return Ok(());
+    }
     let model = linear::linearize(&data, speed, ay).map_err(|e| failed(format!("linearize: {e}")))?;
     let command =
         std::iter::once("rtv linearize".to_string()).chain(args.iter().cloned()).collect::<Vec<_>>().join(" ");
@@ -995,6 +1104,11 @@ fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    let parse_only_value = std::env::var("RTV_PARSE_ONLY").unwrap_or_default();
+    if !["", "0", "1"].contains(&parse_only_value.as_str()) {
+        eprintln!("rtv: RTV_PARSE_ONLY={parse_only_value:?}: 1 checks the arguments only, 0 or unset runs");
+        return ExitCode::from(2);
+    }
     let result = match args.first().map(String::as_str) {
         Some("scene") => cmd_scene(&args[1..]),
         Some("kinematics") => cmd_kinematics(&args[1..]),
