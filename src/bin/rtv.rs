@@ -619,8 +619,9 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
         let t = Instant::now();
         let report = stability::evaluate(case, threads as usize);
         let wrong = report.wrong();
+        let judged = if report.judged() { "judged" } else { "not judged (no known reference)" };
         eprintln!(
-            "{}: {:.1} s, reference change {:.1e}, {wrong} wrong",
+            "{}: {:.1} s, reference change {:.1e}, {judged}, {wrong} wrong",
             case.name,
             t.elapsed().as_secs_f64(),
             report.reference_change
