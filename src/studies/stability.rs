@@ -581,7 +581,7 @@ impl Reference {
                 ))
             }
             _ if change > REFERENCE_WITHIN => Reference::NotConverged(format!(
-                "halving its step changes it by {change:.0e}, more than {REFERENCE_WITHIN:.0e}"
+                "halving its step changes it by {change:.1e}, more than {REFERENCE_WITHIN:.0e}"
             )),
             _ => Reference::Known { event: event(reference) },
         }
@@ -807,17 +807,17 @@ fn step_label(h: f64) -> String {
 fn cell(run: &Classified, reference: &Reference) -> String {
     let outcome = &run.outcome;
     match run.verdict {
-        Verdict::Ok => format!("OK {:.0e} ({:.1}k ev.)", outcome.error(), run.evaluations as f64 / 1e3),
+        Verdict::Ok => format!("OK {:.1e} ({:.1}k ev.)", outcome.error(), run.evaluations as f64 / 1e3),
         Verdict::Error => outcome.ending(),
         Verdict::Wrong(Wrong::Off) => match outcome {
-            Outcome::Finished { error } => format!("**WRONG** {error:.0e}"),
-            Outcome::Failed { failure, error } => format!("**WRONG** {error:.0e} before: {}", cause_name(failure)),
+            Outcome::Finished { error } => format!("**WRONG** {error:.1e}"),
+            Outcome::Failed { failure, error } => format!("**WRONG** {error:.1e} before: {}", cause_name(failure)),
         },
         Verdict::Wrong(Wrong::MissedEvent) => "**WRONG**: finished; the reference ends in a physical event".into(),
         Verdict::Wrong(Wrong::FalseEvent) => "**WRONG**: a physical event the reference does not have".into(),
         Verdict::NotJudged => match reference {
             Reference::NotConverged(_) => match outcome {
-                Outcome::Finished { error } => format!("reference not converged: finished ({error:.0e} from it)"),
+                Outcome::Finished { error } => format!("reference not converged: finished ({error:.1e} from it)"),
                 Outcome::Failed { .. } => format!("reference not converged: {}", outcome.ending()),
             },
             _ => format!("no reference: {}", outcome.ending()),
@@ -839,12 +839,12 @@ fn as_stated(h: f64) -> f64 {
 /// The causes an error may name (`Simulation` messages start their explanation with one).
 pub const CAUSES: [&str; 4] = crate::error::Cause::NAMES;
 
-/// docs/stability.md from the case reports.
-pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
+/// docs/stability.md from the case reports; `timing` says how long the command took, and where.
+pub fn markdown(reports: &[CaseReport], command: &str, timing: &str) -> String {
     let mut md = String::new();
     md += "# Stability suite\n\n";
     md += &format!(
-        "Regenerate with `{command}` ({seconds:.0} s here). Every case runs with each integrator at steps of \
+        "Regenerate with `{command}` ({timing}). Every case runs with each integrator at steps of \
          1/120 s (the paper's 8.3 ms) halved three times; outputs are compared every 1/120 s with the reference. \
          {} An OK cell gives the run's error and its cost in derivative evaluations (the step check's included); \
          DOPRI5 runs at its default tolerance 1e-3 with the ladder's step as its largest step. Code: \
@@ -862,6 +862,13 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
         reports.len(),
         reports.iter().map(|r| r.runs.len()).sum::<usize>()
     );
+    md += "## Cases and channels\n\nEach case's channels, compared as the rule says (the floor of each channel's \
+           excursion in brackets, in its unit).\n\n| case | group | channels |\n|---|---|---|\n";
+    for r in reports {
+        let channels: Vec<String> = r.case.channels.iter().map(|c| format!("{} ({})", c.name, c.floor)).collect();
+        md += &format!("| {} | {} | {} |\n", r.case.name, r.case.group, channels.join(", "));
+    }
+    md += "\n";
     let mut header = String::from("| case | reference: its step, and its change when the step is halved |");
     let mut rule = String::from("|---|---|");
     for integrator in INTEGRATORS {
@@ -875,8 +882,8 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
         for r in reports.iter().filter(|r| r.case.group == group) {
             let at = format!("{:.3} ms", r.reference_step * 1e3);
             let reference = match &r.reference {
-                Reference::Known { event: None } => format!("{at}: {:.0e}", r.reference_change),
-                Reference::Known { event: Some(m) } => format!("{at}: {:.0e}; ends: {m}", r.reference_change),
+                Reference::Known { event: None } => format!("{at}: {:.1e}", r.reference_change),
+                Reference::Known { event: Some(m) } => format!("{at}: {:.1e}; ends: {m}", r.reference_change),
                 Reference::NotConverged(why) => format!("{at}: not converged: {why}"),
                 Reference::Missing(why) => format!("{at}: none: {why}"),
             };
@@ -954,7 +961,7 @@ pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
                     lines.push(format!("- {:?} {}, refusals off: {failure}", run.integrator, step_label(run.step)))
                 }
                 Some(Outcome::Finished { error }) => lines.push(format!(
-                    "- {:?} {}, refusals off: finished ({error:.0e} from the reference)",
+                    "- {:?} {}, refusals off: finished ({error:.1e} from the reference)",
                     run.integrator,
                     step_label(run.step)
                 )),
