@@ -17,8 +17,7 @@ use common::braked_trace;
 /// k_z × 10 bump course is 1.2e-2 off in yaw rate, below the wheel-hop bound (|hλ| = 0.22 ≤ 0.25) that lets the
 /// paper's bump course run at the default 2 ms (|hλ| up to 0.19): `sim::hop_resolution`. A run that joins or
 /// leaves this list fails the test.
-const KNOWN_WRONG: &[(&str, IntegratorKind, f64)] =
-    &[("paper's bump, tire k_z x10", IntegratorKind::Rk4, STEPS[3])];
+const KNOWN_WRONG: &[(&str, IntegratorKind, f64)] = &[("paper's bump, tire k_z x10", IntegratorKind::Rk4, STEPS[3])];
 
 #[test]
 fn every_run_of_the_suite_is_ok_or_a_clean_error() {
@@ -42,8 +41,7 @@ fn every_run_of_the_suite_is_ok_or_a_clean_error() {
         // (The road cases' obstacles need |hλ| ≤ 0.25 of the wheel hop, which 2.08 ms does not give.)
         if case.group != "stiff" && case.group != "road" && case.name != "20 cm bump at 60 km/h" {
             let rk4 = report.runs.iter().find(|r| r.integrator == IntegratorKind::Rk4 && r.step == STEPS[2]).unwrap();
-            let fine = rk4.verdict == Verdict::Ok
-                || (rk4.verdict == Verdict::Error && rk4.outcome.physical_event());
+            let fine = rk4.verdict == Verdict::Ok || (rk4.verdict == Verdict::Error && rk4.outcome.physical_event());
             assert!(fine, "{}: RK4 at 2.08 ms: {:?}", case.name, rk4.outcome);
         }
     }
@@ -78,9 +76,12 @@ fn a_blow_up_is_not_a_physical_event() {
 fn the_point_contact_bump_is_a_case() {
     let all = cases();
     let on_the_course = |contact: ContactModel| {
-        all.iter()
-            .find(|c| c.config.road == RoadChoice::PaperBumps && c.config.bump == SimConfig::default().bump
-                && c.config.options.contact == contact && c.group == "road")
+        all.iter().find(|c| {
+            c.config.road == RoadChoice::PaperBumps
+                && c.config.bump == SimConfig::default().bump
+                && c.config.options.contact == contact
+                && c.group == "road"
+        })
     };
     let point = on_the_course(ContactModel::Point).expect("the paper's bump course with the point contact");
     assert!(on_the_course(ContactModel::Envelope).is_some(), "and with the enveloping contact");
@@ -100,8 +101,11 @@ fn imex_ab3_on_the_enveloping_bump_at_2_ms_is_within_tolerance_or_refused() {
     let all = cases();
     let case = all
         .iter()
-        .find(|c| c.config.road == RoadChoice::PaperBumps && c.config.options.contact == ContactModel::Envelope
-            && c.group == "road")
+        .find(|c| {
+            c.config.road == RoadChoice::PaperBumps
+                && c.config.options.contact == ContactModel::Envelope
+                && c.group == "road"
+        })
         .expect("the enveloping-contact bump course");
     let sample = 0.01;
     let rk4 = |h: f64| run_case_sampled(case, IntegratorKind::Rk4, h, sample, true);
@@ -110,7 +114,10 @@ fn imex_ab3_on_the_enveloping_bump_at_2_ms_is_within_tolerance_or_refused() {
     assert_eq!(Reference::from_runs(&reference, &check, change), Reference::Known { event: None }, "{change:e}");
     let run = run_case_sampled(case, IntegratorKind::ImexAb3, 0.002, sample, true);
     let error = relative_error(case, &run.samples, &reference.samples);
-    println!("IMEX-AB3 at 2 ms: {error:.2e} over the samples before {:?}", run.result.as_ref().err().map(|e| e.to_string()));
+    println!(
+        "IMEX-AB3 at 2 ms: {error:.2e} over the samples before {:?}",
+        run.result.as_ref().err().map(|e| e.to_string())
+    );
     assert!(error <= TOLERANCE, "{error:e} off");
     if let Err(e) = &run.result {
         assert_eq!(e.cause(), Cause::StepSizeInstability, "{e}");

@@ -637,9 +637,10 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     command.push_str(&format!(" --out {}", opts.get("out").map_or("docs/stability.md", String::as_str)));
     // Time figures name their machine: the CPU's model name and core count (Linux's /proc/cpuinfo).
     let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-    let model = cpuinfo.lines().find_map(|l| l.strip_prefix("model name")).map_or("an unnamed CPU", |m| {
-        m.trim_start_matches([' ', '\t', ':'])
-    });
+    let model = cpuinfo
+        .lines()
+        .find_map(|l| l.strip_prefix("model name"))
+        .map_or("an unnamed CPU", |m| m.trim_start_matches([' ', '\t', ':']));
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
     let timing = format!(
         "{:.0} s of wall time with {threads} threads on this machine: {model}, {cores} cores, shared",

@@ -1483,9 +1483,11 @@ impl Simulation {
             ))
         };
         if matches!(self.road, RoadModel::Bumps(_)) && self.config.options.contact == ContactModel::Point {
-            return refuse("the paper's bumps under the single-point contact have C⁰ edges, where the tire's damping \
+            return refuse(
+                "the paper's bumps under the single-point contact have C⁰ edges, where the tire's damping \
                            force jumps,"
-                .to_string());
+                    .to_string(),
+            );
         }
         match self.cache.tire_loads.iter().position(|&load| load <= 0.0) {
             Some(i) => refuse(format!(

@@ -2,20 +2,12 @@
 //! with each integrator at a ladder of steps, and each run classified against a converged run of the same
 //! case.
 //!
-//! The verdicts follow one rule, written once in `RULE` from the constants below (docs/stability*.md print
-//! it, tests/stability.rs asserts it):
-//! - a case is judged only when its reference (RK4 at `REFERENCE_STEP`, halved up to `REFERENCE_HALVINGS`
-//!   times where it is not converged or refused) is known: it ran to the end, or to
-//!   the physical event (a rollover) that its half-step check also ends in at the same sample, and halving
-//!   its step changed it by at most `REFERENCE_WITHIN` (a tenth of `TOLERANCE`). Otherwise every cell of the
-//!   case reads "no reference" or "reference not converged" with the run's outcome, and none is OK: a run is
-//!   never judged closer than its reference is known, and the tolerance is never widened to fit one;
-//! - in a judged case, a run is **OK** when it finishes within `TOLERANCE` of the reference (max over time of
-//!   |y − y_ref|, over the channel's excursion, for each of the case's channels); an **error** when it stops
-//!   with a named cause (`Cause`) having been within `TOLERANCE` on every sample it produced; **WRONG**
-//!   otherwise: off by more than `TOLERANCE` on any sample it produced (finished or not), finished where the
-//!   reference ended in a physical event, or ended in a physical event the reference does not have. No run
-//!   may be WRONG.
+//! The verdicts follow one rule, stated once: `rule()`, in words written from the constants `TOLERANCE`,
+//! `REFERENCE_WITHIN` and `REFERENCE_STEP` (docs/stability*.md print it), and in code by
+//! `Reference::from_runs` (when a case is judged) and `judge` (each run's verdict), which tests/stability.rs
+//! and the unit tests below assert. The choice: a run is never judged closer than its reference is known, so
+//! a case whose reference is not known to a tenth of the tolerance is not judged at all (its cells say why)
+//! rather than judged at a wider tolerance.
 //!
 //! "Stable" in the report is measured apart from the step check: each run the check refused is run again
 //! with its refusals off (`Simulation::set_step_refusals(false)`), and a step is stable when that run does
@@ -56,8 +48,8 @@ pub fn rule() -> String {
     format!(
         "A case is judged only when its reference, RK4 at {:.3} ms (its step halved up to {REFERENCE_HALVINGS} times \
          where it is not converged or the step check refuses it), is known: it ran to the end (or to the physical \
-         event, a rollover, that its check at half the step ends in at the same sample), and halving its step changed \
-         it by at most {REFERENCE_WITHIN:.0e} (a tenth of the tolerance; even at first order the reference is then \
+         event, a rollover or a wheel spun up in the air, that its check at half the step ends in at the same \
+         sample), and halving its step changed it by at most {REFERENCE_WITHIN:.0e} (a tenth of the tolerance; even at first order the reference is then \
          within a fifth of the tolerance of the converged solution). Otherwise every cell of the case reads \
          \"no reference\" or \"reference not converged\" with the run's outcome, and none is OK: a run is not judged \
          closer than its reference is known, and the tolerance is never widened to fit one. In a judged case a run \
@@ -571,7 +563,9 @@ impl Reference {
             (_, Err(e)) if event(check).is_none() => {
                 Reference::Missing(format!("its check at half the step fails: {e}"))
             }
-            _ if event(reference).is_some() != event(check).is_some() || reference.samples.len() != check.samples.len() => {
+            _ if event(reference).is_some() != event(check).is_some()
+                || reference.samples.len() != check.samples.len() =>
+            {
                 Reference::NotConverged(format!(
                     "it ends at {}{}, its check at half the step at {}{}",
                     ends_at(reference),
@@ -897,10 +891,10 @@ pub fn markdown(reports: &[CaseReport], command: &str, timing: &str) -> String {
     }
     md += "## Largest stable and largest OK step\n\n";
     md += &format!("Of the ladder's steps. Stable: the run, with the step check's refusals off \
-           (`Simulation::set_step_refusals(false)`), did not diverge: it ran to the end, or to the physical event its \
-           reference ends in, within {DIVERGED_BEYOND} × each channel's excursion of the reference (beyond that, a \
-           state bound, a non-finite number, a failed solve or a physical event the reference does not have is a \
-           divergence). Stable is not OK: a stable run may be far off. IMEX-AB3's accuracy monitor is part of the scheme and still refuses with \
+           (`Simulation::set_step_refusals(false)`), did not diverge: it ran to the end (or to the physical event its \
+           reference ends in) within {DIVERGED_BEYOND} × each channel's excursion of the reference. A run off by more, \
+           or ended by a state bound, a non-finite number, a failed solve or a physical event the reference does not \
+           have, diverged. Stable is not OK: a stable run may be far off. IMEX-AB3's accuracy monitor is part of the scheme and still refuses with \
            the check's refusals off: a step it stopped is neither stable nor diverged, and is named beside the \
            largest stable step (\"monitor stops\"). OK: the largest OK step (\"not judged\" where the case has no \
            known reference). Check: the step check's own limit, the largest step it allowed when it refused one \
@@ -1063,7 +1057,8 @@ mod tests {
     #[test]
     fn the_rule_is_written_from_the_constants() {
         let rule = rule();
-        for figure in [format!("{REFERENCE_WITHIN:.0e}"), format!("{TOLERANCE:.0e}"), format!("{:.3} ms", REFERENCE_STEP * 1e3)]
+        for figure in
+            [format!("{REFERENCE_WITHIN:.0e}"), format!("{TOLERANCE:.0e}"), format!("{:.3} ms", REFERENCE_STEP * 1e3)]
         {
             assert!(rule.contains(&figure), "{figure} not in the rule");
         }
