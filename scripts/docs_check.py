@@ -87,7 +87,7 @@ def masked(lines):
             out.append((line, []))
             continue
         header = None
-        if "machine-dependent" in line:
+        if "machine-dependent" in line.lower():
             out.append(("…", []))
         elif MACHINE_WORDS.search(line):
             out.append((NUMBER.sub("#", line), []))

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test: the install logic (libclang detection), Rust (unit, integration, doc), Python (fmpy on
-# the packaged FMU, the study runner on Dask, its glibc floor, a fuzz test of the C API) and a valgrind memcheck of the lifecycle.
+# the packaged FMU, the study runner on Dask, its glibc floor, a fuzz test of the C API, the docs' figure
+# check), the docs' figures regenerated and compared (scripts/docs.sh --check) and a valgrind memcheck of the
+# lifecycle.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -8,7 +10,10 @@ bash scripts/test_libclang.sh
 cargo test --workspace --release
 cargo run --release -p packaging
 cargo build --release -p rtv-study-native
-.venv/bin/python -m pytest -q tests/fmu tests/study
+.venv/bin/python -m pytest -q tests/fmu tests/study tests/docs
+# Every figure of README.md and docs/ that does not depend on the machine, regenerated into a scratch folder and
+# compared with the committed docs (issue 31; docs/results.md, "How the figures are checked").
+bash scripts/docs.sh --check
 # setup.sh installs valgrind; a machine without it (not set up by this project) skips the memcheck, saying so.
 if command -v valgrind >/dev/null 2>&1; then
     bash tests/valgrind/run.sh

@@ -575,12 +575,13 @@ fn as_stated(h: f64) -> f64 {
 /// The causes an error may name (`Simulation` messages start their explanation with one).
 pub const CAUSES: [&str; 4] = crate::error::Cause::NAMES;
 
-/// docs/stability.md from the case reports.
+/// docs/stability.md from the case reports; `seconds` is the suite's wall time (its cases run on threads).
 pub fn markdown(reports: &[CaseReport], command: &str, seconds: f64) -> String {
     let mut md = String::new();
     md += "# Stability suite\n\n";
+    md += &format!("The run took {seconds:.0} s of wall time (machine-dependent: {}).\n\n", super::machine());
     md += &format!(
-        "Regenerate with `{command}` ({seconds:.0} s here). Every case runs with each integrator at steps of \
+        "Regenerate with `{command}`. Every case runs with each integrator at steps of \
          1/120 s (the paper's 8.3 ms) halved three times; outputs are compared every 1/120 s with the reference, RK4 \
          at {:.3} ms, whose change when its step is halved is given (it must stay below a tenth of the tolerance). A \
          run is **OK** when each channel stays within {:.0} % of its excursion in the reference (max over time of \
