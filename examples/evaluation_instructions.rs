@@ -7,8 +7,10 @@
 //! valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured*' --callgrind-out-file=/tmp/cg.eval \
 //!     target/release/examples/evaluation_instructions 2000 [VEHICLE.json [TIRE.tir]] 2>&1 | grep "Collected"
 //! ```
-//! Counting the loop alone, not the difference of two whole runs: the set-up's count varies between runs by
-//! up to 0.3 M instructions, which over 2 000 evaluations moved the result by 150.
+//! Counting the loop alone, not the difference of two whole runs, whose set-up's count moved by up to 0.3 M
+//! instructions between shells (150 per evaluation over 2 000). The loop's count itself depends on the stack's
+//! alignment (the environment and the program's path sit on the stack), by up to 0.3 %: `scripts/instructions.sh`
+//! runs it from a fixed-length path in an empty environment, so that its count repeats.
 //! (a vehicle file as second argument: its J-turn at its calibrated amplitude; default the HMMWV, also named
 //! by `-`; a `.tir` file as third argument: the vehicle on that Magic Formula tire)
 use rt_vehicle::model::params::VehicleData;

@@ -1,7 +1,8 @@
 //! Instructions per IMEX-AB3 step against one synthesis evaluation (issue 19: a step may cost at most 1.5×
 //! an evaluation), free of machine noise: callgrind counts only `measured` (the N steps), and the count
 //! divided by N is one step; `examples/evaluation_instructions.rs` gives the evaluation's own count the same
-//! way. `bash scripts/instructions.sh` runs both (docs/results.md, "Instructions"); by hand:
+//! way. `bash scripts/instructions.sh` runs both (docs/results.md, "Instructions"; from a fixed-length path in
+//! an empty environment, so that the count repeats: `examples/evaluation_instructions.rs` says why); by hand:
 //!
 //! ```sh
 //! cargo build --release --example imex_step_instructions

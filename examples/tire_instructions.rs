@@ -1,7 +1,8 @@
 //! Instructions per tire force evaluation (`model::tire::shear_forces` plus the rolling resistance), STI
 //! against the Magic Formula of a `.tir` file, free of machine noise: callgrind counts only `measured` (the N
 //! evaluations), and the count divided by N is one evaluation. `bash scripts/instructions.sh` runs it
-//! (docs/results.md, "Instructions"); by hand:
+//! (docs/results.md, "Instructions"; from a fixed-length path in an empty environment, so that the
+//! count repeats: `examples/evaluation_instructions.rs` says why); by hand:
 //!
 //! ```sh
 //! cargo build --release --example tire_instructions

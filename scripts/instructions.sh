@@ -7,11 +7,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --example evaluation_instructions --example tire_instructions --example imex_step_instructions \
     2>/dev/null
-ex=target/release/examples
-# count N PROGRAM ARGS...: instructions of the measured loop over N, to the nearest unit. With an empty
-# environment and the paths relative to the repository's root: the environment and the arguments sit on the
-# stack and move its alignment, which changes the count (the HMMWV's evaluation read 35 231 to 35 267 with the
-# same build in two shells); so fixed, the count repeats to the instruction.
+# count N PROGRAM ARGS...: instructions of the measured loop over N, to the nearest unit. The programs run from a
+# folder whose path has a fixed length, in an empty environment: valgrind puts the program's absolute path and
+# the environment on the client's stack, and the stack's alignment changes the count (the HMMWV's evaluation
+# read 35 231 and 35 267 for the same binary, run from two checkouts). So fixed, the same build gives the same
+# count to the instruction, wherever the repository is.
+ex=$(mktemp -d /tmp/rtv_instructions.XXXXXX)
+trap 'rm -rf "$ex"' EXIT
+cp target/release/examples/{evaluation_instructions,tire_instructions,imex_step_instructions} "$ex/"
 vg=$(command -v valgrind)
 count() {
     local n=$1 total
@@ -33,8 +36,8 @@ tire_pac02=$(count 20000 $ex/tire_instructions $pac02 20000)
 tire_mf61=$(count 20000 $ex/tire_instructions $mf61 20000)
 imex=$(count 2000 $ex/imex_step_instructions 2000)
 echo "Counted by $(valgrind --version) on the baseline x86-64 code (valgrind runs it: \`src/simd.rs\`), built by"
-echo "$(rustc --version | cut -d' ' -f1-2); the loops are in \`examples/\`, run by \`scripts/instructions.sh\` in an empty"
-echo "environment (the stack's alignment moves the counts by up to 0.3 %: the script says why)."
+echo "$(rustc --version | cut -d' ' -f1-2); the loops are in \`examples/\`, run by \`scripts/instructions.sh\` with a fixed"
+echo "stack layout (the stack's alignment moves the counts by up to 0.3 %: the script says why)."
 echo
 echo "| what | instructions | against |"
 echo "|---|---|---|"

@@ -2,19 +2,20 @@
 # The cost of each scene's 8 s run with and without leaving out what it does not need (docs/results.md,
 # "What the options leave out"): derivative evaluations (the CLI's summary line), the instructions of the
 # whole process (valgrind callgrind's total) and its CPU time (user + system, median of RUNS runs, default
-# 11); both include the set-up and the CSV writing. Callgrind runs in an empty environment
-# (scripts/instructions.sh says why); a whole process's count still varies by a few thousand instructions
-# between runs. Prints the machine line and markdown rows (scripts/docs.sh writes them into
+# 11); both include the set-up and the CSV writing. The binary runs from a folder whose path has a fixed
+# length, and callgrind in an empty environment (scripts/instructions.sh says why); a whole process's count
+# still varies by a few thousand instructions between runs. Prints the machine line and markdown rows (scripts/docs.sh writes them into
 # docs/results.md; the CPU columns are machine-dependent).
 # SCENES="jturn sine" picks scenes; KEEP_ALL=0 leaves out the --keep-all rows; further arguments go to every
 # run (e.g. --slip steady --speed coast).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bin rtv 2>/dev/null
-rtv=./target/release/rtv
 runs=${RUNS:-11}
-out=$(mktemp -d "${TMPDIR:-/tmp}/rtv_pruning.XXXXXX")
+out=$(mktemp -d /tmp/rtv_pruning.XXXXXX)
 trap 'rm -rf "$out"' EXIT
+cp target/release/rtv "$out/rtv"
+rtv=$out/rtv
 group() { sed -E ':a;s/([0-9])([0-9]{3})($| )/\1 \2\3/;ta'; } # 1234567 -> 1 234 567
 row() { # scene, label, extra options...
     local scene=$1 label=$2
