@@ -45,26 +45,20 @@ fn the_automatic_step_runs_the_bump_cases_within_the_suite_tolerance() {
             let tolerance = TOLERANCE + change;
             for kind in [IntegratorKind::Rk4, IntegratorKind::ImexAb3] {
                 let run = run_case(&case, kind, AUTOMATIC_STEP);
-                let n = run.samples.len().min(fine.samples.len());
-                let error = relative_error(&case, &run.samples[..n], &fine.samples[..n]);
+                // Over the samples the run produced, each channel relative to its excursion over the whole
+                // reference (`relative_error` compares up to the shorter run).
+                let error = relative_error(&case, &run.samples, &fine.samples);
                 println!(
                     "{path}: {} {kind:?} automatic: {:?}, error {error:.2e} (tolerance {tolerance:.2e})",
                     case.name,
                     run.result.as_ref().err()
                 );
-                // The one known exception, a blind spot of the step check that fixed steps share: IMEX-AB3 on the
-                // HMMWV's paper's bump with tire k_z x100. The hop bound takes it down the ladder to 0.26 ms
-                // (|hλ| 0.17), where it finishes 1.9e-2 off the finer reference (measured 2026-11-27; a fixed
-                // 0.26 ms is the same run, and 0.52 ms with the refusals off is stopped by the monitor at 3.6 s,
-                // 4.3e-2 off by then). Bounded here at its measured value, so that it cannot grow unseen; issue 31's
-                // note reports it.
-                let tolerance =
-                    if path.contains("hmmwv") && case.name.contains("k_z x100") && kind == IntegratorKind::ImexAb3 {
-                        2.0e-2
-                    } else {
-                        tolerance
-                    };
-                if run.result.is_err() || error > tolerance {
+                // IMEX-AB3 is refused on a road with bumps where a force jumps inside its step (the paper's
+                // bumps under the point contact, a wheel's lift-off: `check_imex_on_bumps`, whatever the step).
+                // That refusal is accepted with its cause named; what the run produced before it is judged.
+                let refused_on_bumps = kind == IntegratorKind::ImexAb3
+                    && run.result.as_ref().is_err_and(|e| e.to_string().contains("IMEX-AB3 does not follow a jump"));
+                if (run.result.is_err() && !refused_on_bumps) || error > tolerance {
                     failures.push(format!("{path}: {} {kind:?}: {:?}, error {error:.2e}", case.name, run.result));
                 }
             }

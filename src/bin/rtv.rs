@@ -711,8 +711,9 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
         let t = Instant::now();
         let report = stability::evaluate(case, threads as usize);
         let wrong = report.wrong();
+        let judged = if report.judged() { "judged" } else { "not judged (no known reference)" };
         eprintln!(
-            "{}: {:.1} s, reference change {:.1e}, {wrong} wrong",
+            "{}: {:.1} s, reference change {:.1e}, {judged}, {wrong} wrong",
             case.name,
             t.elapsed().as_secs_f64(),
             report.reference_change
@@ -726,7 +727,18 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
         }
     }
     command.push_str(&format!(" --out {}", opts.get("out").map_or("docs/stability.md", String::as_str)));
-    let md = stability::markdown(&reports, &command, started.elapsed().as_secs_f64());
+    // Time figures name their machine: the CPU's model name and core count (Linux's /proc/cpuinfo).
+    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let model = cpuinfo
+        .lines()
+        .find_map(|l| l.strip_prefix("model name"))
+        .map_or("an unnamed CPU", |m| m.trim_start_matches([' ', '\t', ':']));
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let timing = format!(
+        "{:.0} s of wall time with {threads} threads on this machine: {model}, {cores} cores, shared",
+        started.elapsed().as_secs_f64()
+    );
+    let md = stability::markdown(&reports, &command, &timing);
     let mut out = csv_writer(opts.get("out"))?;
     out.write_all(md.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
