@@ -1,21 +1,26 @@
 //! Instructions per synthesis evaluation at the J-turn's cornering state (t = 4 s), free of machine noise:
-//! run under callgrind with N = 0 and N = 20000 evaluations and divide the difference by N.
+//! callgrind counts only `measured` (the N evaluations), and the count divided by N is one evaluation.
+//! `bash scripts/instructions.sh` runs it (docs/results.md, "Instructions"); by hand:
 //!
 //! ```sh
 //! cargo build --release --example evaluation_instructions
-//! for n in 0 20000; do valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$n \
-//!     target/release/examples/evaluation_instructions $n [VEHICLE.json] 2>&1 | grep "Collected"; done
+//! valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured*' --callgrind-out-file=/tmp/cg.eval \
+//!     target/release/examples/evaluation_instructions 2000 [VEHICLE.json [TIRE.tir]] 2>&1 | grep "Collected"
 //! ```
+//! Counting the loop alone, not the difference of two whole runs, whose set-up's count moved by up to 0.3 M
+//! instructions between shells (150 per evaluation over 2 000). The loop's count itself depends on the stack's
+//! alignment (the environment and the program's path sit on the stack), by up to 0.3 %: `scripts/instructions.sh`
+//! runs it from a fixed-length path in an empty environment, so that its count repeats.
 //! (a vehicle file as second argument: its J-turn at its calibrated amplitude; default the HMMWV, also named
 //! by `-`; a `.tir` file as third argument: the vehicle on that Magic Formula tire)
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::{idx, Run, Workspace};
+use rt_vehicle::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::SimConfig;
 use std::hint::black_box;
 
 fn main() {
-    let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(20000);
+    let n: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(2000);
     let mut data = match std::env::args().nth(2).filter(|p| p != "-") {
         Some(path) => VehicleData::from_file(std::path::Path::new(&path)).unwrap(),
         None => VehicleData::default_hmmwv(),
@@ -32,8 +37,14 @@ fn main() {
     let mut cache = Workspace::default();
     let mut dx = vec![0.0; idx::DIM];
     vehicle.derivative(&run, &x, &inputs, &mut cache, &mut dx).unwrap(); // warm start at this state
-    for _ in 0..n {
-        vehicle.derivative(&run, black_box(&x), &inputs, &mut cache, &mut dx).unwrap();
-    }
+    measured(n, &vehicle, &run, &x, &inputs, &mut cache, &mut dx);
     println!("{n} evaluations, ax = {:.6e}", dx[idx::V0]);
+}
+
+/// The N evaluations, the only code callgrind counts (`--toggle-collect='*measured*'`).
+#[inline(never)]
+fn measured(n: usize, vehicle: &Vehicle, run: &Run, x: &[f64], inputs: &Inputs, cache: &mut Workspace, dx: &mut [f64]) {
+    for _ in 0..n {
+        vehicle.derivative(run, black_box(x), inputs, cache, dx).unwrap();
+    }
 }

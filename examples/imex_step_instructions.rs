@@ -1,19 +1,21 @@
 //! Instructions per IMEX-AB3 step against one synthesis evaluation (issue 19: a step may cost at most 1.5×
-//! an evaluation), free of machine noise: run under callgrind with N = 0 and N = 2000 steps and divide the
-//! difference by N; `examples/evaluation_instructions.rs` gives the evaluation's own count the same way.
+//! an evaluation), free of machine noise: callgrind counts only `measured` (the N steps), and the count
+//! divided by N is one step; `examples/evaluation_instructions.rs` gives the evaluation's own count the same
+//! way. `bash scripts/instructions.sh` runs both (docs/results.md, "Instructions"; from a fixed-length path in
+//! an empty environment, so that the count repeats: `examples/evaluation_instructions.rs` says why); by hand:
 //!
 //! ```sh
 //! cargo build --release --example imex_step_instructions
-//! for n in 0 2000; do valgrind --tool=callgrind --callgrind-out-file=/tmp/cg.$n \
-//!     target/release/examples/imex_step_instructions $n 2>&1 | grep "Collected"; done
+//! valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured*' --callgrind-out-file=/tmp/cg.imex \
+//!     target/release/examples/imex_step_instructions 2000 2>&1 | grep "Collected"
 //! ```
 //! The state is the J-turn's cornering at t = 4 s (as `evaluation_instructions`), and the steps go on from
 //! there at 8.33 ms with the inputs held: steady cornering, the scheme's plain third-order step (one
 //! evaluation, one solve with the factors of a0 I − hJ kept between steps, and its SBDF2 estimate on the
 //! watched rows by the rows of the inverse kept with them) with the
 //! simulation's own implicit block (the wheel states and the chassis velocities, `imex_partial_jacobian`). The two
-//! starting steps (five evaluations each) and the J's factorization are in both runs of the difference as
-//! long as N ≥ 2; the program prints how many steps were retaken, which would add to the count (0 here).
+//! starting steps (five evaluations each) and the J's factorization are outside `measured`; the program
+//! prints how many steps were retaken, which would add to the count (0 here).
 use rt_vehicle::error::ModelError;
 use rt_vehicle::integrate::imex_ab3::ImexAb3;
 use rt_vehicle::integrate::{Integrator, OdeSystem};
@@ -74,8 +76,14 @@ fn main() {
     for k in 0..2 {
         scheme.step(&mut system, 4.0 + k as f64 * h, h, &mut x).unwrap();
     }
-    for k in 0..n {
-        scheme.step(&mut system, 4.0 + (k + 2) as f64 * h, h, &mut x).unwrap();
-    }
+    measured(n, &mut scheme, &mut system, h, &mut x);
     println!("{n} steps after the start, {} retaken; yaw rate {:.6e} rad/s", scheme.substepped, x[idx::W0 + 2]);
+}
+
+/// The N steps after the start, the only code callgrind counts (`--toggle-collect='*measured*'`).
+#[inline(never)]
+fn measured(n: usize, scheme: &mut ImexAb3, system: &mut Held, h: f64, x: &mut [f64]) {
+    for k in 0..n {
+        scheme.step(system, 4.0 + (k + 2) as f64 * h, h, x).unwrap();
+    }
 }

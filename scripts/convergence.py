@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Convergence table of the reference traces: max |x(0.1 ms) - x(0.05 ms)| per channel, absolute and
-relative to the channel's peak (docs/physics.md §9.12). Usage: convergence.py COMMIT > tests/reference/README.md"""
+relative to the channel's peak (docs/physics.md §9.12). Usage: convergence.py COMMIT [REFERENCES [HALVED]] > tests/reference/README.md (REFERENCES: the folder of the
+0.1 ms traces, default tests/reference; HALVED: that of the 0.05 ms ones, default out/reference)."""
 import csv
 import sys
 
@@ -19,9 +20,11 @@ print("Each scene from `bash scripts/make_references.sh`: `rtv scene <scene> --f
 print("Convergence: the same run at 0.05 ms; max |difference| over the 801 samples, and relative to the "
       "channel's peak |value|. RK4's error falls as h^4, so the 0.1 ms trace is within about 1/15 more of "
       "the shown difference of the exact solution (Richardson).\n")
+refs = sys.argv[2] if len(sys.argv) > 2 else "tests/reference"
+halved = sys.argv[3] if len(sys.argv) > 3 else "out/reference"
 for scene in ["bump", "jturn", "sine"]:
-    a = load(f"tests/reference/{scene}.csv")
-    b = load(f"out/reference/{scene}_half.csv")
+    a = load(f"{refs}/{scene}.csv")
+    b = load(f"{halved}/{scene}_half.csv")
     print(f"## {scene}\n\n| channel | max abs diff | relative to peak |\n|---|---|---|")
     for c in CHANNELS:
         d = max(abs(x - y) for x, y in zip(a[c], b[c]))

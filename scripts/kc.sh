@@ -6,11 +6,12 @@ cd "$(dirname "$0")/.."
 [ -x .venv/bin/python ] || bash scripts/setup.sh
 cargo build --release --bin rtv
 rtv=./target/release/rtv
-mkdir -p docs/kc
-$rtv kc --out docs/kc/hmmwv.md 2> >(grep -v 'triangle inequality' >&2)
+docs=${RTV_DOCS:-docs} # scripts/docs.sh --check writes into a scratch folder
+mkdir -p $docs/kc
+$rtv kc --out $docs/kc/hmmwv.md 2> >(grep -v 'triangle inequality' >&2)
 for f in resources/vehicles/*.json; do
     [ -e "$f" ] || continue
     name=$(basename "$f" .json)
-    $rtv kc --vehicle "$f" --out "docs/kc/$name.md" 2> >(grep -v 'triangle inequality' >&2)
+    $rtv kc --vehicle "$f" --out "$docs/kc/$name.md" 2> >(grep -v 'triangle inequality' >&2)
 done
-ls docs/kc
+ls $docs/kc

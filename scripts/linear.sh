@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 [ -x .venv/bin/python ] || bash scripts/setup.sh
 cargo build --release --bin rtv
 rtv=./target/release/rtv
+docs=${RTV_DOCS:-docs} # scripts/docs.sh --check writes into a scratch folder
 mkdir -p out
-$rtv linearize --iso4138 on --figure linear_root_locus.png --out docs/linear.md > /dev/null 2> >(grep -v 'triangle inequality' >&2)
+$rtv linearize --iso4138 on --figure linear_root_locus.png --out $docs/linear.md > /dev/null 2> >(grep -v 'triangle inequality' >&2)
 $rtv linearize --sweep-speeds 10:40:2 --csv out/linear_sweep.csv 2> >(grep -v 'triangle inequality' >&2)
-.venv/bin/python scripts/plot_linear.py out/linear_sweep.csv docs/linear_root_locus.png
+.venv/bin/python scripts/plot_linear.py out/linear_sweep.csv $docs/linear_root_locus.png

@@ -5,7 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bin rtv
 rtv=./target/release/rtv
-out=docs/ride.md
+docs=${RTV_DOCS:-docs} # scripts/docs.sh --check writes into a scratch folder
+out=$docs/ride.md
 {
     echo "# Ride tests (NRMM): the HMMWV"
     echo
@@ -27,5 +28,5 @@ out=docs/ride.md
     done
 } > $out
 bash scripts/setup.sh > /dev/null
-.venv/bin/python scripts/plot_ride.py $out docs/ride.png
-echo "wrote $out and docs/ride.png"
+.venv/bin/python scripts/plot_ride.py $out $docs/ride.png
+echo "wrote $out and $docs/ride.png"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test: the install logic (libclang detection), Rust (unit, integration, doc), Python (fmpy on
 # the packaged FMU, the study runner on Dask, its glibc floor, a fuzz test of the C API, the documented
-# commands) and a valgrind memcheck of the lifecycle.
+# commands), the docs' figures regenerated and compared (scripts/docs.sh --check) and a valgrind memcheck of the
+# lifecycle.
 # `--slow` also runs the documented commands that take over a minute (tests/docs; without it their arguments
 # are checked).
 set -euo pipefail
@@ -19,6 +20,9 @@ cargo test --workspace --release
 cargo run --release -p packaging
 cargo build --release -p rtv-study-native
 RTV_DOCS_SLOW=$slow .venv/bin/python -m pytest -q tests/fmu tests/study tests/docs
+# Every figure of README.md and docs/ that does not depend on the machine, regenerated into a scratch folder and
+# compared with the committed docs (issue 31; docs/results.md, "How the figures are checked").
+bash scripts/docs.sh --check
 # setup.sh installs valgrind; a machine without it (not set up by this project) skips the memcheck, saying so.
 if command -v valgrind >/dev/null 2>&1; then
     bash tests/valgrind/run.sh

@@ -22,4 +22,4 @@ $rtv manoeuvre steady-state --tire $tir --out $out/mf_steady.csv 2>&1 | grep -v 
 amp=$(.venv/bin/python -c "import json; print(json.load(open('resources/calibration.json'))['jturn_amplitude_m'])")
 $rtv scene jturn --amplitude $amp --out $out/sti_jturn.csv 2>&1 | grep -v triangle
 $rtv scene jturn --amplitude $amp --tire $tir --out $out/mf_jturn.csv 2>&1 | grep -v triangle
-.venv/bin/python scripts/plot_tire_comparison.py $out $amp docs
+.venv/bin/python scripts/plot_tire_comparison.py $out $amp ${RTV_DOCS:-docs} # scripts/docs.sh --check writes into a scratch folder

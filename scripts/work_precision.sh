@@ -5,5 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bin rtv
-./target/release/rtv work-precision --out docs/work_precision.md --csv out/work_precision.csv
-.venv/bin/python scripts/plot_work_precision.py out/work_precision.csv docs/work_precision.png
+docs=${RTV_DOCS:-docs} # scripts/docs.sh --check writes into a scratch folder
+mkdir -p out
+./target/release/rtv work-precision --out $docs/work_precision.md --csv out/work_precision.csv
+.venv/bin/python scripts/plot_work_precision.py out/work_precision.csv $docs/work_precision.png

@@ -348,20 +348,20 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         return Ok(());
     }
     let data_input = data.steering_input();
-    let started = Instant::now();
+    let started = rt_vehicle::studies::cpu_seconds();
     let mut sim = scene.start_keeping(data, &config, keep_all)?;
     for w in sim.road().file().map_or(&[][..], |f| f.warnings()) {
         eprintln!("warning: {w}");
     }
     sim.set_wheel_torques([drive; 4], [brake; 4]);
-    let setup = started.elapsed();
+    let setup = rt_vehicle::studies::cpu_seconds() - started;
     let mut out = csv_writer(opts.get("out"))?;
     let columns = scene.columns(keep_all);
     let header = columns.iter().map(|&i| column_name(&data_input, i)).collect::<Vec<_>>().join(",");
     // The rows are kept in one buffer and written after the run (the CPU figure is the simulation's).
     let mut text = header + "\n";
     let evaluate = keep_all || scene.needs.evaluates_outputs();
-    let t = Instant::now();
+    let t = rt_vehicle::studies::cpu_seconds();
     let result = run_columns(&mut sim, end, interval, &columns, evaluate, |row| {
         for (k, v) in row.iter().enumerate() {
             let separator = if k + 1 == row.len() { "\n" } else { "," };
@@ -369,18 +369,18 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             let _ = write!(text, "{v:.10e}{separator}");
         }
     });
-    let cpu = t.elapsed();
+    let cpu = rt_vehicle::studies::cpu_seconds() - t;
     out.write_all(text.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
     eprintln!(
         "{}: {:.3} s simulated in {:.3} s CPU ({:.0}x real time; set-up {:.3} s), {} evaluations, {:.2} us each",
         kind.name(),
         sim.time(),
-        cpu.as_secs_f64(),
-        sim.time() / cpu.as_secs_f64(),
-        setup.as_secs_f64(),
+        cpu,
+        sim.time() / cpu,
+        setup,
         sim.evaluations(),
-        cpu.as_secs_f64() * 1e6 / sim.evaluations() as f64
+        cpu * 1e6 / sim.evaluations() as f64
     );
     if !config.integrator.is_error_controlled() {
         let how = if config.automatic_step() { "automatic (the largest the step check accepts)" } else { "fixed" };
@@ -727,16 +727,11 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
         }
     }
     command.push_str(&format!(" --out {}", opts.get("out").map_or("docs/stability.md", String::as_str)));
-    // Time figures name their machine: the CPU's model name and core count (Linux's /proc/cpuinfo).
-    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-    let model = cpuinfo
-        .lines()
-        .find_map(|l| l.strip_prefix("model name"))
-        .map_or("an unnamed CPU", |m| m.trim_start_matches([' ', '\t', ':']));
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    // Time figures name their machine and date (`studies::machine`).
     let timing = format!(
-        "{:.0} s of wall time with {threads} threads on this machine: {model}, {cores} cores, shared",
-        started.elapsed().as_secs_f64()
+        "The run took {:.0} s of wall time with {threads} threads (machine-dependent: {}).",
+        started.elapsed().as_secs_f64(),
+        rt_vehicle::studies::machine()
     );
     let md = stability::markdown(&reports, &command, &timing);
     let mut out = csv_writer(opts.get("out"))?;
@@ -765,12 +760,12 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
     if parse_only("work-precision") {
         return Ok(());
     }
-    let started = Instant::now();
+    let started = rt_vehicle::studies::cpu_seconds();
     let mut results = Vec::new();
     for case in cases {
         results.push(wp::measure_case(case, &mut |line| eprintln!("work-precision: {line}"))?);
     }
-    let md = wp::markdown(&results, started.elapsed().as_secs_f64());
+    let md = wp::markdown(&results, rt_vehicle::studies::cpu_seconds() - started, &rt_vehicle::studies::machine());
     let md_path = opts.get("out").cloned().unwrap_or_else(|| "docs/work_precision.md".into());
     let csv_path = opts.get("csv").cloned().unwrap_or_else(|| "out/work_precision.csv".into());
     for (path, text) in [(&md_path, md), (&csv_path, wp::csv(&results))] {
@@ -779,7 +774,10 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
         }
         std::fs::write(path, text).map_err(|e| failed(format!("cannot write {path}: {e}")))?;
     }
-    eprintln!("work-precision: written {md_path} and {csv_path} in {:.0} s", started.elapsed().as_secs_f64());
+    eprintln!(
+        "work-precision: written {md_path} and {csv_path} in {:.0} s of CPU",
+        rt_vehicle::studies::cpu_seconds() - started
+    );
     Ok(())
 }
 

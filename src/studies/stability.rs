@@ -833,12 +833,14 @@ fn as_stated(h: f64) -> f64 {
 /// The causes an error may name (`Simulation` messages start their explanation with one).
 pub const CAUSES: [&str; 4] = crate::error::Cause::NAMES;
 
-/// docs/stability.md from the case reports; `timing` says how long the command took, and where.
+/// docs/stability.md from the case reports; `timing` is the line that says how long the command took, and on
+/// which machine (machine-dependent: `scripts/docs.sh --check` skips it).
 pub fn markdown(reports: &[CaseReport], command: &str, timing: &str) -> String {
     let mut md = String::new();
     md += "# Stability suite\n\n";
+    md += &format!("{timing}\n\n");
     md += &format!(
-        "Regenerate with `{command}` ({timing}). Every case runs with each integrator at steps of \
+        "Regenerate with `{command}`. Every case runs with each integrator at steps of \
          1/120 s (the paper's 8.3 ms) halved three times; outputs are compared every 1/120 s with the reference. \
          {} An OK cell gives the run's error and its cost in derivative evaluations (the step check's included); \
          DOPRI5 runs at its default tolerance 1e-3 with the ladder's step as its largest step. Code: \
