@@ -737,9 +737,11 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     let mut out = csv_writer(opts.get("out"))?;
     out.write_all(md.as_bytes()).map_err(|e| failed(format!("write failed: {e}")))?;
     out.flush().map_err(|e| failed(format!("write failed: {e}")))?;
+    // The report is the command's product: WRONG runs are its finding, said here and in the table, not a
+    // failure to make it (tests/stability.rs is the gate that names the known ones).
     let wrong: usize = reports.iter().map(|r| r.wrong()).sum();
     if wrong > 0 {
-        return Err(failed(format!("{wrong} runs finished silently wrong (see the table)")));
+        eprintln!("rtv stability: {wrong} runs WRONG: off by more than the tolerance without a word (see the table)");
     }
     Ok(())
 }

@@ -611,6 +611,37 @@ pub enum Wrong {
     FalseEvent,
 }
 
+/// A case's reference as `rule` finds it: the run, its step, its change when that step is halved, and whether
+/// it is known.
+pub struct CaseReference {
+    pub run: Run,
+    pub step: f64,
+    pub change: f64,
+    pub status: Reference,
+}
+
+/// The case's reference from RK4's runs at `REFERENCE_STEP` (`reference`) and half of it (`check`), the step
+/// halved up to `REFERENCE_HALVINGS` times where it is not converged or the step check refuses it (`rule`).
+/// The suite's verdicts and `examples/hop_resolution.rs` judge against it.
+pub fn case_reference(case: &Case, reference: Run, check: Run) -> CaseReference {
+    let (mut reference, mut check, mut step) = (reference, check, REFERENCE_STEP);
+    loop {
+        let change = relative_error(case, &check.samples, &reference.samples);
+        let status = Reference::from_runs(&reference, &check, change);
+        let refused = |r: &Run| r.result.as_ref().is_err_and(|e| e.cause() == Cause::StepSizeInstability);
+        let finer = match &status {
+            Reference::Known { .. } => false,
+            Reference::NotConverged(_) => true,
+            Reference::Missing(_) => refused(&reference) || refused(&check),
+        };
+        if !finer || step <= REFERENCE_STEP / 2f64.powi(REFERENCE_HALVINGS as i32) {
+            return CaseReference { run: reference, step, change, status };
+        }
+        step /= 2.0;
+        reference = std::mem::replace(&mut check, run_case(case, IntegratorKind::Rk4, step / 2.0));
+    }
+}
+
 /// The verdict on a run's `outcome` against `reference` (`rule`).
 pub fn judge(outcome: &Outcome, reference: &Reference) -> Verdict {
     let Reference::Known { event } = reference else { return Verdict::NotJudged };
@@ -739,24 +770,10 @@ pub fn evaluate(case: &Case, threads: usize) -> CaseReport {
     }
     let mut results = in_parallel(&jobs, threads, timed);
     let runs_part = results.split_off(2);
-    let mut check = results.pop().expect("the check ran").0;
-    let mut reference = results.pop().expect("the reference ran").0;
-    let mut reference_step = REFERENCE_STEP;
-    let (reference_change, judged_against) = loop {
-        let change = relative_error(case, &check.samples, &reference.samples);
-        let status = Reference::from_runs(&reference, &check, change);
-        let refused = |r: &Run| r.result.as_ref().is_err_and(|e| e.cause() == Cause::StepSizeInstability);
-        let finer = match &status {
-            Reference::Known { .. } => false,
-            Reference::NotConverged(_) => true,
-            Reference::Missing(_) => refused(&reference) || refused(&check),
-        };
-        if !finer || reference_step <= REFERENCE_STEP / 2f64.powi(REFERENCE_HALVINGS as i32) {
-            break (change, status);
-        }
-        reference_step /= 2.0;
-        reference = std::mem::replace(&mut check, run_case(case, IntegratorKind::Rk4, reference_step / 2.0));
-    };
+    let check = results.pop().expect("the check ran").0;
+    let reference = results.pop().expect("the reference ran").0;
+    let CaseReference { run: reference, step: reference_step, change: reference_change, status: judged_against } =
+        case_reference(case, reference, check);
     let reference = &reference;
     let outcome = |run: &Run| {
         let error = relative_error(case, &run.samples, &reference.samples);
