@@ -143,9 +143,6 @@ OTHER_LINES = {
     "cargo test --release --test work_precision": "Rust tests: scripts/test.sh runs the workspace's",
     "cargo test --release --test allocation": "Rust tests: scripts/test.sh runs the workspace's",
     "cargo test --release --test stability": "Rust tests: scripts/test.sh runs the workspace's",
-    "valgrind --tool=callgrind target/release/rtv scene jturn --integrator rk4 --step 0.002 --output-interval 0.01 "
-    "--out /tmp/j.csv": "an instruction count under callgrind (minutes); the same rtv scene runs unmeasured in the "
-                        "scenes' tests",
 }
 # bash scripts/test.sh is this test's own runner: running it here would recurse.
 NOT_RUN = {"bash scripts/test.sh": "it runs this test (scripts/test.sh → pytest tests/docs): it would recurse"}
