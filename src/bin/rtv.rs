@@ -21,6 +21,7 @@
 use rt_vehicle::error::ModelError;
 use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
+use rt_vehicle::model::tire::TireConvention;
 use rt_vehicle::sim::calibration;
 use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{modes, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, OUTPUT_NAMES};
@@ -36,27 +37,30 @@ const USAGE: &str = "usage:
             [--tolerance TOL] [--step S] [--accuracy refuse|warn] [--end T] [--output-interval DT]
             [--speed coast|hold] [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
-            [--tire FILE.tir] [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
-            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
+            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--initial-speed M_PER_S] [--bump-height M]
+            [--bump-length M] [--grade RISE/RUN] [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
             [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]] [--friction SCALE]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv kc [--vehicle FILE.json] [--out docs/kc/NAME.md] [--from -0.10] [--to 0.10] [--increment 0.0025]
             [--steering-points 81] [--plots auto|none]
-  rtv calibrate [--vehicle FILE.json] [--tire FILE.tir]
+  rtv calibrate [--vehicle FILE.json] [--tire FILE.tir] [--tire-convention mfeval|chrono]
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle FILE.json] [--tire FILE.tir]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
-            [--tire FILE.tir] [--road FILE.crg|FILE.xodr|iso8608:...] [--friction SCALE] [--out FILE.csv]
+            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--road FILE.crg|FILE.xodr|iso8608:...]
+            [--friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
   rtv check-vehicle FILE.json
   rtv ride halfround --height 4|8|10|12|16|20 [--road FILE.crg] [--speeds 5,10,...] [--vehicle FILE.json] [--tire FILE.tir]
+            [--tire-convention mfeval|chrono]
   rtv ride rms --course FILE.crg [--rough 100,404.8] [--speeds 10,20,...] [--vehicle FILE.json] [--tire FILE.tir]
+            [--tire-convention mfeval|chrono]
   rtv road --road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]] [--step M] [--out profile.csv]
   rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]
-  rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
+  rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--tire-convention mfeval|chrono] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
             [--figure ROOT_LOCUS.png] [--iso4138 on|off] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]
 environment:
   RTV_PARSE_ONLY=1   parse and check the arguments (the files they name read, values against their ranges),
@@ -141,6 +145,9 @@ fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure>
     };
     if let Some(tir) = opts.get("tire") {
         data.use_tire_file(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire: {e}")))?;
+    }
+    if let Some(word) = opts.get("tire-convention") {
+        data.tire.convention = TireConvention::parse(word).map_err(|e| bad(format!("--tire-convention: {e}")))?;
     }
     for w in data.warnings() {
         eprintln!("warning: {w}");
@@ -288,6 +295,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "ride-height",
             "vehicle",
             "tire",
+            "tire-convention",
             "initial-speed",
             "bump-height",
             "bump-length",
@@ -588,7 +596,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
 }
 
 fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["vehicle", "tire", "out"])?;
+    let opts = options(args, &["vehicle", "tire", "tire-convention", "out"])?;
     let data = vehicle_data(&opts)?;
     if parse_only("calibrate") {
         return Ok(());
@@ -635,7 +643,8 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
     let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
-    let opts = options(&args[1..], &["initial-speed", "vehicle", "tire", "road", "friction", "out"])?;
+    let opts =
+        options(&args[1..], &["initial-speed", "vehicle", "tire", "tire-convention", "road", "friction", "out"])?;
     let speed = match opts.get("initial-speed") {
         Some(_) => {
             let v = number(&opts, "initial-speed", 0.0)?;
@@ -977,7 +986,10 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
 fn cmd_ride(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::ride;
     let test = args.first().map(String::as_str).ok_or_else(|| bad("ride: halfround or rms?"))?;
-    let opts = options(&args[1..], &["height", "road", "course", "rough", "speeds", "vehicle", "tire"])?;
+    let opts = options(
+        &args[1..],
+        &["height", "road", "course", "rough", "speeds", "vehicle", "tire", "tire-convention"],
+    )?;
     let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, Failure> {
         match opts.get(key) {
             None => Ok(default.to_vec()),
@@ -1024,7 +1036,10 @@ fn cmd_ride(args: &[String]) -> Result<(), Failure> {
 /// `--sweep-speeds`, the eigenvalues at each speed of the sweep written to `--csv` (the root locus's data).
 fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::linear;
-    let opts = options(args, &["vehicle", "tire", "speed", "ay", "out", "figure", "iso4138", "sweep-speeds", "csv"])?;
+    let opts = options(
+        args,
+        &["vehicle", "tire", "tire-convention", "speed", "ay", "out", "figure", "iso4138", "sweep-speeds", "csv"],
+    )?;
     let speed_in_range = |v: f64| v > 1.0 && v <= rt_vehicle::sim::INITIAL_SPEED_MAX;
     let out_of_range = |v: f64| bad(format!("--speed {v}: must be in (1, {}] m/s", rt_vehicle::sim::INITIAL_SPEED_MAX));
     let speed = number(&opts, "speed", 100.0 / 3.6)?;

@@ -230,6 +230,10 @@ pub struct Tire {
     /// The Magic Formula read from `tir_file` (`VehicleData::use_tire_file`); not part of the file format.
     #[serde(skip)]
     pub magic_formula: Option<Box<crate::model::tire::MagicFormula>>,
+    /// How the Magic Formula is evaluated (`TireConvention`): as MFeval computes it (the default), or as
+    /// Chrono's Pac02 does, to reproduce a Chrono run. Independent of the `.tir` file; the STI tire ignores it.
+    #[serde(default, skip_serializing_if = "crate::model::tire::TireConvention::is_default")]
+    pub convention: crate::model::tire::TireConvention,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

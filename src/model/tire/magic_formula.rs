@@ -171,6 +171,16 @@ pub enum TireSide {
     Right,
 }
 
+impl TireSide {
+    /// The opposite side.
+    pub fn other(self) -> TireSide {
+        match self {
+            TireSide::Left => TireSide::Right,
+            TireSide::Right => TireSide::Left,
+        }
+    }
+}
+
 /// A Magic Formula tire read from a `.tir` file: coefficients plus the dimensional data in SI.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MagicFormula {

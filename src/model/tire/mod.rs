@@ -82,6 +82,45 @@ pub enum TireModel {
     Frictionless,
 }
 
+/// How the Magic Formula of a `.tir` file is evaluated (docs/tire_magic_formula.md, "Tire convention"). A
+/// setting of the vehicle (`tire.convention`), not of the file: the same `.tir` gives either.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TireConvention {
+    /// The Magic Formula as MFeval (the reference implementation) computes it: a tire mounted on the side
+    /// the file was measured on (`TYRESIDE`) is evaluated as written, one on the other side mirrored; the
+    /// wheel's inclination enters; the rolling-resistance moment M_y acts on the wheel's spin.
+    #[default]
+    Mfeval,
+    /// Project Chrono's `ChPac02Tire` (measured against Chrono's own runs, data/chrono_reference/): every
+    /// tire is evaluated mirrored (Chrono takes α = atan2(−v_y, |v_x|) and applies −F_y(α), whatever the
+    /// side), camber is ignored (inclination 0 in the tire), and the rolling-resistance moment does not reach
+    /// the wheel's spin balance.
+    Chrono,
+}
+
+impl TireConvention {
+    pub fn is_default(&self) -> bool {
+        *self == TireConvention::default()
+    }
+
+    /// The convention's word in vehicle files, on the CLI (`--tire-convention`) and in the docs.
+    pub fn name(&self) -> &'static str {
+        match self {
+            TireConvention::Mfeval => "mfeval",
+            TireConvention::Chrono => "chrono",
+        }
+    }
+
+    pub fn parse(word: &str) -> Result<TireConvention, String> {
+        match word {
+            "mfeval" => Ok(TireConvention::Mfeval),
+            "chrono" => Ok(TireConvention::Chrono),
+            _ => Err(format!("tire convention '{word}' is not mfeval or chrono")),
+        }
+    }
+}
+
 /// How slip enters the force model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum SlipModel {
@@ -168,6 +207,11 @@ pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> Shea
         TireModel::Sti => sti::sti_forces(p, fz, kappa, tan_alpha, inclination, friction),
         TireModel::MagicFormula => match &p.magic_formula {
             Some(mf) => {
+                // Chrono's Pac02 mirrors every tire and ignores camber (`TireConvention::Chrono`).
+                let (side, inclination) = match p.convention {
+                    TireConvention::Mfeval => (side, inclination),
+                    TireConvention::Chrono => (mf.measured_side.other(), 0.0),
+                };
                 let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction);
                 let mut f = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
                 if blend < 1.0 {
@@ -212,7 +256,8 @@ const ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S: f64 = 0.5;
 /// Rolling-resistance moment about the spin axis a (§6.6): M_rr = -f_rr F_z R_l tanh(Ω_rel/0.5 rad/s), or
 /// with a `.tir` file the Magic Formula's M_y magnitude R0 F_z (QSY1 + QSY2 F_x/F_z0 + QSY3 |V_x/V_ref| +
 /// QSY4 (V_x/V_ref)⁴) LMY in place of f_rr F_z R_l (MF 6.x: its form with the inclination, load and pressure
-/// terms, `MagicFormula::rolling_resistance`; `inclination` is the wheel's γ_w, its sign does not matter).
+/// terms, `MagicFormula::rolling_resistance`; `inclination` is the wheel's γ_w, its sign does not matter);
+/// none under Chrono's convention (`TireConvention::Chrono`).
 /// The tanh keeps the right-hand side smooth through standstill, where sign(Ω_rel) would chatter.
 pub fn rolling_resistance_moment(
     p: &TireParams,
@@ -224,6 +269,8 @@ pub fn rolling_resistance_moment(
     inclination: f64,
 ) -> f64 {
     let magnitude = match &p.magic_formula {
+        // Chrono's Pac02 computes M_y but does not apply it to the wheel.
+        Some(_) if p.convention == TireConvention::Chrono => 0.0,
         Some(mf) => mf.rolling_resistance(fz, fx, vx, -inclination),
         None => p.rolling_resistance * fz * loaded_radius,
     };
@@ -323,6 +370,34 @@ mod tests {
             let (dry, wet) = (at(1e-4, 1.0), at(1e-4, 0.5));
             assert!((wet / dry - 1.0).abs() < 1e-3, "{model:?}: slip stiffness {dry} dry, {wet} wet");
         }
+    }
+
+    #[test]
+    fn chrono_convention_mirrors_every_tire_ignores_camber_and_drops_the_rolling_moment() {
+        let mut p = params();
+        p.magic_formula = Some(Box::new(
+            MagicFormula::read(
+                &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/tires/HMMWV_Pac02Tire.tir"),
+            )
+            .unwrap(),
+        ));
+        let measured = p.magic_formula.as_ref().unwrap().measured_side;
+        let at = |p: &TireParams, side: TireSide, inclination: f64| {
+            let input = SlipInput { side, ..SlipInput::rolling(6300.0, 0.02, 0.03, inclination) };
+            shear_forces(TireModel::MagicFormula, p, &input)
+        };
+        let mut chrono = p.clone();
+        chrono.convention = TireConvention::Chrono;
+        for side in [TireSide::Left, TireSide::Right] {
+            // Whatever the side and the inclination: the standard convention's tire on the side the file
+            // was not measured on, upright.
+            assert_eq!(at(&chrono, side, 0.05), at(&p, measured.other(), 0.0), "{side:?}");
+        }
+        // The file's own side differs (the shifts are mirrored), and so does camber under the standard one.
+        assert_ne!(at(&p, measured, 0.0), at(&p, measured.other(), 0.0));
+        assert_ne!(at(&p, measured.other(), 0.05), at(&p, measured.other(), 0.0));
+        assert!(rolling_resistance_moment(&p, 6300.0, 0.45, 50.0, 0.0, 15.0, 0.0) < 0.0);
+        assert_eq!(rolling_resistance_moment(&chrono, 6300.0, 0.45, 50.0, 0.0, 15.0, 0.0), 0.0);
     }
 
     #[test]
