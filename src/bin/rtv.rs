@@ -21,7 +21,6 @@
 use rt_vehicle::error::ModelError;
 use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
-use rt_vehicle::model::tire::TireConvention;
 use rt_vehicle::sim::calibration;
 use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{modes, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, OUTPUT_NAMES};
@@ -146,8 +145,11 @@ fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure>
     if let Some(tir) = opts.get("tire") {
         data.use_tire_file(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire: {e}")))?;
     }
+    // `vehicle` (the FMU's code 0) keeps the vehicle file's.
     if let Some(word) = opts.get("tire-convention") {
-        data.tire.convention = TireConvention::parse(word).map_err(|e| bad(format!("--tire-convention: {e}")))?;
+        if let Some(c) = modes::TIRE_CONVENTIONS.by_name(word).map_err(bad)? {
+            data.tire.convention = c;
+        }
     }
     for w in data.warnings() {
         eprintln!("warning: {w}");

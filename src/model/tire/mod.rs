@@ -103,22 +103,6 @@ impl TireConvention {
     pub fn is_default(&self) -> bool {
         *self == TireConvention::default()
     }
-
-    /// The convention's word in vehicle files, on the CLI (`--tire-convention`) and in the docs.
-    pub fn name(&self) -> &'static str {
-        match self {
-            TireConvention::Mfeval => "mfeval",
-            TireConvention::Chrono => "chrono",
-        }
-    }
-
-    pub fn parse(word: &str) -> Result<TireConvention, String> {
-        match word {
-            "mfeval" => Ok(TireConvention::Mfeval),
-            "chrono" => Ok(TireConvention::Chrono),
-            _ => Err(format!("tire convention '{word}' is not mfeval or chrono")),
-        }
-    }
 }
 
 /// How slip enters the force model.
