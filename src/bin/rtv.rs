@@ -50,7 +50,7 @@ const USAGE: &str = "usage:
             [--tire FILE.tir] [--tire-convention mfeval|chrono] [--road FILE.crg|FILE.xodr|iso8608:...]
             [--friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
-  rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
+  rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json [--tire FILE.tir]
   rtv check-vehicle FILE.json
   rtv ride halfround --height 4|8|10|12|16|20 [--road FILE.crg] [--speeds 5,10,...] [--vehicle FILE.json] [--tire FILE.tir]
             [--tire-convention mfeval|chrono]
@@ -146,6 +146,12 @@ fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure>
         data.use_tire_file(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire: {e}")))?;
     }
     // `vehicle` (the FMU's code 0) keeps the vehicle file's.
+    // --ride-height (scene_config reads it too): the vehicle's own choice, overridden either way.
+    match opts.get("ride-height").map(String::as_str) {
+        Some("retuned") => data.ride_height = rt_vehicle::model::params::RideHeight::Retuned,
+        Some("data") => data.ride_height = rt_vehicle::model::params::RideHeight::Data,
+        _ => {}
+    }
     if let Some(word) = opts.get("tire-convention") {
         if let Some(c) = modes::TIRE_CONVENTIONS.by_name(word).map_err(bad)? {
             data.tire.convention = c;
@@ -786,12 +792,13 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
 fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::model::import_chrono;
     let (vehicle, rest) = args.split_first().ok_or_else(|| bad("import-chrono: name the Chrono vehicle file"))?;
-    let opts = options(rest, &["data-dir", "out"])?;
+    let opts = options(rest, &["data-dir", "out", "tire"])?;
     let dir = opts.get("data-dir").ok_or_else(|| {
         bad("import-chrono: --data-dir DIR is needed (the folder the vehicle's file paths are relative to)")
     })?;
     let out = opts.get("out").ok_or_else(|| bad("import-chrono: --out FILE.json is needed"))?;
-    let import = import_chrono::import_vehicle(std::path::Path::new(vehicle), std::path::Path::new(dir))
+    let tire = opts.get("tire").map(std::path::Path::new);
+    let import = import_chrono::import_vehicle(std::path::Path::new(vehicle), std::path::Path::new(dir), tire)
         .map_err(|e| failed(format!("import-chrono: {e}")))?;
     for w in &import.warnings {
         eprintln!("import-chrono: warning: {w}");
@@ -799,7 +806,18 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     if parse_only("import-chrono") {
         return Ok(());
     }
-    import_chrono::write_atomically(std::path::Path::new(out), &import.to_json())
+    // The tire goes beside the vehicle file, which names it by its file name.
+    let out_path = std::path::Path::new(out);
+    if let (Some(tir), Some(name)) = (&import.tire, &import.data.tire.tir_file) {
+        let target = out_path.parent().unwrap_or(std::path::Path::new("")).join(name);
+        let same = |a: &std::path::Path, b: &std::path::Path| a.canonicalize().ok() == b.canonicalize().ok();
+        if !same(tir, &target) {
+            let text = std::fs::read(tir).map_err(|e| failed(format!("import-chrono: {}: {e}", tir.display())))?;
+            import_chrono::write_atomically(&target, &String::from_utf8_lossy(&text))
+                .map_err(|e| failed(format!("import-chrono: cannot write {}: {e}", target.display())))?;
+        }
+    }
+    import_chrono::write_atomically(out_path, &import.to_json())
         .map_err(|e| failed(format!("import-chrono: cannot write {out}: {e}")))?;
     eprintln!("import-chrono: wrote {out} ({})", import.data.name);
     Ok(())

@@ -291,6 +291,27 @@ pub struct VehicleData {
     pub wheel: WheelBody,
     pub tire: Tire,
     pub speed_hold: SpeedHold,
+    /// Where the car rides (docs/physics.md §8.1): `retuned` (the default, the paper's choice for the
+    /// HMMWV) sets the spring free lengths so that the design position is the static equilibrium; `data`
+    /// keeps the springs as written, as the tool the data came from does (an import's default). The CLI's
+    /// `--ride-height` overrides it.
+    #[serde(default, skip_serializing_if = "RideHeight::is_default")]
+    pub ride_height: RideHeight,
+}
+
+/// `VehicleData::ride_height`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RideHeight {
+    #[default]
+    Retuned,
+    Data,
+}
+
+impl RideHeight {
+    pub fn is_default(&self) -> bool {
+        *self == RideHeight::default()
+    }
 }
 
 /// The hardpoints a MacPherson-strut axle must name (Chrono's names: the strut runs from SPRING_U on the

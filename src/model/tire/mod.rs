@@ -22,7 +22,7 @@ pub mod tir;
 pub use crate::model::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
-pub use magic_formula::{MagicFormula, TireSide};
+pub use magic_formula::{CombinedSlip, MagicFormula, TireSide};
 pub use slip::{
     damped_slip, effective_rolling_radius, low_speed_blend, penetration_rate, reference_speed, relaxation_rates,
     sliding_limits, slip_velocities, steady_slip, SlipStateContext, SlipVelocities, DAHL_SLIP_SPEED_M_S,
@@ -92,16 +92,33 @@ pub enum TireConvention {
     /// wheel's inclination enters; the rolling-resistance moment M_y acts on the wheel's spin.
     #[default]
     Mfeval,
-    /// Project Chrono's `ChPac02Tire` (measured against Chrono's own runs, data/chrono_reference/): every
-    /// tire is evaluated mirrored (Chrono takes α = atan2(−v_y, |v_x|) and applies −F_y(α), whatever the
-    /// side), camber is ignored (inclination 0 in the tire), and the rolling-resistance moment does not reach
-    /// the wheel's spin balance.
+    /// Project Chrono's `ChPac02Tire` (measured against Chrono's own runs, data/chrono_reference/): the
+    /// sides are swapped (a tire on the left wheel is evaluated as one mounted on the right, and the other
+    /// way round: Chrono's per-corner forces are those of MFeval's at the other side's slips, to 0.6 %),
+    /// camber is ignored (inclination 0 in the tire), the rolling-resistance moment does not reach the
+    /// wheel's spin balance, and the slips are taken over |v_x| + 0.1 m/s (`CHRONO_SLIP_SPEED_M_S`).
     Chrono,
 }
 
 impl TireConvention {
     pub fn is_default(&self) -> bool {
         *self == TireConvention::default()
+    }
+}
+
+/// Chrono's Pac02 divides the slip velocities by |v_x| + 0.1 m/s (`ChPac02Tire::Synchronize`: κ =
+/// −V_sx/(|v_x| + 0.1), α = atan2(−v_y, |v_x| + 0.1)), which makes its slips 0.6 % smaller at 60 km/h.
+pub const CHRONO_SLIP_SPEED_M_S: f64 = 0.1;
+
+/// The slips [κ, tan α] the force law is evaluated at, from the model's at forward speed `vx`: the same,
+/// except under Chrono's convention (`CHRONO_SLIP_SPEED_M_S`) on the Magic Formula.
+pub fn evaluated_slips(p: &TireParams, kappa: f64, tan_alpha: f64, vx: f64) -> [f64; 2] {
+    match (&p.magic_formula, p.convention) {
+        (Some(_), TireConvention::Chrono) => {
+            let scale = vx.abs() / (vx.abs() + CHRONO_SLIP_SPEED_M_S);
+            [kappa * scale, tan_alpha * scale]
+        }
+        _ => [kappa, tan_alpha],
     }
 }
 
@@ -191,15 +208,15 @@ pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> Shea
         TireModel::Sti => sti::sti_forces(p, fz, kappa, tan_alpha, inclination, friction),
         TireModel::MagicFormula => match &p.magic_formula {
             Some(mf) => {
-                // Chrono's Pac02 mirrors every tire and ignores camber (`TireConvention::Chrono`).
-                let (side, inclination) = match p.convention {
-                    TireConvention::Mfeval => (side, inclination),
-                    TireConvention::Chrono => (mf.measured_side.other(), 0.0),
+                // Chrono's Pac02 swaps the sides and ignores camber (`TireConvention::Chrono`).
+                let (side, inclination, combined) = match p.convention {
+                    TireConvention::Mfeval => (side, inclination, CombinedSlip::Weighting),
+                    TireConvention::Chrono => (side.other(), 0.0, CombinedSlip::FrictionEllipse),
                 };
-                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction);
+                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction, combined);
                 let mut f = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
                 if blend < 1.0 {
-                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, friction);
+                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, friction, combined);
                     let fade = 1.0 - blend;
                     f.fx -= fade * z.fx;
                     f.fy -= fade * z.fy;
@@ -357,7 +374,7 @@ mod tests {
     }
 
     #[test]
-    fn chrono_convention_mirrors_every_tire_ignores_camber_and_drops_the_rolling_moment() {
+    fn chrono_convention_swaps_the_sides_ignores_camber_and_drops_the_rolling_moment() {
         let mut p = params();
         p.magic_formula = Some(Box::new(
             MagicFormula::read(
@@ -373,9 +390,8 @@ mod tests {
         let mut chrono = p.clone();
         chrono.convention = TireConvention::Chrono;
         for side in [TireSide::Left, TireSide::Right] {
-            // Whatever the side and the inclination: the standard convention's tire on the side the file
-            // was not measured on, upright.
-            assert_eq!(at(&chrono, side, 0.05), at(&p, measured.other(), 0.0), "{side:?}");
+            // Whatever the inclination: the standard convention's tire on the other side, upright.
+            assert_eq!(at(&chrono, side, 0.05), at(&p, side.other(), 0.0), "{side:?}");
         }
         // The file's own side differs (the shifts are mirrored), and so does camber under the standard one.
         assert_ne!(at(&p, measured, 0.0), at(&p, measured.other(), 0.0));
