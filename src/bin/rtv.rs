@@ -52,6 +52,7 @@ const USAGE: &str = "usage:
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json [--tire FILE.tir]
   rtv check-vehicle FILE.json
+  rtv chrono-compare [--doc docs/vehicle_file.md]   (from the repository's root: reads data/)
   rtv ride halfround --height 4|8|10|12|16|20 [--road FILE.crg] [--speeds 5,10,...] [--vehicle FILE.json] [--tire FILE.tir]
             [--tire-convention mfeval|chrono]
   rtv ride rms --course FILE.crg [--rough 100,404.8] [--speeds 10,20,...] [--vehicle FILE.json] [--tire FILE.tir]
@@ -823,6 +824,27 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `rtv chrono-compare [--doc docs/vehicle_file.md]`: the imports of Chrono's two reference cars against
+/// Chrono's own runs (`studies::chrono_compare`); the tables replace the text between the doc's markers.
+fn cmd_chrono_compare(args: &[String]) -> Result<(), Failure> {
+    const BEGIN: &str = "<!-- rtv chrono-compare: begin -->";
+    const END: &str = "<!-- rtv chrono-compare: end -->";
+    let opts = options(args, &["doc"])?;
+    let doc = opts.get("doc").cloned().unwrap_or_else(|| "docs/vehicle_file.md".to_string());
+    let text = std::fs::read_to_string(&doc).map_err(|e| failed(format!("chrono-compare: {doc}: {e}")))?;
+    let (Some(b), Some(e)) = (text.find(BEGIN), text.find(END)) else {
+        return Err(failed(format!("chrono-compare: {doc} has no {BEGIN} … {END} section")));
+    };
+    if parse_only("chrono-compare") {
+        return Ok(());
+    }
+    let tables = rt_vehicle::studies::chrono_compare::tables(std::path::Path::new("."))?;
+    let text = format!("{}{BEGIN}\n{tables}\n{}", &text[..b], &text[e..]);
+    std::fs::write(&doc, text).map_err(|e| failed(format!("chrono-compare: cannot write {doc}: {e}")))?;
+    eprintln!("chrono-compare: wrote the tables into {doc}");
+    Ok(())
+}
+
 /// `rtv check-vehicle FILE.json`: validates the file (schema, inertias, loop closure) and prints a summary
 /// (docs/vehicle_file.md). An invalid file prints `FILE: field: message` and exits with 1.
 fn cmd_check_vehicle(args: &[String]) -> Result<(), Failure> {
@@ -1156,6 +1178,7 @@ fn main() -> ExitCode {
         Some("import-chrono") => cmd_import_chrono(&args[1..]),
         Some("check-vehicle") => cmd_check_vehicle(&args[1..]),
         Some("tire") => cmd_tire(&args[1..]),
+        Some("chrono-compare") => cmd_chrono_compare(&args[1..]),
         Some("road") => cmd_road(&args[1..]),
         Some("ride") => cmd_ride(&args[1..]),
         Some("linearize") => cmd_linearize(&args[1..]),
