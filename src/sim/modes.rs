@@ -155,8 +155,8 @@ pub const TIRE_CONVENTIONS: Table<Option<TireConvention>> = Table {
             value: Some(TireConvention::Chrono),
             code: 2,
             name: "chrono",
-            description: "as Project Chrono's Pac02 does (every tire mirrored, camber ignored, no rolling-resistance \
-                          moment on the wheel)",
+            description: "as Project Chrono's Pac02 does (sides swapped, camber ignored, no rolling-resistance \
+                          moment on the wheel, slips over the forward speed + 0.1 m/s, combined slip by the friction ellipse)",
         },
     ],
 };

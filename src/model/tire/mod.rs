@@ -382,20 +382,29 @@ mod tests {
             )
             .unwrap(),
         ));
-        let measured = p.magic_formula.as_ref().unwrap().measured_side;
-        let at = |p: &TireParams, side: TireSide, inclination: f64| {
-            let input = SlipInput { side, ..SlipInput::rolling(6300.0, 0.02, 0.03, inclination) };
+        let mf = p.magic_formula.clone().unwrap();
+        let measured = mf.measured_side;
+        let at = |p: &TireParams, side: TireSide, kappa: f64, inclination: f64| {
+            let input = SlipInput { side, ..SlipInput::rolling(6300.0, kappa, 0.03, inclination) };
             shear_forces(TireModel::MagicFormula, p, &input)
         };
         let mut chrono = p.clone();
         chrono.convention = TireConvention::Chrono;
         for side in [TireSide::Left, TireSide::Right] {
-            // Whatever the inclination: the standard convention's tire on the other side, upright.
-            assert_eq!(at(&chrono, side, 0.05), at(&p, side.other(), 0.0), "{side:?}");
+            // Whatever the inclination: the tire on the other side, upright, combined by the ellipse.
+            let l = mf.forces(side.other(), 6300.0, 0.02, 0.03, 0.0, 1.0, CombinedSlip::FrictionEllipse);
+            let expected = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
+            assert_eq!(at(&chrono, side, 0.02, 0.05), expected, "{side:?}");
+            // Near zero drive slip the ellipse leaves F_y as the weighting functions do (within 0.3 %, the
+            // G_yκ shift RHY1 at κ = 1e-4); at κ = 0.02 the weighting takes more off.
+            let standard = |kappa: f64| at(&p, side.other(), kappa, 0.0).fy;
+            let (near, far) = (at(&chrono, side, 1e-4, 0.0).fy, at(&chrono, side, 0.02, 0.0).fy);
+            assert!((near / standard(1e-4) - 1.0).abs() < 3e-3, "{side:?}: {near} vs {}", standard(1e-4));
+            assert!(far.abs() > standard(0.02).abs(), "{side:?}: {far} vs {}", standard(0.02));
         }
         // The file's own side differs (the shifts are mirrored), and so does camber under the standard one.
-        assert_ne!(at(&p, measured, 0.0), at(&p, measured.other(), 0.0));
-        assert_ne!(at(&p, measured.other(), 0.05), at(&p, measured.other(), 0.0));
+        assert_ne!(at(&p, measured, 0.02, 0.0), at(&p, measured.other(), 0.02, 0.0));
+        assert_ne!(at(&p, measured.other(), 0.02, 0.05), at(&p, measured.other(), 0.02, 0.0));
         assert!(rolling_resistance_moment(&p, 6300.0, 0.45, 50.0, 0.0, 15.0, 0.0) < 0.0);
         assert_eq!(rolling_resistance_moment(&chrono, 6300.0, 0.45, 50.0, 0.0, 15.0, 0.0), 0.0);
     }
