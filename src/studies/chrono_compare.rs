@@ -30,36 +30,94 @@ pub struct Quantity {
     pub label: &'static str,
     pub chrono: &'static str,
     value: fn(&Outputs) -> f64,
+    /// The steady value itself, not its change from straight running.
+    absolute: bool,
 }
 
 const DEG: f64 = 180.0 / std::f64::consts::PI;
 
 /// The quantities, in the table's order: the four the issue bounds first, then the corners'.
-pub const QUANTITIES: [Quantity; 18] = [
-    Quantity { label: "yaw rate [deg/s]", chrono: "r_yaw_rate_degps", value: |o| o.get("yaw_rate").unwrap() * DEG },
-    Quantity { label: "a_y [m/s²]", chrono: "ay_mps2", value: |o| o.get("ay").unwrap() },
-    Quantity { label: "roll [deg]", chrono: "roll_deg", value: |o| o.get("roll").unwrap() * DEG },
+pub const QUANTITIES: [Quantity; 22] = [
+    Quantity {
+        label: "yaw rate [deg/s]",
+        chrono: "r_yaw_rate_degps",
+        value: |o| o.get("yaw_rate").unwrap() * DEG,
+        absolute: false,
+    },
+    Quantity { label: "a_y [m/s²]", chrono: "ay_mps2", value: |o| o.get("ay").unwrap(), absolute: false },
+    Quantity { label: "roll [deg]", chrono: "roll_deg", value: |o| o.get("roll").unwrap() * DEG, absolute: false },
     Quantity {
         label: "sideslip β [deg]",
         chrono: "beta_deg",
         value: |o| o.get("vy").unwrap().atan2(o.get("vx").unwrap()) * DEG,
+        absolute: false,
     },
-    Quantity { label: "F_z FL [N]", chrono: "Fz_FL_N", value: |o| o.get("tire_fz_fl").unwrap() },
-    Quantity { label: "F_z FR [N]", chrono: "Fz_FR_N", value: |o| o.get("tire_fz_fr").unwrap() },
-    Quantity { label: "F_z RL [N]", chrono: "Fz_RL_N", value: |o| o.get("tire_fz_rl").unwrap() },
-    Quantity { label: "F_z RR [N]", chrono: "Fz_RR_N", value: |o| o.get("tire_fz_rr").unwrap() },
-    Quantity { label: "F_y FL [N]", chrono: "Fy_FL_N", value: |o| o.get("tire_fy_fl").unwrap() },
-    Quantity { label: "F_y FR [N]", chrono: "Fy_FR_N", value: |o| o.get("tire_fy_fr").unwrap() },
-    Quantity { label: "F_y RL [N]", chrono: "Fy_RL_N", value: |o| o.get("tire_fy_rl").unwrap() },
-    Quantity { label: "F_y RR [N]", chrono: "Fy_RR_N", value: |o| o.get("tire_fy_rr").unwrap() },
+    Quantity { label: "F_z FL [N]", chrono: "Fz_FL_N", value: |o| o.get("tire_fz_fl").unwrap(), absolute: false },
+    Quantity { label: "F_z FR [N]", chrono: "Fz_FR_N", value: |o| o.get("tire_fz_fr").unwrap(), absolute: false },
+    Quantity { label: "F_z RL [N]", chrono: "Fz_RL_N", value: |o| o.get("tire_fz_rl").unwrap(), absolute: false },
+    Quantity { label: "F_z RR [N]", chrono: "Fz_RR_N", value: |o| o.get("tire_fz_rr").unwrap(), absolute: false },
+    Quantity { label: "F_y FL [N]", chrono: "Fy_FL_N", value: |o| o.get("tire_fy_fl").unwrap(), absolute: false },
+    Quantity { label: "F_y FR [N]", chrono: "Fy_FR_N", value: |o| o.get("tire_fy_fr").unwrap(), absolute: false },
+    Quantity { label: "F_y RL [N]", chrono: "Fy_RL_N", value: |o| o.get("tire_fy_rl").unwrap(), absolute: false },
+    Quantity { label: "F_y RR [N]", chrono: "Fy_RR_N", value: |o| o.get("tire_fy_rr").unwrap(), absolute: false },
     // The model's α is Pacejka's adapted one (−α ISO); Chrono's column is ISO.
-    Quantity { label: "α FL [deg]", chrono: "alpha_FL_deg", value: |o| -o.get("alpha_fl").unwrap() * DEG },
-    Quantity { label: "α FR [deg]", chrono: "alpha_FR_deg", value: |o| -o.get("alpha_fr").unwrap() * DEG },
-    Quantity { label: "α RL [deg]", chrono: "alpha_RL_deg", value: |o| -o.get("alpha_rl").unwrap() * DEG },
-    Quantity { label: "α RR [deg]", chrono: "alpha_RR_deg", value: |o| -o.get("alpha_rr").unwrap() * DEG },
+    Quantity {
+        label: "α FL [deg]",
+        chrono: "alpha_FL_deg",
+        value: |o| -o.get("alpha_fl").unwrap() * DEG,
+        absolute: false,
+    },
+    Quantity {
+        label: "α FR [deg]",
+        chrono: "alpha_FR_deg",
+        value: |o| -o.get("alpha_fr").unwrap() * DEG,
+        absolute: false,
+    },
+    Quantity {
+        label: "α RL [deg]",
+        chrono: "alpha_RL_deg",
+        value: |o| -o.get("alpha_rl").unwrap() * DEG,
+        absolute: false,
+    },
+    Quantity {
+        label: "α RR [deg]",
+        chrono: "alpha_RR_deg",
+        value: |o| -o.get("alpha_rr").unwrap() * DEG,
+        absolute: false,
+    },
+    // The steady values themselves: Chrono's straight running is not straight (the generic car drifts).
+    Quantity {
+        label: "yaw rate, steady value [deg/s]",
+        chrono: "r_yaw_rate_degps",
+        value: |o| o.get("yaw_rate").unwrap() * DEG,
+        absolute: true,
+    },
+    Quantity { label: "a_y, steady value [m/s²]", chrono: "ay_mps2", value: |o| o.get("ay").unwrap(), absolute: true },
+    Quantity {
+        label: "roll, steady value [deg]",
+        chrono: "roll_deg",
+        value: |o| o.get("roll").unwrap() * DEG,
+        absolute: true,
+    },
+    Quantity {
+        label: "sideslip β, steady value [deg]",
+        chrono: "beta_deg",
+        value: |o| o.get("vy").unwrap().atan2(o.get("vx").unwrap()) * DEG,
+        absolute: true,
+    },
     // The steering's kinematics: the road-wheel angles.
-    Quantity { label: "steer FL [deg]", chrono: "steer_FL_deg", value: |o| o.get("steer_fl").unwrap() * DEG },
-    Quantity { label: "steer FR [deg]", chrono: "steer_FR_deg", value: |o| o.get("steer_fr").unwrap() * DEG },
+    Quantity {
+        label: "steer FL [deg]",
+        chrono: "steer_FL_deg",
+        value: |o| o.get("steer_fl").unwrap() * DEG,
+        absolute: false,
+    },
+    Quantity {
+        label: "steer FR [deg]",
+        chrono: "steer_FR_deg",
+        value: |o| o.get("steer_fr").unwrap() * DEG,
+        absolute: false,
+    },
 ];
 
 /// One car: where its reference runs and its Chrono vehicle file are (relative to the repository), and
@@ -94,13 +152,18 @@ fn fail(message: String) -> ModelError {
     ModelError::new(Cause::Input, message)
 }
 
-/// The steady change of `values` sampled at `times` (`STEADY_S` mean less `STRAIGHT_S` mean).
-fn steady_change(times: &[f64], values: &[f64]) -> f64 {
+/// The steady change of `values` sampled at `times` (`STEADY_S` mean less `STRAIGHT_S` mean), or with
+/// `absolute` the steady mean.
+fn steady(times: &[f64], values: &[f64], absolute: bool) -> f64 {
     let mean = |[a, b]: [f64; 2]| {
         let v: Vec<f64> = times.iter().zip(values).filter(|(t, _)| **t >= a && **t <= b).map(|(_, v)| *v).collect();
         v.iter().sum::<f64>() / v.len() as f64
     };
-    mean(STEADY_S) - mean(STRAIGHT_S)
+    if absolute {
+        mean(STEADY_S)
+    } else {
+        mean(STEADY_S) - mean(STRAIGHT_S)
+    }
 }
 
 /// Chrono's steady changes of `QUANTITIES`, extrapolated to h → 0.
@@ -116,11 +179,17 @@ pub fn reference(root: &Path, car: &Car) -> Result<Vec<f64>, ModelError> {
             .collect::<Result<_, _>>()
             .map_err(|e| fail(format!("{}: {e}", path.display())))?;
         let column = |name: &str| -> Result<Vec<f64>, ModelError> {
-            let i = header.iter().position(|h| *h == name).ok_or_else(|| fail(format!("{}: no {name}", path.display())))?;
+            let i =
+                header.iter().position(|h| *h == name).ok_or_else(|| fail(format!("{}: no {name}", path.display())))?;
             Ok(rows.iter().map(|r| r[i]).collect())
         };
         let t = column("t_s")?;
-        per_run.push(QUANTITIES.iter().map(|q| Ok(steady_change(&t, &column(q.chrono)?))).collect::<Result<Vec<_>, ModelError>>()?);
+        per_run.push(
+            QUANTITIES
+                .iter()
+                .map(|q| Ok(steady(&t, &column(q.chrono)?, q.absolute)))
+                .collect::<Result<Vec<_>, ModelError>>()?,
+        );
     }
     Ok(match per_run.as_slice() {
         [fine, coarse] => fine.iter().zip(coarse).map(|(f, c)| 2.0 * f - c).collect(),
@@ -151,7 +220,9 @@ pub fn simulate(data: &VehicleData, car: &Car, convention: TireConvention) -> Re
         t.push(o.get("time").unwrap());
         samples.push(QUANTITIES.iter().map(|q| (q.value)(o)).collect::<Vec<f64>>());
     })?;
-    Ok((0..QUANTITIES.len()).map(|k| steady_change(&t, &samples.iter().map(|s| s[k]).collect::<Vec<_>>())).collect())
+    Ok((0..QUANTITIES.len())
+        .map(|k| steady(&t, &samples.iter().map(|s| s[k]).collect::<Vec<_>>(), QUANTITIES[k].absolute))
+        .collect())
 }
 
 /// One car's comparison: Chrono's values and the import's with either convention.
@@ -181,7 +252,7 @@ pub fn tables(root: &Path) -> Result<String, ModelError> {
     for car in &CARS {
         let c = compare(root, car)?;
         out.push_str(&format!(
-            "\n**{}** (`{}`), steady changes at u = 0.08:\n\n| quantity | Chrono, h → 0 | `chrono` convention | \
+            "\n**{}** (`{}`), u = 0.08, steady changes from straight running unless said:\n\n| quantity | Chrono, h → 0 | `chrono` convention | \
              `mfeval` (default) |\n|---|---|---|---|\n",
             car.name, car.chrono_vehicle
         ));
