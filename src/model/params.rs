@@ -234,6 +234,10 @@ pub struct Tire {
     /// Chrono's Pac02 does, to reproduce a Chrono run. Independent of the `.tir` file; the STI tire ignores it.
     #[serde(default, skip_serializing_if = "crate::model::tire::TireConvention::is_default")]
     pub convention: crate::model::tire::TireConvention,
+    /// One difference of `TireConvention::Chrono` left out, to measure its share (`studies::chrono_compare`);
+    /// not part of the file format.
+    #[serde(skip)]
+    pub chrono_without: Option<crate::model::tire::ChronoPart>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

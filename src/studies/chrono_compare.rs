@@ -11,7 +11,7 @@
 use crate::error::{Cause, ModelError};
 use crate::model::import_chrono::import_vehicle;
 use crate::model::params::VehicleData;
-use crate::model::tire::TireConvention;
+use crate::model::tire::{ChronoPart, TireConvention};
 use crate::sim::inputs::RackProfile;
 use crate::sim::scenes::{run, Scene, SceneKind};
 use crate::sim::{Outputs, SimConfig};
@@ -266,5 +266,47 @@ pub fn tables(root: &Path) -> Result<String, ModelError> {
             ));
         }
     }
+    out.push_str(&shares(root)?);
     Ok(out)
+}
+
+/// Each difference's share: the steady yaw rate and a_y with the `chrono` convention less those with that
+/// difference left out, in % of Chrono's (one at a time: the shares of a nonlinear car need not add up to
+/// the whole switch).
+fn shares(root: &Path) -> Result<String, ModelError> {
+    let index = |label: &str| QUANTITIES.iter().position(|q| q.label.starts_with(label)).expect("tabled");
+    let (yaw, ay) = (index("yaw rate, steady value"), index("a_y, steady value"));
+    let mut rows = vec![String::new(); ChronoPart::ALL.len() + 1];
+    let mut head = String::from(
+        "\n**Each difference's share** of the steady values (the `chrono` convention less \
+         the same with that one left out, in % of Chrono's value):\n\n| difference |",
+    );
+    let mut rule = String::from("|---|");
+    for car in &CARS {
+        head.push_str(&format!(" {}: yaw rate | a_y |", car.name));
+        rule.push_str("---|---|");
+        let data = imported(root, car)?;
+        let chrono = reference(root, car)?;
+        let all = simulate(&data, car, TireConvention::Chrono)?;
+        let off = simulate(&data, car, TireConvention::Mfeval)?;
+        for (row, part) in rows.iter_mut().zip(ChronoPart::ALL) {
+            let mut without = data.clone();
+            without.tire.chrono_without = Some(part);
+            let w = simulate(&without, car, TireConvention::Chrono)?;
+            if row.is_empty() {
+                row.push_str(&format!("| {} |", part.describe()));
+            }
+            for k in [yaw, ay] {
+                row.push_str(&format!(" {:+.2} % |", 100.0 * (all[k] - w[k]) / chrono[k]));
+            }
+        }
+        let whole = rows.last_mut().expect("a row for the whole switch");
+        if whole.is_empty() {
+            whole.push_str("| the whole switch (`chrono` less `mfeval`) |");
+        }
+        for k in [yaw, ay] {
+            whole.push_str(&format!(" {:+.2} % |", 100.0 * (all[k] - off[k]) / chrono[k]));
+        }
+    }
+    Ok(format!("{head}\n{rule}\n{}\n", rows.join("\n")))
 }

@@ -774,7 +774,16 @@ impl MagicFormula {
     }
 
     /// `loads_iso` on a road of friction scale `friction` (LMUX and LMUY times it).
-    fn loads(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64, friction: f64, combined: CombinedSlip) -> MfLoads {
+    fn loads(
+        &self,
+        fz: f64,
+        kappa: f64,
+        alpha: f64,
+        gamma: f64,
+        vx: f64,
+        friction: f64,
+        combined: CombinedSlip,
+    ) -> MfLoads {
         if fz.is_nan() || fz <= 0.0 {
             return MfLoads::default();
         }

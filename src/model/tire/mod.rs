@@ -106,6 +106,42 @@ impl TireConvention {
     }
 }
 
+/// The differences `TireConvention::Chrono` switches in, one by one: a study leaves one out
+/// (`TireParams::chrono_without`) to measure its share (`studies::chrono_compare`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChronoPart {
+    Sides,
+    Camber,
+    RollingMoment,
+    SlipSpeed,
+    FrictionEllipse,
+}
+
+impl ChronoPart {
+    pub const ALL: [ChronoPart; 5] = [
+        ChronoPart::Sides,
+        ChronoPart::Camber,
+        ChronoPart::RollingMoment,
+        ChronoPart::SlipSpeed,
+        ChronoPart::FrictionEllipse,
+    ];
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            ChronoPart::Sides => "sides swapped",
+            ChronoPart::Camber => "camber ignored",
+            ChronoPart::RollingMoment => "no rolling-resistance moment on the wheel",
+            ChronoPart::SlipSpeed => "slips over v_x + 0.1 m/s",
+            ChronoPart::FrictionEllipse => "combined slip by the friction ellipse",
+        }
+    }
+}
+
+/// Whether `part` of Chrono's convention applies to the tire `p`.
+fn chrono(p: &TireParams, part: ChronoPart) -> bool {
+    p.convention == TireConvention::Chrono && p.chrono_without != Some(part)
+}
+
 /// Chrono's Pac02 divides the slip velocities by |v_x| + 0.1 m/s (`ChPac02Tire::Synchronize`: κ =
 /// −V_sx/(|v_x| + 0.1), α = atan2(−v_y, |v_x| + 0.1)), which makes its slips 0.6 % smaller at 60 km/h.
 pub const CHRONO_SLIP_SPEED_M_S: f64 = 0.1;
@@ -113,8 +149,8 @@ pub const CHRONO_SLIP_SPEED_M_S: f64 = 0.1;
 /// The slips [κ, tan α] the force law is evaluated at, from the model's at forward speed `vx`: the same,
 /// except under Chrono's convention (`CHRONO_SLIP_SPEED_M_S`) on the Magic Formula.
 pub fn evaluated_slips(p: &TireParams, kappa: f64, tan_alpha: f64, vx: f64) -> [f64; 2] {
-    match (&p.magic_formula, p.convention) {
-        (Some(_), TireConvention::Chrono) => {
+    match &p.magic_formula {
+        Some(_) if chrono(p, ChronoPart::SlipSpeed) => {
             let scale = vx.abs() / (vx.abs() + CHRONO_SLIP_SPEED_M_S);
             [kappa * scale, tan_alpha * scale]
         }
@@ -209,9 +245,12 @@ pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> Shea
         TireModel::MagicFormula => match &p.magic_formula {
             Some(mf) => {
                 // Chrono's Pac02 swaps the sides and ignores camber (`TireConvention::Chrono`).
-                let (side, inclination, combined) = match p.convention {
-                    TireConvention::Mfeval => (side, inclination, CombinedSlip::Weighting),
-                    TireConvention::Chrono => (side.other(), 0.0, CombinedSlip::FrictionEllipse),
+                let side = if chrono(p, ChronoPart::Sides) { side.other() } else { side };
+                let inclination = if chrono(p, ChronoPart::Camber) { 0.0 } else { inclination };
+                let combined = if chrono(p, ChronoPart::FrictionEllipse) {
+                    CombinedSlip::FrictionEllipse
+                } else {
+                    CombinedSlip::Weighting
                 };
                 let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction, combined);
                 let mut f = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
@@ -271,7 +310,7 @@ pub fn rolling_resistance_moment(
 ) -> f64 {
     let magnitude = match &p.magic_formula {
         // Chrono's Pac02 computes M_y but does not apply it to the wheel.
-        Some(_) if p.convention == TireConvention::Chrono => 0.0,
+        Some(_) if chrono(p, ChronoPart::RollingMoment) => 0.0,
         Some(mf) => mf.rolling_resistance(fz, fx, vx, -inclination),
         None => p.rolling_resistance * fz * loaded_radius,
     };
