@@ -49,6 +49,7 @@ fn bad_arguments_get_a_message_and_exit_2() {
         (vec!["scene", "jturn", "--colour", "red"], "unknown option"),
         (vec!["scene", "jturn", "--end"], "needs a value"),
         (vec!["scene", "jturn", "--ride-height", "low"], "--ride-height"),
+        (vec!["scene", "jturn", "--tire-convention", "adams"], "--tire-convention"),
         (vec!["kinematics"], "--axle"),
         (vec!["fly"], "unknown command"),
         (vec!["scene", "jturn", "--amplitude", "0.08"], "steering's limit"),

@@ -73,7 +73,7 @@ fn edit_json(path: &Path, edit: impl FnOnce(&mut Value)) {
 fn import_error(name: &str, vehicle: &str, file: &str, edit: impl FnOnce(&mut Value)) -> String {
     let dir = chrono_copy(name);
     edit_json(&dir.join(file), edit);
-    let e = import_vehicle(&dir.join(vehicle), &dir).map(|_| ()).unwrap_err().to_string();
+    let e = import_vehicle(&dir.join(vehicle), &dir, None).map(|_| ()).unwrap_err().to_string();
     let _ = std::fs::remove_dir_all(&dir);
     e
 }
@@ -139,16 +139,20 @@ fn the_schema_is_a_valid_draft_2020_12_schema_naming_every_field() {
 #[test]
 fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
     for (vehicle, shipped) in VEHICLES {
-        let import = import_vehicle(&chrono_data().join(vehicle), &chrono_data()).unwrap();
+        let import = import_vehicle(&chrono_data().join(vehicle), &chrono_data(), None).unwrap();
         let expected = std::fs::read_to_string(repo().join("resources/vehicles").join(shipped)).unwrap();
         assert!(import.to_json() == expected, "{vehicle} no longer imports to resources/vehicles/{shipped}");
+        // Chrono's defaults: the springs as written, the tire of the vehicle's data folder (generic/tire/).
+        assert_eq!(import.data.ride_height, rt_vehicle::model::params::RideHeight::Data);
+        assert_eq!(import.data.tire.tir_file.as_deref(), Some("Generic_Pac02Tire.tir"));
+        assert!(import.tire.as_ref().unwrap().ends_with("generic/tire/Generic_Pac02Tire.tir"), "{:?}", import.tire);
         let w = import.warnings.join("\n");
         for needle in ["Driveline", "Tierod Locations", "Maximum Torque", "Maximum Steering Angle", "Spindle.Radius"] {
             assert!(w.contains(needle), "{vehicle}: no warning about {needle}:\n{w}");
         }
     }
     // The curves: the fit's largest error is reported in % of the peak force.
-    let import = import_vehicle(&chrono_data().join(DOUBLE_WISHBONE), &chrono_data()).unwrap();
+    let import = import_vehicle(&chrono_data().join(DOUBLE_WISHBONE), &chrono_data(), None).unwrap();
     let fits: Vec<&String> = import.warnings.iter().filter(|w| w.contains("largest error")).collect();
     assert_eq!(fits.len(), 2, "{fits:?}");
     assert!(fits.iter().all(|w| w.contains("DoubleWishboneCurve.json") && w.contains("% of the curve's peak force")));
@@ -296,7 +300,7 @@ fn left_and_right_wheels_must_be_the_same() {
     edit_json(&dir.join(MACPHERSON), |v| {
         v["Axles"][0]["Right Wheel Input File"] = json!("generic/wheel/WheelHeavy.json")
     });
-    let e = import_vehicle(&dir.join(MACPHERSON), &dir).map(|_| ()).unwrap_err().to_string();
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir, None).map(|_| ()).unwrap_err().to_string();
     assert!(e.contains("Axles[0].Right Wheel Input File") && e.contains("differs"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -307,11 +311,11 @@ fn the_importer_refuses_a_fifo_and_an_oversized_file() {
     let susp = dir.join("generic/suspension/MacPhersonStrut.json");
     std::fs::remove_file(&susp).unwrap();
     mkfifo(&susp);
-    let e = import_vehicle(&dir.join(MACPHERSON), &dir).map(|_| ()).unwrap_err().to_string();
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir, None).map(|_| ()).unwrap_err().to_string();
     assert!(e.contains("MacPhersonStrut.json") && e.contains("not a regular file"), "{e}");
     std::fs::remove_file(&susp).unwrap();
     oversized(&susp);
-    let e = import_vehicle(&dir.join(MACPHERSON), &dir).map(|_| ()).unwrap_err().to_string();
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir, None).map(|_| ()).unwrap_err().to_string();
     assert!(e.contains("MacPhersonStrut.json") && e.contains("bytes, more than"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -559,7 +563,7 @@ fn a_rack_and_pinion_and_a_chassis_of_several_components_import() {
         };
         v["Components"] = json!([half(0.5), half(-0.5)]);
     });
-    let import = import_vehicle(&dir.join(MACPHERSON), &dir).unwrap();
+    let import = import_vehicle(&dir.join(MACPHERSON), &dir, None).unwrap();
     let rack = import.data.rack.as_ref().expect("a rack");
     assert!(import.data.pitman_arm.is_none());
     assert_eq!(rack.com_m, [1.1, 0.0, -0.25]);
@@ -579,7 +583,8 @@ fn check_vehicle_falls_back_to_the_mass_distribution_when_the_car_does_not_stand
     let mut v = shipped_value("generic_macpherson.json");
     v["front"]["spring"]["k1_N_per_m"] = json!(10.0);
     v["rear"]["spring"]["k1_N_per_m"] = json!(10.0);
-    let data = VehicleData::from_json(&v.to_string()).unwrap();
+    let shipped_dir = repo().join("resources/vehicles"); // where its tir_file lies
+    let data = VehicleData::from_json_in(&v.to_string(), Some(&shipped_dir)).unwrap();
     let s = rt_vehicle::model::summary::summarize(&data).unwrap();
     assert_eq!(s.method, rt_vehicle::model::summary::Method::MassDistribution);
     assert!(s.method_text().contains("the equilibrium failed"), "{}", s.method_text());
@@ -587,7 +592,7 @@ fn check_vehicle_falls_back_to_the_mass_distribution_when_the_car_does_not_stand
     assert!((s.axle_load_n.iter().sum::<f64>() - weight).abs() < 1e-9 * weight);
     // Within a few per cent of the equilibrium's share of the shipped file.
     let stands = rt_vehicle::model::summary::summarize(
-        &VehicleData::from_json(&shipped_value("generic_macpherson.json").to_string()).unwrap(),
+        &VehicleData::from_json_in(&shipped_value("generic_macpherson.json").to_string(), Some(&shipped_dir)).unwrap(),
     )
     .unwrap();
     assert!(

@@ -36,27 +36,31 @@ const USAGE: &str = "usage:
             [--tolerance TOL] [--step S] [--accuracy refuse|warn] [--end T] [--output-interval DT]
             [--speed coast|hold] [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
-            [--tire FILE.tir] [--initial-speed M_PER_S] [--bump-height M] [--bump-length M] [--grade RISE/RUN]
-            [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
+            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--initial-speed M_PER_S] [--bump-height M]
+            [--bump-length M] [--grade RISE/RUN] [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
             [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]] [--friction SCALE]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
   rtv kc [--vehicle FILE.json] [--out docs/kc/NAME.md] [--from -0.10] [--to 0.10] [--increment 0.0025]
             [--steering-points 81] [--plots auto|none]
-  rtv calibrate [--vehicle FILE.json] [--tire FILE.tir]
+  rtv calibrate [--vehicle FILE.json] [--tire FILE.tir] [--tire-convention mfeval|chrono]
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle FILE.json] [--tire FILE.tir]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
-            [--tire FILE.tir] [--road FILE.crg|FILE.xodr|iso8608:...] [--friction SCALE] [--out FILE.csv]
+            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--road FILE.crg|FILE.xodr|iso8608:...]
+            [--friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
-  rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json
+  rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json [--tire FILE.tir]
   rtv check-vehicle FILE.json
+  rtv chrono-compare [--doc docs/vehicle_file.md]   (from the repository's root: reads data/)
   rtv ride halfround --height 4|8|10|12|16|20 [--road FILE.crg] [--speeds 5,10,...] [--vehicle FILE.json] [--tire FILE.tir]
+            [--tire-convention mfeval|chrono]
   rtv ride rms --course FILE.crg [--rough 100,404.8] [--speeds 10,20,...] [--vehicle FILE.json] [--tire FILE.tir]
+            [--tire-convention mfeval|chrono]
   rtv road --road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]] [--step M] [--out profile.csv]
   rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]
-  rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
+  rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--tire-convention mfeval|chrono] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
             [--figure ROOT_LOCUS.png] [--iso4138 on|off] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]
 environment:
   RTV_PARSE_ONLY=1   parse and check the arguments (the files they name read, values against their ranges),
@@ -141,6 +145,18 @@ fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure>
     };
     if let Some(tir) = opts.get("tire") {
         data.use_tire_file(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire: {e}")))?;
+    }
+    // `vehicle` (the FMU's code 0) keeps the vehicle file's.
+    // --ride-height (scene_config reads it too): the vehicle's own choice, overridden either way.
+    match opts.get("ride-height").map(String::as_str) {
+        Some("retuned") => data.ride_height = rt_vehicle::model::params::RideHeight::Retuned,
+        Some("data") => data.ride_height = rt_vehicle::model::params::RideHeight::Data,
+        _ => {}
+    }
+    if let Some(word) = opts.get("tire-convention") {
+        if let Some(c) = modes::TIRE_CONVENTIONS.by_name(word).map_err(bad)? {
+            data.tire.convention = c;
+        }
     }
     for w in data.warnings() {
         eprintln!("warning: {w}");
@@ -288,6 +304,7 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
             "ride-height",
             "vehicle",
             "tire",
+            "tire-convention",
             "initial-speed",
             "bump-height",
             "bump-length",
@@ -588,7 +605,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
 }
 
 fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["vehicle", "tire", "out"])?;
+    let opts = options(args, &["vehicle", "tire", "tire-convention", "out"])?;
     let data = vehicle_data(&opts)?;
     if parse_only("calibrate") {
         return Ok(());
@@ -635,7 +652,8 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
     let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
-    let opts = options(&args[1..], &["initial-speed", "vehicle", "tire", "road", "friction", "out"])?;
+    let opts =
+        options(&args[1..], &["initial-speed", "vehicle", "tire", "tire-convention", "road", "friction", "out"])?;
     let speed = match opts.get("initial-speed") {
         Some(_) => {
             let v = number(&opts, "initial-speed", 0.0)?;
@@ -787,12 +805,13 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
 fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::model::import_chrono;
     let (vehicle, rest) = args.split_first().ok_or_else(|| bad("import-chrono: name the Chrono vehicle file"))?;
-    let opts = options(rest, &["data-dir", "out"])?;
+    let opts = options(rest, &["data-dir", "out", "tire"])?;
     let dir = opts.get("data-dir").ok_or_else(|| {
         bad("import-chrono: --data-dir DIR is needed (the folder the vehicle's file paths are relative to)")
     })?;
     let out = opts.get("out").ok_or_else(|| bad("import-chrono: --out FILE.json is needed"))?;
-    let import = import_chrono::import_vehicle(std::path::Path::new(vehicle), std::path::Path::new(dir))
+    let tire = opts.get("tire").map(std::path::Path::new);
+    let import = import_chrono::import_vehicle(std::path::Path::new(vehicle), std::path::Path::new(dir), tire)
         .map_err(|e| failed(format!("import-chrono: {e}")))?;
     for w in &import.warnings {
         eprintln!("import-chrono: warning: {w}");
@@ -800,9 +819,41 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     if parse_only("import-chrono") {
         return Ok(());
     }
-    import_chrono::write_atomically(std::path::Path::new(out), &import.to_json())
+    // The tire goes beside the vehicle file, which names it by its file name.
+    let out_path = std::path::Path::new(out);
+    if let (Some(tir), Some(name)) = (&import.tire, &import.data.tire.tir_file) {
+        let target = out_path.parent().unwrap_or(std::path::Path::new("")).join(name);
+        let same = |a: &std::path::Path, b: &std::path::Path| a.canonicalize().ok() == b.canonicalize().ok();
+        if !same(tir, &target) {
+            let text = std::fs::read(tir).map_err(|e| failed(format!("import-chrono: {}: {e}", tir.display())))?;
+            import_chrono::write_atomically(&target, &String::from_utf8_lossy(&text))
+                .map_err(|e| failed(format!("import-chrono: cannot write {}: {e}", target.display())))?;
+        }
+    }
+    import_chrono::write_atomically(out_path, &import.to_json())
         .map_err(|e| failed(format!("import-chrono: cannot write {out}: {e}")))?;
     eprintln!("import-chrono: wrote {out} ({})", import.data.name);
+    Ok(())
+}
+
+/// `rtv chrono-compare [--doc docs/vehicle_file.md]`: the imports of Chrono's two reference cars against
+/// Chrono's own runs (`studies::chrono_compare`); the tables replace the text between the doc's markers.
+fn cmd_chrono_compare(args: &[String]) -> Result<(), Failure> {
+    const BEGIN: &str = "<!-- rtv chrono-compare: begin -->";
+    const END: &str = "<!-- rtv chrono-compare: end -->";
+    let opts = options(args, &["doc"])?;
+    let doc = opts.get("doc").cloned().unwrap_or_else(|| "docs/vehicle_file.md".to_string());
+    let text = std::fs::read_to_string(&doc).map_err(|e| failed(format!("chrono-compare: {doc}: {e}")))?;
+    let (Some(b), Some(e)) = (text.find(BEGIN), text.find(END)) else {
+        return Err(failed(format!("chrono-compare: {doc} has no {BEGIN} … {END} section")));
+    };
+    if parse_only("chrono-compare") {
+        return Ok(());
+    }
+    let tables = rt_vehicle::studies::chrono_compare::tables(std::path::Path::new("."))?;
+    let text = format!("{}{BEGIN}\n{tables}\n{}", &text[..b], &text[e..]);
+    std::fs::write(&doc, text).map_err(|e| failed(format!("chrono-compare: cannot write {doc}: {e}")))?;
+    eprintln!("chrono-compare: wrote the tables into {doc}");
     Ok(())
 }
 
@@ -989,7 +1040,10 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
 fn cmd_ride(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::ride;
     let test = args.first().map(String::as_str).ok_or_else(|| bad("ride: halfround or rms?"))?;
-    let opts = options(&args[1..], &["height", "road", "course", "rough", "speeds", "vehicle", "tire"])?;
+    let opts = options(
+        &args[1..],
+        &["height", "road", "course", "rough", "speeds", "vehicle", "tire", "tire-convention"],
+    )?;
     let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, Failure> {
         match opts.get(key) {
             None => Ok(default.to_vec()),
@@ -1036,7 +1090,10 @@ fn cmd_ride(args: &[String]) -> Result<(), Failure> {
 /// `--sweep-speeds`, the eigenvalues at each speed of the sweep written to `--csv` (the root locus's data).
 fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::linear;
-    let opts = options(args, &["vehicle", "tire", "speed", "ay", "out", "figure", "iso4138", "sweep-speeds", "csv"])?;
+    let opts = options(
+        args,
+        &["vehicle", "tire", "tire-convention", "speed", "ay", "out", "figure", "iso4138", "sweep-speeds", "csv"],
+    )?;
     let speed_in_range = |v: f64| v > 1.0 && v <= rt_vehicle::sim::INITIAL_SPEED_MAX;
     let out_of_range = |v: f64| bad(format!("--speed {v}: must be in (1, {}] m/s", rt_vehicle::sim::INITIAL_SPEED_MAX));
     let speed = number(&opts, "speed", 100.0 / 3.6)?;
@@ -1133,6 +1190,7 @@ fn main() -> ExitCode {
         Some("import-chrono") => cmd_import_chrono(&args[1..]),
         Some("check-vehicle") => cmd_check_vehicle(&args[1..]),
         Some("tire") => cmd_tire(&args[1..]),
+        Some("chrono-compare") => cmd_chrono_compare(&args[1..]),
         Some("road") => cmd_road(&args[1..]),
         Some("ride") => cmd_ride(&args[1..]),
         Some("linearize") => cmd_linearize(&args[1..]),

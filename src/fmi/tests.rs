@@ -329,6 +329,7 @@ fn the_table_matches_the_brief() {
     expect("vehicle_file", Causality::Parameter, Start::String(""));
     expect("tire_file", Causality::Parameter, Start::String(""));
     expect("road_file", Causality::Parameter, Start::String(""));
+    expect("tire_convention", Causality::Parameter, Start::Integer(0));
     assert_eq!(DESCRIPTION.by_name("step_cpu_time").unwrap().causality, Causality::Local);
     assert!(DESCRIPTION.by_name("time").is_none(), "no independent time variable (libcosim)");
     assert_eq!(LOG_CATEGORIES.len(), 6);
@@ -1275,6 +1276,7 @@ fn every_mode_table_agrees_with_the_docs_and_the_model_description() {
     check_mode_table(&ROADS);
     check_mode_table(&CONTACTS);
     check_mode_table(&ACCURACY_POLICIES);
+    check_mode_table(&TIRE_CONVENTIONS);
 }
 
 #[test]
@@ -1331,6 +1333,29 @@ fn the_tolerance_and_contact_parameters_refuse_bad_values_and_keep_the_old_ones(
     }
     let var = DESCRIPTION.by_name("tolerance").unwrap();
     assert_eq!((var.min, var.max), (Some(crate::sim::TOLERANCE_MIN), Some(crate::sim::TOLERANCE_MAX)));
+}
+
+#[test]
+fn the_tire_convention_refuses_bad_codes_and_reaches_the_vehicle() {
+    use crate::model::tire::TireConvention;
+    let rec = Recorder::default();
+    let uri = resources_uri();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
+    for bad in [-1, 3, i32::MAX] {
+        assert_eq!(inst.set_integer(&[vr::TIRE_CONVENTION], &[bad]), ERROR, "{bad}");
+        assert!(rec.last().contains("tire_convention"), "{}", rec.last());
+    }
+    assert_eq!(vehicle_model(&inst).tire_convention, None, "the old value (the vehicle file's) is kept");
+    assert_eq!(inst.set_integer(&[vr::TIRE_CONVENTION], &[2]), OK);
+    assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/HMMWV_Pac02Tire.tir"), OK);
+    unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+        assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last());
+    }
+    let sim = vehicle_model(&inst).sim.as_ref().expect("initialized");
+    assert_eq!(sim.vehicle().tire.convention, TireConvention::Chrono);
+    assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{}", rec.last());
 }
 
 #[test]

@@ -194,6 +194,9 @@ pub struct VehicleModel {
     /// The `road_file` parameter (an OpenCRG file or an `iso8608:` road; empty: the `road` code's).
     #[serde(default)]
     pub road_file: String,
+    /// The `tire_convention` parameter (`None`, code 0: the vehicle file's `tire.convention`).
+    #[serde(default)]
+    pub tire_convention: Option<crate::model::tire::TireConvention>,
     /// The steering inputs [rack_displacement, pitman_arm_angle]: the vehicle reads its own.
     pub steering: [f64; 2],
     /// Their derivatives of order 1 and 2 for the next step only.
@@ -249,6 +252,9 @@ impl VehicleModel {
             let path = fmi_layer::resources::locate("tire_file", tir, context)?;
             data.use_tire_file(&path).map_err(|e| format!("tire_file: {e}"))?;
             log.event(&format!("tire: Magic Formula of {}", path.display()));
+        }
+        if let Some(convention) = self.tire_convention {
+            data.tire.convention = convention;
         }
         Ok(data)
     }
@@ -381,6 +387,7 @@ impl FmuModel for VehicleModel {
             vehicle_file: String::new(),
             tire_file: String::new(),
             road_file: String::new(),
+            tire_convention: None,
             steering: [0.0; 2],
             steering_derivatives: [[None; 2]; 2],
             steering_rates: [[0.0; 2]; 2],
@@ -440,7 +447,8 @@ impl FmuModel for VehicleModel {
                 | P::TireFile
                 | P::RoadFile
                 | P::Contact
-                | P::AccuracyPolicy,
+                | P::AccuracyPolicy
+                | P::TireConvention,
             ) => return Err(format!("{} is not a Real of this model", var.name)),
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
             Var::Output(_) => self.output(var)?,
@@ -457,6 +465,7 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Road) => modes::ROADS.code(c.road),
             Var::Parameter(P::Contact) => modes::CONTACTS.code(o.contact),
             Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.code(c.accuracy),
+            Var::Parameter(P::TireConvention) => modes::TIRE_CONVENTIONS.code(self.tire_convention),
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep
@@ -542,7 +551,8 @@ impl FmuModel for VehicleModel {
                 | P::TireFile
                 | P::RoadFile
                 | P::Contact
-                | P::AccuracyPolicy,
+                | P::AccuracyPolicy
+                | P::TireConvention,
             )
             | Var::Local(_)
             | Var::Output(_)
@@ -566,6 +576,9 @@ impl FmuModel for VehicleModel {
             Var::Parameter(P::Road) => modes::ROADS.by_code(value).map(|r| c.road = r),
             Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|m| c.options.contact = m),
             Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.by_code(value).map(|a| c.accuracy = a),
+            Var::Parameter(P::TireConvention) => {
+                modes::TIRE_CONVENTIONS.by_code(value).map(|t| self.tire_convention = t)
+            }
             Var::Parameter(
                 P::InitialSpeed
                 | P::InternalStep

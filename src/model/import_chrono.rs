@@ -8,8 +8,10 @@
 //! `Orientation`; spring and damper curves become the model's odd cubic spring and two-rate damper by least
 //! squares. What the model has no place for is listed as a warning; what it cannot represent (another
 //! template, an unknown key, camber or toe offsets, an anti-roll bar, different wheels) is an error that
-//! names the file and the key. The tire, the stop table, gravity and the speed hold are the HMMWV's
-//! (`VehicleData::default_hmmwv`): Chrono's vehicle files name no tire, and the model has the STI tire only.
+//! names the file and the key. Chrono's vehicle files name no tire: the tire is the `.tir` file of the
+//! vehicle's data folder (`tire_file`), copied beside the vehicle file. The springs ride as written
+//! (`ride_height: data`), as in Chrono. The stop table, gravity and the speed hold are the HMMWV's
+//! (`VehicleData::default_hmmwv`).
 //!
 //! The result is checked by the loader (`VehicleData::from_json`: schema, inertias, loop closure) before
 //! anything is written, and written atomically (`write_atomically`).
@@ -49,6 +51,9 @@ impl std::error::Error for ImportError {}
 pub struct Import {
     pub data: VehicleData,
     pub warnings: Vec<String>,
+    /// The `.tir` file the vehicle rolls on (`data.tire.tir_file` names it): to be copied beside the
+    /// vehicle file (`rtv import-chrono` does).
+    pub tire: Option<PathBuf>,
 }
 
 impl Import {
@@ -117,9 +122,12 @@ pub fn write_atomically(path: &Path, text: &str) -> std::io::Result<()> {
     result
 }
 
-/// Imports the Chrono vehicle `vehicle`; the paths it names are relative to `data_dir`.
-pub fn import_vehicle(vehicle: &Path, data_dir: &Path) -> Result<Import, ImportError> {
-    Importer { data_dir: data_dir.to_path_buf(), warnings: Vec::new() }.vehicle(vehicle)
+/// Imports the Chrono vehicle `vehicle`; the paths it names are relative to `data_dir`. The tire is `tire`
+/// when given, else the one `.tir` file of the vehicle's data folder (`tire/` beside the folder that holds
+/// the vehicle file, as Chrono lays out `generic/vehicle/` and `generic/tire/`), else the HMMWV's STI tire.
+pub fn import_vehicle(vehicle: &Path, data_dir: &Path, tire: Option<&Path>) -> Result<Import, ImportError> {
+    Importer { data_dir: data_dir.to_path_buf(), warnings: Vec::new(), tire: tire.map(Path::to_path_buf) }
+        .vehicle(vehicle)
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -482,6 +490,8 @@ fn curve(o: &Obj, k: &str) -> Result<Vec<(f64, f64)>, ImportError> {
 struct Importer {
     data_dir: PathBuf,
     warnings: Vec<String>,
+    /// The `.tir` file asked for (`import_vehicle`).
+    tire: Option<PathBuf>,
 }
 
 /// One parsed Chrono file: its name as shown in messages and its top-level object.
@@ -538,6 +548,34 @@ impl Importer {
             Ok(t)
         } else {
             Err(o.err("Template", format!("template '{t}' is not supported (supported: {})", supported.join(", "))))
+        }
+    }
+
+    /// The `.tir` file the vehicle rolls on (`import_vehicle`): `None` for the STI tire.
+    fn tire_file(&self, vehicle: &Path, shown: &str) -> Result<Option<PathBuf>, ImportError> {
+        if let Some(t) = &self.tire {
+            return Ok(Some(t.clone()));
+        }
+        let fail = |message: String| ImportError { file: shown.to_string(), key: String::new(), message };
+        let Some(folder) = vehicle.parent().and_then(Path::parent).map(|p| p.join("tire")) else {
+            return Ok(None);
+        };
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            return Ok(None);
+        };
+        let mut found: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("tir")))
+            .collect();
+        found.sort();
+        match found.len() {
+            0 | 1 => Ok(found.pop()),
+            _ => Err(fail(format!(
+                "{} holds {} .tir files ({}): name the vehicle's with --tire",
+                folder.display(),
+                found.len(),
+                found.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy()).collect::<Vec<_>>().join(", ")
+            ))),
         }
     }
 
@@ -665,14 +703,26 @@ impl Importer {
 
         let hmmwv = VehicleData::default_hmmwv();
         let wheel = &wheels[0].1;
+        let tir = self.tire_file(path, &shown)?;
+        let mut tire = hmmwv.tire.clone();
+        let tire_said = match &tir {
+            Some(t) => {
+                let name = t.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                tire.tir_file = Some(name.clone());
+                format!(
+                    "The tire is the Magic Formula of {name}, the .tir file of the vehicle's data folder, copied \
+                     beside this file (its mass and inertia are the HMMWV's tire's)."
+                )
+            }
+            None => "The tire is the HMMWV's STI tire: the vehicle's data folder has no .tir file.".to_string(),
+        };
         let data = VehicleData {
             name,
             provenance: format!(
                 "Imported by `rtv import-chrono` from Project Chrono's vehicle data ({shown}; BSD-3-Clause, see \
                  resources/vehicles/LICENSE-chrono). Spring and damper curves fitted by least squares (odd cubic \
-                 spring, two-rate damper). The tire (STI), the stop table, gravity and the speed hold are the \
-                 HMMWV's (resources/hmmwv.json): Chrono's vehicle files name no tire and the model has the STI \
-                 tire only."
+                 spring, two-rate damper). The springs ride as written (ride_height: data), as in Chrono. \
+                 {tire_said} The stop table, gravity and the speed hold are the HMMWV's (resources/hmmwv.json)."
             ),
             gravity_m_s2: hmmwv.gravity_m_s2,
             chassis,
@@ -683,15 +733,17 @@ impl Importer {
             rear: rear.2,
             stop_table: hmmwv.stop_table.clone(),
             wheel: WheelBody { mass_kg: wheel.mass, inertia_kg_m2: wheel.inertia },
-            tire: hmmwv.tire.clone(),
+            tire,
             speed_hold: hmmwv.speed_hold.clone(),
+            ride_height: crate::model::params::RideHeight::Data,
         };
         // The loader's checks (schema, inertias, loop closure) on the text that will be written.
         // A file named twice (the same wheel on every corner) warns once.
         let mut seen = std::collections::BTreeSet::new();
         let warnings = self.warnings.into_iter().filter(|w| seen.insert(w.clone())).collect();
-        let import = Import { data, warnings };
-        if let Err(e) = VehicleData::from_json(&import.to_json()) {
+        let import = Import { data, warnings, tire: tir.clone() };
+        let beside = tir.as_deref().and_then(Path::parent);
+        if let Err(e) = VehicleData::from_json_in(&import.to_json(), beside) {
             return Err(loader_error(e, &file.shown, &front.1, &rear.1));
         }
         Ok(import)
@@ -705,6 +757,7 @@ impl Importer {
             &[
                 ("Visualization", VISUAL),
                 ("Contact", "the chassis has no contact in the model"),
+                ("Rear Connector Location", "a trailer hitch: the model tows nothing"),
                 ("Output", "Chrono output settings"),
             ],
             &mut self.warnings,

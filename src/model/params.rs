@@ -230,6 +230,14 @@ pub struct Tire {
     /// The Magic Formula read from `tir_file` (`VehicleData::use_tire_file`); not part of the file format.
     #[serde(skip)]
     pub magic_formula: Option<Box<crate::model::tire::MagicFormula>>,
+    /// How the Magic Formula is evaluated (`TireConvention`): as MFeval computes it (the default), or as
+    /// Chrono's Pac02 does, to reproduce a Chrono run. Independent of the `.tir` file; the STI tire ignores it.
+    #[serde(default, skip_serializing_if = "crate::model::tire::TireConvention::is_default")]
+    pub convention: crate::model::tire::TireConvention,
+    /// One difference of `TireConvention::Chrono` left out, to measure its share (`studies::chrono_compare`);
+    /// not part of the file format.
+    #[serde(skip)]
+    pub chrono_without: Option<crate::model::tire::ChronoPart>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -287,6 +295,27 @@ pub struct VehicleData {
     pub wheel: WheelBody,
     pub tire: Tire,
     pub speed_hold: SpeedHold,
+    /// Where the car rides (docs/physics.md §8.1): `retuned` (the default, the paper's choice for the
+    /// HMMWV) sets the spring free lengths so that the design position is the static equilibrium; `data`
+    /// keeps the springs as written, as the tool the data came from does (an import's default). The CLI's
+    /// `--ride-height` overrides it.
+    #[serde(default, skip_serializing_if = "RideHeight::is_default")]
+    pub ride_height: RideHeight,
+}
+
+/// `VehicleData::ride_height`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RideHeight {
+    #[default]
+    Retuned,
+    Data,
+}
+
+impl RideHeight {
+    pub fn is_default(&self) -> bool {
+        *self == RideHeight::default()
+    }
 }
 
 /// The hardpoints a MacPherson-strut axle must name (Chrono's names: the strut runs from SPRING_U on the

@@ -230,6 +230,9 @@ pub struct Vehicle {
     /// ride tests measure (studies::ride).
     #[serde(default)]
     pub driver_position: Option<V3>,
+    /// The vehicle file's `ride_height` is `data`: the springs as written, no retune (`sim::Start`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub springs_as_written: bool,
 }
 
 /// The road as every run sees it unless it names another: the level plane.
@@ -396,6 +399,7 @@ impl Vehicle {
             gravity: data.gravity_m_s2,
             total_mass,
             driver_position: data.driver_position_m.map(|p| V3::from(p) - data.sprung_com()),
+            springs_as_written: data.ride_height == crate::model::params::RideHeight::Data,
         };
         if data.tire.tir_file.is_some() && data.tire.magic_formula.is_none() {
             return Err(DataError {
@@ -829,10 +833,11 @@ impl Vehicle {
                 // Camber thrust and aligning moment build up by rolling: faded out at standstill (b = 0),
                 // where they would push and twist a parked car.
                 let side = if i.is_multiple_of(2) { tire::TireSide::Left } else { tire::TireSide::Right };
+                let [kappa_f, tan_alpha_f] = tire::evaluated_slips(&self.tire, kappa, tan_alpha, slip.vx);
                 let input = tire::SlipInput {
                     fz,
-                    kappa,
-                    tan_alpha,
+                    kappa: kappa_f,
+                    tan_alpha: tan_alpha_f,
                     inclination: ct.inclination * blend,
                     side,
                     blend,

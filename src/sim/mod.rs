@@ -63,7 +63,8 @@ pub struct SimConfig {
     pub road: RoadChoice,
     /// The speed the run starts at, steady rolling, and the speed hold's target, m/s.
     pub initial_speed: f64,
-    /// Retune spring free lengths so that the design position is the static equilibrium (default on).
+    /// Retune spring free lengths so that the design position is the static equilibrium (default on),
+    /// unless the vehicle file keeps its springs as written (`ride_height: data`, `Vehicle::springs_as_written`).
     pub ride_height_retune: bool,
     /// Height and length of the bumps of the bump course, m.
     #[serde(default = "paper_bump")]
@@ -409,7 +410,7 @@ impl Start {
         config.validate()?;
         check_initial_steering(&v, steering)?;
         let options = &config.options;
-        if config.ride_height_retune {
+        if config.ride_height_retune && !v.springs_as_written {
             retune_ride_height(&mut v, options).context("ride-height retune")?;
         }
         let mut cache = Workspace::default();

@@ -4,7 +4,7 @@
 
 use super::{AccuracyPolicy, ContactModel, RoadChoice};
 use crate::integrate::IntegratorKind;
-use crate::model::tire::SlipModel;
+use crate::model::tire::{SlipModel, TireConvention};
 use crate::model::vehicle::{Formulation, SpeedMode};
 
 /// One choice of a mode.
@@ -135,6 +135,28 @@ pub const CONTACTS: Table<ContactModel> = Table {
             code: 2,
             name: "envelope",
             description: "enveloping: the road averaged over the contact length",
+        },
+    ],
+};
+
+/// The FMU's `tire_convention`: `None` keeps the vehicle file's `tire.convention`.
+pub const TIRE_CONVENTIONS: Table<Option<TireConvention>> = Table {
+    parameter: "tire_convention",
+    option: Some("tire-convention"),
+    choices: &[
+        Choice { value: None, code: 0, name: "vehicle", description: "as the vehicle file says (`tire.convention`)" },
+        Choice {
+            value: Some(TireConvention::Mfeval),
+            code: 1,
+            name: "mfeval",
+            description: "the Magic Formula as MFeval computes it",
+        },
+        Choice {
+            value: Some(TireConvention::Chrono),
+            code: 2,
+            name: "chrono",
+            description: "as Project Chrono's Pac02 does (sides swapped, camber ignored, no rolling-resistance \
+                          moment on the wheel, slips over the forward speed + 0.1 m/s, combined slip by the friction ellipse)",
         },
     ],
 };

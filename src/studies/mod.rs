@@ -1,6 +1,7 @@
 //! Studies of the vehicle that are not simulations: they use the model (`model/`) as a rig uses the car,
 //! and stay out of the engine (nothing in `model/`, `dynamics/` or `sim/` imports them).
 //!
+//! - `chrono_compare.rs`: an import against its source's own runs (`rtv chrono-compare`, docs/vehicle_file.md).
 //! - `kc.rs`: the kinematics-and-compliance report (`rtv kc`, docs/kc/).
 //! - `linear.rs`: the vehicle linearized about a steady state: modes, understeer gradient, yaw-rate gain
 //!   (`rtv linearize`, docs/linear.md).
@@ -14,6 +15,7 @@
 //! They are the Cargo feature `studies` (default on: the CLI, the tests): the FMU's library is built without
 //! it (packaging: `--no-default-features`), so it carries neither the studies nor the driver crate.
 
+pub mod chrono_compare;
 pub mod kc;
 pub mod linear;
 pub mod manoeuvres;

@@ -51,7 +51,7 @@ def test_variables(md):
     assert set(params) == {"initial_speed", "speed_mode", "formulation", "integrator", "internal_step",
                            "slip_model", "road", "vehicle_file", "road_grade", "road_cross_slope", "bump_height",
                            "bump_length", "tolerance", "contact", "tire_file", "road_file", "road_friction",
-                           "accuracy_policy"}
+                           "accuracy_policy", "tire_convention"}
     for p in params.values():
         assert p.variability == "fixed" and p.initial in (None, "exact") and p.start is not None
     outputs = [v for v in md.modelVariables if v.causality == "output"]

@@ -341,6 +341,7 @@ def test_states_of_another_vehicle_or_interface_are_refused(make_me, make, tmp_p
     # holds another vehicle when the state is restored gives another fingerprint.
     file = tmp_path / "vehicle.json"
     shutil.copy(ROOT / "resources" / "vehicles" / "generic_macpherson.json", file)
+    shutil.copy(ROOT / "resources" / "vehicles" / "Generic_Pac02Tire.tir", tmp_path)  # its tir_file, beside it
     a = make_me().init(strings={"vehicle_file": str(file)})
     a.fmu.enterContinuousTimeMode()
     blob = a.fmu.serializeFMUstate(a.fmu.getFMUstate())

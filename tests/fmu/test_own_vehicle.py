@@ -11,8 +11,9 @@ from conftest import ERROR, OK, ROOT, messages, status
 
 CALIBRATION = json.loads((ROOT / "resources" / "calibration.json").read_text())["vehicles"]
 VEHICLES = {
-    "vehicles/generic_macpherson.json": "Test vehicle - MacPherson Strut",
-    "vehicles/generic_double_wishbone.json": "Test vehicle - Double Wishbone",
+    # The calibration's names: the vehicle's, on the tire of its data folder (issue 32).
+    "vehicles/generic_macpherson.json": "Test vehicle - MacPherson Strut on Generic_Pac02Tire",
+    "vehicles/generic_double_wishbone.json": "Test vehicle - Double Wishbone on Generic_Pac02Tire",
 }
 
 
@@ -23,25 +24,27 @@ def test_the_imports_are_in_the_fmu_with_chronos_licence(fmu_path):
     for file in VEHICLES:
         assert f"resources/{file}" in names
     assert "resources/vehicles/LICENSE-chrono" in names
+    assert "resources/vehicles/Generic_Pac02Tire.tir" in names  # their tir_file, beside them
 
 
 @pytest.mark.parametrize("file", sorted(VEHICLES))
 def test_a_pitman_arm_vehicle_turns_at_its_calibrated_lateral_acceleration(make, file):
-    # The J-turn at 100 km/h with the calibrated Pitman-arm angle, ramped over 0.1 s at t = 1 s, fed through
-    # fmi2SetReal with its derivative; a_y is read over the last second of 4 s. The calibration is the CLI's
-    # (conventional, 0.1 ms) and this is the FMU's default run (synthesis, RK4 2 ms): they agree to the
-    # integration error, far below 1 % (the bound is for the shorter 4 s run's settling, measured 0.2 %).
+    # The J-turn at 100 km/h with the calibrated Pitman-arm angle, ramped over 0.1 s at t = 3 s, fed through
+    # fmi2SetReal with its derivative; a_y is read over 6-8 s, as the calibration reads it. The calibration is
+    # the CLI's (conventional, 0.1 ms, a smootherstep ramp) and this is the FMU's default run (synthesis, RK4
+    # 2 ms, a linear ramp): they agree to the integration error, far below the 1 % bound. (A 4 s run read over
+    # its last second did not settle on the imports' own .tir and springs: 0.386 and 0.408 g.)
     amplitude = CALIBRATION[VEHICLES[file]]["jturn_amplitude"]
     s = make()
     s.init(vehicle_file=file, initial_speed=100 / 3.6)
     h, ay = 0.01, []
     vr = s.vr["pitman_arm_angle"]
-    while s.t < 4.0 - 1e-9:
-        u = min(max((s.t + h - 1.0) / 0.1, 0.0), 1.0) * amplitude
+    while s.t < 8.0 - 1e-9:
+        u = min(max((s.t + h - 3.0) / 0.1, 0.0), 1.0) * amplitude
         s.fmu.setReal([vr], [u])
         s.fmu.doStep(s.t, h)
         s.t += h
-        if s.t > 3.0:
+        if s.t > 6.0:
             ay.append(s.get("ay"))
     mean = sum(ay) / len(ay) / 9.81
     assert abs(mean - 0.4) < 0.004, mean

@@ -171,6 +171,16 @@ pub enum TireSide {
     Right,
 }
 
+impl TireSide {
+    /// The opposite side.
+    pub fn other(self) -> TireSide {
+        match self {
+            TireSide::Left => TireSide::Right,
+            TireSide::Right => TireSide::Left,
+        }
+    }
+}
+
 /// A Magic Formula tire read from a `.tir` file: coefficients plus the dimensional data in SI.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct MagicFormula {
@@ -234,7 +244,21 @@ pub struct MfLoads {
 struct Pure {
     fx0: f64,
     kx: f64,
+    /// S_Hx, S_Vx and μ_x (the friction ellipse's).
+    shx: f64,
+    svx: f64,
+    mu_x: f64,
     y: Lateral,
+}
+
+/// How combined slip reduces the pure-slip forces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CombinedSlip {
+    /// Pacejka's weighting functions G_xα, G_yκ (4.E50–4.E67): the Magic Formula as MFeval computes it.
+    Weighting,
+    /// Chrono's Pac02 default (its `.tir` without `FE_METHOD = 'NO'`): the friction ellipse of
+    /// `ChPac02Tire::CalcFxyMz`, which ignores the R* coefficients.
+    FrictionEllipse,
 }
 
 /// The pure lateral slip's force and the factors the combined slip and M_z reuse.
@@ -256,6 +280,22 @@ fn nonzero_stiffness(k: f64) -> f64 {
     } else {
         k + EPS_STIFFNESS_N
     }
+}
+
+/// [F_x, F_y] of Chrono's friction ellipse (`ChPac02Tire::CalcFxyMz`, `m_use_friction_ellipsis`) from the
+/// pure-slip forces: with κ_c = κ + S_Hx + S_Vx/K_x, α_s = sin(α + S_Hy + S_Vy/K_y), tan β = |α_s|/|κ_c| and
+/// the pure slips' friction μ_act = |F_0 − S_V|/F_z, F_x = F_x0 μ_x,c/μ_x,act and F_y = F_y0 μ_y,c/μ_y,act,
+/// written here without the quotients that are 0/0 at zero slip.
+fn friction_ellipse(p: &Pure, fz: f64, kappa: f64, alpha: f64) -> [f64; 2] {
+    let y = &p.y;
+    let kappa_c = (kappa + p.shx + p.svx / nonzero_stiffness(p.kx)).abs();
+    let alpha_s = (alpha + y.shy + y.svy / nonzero_stiffness(y.ky)).sin().abs();
+    let (mu_x_act, mu_y_act) = ((p.fx0 - p.svx).abs() / fz, (y.fy0 - y.svy).abs() / fz);
+    // μ_x,c/μ_x,act = 1/hypot(1, μ_x,act tan β/μ_y,max); μ_y,c/μ_y,act = tan β/hypot(μ_y,act/μ_x,max, tan β).
+    let x_scale = kappa_c / kappa_c.hypot(mu_x_act * alpha_s / y.mu_y);
+    let y_scale = alpha_s / alpha_s.hypot(mu_y_act * kappa_c / p.mu_x);
+    let finite = |s: f64| if s.is_finite() { s } else { 1.0 };
+    [p.fx0 * finite(x_scale), y.fy0 * finite(y_scale)]
 }
 
 /// y = D sin(C atan(B x − E (B x − atan(B x)))), the Magic Formula itself.
@@ -701,7 +741,7 @@ impl MagicFormula {
         let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * lmux;
         let fx0 = magic(bx, cx, dx, ex, kappa_x) + svx;
         let y = self.lateral(fz, dfz, alpha, gamma, lmuy);
-        Pure { fx0, kx, y }
+        Pure { fx0, kx, shx, svx, mu_x, y }
     }
 
     /// Pure lateral slip F_y0(α) at inclination γ (4.E19–4.E30; MF 6.1 adds PEY5 γ² to E_y and its camber
@@ -730,11 +770,20 @@ impl MagicFormula {
 
     /// The loads of the tire as measured (its own side), ISO inputs, combined slip (USE_MODE 4).
     pub fn loads_iso(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64) -> MfLoads {
-        self.loads(fz, kappa, alpha, gamma, vx, 1.0)
+        self.loads(fz, kappa, alpha, gamma, vx, 1.0, CombinedSlip::Weighting)
     }
 
     /// `loads_iso` on a road of friction scale `friction` (LMUX and LMUY times it).
-    fn loads(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64, friction: f64) -> MfLoads {
+    fn loads(
+        &self,
+        fz: f64,
+        kappa: f64,
+        alpha: f64,
+        gamma: f64,
+        vx: f64,
+        friction: f64,
+        combined: CombinedSlip,
+    ) -> MfLoads {
         if fz.is_nan() || fz <= 0.0 {
             return MfLoads::default();
         }
@@ -755,7 +804,7 @@ impl MagicFormula {
         let bxa = (c.RBX1 + c.RBX3 * gamma * gamma) * cos_atan(c.RBX2 * kappa) * c.LXAL;
         let exa = (c.REX1 + c.REX2 * dfz).min(1.0);
         let gxa = cosine_shape(bxa, c.RCX1, exa, alpha_s) / cosine_shape(bxa, c.RCX1, exa, shxa);
-        let fx = gxa * p.fx0;
+        let mut fx = gxa * p.fx0;
 
         let shyk = c.RHY1 + c.RHY2 * dfz;
         let kappa_s = kappa + shyk;
@@ -764,7 +813,10 @@ impl MagicFormula {
         let dvyk = p.y.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma) * cos_atan(c.RVY4 * alpha);
         let svyk = dvyk * (c.RVY5 * (c.RVY6 * kappa).atan()).sin() * c.LVYKA;
         let gyk = cosine_shape(byk, c.RCY1, eyk, kappa_s) / cosine_shape(byk, c.RCY1, eyk, shyk);
-        let fy = gyk * p.y.fy0 + svyk;
+        let mut fy = gyk * p.y.fy0 + svyk;
+        if combined == CombinedSlip::FrictionEllipse {
+            [fx, fy] = friction_ellipse(&p, fz, kappa, alpha);
+        }
 
         // Aligning moment (4.E31–4.E49, combined 4.E71–4.E78; MF 6.1's QDZ10–11 and LKZC in D_r).
         let r0 = self.unloaded_radius;
@@ -896,17 +948,27 @@ impl MagicFormula {
 
     /// The loads of this tire mounted on `side`, ISO inputs: mirrored when that is not the measured side.
     pub fn loads_on(&self, side: TireSide, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64) -> MfLoads {
-        self.mounted(side, fz, kappa, alpha, gamma, vx, 1.0)
+        self.mounted(side, fz, kappa, alpha, gamma, vx, 1.0, CombinedSlip::Weighting)
     }
 
     /// `loads` of the tire mounted on `side`: the mirror image at (κ, −α, −γ) with F_y, M_x, M_z negated
     /// when that is not the side it was measured on.
     #[allow(clippy::too_many_arguments)]
-    fn mounted(&self, side: TireSide, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64, friction: f64) -> MfLoads {
+    fn mounted(
+        &self,
+        side: TireSide,
+        fz: f64,
+        kappa: f64,
+        alpha: f64,
+        gamma: f64,
+        vx: f64,
+        friction: f64,
+        combined: CombinedSlip,
+    ) -> MfLoads {
         if side == self.measured_side {
-            return self.loads(fz, kappa, alpha, gamma, vx, friction);
+            return self.loads(fz, kappa, alpha, gamma, vx, friction, combined);
         }
-        let m = self.loads(fz, kappa, -alpha, -gamma, vx, friction);
+        let m = self.loads(fz, kappa, -alpha, -gamma, vx, friction, combined);
         MfLoads { fy: -m.fy, mx: -m.mx, mz: -m.mz, ..m }
     }
 
@@ -921,8 +983,9 @@ impl MagicFormula {
         tan_alpha: f64,
         inclination: f64,
         friction: f64,
+        combined: CombinedSlip,
     ) -> MfLoads {
-        self.mounted(side, fz, kappa, -tan_alpha, -inclination, 0.0, friction)
+        self.mounted(side, fz, kappa, -tan_alpha, -inclination, 0.0, friction, combined)
     }
 }
 
@@ -947,7 +1010,7 @@ mod tests {
         let l = mf.loads_iso(fz, 0.0, 0.05, 0.0, 10.0);
         assert!(l.fy < 0.0 && l.mz > 0.0, "{l:?}");
         // The model's adapted slip: tan α' > 0 gives F_y > 0.
-        assert!(mf.forces(TireSide::Left, fz, 0.0, 0.05, 0.0, 10.0).fy > 0.0);
+        assert!(mf.forces(TireSide::Left, fz, 0.0, 0.05, 0.0, 10.0, CombinedSlip::Weighting).fy > 0.0);
     }
 
     #[test]

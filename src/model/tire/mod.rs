@@ -22,7 +22,7 @@ pub mod tir;
 pub use crate::model::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
-pub use magic_formula::{MagicFormula, TireSide};
+pub use magic_formula::{CombinedSlip, MagicFormula, TireSide};
 pub use slip::{
     damped_slip, effective_rolling_radius, low_speed_blend, penetration_rate, reference_speed, relaxation_rates,
     sliding_limits, slip_velocities, steady_slip, SlipStateContext, SlipVelocities, DAHL_SLIP_SPEED_M_S,
@@ -80,6 +80,82 @@ pub enum TireModel {
     Linear,
     LinearFrictionCircle,
     Frictionless,
+}
+
+/// How the Magic Formula of a `.tir` file is evaluated (docs/tire_magic_formula.md, "Tire convention"). A
+/// setting of the vehicle (`tire.convention`), not of the file: the same `.tir` gives either.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TireConvention {
+    /// The Magic Formula as MFeval (the reference implementation) computes it: a tire mounted on the side
+    /// the file was measured on (`TYRESIDE`) is evaluated as written, one on the other side mirrored; the
+    /// wheel's inclination enters; the rolling-resistance moment M_y acts on the wheel's spin.
+    #[default]
+    Mfeval,
+    /// Project Chrono's `ChPac02Tire` (measured against Chrono's own runs, data/chrono_reference/): the
+    /// sides are swapped (a tire on the left wheel is evaluated as one mounted on the right, and the other
+    /// way round: Chrono's per-corner forces are those of MFeval's at the other side's slips, to 0.6 %),
+    /// camber is ignored (inclination 0 in the tire), the rolling-resistance moment does not reach the
+    /// wheel's spin balance, and the slips are taken over |v_x| + 0.1 m/s (`CHRONO_SLIP_SPEED_M_S`).
+    Chrono,
+}
+
+impl TireConvention {
+    pub fn is_default(&self) -> bool {
+        *self == TireConvention::default()
+    }
+}
+
+/// The differences `TireConvention::Chrono` switches in, one by one: a study leaves one out
+/// (`TireParams::chrono_without`) to measure its share (`studies::chrono_compare`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChronoPart {
+    Sides,
+    Camber,
+    RollingMoment,
+    SlipSpeed,
+    FrictionEllipse,
+}
+
+impl ChronoPart {
+    pub const ALL: [ChronoPart; 5] = [
+        ChronoPart::Sides,
+        ChronoPart::Camber,
+        ChronoPart::RollingMoment,
+        ChronoPart::SlipSpeed,
+        ChronoPart::FrictionEllipse,
+    ];
+
+    pub fn describe(self) -> &'static str {
+        match self {
+            ChronoPart::Sides => "sides swapped",
+            ChronoPart::Camber => "camber ignored",
+            ChronoPart::RollingMoment => "no rolling-resistance moment on the wheel",
+            ChronoPart::SlipSpeed => "slips over v_x + 0.1 m/s",
+            ChronoPart::FrictionEllipse => "combined slip by the friction ellipse",
+        }
+    }
+}
+
+/// Whether `part` of Chrono's convention applies to the tire `p`.
+fn chrono(p: &TireParams, part: ChronoPart) -> bool {
+    p.convention == TireConvention::Chrono && p.chrono_without != Some(part)
+}
+
+/// Chrono's Pac02 divides the slip velocities by |v_x| + 0.1 m/s (`ChPac02Tire::Synchronize`: κ =
+/// −V_sx/(|v_x| + 0.1), α = atan2(−v_y, |v_x| + 0.1)), which makes its slips 0.6 % smaller at 60 km/h.
+pub const CHRONO_SLIP_SPEED_M_S: f64 = 0.1;
+
+/// The slips [κ, tan α] the force law is evaluated at, from the model's at forward speed `vx`: the same,
+/// except under Chrono's convention (`CHRONO_SLIP_SPEED_M_S`) on the Magic Formula.
+pub fn evaluated_slips(p: &TireParams, kappa: f64, tan_alpha: f64, vx: f64) -> [f64; 2] {
+    match &p.magic_formula {
+        Some(_) if chrono(p, ChronoPart::SlipSpeed) => {
+            let scale = vx.abs() / (vx.abs() + CHRONO_SLIP_SPEED_M_S);
+            [kappa * scale, tan_alpha * scale]
+        }
+        _ => [kappa, tan_alpha],
+    }
 }
 
 /// How slip enters the force model.
@@ -168,10 +244,18 @@ pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> Shea
         TireModel::Sti => sti::sti_forces(p, fz, kappa, tan_alpha, inclination, friction),
         TireModel::MagicFormula => match &p.magic_formula {
             Some(mf) => {
-                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction);
+                // Chrono's Pac02 swaps the sides and ignores camber (`TireConvention::Chrono`).
+                let side = if chrono(p, ChronoPart::Sides) { side.other() } else { side };
+                let inclination = if chrono(p, ChronoPart::Camber) { 0.0 } else { inclination };
+                let combined = if chrono(p, ChronoPart::FrictionEllipse) {
+                    CombinedSlip::FrictionEllipse
+                } else {
+                    CombinedSlip::Weighting
+                };
+                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction, combined);
                 let mut f = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
                 if blend < 1.0 {
-                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, friction);
+                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, friction, combined);
                     let fade = 1.0 - blend;
                     f.fx -= fade * z.fx;
                     f.fy -= fade * z.fy;
@@ -212,7 +296,8 @@ const ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S: f64 = 0.5;
 /// Rolling-resistance moment about the spin axis a (§6.6): M_rr = -f_rr F_z R_l tanh(Ω_rel/0.5 rad/s), or
 /// with a `.tir` file the Magic Formula's M_y magnitude R0 F_z (QSY1 + QSY2 F_x/F_z0 + QSY3 |V_x/V_ref| +
 /// QSY4 (V_x/V_ref)⁴) LMY in place of f_rr F_z R_l (MF 6.x: its form with the inclination, load and pressure
-/// terms, `MagicFormula::rolling_resistance`; `inclination` is the wheel's γ_w, its sign does not matter).
+/// terms, `MagicFormula::rolling_resistance`; `inclination` is the wheel's γ_w, its sign does not matter);
+/// none under Chrono's convention (`TireConvention::Chrono`).
 /// The tanh keeps the right-hand side smooth through standstill, where sign(Ω_rel) would chatter.
 pub fn rolling_resistance_moment(
     p: &TireParams,
@@ -224,6 +309,8 @@ pub fn rolling_resistance_moment(
     inclination: f64,
 ) -> f64 {
     let magnitude = match &p.magic_formula {
+        // Chrono's Pac02 computes M_y but does not apply it to the wheel.
+        Some(_) if chrono(p, ChronoPart::RollingMoment) => 0.0,
         Some(mf) => mf.rolling_resistance(fz, fx, vx, -inclination),
         None => p.rolling_resistance * fz * loaded_radius,
     };
@@ -323,6 +410,42 @@ mod tests {
             let (dry, wet) = (at(1e-4, 1.0), at(1e-4, 0.5));
             assert!((wet / dry - 1.0).abs() < 1e-3, "{model:?}: slip stiffness {dry} dry, {wet} wet");
         }
+    }
+
+    #[test]
+    fn chrono_convention_swaps_the_sides_ignores_camber_and_drops_the_rolling_moment() {
+        let mut p = params();
+        p.magic_formula = Some(Box::new(
+            MagicFormula::read(
+                &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/tires/HMMWV_Pac02Tire.tir"),
+            )
+            .unwrap(),
+        ));
+        let mf = p.magic_formula.clone().unwrap();
+        let measured = mf.measured_side;
+        let at = |p: &TireParams, side: TireSide, kappa: f64, inclination: f64| {
+            let input = SlipInput { side, ..SlipInput::rolling(6300.0, kappa, 0.03, inclination) };
+            shear_forces(TireModel::MagicFormula, p, &input)
+        };
+        let mut chrono = p.clone();
+        chrono.convention = TireConvention::Chrono;
+        for side in [TireSide::Left, TireSide::Right] {
+            // Whatever the inclination: the tire on the other side, upright, combined by the ellipse.
+            let l = mf.forces(side.other(), 6300.0, 0.02, 0.03, 0.0, 1.0, CombinedSlip::FrictionEllipse);
+            let expected = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
+            assert_eq!(at(&chrono, side, 0.02, 0.05), expected, "{side:?}");
+            // Near zero drive slip the ellipse leaves F_y as the weighting functions do (within 0.3 %, the
+            // G_yκ shift RHY1 at κ = 1e-4); at κ = 0.02 the weighting takes more off.
+            let standard = |kappa: f64| at(&p, side.other(), kappa, 0.0).fy;
+            let (near, far) = (at(&chrono, side, 1e-4, 0.0).fy, at(&chrono, side, 0.02, 0.0).fy);
+            assert!((near / standard(1e-4) - 1.0).abs() < 3e-3, "{side:?}: {near} vs {}", standard(1e-4));
+            assert!(far.abs() > standard(0.02).abs(), "{side:?}: {far} vs {}", standard(0.02));
+        }
+        // The file's own side differs (the shifts are mirrored), and so does camber under the standard one.
+        assert_ne!(at(&p, measured, 0.02, 0.0), at(&p, measured.other(), 0.02, 0.0));
+        assert_ne!(at(&p, measured.other(), 0.02, 0.05), at(&p, measured.other(), 0.02, 0.0));
+        assert!(rolling_resistance_moment(&p, 6300.0, 0.45, 50.0, 0.0, 15.0, 0.0) < 0.0);
+        assert_eq!(rolling_resistance_moment(&chrono, 6300.0, 0.45, 50.0, 0.0, 15.0, 0.0), 0.0);
     }
 
     #[test]
