@@ -982,6 +982,17 @@ fn road_files_place_a_road_and_bad_ones_are_errors() {
     unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
     assert!(rec.contains("cut.crg"), "{}", rec.last());
     assert_eq!(inst.mode(), Mode::InitializationMode, "the master may fix road_file and retry");
+    // A damaged binary file (a height of 1.1e38 m): an error naming the cause and the byte offset.
+    let mut bytes = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/halfround_4in.crg"))
+        .unwrap();
+    let start = bytes.windows(5).position(|w| w == b"$$$$$").unwrap();
+    let at = start + bytes[start..].iter().position(|&b| b == b'\n').unwrap() + 1 + 4999 * 12 + 4;
+    bytes[at..at + 4].copy_from_slice(&1.1e38f32.to_be_bytes());
+    std::fs::write(tmp.join("damaged.crg"), &bytes).unwrap();
+    assert_eq!(inst.set_string(vr::ROAD_FILE, &tmp.join("damaged.crg").display().to_string()), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
+    assert!(rec.contains(&format!("byte offset {at}")) && rec.contains("damaged.crg"), "{}", rec.last());
+    assert_eq!(inst.set_string(vr::ROAD_FILE, &cut), OK);
     // A value that names no road: refused when set, the old value kept (the fuzz test below holds the
     // initialization and a restored state to the same refusal).
     assert_eq!(inst.set_string(vr::ROAD_FILE, "iso8608:Z:1"), ERROR);
