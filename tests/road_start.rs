@@ -79,7 +79,8 @@ fn the_vehicle_starts_on_the_road_in_static_equilibrium() {
     let mut cases: Vec<(String, SimConfig, f64, f64, Option<V3>)> = roads(&dir)
         .into_iter()
         .map(|(name, path, angle)| {
-            let c = SimConfig { road_file: Some(path.display().to_string()), initial_speed: 0.0, ..SimConfig::default() };
+            let c =
+                SimConfig { road_file: Some(path.display().to_string()), initial_speed: 0.0, ..SimConfig::default() };
             let normal = match name.as_str() {
                 "grade10.xodr" => V3::new(-0.1, 0.0, 1.0).normalize(),
                 // The surface rises to the left (+y, positive t) by tan φ.
@@ -90,7 +91,10 @@ fn the_vehicle_starts_on_the_road_in_static_equilibrium() {
         })
         .collect();
     // The analytic grade and cross slope: the road is the model's plane z = 0, gravity is tilted.
-    for (name, slope, angle) in [("grade 0.1", [0.1, 0.0], 0.1f64.atan()), ("cross slope tan 23°", [0.0, 23f64.to_radians().tan()], 23f64.to_radians())] {
+    for (name, slope, angle) in [
+        ("grade 0.1", [0.1, 0.0], 0.1f64.atan()),
+        ("cross slope tan 23°", [0.0, 23f64.to_radians().tan()], 23f64.to_radians()),
+    ] {
         let mut c = SimConfig { initial_speed: 0.0, ..SimConfig::default() };
         c.options.slope = slope;
         cases.push((name.to_string(), c, angle, 0.0, None));
@@ -102,11 +106,15 @@ fn the_vehicle_starts_on_the_road_in_static_equilibrium() {
         let o = sim.outputs().unwrap();
         let loads: f64 = ["fl", "fr", "rl", "rr"].iter().map(|c| o.get(&format!("tire_fz_{c}")).unwrap()).sum();
         let normal_load = weight * angle.cos();
-        println!("{name}: loads sum {loads:.3} N, weight's normal component {normal_load:.3} N, z {:.4} m", o.get("z").unwrap());
+        println!(
+            "{name}: loads sum {loads:.3} N, weight's normal component {normal_load:.3} N, z {:.4} m",
+            o.get("z").unwrap()
+        );
         assert!((loads - normal_load).abs() <= 1e-3 * normal_load, "{name}: {loads} N against {normal_load} N");
         // Standing on the surface: the chassis at its level ride height above it (within 5 cm: the tires'
         // deflection changes with the normal load).
-        let level = simulation(SimConfig { initial_speed: 0.0, ..SimConfig::default() }).outputs().unwrap().get("z").unwrap();
+        let level =
+            simulation(SimConfig { initial_speed: 0.0, ..SimConfig::default() }).outputs().unwrap().get("z").unwrap();
         let z = o.get("z").unwrap();
         if up > 0.0 {
             assert!((z - level - up).abs() < 1e-6, "{name}: z {z}, level {level}");

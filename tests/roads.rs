@@ -118,7 +118,10 @@ fn a_damaged_crg_file_is_refused_by_the_cli_with_the_cause_and_the_offset() {
     ] {
         let (ok, err) = rtv(&args);
         assert!(!ok, "{args:?} ran");
-        assert!(err.contains("damaged.crg") && err.contains(&format!("byte offset {at}")) && err.contains("±1000 m"), "{err}");
+        assert!(
+            err.contains("damaged.crg") && err.contains(&format!("byte offset {at}")) && err.contains("±1000 m"),
+            "{err}"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

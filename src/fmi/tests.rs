@@ -983,8 +983,8 @@ fn road_files_place_a_road_and_bad_ones_are_errors() {
     assert!(rec.contains("cut.crg"), "{}", rec.last());
     assert_eq!(inst.mode(), Mode::InitializationMode, "the master may fix road_file and retry");
     // A damaged binary file (a height of 1.1e38 m): an error naming the cause and the byte offset.
-    let mut bytes = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/halfround_4in.crg"))
-        .unwrap();
+    let mut bytes =
+        std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/halfround_4in.crg")).unwrap();
     let start = bytes.windows(5).position(|w| w == b"$$$$$").unwrap();
     let at = start + bytes[start..].iter().position(|&b| b == b'\n').unwrap() + 1 + 4999 * 12 + 4;
     bytes[at..at + 4].copy_from_slice(&1.1e38f32.to_be_bytes());

@@ -275,7 +275,11 @@ fn check_binary_data(name: &str, bytes: &[u8]) -> Result<(), String> {
                     data.len() / record,
                     data.len() % record,
                     if data.len() < end {
-                        format!("and end at byte offset {} where the declared records would end at {}", start + data.len(), start + end)
+                        format!(
+                            "and end at byte offset {} where the declared records would end at {}",
+                            start + data.len(),
+                            start + end
+                        )
                     } else {
                         format!("the bytes from offset {} on are not a NaN fill", start + end)
                     }
@@ -325,7 +329,8 @@ fn check_binary_data(name: &str, bytes: &[u8]) -> Result<(), String> {
 fn check_heights(name: &str, grid: &CrgGrid) -> Result<(), String> {
     let (nu, nv) = grid.dims();
     let shift = grid.z_shift();
-    if let Some(i) = grid.z_values().iter().position(|&z| !(z.is_nan() || (f64::from(z) + shift).abs() <= MAX_HEIGHT_M)) {
+    if let Some(i) = grid.z_values().iter().position(|&z| !(z.is_nan() || (f64::from(z) + shift).abs() <= MAX_HEIGHT_M))
+    {
         return Err(format!(
             "road file {name}: the grid height {:.3e} m (cross section {}, long section {}) is beyond ±{MAX_HEIGHT_M} m",
             f64::from(grid.z_values()[i]) + shift,
@@ -649,7 +654,11 @@ $$$$
             }
         };
         // Cut inside a record (7 bytes short of the declared records): the partial record is named.
-        refused("cut.crg", &good[..end - 7], &["10000 whole records and 5 bytes more", &format!("byte offset {}", end - 7)]);
+        refused(
+            "cut.crg",
+            &good[..end - 7],
+            &["10000 whole records and 5 bytes more", &format!("byte offset {}", end - 7)],
+        );
         // One whole record fewer, and one more (in place of the fill) than the header declares.
         refused("fewer.crg", &good[..end - 12], &["10000 whole records", &format!("would end at {end}")]);
         let more = [&good[..end], &good[end - 12..end]].concat();
@@ -684,7 +693,10 @@ $$$$
         let bad = text.replace(" 0.1000000 0.1000000 0.1000000", " 0.10000001.2000e+38 0.1000000");
         let at = bad.find("1.2000e+38").unwrap(); // the second field of the second record
         let e = Surface::from_bytes("ascii.crg", bad.as_bytes()).unwrap_err();
-        assert!(e.contains(&format!("byte offset {at}")) && e.contains("line 14, value 2") && e.contains("1.200e38"), "{e}");
+        assert!(
+            e.contains(&format!("byte offset {at}")) && e.contains("line 14, value 2") && e.contains("1.200e38"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -781,7 +781,9 @@ impl Vehicle {
                 // contact's geometry, not the obstacle's height, and the enveloping contact follows it.
                 let (h, [hx, hy]) = road.height_and_gradient(centre_abs.x, centre_abs.y);
                 let below = self.tire.unloaded_radius_m - (centre_abs.z - h);
-                if options.contact == ContactModel::Point && below <= tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m {
+                if options.contact == ContactModel::Point
+                    && below <= tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m
+                {
                     return Err(ModelError::new(
                         Cause::ModelValidity,
                         format!(
@@ -810,7 +812,7 @@ impl Vehicle {
                         tire::BOTTOMING_FRACTION,
                         self.tire.unloaded_radius_m
                     ),
-                ))
+                ));
             }
             Some(ct) => {
                 let v_c = a0 * point_velocity(&y_k, &(a0.tr_mul(&(ct.point - r0))));

@@ -443,7 +443,10 @@ impl Start {
                 })
                 .collect();
             let plane = StartPlane::through(&[points[0], points[1], points[2], points[3]]).ok_or_else(|| {
-                ModelError::new(Cause::Input, format!("the road has no surface below the wheels at the start: {points:?}"))
+                ModelError::new(
+                    Cause::Input,
+                    format!("the road has no surface below the wheels at the start: {points:?}"),
+                )
             })?;
             if !plane.is_level() {
                 state = start_on_plane(&v, options, &plane, config.initial_speed, steering, &mut cache)
