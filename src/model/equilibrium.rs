@@ -6,6 +6,7 @@
 use crate::error::{Cause, ModelError};
 use crate::math::{quat_from_euler, quat_to_matrix, V3};
 use crate::model::options::Options;
+use crate::model::road::RoadModel;
 use crate::model::road_envelope::ContactModel;
 use crate::model::steering::RackMotion;
 use crate::model::tire::SlipModel;
@@ -340,6 +341,7 @@ impl StartPlane {
 pub fn start_on_plane(
     v: &Vehicle,
     options: &Options,
+    road: &RoadModel,
     plane: &StartPlane,
     speed: f64,
     steering: f64,
@@ -360,5 +362,96 @@ pub fn start_on_plane(
     x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(roll, pitch, yaw));
     x[idx::V0..idx::V0 + 3].copy_from_slice(v0.as_slice());
     x[idx::W0..idx::W0 + 3].copy_from_slice(w0.as_slice());
-    Ok(x)
+    polish_on_road(v, options, road, &frame, x, speed, steering, ws)
+}
+
+/// The plane's solution solved again on the road itself (Newton from it): where the road is not a plane
+/// under the car (a grade or a bank changing along it, a twist) the wheels' deflections differ from the
+/// plane's by the road's departure from it. Unknowns: the height, two rotations about the plane's x and y,
+/// the arm angles and (at speed) the spins, tread deflections and the hold's integral; residuals: the
+/// chassis's acceleration along the plane's normal, its angular accelerations about the plane's x and y,
+/// and the rest as `steady_rolling_steered` takes them. On a plane the first evaluation is already within
+/// tolerance and the state is the plane's.
+#[allow(clippy::too_many_arguments)]
+fn polish_on_road(
+    v: &Vehicle,
+    options: &Options,
+    road: &RoadModel,
+    frame: &crate::math::M3,
+    x: Vec<f64>,
+    speed: f64,
+    steering: f64,
+    ws: &mut Workspace,
+) -> Result<Vec<f64>, ModelError> {
+    let at_speed = speed != 0.0;
+    let solve = if at_speed { level(options) } else { at_rest(options) };
+    let run = Run::new(v, &solve, road);
+    let layout = run.layout();
+    let base = layout.convert(&x, &Layout::of(options));
+    let inputs = held(steering, speed);
+    let relaxation = layout.xi.filter(|_| at_speed && solve.slip == SlipModel::Relaxation);
+    let hold = layout.zv.filter(|_| at_speed && solve.speed_mode == SpeedMode::Hold);
+    let (ex, ey, n) = (frame.column(0).into_owned(), frame.column(1).into_owned(), frame.column(2).into_owned());
+    let a_base = quat_to_matrix(&base[idx::E0..idx::E0 + 4]);
+    let mut p = vec![base[idx::R0 + 2], 0.0, 0.0];
+    p.extend_from_slice(&base[idx::U..idx::U + 4]);
+    if at_speed {
+        p.extend_from_slice(&base[idx::SPIN..idx::SPIN + 4]);
+    }
+    if let Some(k) = relaxation {
+        p.extend_from_slice(&base[k..k + 8]);
+    }
+    if let Some(k) = hold {
+        p.push(base[k]);
+    }
+    let assemble = |p: &[f64]| -> Vec<f64> {
+        let mut x = base.clone();
+        x[idx::R0 + 2] = p[0];
+        let a = crate::math::rotation_about(&ex, p[1]) * crate::math::rotation_about(&ey, p[2]) * a_base;
+        let (roll, pitch, yaw) = crate::math::euler_from_matrix(&a);
+        x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(roll, pitch, yaw));
+        x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
+        let mut k = 7;
+        if at_speed {
+            x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
+            k = 11;
+        }
+        if let Some(xi) = relaxation {
+            x[xi..xi + 8].copy_from_slice(&p[k..k + 8]);
+            k += 8;
+        }
+        if let Some(zv) = hold {
+            x[zv] = p[k];
+        }
+        x
+    };
+    let mut dx = vec![0.0; layout.dim];
+    newton(
+        &mut p,
+        |p, r| {
+            v.derivative(&run, &assemble(p), &inputs, ws, &mut dx)?;
+            let a = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
+            let w = V3::new(dx[idx::W0], dx[idx::W0 + 1], dx[idx::W0 + 2]);
+            r[0] = n.dot(&a);
+            r[1] = ex.dot(&w);
+            r[2] = ey.dot(&w);
+            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+            let mut k = 7;
+            if at_speed {
+                r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
+                k = 11;
+            }
+            if let Some(xi) = relaxation {
+                r[k..k + 8].copy_from_slice(&dx[xi..xi + 8]);
+                k += 8;
+            }
+            if hold.is_some() {
+                r[k] = ex.dot(&a);
+            }
+            Ok(())
+        },
+        EQUILIBRIUM_TOLERANCE,
+        30,
+    )?;
+    Ok(Layout::of(options).convert(&assemble(&p), &layout))
 }

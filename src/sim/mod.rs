@@ -449,7 +449,7 @@ impl Start {
                 )
             })?;
             if !plane.is_level() {
-                state = start_on_plane(&v, options, &plane, config.initial_speed, steering, &mut cache)
+                state = start_on_plane(&v, options, &road, &plane, config.initial_speed, steering, &mut cache)
                     .context("initial equilibrium on the road's start")?;
             }
         }
