@@ -250,14 +250,7 @@ pub fn steady_rolling_steered(
         x[idx::V0..idx::V0 + 3].copy_from_slice((V3::x() * speed).as_slice());
         x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
         x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
-        let mut k = 11;
-        if let Some(xi) = relaxation {
-            x[xi..xi + 8].copy_from_slice(&p[k..k + 8]);
-            k += 8;
-        }
-        if let Some(zv) = hold {
-            x[zv] = p[k];
-        }
+        put_slip_and_hold(&mut x, &p[11..], relaxation, hold);
         x
     };
     let mut dx = vec![0.0; layout.dim];
@@ -292,6 +285,19 @@ pub fn steady_rolling_steered(
         )?;
     }
     Ok(assemble(&p))
+}
+
+/// The tread deflections (8, when `relaxation` is their index) and the hold's integral (when `hold` is) of
+/// a state, from the solve's unknowns `p` in that order.
+fn put_slip_and_hold(x: &mut [f64], p: &[f64], relaxation: Option<usize>, hold: Option<usize>) {
+    let mut k = 0;
+    if let Some(xi) = relaxation {
+        x[xi..xi + 8].copy_from_slice(&p[..8]);
+        k = 8;
+    }
+    if let Some(zv) = hold {
+        x[zv] = p[k];
+    }
 }
 
 /// A plane road h = h0 + gx x + gy y in the ground frame (the plane through the road's heights below the four
@@ -411,17 +417,9 @@ fn polish_on_road(
         let (roll, pitch, yaw) = crate::math::euler_from_matrix(&a);
         x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(roll, pitch, yaw));
         x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
-        let mut k = 7;
         if at_speed {
             x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
-            k = 11;
-        }
-        if let Some(xi) = relaxation {
-            x[xi..xi + 8].copy_from_slice(&p[k..k + 8]);
-            k += 8;
-        }
-        if let Some(zv) = hold {
-            x[zv] = p[k];
+            put_slip_and_hold(&mut x, &p[11..], relaxation, hold);
         }
         x
     };
