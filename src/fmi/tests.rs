@@ -1007,6 +1007,28 @@ fn road_files_place_a_road_and_bad_ones_are_errors() {
     std::fs::remove_dir_all(&tmp).ok();
 }
 
+/// Chrono's 4 in half-round with the Magic Formula tire file at 20 km/h, all else default (the single-point
+/// contact): the point's tangent plane on the obstacle's steep foot is refused as the contact's geometry, and
+/// the logged message names the `contact` parameter that drives over it (issue 35 part 2).
+#[test]
+fn the_point_contact_refusal_on_a_small_obstacle_names_the_contact_parameter() {
+    let rec = Recorder::default();
+    let uri = resources_uri();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
+    unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+    }
+    assert_eq!(inst.set_string(vr::ROAD_FILE, "roads/halfround_4in.crg"), OK);
+    assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/HMMWV_Pac02Tire.tir"), OK);
+    assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[20.0 / 3.6]), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last()) };
+    // The obstacle is 50 m along the road, 46 m ahead of the chassis: 8.3 s at 20 km/h.
+    let refused = (0..1600).map(|_| vehicle_step(&inst, 0.01).0).any(|s| s != OK);
+    assert!(refused, "the point contact drove over the half-round");
+    assert!(rec.contains("`contact` = 2") && !rec.contains("taller than the tire envelops"), "{}", rec.last());
+}
+
 #[test]
 fn outputs_in_initialization_mode_are_computed_from_the_parameters() {
     let rec = Recorder::default();
