@@ -94,6 +94,38 @@ fn bad_road_inputs_are_named_errors() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A damaged CRG file (Chrono's 4 in half-round with one height replaced by 1.1e38 m, the value the issue
+/// found in ASAM's damaged `belgian_block.crg`) is refused by `rtv road` and `rtv scene` with its cause and
+/// byte offset (the FMU's `road_file`: `src/fmi/tests.rs`).
+#[test]
+fn a_damaged_crg_file_is_refused_by_the_cli_with_the_cause_and_the_offset() {
+    let dir = std::env::temp_dir().join(format!("rtv_damaged_crg_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut bytes = std::fs::read(crg_dir().join("halfround_4in.crg")).unwrap();
+    // The data start after the `$$$$` line; record 5000's second height (12-byte records of three f32).
+    let start = bytes.windows(5).position(|w| w == b"$$$$$").unwrap();
+    let start = start + bytes[start..].iter().position(|&b| b == b'\n').unwrap() + 1;
+    let at = start + 4999 * 12 + 4;
+    bytes[at..at + 4].copy_from_slice(&1.1e38f32.to_be_bytes());
+    let path = dir.join("damaged.crg");
+    std::fs::write(&path, &bytes).unwrap();
+    let road = path.to_str().unwrap();
+    let out = dir.join("out.csv");
+    let out = out.to_str().unwrap();
+    for args in [
+        vec!["road", "--road", road, "--out", out],
+        vec!["scene", "bump", "--road", road, "--contact", "envelope", "--end", "0.1", "--out", out],
+    ] {
+        let (ok, err) = rtv(&args);
+        assert!(!ok, "{args:?} ran");
+        assert!(
+            err.contains("damaged.crg") && err.contains(&format!("byte offset {at}")) && err.contains("±1000 m"),
+            "{err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn iso8608_roads_are_deterministic_for_a_seed() {
     let a = surface_for("iso8608:C:42:100").unwrap();
@@ -259,5 +291,27 @@ fn the_hmmwv_drives_opendrive_maps_through_the_cli() {
         assert!(!ok && stderr.contains(needle), "{road}: {stderr}");
     }
     let _ = std::fs::remove_file(empty);
+    let _ = std::fs::remove_file(out);
+}
+
+/// Chrono's smallest obstacle, the 4 in (10 cm) half-round, at 20 km/h with the default single-point
+/// contact: the point's tangent plane on the obstacle's foot (slope 4.4) reads a deflection of 0.37 m where
+/// the road below the wheel centre gives 3 cm. The refusal must say so and name the enveloping contact,
+/// never call a 10 cm obstacle taller than the tire envelops; with that contact the HMMWV drives over it
+/// (past the obstacle at 50 m with both axles).
+#[test]
+fn the_point_contact_refusal_on_a_small_obstacle_names_the_enveloping_contact() {
+    let road = crg_dir().join("halfround_4in.crg");
+    let out = std::env::temp_dir().join(format!("rtv_halfround4_{}.csv", std::process::id()));
+    let (road, out) = (road.to_str().unwrap(), out.to_str().unwrap());
+    let args = ["scene", "bump", "--road", road, "--initial-speed", "5.5556", "--end", "16", "--out", out];
+    let (ok, err) = rtv(&args);
+    assert!(!ok, "the point contact ran over the half-round");
+    assert!(err.contains("--contact envelope") && err.contains("`contact` = 2"), "{err}");
+    assert!(!err.contains("taller than the tire envelops"), "{err}");
+    let (ok, err) = rtv(&[&args[..], &["--contact", "envelope"]].concat());
+    assert!(ok, "{err}");
+    let x = column(out, "x");
+    assert!(x.last().unwrap() > &55.0, "stopped at x = {}", x.last().unwrap());
     let _ = std::fs::remove_file(out);
 }

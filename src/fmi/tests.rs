@@ -983,6 +983,17 @@ fn road_files_place_a_road_and_bad_ones_are_errors() {
     unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
     assert!(rec.contains("cut.crg"), "{}", rec.last());
     assert_eq!(inst.mode(), Mode::InitializationMode, "the master may fix road_file and retry");
+    // A damaged binary file (a height of 1.1e38 m): an error naming the cause and the byte offset.
+    let mut bytes =
+        std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/halfround_4in.crg")).unwrap();
+    let start = bytes.windows(5).position(|w| w == b"$$$$$").unwrap();
+    let at = start + bytes[start..].iter().position(|&b| b == b'\n').unwrap() + 1 + 4999 * 12 + 4;
+    bytes[at..at + 4].copy_from_slice(&1.1e38f32.to_be_bytes());
+    std::fs::write(tmp.join("damaged.crg"), &bytes).unwrap();
+    assert_eq!(inst.set_string(vr::ROAD_FILE, &tmp.join("damaged.crg").display().to_string()), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
+    assert!(rec.contains(&format!("byte offset {at}")) && rec.contains("damaged.crg"), "{}", rec.last());
+    assert_eq!(inst.set_string(vr::ROAD_FILE, &cut), OK);
     // A value that names no road: refused when set, the old value kept (the fuzz test below holds the
     // initialization and a restored state to the same refusal).
     assert_eq!(inst.set_string(vr::ROAD_FILE, "iso8608:Z:1"), ERROR);
@@ -995,6 +1006,28 @@ fn road_files_place_a_road_and_bad_ones_are_errors() {
         assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{}", rec.last());
     }
     std::fs::remove_dir_all(&tmp).ok();
+}
+
+/// Chrono's 4 in half-round with the Magic Formula tire file at 20 km/h, all else default (the single-point
+/// contact): the point's tangent plane on the obstacle's steep foot is refused as the contact's geometry, and
+/// the logged message names the `contact` parameter that drives over it (issue 35 part 2).
+#[test]
+fn the_point_contact_refusal_on_a_small_obstacle_names_the_contact_parameter() {
+    let rec = Recorder::default();
+    let uri = resources_uri();
+    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
+    unsafe {
+        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+        api::enter_initialization_mode::<VehicleModel>(inst.c);
+    }
+    assert_eq!(inst.set_string(vr::ROAD_FILE, "roads/halfround_4in.crg"), OK);
+    assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/HMMWV_Pac02Tire.tir"), OK);
+    assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[20.0 / 3.6]), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last()) };
+    // The obstacle is 50 m along the road, 46 m ahead of the chassis: 8.3 s at 20 km/h.
+    let refused = (0..1600).map(|_| vehicle_step(&inst, 0.01).0).any(|s| s != OK);
+    assert!(refused, "the point contact drove over the half-round");
+    assert!(rec.contains("`contact` = 2") && !rec.contains("taller than the tire envelops"), "{}", rec.last());
 }
 
 #[test]

@@ -6,6 +6,7 @@
 use crate::error::{Cause, ModelError};
 use crate::math::{quat_from_euler, quat_to_matrix, V3};
 use crate::model::options::Options;
+use crate::model::road::RoadModel;
 use crate::model::road_envelope::ContactModel;
 use crate::model::steering::RackMotion;
 use crate::model::tire::SlipModel;
@@ -84,10 +85,11 @@ pub fn design_height_guess(v: &Vehicle) -> f64 {
     v.tire.unloaded_radius_m - deflection - front.w0.z
 }
 
-/// The options an initial state is solved with: the run's, on the level road at a point (a car is put on
-/// a slope or an enveloping contact from its level equilibrium, and settles in its first second).
+/// The options an initial state is solved with: the run's, on the plane road z = 0 with the point contact
+/// (on a plane it is the enveloping one). The road's slope stays: gravity is tilted as in the run, so the
+/// state is the equilibrium on the slope (`start_on_plane` puts a file road's start plane in this frame).
 fn level(options: &Options) -> Options {
-    Options { slope: [0.0; 2], contact: ContactModel::Point, ..*options }
+    Options { contact: ContactModel::Point, ..*options }
 }
 
 /// The options of the static problems: coasting (no controller at rest) with relaxation slip. At rest
@@ -126,7 +128,8 @@ pub fn retune_ride_height(v: &mut Vehicle, options: &Options) -> Result<(f64, f6
     let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0];
     let mut ws = Workspace::default();
     let mut statics = v.clone();
-    let rest = at_rest(options);
+    // A property of the vehicle: its design position on level ground, whatever road the run is on.
+    let rest = at_rest(&Options { slope: [0.0; 2], ..*options });
     let layout = Layout::of(&rest);
     let mut dx = vec![0.0; layout.dim];
     newton(
@@ -247,14 +250,7 @@ pub fn steady_rolling_steered(
         x[idx::V0..idx::V0 + 3].copy_from_slice((V3::x() * speed).as_slice());
         x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
         x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
-        let mut k = 11;
-        if let Some(xi) = relaxation {
-            x[xi..xi + 8].copy_from_slice(&p[k..k + 8]);
-            k += 8;
-        }
-        if let Some(zv) = hold {
-            x[zv] = p[k];
-        }
+        put_slip_and_hold(&mut x, &p[11..], relaxation, hold);
         x
     };
     let mut dx = vec![0.0; layout.dim];
@@ -289,4 +285,171 @@ pub fn steady_rolling_steered(
         )?;
     }
     Ok(assemble(&p))
+}
+
+/// The tread deflections (8, when `relaxation` is their index) and the hold's integral (when `hold` is) of
+/// a state, from the solve's unknowns `p` in that order.
+fn put_slip_and_hold(x: &mut [f64], p: &[f64], relaxation: Option<usize>, hold: Option<usize>) {
+    let mut k = 0;
+    if let Some(xi) = relaxation {
+        x[xi..xi + 8].copy_from_slice(&p[..8]);
+        k = 8;
+    }
+    if let Some(zv) = hold {
+        x[zv] = p[k];
+    }
+}
+
+/// A plane road h = h0 + gx x + gy y in the ground frame (the plane through the road's heights below the four
+/// wheels at the start): `frame` turns its own axes (x along the ground's x projected on the plane, z its
+/// normal) into the ground's.
+#[derive(Debug, Clone, Copy)]
+pub struct StartPlane {
+    pub h0: f64,
+    pub gradient: [f64; 2],
+}
+
+impl StartPlane {
+    /// The least-squares plane through the road's heights at four ground points (exact when they lie on a
+    /// plane).
+    pub fn through(points: &[[f64; 3]; 4]) -> Option<StartPlane> {
+        let mut a = nalgebra::Matrix3::<f64>::zeros();
+        let mut b = nalgebra::Vector3::<f64>::zeros();
+        for p in points {
+            let row = nalgebra::Vector3::new(1.0, p[0], p[1]);
+            a += row * row.transpose();
+            b += row * p[2];
+        }
+        let c = a.lu().solve(&b)?;
+        c.iter().all(|v| v.is_finite()).then_some(StartPlane { h0: c[0], gradient: [c[1], c[2]] })
+    }
+
+    /// Columns: the plane's x (ground x projected on it), y, and normal, in the ground's axes.
+    pub fn frame(&self) -> crate::math::M3 {
+        let [gx, gy] = self.gradient;
+        let ex = V3::new(1.0, 0.0, gx).normalize();
+        let ez = V3::new(-gx, -gy, 1.0).normalize();
+        let ey = ez.cross(&ex);
+        crate::math::M3::from_columns(&[ex, ey, ez])
+    }
+
+    pub fn is_level(&self) -> bool {
+        self.h0 == 0.0 && self.gradient == [0.0; 2]
+    }
+}
+
+/// Steady rolling (static equilibrium at speed 0) on a file road's start plane: solved on the plane road
+/// z = 0 of the plane's own frame with gravity (the run's, tilted by `options.slope` if set) turned into
+/// that frame, as on a slope, then the chassis's pose and velocities turned and moved onto the plane (the
+/// arm angles, spins, tread deflections and the hold's integral are relative and stay). The speed hold
+/// measures the speed along the horizontal heading: the state rolls at `speed` / cos(grade) along the plane,
+/// so that the horizontal speed is the hold's target `speed`.
+pub fn start_on_plane(
+    v: &Vehicle,
+    options: &Options,
+    road: &RoadModel,
+    plane: &StartPlane,
+    speed: f64,
+    steering: f64,
+    ws: &mut Workspace,
+) -> Result<Vec<f64>, ModelError> {
+    let frame = plane.frame();
+    let g = frame.transpose() * options.gravity_vector(v.gravity);
+    let slope = if g.z < 0.0 { [g.x / g.z, g.y / g.z] } else { [0.0; 2] };
+    let on_plane = Options { slope, ..*options };
+    let along = speed / V3::new(frame[(0, 0)], frame[(1, 0)], 0.0).norm();
+    let mut x = steady_rolling_steered(v, &on_plane, along, steering, ws)?;
+    let r0 = V3::new(0.0, 0.0, plane.h0) + frame * V3::new(x[idx::R0], x[idx::R0 + 1], x[idx::R0 + 2]);
+    let a0 = frame * quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
+    let (roll, pitch, yaw) = crate::math::euler_from_matrix(&a0);
+    let v0 = frame * V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
+    let w0 = frame * V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
+    x[idx::R0..idx::R0 + 3].copy_from_slice(r0.as_slice());
+    x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(roll, pitch, yaw));
+    x[idx::V0..idx::V0 + 3].copy_from_slice(v0.as_slice());
+    x[idx::W0..idx::W0 + 3].copy_from_slice(w0.as_slice());
+    polish_on_road(v, options, road, &frame, x, speed, steering, ws)
+}
+
+/// The plane's solution solved again on the road itself (Newton from it): where the road is not a plane
+/// under the car (a grade or a bank changing along it, a twist) the wheels' deflections differ from the
+/// plane's by the road's departure from it. Unknowns: the height, two rotations about the plane's x and y,
+/// the arm angles and (at speed) the spins, tread deflections and the hold's integral; residuals: the
+/// chassis's acceleration along the plane's normal, its angular accelerations about the plane's x and y,
+/// and the rest as `steady_rolling_steered` takes them. On a plane the first evaluation is already within
+/// tolerance and the state is the plane's.
+#[allow(clippy::too_many_arguments)]
+fn polish_on_road(
+    v: &Vehicle,
+    options: &Options,
+    road: &RoadModel,
+    frame: &crate::math::M3,
+    x: Vec<f64>,
+    speed: f64,
+    steering: f64,
+    ws: &mut Workspace,
+) -> Result<Vec<f64>, ModelError> {
+    let at_speed = speed != 0.0;
+    let solve = if at_speed { level(options) } else { at_rest(options) };
+    let run = Run::new(v, &solve, road);
+    let layout = run.layout();
+    let base = layout.convert(&x, &Layout::of(options));
+    let inputs = held(steering, speed);
+    let relaxation = layout.xi.filter(|_| at_speed && solve.slip == SlipModel::Relaxation);
+    let hold = layout.zv.filter(|_| at_speed && solve.speed_mode == SpeedMode::Hold);
+    let (ex, ey, n) = (frame.column(0).into_owned(), frame.column(1).into_owned(), frame.column(2).into_owned());
+    let a_base = quat_to_matrix(&base[idx::E0..idx::E0 + 4]);
+    let mut p = vec![base[idx::R0 + 2], 0.0, 0.0];
+    p.extend_from_slice(&base[idx::U..idx::U + 4]);
+    if at_speed {
+        p.extend_from_slice(&base[idx::SPIN..idx::SPIN + 4]);
+    }
+    if let Some(k) = relaxation {
+        p.extend_from_slice(&base[k..k + 8]);
+    }
+    if let Some(k) = hold {
+        p.push(base[k]);
+    }
+    let assemble = |p: &[f64]| -> Vec<f64> {
+        let mut x = base.clone();
+        x[idx::R0 + 2] = p[0];
+        let a = crate::math::rotation_about(&ex, p[1]) * crate::math::rotation_about(&ey, p[2]) * a_base;
+        let (roll, pitch, yaw) = crate::math::euler_from_matrix(&a);
+        x[idx::E0..idx::E0 + 4].copy_from_slice(&quat_from_euler(roll, pitch, yaw));
+        x[idx::U..idx::U + 4].copy_from_slice(&p[3..7]);
+        if at_speed {
+            x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&p[7..11]);
+            put_slip_and_hold(&mut x, &p[11..], relaxation, hold);
+        }
+        x
+    };
+    let mut dx = vec![0.0; layout.dim];
+    newton(
+        &mut p,
+        |p, r| {
+            v.derivative(&run, &assemble(p), &inputs, ws, &mut dx)?;
+            let a = V3::new(dx[idx::V0], dx[idx::V0 + 1], dx[idx::V0 + 2]);
+            let w = V3::new(dx[idx::W0], dx[idx::W0 + 1], dx[idx::W0 + 2]);
+            r[0] = n.dot(&a);
+            r[1] = ex.dot(&w);
+            r[2] = ey.dot(&w);
+            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+            let mut k = 7;
+            if at_speed {
+                r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
+                k = 11;
+            }
+            if let Some(xi) = relaxation {
+                r[k..k + 8].copy_from_slice(&dx[xi..xi + 8]);
+                k += 8;
+            }
+            if hold.is_some() {
+                r[k] = ex.dot(&a);
+            }
+            Ok(())
+        },
+        EQUILIBRIUM_TOLERANCE,
+        30,
+    )?;
+    Ok(Layout::of(options).convert(&assemble(&p), &layout))
 }

@@ -50,7 +50,7 @@ pub struct Options {
     pub speed_mode: SpeedMode,
     /// Road slope, rise over run: longitudinal (positive uphill towards +x) and cross (positive: +y side
     /// higher), modelled by tilting gravity: the road stays the plane z = 0 of the model's ground frame,
-    /// which is the road frame (x along the road, z normal to it). A car starts from its level equilibrium.
+    /// which is the road frame (x along the road, z normal to it). A car starts in equilibrium on the slope.
     #[serde(default)]
     pub slope: [f64; 2],
     /// How the tires meet the road: the paper's single point, or the enveloping contact.

@@ -24,6 +24,10 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, Weak};
 
+/// The largest height a road file may hold or its header put the surface at, m: beyond ±1 km is no road
+/// (the highest paved road is 5.8 km up, but a file's heights are relative to its own start), it is a damaged
+/// value (a float read from the wrong bytes is typically 1e38).
+pub const MAX_HEIGHT_M: f64 = 1000.0;
 /// The largest road file read: 512 MiB (a 100 km road at 1 cm with 5 long sections in f32 is 200 MB).
 pub const MAX_CRG_BYTES: u64 = 512 << 20;
 /// Where the reference line starts, behind the vehicle's initial rear axle, m.
@@ -47,6 +51,7 @@ impl Surface {
     /// A surface from the bytes of a CRG file named `name` (for messages).
     pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<Surface, String> {
         check_ascii_data(name, bytes)?;
+        check_binary_data(name, bytes)?;
         let centred = centre_long_sections(bytes);
         let bytes = centred.as_deref().unwrap_or(bytes);
         let grid = CrgGrid::from_bytes(bytes).map_err(|e| format!("road file {name}: {e}"))?;
@@ -76,6 +81,7 @@ impl Surface {
             return Err(format!("road file {name}: no height at the middle of the grid (NaN data?)"));
         }
         let bordered = probe(Uv { u: u1 + 1.0, ..mid }) && probe(Uv { v: v1 + 1.0, ..mid });
+        check_heights(name, &grid)?;
         Ok(Surface { name: name.to_string(), grid, bordered })
     }
 
@@ -154,6 +160,204 @@ fn declared_cross_sections(bytes: &[u8]) -> Option<usize> {
     (0.0..1e12).contains(&n).then(|| n.round() as usize + 1)
 }
 
+/// The data section as the header defines it: where it starts (the byte after the `$$$$` line), the
+/// format code's value width and record size, and each channel (`D:` line) in order.
+struct DataLayout {
+    start: usize,
+    ascii: bool,
+    double: bool,
+    width: usize,
+    record: usize,
+    channels: Vec<Channel>,
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Channel {
+    /// A long section's heights, m (its number counting from 1 among the heights).
+    Height(usize),
+    /// A reference-line channel (phi, slope, banking) or one the reader ignores.
+    Other,
+}
+
+/// The layout of the data section, read from the header as the `opencrg` crate reads it (sections open on a
+/// line starting with `$`, a `$` line closes them, `$CT` blocks are comments); `None` when the file has no
+/// `#:` format or no `$$$$` line (the crate's own errors then name what is missing).
+fn data_layout(bytes: &[u8]) -> Option<DataLayout> {
+    let (mut pos, mut section, mut format, mut channels) = (0, "", None::<String>, Vec::new());
+    while pos < bytes.len() {
+        let end = bytes[pos..].iter().position(|&b| b == b'\n' || b == b'\r').map_or(bytes.len(), |e| pos + e);
+        let next = if bytes.get(end) == Some(&b'\r') && bytes.get(end + 1) == Some(&b'\n') { end + 2 } else { end + 1 };
+        let line = String::from_utf8_lossy(&bytes[pos..end]);
+        let tag = line.trim_start_matches(' ');
+        pos = next;
+        if section == "ct" {
+            if line.starts_with('$') {
+                section = "";
+            }
+            continue;
+        }
+        if tag.starts_with('$') {
+            let upper = tag.to_ascii_uppercase();
+            if upper.starts_with("$$$$") {
+                let head = format?.to_ascii_uppercase();
+                let (ascii, double, long) = (head.contains('F'), head.contains('D'), head.contains('L'));
+                let width = match (ascii, double) {
+                    (true, true) => 20,
+                    (true, false) => 10,
+                    (false, true) => 8,
+                    (false, false) => 4,
+                };
+                let packed = width * channels.len();
+                let record = if long { packed.div_ceil(80) * 80 } else { packed };
+                return Some(DataLayout { start: pos.min(bytes.len()), ascii, double, width, record, channels });
+            }
+            section = if !section.is_empty() {
+                ""
+            } else if upper.starts_with("$CT") {
+                "ct"
+            } else if upper.starts_with("$KD_DEFINITION") {
+                "kd"
+            } else {
+                "other"
+            };
+            continue;
+        }
+        if section == "kd" {
+            let head = tag.get(..2).unwrap_or("").to_ascii_uppercase();
+            if head == "#:" {
+                format = Some(tag[2..].chars().take(4).collect());
+            } else if head == "D:" {
+                let heights = channels.iter().filter(|c| matches!(c, Channel::Height(_))).count();
+                let is_height = tag.to_ascii_lowercase().contains("long section");
+                channels.push(if is_height { Channel::Height(heights + 1) } else { Channel::Other });
+            }
+        }
+    }
+    None
+}
+
+/// Binary data (`#:KRBI`, `KDBI`, `LRBI`, `LDBI`: big-endian IEEE values, records packed or padded to 80
+/// bytes) are checked before the crate reads them, which reads the records the header declares and
+/// ignores what follows: the data must be whole records, as many as the header declares
+/// (REFERENCE_LINE_START_U, END_U, INCREMENT), and every height finite (NaN marks a hole) within
+/// ±`MAX_HEIGHT_M`. Each refusal names the byte offset in the file.
+fn check_binary_data(name: &str, bytes: &[u8]) -> Result<(), String> {
+    let Some(layout) = data_layout(bytes) else { return Ok(()) };
+    if layout.ascii || layout.record == 0 {
+        return Ok(());
+    }
+    let DataLayout { start, record, width, .. } = layout;
+    let data = &bytes[start..];
+    let what = format!(
+        "records of {record} bytes ({} channels of {width}-byte values{})",
+        layout.channels.len(),
+        if record > width * layout.channels.len() { ", padded to 80 bytes" } else { "" }
+    );
+    // IPLOS writers (Chrono's, OpenCRG's) fill the data up to a whole 80-byte block with NaN values.
+    let nan_fill = |tail: &[u8]| {
+        tail.len() < 80
+            && tail.chunks(width).all(|b| match b.len() {
+                4 => f32::from_be_bytes(b.try_into().expect("4 bytes")).is_nan(),
+                8 => f64::from_be_bytes(b.try_into().expect("8 bytes")).is_nan(),
+                _ => false,
+            })
+    };
+    let records = match declared_cross_sections(bytes) {
+        Some(declared) => {
+            let end = declared.saturating_mul(record);
+            if data.len() < end || !nan_fill(&data[end..]) {
+                return Err(format!(
+                    "road file {name}: its binary data (from byte offset {start}, {} bytes) are not the {declared} \
+                     {what} its header declares (REFERENCE_LINE_START_U, END_U, INCREMENT) and a NaN fill to an \
+                     80-byte block: they hold {} whole records and {} bytes more, {}: truncated, damaged, or a \
+                     wrong header",
+                    data.len(),
+                    data.len() / record,
+                    data.len() % record,
+                    if data.len() < end {
+                        format!(
+                            "and end at byte offset {} where the declared records would end at {}",
+                            start + data.len(),
+                            start + end
+                        )
+                    } else {
+                        format!("the bytes from offset {} on are not a NaN fill", start + end)
+                    }
+                ));
+            }
+            declared
+        }
+        None => data.len() / record, // no END_U: the crate's error names it
+    };
+    let data = &data[..records * record];
+    for (r, chunk) in data.chunks_exact(record).enumerate() {
+        for (c, channel) in layout.channels.iter().enumerate() {
+            let b = &chunk[c * width..(c + 1) * width];
+            let value = if layout.double {
+                f64::from_be_bytes(b.try_into().expect("8 bytes"))
+            } else {
+                f64::from(f32::from_be_bytes(b.try_into().expect("4 bytes")))
+            };
+            let Channel::Height(k) = *channel else {
+                // phi (rad), slope and banking (m/m): a finite value of that size, or a damaged one.
+                if !(value.is_nan() || value.abs() <= MAX_HEIGHT_M) {
+                    return Err(format!(
+                        "road file {name}: the value {value:.3e} of channel {} at byte offset {} (cross section {}) \
+                         is beyond ±{MAX_HEIGHT_M}: a damaged file",
+                        c + 1,
+                        start + r * record + c * width,
+                        r + 1
+                    ));
+                }
+                continue;
+            };
+            if !(value.is_nan() || value.abs() <= MAX_HEIGHT_M) {
+                return Err(format!(
+                    "road file {name}: the height {value:.3e} m at byte offset {} (cross section {}, long section \
+                     {k}) is beyond ±{MAX_HEIGHT_M} m: a damaged file, or not heights in metres",
+                    start + r * record + c * width,
+                    r + 1
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The loaded surface, with the header's start height, slope, banking and modifiers applied: every grid
+/// value and the surface along the grid's edges and reference line within ±`MAX_HEIGHT_M`.
+fn check_heights(name: &str, grid: &CrgGrid) -> Result<(), String> {
+    let (nu, nv) = grid.dims();
+    let shift = grid.z_shift();
+    if let Some(i) = grid.z_values().iter().position(|&z| !(z.is_nan() || (f64::from(z) + shift).abs() <= MAX_HEIGHT_M))
+    {
+        return Err(format!(
+            "road file {name}: the grid height {:.3e} m (cross section {}, long section {}) is beyond ±{MAX_HEIGHT_M} m",
+            f64::from(grid.z_values()[i]) + shift,
+            i / nv + 1,
+            i % nv + 1
+        ));
+    }
+    let ([u0, u1], [v0, v1]) = (range(grid.u_range()), range(grid.v_range()));
+    // At most 20 000 cross sections (a load-time cost of milliseconds); a height the reference line's slope
+    // raises stays raised beyond it, so a sample after it sees it.
+    let stride = nu.div_ceil(20_000).max(1);
+    for iu in (0..nu).step_by(stride).chain([nu - 1]) {
+        let u = u0 + (u1 - u0) * iu as f64 / (nu - 1).max(1) as f64;
+        for v in [v0, 0.0_f64.clamp(v0, v1), v1] {
+            if let Some(z) = grid.elevation_at_uv(Uv { u, v }) {
+                if !(z.is_nan() || z.abs() <= MAX_HEIGHT_M) {
+                    return Err(format!(
+                        "road file {name}: the surface at u = {u} m, v = {v} m is {z:.3e} m high, beyond \
+                         ±{MAX_HEIGHT_M} m (the header's start height, slope or banking, or its modifiers)"
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// ASCII data (`#:LRFI`) are fixed fields of 10 characters: each must be a number (NaN marks a hole) or
 /// an IPLOS marker (`**unused**`, `*missing*`), and no field may be cut short. The crate would read text as a hole.
 fn check_ascii_data(name: &str, bytes: &[u8]) -> Result<(), String> {
@@ -164,17 +368,22 @@ fn check_ascii_data(name: &str, bytes: &[u8]) -> Result<(), String> {
     let Ok(all) = std::str::from_utf8(bytes) else {
         return Err(format!("road file {name}: an ASCII (#:LRFI) file that is not text"));
     };
-    let mut lines = all.lines().enumerate();
+    // Each line with the byte offset it starts at.
+    let mut offset = 0;
+    let mut lines = all.split_inclusive('\n').enumerate().map(|(i, l)| {
+        offset += l.len();
+        (i, offset - l.len(), l.trim_end_matches(['\n', '\r']))
+    });
     // The data start after the line of `$` that closes the last block.
     let mut start = None;
-    for (i, l) in lines.by_ref() {
+    for (i, _, l) in lines.by_ref() {
         if l.trim_start().starts_with("$$$$") {
             start = Some(i);
             break;
         }
     }
     let Some(_) = start else { return Ok(()) };
-    for (i, line) in lines {
+    for (i, at, line) in lines {
         let line = line.trim_end();
         if line.is_empty() || line.starts_with('*') {
             continue;
@@ -194,12 +403,30 @@ fn check_ascii_data(name: &str, bytes: &[u8]) -> Result<(), String> {
             let f: String = field.iter().collect();
             let f = f.trim();
             let marker = f.len() > 2 && f.starts_with('*') && f.ends_with('*'); // *missing*, **unused**
-            if !marker && f.parse::<f64>().is_err() {
+            if marker {
+                continue;
+            }
+            let Ok(value) = f.parse::<f64>() else {
                 return Err(format!("road file {name}, line {}, value {}: {f:?} is not a number", i + 1, k + 1));
+            };
+            // Heights in m, phi in rad, slope and banking in m/m: beyond ±1 km none is a road's.
+            if !(value.is_nan() || value.abs() <= MAX_HEIGHT_M) {
+                let byte = at + field_start(line, k);
+                return Err(format!(
+                    "road file {name}, line {}, value {} (byte offset {byte}): {value:.3e} is beyond ±{MAX_HEIGHT_M} \
+                     (m for heights): a damaged file, or not heights in metres",
+                    i + 1,
+                    k + 1
+                ));
             }
         }
     }
     Ok(())
+}
+
+/// The byte offset within `line` of its `k`-th 10-character field.
+fn field_start(line: &str, k: usize) -> usize {
+    line.char_indices().nth(10 * k).map_or(line.len(), |(b, _)| b)
 }
 
 fn range((a, b): (f64, f64)) -> [f64; 2] {
@@ -400,6 +627,76 @@ $$$$
         // Keep (the default border mode): the edge continues, a surface everywhere.
         assert!(p.has_surface(20.0, 0.0));
         assert_eq!(p.height_and_gradient(20.0, 0.0).0, 0.0);
+    }
+
+    /// Chrono's 4 in half-round (binary, `#:KRBI`: 10 001 records of three f32 heights) and where its data
+    /// start.
+    fn halfround() -> (Vec<u8>, usize) {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/halfround_4in.crg");
+        let bytes = std::fs::read(path).unwrap();
+        let start = data_layout(&bytes).unwrap().start;
+        (bytes, start)
+    }
+
+    /// One test per kind of damage: each is refused with its cause and the byte offset (computed here from
+    /// the layout: 12-byte records from the data's start).
+    #[test]
+    fn damaged_binary_files_are_refused_with_the_cause_and_the_offset() {
+        let (good, start) = halfround();
+        // 10 001 records of 12 bytes, and 68 bytes of NaN fill to a whole 80-byte block.
+        let end = start + 10_001 * 12;
+        assert_eq!((good.len() - start) % 80, 0, "the file's data are whole 80-byte blocks");
+        assert!(Surface::from_bytes("whole.crg", &good).is_ok());
+        let refused = |name: &str, bytes: &[u8], words: &[&str]| {
+            let e = Surface::from_bytes(name, bytes).unwrap_err();
+            for w in words.iter().chain(&[name]) {
+                assert!(e.contains(w), "{name}: {w:?} not in {e}");
+            }
+        };
+        // Cut inside a record (7 bytes short of the declared records): the partial record is named.
+        refused(
+            "cut.crg",
+            &good[..end - 7],
+            &["10000 whole records and 5 bytes more", &format!("byte offset {}", end - 7)],
+        );
+        // One whole record fewer, and one more (in place of the fill) than the header declares.
+        refused("fewer.crg", &good[..end - 12], &["10000 whole records", &format!("would end at {end}")]);
+        let more = [&good[..end], &good[end - 12..end]].concat();
+        refused("more.crg", &more, &["10002 whole records", &format!("from offset {end} on are not a NaN fill")]);
+        // A header whose end disagrees with the data.
+        let text = String::from_utf8_lossy(&good[..start]).into_owned();
+        let header = text.replacen("1.0000000000000000e+02", "1.0100000000000000e+02", 1);
+        let bytes = [header.as_bytes(), &good[start..]].concat();
+        refused("header.crg", &bytes, &["not the 10101 records", "would end at"]);
+        // A height of 1.1e38 m (the damaged ASAM file's value) in record 5000, long section 2.
+        let mut big = good.clone();
+        let at = start + 4999 * 12 + 4;
+        big[at..at + 4].copy_from_slice(&1.1e38f32.to_be_bytes());
+        refused("big.crg", &big, &[&format!("byte offset {at}"), "cross section 5000, long section 2", "1.100e38"]);
+        // An infinite height.
+        big[at..at + 4].copy_from_slice(&f32::INFINITY.to_be_bytes());
+        refused("inf.crg", &big, &[&format!("byte offset {at}"), "inf"]);
+        // 1001 m is beyond the bound, 999 m is not.
+        big[at..at + 4].copy_from_slice(&1001f32.to_be_bytes());
+        refused("km.crg", &big, &[&format!("byte offset {at}"), "±1000 m"]);
+        big[at..at + 4].copy_from_slice(&999f32.to_be_bytes());
+        assert!(Surface::from_bytes("999.crg", &big).is_ok());
+        // A modifier that puts the surface 2 km up (the reference point's height; without a modifier block
+        // OpenCRG puts the reference line's start at z = 0).
+        let bytes = [b"$ROAD_CRG_MODS\nrefpoint_z = 2000\n$\n", &good[..]].concat();
+        refused("high.crg", &bytes, &["2.000e3 m high", "beyond ±1000 m"]);
+    }
+
+    #[test]
+    fn ascii_heights_beyond_a_kilometre_are_refused_with_the_offset() {
+        let text = String::from_utf8(SMALL.to_vec()).unwrap();
+        let bad = text.replace(" 0.1000000 0.1000000 0.1000000", " 0.10000001.2000e+38 0.1000000");
+        let at = bad.find("1.2000e+38").unwrap(); // the second field of the second record
+        let e = Surface::from_bytes("ascii.crg", bad.as_bytes()).unwrap_err();
+        assert!(
+            e.contains(&format!("byte offset {at}")) && e.contains("line 14, value 2") && e.contains("1.200e38"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -780,6 +780,30 @@ impl Vehicle {
         };
         match contact {
             Some(ct) if ct.penetration > tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m => {
+                // The single point's tangent plane on an obstacle's steep face reads a deflection the road
+                // below the wheel centre does not give (a 10 cm half-round's foot has slope 4): that is the
+                // contact's geometry, not the obstacle's height, and the enveloping contact follows it.
+                let (h, [hx, hy]) = road.height_and_gradient(centre_abs.x, centre_abs.y);
+                let below = self.tire.unloaded_radius_m - (centre_abs.z - h);
+                if options.contact == ContactModel::Point
+                    && below <= tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m
+                {
+                    return Err(ModelError::new(
+                        Cause::ModelValidity,
+                        format!(
+                            "wheel {} at x = {:.3} m: the single-point contact reads a tire deflection of {:.3} m \
+                             from the road's tangent plane below the wheel centre, whose slope is {:.2} (a steep \
+                             face, such as an obstacle's), where the road's height below the centre deflects it by \
+                             {:.3} m: the point contact cannot follow an obstacle shorter than the tire; \
+                             use the enveloping contact (`--contact envelope`, FMU parameter `contact` = 2)",
+                            CORNERS[i],
+                            centre_abs.x,
+                            ct.penetration,
+                            hx.hypot(hy),
+                            below
+                        ),
+                    ));
+                }
                 return Err(ModelError::new(
                     Cause::ModelValidity,
                     format!(
@@ -792,7 +816,7 @@ impl Vehicle {
                         tire::BOTTOMING_FRACTION,
                         self.tire.unloaded_radius_m
                     ),
-                ))
+                ));
             }
             Some(ct) => {
                 let v_c = a0 * point_velocity(&y_k, &(a0.tr_mul(&(ct.point - r0))));

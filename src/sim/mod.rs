@@ -22,7 +22,7 @@ use crate::integrate::stability::{bdf2_damped_up_to, damped_up_to, is_damped, la
 use crate::integrate::{substeps, AnyIntegrator, Integrator, IntegratorKind, OdeSystem};
 use crate::math::eigen::eigenvalues;
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
-use crate::model::equilibrium::{retune_ride_height, steady_rolling_steered};
+use crate::model::equilibrium::{retune_ride_height, start_on_plane, steady_rolling_steered, StartPlane};
 use crate::model::params::VehicleData;
 use crate::model::road::{RoadModel, PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M};
 use crate::model::tire::SlipModel;
@@ -432,6 +432,28 @@ impl Start {
             (None, RoadChoice::Flat) => RoadModel::Flat,
             (None, RoadChoice::PaperBumps) => RoadModel::bump_course(front_wheel_x0, config.bump[0], config.bump[1]),
         };
+        // A file road's start need not be level, nor at z = 0: the car starts on the plane through the road
+        // below its wheels, in equilibrium there (docs/roads.md, "Starting on the road").
+        let mut state = state;
+        if road.file().is_some() {
+            let points: Vec<[f64; 3]> = (0..4)
+                .map(|i| {
+                    let w = a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0);
+                    let (x, y) = (w.x + state[idx::R0], w.y + state[idx::R0 + 1]);
+                    [x, y, crate::model::road::Road::height_and_gradient(&road, x, y).0]
+                })
+                .collect();
+            let plane = StartPlane::through(&[points[0], points[1], points[2], points[3]]).ok_or_else(|| {
+                ModelError::new(
+                    Cause::Input,
+                    format!("the road has no surface below the wheels at the start: {points:?}"),
+                )
+            })?;
+            if !plane.is_level() {
+                state = start_on_plane(&v, options, &road, &plane, config.initial_speed, steering, &mut cache)
+                    .context("initial equilibrium on the road's start")?;
+            }
+        }
         Ok(Start { vehicle: v, road, state, cache, front_wheel_x0 })
     }
 }
