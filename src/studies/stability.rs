@@ -507,7 +507,11 @@ pub fn channel_errors(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> 
         .iter()
         .enumerate()
         .map(|(c, channel)| {
-            let start = reference[0][c];
+            // A reference that failed before its first sample compares nothing (its case is not judged).
+            let Some(first) = reference.first() else {
+                return ChannelError { name: channel.name, excursion: channel.floor, difference: 0.0, at: 0 };
+            };
+            let start = first[c];
             let excursion = reference.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(channel.floor);
             let (at, difference) = run
                 .iter()
