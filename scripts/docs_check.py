@@ -19,8 +19,10 @@ The comparison skips machine-dependent figures by one rule (docs/results.md, "Ho
   "real time" or "per second") is not compared.
 - Outside tables, the numbers of a line that contains one of those words are not compared, and a line that
   contains "machine-dependent" (the line naming the machine and date) is not compared at all.
-- A column headed "... (whole process)" (callgrind's count of a whole process, whose start-up varies by a few
-  dozen instructions between runs) is compared to 1e-4 relative.
+- A column of callgrind counts (its header contains "instructions" or "(whole process)") is compared to 1e-3
+  relative: the checkout's directory moves them (measured: one evaluation 35 321 instructions built in one
+  checkout, 35 333 in a fresh clone under /tmp, 3.4e-4; a whole bump run 808.92 M against 808.77 M, 1.9e-4),
+  and a process's start-up varies by a few dozen instructions between runs.
 - A commit id ("commit `0123abc`") is not compared.
 Everything else must be equal, character for character.
 """
@@ -34,7 +36,7 @@ import time
 MACHINE_WORDS = re.compile(r"CPU|wall|µs|real time|per second")
 NUMBER = re.compile(r"[-+−]?\d[\d,]*(?:\.\d+)?(?:e[-+]?\d+)?")
 COMMIT = re.compile(r"commit `[0-9a-f]{7,40}`")
-WHOLE_PROCESS_TOLERANCE = 1e-4
+CALLGRIND_TOLERANCE = 1e-3
 
 
 def machine():
@@ -79,7 +81,7 @@ def masked(lines):
                 for i, h in enumerate(header[: len(row)]):
                     if MACHINE_WORDS.search(h):
                         row[i] = "…"
-                    elif "(whole process)" in h:
+                    elif "(whole process)" in h or "instructions" in h:
                         fuzzy += numbers(row[i])
                         row[i] = NUMBER.sub("#", row[i])
                 out.append(("| " + " | ".join(row) + " |", fuzzy))
@@ -101,12 +103,12 @@ def compare(name, old_path, new_path, scratch=None):
     new = (new.replace(scratch.rstrip("/") + "/", "") if scratch else new).splitlines()
     a, b = masked(old), masked(new)
     close = lambda na, nb: len(na) == len(nb) and all(
-        abs(x - y) <= WHOLE_PROCESS_TOLERANCE * max(abs(x), abs(y)) for x, y in zip(na, nb))
+        abs(x - y) <= CALLGRIND_TOLERANCE * max(abs(x), abs(y)) for x, y in zip(na, nb))
     bad = []
     matcher = difflib.SequenceMatcher(None, [t for t, _ in a], [t for t, _ in b], autojunk=False)
     for op, i1, i2, j1, j2 in matcher.get_opcodes():
         if op == "equal":
-            bad += [f"{name}:{i + 1}: differs beyond 1e-4 in a whole-process count\n"
+            bad += [f"{name}:{i + 1}: differs beyond 1e-3 in a callgrind count\n"
                     f"  committed:   {old[i]}\n  regenerated: {new[j]}"
                     for i, j in zip(range(i1, i2), range(j1, j2)) if not close(a[i][1], b[j][1])]
             continue
