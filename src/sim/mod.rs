@@ -672,7 +672,7 @@ pub fn hop_resolution(kind: IntegratorKind) -> f64 {
         // rate) on all three vehicles and the stiff bump variants; the smallest |hλ| of one off by more is
         // 0.315 (the MacPherson import's half-round at 1.04 ms, 3.8 ×): 0.25 keeps 20 % below it. (0.015
         // before IMEX-AB3 located landings.) Its lift-offs, which it does not locate, are refused on such a
-        // road by `check_lift_off`: its error there is first order in h, not a matter of resolving the hop.
+        // road by `check_imex_on_bumps`: its error there is first order in h, not a matter of resolving the hop.
         IntegratorKind::ImexAb3 => 0.25,
         // Its error control resolves what the road excites.
         IntegratorKind::Dopri5 => f64::INFINITY,
@@ -838,7 +838,7 @@ pub struct Simulation {
     #[serde(default)]
     loads_at_mode_check: [f64; 4],
     /// IMEX-AB3's located touchdowns (`ImexAb3::located`, not saved either) at the last check: a wheel that
-    /// landed since had left the road (`check_lift_off`).
+    /// landed since had left the road (`check_imex_on_bumps`).
     #[serde(skip)]
     landings_at_mode_check: u64,
     /// Whether IMEX-AB3 located a touchdown between the last check and the one before it (`check_imex_on_bumps`).
