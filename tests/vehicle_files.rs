@@ -151,11 +151,14 @@ fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
             assert!(w.contains(needle), "{vehicle}: no warning about {needle}:\n{w}");
         }
     }
-    // The curves: the fit's largest error is reported in % of the peak force.
+    // The curves: the damper's fit reports its largest error in % of the peak force; the spring's curve is a
+    // straight line through the origin, taken as its rate.
     let import = import_vehicle(&chrono_data().join(DOUBLE_WISHBONE), &chrono_data(), None).unwrap();
     let fits: Vec<&String> = import.warnings.iter().filter(|w| w.contains("largest error")).collect();
-    assert_eq!(fits.len(), 2, "{fits:?}");
-    assert!(fits.iter().all(|w| w.contains("DoubleWishboneCurve.json") && w.contains("% of the curve's peak force")));
+    assert_eq!(fits.len(), 1, "{fits:?}");
+    assert!(fits.iter().all(|w| w.contains("Shock.Damping Curve Data") && w.contains("% of the curve's peak force")));
+    assert!(import.warnings.iter().any(|w| w.contains("Spring.Spring Curve Data: a straight line through the origin")));
+    assert!(import.data.front.spring.curve.is_none());
     // The linear damper: one rate everywhere.
     let d = &import.data.rear.damper;
     assert_eq!(d.midstroke_compression_Ns_per_m, 22459.0);
@@ -274,6 +277,13 @@ fn the_importer_names_the_file_and_key_of_each_bad_input() {
             MACPHERSON,
             Box::new(|v| v["Axles"][0]["Antirollbar Input File"] = json!("generic/antirollbar/AntirollBarRSD.json")),
             vec!["Vehicle_MacPhersonStruts.json", "Axles[0].Antirollbar Input File", "not supported"],
+        ),
+        (
+            "falling_spring_curve",
+            DOUBLE_WISHBONE,
+            "generic/suspension/DoubleWishboneCurve.json",
+            Box::new(|v| v["Spring"]["Spring Curve Data"] = json!([[-0.1, 1000.0], [0.0, 0.0], [0.1, 500.0]])),
+            vec!["DoubleWishboneCurve.json", "Spring.Spring Curve Data", "does not rise with extension"],
         ),
         (
             "curve_key",
@@ -466,6 +476,43 @@ fn the_loader_names_the_field_of_each_bad_input() {
             }),
             vec!["rear.upper_arm", "missing"],
         ),
+        // Spring laws: the cubic or a curve, one of them, and a curve that is a spring.
+        (
+            mps,
+            Box::new(|v| {
+                v["front"]["spring"]["k1_N_per_m"] = json!(0.0);
+            }),
+            vec!["front.spring", "give k1_N_per_m and k3_N_per_m3, or a curve"],
+        ),
+        (
+            mps,
+            Box::new(|v| v["front"]["spring"]["curve"] = json!({"deflection_m": [0.0, 0.1], "force_N": [0.0, 1e4]})),
+            vec!["front.spring.curve", "not both"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["spring"]["k1_N_per_m"] = json!(0.0);
+                v["rear"]["spring"]["curve"] = json!({"deflection_m": [0.0, 0.1, 0.1], "force_N": [0.0, 1e4, 2e4]});
+            }),
+            vec!["rear.spring.curve.deflection_m", "increase strictly"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["spring"]["k1_N_per_m"] = json!(0.0);
+                v["rear"]["spring"]["curve"] = json!({"deflection_m": [0.0, 0.1, 0.2], "force_N": [0.0, 1e4, 5e3]});
+            }),
+            vec!["rear.spring.curve.force_N", "rise with extension"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["spring"]["k1_N_per_m"] = json!(0.0);
+                v["rear"]["spring"]["curve"] = json!({"deflection_m": [0.0], "force_N": [0.0]});
+            }),
+            vec!["rear.spring.curve.deflection_m", "less than 2 items"],
+        ),
     ];
     for (file, edit, needles) in cases {
         let e = load_error(file, edit);
@@ -601,4 +648,34 @@ fn check_vehicle_falls_back_to_the_mass_distribution_when_the_car_does_not_stand
         s.axle_load_n,
         stands.axle_load_n
     );
+}
+
+#[test]
+fn a_spring_curve_is_kept_as_chrono_interpolates_it_and_a_preload_lowers_it() {
+    // Chrono's HMMWV: a curve that is not a straight line is the spring's law, point for point.
+    let hmmwv = "hmmwv/vehicle/HMMWV_Vehicle_RackPinion.json";
+    let import = import_vehicle(&chrono_data().join(hmmwv), &chrono_data(), None).unwrap();
+    let text = std::fs::read_to_string(chrono_data().join("hmmwv/suspension/HMMWV_DoubleWishboneRear.json")).unwrap();
+    let chrono: Value = serde_json::from_str(&text).unwrap();
+    let points: Vec<[f64; 2]> = serde_json::from_value(chrono["Spring"]["Spring Curve Data"].clone()).unwrap();
+    let curve = import.data.rear.spring.curve.as_ref().expect("the rear spring's curve");
+    assert_eq!(curve.deflection_m, points.iter().map(|p| p[0]).collect::<Vec<_>>());
+    assert_eq!(curve.force_N, points.iter().map(|p| p[1]).collect::<Vec<_>>());
+    assert_eq!([import.data.rear.spring.k1_N_per_m, import.data.rear.spring.k3_N_per_m3], [0.0, 0.0]);
+    VehicleData::from_json_in(&import.to_json(), import.tire.as_deref().and_then(Path::parent)).unwrap();
+    // Chrono's spring force is P − F(x): a preload lowers every point of the curve by P.
+    let dir = scratch("preload_curve");
+    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "tire"] {
+        let (from, to) = (chrono_data().join("hmmwv").join(sub), dir.join("hmmwv").join(sub));
+        std::fs::create_dir_all(&to).unwrap();
+        for f in std::fs::read_dir(&from).unwrap().flatten() {
+            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
+        }
+    }
+    edit_json(&dir.join("hmmwv/suspension/HMMWV_DoubleWishboneRear.json"), |v| v["Spring"]["Preload"] = json!(500.0));
+    let preloaded = import_vehicle(&dir.join(hmmwv), &dir, None).unwrap();
+    let lowered = preloaded.data.rear.spring.curve.as_ref().unwrap();
+    assert!(lowered.force_N.iter().zip(&curve.force_N).all(|(a, b)| *a == b - 500.0));
+    assert!(preloaded.warnings.iter().any(|w| w.contains("Preload: subtracted from the curve's forces")));
+    let _ = std::fs::remove_dir_all(&dir);
 }

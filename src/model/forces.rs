@@ -3,7 +3,7 @@
 //! the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
 
 use crate::math::smoothstep;
-use crate::model::params::{Damper, Spring, StopTable};
+use crate::model::params::{Damper, Spring, SpringCurve, StopTable};
 use serde::{Deserialize, Serialize};
 
 /// Width of the C¹ blend at a stop's engagement, m.
@@ -72,13 +72,82 @@ impl StopCurve {
 }
 
 /// Spring force along the element, positive pushing the two ends apart (docs/physics.md §5.2):
-/// f = −(k1 x + k3 x³) + stops, x = L − L_free.
-pub fn spring_force(spring: &Spring, free_length: f64, stops: &StopCurve, length: f64) -> f64 {
+/// f = −(k1 x + k3 x³) or −F_curve(x), plus the stops (`None`: switched off), x = L − L_free.
+pub fn spring_force(spring: &Spring, free_length: f64, stops: Option<&StopCurve>, length: f64) -> f64 {
     let x = length - free_length;
-    let elastic = -(spring.k1_N_per_m * x + spring.k3_N_per_m3 * x * x * x);
+    let elastic = match &spring.curve {
+        None => -(spring.k1_N_per_m * x + spring.k3_N_per_m3 * x * x * x),
+        Some(curve) => -curve_force(curve, x),
+    };
+    let Some(stops) = stops else { return elastic };
     let bump = stops.force(spring.stop_min_length_m - length);
     let rebound = stops.force(length - spring.stop_max_length_m);
     elastic + bump - rebound
+}
+
+/// Half-width limit of a curve's rounded corner, m: each knot's kink is rounded over ±`CURVE_CORNER`/2,
+/// or over half the shorter neighbouring interval where the knots are closer.
+const CURVE_CORNER: f64 = 0.002;
+
+/// The rounded corner at interior knot k: its width ε and slope jump Δs.
+fn corner(c: &SpringCurve, k: usize) -> (f64, f64) {
+    let (x, f) = (&c.deflection_m, &c.force_N);
+    let (h0, h1) = (x[k] - x[k - 1], x[k + 1] - x[k]);
+    let jump = (f[k + 1] - f[k]) / h1 - (f[k] - f[k - 1]) / h0;
+    (CURVE_CORNER.min(0.5 * h0.min(h1)), jump)
+}
+
+/// A tabulated spring's F(x) (positive in tension): linear between the points, as Chrono interpolates its
+/// `Spring Curve Data`, and continued linearly past the ends (Chrono holds the end value there; both tables
+/// it ships reach ±0.2 m, beyond the stops). The kink at each interior knot is rounded by a parabola over
+/// its corner width ε, which keeps the law C¹ (module doc) and equals the straight lines outside ±ε/2:
+/// F = PL(x) + Δs (|u| − ε/2)²/(2ε) for |u| = |x − x_k| < ε/2.
+pub fn curve_force(c: &SpringCurve, x: f64) -> f64 {
+    let (xs, fs) = (&c.deflection_m, &c.force_N);
+    let n = xs.len();
+    let i = xs.partition_point(|xi| *xi <= x).saturating_sub(1).min(n - 2);
+    let line = fs[i] + (fs[i + 1] - fs[i]) / (xs[i + 1] - xs[i]) * (x - xs[i]);
+    // The nearer end of the segment is the only knot whose corner can reach x.
+    let k = if x - xs[i] <= xs[i + 1] - x { i } else { i + 1 };
+    if k == 0 || k == n - 1 {
+        return line;
+    }
+    let (width, jump) = corner(c, k);
+    let u = (x - xs[k]).abs();
+    if u < 0.5 * width {
+        line + jump * (u - 0.5 * width).powi(2) / (2.0 * width)
+    } else {
+        line
+    }
+}
+
+/// The energy stored in a tabulated spring deflected from 0 to x, ∫₀ˣ F: exact, by Simpson's rule on the
+/// pieces between knots and corner edges, where F is linear or quadratic (for the mechanical summary).
+pub fn curve_energy(c: &SpringCurve, x: f64) -> f64 {
+    let (lo, hi) = (x.min(0.0), x.max(0.0));
+    let xs = &c.deflection_m;
+    let mut cuts: Vec<f64> = vec![lo, hi];
+    for k in 0..xs.len() {
+        cuts.push(xs[k]);
+        if k > 0 && k + 1 < xs.len() {
+            let (width, _) = corner(c, k);
+            cuts.extend([xs[k] - 0.5 * width, xs[k] + 0.5 * width]);
+        }
+    }
+    cuts.retain(|v| *v >= lo && *v <= hi);
+    cuts.sort_by(f64::total_cmp);
+    let integral: f64 = cuts
+        .windows(2)
+        .map(|w| {
+            (w[1] - w[0]) / 6.0
+                * (curve_force(c, w[0]) + 4.0 * curve_force(c, 0.5 * (w[0] + w[1])) + curve_force(c, w[1]))
+        })
+        .sum();
+    if x < 0.0 {
+        -integral
+    } else {
+        integral
+    }
 }
 
 /// Damper force along the element, positive pushing apart, for length L and rate L̇ (> 0 extending).
@@ -125,11 +194,62 @@ mod tests {
         let data = VehicleData::default_hmmwv();
         let s = &data.front.spring;
         let c = StopCurve::new(&data.stop_table);
-        let f = spring_force(s, s.free_length_m, &c, 0.25);
+        let f = spring_force(s, s.free_length_m, Some(&c), 0.25);
         let x = 0.25 - s.free_length_m;
         assert!((f + s.k1_N_per_m * x + s.k3_N_per_m3 * x.powi(3)).abs() < 1e-9);
         assert!(f > 0.0, "a compressed spring pushes apart");
-        assert!(spring_force(s, s.free_length_m, &c, s.stop_min_length_m - 0.01) > f, "bump stop adds push");
+        assert!(spring_force(s, s.free_length_m, Some(&c), s.stop_min_length_m - 0.01) > f, "bump stop adds push");
+    }
+
+    /// Chrono's HMMWV rear spring curve (hmmwv/suspension/HMMWV_DoubleWishboneRear.json), the half x ≥ −0.06.
+    fn chrono_curve() -> SpringCurve {
+        SpringCurve {
+            deflection_m: vec![-0.06, -0.04, -0.02, 0.0, 0.02, 0.04, 0.06],
+            force_N: vec![-39371.956, -19869.076, -8020.869, 0.0, 8020.869, 19869.076, 39371.956],
+        }
+    }
+
+    #[test]
+    fn a_curve_is_chronos_straight_lines_outside_its_rounded_corners_and_c1() {
+        let c = chrono_curve();
+        let (x, f) = (&c.deflection_m, &c.force_N);
+        let line = |i: usize, v: f64| f[i] + (f[i + 1] - f[i]) / (x[i + 1] - x[i]) * (v - x[i]);
+        for i in 0..x.len() - 1 {
+            // Outside the ±1 mm corners the law is Chrono's linear interpolation, to round-off.
+            for t in [0.051, 0.25, 0.5, 0.75, 0.949] {
+                let v = x[i] + t * (x[i + 1] - x[i]);
+                assert!((curve_force(&c, v) - line(i, v)).abs() < 1e-9 * 39371.956, "segment {i} at {v}");
+            }
+        }
+        // Past the ends: continued linearly.
+        assert!((curve_force(&c, 0.08) - line(5, 0.08)).abs() < 1e-9 * 39371.956);
+        assert!((curve_force(&c, -0.07) - line(0, -0.07)).abs() < 1e-9 * 39371.956);
+        // C¹ everywhere, at the corners' edges too: one-sided slopes agree ever closer as h shrinks; the test
+        // can fail, since the plain linear interpolation's slopes at a knot differ by the jump whatever h.
+        let slope_jump = |v: f64, h: f64| {
+            ((curve_force(&c, v + h) - curve_force(&c, v)) - (curve_force(&c, v) - curve_force(&c, v - h))) / h
+        };
+        for k in 1..x.len() - 1 {
+            for v in [x[k] - 1e-3, x[k], x[k] + 1e-3] {
+                assert!(slope_jump(v, 1e-7).abs() < 0.2 * slope_jump(v, 1e-6).abs() + 1.0, "kink at {v}");
+            }
+            let plain = |v: f64| if v < x[k] { line(k - 1, v) } else { line(k, v) };
+            let plain_jump = (plain(x[k] + 1e-7) - 2.0 * plain(x[k]) + plain(x[k] - 1e-7)) / 1e-7;
+            // (x = 0, knot 3, has none: the curve is odd.)
+            assert!(k == 3 || plain_jump.abs() > 1e5, "knot {k}: the test's own counterexample has no kink");
+        }
+    }
+
+    #[test]
+    fn a_curves_energy_is_the_integral_of_its_force() {
+        let c = chrono_curve();
+        for v in [-0.07, -0.041, -0.0405, -0.02, -0.0123, 0.0, 0.0099, 0.0205, 0.0395, 0.059, 0.075] {
+            // A fine midpoint rule (error ∝ h² F'' ≈ 1e-6 N m at most over the quadratic corners).
+            let n = 200_000;
+            let h = v / n as f64;
+            let reference: f64 = (0..n).map(|i| curve_force(&c, (i as f64 + 0.5) * h) * h).sum();
+            assert!((curve_energy(&c, v) - reference).abs() < 1e-6, "{v}: {} vs {reference}", curve_energy(&c, v));
+        }
     }
 
     #[test]

@@ -5,8 +5,8 @@
 //! Chrono's `data/vehicle/`): a `RigidChassis`, two axles of `DoubleWishbone` or `MacPhersonStrut`, one
 //! steering (`PitmanArm` or `RackPinion`), `Wheel` and `BrakeSimple` files. Hardpoints are moved by each
 //! axle's `Suspension Location` (translation), the steering's points and axes by its `Location` and
-//! `Orientation`; spring and damper curves become the model's odd cubic spring and two-rate damper by least
-//! squares. What the model has no place for is listed as a warning; what it cannot represent (another
+//! `Orientation`; a spring curve is kept as the piecewise-linear law Chrono makes of it, a damper curve
+//! becomes the model's two-rate damper by least squares. What the model has no place for is listed as a warning; what it cannot represent (another
 //! template, an unknown key, camber or toe offsets, an anti-roll bar, different wheels) is an error that
 //! names the file and the key. Chrono's vehicle files name no tire: the tire is the `.tir` file of the
 //! vehicle's data folder (`tire_file`), copied beside the vehicle file. The springs ride as written
@@ -18,7 +18,8 @@
 
 use crate::math::{M3, V3};
 use crate::model::params::{
-    Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SuspensionTemplate, VehicleData, WheelBody,
+    Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate, VehicleData,
+    WheelBody,
 };
 use crate::model::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -388,31 +389,15 @@ fn arm_frame(o: &Obj, f: V3, b: V3, u: V3) -> Result<M3, ImportError> {
     Ok(M3::from_columns(&[x, z.cross(&x), z]))
 }
 
-/// Least-squares odd cubic F = k1 x + k3 x³ through a spring curve [[x, F], …] (x = length − free length,
-/// m; F, N, positive in tension: Chrono's spring force is −F). Returns k1, k3 and the largest error in % of
-/// the curve's peak |F|. A negative k3 is refitted with k3 = 0 (the loader takes k3 ≥ 0).
-fn fit_spring(points: &[(f64, f64)]) -> (f64, f64, f64) {
+/// The rate of a spring curve [[x, F], …] that is a straight line through the origin (every point within
+/// 1e-9 of the peak force of k x, k by least squares through the origin), else `None`: such a curve is a
+/// linear spring, whose law needs no table.
+fn straight_line_rate(points: &[(f64, f64)]) -> Option<f64> {
     let scale = points.iter().fold(0.0f64, |m, p| m.max(p.0.abs()));
-    let (mut a11, mut a12, mut a22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for &(x, f) in points {
-        let s = x / scale;
-        let (s2, s3) = (s * s, s * s * s);
-        a11 += s2;
-        a12 += s * s3;
-        a22 += s3 * s3;
-        b1 += s * f;
-        b2 += s3 * f;
-    }
-    let det = a11 * a22 - a12 * a12;
-    let (mut c1, mut c3) = ((b1 * a22 - b2 * a12) / det, (a11 * b2 - a12 * b1) / det);
-    if !(c3 >= 0.0) || !det.is_finite() || det.abs() < 1e-12 * a11 * a22 {
-        c1 = b1 / a11;
-        c3 = 0.0;
-    }
-    let (k1, k3) = (c1 / scale, c3 / scale.powi(3));
+    let (sxx, sxf) = points.iter().fold((0.0, 0.0), |(a, b), &(x, f)| (a + (x / scale).powi(2), b + x / scale * f));
+    let k = sxf / sxx / scale;
     let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
-    let error = points.iter().fold(0.0f64, |m, &(x, f)| m.max((k1 * x + k3 * x * x * x - f).abs()));
-    (k1, k3, 100.0 * error / peak)
+    points.iter().all(|&(x, f)| (k * x - f).abs() <= 1e-9 * peak).then_some(k)
 }
 
 /// Compression and rebound rates of a damper curve [[v, F], …] (v = length rate, m/s, > 0 extending; F,
@@ -1071,35 +1056,47 @@ impl Importer {
         put("SPRING_C", sp.point("Location Chassis")?);
         put(spring_name, sp.point(moving)?);
         let mut free_length = sp.length("Free Length")?;
-        let (k1, k3) = match force_law(&sp, "Spring Coefficient", "Spring Curve Data", "N/m")? {
-            Law::Coefficient(k) => (k, 0.0),
+        // A curve is kept as Chrono interpolates it, linearly between its points (`forces::curve_force`).
+        let (k1, mut curve) = match force_law(&sp, "Spring Coefficient", "Spring Curve Data", "N/m")? {
+            Law::Coefficient(k) => (k, None),
             Law::Curve(key, points) => {
-                let (k1, k3, error) = fit_spring(&points);
-                if !(k1 >= 0.0) {
+                if points.windows(2).any(|w| w[1].1 < w[0].1) || !(points[points.len() - 1].1 > points[0].1) {
                     return Err(sp.err(key, "the curve does not rise with extension: no spring the model can take"));
                 }
-                self.warnings.push(fit_warning(
-                    &sp,
-                    key,
-                    &points,
-                    format!("the odd cubic F = k1 x + k3 x³ (k1 = {k1:.6e} N/m, k3 = {k3:.6e} N/m³)"),
-                    error,
-                ));
-                (k1, k3)
+                if let Some(k) = straight_line_rate(&points) {
+                    self.warnings.push(format!(
+                        "{}: {}: a straight line through the origin: the rate {k:.6e} N/m",
+                        o.file,
+                        sp.key(key)
+                    ));
+                    (k, None)
+                } else {
+                    let (deflection_m, force_n): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
+                    (0.0, Some(SpringCurve { deflection_m, force_N: force_n }))
+                }
             }
         };
         if let Some(preload) = sp.opt_num("Preload")? {
             if preload != 0.0 {
-                if k3 != 0.0 || k1 <= 0.0 {
-                    return Err(sp.err("Preload", "a preload is supported with a linear spring only"));
+                // Chrono's spring force is P − F(x): the preload lowers the curve by P, or (linear spring)
+                // moves the free length: −k (L − L0) + P = −k (L − (L0 + P/k)).
+                if let Some(c) = curve.as_mut() {
+                    c.force_N.iter_mut().for_each(|f| *f -= preload);
+                    self.warnings.push(format!(
+                        "{}: {}: subtracted from the curve's forces",
+                        o.file,
+                        sp.key("Preload")
+                    ));
+                } else if k1 > 0.0 {
+                    free_length += preload / k1;
+                    self.warnings.push(format!(
+                        "{}: {}: folded into the free length ({free_length} m)",
+                        o.file,
+                        sp.key("Preload")
+                    ));
+                } else {
+                    return Err(sp.err("Preload", "a preload needs a spring rate or a curve"));
                 }
-                // −k (L − L0) + P = −k (L − (L0 + P/k)): the preload moves the free length.
-                free_length += preload / k1;
-                self.warnings.push(format!(
-                    "{}: {}: folded into the free length ({free_length} m)",
-                    o.file,
-                    sp.key("Preload")
-                ));
             }
         }
         let stop = |k: &str| -> Result<Option<f64>, ImportError> {
@@ -1120,7 +1117,8 @@ impl Importer {
         let spring = Spring {
             free_length_m: free_length,
             k1_N_per_m: k1,
-            k3_N_per_m3: k3,
+            k3_N_per_m3: 0.0,
+            curve,
             stop_min_length_m: stop_min.unwrap_or(f64::NEG_INFINITY),
             stop_max_length_m: stop_max.unwrap_or(f64::INFINITY),
         };
@@ -1249,13 +1247,6 @@ fn loader_error(e: DataError, vehicle: &str, front: &str, rear: &str) -> ImportE
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_spring_fit_recovers_an_odd_cubic() {
-        let pts: Vec<(f64, f64)> = (-5..=5).map(|i| i as f64 * 0.02).map(|x| (x, 2e5 * x + 3e7 * x * x * x)).collect();
-        let (k1, k3, err) = fit_spring(&pts);
-        assert!((k1 - 2e5).abs() < 1e-6 * 2e5 && (k3 - 3e7).abs() < 1e-6 * 3e7 && err < 1e-9, "{k1} {k3} {err}");
-    }
 
     #[test]
     fn the_damper_fit_takes_each_direction_on_its_own() {

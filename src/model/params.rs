@@ -57,15 +57,31 @@ pub struct Rack {
 #[serde(deny_unknown_fields)]
 pub struct Spring {
     pub free_length_m: f64,
-    /// Odd cubic law F = k1 x + k3 x^3, x = L - free length (the data's `derived_cubic_fit`).
+    /// Odd cubic law F = k1 x + k3 x^3, x = L - free length (the data's `derived_cubic_fit`). Zero (or
+    /// absent) when `curve` gives the law.
+    #[serde(default)]
     pub k1_N_per_m: f64,
+    #[serde(default)]
     pub k3_N_per_m3: f64,
+    /// A tabulated law instead of the cubic: F(x) through the points, linear between them as Chrono's
+    /// `Spring Curve Data` is (docs/physics.md §5.2, `forces::curve_force`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curve: Option<SpringCurve>,
     /// Bump stop acts below this spring length, rebound stop above `stop_max_length_m` (absent: no stop;
     /// the stop force follows `stop_table`).
     #[serde(default = "no_bump_stop", skip_serializing_if = "is_no_bump_stop")]
     pub stop_min_length_m: f64,
     #[serde(default = "no_rebound_stop", skip_serializing_if = "is_no_rebound_stop")]
     pub stop_max_length_m: f64,
+}
+
+/// A spring's force against its deflection x = L − free length, F positive in tension (the element pushes
+/// with −F), as Chrono's `Spring Curve Data` gives it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringCurve {
+    pub deflection_m: Vec<f64>,
+    pub force_N: Vec<f64>,
 }
 
 fn no_bump_stop() -> f64 {
@@ -514,6 +530,19 @@ impl VehicleData {
             positive(&format!("{name}.spring.free_length_m"), s.free_length_m)?;
             nonneg(&format!("{name}.spring.k1_N_per_m"), s.k1_N_per_m)?;
             nonneg(&format!("{name}.spring.k3_N_per_m3"), s.k3_N_per_m3)?;
+            match &s.curve {
+                None if s.k1_N_per_m == 0.0 && s.k3_N_per_m3 == 0.0 => {
+                    return Err(err(&format!("{name}.spring"), "give k1_N_per_m and k3_N_per_m3, or a curve"));
+                }
+                None => {}
+                Some(_) if s.k1_N_per_m != 0.0 || s.k3_N_per_m3 != 0.0 => {
+                    return Err(err(
+                        &format!("{name}.spring.curve"),
+                        "give either the cubic (k1, k3) or a curve, not both",
+                    ));
+                }
+                Some(c) => check_spring_curve(&format!("{name}.spring.curve"), c)?,
+            }
             // Absent stops are ∓∞ (serde defaults); a given one must be a positive length.
             let stop_ok = |v: f64| v.is_infinite() || (v.is_finite() && v > 0.0);
             if !(stop_ok(s.stop_min_length_m)
@@ -728,6 +757,25 @@ fn nonneg(field: &str, v: f64) -> Result<(), DataError> {
     } else {
         Err(err(field, format!("must be zero or positive, got {v}")))
     }
+}
+
+/// A spring curve: at least two points, deflections strictly increasing, forces finite and never falling
+/// with extension, the last above the first (a curve that does not rise is no spring).
+fn check_spring_curve(field: &str, c: &SpringCurve) -> Result<(), DataError> {
+    let (x, f) = (&c.deflection_m, &c.force_N);
+    if x.len() != f.len() || x.len() < 2 {
+        return Err(err(field, "deflection_m and force_N must have the same length, at least 2"));
+    }
+    if x.iter().chain(f).any(|v| !v.is_finite()) {
+        return Err(err(field, "every point must be a finite number"));
+    }
+    if x.windows(2).any(|w| !(w[1] > w[0])) {
+        return Err(err(format!("{field}.deflection_m"), "must increase strictly"));
+    }
+    if f.windows(2).any(|w| w[1] < w[0]) || !(f[f.len() - 1] > f[0]) {
+        return Err(err(format!("{field}.force_N"), "must rise with extension (never fall, last above first)"));
+    }
+    Ok(())
 }
 
 fn pos_def(field: &str, b: &RigidBody) -> Result<(), DataError> {

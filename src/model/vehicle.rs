@@ -722,12 +722,8 @@ impl Vehicle {
             let e = dvec / length;
             let magnitude = match kind {
                 LineElement::Spring => {
-                    let mut spring = f.spring.clone();
-                    if !options.switches.stops {
-                        spring.stop_min_length_m = f64::NEG_INFINITY;
-                        spring.stop_max_length_m = f64::INFINITY;
-                    }
-                    spring_force(&spring, f.spring_free_length, &self.stops, length)
+                    let stops = options.switches.stops.then_some(&self.stops);
+                    spring_force(&f.spring, f.spring_free_length, stops, length)
                 }
                 LineElement::Damper => {
                     let rate = e.dot(&(point_velocity(y_a, &rho_a) - (v0 + w0.cross(&rho_c))));
@@ -1198,7 +1194,10 @@ impl Vehicle {
                 let f = &self.corner_forces[i];
                 let length = (c.mount_point(pos, &c.spring) - c.spring.chassis).norm();
                 let xs = length - f.spring_free_length;
-                spring_potential += 0.5 * f.spring.k1_N_per_m * xs * xs + 0.25 * f.spring.k3_N_per_m3 * xs.powi(4);
+                spring_potential += match &f.spring.curve {
+                    None => 0.5 * f.spring.k1_N_per_m * xs * xs + 0.25 * f.spring.k3_N_per_m3 * xs.powi(4),
+                    Some(curve) => crate::model::forces::curve_energy(curve, xs),
+                };
             }
         }
         v += spring_potential;
