@@ -23,7 +23,7 @@ use crate::model::params::{
 use crate::model::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
 use serde_json::{Map, Value};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// An import that failed: the Chrono file, the key in it (dotted path; empty for the whole file) and why.
@@ -154,6 +154,9 @@ pub struct CatalogueEntry {
     pub file: String,
     pub followed: Option<String>,
     pub result: Result<Import, ImportError>,
+    /// For a refused wheeled vehicle: every template and part rtv lacks (`Importer::lacks`), not only the
+    /// first the import met.
+    pub lacks: BTreeSet<String>,
 }
 
 /// A catalogue: its vehicles, and the JSON files it could not read (so could not tell vehicle or not).
@@ -202,7 +205,11 @@ pub fn import_catalogue(dir: &Path) -> Result<Catalogue, String> {
         }
         let mut importer = new_importer(dir, None);
         let result = importer.vehicle(&path);
-        out.push(CatalogueEntry { file, followed: importer.followed, result });
+        // An articulated vehicle is refused for what it is, whatever its templates.
+        let wheeled = value.get("Template").and_then(Value::as_str) == Some("WheeledVehicle")
+            && value.get("Rear Chassis").is_none();
+        let lacks = if result.is_err() && wheeled { new_importer(dir, None).lacks(&path) } else { BTreeSet::new() };
+        out.push(CatalogueEntry { file, followed: importer.followed, result, lacks });
     }
     let followed: Vec<String> = out.iter().filter_map(|e| e.followed.clone()).collect();
     out.retain(|e| e.followed.is_some() || !followed.contains(&e.file));
@@ -216,13 +223,15 @@ pub fn catalogue_markdown(dir: &Path, catalogue: &Catalogue) -> String {
     let cell = |s: &str| s.replace('|', "\\|").replace('\n', " ");
     let imported = entries.iter().filter(|e| e.result.is_ok()).count();
     let mut md = format!(
-        "{} vehicles in `{}`: {imported} imported, {} refused.\n\n| vehicle file | result |\n|---|---|\n",
+        "{} vehicles in `{}`: {imported} imported, {} refused.\n\n| vehicle file | result | all rtv lacks |\n|---|---|---|\n",
         entries.len(),
         dir.display(),
         entries.len() - imported
     );
     // Each ignored key (its last name) with its reason, and how many imported vehicles carry it.
     let mut ignored: BTreeMap<(String, String), usize> = BTreeMap::new();
+    // Each template or part rtv lacks, and how many refused vehicles need it.
+    let mut lacking: BTreeMap<String, usize> = BTreeMap::new();
     for e in entries {
         let file = match &e.followed {
             Some(f) => format!("`{}` → `{f}`", e.file),
@@ -254,7 +263,19 @@ pub fn catalogue_markdown(dir: &Path, catalogue: &Catalogue) -> String {
             }
             Err(err) => format!("refused: {err}"),
         };
-        md.push_str(&format!("| {file} | {} |\n", cell(&result)));
+        for l in &e.lacks {
+            *lacking.entry(l.clone()).or_default() += 1;
+        }
+        let lacks = e.lacks.iter().cloned().collect::<Vec<_>>().join(", ");
+        md.push_str(&format!("| {file} | {} | {} |\n", cell(&result), cell(&lacks)));
+    }
+    if !lacking.is_empty() {
+        md.push_str("\nWhat rtv lacks, with the number of refused wheeled vehicles that need it: ");
+        let mut all: Vec<(String, usize)> = lacking.into_iter().collect();
+        all.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let all: Vec<String> = all.iter().map(|(l, n)| format!("{l} ({n})")).collect();
+        md.push_str(&all.join(", "));
+        md.push_str(".\n");
     }
     if !catalogue.unread.is_empty() {
         md.push_str("\nJSON files that do not parse (strict JSON, comments allowed), so not told vehicle or not:\n\n");
@@ -743,7 +764,8 @@ impl Importer {
     fn locate(&mut self, o: &Obj, key: &str) -> Result<(PathBuf, String), ImportError> {
         let rel = o.text(key)?;
         let path = self.data_dir.join(rel);
-        if path.is_file() {
+        // `exists`, not `is_file`: a FIFO or a folder there is refused by the read, by what it is.
+        if path.exists() {
             return Ok((path, rel.to_string()));
         }
         let folder = self.paths.get(o.file).and_then(|p| p.parent()).map(Path::to_path_buf);
@@ -753,7 +775,7 @@ impl Importer {
             (beside, "relative to the file that names it"),
             (same_name, "the file of that name beside the file that names it"),
         ] {
-            if let Some(c) = candidate.filter(|c| c.is_file()) {
+            if let Some(c) = candidate.filter(|c| c.exists()) {
                 let shown = self.shown(&c);
                 self.warnings.push(format!(
                     "{}: {}: {rel} is not in the data folder; read {shown}, {how}",
@@ -905,6 +927,56 @@ impl Importer {
             }
         }
         Ok(vehicle)
+    }
+
+    /// What of the vehicle `path` (or the vehicle its model file names) rtv has no template for: every
+    /// steering, suspension and brake template it lacks, anti-roll bars, and the count of axles or steerings
+    /// where not two and one. For the catalogue's report: the import stops at the first; this lists them all.
+    /// Files that cannot be read are passed over (the import names them).
+    fn lacks(&mut self, path: &Path) -> BTreeSet<String> {
+        let mut out = BTreeSet::new();
+        let Ok(mut file) = self.read_any(path, &self.shown(path), "Vehicle") else { return out };
+        if file.obj().has("Vehicle") {
+            let Ok((inner, shown)) = file.obj().obj("Vehicle").and_then(|v| self.locate(&v, "Input File")) else {
+                return out;
+            };
+            let Ok(f) = self.read_any(&inner, &shown, "Vehicle") else { return out };
+            file = f;
+        }
+        let v = file.obj();
+        let list = |k: &str| v.map.get(k).and_then(Value::as_array).cloned().unwrap_or_default();
+        // The template of the file `key` of `o` names, if rtv lacks it.
+        let check = |this: &mut Self, o: &Obj, key: &str, has: &[&str]| -> Option<String> {
+            let (p, shown) = this.locate(o, key).ok()?;
+            let f = this.read_any(&p, &shown, "subsystem").ok()?;
+            let t = f.obj().text("Template").ok()?.to_string();
+            (!has.contains(&t.as_str())).then_some(t)
+        };
+        let (steerings, axles) = (list("Steering Subsystems"), list("Axles"));
+        for (i, s) in steerings.iter().enumerate() {
+            if let Ok(s) = v.item("Steering Subsystems", i, s) {
+                out.extend(check(self, &s, "Input File", &["PitmanArm", "RackPinion"]));
+            }
+        }
+        for (i, a) in axles.iter().enumerate() {
+            let Ok(a) = v.item("Axles", i, a) else { continue };
+            out.extend(check(self, &a, "Suspension Input File", &["DoubleWishbone", "MacPhersonStrut"]));
+            for k in ["Left Brake Input File", "Right Brake Input File"] {
+                if a.has(k) {
+                    out.extend(check(self, &a, k, &["BrakeSimple"]));
+                }
+            }
+            if a.has("Antirollbar Input File") {
+                out.insert("anti-roll bar".into());
+            }
+        }
+        if axles.len() != 2 {
+            out.insert(format!("{} axles", axles.len()));
+        }
+        if steerings.len() > 1 {
+            out.insert(format!("{} steerings", steerings.len()));
+        }
+        out
     }
 
     /// The vehicle `path`: a `WheeledVehicle` file, or a top-level model file followed to the one it names.
