@@ -665,7 +665,8 @@ fn a_model_file_is_followed_to_its_vehicle_and_its_tire() {
     // A Pac02 tire named by its .tir file: the import rolls on it and says so.
     std::fs::create_dir_all(dir.join("generic/tire")).unwrap();
     std::fs::copy(chrono_data().join("generic/tire/Generic_Pac02Tire.tir"), dir.join("generic/tire/Own.tir")).unwrap();
-    let pac02 = json!({"Name": "t", "Type": "Tire", "Template": "Pac02Tire", "TIR Specification File": "generic/tire/Own.tir"});
+    let pac02 =
+        json!({"Name": "t", "Type": "Tire", "Template": "Pac02Tire", "TIR Specification File": "generic/tire/Own.tir"});
     let model = model_file(&dir, MACPHERSON, Some(pac02));
     let i = import_vehicle(&model, &dir, None).unwrap();
     assert_eq!(i.followed.as_deref(), Some(MACPHERSON));
@@ -681,7 +682,9 @@ fn a_model_file_is_followed_to_its_vehicle_and_its_tire() {
     let model = model_file(&dir, "elsewhere/Vehicle_MacPhersonStruts.json", None);
     let i = import_vehicle(&model, &dir, None).unwrap();
     assert!(
-        i.warnings.iter().any(|w| w.contains("is not in the data folder; read generic/vehicle/Vehicle_MacPhersonStruts.json")),
+        i.warnings
+            .iter()
+            .any(|w| w.contains("is not in the data folder; read generic/vehicle/Vehicle_MacPhersonStruts.json")),
         "{:?}",
         i.warnings
     );
@@ -722,8 +725,10 @@ fn a_file_named_relative_to_the_vehicle_is_found_and_said() {
     edit_json(&dir.join(MACPHERSON), |v| v["Chassis"]["Input File"] = json!("Chassis.json"));
     let i = import_vehicle(&dir.join(MACPHERSON), &dir, None).unwrap();
     assert!(
-        i.warnings.iter().any(|w| w.contains("Chassis.Input File: Chassis.json is not in the data folder; read \
-             generic/vehicle/Chassis.json, relative to the file that names it")),
+        i.warnings.iter().any(|w| w.contains(
+            "Chassis.Input File: Chassis.json is not in the data folder; read \
+             generic/vehicle/Chassis.json, relative to the file that names it"
+        )),
         "{:?}",
         i.warnings
     );
@@ -764,14 +769,23 @@ fn the_catalogue_imports_what_rtv_can_be_and_names_the_cause_of_every_refusal() 
         let e = entry(model);
         assert_eq!(e.followed.as_deref(), Some(vehicle));
         let i = e.result.as_ref().unwrap_or_else(|err| panic!("{model}: {err}"));
-        assert!(i.tire_note.starts_with(tir) && i.tire_note.contains("TMeasyTire, which rtv does not have"), "{}", i.tire_note);
+        assert!(
+            i.tire_note.starts_with(tir) && i.tire_note.contains("TMeasyTire, which rtv does not have"),
+            "{}",
+            i.tire_note
+        );
         assert!(c.vehicles.iter().all(|e| e.file != vehicle), "{vehicle} has a line of its own besides {model}'s");
     }
     // Every refusal names a cause and a file of the catalogue.
     for e in &c.vehicles {
         if let Err(err) = &e.result {
             assert!(!err.message.is_empty(), "{}: a refusal without its cause", e.file);
-            assert!(catalogue().join(&err.file).is_file(), "{}: the refusal names {}, not a catalogue file", e.file, err.file);
+            assert!(
+                catalogue().join(&err.file).is_file(),
+                "{}: the refusal names {}, not a catalogue file",
+                e.file,
+                err.file
+            );
         }
     }
     // One table row per vehicle.

@@ -820,7 +820,8 @@ impl Importer {
         let fail = |message: String| ImportError { file: shown.to_string(), key: String::new(), message };
         // `tire/` beside the vehicle's folder (Chrono's generic/vehicle and generic/tire), or the vehicle's
         // own folder (audi/json holds both).
-        let folders = [vehicle.parent().and_then(Path::parent).map(|p| p.join("tire")), vehicle.parent().map(Path::to_path_buf)];
+        let folders =
+            [vehicle.parent().and_then(Path::parent).map(|p| p.join("tire")), vehicle.parent().map(Path::to_path_buf)];
         let mut found: Vec<PathBuf> = folders
             .iter()
             .flatten()
@@ -832,7 +833,8 @@ impl Importer {
         found.dedup();
         // Of several, the one whose name says Pac02 (hmmwv/tire: HMMWV_Pac02Tire.tir beside the older
         // HMMWV_pacejka.tir).
-        let is_pac02 = |p: &PathBuf| p.file_name().is_some_and(|n| n.to_string_lossy().to_lowercase().contains("pac02"));
+        let is_pac02 =
+            |p: &PathBuf| p.file_name().is_some_and(|n| n.to_string_lossy().to_lowercase().contains("pac02"));
         if found.len() > 1 && found.iter().filter(|p| is_pac02(p)).count() == 1 {
             found.retain(is_pac02);
         }
@@ -860,7 +862,9 @@ impl Importer {
         if ty == "Trailer" || template.contains("Trailer") {
             return Err(o.err(
                 "Type",
-                format!("a trailer ({template}): it is towed and has no steering; rtv models a vehicle that steers itself"),
+                format!(
+                    "a trailer ({template}): it is towed and has no steering; rtv models a vehicle that steers itself"
+                ),
             ));
         }
         if o.has("Rear Chassis") {
@@ -879,10 +883,7 @@ impl Importer {
             }
             return Err(o.err(
                 "Rear Chassis",
-                format!(
-                    "articulated: a rear chassis ({}); rtv's chassis is one rigid body",
-                    parts.join("; ")
-                ),
+                format!("articulated: a rear chassis ({}); rtv's chassis is one rigid body", parts.join("; ")),
             ));
         }
         if ty != "Vehicle" {
@@ -906,7 +907,8 @@ impl Importer {
             &mut self.warnings,
         )?;
         let v = o.obj("Vehicle")?;
-        let shown_types = ["Chassis", "Suspension", "Steering", "Wheel", "Tire"].map(|p| format!("{p} Visualization Type"));
+        let shown_types =
+            ["Chassis", "Suspension", "Steering", "Wheel", "Tire"].map(|p| format!("{p} Visualization Type"));
         let ignored: Vec<Ignored> = shown_types.iter().map(|k| (k.as_str(), VISUAL)).collect();
         v.keys(&["Input File"], &ignored, &mut self.warnings)?;
         let vehicle = self.locate(&v, "Input File")?;
@@ -921,7 +923,8 @@ impl Importer {
                 self.tire = Some(tir);
                 self.tire_source = format!("the Pac02 tire the model names ({})", tire.shown);
             } else {
-                let kind = if template == "Pac02Tire" { "a Pac02 tire given in JSON, not a .tir file" } else { template };
+                let kind =
+                    if template == "Pac02Tire" { "a Pac02 tire given in JSON, not a .tir file" } else { template };
                 self.tire_not_taken =
                     Some(format!("the model's tire {} is {kind}, which rtv does not have", tire.shown));
             }
