@@ -689,7 +689,8 @@ fn a_model_file_is_followed_to_its_vehicle_and_its_tire() {
         i.warnings
     );
     // Refused: a vehicle that is nowhere, a model naming a model, a key a model file does not have.
-    let cases: [(&str, Box<dyn Fn(&Path) -> PathBuf>, &str); 3] = [
+    type MakeModel = Box<dyn Fn(&Path) -> PathBuf>;
+    let cases: [(&str, MakeModel, &str); 3] = [
         ("missing", Box::new(|d| model_file(d, "generic/vehicle/None.json", None)), "Vehicle.Input File"),
         (
             "model_of_model",
