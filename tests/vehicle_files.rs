@@ -819,3 +819,25 @@ fn rtv_import_chrono_all_prints_one_line_per_vehicle_and_writes_the_imports() {
     assert!(err.contains("is not a folder"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn of_several_tir_files_the_pac02_one_is_taken_and_else_the_import_asks() {
+    let dir = chrono_copy("several_tir");
+    let generic = chrono_data().join("generic/tire/Generic_Pac02Tire.tir");
+    std::fs::create_dir_all(dir.join("generic/tire")).unwrap();
+    for name in ["A.tir", "B.tir"] {
+        std::fs::copy(&generic, dir.join("generic/tire").join(name)).unwrap();
+    }
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir, None).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("hold 2 .tir files (A.tir, B.tir): name the vehicle's with --tire"), "{e}");
+    // One whose name says Pac02 (Chrono's hmmwv/tire: HMMWV_Pac02Tire.tir beside HMMWV_pacejka.tir).
+    std::fs::rename(dir.join("generic/tire/B.tir"), dir.join("generic/tire/Car_Pac02Tire.tir")).unwrap();
+    let i = import_vehicle(&dir.join(MACPHERSON), &dir, None).unwrap();
+    assert_eq!(i.data.tire.tir_file.as_deref(), Some("Car_Pac02Tire.tir"));
+    assert!(
+        i.tire_note.starts_with("generic/tire/Car_Pac02Tire.tir (the .tir file of the vehicle's data folder)"),
+        "{}",
+        i.tire_note
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

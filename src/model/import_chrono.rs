@@ -13,6 +13,12 @@
 //! (`ride_height: data`), as in Chrono. The stop table, gravity and the speed hold are the HMMWV's
 //! (`VehicleData::default_hmmwv`).
 //!
+//! A top-level model file (Chrono's `audi.json`: vehicle, powertrain and tire files) is followed to its
+//! vehicle file and its tire (a Pac02 `.tir` is taken; another tire, TMeasy, is said). Vehicles the model
+//! cannot be are refused by what they are: tracked, a trailer, articulated (`Rear Chassis`). A template rtv
+//! lacks is refused with what it is and the file. `import_catalogue` runs over a whole data folder
+//! (`rtv import-chrono --all DIR`), one entry per vehicle.
+//!
 //! The result is checked by the loader (`VehicleData::from_json`: schema, inertias, loop closure) before
 //! anything is written, and written atomically (`write_atomically`).
 
