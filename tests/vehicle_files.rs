@@ -176,7 +176,7 @@ fn the_importer_names_the_file_and_key_of_each_bad_input() {
             MACPHERSON,
             MPS,
             Box::new(|v| v["Template"] = json!("SolidAxle")),
-            vec!["MacPhersonStrut.json", "Template", "SolidAxle", "not supported"],
+            vec!["MacPhersonStrut.json", "Template", "a solid axle (SolidAxle)", "not a template rtv has"],
         ),
         (
             "unknown_key",
@@ -255,7 +255,41 @@ fn the_importer_names_the_file_and_key_of_each_bad_input() {
             MACPHERSON,
             PITMAN,
             Box::new(|v| v["Template"] = json!("RackPinionShafts")),
-            vec!["PitmanArm.json", "Template", "not supported"],
+            vec!["PitmanArm.json", "Template", "'RackPinionShafts' is not one rtv has"],
+        ),
+        (
+            "rotary_arm",
+            MACPHERSON,
+            PITMAN,
+            Box::new(|v| v["Template"] = json!("RotaryArm")),
+            vec!["PitmanArm.json", "rotary-arm steering (RotaryArm) is not a template rtv has"],
+        ),
+        (
+            "tracked",
+            MACPHERSON,
+            MACPHERSON,
+            Box::new(|v| v["Template"] = json!("TrackedVehicle")),
+            vec!["Vehicle_MacPhersonStruts.json", "a tracked vehicle (TrackedVehicle)"],
+        ),
+        (
+            "trailer",
+            MACPHERSON,
+            MACPHERSON,
+            Box::new(|v| {
+                v["Type"] = json!("Trailer");
+                v["Template"] = json!("WheeledTrailer");
+            }),
+            vec!["Vehicle_MacPhersonStruts.json", "a trailer (WheeledTrailer)"],
+        ),
+        (
+            "articulated",
+            MACPHERSON,
+            MACPHERSON,
+            Box::new(|v| {
+                v["Rear Chassis"] = json!([{"Input File": "generic/chassis/Rear.json",
+                    "Connector Input File": "generic/chassis/NoConnector.json", "Chassis Index": -1}])
+            }),
+            vec!["Rear Chassis", "articulated", "generic/chassis/Rear.json joined by a connector"],
         ),
         (
             "steering_key",
@@ -677,5 +711,210 @@ fn a_spring_curve_is_kept_as_chrono_interpolates_it_and_a_preload_lowers_it() {
     let lowered = preloaded.data.rear.spring.curve.as_ref().unwrap();
     assert!(lowered.force_N.iter().zip(&curve.force_N).all(|(a, b)| *a == b - 500.0));
     assert!(preloaded.warnings.iter().any(|w| w.contains("Preload: subtracted from the curve's forces")));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// Top-level model files and the catalogue.
+
+/// A top-level model file `generic/vehicle/Model.json` in the Chrono copy `dir`, naming `vehicle` and, if
+/// given, the tire file `tire` (written as `generic/tire/Tire.json` from `tire_json`).
+fn model_file(dir: &Path, vehicle: &str, tire_json: Option<Value>) -> PathBuf {
+    let mut model = json!({
+        "Name": "model", "Type": "Vehicle", "Template": "WheeledVehicle",
+        "Vehicle": {"Input File": vehicle, "Chassis Visualization Type": "Mesh"},
+        "Powertrain": {"Input File": "generic/powertrain/Nothing.json"},
+        "Zombie": {"Number of Wheels": 4}
+    });
+    if let Some(t) = tire_json {
+        std::fs::create_dir_all(dir.join("generic/tire")).unwrap();
+        std::fs::write(dir.join("generic/tire/Tire.json"), t.to_string()).unwrap();
+        model["Tire"] = json!({"Input File": "generic/tire/Tire.json", "Visualization Type": "Mesh"});
+    }
+    let path = dir.join("generic/vehicle/Model.json");
+    std::fs::write(&path, model.to_string()).unwrap();
+    path
+}
+
+#[test]
+fn a_model_file_is_followed_to_its_vehicle_and_its_tire() {
+    let dir = chrono_copy("model_file");
+    // A Pac02 tire named by its .tir file: the import rolls on it and says so.
+    std::fs::create_dir_all(dir.join("generic/tire")).unwrap();
+    std::fs::copy(chrono_data().join("generic/tire/Generic_Pac02Tire.tir"), dir.join("generic/tire/Own.tir")).unwrap();
+    let pac02 =
+        json!({"Name": "t", "Type": "Tire", "Template": "Pac02Tire", "TIR Specification File": "generic/tire/Own.tir"});
+    let model = model_file(&dir, MACPHERSON, Some(pac02));
+    let i = import_vehicle(&model, &dir, None).unwrap();
+    assert_eq!(i.followed.as_deref(), Some(MACPHERSON));
+    assert_eq!(i.data.tire.tir_file.as_deref(), Some("Own.tir"));
+    assert!(i.tire_note.contains("generic/tire/Own.tir (the Pac02 tire the model names"), "{}", i.tire_note);
+    assert!(i.warnings.iter().any(|w| w.contains("Powertrain: ignored")), "{:?}", i.warnings);
+    // A TMeasy tire: rtv has none; the import says so and rolls on the folder's .tir (here Own.tir).
+    let tmeasy = json!({"Name": "t", "Type": "Tire", "Template": "TMeasyTire"});
+    let model = model_file(&dir, MACPHERSON, Some(tmeasy));
+    let i = import_vehicle(&model, &dir, None).unwrap();
+    assert!(i.tire_note.contains("generic/tire/Tire.json is TMeasyTire, which rtv does not have"), "{}", i.tire_note);
+    // The vehicle named one folder off (as Chrono's audi.json does): the file of that name beside the model.
+    let model = model_file(&dir, "elsewhere/Vehicle_MacPhersonStruts.json", None);
+    let i = import_vehicle(&model, &dir, None).unwrap();
+    assert!(
+        i.warnings
+            .iter()
+            .any(|w| w.contains("is not in the data folder; read generic/vehicle/Vehicle_MacPhersonStruts.json")),
+        "{:?}",
+        i.warnings
+    );
+    // Refused: a vehicle that is nowhere, a model naming a model, a key a model file does not have.
+    type MakeModel = Box<dyn Fn(&Path) -> PathBuf>;
+    let cases: [(&str, MakeModel, &str); 3] = [
+        ("missing", Box::new(|d| model_file(d, "generic/vehicle/None.json", None)), "Vehicle.Input File"),
+        (
+            "model_of_model",
+            Box::new(|d| {
+                let inner = model_file(d, MACPHERSON, None);
+                std::fs::rename(&inner, d.join("generic/vehicle/Inner.json")).unwrap();
+                model_file(d, "generic/vehicle/Inner.json", None)
+            }),
+            "a model file named by a model file",
+        ),
+        (
+            "unknown_key",
+            Box::new(|d| {
+                let m = model_file(d, MACPHERSON, None);
+                edit_json(&m, |v| v["Trailer"] = json!({}));
+                m
+            }),
+            "Trailer: unknown key",
+        ),
+    ];
+    for (name, make, needle) in cases {
+        let e = import_vehicle(&make(&dir), &dir, None).map(|_| ()).unwrap_err().to_string();
+        assert!(e.contains("generic/vehicle/") && e.contains(needle), "{name}: '{needle}' not in: {e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_file_named_relative_to_the_vehicle_is_found_and_said() {
+    // Chrono's FMI demos name their subsystem files relative to the vehicle file's folder.
+    let dir = chrono_copy("relative");
+    std::fs::copy(dir.join("generic/chassis/Chassis.json"), dir.join("generic/vehicle/Chassis.json")).unwrap();
+    edit_json(&dir.join(MACPHERSON), |v| v["Chassis"]["Input File"] = json!("Chassis.json"));
+    let i = import_vehicle(&dir.join(MACPHERSON), &dir, None).unwrap();
+    assert!(
+        i.warnings.iter().any(|w| w.contains(
+            "Chassis.Input File: Chassis.json is not in the data folder; read \
+             generic/vehicle/Chassis.json, relative to the file that names it"
+        )),
+        "{:?}",
+        i.warnings
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Chrono's catalogue (`data/chrono_catalogue/vehicle`: its data/vehicle at 7689fbc02d).
+fn catalogue() -> PathBuf {
+    repo().join("data/chrono_catalogue/vehicle")
+}
+
+#[test]
+fn the_catalogue_imports_what_rtv_can_be_and_names_the_cause_of_every_refusal() {
+    use rt_vehicle::model::import_chrono::{catalogue_markdown, import_catalogue};
+    let c = import_catalogue(&catalogue()).unwrap();
+    let entry = |file: &str| c.vehicles.iter().find(|e| e.file == file).unwrap_or_else(|| panic!("no entry {file}"));
+    let refusal = |file: &str| entry(file).result.as_ref().map(|_| ()).unwrap_err().to_string();
+    // Tracked and articulated vehicles and the trailer, refused by what they are.
+    let tracked: Vec<_> =
+        c.vehicles.iter().filter(|e| e.file.starts_with("M113") || e.file.starts_with("Marder")).collect();
+    assert_eq!(tracked.len(), 12, "the M113 and Marder vehicle files");
+    for e in tracked {
+        let err = e.result.as_ref().map(|_| ()).unwrap_err().to_string();
+        assert!(err.contains("a tracked vehicle"), "{}: {err}", e.file);
+    }
+    let acv = refusal("articulated_chassis/ACV_Vehicle.json");
+    assert!(acv.contains("articulated") && acv.contains("ChassisConnectorArticulated"), "{acv}");
+    assert!(refusal("ultra_tow/UT_Trailer.json").contains("a trailer (WheeledTrailer)"));
+    let truck = refusal("truck/json/truck.json");
+    assert!(truck.contains("truck/json/truck_RotaryArm.json: Template: rotary-arm steering (RotaryArm)"), "{truck}");
+    // The top-level model files lead to their vehicles, which import on their own Pac02 tire, and say that
+    // the model's TMeasy tire is not there.
+    for (model, vehicle, tir) in [
+        ("audi/json/audi.json", "audi/json/audi_Vehicle.json", "audi/json/audi_Pac02Tire.tir"),
+        ("Nissan_Patrol/json/suv.json", "Nissan_Patrol/json/suv_Vehicle.json", "Nissan_Patrol/json/suv_Pac02Tire.tir"),
+        ("sedan/Sedan.json", "sedan/vehicle/Sedan_Vehicle.json", "sedan/tire/Sedan_Pac02Tire.tir"),
+    ] {
+        let e = entry(model);
+        assert_eq!(e.followed.as_deref(), Some(vehicle));
+        let i = e.result.as_ref().unwrap_or_else(|err| panic!("{model}: {err}"));
+        assert!(
+            i.tire_note.starts_with(tir) && i.tire_note.contains("TMeasyTire, which rtv does not have"),
+            "{}",
+            i.tire_note
+        );
+        assert!(c.vehicles.iter().all(|e| e.file != vehicle), "{vehicle} has a line of its own besides {model}'s");
+    }
+    // Every refusal names a cause and a file of the catalogue.
+    for e in &c.vehicles {
+        if let Err(err) = &e.result {
+            assert!(!err.message.is_empty(), "{}: a refusal without its cause", e.file);
+            assert!(
+                catalogue().join(&err.file).is_file(),
+                "{}: the refusal names {}, not a catalogue file",
+                e.file,
+                err.file
+            );
+        }
+    }
+    // One table row per vehicle.
+    let md = catalogue_markdown(&catalogue(), &c);
+    let rows = md.lines().filter(|l| l.starts_with("| `")).count();
+    assert_eq!(rows, c.vehicles.len(), "{md}");
+}
+
+#[test]
+fn rtv_import_chrono_all_prints_one_line_per_vehicle_and_writes_the_imports() {
+    let dir = scratch("all");
+    let (code, out, err) =
+        rtv(&["import-chrono", "--all", catalogue().to_str().unwrap(), "--out-dir", dir.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let imported: Vec<&str> = out.lines().filter(|l| l.contains("| imported: ")).collect();
+    assert!(!imported.is_empty(), "{out}");
+    // Each imported vehicle is written, and loads.
+    let written: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    assert_eq!(written.len(), imported.len());
+    for w in &written {
+        VehicleData::from_file(w).unwrap_or_else(|e| panic!("{}: {e:?}", w.display()));
+    }
+    let (code, _, err) = rtv(&["import-chrono", "--all", dir.join("none").to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("is not a folder"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn of_several_tir_files_the_pac02_one_is_taken_and_else_the_import_asks() {
+    let dir = chrono_copy("several_tir");
+    let generic = chrono_data().join("generic/tire/Generic_Pac02Tire.tir");
+    std::fs::create_dir_all(dir.join("generic/tire")).unwrap();
+    for name in ["A.tir", "B.tir"] {
+        std::fs::copy(&generic, dir.join("generic/tire").join(name)).unwrap();
+    }
+    let e = import_vehicle(&dir.join(MACPHERSON), &dir, None).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("hold 2 .tir files (A.tir, B.tir): name the vehicle's with --tire"), "{e}");
+    // One whose name says Pac02 (Chrono's hmmwv/tire: HMMWV_Pac02Tire.tir beside HMMWV_pacejka.tir).
+    std::fs::rename(dir.join("generic/tire/B.tir"), dir.join("generic/tire/Car_Pac02Tire.tir")).unwrap();
+    let i = import_vehicle(&dir.join(MACPHERSON), &dir, None).unwrap();
+    assert_eq!(i.data.tire.tir_file.as_deref(), Some("Car_Pac02Tire.tir"));
+    assert!(
+        i.tire_note.starts_with("generic/tire/Car_Pac02Tire.tir (the .tir file of the vehicle's data folder)"),
+        "{}",
+        i.tire_note
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -7,6 +7,7 @@
 //!   rtv calibrate                                         J-turn amplitude for 0.400 g → resources/
 //!   rtv work-precision                                    error against run time → docs/work_precision.md
 //!   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json   a Chrono::Vehicle JSON vehicle → vehicle file
+//!   rtv import-chrono --all DIR                           every vehicle of a Chrono data folder, one line each
 //!   rtv check-vehicle FILE.json                           validate a vehicle file and summarize it
 //!   rtv tire --tir FILE.tir --fz N --sweep alpha|kappa|combined   steady-state Magic Formula curves
 //!   rtv linearize [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]   modes and gains about a steady state
@@ -51,6 +52,7 @@ const USAGE: &str = "usage:
             [--friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json [--tire FILE.tir]
+  rtv import-chrono --all DIR [--out-dir OUT]   every vehicle of a Chrono data folder: imported or refused, one line each
   rtv check-vehicle FILE.json
   rtv chrono-compare [--doc docs/vehicle_file.md]   (from the repository's root: reads data/)
   rtv ride halfround --height 4|8|10|12|16|20 [--road FILE.crg] [--speeds 5,10,...] [--vehicle FILE.json] [--tire FILE.tir]
@@ -805,6 +807,9 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
 fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::model::import_chrono;
     let (vehicle, rest) = args.split_first().ok_or_else(|| bad("import-chrono: name the Chrono vehicle file"))?;
+    if vehicle == "--all" {
+        return import_chrono_all(rest);
+    }
     let opts = options(rest, &["data-dir", "out", "tire"])?;
     let dir = opts.get("data-dir").ok_or_else(|| {
         bad("import-chrono: --data-dir DIR is needed (the folder the vehicle's file paths are relative to)")
@@ -820,20 +825,53 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
         return Ok(());
     }
     // The tire goes beside the vehicle file, which names it by its file name.
-    let out_path = std::path::Path::new(out);
+    write_import(&import, std::path::Path::new(out)).map_err(|m| failed(format!("import-chrono: {m}")))?;
+    eprintln!("import-chrono: wrote {out} ({}); tire: {}", import.data.name, import.tire_note);
+    Ok(())
+}
+
+/// `rtv import-chrono --all DIR [--out-dir OUT]`: every vehicle of a Chrono data folder, one line each
+/// (imported, or refused with its cause) on stdout as a markdown table (docs/vehicle_file.md, "Chrono's
+/// catalogue"); with `--out-dir`, each imported vehicle is written there (its file's path with `/` → `_`)
+/// beside its tire. Exit 0 when the report is written, whatever it says.
+fn import_chrono_all(args: &[String]) -> Result<(), Failure> {
+    use rt_vehicle::model::import_chrono;
+    let (dir, rest) = args.split_first().ok_or_else(|| bad("import-chrono --all: name the Chrono data folder"))?;
+    let opts = options(rest, &["out-dir"])?;
+    let dir = std::path::Path::new(dir);
+    if !dir.is_dir() {
+        return Err(bad(format!("import-chrono --all: {} is not a folder", dir.display())));
+    }
+    if parse_only("import-chrono") {
+        return Ok(());
+    }
+    let entries = import_chrono::import_catalogue(dir).map_err(|e| failed(format!("import-chrono --all: {e}")))?;
+    if let Some(out) = opts.get("out-dir") {
+        let out = std::path::Path::new(out);
+        std::fs::create_dir_all(out).map_err(|e| failed(format!("cannot create {}: {e}", out.display())))?;
+        for e in &entries.vehicles {
+            let Ok(import) = &e.result else { continue };
+            let name = e.file.replace('/', "_");
+            write_import(import, &out.join(name)).map_err(|m| failed(format!("import-chrono --all: {m}")))?;
+        }
+    }
+    print!("{}", import_chrono::catalogue_markdown(dir, &entries));
+    Ok(())
+}
+
+/// Writes an import to `out_path`, its `.tir` file beside it (the vehicle file names it by its file name).
+fn write_import(import: &rt_vehicle::model::import_chrono::Import, out_path: &std::path::Path) -> Result<(), String> {
+    use rt_vehicle::model::import_chrono::write_atomically;
     if let (Some(tir), Some(name)) = (&import.tire, &import.data.tire.tir_file) {
         let target = out_path.parent().unwrap_or(std::path::Path::new("")).join(name);
         let same = |a: &std::path::Path, b: &std::path::Path| a.canonicalize().ok() == b.canonicalize().ok();
         if !same(tir, &target) {
-            let text = std::fs::read(tir).map_err(|e| failed(format!("import-chrono: {}: {e}", tir.display())))?;
-            import_chrono::write_atomically(&target, &String::from_utf8_lossy(&text))
-                .map_err(|e| failed(format!("import-chrono: cannot write {}: {e}", target.display())))?;
+            let text = std::fs::read(tir).map_err(|e| format!("{}: {e}", tir.display()))?;
+            write_atomically(&target, &String::from_utf8_lossy(&text))
+                .map_err(|e| format!("cannot write {}: {e}", target.display()))?;
         }
     }
-    import_chrono::write_atomically(out_path, &import.to_json())
-        .map_err(|e| failed(format!("import-chrono: cannot write {out}: {e}")))?;
-    eprintln!("import-chrono: wrote {out} ({})", import.data.name);
-    Ok(())
+    write_atomically(out_path, &import.to_json()).map_err(|e| format!("cannot write {}: {e}", out_path.display()))
 }
 
 /// `rtv chrono-compare [--doc docs/vehicle_file.md]`: the imports of Chrono's two reference cars against
@@ -1040,10 +1078,8 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
 fn cmd_ride(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::ride;
     let test = args.first().map(String::as_str).ok_or_else(|| bad("ride: halfround or rms?"))?;
-    let opts = options(
-        &args[1..],
-        &["height", "road", "course", "rough", "speeds", "vehicle", "tire", "tire-convention"],
-    )?;
+    let opts =
+        options(&args[1..], &["height", "road", "course", "rough", "speeds", "vehicle", "tire", "tire-convention"])?;
     let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, Failure> {
         match opts.get(key) {
             None => Ok(default.to_vec()),

@@ -13,6 +13,12 @@
 //! (`ride_height: data`), as in Chrono. The stop table, gravity and the speed hold are the HMMWV's
 //! (`VehicleData::default_hmmwv`).
 //!
+//! A top-level model file (Chrono's `audi.json`: vehicle, powertrain and tire files) is followed to its
+//! vehicle file and its tire (a Pac02 `.tir` is taken; another tire, TMeasy, is said). Vehicles the model
+//! cannot be are refused by what they are: tracked, a trailer, articulated (`Rear Chassis`). A template rtv
+//! lacks is refused with what it is and the file. `import_catalogue` runs over a whole data folder
+//! (`rtv import-chrono --all DIR`), one entry per vehicle.
+//!
 //! The result is checked by the loader (`VehicleData::from_json`: schema, inertias, loop closure) before
 //! anything is written, and written atomically (`write_atomically`).
 
@@ -24,7 +30,7 @@ use crate::model::params::{
 use crate::model::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
 use serde_json::{Map, Value};
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// An import that failed: the Chrono file, the key in it (dotted path; empty for the whole file) and why.
@@ -55,6 +61,10 @@ pub struct Import {
     /// The `.tir` file the vehicle rolls on (`data.tire.tir_file` names it): to be copied beside the
     /// vehicle file (`rtv import-chrono` does).
     pub tire: Option<PathBuf>,
+    /// What the tire is and where it comes from, in a phrase (`rtv import-chrono --all` prints it).
+    pub tire_note: String,
+    /// The vehicle file a top-level model file led to (as messages show it), if the import began at one.
+    pub followed: Option<String>,
 }
 
 impl Import {
@@ -127,8 +137,175 @@ pub fn write_atomically(path: &Path, text: &str) -> std::io::Result<()> {
 /// when given, else the one `.tir` file of the vehicle's data folder (`tire/` beside the folder that holds
 /// the vehicle file, as Chrono lays out `generic/vehicle/` and `generic/tire/`), else the HMMWV's STI tire.
 pub fn import_vehicle(vehicle: &Path, data_dir: &Path, tire: Option<&Path>) -> Result<Import, ImportError> {
-    Importer { data_dir: data_dir.to_path_buf(), warnings: Vec::new(), tire: tire.map(Path::to_path_buf) }
-        .vehicle(vehicle)
+    new_importer(data_dir, tire).vehicle(vehicle)
+}
+
+fn new_importer(data_dir: &Path, tire: Option<&Path>) -> Importer {
+    Importer {
+        data_dir: data_dir.to_path_buf(),
+        warnings: Vec::new(),
+        tire: tire.map(Path::to_path_buf),
+        tire_source: "--tire".into(),
+        tire_not_taken: None,
+        paths: BTreeMap::new(),
+        followed: None,
+    }
+}
+
+// ---------------------------------------------------------------------------------------------------------
+// A whole catalogue (`rtv import-chrono --all DIR`).
+
+/// One vehicle of a catalogue: its file (relative to the catalogue's folder), the vehicle file a top-level
+/// model file led to, and the import or why it was refused.
+pub struct CatalogueEntry {
+    pub file: String,
+    pub followed: Option<String>,
+    pub result: Result<Import, ImportError>,
+    /// For a refused wheeled vehicle: every template and part rtv lacks (`Importer::lacks`), not only the
+    /// first the import met.
+    pub lacks: BTreeSet<String>,
+}
+
+/// A catalogue: its vehicles, and the JSON files it could not read (so could not tell vehicle or not).
+pub struct Catalogue {
+    pub vehicles: Vec<CatalogueEntry>,
+    pub unread: Vec<ImportError>,
+}
+
+/// The `Type`s of Chrono's vehicle-level files: each is one vehicle of the catalogue.
+const VEHICLE_TYPES: [&str; 3] = ["Vehicle", "TrackVehicle", "Trailer"];
+
+/// Imports every vehicle of a Chrono data folder (`dir`, as Chrono's `data/vehicle/`; it is also the data
+/// folder the paths are relative to): each JSON file whose `Type` is a vehicle's (`VEHICLE_TYPES`), in path
+/// order. A vehicle file that a top-level model file leads to is that model's entry, not one of its own (one
+/// car, one line). A JSON file that does not parse is listed in `unread`.
+pub fn import_catalogue(dir: &Path) -> Result<Catalogue, String> {
+    let mut files = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        let entries = std::fs::read_dir(&folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+        for e in entries {
+            let path = e.map_err(|e| format!("{}: {e}", folder.display()))?.path();
+            if path.is_dir() {
+                folders.push(path);
+            } else if path.extension().is_some_and(|x| x.eq_ignore_ascii_case("json")) {
+                files.push(path);
+            }
+        }
+    }
+    let rel = |p: &Path| p.strip_prefix(dir).unwrap_or(p).to_string_lossy().replace('\\', "/");
+    files.sort_by_key(|p| rel(p));
+    let (mut out, mut unread) = (Vec::new(), Vec::new());
+    for path in files {
+        let file = rel(&path);
+        let parsed = bounded_read::read_text(&path, MAX_FILE_BYTES, "the file")
+            .and_then(|t| serde_json::from_str::<Value>(&strip_comments(&t)).map_err(|e| format!("not JSON: {e}")));
+        let value = match parsed {
+            Ok(v) => v,
+            Err(message) => {
+                unread.push(ImportError { file, key: String::new(), message });
+                continue;
+            }
+        };
+        if !value.get("Type").and_then(Value::as_str).is_some_and(|t| VEHICLE_TYPES.contains(&t)) {
+            continue;
+        }
+        let mut importer = new_importer(dir, None);
+        let result = importer.vehicle(&path);
+        // An articulated vehicle is refused for what it is, whatever its templates.
+        let wheeled = value.get("Template").and_then(Value::as_str) == Some("WheeledVehicle")
+            && value.get("Rear Chassis").is_none();
+        let lacks = if result.is_err() && wheeled { new_importer(dir, None).lacks(&path) } else { BTreeSet::new() };
+        out.push(CatalogueEntry { file, followed: importer.followed, result, lacks });
+    }
+    let followed: Vec<String> = out.iter().filter_map(|e| e.followed.clone()).collect();
+    out.retain(|e| e.followed.is_some() || !followed.contains(&e.file));
+    Ok(Catalogue { vehicles: out, unread })
+}
+
+/// A catalogue's report (markdown): one table row per vehicle, imported or refused with its cause, then
+/// the keys accepted and ignored, each once.
+pub fn catalogue_markdown(dir: &Path, catalogue: &Catalogue) -> String {
+    let entries = &catalogue.vehicles;
+    let cell = |s: &str| s.replace('|', "\\|").replace('\n', " ");
+    let imported = entries.iter().filter(|e| e.result.is_ok()).count();
+    let mut md = format!(
+        "{} vehicles in `{}`: {imported} imported, {} refused.\n\n| vehicle file | result | all rtv lacks |\n|---|---|---|\n",
+        entries.len(),
+        dir.display(),
+        entries.len() - imported
+    );
+    // Each ignored key (its last name) with its reason, and how many imported vehicles carry it.
+    let mut ignored: BTreeMap<(String, String), usize> = BTreeMap::new();
+    // Each template or part rtv lacks, and how many refused vehicles need it.
+    let mut lacking: BTreeMap<String, usize> = BTreeMap::new();
+    for e in entries {
+        let file = match &e.followed {
+            Some(f) => format!("`{}` → `{f}`", e.file),
+            None => format!("`{}`", e.file),
+        };
+        let result = match &e.result {
+            Ok(i) => {
+                let d = &i.data;
+                let steering = if d.rack.is_some() { "rack and pinion" } else { "Pitman arm" };
+                let mut keys = std::collections::BTreeSet::new();
+                for w in &i.warnings {
+                    if let Some(k) = ignored_key(w) {
+                        keys.insert(k);
+                    }
+                }
+                for k in keys {
+                    *ignored.entry(k).or_default() += 1;
+                }
+                let template = |t: SuspensionTemplate| {
+                    serde_json::to_value(t).ok().and_then(|v| v.as_str().map(str::to_string)).unwrap_or_default()
+                };
+                format!(
+                    "imported: {} ({} front, {} rear, {steering}); tire: {}",
+                    d.name,
+                    template(d.front.template),
+                    template(d.rear.template),
+                    i.tire_note
+                )
+            }
+            Err(err) => format!("refused: {err}"),
+        };
+        for l in &e.lacks {
+            *lacking.entry(l.clone()).or_default() += 1;
+        }
+        let lacks = e.lacks.iter().cloned().collect::<Vec<_>>().join(", ");
+        md.push_str(&format!("| {file} | {} | {} |\n", cell(&result), cell(&lacks)));
+    }
+    if !lacking.is_empty() {
+        md.push_str("\nWhat rtv lacks, with the number of refused wheeled vehicles that need it: ");
+        let mut all: Vec<(String, usize)> = lacking.into_iter().collect();
+        all.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let all: Vec<String> = all.iter().map(|(l, n)| format!("{l} ({n})")).collect();
+        md.push_str(&all.join(", "));
+        md.push_str(".\n");
+    }
+    if !catalogue.unread.is_empty() {
+        md.push_str("\nJSON files that do not parse (strict JSON, comments allowed), so not told vehicle or not:\n\n");
+        for e in &catalogue.unread {
+            md.push_str(&format!("- {e}\n"));
+        }
+    }
+    if !ignored.is_empty() {
+        md.push_str("\nKeys accepted and ignored (no effect on the model), each once, with the number of imported vehicles that have it:\n\n");
+        for ((key, why), n) in &ignored {
+            md.push_str(&format!("- `{key}` ({n}): {why}\n"));
+        }
+    }
+    md
+}
+
+/// The key (its last name) and the reason of a warning written by `Obj::keys` for an ignored key.
+fn ignored_key(warning: &str) -> Option<(String, String)> {
+    let (head, why) = warning.split_once(": ignored (")?;
+    let key = head.rsplit(": ").next()?;
+    let leaf = key.rsplit('.').next()?;
+    let leaf = leaf.split('[').next()?;
+    Some((leaf.to_string(), why.strip_suffix(')').unwrap_or(why).to_string()))
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -420,6 +597,36 @@ fn fit_damper(points: &[(f64, f64)]) -> (f64, f64, f64) {
     (c, r, 100.0 * error / peak)
 }
 
+/// Chrono's subsystem templates that rtv does not have, with what each is: a refusal names both.
+const CHRONO_TEMPLATES: &[(&str, &str)] = &[
+    ("RotaryArm", "rotary-arm steering"),
+    ("SolidAxle", "a solid axle"),
+    ("SolidThreeLinkAxle", "a solid three-link axle"),
+    ("SolidBellcrankThreeLinkAxle", "a solid three-link axle steered by a bellcrank"),
+    ("LeafspringAxle", "a leaf-spring solid axle"),
+    ("ToeBarLeafspringAxle", "a leaf-spring solid axle with a toe bar"),
+    ("SAELeafspringAxle", "an SAE leaf-spring solid axle"),
+    ("SAEToeBarLeafspringAxle", "an SAE leaf-spring solid axle with a toe bar"),
+    ("DeDionAxle", "a De Dion axle"),
+    ("ToeBarDeDionAxle", "a De Dion axle with a toe bar"),
+    ("RigidPanhardAxle", "a rigid axle with a Panhard rod"),
+    ("ToeBarRigidPanhardAxle", "a rigid axle with a Panhard rod and a toe bar"),
+    ("PushPipeAxle", "a push-pipe axle"),
+    ("ToeBarPushPipeAxle", "a push-pipe axle with a toe bar"),
+    ("RigidSuspension", "a rigid suspension (wheels on the chassis)"),
+    ("RigidPinnedAxle", "a rigid pinned axle"),
+    ("SingleWishbone", "a single wishbone"),
+    ("MultiLink", "a multi-link suspension"),
+    ("SemiTrailingArm", "a semi-trailing arm"),
+    ("ThreeLinkIRS", "a three-link independent rear suspension"),
+    ("HendricksonPRIMAXX", "a Hendrickson PRIMAXX walking-beam suspension"),
+    ("GenericWheeledSuspension", "a generic suspension of user-defined bodies and joints"),
+    ("DoubleWishboneReduced", "a reduced double wishbone (distance constraints)"),
+    ("MacPhersonStrutReduced", "a reduced MacPherson strut"),
+    ("BrakeShafts", "a shafts brake"),
+    ("RigidChassisRear", "a rear chassis"),
+];
+
 /// A spring or damper law: a linear coefficient or a curve (its key and points).
 enum Law {
     Coefficient(f64),
@@ -477,6 +684,14 @@ struct Importer {
     warnings: Vec<String>,
     /// The `.tir` file asked for (`import_vehicle`).
     tire: Option<PathBuf>,
+    /// Where the tire comes from when `tire` is set (`--tire`, or the model file's Pac02 tire).
+    tire_source: String,
+    /// The model file's tire when rtv has no such tire (TMeasy, …): said with the tire used instead.
+    tire_not_taken: Option<String>,
+    /// Each file read: its name as shown and its path (files are looked up beside the file that names them).
+    paths: BTreeMap<String, PathBuf>,
+    /// The vehicle file a top-level model file led to (as shown).
+    followed: Option<String>,
 }
 
 /// One parsed Chrono file: its name as shown in messages and its top-level object.
@@ -499,80 +714,285 @@ struct Wheel {
 }
 
 impl Importer {
-    fn read(&self, path: &Path, shown: &str, kind: &str) -> Result<File, ImportError> {
+    fn read(&mut self, path: &Path, shown: &str, kind: &str) -> Result<File, ImportError> {
+        let file = self.read_any(path, shown, kind)?;
+        let o = file.obj();
+        let ty = o.text("Type")?;
+        if ty != kind {
+            return Err(o.err("Type", format!("is '{ty}': this file should be a {kind} file")));
+        }
+        Ok(file)
+    }
+
+    /// A Chrono file's top-level object, whatever its type.
+    fn read_any(&mut self, path: &Path, shown: &str, kind: &str) -> Result<File, ImportError> {
         let fail = |message: String| ImportError { file: shown.to_string(), key: String::new(), message };
         let text = bounded_read::read_text(path, MAX_FILE_BYTES, &format!("the {kind} file")).map_err(&fail)?;
         let value: Value = serde_json::from_str(&strip_comments(&text)).map_err(|e| fail(format!("not JSON: {e}")))?;
         match value {
             Value::Object(root) => {
-                let file = File { shown: shown.to_string(), root };
-                let o = file.obj();
-                let ty = o.text("Type")?;
-                if ty != kind {
-                    return Err(o.err("Type", format!("is '{ty}': this file should be a {kind} file")));
-                }
-                Ok(file)
+                self.paths.insert(shown.to_string(), path.to_path_buf());
+                Ok(File { shown: shown.to_string(), root })
             }
             _ => Err(fail("must hold a JSON object".into())),
         }
     }
 
-    /// A subsystem file named by `key` of `o` (relative to the data folder).
-    fn subsystem(&self, o: &Obj, key: &str, kind: &str) -> Result<File, ImportError> {
+    /// `path` as messages show it: relative to the data folder where it lies in it (the provenance then
+    /// does not depend on where the folder is).
+    fn shown(&self, path: &Path) -> String {
+        let canonical = |p: &Path| p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
+        match canonical(path).strip_prefix(canonical(&self.data_dir)) {
+            Ok(rel) => rel.display().to_string(),
+            Err(_) => path.display().to_string(),
+        }
+    }
+
+    /// The file named by `key` of `o`: relative to the data folder (Chrono's rule); failing that, relative
+    /// to the folder of the file that names it (Chrono's FMI demos set their data path there); failing that,
+    /// the file of that name beside it (some of Chrono's top-level model files name their vehicle one folder
+    /// off). The two fallbacks are said in a warning.
+    fn locate(&mut self, o: &Obj, key: &str) -> Result<(PathBuf, String), ImportError> {
         let rel = o.text(key)?;
         let path = self.data_dir.join(rel);
-        if !path.exists() {
-            return Err(o.err(key, format!("{} does not exist (paths are relative to --data-dir)", path.display())));
+        // `exists`, not `is_file`: a FIFO or a folder there is refused by the read, by what it is.
+        if path.exists() {
+            return Ok((path, rel.to_string()));
         }
-        self.read(&path, rel, kind)
+        let folder = self.paths.get(o.file).and_then(|p| p.parent()).map(Path::to_path_buf);
+        let beside = folder.as_ref().map(|f| f.join(rel));
+        let same_name = folder.as_ref().zip(Path::new(rel).file_name()).map(|(f, n)| f.join(n));
+        for (candidate, how) in [
+            (beside, "relative to the file that names it"),
+            (same_name, "the file of that name beside the file that names it"),
+        ] {
+            if let Some(c) = candidate.filter(|c| c.exists()) {
+                let shown = self.shown(&c);
+                self.warnings.push(format!(
+                    "{}: {}: {rel} is not in the data folder; read {shown}, {how}",
+                    o.file,
+                    o.key(key)
+                ));
+                return Ok((c, shown));
+            }
+        }
+        Err(o.err(key, format!("{} does not exist (paths are relative to --data-dir)", path.display())))
+    }
+
+    /// A subsystem file named by `key` of `o` (`locate`).
+    fn subsystem(&mut self, o: &Obj, key: &str, kind: &str) -> Result<File, ImportError> {
+        let (path, shown) = self.locate(o, key)?;
+        self.read(&path, &shown, kind)
     }
 
     fn template<'f>(o: &Obj<'f>, supported: &[&str]) -> Result<&'f str, ImportError> {
         let t = o.text("Template")?;
         if supported.contains(&t) {
-            Ok(t)
-        } else {
-            Err(o.err("Template", format!("template '{t}' is not supported (supported: {})", supported.join(", "))))
+            return Ok(t);
         }
+        let what = CHRONO_TEMPLATES.iter().find(|(name, _)| *name == t).map(|(_, what)| *what);
+        Err(o.err(
+            "Template",
+            match what {
+                Some(what) => {
+                    format!("{what} ({t}) is not a template rtv has (it has {})", supported.join(", "))
+                }
+                None => format!("template '{t}' is not one rtv has (it has {})", supported.join(", ")),
+            },
+        ))
     }
 
-    /// The `.tir` file the vehicle rolls on (`import_vehicle`): `None` for the STI tire.
-    fn tire_file(&self, vehicle: &Path, shown: &str) -> Result<Option<PathBuf>, ImportError> {
+    /// The `.tir` file the vehicle rolls on and where it comes from (`import_vehicle`): `None` for the STI
+    /// tire.
+    fn tire_file(&self, vehicle: &Path, shown: &str) -> Result<Option<(PathBuf, String)>, ImportError> {
         if let Some(t) = &self.tire {
-            return Ok(Some(t.clone()));
+            return Ok(Some((t.clone(), self.tire_source.clone())));
         }
         let fail = |message: String| ImportError { file: shown.to_string(), key: String::new(), message };
-        let Some(folder) = vehicle.parent().and_then(Path::parent).map(|p| p.join("tire")) else {
-            return Ok(None);
-        };
-        let Ok(entries) = std::fs::read_dir(&folder) else {
-            return Ok(None);
-        };
-        let mut found: Vec<PathBuf> = entries
-            .filter_map(|e| e.ok().map(|e| e.path()))
+        // `tire/` beside the vehicle's folder (Chrono's generic/vehicle and generic/tire), or the vehicle's
+        // own folder (audi/json holds both).
+        let folders =
+            [vehicle.parent().and_then(Path::parent).map(|p| p.join("tire")), vehicle.parent().map(Path::to_path_buf)];
+        let mut found: Vec<PathBuf> = folders
+            .iter()
+            .flatten()
+            .filter_map(|f| std::fs::read_dir(f).ok())
+            .flat_map(|entries| entries.filter_map(|e| e.ok().map(|e| e.path())))
             .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("tir")))
             .collect();
         found.sort();
+        found.dedup();
+        // Of several, the one whose name says Pac02 (hmmwv/tire: HMMWV_Pac02Tire.tir beside the older
+        // HMMWV_pacejka.tir).
+        let is_pac02 =
+            |p: &PathBuf| p.file_name().is_some_and(|n| n.to_string_lossy().to_lowercase().contains("pac02"));
+        if found.len() > 1 && found.iter().filter(|p| is_pac02(p)).count() == 1 {
+            found.retain(is_pac02);
+        }
         match found.len() {
-            0 | 1 => Ok(found.pop()),
+            0 => Ok(None),
+            1 => Ok(found.pop().map(|t| (t, "the .tir file of the vehicle's data folder".to_string()))),
             _ => Err(fail(format!(
-                "{} holds {} .tir files ({}): name the vehicle's with --tire",
-                folder.display(),
+                "the vehicle's folders hold {} .tir files ({}): name the vehicle's with --tire",
                 found.len(),
                 found.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy()).collect::<Vec<_>>().join(", ")
             ))),
         }
     }
 
-    fn vehicle(mut self, path: &Path) -> Result<Import, ImportError> {
-        // Named relative to the data folder where it lies in it (the provenance then does not depend on
-        // where the folder is).
-        let canonical = |p: &Path| p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
-        let shown = match canonical(path).strip_prefix(canonical(&self.data_dir)) {
-            Ok(rel) => rel.display().to_string(),
-            Err(_) => path.display().to_string(),
+    /// Refuses, by what it is, a vehicle the model cannot be: tracked, a trailer, articulated.
+    fn refuse_kind(&mut self, o: &Obj) -> Result<(), ImportError> {
+        let ty = o.text("Type")?;
+        let template = o.map.get("Template").and_then(Value::as_str).unwrap_or("");
+        if ty == "TrackVehicle" || template.starts_with("Track") {
+            return Err(o.err(
+                "Template",
+                format!("a tracked vehicle ({template}): rtv models wheeled vehicles on tires, not tracks"),
+            ));
+        }
+        if ty == "Trailer" || template.contains("Trailer") {
+            return Err(o.err(
+                "Type",
+                format!(
+                    "a trailer ({template}): it is towed and has no steering; rtv models a vehicle that steers itself"
+                ),
+            ));
+        }
+        if o.has("Rear Chassis") {
+            // Name each rear chassis and what joins it to the front (its connector's template).
+            let mut parts = Vec::new();
+            if let Some(rears) = o.map.get("Rear Chassis").and_then(Value::as_array) {
+                for (i, r) in rears.iter().enumerate() {
+                    let r = o.item("Rear Chassis", i, r)?;
+                    let rear = r.text("Input File").unwrap_or("?").to_string();
+                    let joint = match self.subsystem(&r, "Connector Input File", "ChassisConnector") {
+                        Ok(c) => c.obj().text("Template").unwrap_or("?").to_string(),
+                        Err(_) => "a connector".to_string(),
+                    };
+                    parts.push(format!("{rear} joined by {joint}"));
+                }
+            }
+            return Err(o.err(
+                "Rear Chassis",
+                format!("articulated: a rear chassis ({}); rtv's chassis is one rigid body", parts.join("; ")),
+            ));
+        }
+        if ty != "Vehicle" {
+            return Err(o.err("Type", format!("is '{ty}': this file should be a Vehicle file")));
+        }
+        Ok(())
+    }
+
+    /// A top-level model file (Chrono's `audi.json`: the vehicle, powertrain and tire files of one car):
+    /// the vehicle file it names; its tire becomes the import's (`tire`) when it is a Pac02 `.tir`, else it
+    /// is said (`tire_not_taken`).
+    fn model(&mut self, file: &File) -> Result<(PathBuf, String), ImportError> {
+        let o = file.obj();
+        o.keys(
+            &["Name", "Type", "Template", "Vehicle", "Tire"],
+            &[
+                ("Powertrain", "the model has no powertrain: drive torques are inputs per wheel"),
+                ("Zombie", "SynChrono's stand-in for a remote vehicle: visualization only"),
+                ("Output", "Chrono output settings"),
+            ],
+            &mut self.warnings,
+        )?;
+        let v = o.obj("Vehicle")?;
+        let shown_types =
+            ["Chassis", "Suspension", "Steering", "Wheel", "Tire"].map(|p| format!("{p} Visualization Type"));
+        let ignored: Vec<Ignored> = shown_types.iter().map(|k| (k.as_str(), VISUAL)).collect();
+        v.keys(&["Input File"], &ignored, &mut self.warnings)?;
+        let vehicle = self.locate(&v, "Input File")?;
+        if o.has("Tire") && self.tire.is_none() {
+            let t = o.obj("Tire")?;
+            t.keys(&["Input File"], &[("Visualization Type", VISUAL)], &mut self.warnings)?;
+            let tire = self.subsystem(&t, "Input File", "Tire")?;
+            let to = tire.obj();
+            let template = to.text("Template")?;
+            if template == "Pac02Tire" && to.has("TIR Specification File") {
+                let (tir, _) = self.locate(&to, "TIR Specification File")?;
+                self.tire = Some(tir);
+                self.tire_source = format!("the Pac02 tire the model names ({})", tire.shown);
+            } else {
+                let kind =
+                    if template == "Pac02Tire" { "a Pac02 tire given in JSON, not a .tir file" } else { template };
+                self.tire_not_taken =
+                    Some(format!("the model's tire {} is {kind}, which rtv does not have", tire.shown));
+            }
+        }
+        Ok(vehicle)
+    }
+
+    /// What of the vehicle `path` (or the vehicle its model file names) rtv has no template for: every
+    /// steering, suspension and brake template it lacks, anti-roll bars, and the count of axles or steerings
+    /// where not two and one. For the catalogue's report: the import stops at the first; this lists them all.
+    /// Files that cannot be read are passed over (the import names them).
+    fn lacks(&mut self, path: &Path) -> BTreeSet<String> {
+        let mut out = BTreeSet::new();
+        let Ok(mut file) = self.read_any(path, &self.shown(path), "Vehicle") else { return out };
+        if file.obj().has("Vehicle") {
+            let Ok((inner, shown)) = file.obj().obj("Vehicle").and_then(|v| self.locate(&v, "Input File")) else {
+                return out;
+            };
+            let Ok(f) = self.read_any(&inner, &shown, "Vehicle") else { return out };
+            file = f;
+        }
+        let v = file.obj();
+        let list = |k: &str| v.map.get(k).and_then(Value::as_array).cloned().unwrap_or_default();
+        // The template of the file `key` of `o` names, if rtv lacks it.
+        let check = |this: &mut Self, o: &Obj, key: &str, has: &[&str]| -> Option<String> {
+            let (p, shown) = this.locate(o, key).ok()?;
+            let f = this.read_any(&p, &shown, "subsystem").ok()?;
+            let t = f.obj().text("Template").ok()?.to_string();
+            (!has.contains(&t.as_str())).then_some(t)
         };
-        let file = self.read(path, &shown, "Vehicle")?;
+        let (steerings, axles) = (list("Steering Subsystems"), list("Axles"));
+        for (i, s) in steerings.iter().enumerate() {
+            if let Ok(s) = v.item("Steering Subsystems", i, s) {
+                out.extend(check(self, &s, "Input File", &["PitmanArm", "RackPinion"]));
+            }
+        }
+        for (i, a) in axles.iter().enumerate() {
+            let Ok(a) = v.item("Axles", i, a) else { continue };
+            out.extend(check(self, &a, "Suspension Input File", &["DoubleWishbone", "MacPhersonStrut"]));
+            for k in ["Left Brake Input File", "Right Brake Input File"] {
+                if a.has(k) {
+                    out.extend(check(self, &a, k, &["BrakeSimple"]));
+                }
+            }
+            if a.has("Antirollbar Input File") {
+                out.insert("anti-roll bar".into());
+            }
+        }
+        if axles.len() != 2 {
+            out.insert(format!("{} axles", axles.len()));
+        }
+        if steerings.len() > 1 {
+            out.insert(format!("{} steerings", steerings.len()));
+        }
+        out
+    }
+
+    /// The vehicle `path`: a `WheeledVehicle` file, or a top-level model file followed to the one it names.
+    fn vehicle(&mut self, path: &Path) -> Result<Import, ImportError> {
+        let shown = self.shown(path);
+        let file = self.read_any(path, &shown, "Vehicle")?;
+        self.refuse_kind(&file.obj())?;
+        if !file.obj().has("Vehicle") {
+            return self.wheeled(path, file);
+        }
+        let (vehicle, vehicle_shown) = self.model(&file)?;
+        self.followed = Some(vehicle_shown.clone());
+        let inner = self.read_any(&vehicle, &vehicle_shown, "Vehicle")?;
+        self.refuse_kind(&inner.obj())?;
+        if inner.obj().has("Vehicle") {
+            return Err(inner.obj().err("Vehicle", "a model file named by a model file: name the vehicle file"));
+        }
+        self.wheeled(&vehicle, inner)
+    }
+
+    fn wheeled(&mut self, path: &Path, file: File) -> Result<Import, ImportError> {
+        let shown = file.shown.clone();
         let v = file.obj();
         Self::template(&v, &["WheeledVehicle"])?;
         v.keys(
@@ -690,17 +1110,25 @@ impl Importer {
         let wheel = &wheels[0].1;
         let tir = self.tire_file(path, &shown)?;
         let mut tire = hmmwv.tire.clone();
-        let tire_said = match &tir {
-            Some(t) => {
+        let not_taken = self.tire_not_taken.as_ref().map(|t| format!("; {t}")).unwrap_or_default();
+        let (tire_said, tire_note) = match &tir {
+            Some((t, source)) => {
                 let name = t.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
                 tire.tir_file = Some(name.clone());
-                format!(
-                    "The tire is the Magic Formula of {name}, the .tir file of the vehicle's data folder, copied \
-                     beside this file (its mass and inertia are the HMMWV's tire's)."
+                (
+                    format!(
+                        "The tire is the Magic Formula of {name}, {source}, copied beside this file (its mass and \
+                         inertia are the HMMWV's tire's){not_taken}."
+                    ),
+                    format!("{} ({source}){not_taken}", self.shown(t)),
                 )
             }
-            None => "The tire is the HMMWV's STI tire: the vehicle's data folder has no .tir file.".to_string(),
+            None => (
+                format!("The tire is the HMMWV's STI tire: the vehicle's data folder has no .tir file{not_taken}."),
+                format!("the HMMWV's STI tire, a stand-in (no .tir file in the vehicle's folders){not_taken}"),
+            ),
         };
+        let tir = tir.map(|t| t.0);
         let data = VehicleData {
             name,
             provenance: format!(
@@ -725,8 +1153,8 @@ impl Importer {
         // The loader's checks (schema, inertias, loop closure) on the text that will be written.
         // A file named twice (the same wheel on every corner) warns once.
         let mut seen = std::collections::BTreeSet::new();
-        let warnings = self.warnings.into_iter().filter(|w| seen.insert(w.clone())).collect();
-        let import = Import { data, warnings, tire: tir.clone() };
+        let warnings = std::mem::take(&mut self.warnings).into_iter().filter(|w| seen.insert(w.clone())).collect();
+        let import = Import { data, warnings, tire: tir.clone(), tire_note, followed: self.followed.clone() };
         let beside = tir.as_deref().and_then(Path::parent);
         if let Err(e) = VehicleData::from_json_in(&import.to_json(), beside) {
             return Err(loader_error(e, &file.shown, &front.1, &rear.1));
