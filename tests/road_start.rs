@@ -113,8 +113,7 @@ fn the_vehicle_starts_on_the_road_in_static_equilibrium() {
         assert!((loads - normal_load).abs() <= 1e-3 * normal_load, "{name}: {loads} N against {normal_load} N");
         // Standing on the surface: the chassis at its level ride height above it (within 5 cm: the tires'
         // deflection changes with the normal load).
-        let level =
-            simulation(SimConfig { initial_speed: 0.0, ..SimConfig::default() }).outputs().unwrap()[Channel::Z];
+        let level = simulation(SimConfig { initial_speed: 0.0, ..SimConfig::default() }).outputs().unwrap()[Channel::Z];
         let z = o[Channel::Z];
         if up > 0.0 {
             assert!((z - level - up).abs() < 1e-6, "{name}: z {z}, level {level}");

@@ -115,7 +115,11 @@ fn bad_requests_are_named_before_anything_runs() {
             "amplitude applies to the scenes",
             Some("/amplitude"),
         ),
-        (serde_json::json!({"case": "jturn", "parameters": {"vehicle_file": "/nonexistent.json"}}), "nonexistent", None),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"vehicle_file": "/nonexistent.json"}}),
+            "nonexistent",
+            None,
+        ),
     ] {
         let error = check(&request(json.clone())).expect_err(&json.to_string());
         assert!(error.to_string().contains(expected), "{json}: {error}");

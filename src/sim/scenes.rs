@@ -209,7 +209,10 @@ impl Scene {
                 },
                 duration: 8.0,
                 // Figs. 13-15: roll rate, yaw rate and the trajectory, all straight from the state.
-                needs: SceneNeeds { outputs: &[Channel::Time, Channel::RollRate, Channel::YawRate, Channel::X, Channel::Y], ..needs },
+                needs: SceneNeeds {
+                    outputs: &[Channel::Time, Channel::RollRate, Channel::YawRate, Channel::X, Channel::Y],
+                    ..needs
+                },
                 default_vehicle_amplitude: false,
             },
         }

@@ -61,30 +61,10 @@ pub const QUANTITIES: [Quantity; 22] = [
     Quantity { label: "F_y RL [N]", chrono: "Fy_RL_N", value: |o| o[Channel::TireFyRl], absolute: false },
     Quantity { label: "F_y RR [N]", chrono: "Fy_RR_N", value: |o| o[Channel::TireFyRr], absolute: false },
     // The model's α is Pacejka's adapted one (−α ISO); Chrono's column is ISO.
-    Quantity {
-        label: "α FL [deg]",
-        chrono: "alpha_FL_deg",
-        value: |o| -o[Channel::AlphaFl] * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "α FR [deg]",
-        chrono: "alpha_FR_deg",
-        value: |o| -o[Channel::AlphaFr] * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "α RL [deg]",
-        chrono: "alpha_RL_deg",
-        value: |o| -o[Channel::AlphaRl] * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "α RR [deg]",
-        chrono: "alpha_RR_deg",
-        value: |o| -o[Channel::AlphaRr] * DEG,
-        absolute: false,
-    },
+    Quantity { label: "α FL [deg]", chrono: "alpha_FL_deg", value: |o| -o[Channel::AlphaFl] * DEG, absolute: false },
+    Quantity { label: "α FR [deg]", chrono: "alpha_FR_deg", value: |o| -o[Channel::AlphaFr] * DEG, absolute: false },
+    Quantity { label: "α RL [deg]", chrono: "alpha_RL_deg", value: |o| -o[Channel::AlphaRl] * DEG, absolute: false },
+    Quantity { label: "α RR [deg]", chrono: "alpha_RR_deg", value: |o| -o[Channel::AlphaRr] * DEG, absolute: false },
     // The steady values themselves: Chrono's straight running is not straight (the generic car drifts).
     Quantity {
         label: "yaw rate, steady value [deg/s]",
@@ -106,18 +86,8 @@ pub const QUANTITIES: [Quantity; 22] = [
         absolute: true,
     },
     // The steering's kinematics: the road-wheel angles.
-    Quantity {
-        label: "steer FL [deg]",
-        chrono: "steer_FL_deg",
-        value: |o| o[Channel::SteerFl] * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "steer FR [deg]",
-        chrono: "steer_FR_deg",
-        value: |o| o[Channel::SteerFr] * DEG,
-        absolute: false,
-    },
+    Quantity { label: "steer FL [deg]", chrono: "steer_FL_deg", value: |o| o[Channel::SteerFl] * DEG, absolute: false },
+    Quantity { label: "steer FR [deg]", chrono: "steer_FR_deg", value: |o| o[Channel::SteerFr] * DEG, absolute: false },
 ];
 
 /// One car: where its reference runs and its Chrono vehicle file are (relative to the repository), and

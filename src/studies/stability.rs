@@ -102,8 +102,10 @@ const RIDE_EDGES: &[Channel] = &[
     ch(Output::WheelZRr, 0.001),
 ];
 const CREEP: &[Channel] = &[ch(Output::X, 0.001), ch(Output::Vx, 0.01), ch(Output::Pitch, 0.001)];
-const HANDLING: &[Channel] = &[ch(Output::Ay, 0.1), ch(Output::YawRate, 0.01), ch(Output::RollRate, 0.01), ch(Output::Vx, 0.1)];
-const BRAKING: &[Channel] = &[ch(Output::X, 0.01), ch(Output::Vx, 0.1), ch(Output::YawRate, 0.01), ch(Output::Pitch, 0.001)];
+const HANDLING: &[Channel] =
+    &[ch(Output::Ay, 0.1), ch(Output::YawRate, 0.01), ch(Output::RollRate, 0.01), ch(Output::Vx, 0.1)];
+const BRAKING: &[Channel] =
+    &[ch(Output::X, 0.01), ch(Output::Vx, 0.1), ch(Output::YawRate, 0.01), ch(Output::Pitch, 0.001)];
 
 /// One case of the suite.
 #[derive(Clone)]
@@ -440,11 +442,7 @@ pub fn run_case_sampled(case: &Case, integrator: IntegratorKind, h: f64, sample:
     let mut data = case.vehicle.clone();
     (case.data)(&mut data);
     let config = SimConfig { integrator, internal_step: h, ..case.config.clone() };
-    let columns: Vec<usize> = case
-        .channels
-        .iter()
-        .map(|c| c.output.index())
-        .collect();
+    let columns: Vec<usize> = case.channels.iter().map(|c| c.output.index()).collect();
     let mut samples = Vec::new();
     let mut sim = match Simulation::new(data, config) {
         Ok(s) => s,
@@ -882,7 +880,8 @@ pub fn markdown(reports: &[CaseReport], command: &str, timing: &str) -> String {
     md += "## Cases and channels\n\nEach case's channels, compared as the rule says (the floor of each channel's \
            excursion in brackets, in its unit).\n\n| case | group | channels |\n|---|---|---|\n";
     for r in reports {
-        let channels: Vec<String> = r.case.channels.iter().map(|c| format!("{} ({})", c.output.name(), c.floor)).collect();
+        let channels: Vec<String> =
+            r.case.channels.iter().map(|c| format!("{} ({})", c.output.name(), c.floor)).collect();
         md += &format!("| {} | {} | {} |\n", r.case.name, r.case.group, channels.join(", "));
     }
     md += "\n";

@@ -226,8 +226,9 @@ fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), RunError> {
                 RunError::at(parameter_field(name), error)
             })?;
         if name == "initial_speed" {
-            let error =
-                input("the FMU parameter initial_speed is the case's entry speed here: give it as the input 'speed'".into());
+            let error = input(
+                "the FMU parameter initial_speed is the case's entry speed here: give it as the input 'speed'".into(),
+            );
             return Err(RunError::at(parameter_field(name), error));
         }
         let set = match (var.ty, value) {
