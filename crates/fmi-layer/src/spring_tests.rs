@@ -435,10 +435,13 @@ fn co_simulation_2_runs_from_instantiation_to_reset_and_agrees_with_the_exact_so
         assert_eq!(api::enter_initialization_mode::<Spring>(inst.c), OK);
     }
     // Parameters in Initialization Mode; calculated outputs from them before leaving it.
-    assert_eq!(inst.set_real(&[vr::K, 10], &[400.0, 0.2]), OK);
-    assert_eq!(inst.outputs(), [0.2, 0.0], "x0 at rest");
+    assert_eq!(inst.set_real(&[vr::K, 10], &[400.0, 0.1]), OK);
+    assert_eq!(inst.outputs(), [0.1, 0.0], "x0 at rest");
+    assert_eq!(inst.instance().core.model.initialized, 1, "computed once while nothing changes");
+    assert_eq!(inst.set_real(&[10], &[0.2]), OK);
+    assert_eq!(inst.outputs(), [0.2, 0.0], "and again after a parameter changed");
     unsafe { assert_eq!(api::exit_initialization_mode::<Spring>(inst.c), OK) };
-    assert_eq!(inst.instance().core.model.initialized, 1, "initialized once, when first read");
+    assert_eq!(inst.instance().core.model.initialized, 2, "not again when leaving Initialization Mode");
     assert_eq!(inst.mode(), Mode::StepComplete);
     let (omega, h) = (20.0, 0.01);
     for k in 0..100 {
@@ -598,6 +601,8 @@ fn null_pointers_and_implausible_lengths_are_errors() {
         let huge = 1usize << 32;
         inst.refused(api::set_string::<Spring>(c, std::ptr::null(), huge, std::ptr::null()), "not plausible");
         inst.refused(api::get_boolean::<Spring>(c, std::ptr::null(), huge, std::ptr::null_mut()), "not plausible");
+        inst.refused(api::set_boolean::<Spring>(c, std::ptr::null(), huge, std::ptr::null()), "not plausible");
+        inst.refused(api::get_string::<Spring>(c, std::ptr::null(), huge, std::ptr::null_mut()), "not plausible");
         inst.refused(api::set_debug_logging::<Spring>(c, 1, huge, std::ptr::null()), "not plausible");
         inst.init(0.0);
         inst.refused(
@@ -804,6 +809,16 @@ fn fmu_states_replay_bit_identically_and_serialize_every_bit() {
         // Over an existing state in place; freeing NULL does nothing.
         assert_eq!(api::get_fmu_state::<Spring>(inst.c, &mut state), OK);
         assert_eq!(inst.instance().saved.len(), 1);
+        // Deserialized into a slot that holds a live state: that state is reused; into an uninitialized slot
+        // (garbage): a new one.
+        assert_eq!(other.instance().saved.len(), 1);
+        assert_eq!(deserialize(&text, &mut restored), OK);
+        assert_eq!(other.instance().saved.len(), 1, "no second state");
+        let mut garbage = 0xdead_beefusize as fmi2FMUstate;
+        assert_eq!(deserialize(&text, &mut garbage), OK);
+        assert_eq!(other.instance().saved.len(), 2);
+        assert_eq!(api::free_fmu_state::<Spring>(other.c, &mut garbage), OK);
+        assert!(garbage.is_null());
         assert_eq!(api::free_fmu_state::<Spring>(inst.c, &mut state), OK);
         assert_eq!(api::free_fmu_state::<Spring>(other.c, &mut restored), OK);
         assert_eq!(api::free_fmu_state::<Spring>(other.c, &mut restored), OK);
@@ -1117,4 +1132,20 @@ fn model_exchange_2_and_3_give_an_importers_integrator_the_spring() {
     for (found, zero) in crossings.iter().zip(&zeros) {
         assert!(found - h < *zero && *zero <= *found, "a crossing at {found}, the zero at {zero}");
     }
+}
+
+#[test]
+fn resource_locations_parse() {
+    use super::model::ResourceLocation;
+    use std::path::PathBuf;
+    let dir = |s: &str| ResourceLocation::Dir(PathBuf::from(s));
+    assert_eq!(api::parse_resource_location(Some("file:///tmp/x/resources")), dir("/tmp/x/resources"));
+    assert_eq!(api::parse_resource_location(Some("file:///tmp/a%20b/resources/")), dir("/tmp/a b/resources/"));
+    assert_eq!(api::parse_resource_location(Some("file://localhost/tmp/r")), dir("/tmp/r"));
+    assert_eq!(api::parse_resource_location(Some("file:/tmp/r")), dir("/tmp/r"));
+    assert_eq!(api::parse_resource_location(Some("/tmp/r")), dir("/tmp/r"));
+    assert_eq!(api::parse_resource_location(None), ResourceLocation::None);
+    assert_eq!(api::parse_resource_location(Some("")), ResourceLocation::None);
+    assert!(matches!(api::parse_resource_location(Some("http://example.com/r")), ResourceLocation::Unsupported(_)));
+    assert!(matches!(api::parse_resource_location(Some("file://server/share")), ResourceLocation::Unsupported(_)));
 }
