@@ -24,7 +24,7 @@ const ERROR: u32 = fmi2Status_fmi2Error;
 // ---- the model: m ẍ + c ẋ + k x = F -----------------------------------------------------------------------
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum V {
+enum Sv {
     Force,
     ForceRate,
     X,
@@ -63,23 +63,23 @@ mod vr {
     pub const LABEL: u32 = 15;
 }
 
-static VARIABLES: [Variable<V>; 16] = [
-    var(0, "F", vr::F, Input, Continuous, Real, Some(Start::Real(0.0)), V::Force),
-    var(1, "dF", vr::DF, Input, Continuous, Real, Some(Start::Real(0.0)), V::ForceRate),
-    var(2, "x", vr::X, Output, Continuous, Real, None, V::X),
-    var(3, "v", vr::V, Output, Continuous, Real, None, V::V),
-    var(4, "der(x)", 5, Local, Continuous, Real, None, V::DerX),
-    var(5, "der(v)", vr::DER_V, Local, Continuous, Real, None, V::DerV),
-    var(6, "k", vr::K, Parameter, Fixed, Real, Some(Start::Real(100.0)), V::K),
-    var(7, "m", 8, Parameter, Fixed, Real, Some(Start::Real(1.0)), V::Mass),
-    var(8, "c", vr::C, Parameter, Tunable, Real, Some(Start::Real(0.0)), V::Damping),
-    var(9, "x0", 10, Parameter, Fixed, Real, Some(Start::Real(0.1)), V::X0),
-    var(10, "x_max", vr::X_MAX, Parameter, Tunable, Real, Some(Start::Real(10.0)), V::XMax),
-    var(11, "substeps", vr::SUBSTEPS, Parameter, Fixed, Integer, Some(Start::Integer(10)), V::Substeps),
-    var(12, "fault", vr::FAULT, Input, Discrete, Integer, Some(Start::Integer(0)), V::Fault),
-    var(13, "clamped", vr::CLAMPED, Input, Discrete, Boolean, Some(Start::Boolean(false)), V::Clamped),
-    var(14, "label", vr::LABEL, Parameter, Fixed, Str, Some(Start::String("spring")), V::Label),
-    var(15, "z", 16, Local, Continuous, Real, None, V::Z),
+static VARIABLES: [Variable<Sv>; 16] = [
+    var(0, "F", vr::F, Input, Continuous, Real, Some(Start::Real(0.0)), Sv::Force),
+    var(1, "dF", vr::DF, Input, Continuous, Real, Some(Start::Real(0.0)), Sv::ForceRate),
+    var(2, "x", vr::X, Output, Continuous, Real, None, Sv::X),
+    var(3, "v", vr::V, Output, Continuous, Real, None, Sv::V),
+    var(4, "der(x)", 5, Local, Continuous, Real, None, Sv::DerX),
+    var(5, "der(v)", vr::DER_V, Local, Continuous, Real, None, Sv::DerV),
+    var(6, "k", vr::K, Parameter, Fixed, Real, Some(Start::Real(100.0)), Sv::K),
+    var(7, "m", 8, Parameter, Fixed, Real, Some(Start::Real(1.0)), Sv::Mass),
+    var(8, "c", vr::C, Parameter, Tunable, Real, Some(Start::Real(0.0)), Sv::Damping),
+    var(9, "x0", 10, Parameter, Fixed, Real, Some(Start::Real(0.1)), Sv::X0),
+    var(10, "x_max", vr::X_MAX, Parameter, Tunable, Real, Some(Start::Real(10.0)), Sv::XMax),
+    var(11, "substeps", vr::SUBSTEPS, Parameter, Fixed, Integer, Some(Start::Integer(10)), Sv::Substeps),
+    var(12, "fault", vr::FAULT, Input, Discrete, Integer, Some(Start::Integer(0)), Sv::Fault),
+    var(13, "clamped", vr::CLAMPED, Input, Discrete, Boolean, Some(Start::Boolean(false)), Sv::Clamped),
+    var(14, "label", vr::LABEL, Parameter, Fixed, Str, Some(Start::String("spring")), Sv::Label),
+    var(15, "z", 16, Local, Continuous, Real, None, Sv::Z),
 ];
 
 fn index_of(vr: u32) -> Option<usize> {
@@ -88,7 +88,7 @@ fn index_of(vr: u32) -> Option<usize> {
 
 const GUID: &str = "{mass-on-a-spring}";
 
-static DESCRIPTION: Description<V> = Description {
+static DESCRIPTION: Description<Sv> = Description {
     guid: GUID,
     model_identifier: "Spring",
     log_categories: &[logger::EVENTS, logger::CALLS, logger::WARNING, logger::DISCARD, logger::ERROR, logger::FATAL],
@@ -140,9 +140,9 @@ fn positive(name: &str, value: f64) -> Result<f64, String> {
 }
 
 impl FmuModel for Spring {
-    type Var = V;
+    type Var = Sv;
 
-    fn description() -> &'static Description<V> {
+    fn description() -> &'static Description<Sv> {
         &DESCRIPTION
     }
     fn new(_: &ModelContext) -> Self {
@@ -167,69 +167,69 @@ impl FmuModel for Spring {
     fn start_values_applied(&mut self) {
         self.rate = 0.0;
     }
-    fn get_real(&self, var: &Variable<V>) -> Result<f64, String> {
+    fn get_real(&self, var: &Variable<Sv>) -> Result<f64, String> {
         Ok(match var.var {
-            V::Force => self.force,
-            V::ForceRate => self.rate,
-            V::X | V::Z => self.x,
-            V::V | V::DerX => self.v,
-            V::DerV => self.acceleration(self.x, self.v, self.force),
-            V::K => self.k,
-            V::Mass => self.m,
-            V::Damping => self.c,
-            V::X0 => self.x0,
-            V::XMax => self.x_max,
-            V::Substeps | V::Fault | V::Clamped | V::Label => return Err(format!("{} is not a Real", var.name)),
+            Sv::Force => self.force,
+            Sv::ForceRate => self.rate,
+            Sv::X | Sv::Z => self.x,
+            Sv::V | Sv::DerX => self.v,
+            Sv::DerV => self.acceleration(self.x, self.v, self.force),
+            Sv::K => self.k,
+            Sv::Mass => self.m,
+            Sv::Damping => self.c,
+            Sv::X0 => self.x0,
+            Sv::XMax => self.x_max,
+            Sv::Substeps | Sv::Fault | Sv::Clamped | Sv::Label => return Err(format!("{} is not a Real", var.name)),
         })
     }
-    fn get_integer(&self, var: &Variable<V>) -> Result<i32, String> {
+    fn get_integer(&self, var: &Variable<Sv>) -> Result<i32, String> {
         match var.var {
-            V::Substeps => Ok(self.substeps),
-            V::Fault => Ok(self.fault),
+            Sv::Substeps => Ok(self.substeps),
+            Sv::Fault => Ok(self.fault),
             _ => Err(format!("{} is not an Integer", var.name)),
         }
     }
-    fn get_boolean(&self, _: &Variable<V>) -> Result<bool, String> {
+    fn get_boolean(&self, _: &Variable<Sv>) -> Result<bool, String> {
         Ok(self.clamped)
     }
-    fn get_string(&self, _: &Variable<V>) -> Result<String, String> {
+    fn get_string(&self, _: &Variable<Sv>) -> Result<String, String> {
         Ok(self.label.clone())
     }
-    fn set_real(&mut self, var: &Variable<V>, value: f64) -> Result<(), String> {
+    fn set_real(&mut self, var: &Variable<Sv>, value: f64) -> Result<(), String> {
         match var.var {
-            V::Force => self.force = value,
-            V::ForceRate => self.rate = value,
-            V::K => self.k = positive("k", value)?,
-            V::Mass => self.m = positive("m", value)?,
-            V::Damping if value < 0.0 => return Err("c must not be negative".into()),
-            V::Damping => self.c = value,
-            V::X0 => self.x0 = value,
-            V::XMax => self.x_max = positive("x_max", value)?,
+            Sv::Force => self.force = value,
+            Sv::ForceRate => self.rate = value,
+            Sv::K => self.k = positive("k", value)?,
+            Sv::Mass => self.m = positive("m", value)?,
+            Sv::Damping if value < 0.0 => return Err("c must not be negative".into()),
+            Sv::Damping => self.c = value,
+            Sv::X0 => self.x0 = value,
+            Sv::XMax => self.x_max = positive("x_max", value)?,
             _ => return Err(format!("{} is not settable", var.name)),
         }
         Ok(())
     }
-    fn set_integer(&mut self, var: &Variable<V>, value: i32) -> Result<(), String> {
+    fn set_integer(&mut self, var: &Variable<Sv>, value: i32) -> Result<(), String> {
         match var.var {
-            V::Substeps if (1..=1000).contains(&value) => self.substeps = value,
-            V::Substeps => return Err(format!("substeps {value} is outside [1, 1000]")),
-            V::Fault if (0..=3).contains(&value) => self.fault = value,
+            Sv::Substeps if (1..=1000).contains(&value) => self.substeps = value,
+            Sv::Substeps => return Err(format!("substeps {value} is outside [1, 1000]")),
+            Sv::Fault if (0..=3).contains(&value) => self.fault = value,
             _ => return Err(format!("{} = {value} is not served", var.name)),
         }
         Ok(())
     }
-    fn set_boolean(&mut self, _: &Variable<V>, value: bool) -> Result<(), String> {
+    fn set_boolean(&mut self, _: &Variable<Sv>, value: bool) -> Result<(), String> {
         self.clamped = value;
         Ok(())
     }
-    fn set_string(&mut self, _: &Variable<V>, value: &str) -> Result<(), String> {
+    fn set_string(&mut self, _: &Variable<Sv>, value: &str) -> Result<(), String> {
         if value.is_empty() {
             return Err("label must not be empty".into());
         }
         self.label = value.to_string();
         Ok(())
     }
-    fn set_real_input_derivative(&mut self, _: &Variable<V>, order: i32, value: f64) -> Result<(), String> {
+    fn set_real_input_derivative(&mut self, _: &Variable<Sv>, order: i32, value: f64) -> Result<(), String> {
         if order != 1 {
             return Err(format!("order {order}: the spring takes the first derivative of F only"));
         }
@@ -371,8 +371,8 @@ impl<'a> Inst<'a> {
         unsafe { api::do_step::<Spring>(self.c, t, h, 1) }
     }
 
-    fn instance(&self) -> &mut Instance<Spring> {
-        unsafe { &mut *(self.c as *mut Instance<Spring>) }
+    fn instance(&self) -> &Instance<Spring> {
+        unsafe { &*(self.c as *const Instance<Spring>) }
     }
 
     fn mode(&self) -> Mode {
