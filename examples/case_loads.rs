@@ -2,7 +2,6 @@
 //! between two times: `cargo run --release --example case_loads -- "CASE" FROM TO` ($VEHICLE for an import).
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::outputs::OUTPUT_NAMES;
 use rt_vehicle::sim::{SimConfig, Simulation};
 use rt_vehicle::studies::stability;
 
@@ -21,8 +20,7 @@ fn main() {
     let mut sim = Simulation::new(d, config).unwrap();
     sim.set_rack_profile(case.rack);
     sim.set_wheel_torques(case.drive, case.brake);
-    let col = |n: &str| OUTPUT_NAMES.iter().position(|x| *x == n).unwrap();
-    let fz = ["tire_fz_fl", "tire_fz_fr", "tire_fz_rl", "tire_fz_rr"].map(|n| col(n));
+    let fz = rt_vehicle::sim::Channel::TIRE_FORCE[2].map(|c| c.index());
     while sim.time() < to {
         sim.advance(stability::SAMPLE / 4.0).unwrap();
         if sim.time() >= from {

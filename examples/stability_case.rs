@@ -20,7 +20,7 @@ fn main() {
     let run = stability::run_case(&case, kind, h);
     println!("{}: run {:?}", case.name, run.result.as_ref().err().map(|e| e.to_string()));
     if std::env::var("TRACE").is_ok() {
-        let c = case.channels.iter().position(|c| c.name == "yaw_rate").unwrap_or(0);
+        let c = case.channels.iter().position(|c| c.output == rt_vehicle::sim::Channel::YawRate).unwrap_or(0);
         for k in (0..run.samples.len().min(reference.samples.len())).step_by(6) {
             println!(
                 "  t {:.3}  run {:+.4e}  reference {:+.4e}",

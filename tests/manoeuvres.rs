@@ -2,14 +2,15 @@
 //! ones that two manoeuvres measure alike agree.
 
 use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::sim::Channel;
 use rt_vehicle::studies::manoeuvres::{run, Manoeuvre, Report};
 
 fn value(report: &Report, name: &str) -> f64 {
     report.metrics.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("no metric {name}")).value
 }
 
-fn column(report: &Report, name: &str) -> Vec<f64> {
-    report.rows.iter().map(|r| r.get(name).unwrap()).collect()
+fn column(report: &Report, channel: Channel) -> Vec<f64> {
+    report.rows.iter().map(|r| r[channel]).collect()
 }
 
 #[test]
@@ -29,8 +30,8 @@ fn step_steer_reaches_its_lateral_acceleration_and_agrees_with_the_steady_state_
     let circle = run(Manoeuvre::SteadyState, &data, None).unwrap();
     let k = value(&circle, "understeer gradient (front road-wheel steer)");
     let n = step.rows.len();
-    let tail = |name: &str| column(&step, name)[n - 200..].iter().sum::<f64>() / 200.0;
-    let delta = 0.5 * (tail("steer_fl") + tail("steer_fr"));
+    let tail = |channel: Channel| column(&step, channel)[n - 200..].iter().sum::<f64>() / 200.0;
+    let delta = 0.5 * (tail(Channel::SteerFl) + tail(Channel::SteerFr));
     let wheelbase = 1.648579 + 1.653405;
     let g = data.gravity_m_s2;
     let k_step = ((delta - wheelbase * ay / step.speed.powi(2)) / ay * g).to_degrees();
@@ -50,7 +51,7 @@ fn sine_with_dwell_and_fishhook_give_their_metrics() {
     // The steer is left first: the car moves left (+y) by the time the steer has gone 1.07 s.
     assert!(value(&sine, "lateral displacement at BOS + 1.07 s") > 0.5);
     // The input is the standard's: peak at 6.5 × the 0.3 g steer, a dwell of 0.5 s at the second peak.
-    let rack = column(&sine, "rack_displacement");
+    let rack = column(&sine, Channel::RackDisplacement);
     let peak = rack.iter().cloned().fold(f64::MIN, f64::max);
     assert!((peak - sine.amplitude).abs() < 1e-3 * sine.amplitude, "{peak} vs {}", sine.amplitude);
     let held = rack.iter().filter(|u| (**u + sine.amplitude).abs() < 1e-9 * sine.amplitude).count() as f64;
@@ -75,7 +76,7 @@ fn the_closed_loop_driver_takes_the_iso_3888_2_course_at_low_speed() {
     let verdict = slow.metrics[0].criterion.unwrap();
     assert!(verdict.1, "clearance {}", slow.metrics[0].value);
     // It did steer: the course's side lane is 3.6 m to the left of the entry lane's centre.
-    let y: Vec<f64> = column(&slow, "y");
+    let y: Vec<f64> = column(&slow, Channel::Y);
     assert!(y.iter().cloned().fold(f64::MIN, f64::max) - y[0] > 3.0);
 }
 
@@ -122,7 +123,7 @@ fn the_driver_fmu_defaults_are_this_vehicles() {
     assert!((driver.cm_ahead - rtv_driver::iso3888::HMMWV_CM_AHEAD_M).abs() < 1e-6);
     let mut sim = Simulation::new(data.clone(), SimConfig::default()).unwrap();
     let o = sim.outputs().unwrap();
-    assert_eq!((o.get("x"), o.get("y")), (Some(0.0), Some(0.0)), "the course assumes the CM starts at the origin");
+    assert_eq!((o[Channel::X], o[Channel::Y]), (0.0, 0.0), "the course assumes the CM starts at the origin");
 }
 
 /// A study asks for metrics by name before anything runs (`Manoeuvre::metric_names`): each manoeuvre's one

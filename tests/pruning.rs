@@ -59,8 +59,8 @@ fn a_scene_run_as_declared_reads_what_the_full_run_reads() {
         run_columns(&mut pruned, scene.duration, 0.01, &columns, evaluate, |r| rows.push(r.to_vec())).unwrap();
 
         assert_eq!(rows.len(), full_rows.len());
-        for name in scene.needs.outputs {
-            let i = rt_vehicle::sim::Outputs::index(name).unwrap();
+        for channel in scene.needs.outputs {
+            let (i, name) = (channel.index(), channel.name());
             let k = columns.iter().position(|&c| c == i).unwrap_or_else(|| panic!("{kind:?}: {name} not written"));
             for (row, full_row) in rows.iter().zip(&full_rows) {
                 assert_eq!(row[k].to_bits(), full_row[i].to_bits(), "{kind:?}: {name} at t = {}", full_row[0]);

@@ -6,7 +6,7 @@
 use rt_vehicle::math::V3;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::idx;
-use rt_vehicle::sim::{SimConfig, Simulation};
+use rt_vehicle::sim::{Channel, SimConfig, Simulation};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -104,18 +104,17 @@ fn the_vehicle_starts_on_the_road_in_static_equilibrium() {
         let (mass, gravity) = (sim.vehicle().total_mass, sim.vehicle().gravity);
         let weight = mass * gravity;
         let o = sim.outputs().unwrap();
-        let loads: f64 = ["fl", "fr", "rl", "rr"].iter().map(|c| o.get(&format!("tire_fz_{c}")).unwrap()).sum();
+        let loads: f64 = Channel::TIRE_FORCE[2].iter().map(|&c| o[c]).sum();
         let normal_load = weight * angle.cos();
         println!(
             "{name}: loads sum {loads:.3} N, weight's normal component {normal_load:.3} N, z {:.4} m",
-            o.get("z").unwrap()
+            o[Channel::Z]
         );
         assert!((loads - normal_load).abs() <= 1e-3 * normal_load, "{name}: {loads} N against {normal_load} N");
         // Standing on the surface: the chassis at its level ride height above it (within 5 cm: the tires'
         // deflection changes with the normal load).
-        let level =
-            simulation(SimConfig { initial_speed: 0.0, ..SimConfig::default() }).outputs().unwrap().get("z").unwrap();
-        let z = o.get("z").unwrap();
+        let level = simulation(SimConfig { initial_speed: 0.0, ..SimConfig::default() }).outputs().unwrap()[Channel::Z];
+        let z = o[Channel::Z];
         if up > 0.0 {
             assert!((z - level - up).abs() < 1e-6, "{name}: z {z}, level {level}");
         }
@@ -190,7 +189,7 @@ fn at_speed_the_vehicle_starts_in_steady_rolling_on_the_road() {
         let mut sim = simulation(SimConfig { road_file: Some(path.display().to_string()), ..SimConfig::default() });
         let a = sim.chassis_point_acceleration(&V3::zeros()).unwrap();
         let o = sim.outputs().unwrap();
-        let loads: f64 = ["fl", "fr", "rl", "rr"].iter().map(|c| o.get(&format!("tire_fz_{c}")).unwrap()).sum();
+        let loads: f64 = Channel::TIRE_FORCE[2].iter().map(|&c| o[c]).sum();
         let ground_vx = sim.state()[idx::V0];
         println!("{name}: acceleration {:?}, loads {loads:.3} N, ground v_x {ground_vx:.9} m/s", a.as_slice());
         // The speed hold holds the speed along the horizontal heading: it is its target (100 km/h, the

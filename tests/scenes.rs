@@ -4,7 +4,7 @@
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
-use rt_vehicle::sim::{Formulation, Outputs, RackProfile, SimConfig, Simulation, SpeedMode};
+use rt_vehicle::sim::{Channel, Formulation, Outputs, RackProfile, SimConfig, Simulation, SpeedMode};
 
 const G: f64 = 9.81;
 
@@ -17,13 +17,12 @@ fn samples(kind: SceneKind, amplitude: Amplitude, config: &SimConfig) -> Vec<Out
     out
 }
 
-fn col(rows: &[Outputs], name: &str) -> Vec<f64> {
-    let i = Outputs::index(name).unwrap();
-    rows.iter().map(|r| r.values[i]).collect()
+fn col(rows: &[Outputs], channel: Channel) -> Vec<f64> {
+    rows.iter().map(|r| r[channel]).collect()
 }
 
-fn mean_between(rows: &[Outputs], name: &str, t0: f64, t1: f64) -> f64 {
-    let (t, v) = (col(rows, "time"), col(rows, name));
+fn mean_between(rows: &[Outputs], channel: Channel, t0: f64, t1: f64) -> f64 {
+    let (t, v) = (col(rows, Channel::Time), col(rows, channel));
     let sel: Vec<f64> =
         t.iter().zip(&v).filter(|(t, _)| **t >= t0 - 1e-9 && **t <= t1 + 1e-9).map(|(_, v)| *v).collect();
     sel.iter().sum::<f64>() / sel.len() as f64
@@ -77,7 +76,7 @@ fn sine_steer_trace(integrator: IntegratorKind, h: f64) -> Vec<[f64; 4]> {
     for _ in 0..375 {
         sim.advance(0.008).unwrap();
         let o = sim.outputs().unwrap();
-        out.push(["yaw_rate", "vy", "roll_rate", "ay"].map(|c| o.get(c).unwrap()));
+        out.push([Channel::YawRate, Channel::Vy, Channel::RollRate, Channel::Ay].map(|c| o[c]));
     }
     out
 }
@@ -114,19 +113,19 @@ fn observed_orders_of_rk4_and_ab3() {
 #[test]
 fn jturn_steers_left_reaches_the_calibrated_steady_state_and_obeys_ay_equals_v_r() {
     let rows = samples(SceneKind::JTurn, Amplitude::Calibrated, &SimConfig::default());
-    let after = |name: &str| col(&rows, name)[500];
+    let after = |channel: Channel| col(&rows, channel)[500];
     // Steering sign (§9.8): u > 0 turns both front wheels left, yaw rate and a_y positive.
-    assert!(after("rack_displacement") > 0.0);
-    assert!(after("steer_fl") > 0.0 && after("steer_fr") > 0.0);
-    assert!(after("yaw_rate") > 0.0 && after("ay") > 0.0);
+    assert!(after(Channel::RackDisplacement) > 0.0);
+    assert!(after(Channel::SteerFl) > 0.0 && after(Channel::SteerFr) > 0.0);
+    assert!(after(Channel::YawRate) > 0.0 && after(Channel::Ay) > 0.0);
     // Steady cornering (§9.7): after 5 s, a_y = V_x r within 1 % (kinematics of steady circular motion
     // with a slowly varying side-slip).
     for k in 500..rows.len() {
-        let (ay, vx, r) = (col(&rows, "ay")[k], col(&rows, "vx")[k], col(&rows, "yaw_rate")[k]);
+        let (ay, vx, r) = (col(&rows, Channel::Ay)[k], col(&rows, Channel::Vx)[k], col(&rows, Channel::YawRate)[k]);
         assert!((ay - vx * r).abs() < 0.01 * ay, "t = {}: a_y {ay} vs V r {}", k as f64 * 0.01, vx * r);
     }
-    let ay = mean_between(&rows, "ay", 6.0, 8.0) / G;
-    let r = mean_between(&rows, "yaw_rate", 6.0, 8.0);
+    let ay = mean_between(&rows, Channel::Ay, 6.0, 8.0) / G;
+    let r = mean_between(&rows, Channel::YawRate, 6.0, 8.0);
     println!("J-turn (synthesis, RK4 2 ms): steady a_y = {ay:.4} g, yaw rate = {r:.4} rad/s");
     // The amplitude was calibrated at 0.1 ms with the conventional formulation; RK4 at 2 ms differs by
     // its truncation error (~1e-6 g), far inside the issue's ±0.005 g.
@@ -137,12 +136,12 @@ fn jturn_steers_left_reaches_the_calibrated_steady_state_and_obeys_ay_equals_v_r
 fn paper_amplitude_saturates_the_tires_in_coast() {
     let config = SimConfig::default().with_options(|o| o.speed_mode = SpeedMode::Coast);
     let rows = samples(SceneKind::JTurn, Amplitude::Paper, &config);
-    let t = col(&rows, "time");
-    let ay = col(&rows, "ay");
+    let t = col(&rows, Channel::Time);
+    let ay = col(&rows, Channel::Ay);
     let peak = t.iter().zip(&ay).filter(|(t, _)| **t >= 3.0).map(|(_, a)| *a / G).fold(0.0, f64::max);
     println!(
         "J-turn 8 mm coast: peak a_y over 3-8 s = {peak:.3} g, speed at 8 s = {:.1} km/h",
-        col(&rows, "vx").last().unwrap() * 3.6
+        col(&rows, Channel::Vx).last().unwrap() * 3.6
     );
     // The STI friction limit with these coefficients is ≈ 0.774 g (issue): the peak lies near it.
     assert!((0.72..=0.80).contains(&peak), "peak a_y {peak} g");
@@ -151,11 +150,11 @@ fn paper_amplitude_saturates_the_tires_in_coast() {
 #[test]
 fn bump_peaks_come_in_order_with_the_right_spacing() {
     let rows = samples(SceneKind::Bump, Amplitude::Calibrated, &SimConfig::default());
-    let t = col(&rows, "time");
+    let t = col(&rows, Channel::Time);
     let v = 10.0 / 3.6;
     let mut first_peaks = Vec::new();
-    for w in ["fl", "fr", "rl", "rr"] {
-        let z = col(&rows, &format!("wheel_z_{w}"));
+    for (w, wheel_z) in ["fl", "fr", "rl", "rr"].into_iter().zip(Channel::WHEEL_Z) {
+        let z = col(&rows, wheel_z);
         let dz: Vec<f64> = z.iter().map(|x| x - z[0]).collect();
         let peaks: Vec<(f64, f64)> = (1..dz.len() - 1)
             .filter(|&i| dz[i] > 0.02 && dz[i] > dz[i - 1] && dz[i] >= dz[i + 1])
@@ -177,7 +176,7 @@ fn bump_peaks_come_in_order_with_the_right_spacing() {
     assert!((first_peaks[2] - first_peaks[0] - wheelbase / v).abs() < 0.05);
     assert!((first_peaks[3] - first_peaks[1] - wheelbase / v).abs() < 0.05);
     // Roll rate changes sign between the left and right hits.
-    let p = col(&rows, "roll_rate");
+    let p = col(&rows, Channel::RollRate);
     let window: Vec<f64> = t
         .iter()
         .zip(&p)
@@ -259,8 +258,8 @@ fn the_imported_vehicles_turn_left_at_the_calibrated_lateral_acceleration() {
         let mut sim = scene.start(data.clone(), &SimConfig::default()).unwrap();
         let mut rows = Vec::new();
         run(&mut sim, scene.duration, 0.01, |o| rows.push(*o)).unwrap();
-        let ay = mean_between(&rows, "ay", 6.0, 8.0);
-        let yaw = mean_between(&rows, "yaw_rate", 6.0, 8.0);
+        let ay = mean_between(&rows, Channel::Ay, 6.0, 8.0);
+        let yaw = mean_between(&rows, Channel::YawRate, 6.0, 8.0);
         println!("{}: a_y {:.4} g, yaw rate {yaw:.4} rad/s", data.name, ay / G);
         // The calibration (conventional, 0.1 ms) and this run (synthesis, 2 ms) differ by the integration
         // error of RK4 at 2 ms, far below 0.5 % of a_y.
@@ -289,8 +288,9 @@ fn imex_ab3_runs_the_papers_frame_on_the_jturn_and_the_sine_within_1_percent() {
         println!("{kind:?} at 8.33 ms: {retaken:?} steps retaken in sub-steps");
         // The handling channels, each relative to its peak. The wheels' own fast states are damped, not
         // followed, through a transient (printed: κ and F_x).
-        for channel in ["ay", "yaw_rate", "roll_rate"] {
+        for channel in [Channel::Ay, Channel::YawRate, Channel::RollRate] {
             let (a, b) = (col(&run, channel), col(&reference, channel));
+            let channel = channel.name();
             let peak = b.iter().map(|v| v.abs()).fold(0.0, f64::max);
             let worst = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / peak;
             println!("{kind:?} at 8.33 ms: {channel} {worst:.2e} of peak");
@@ -347,7 +347,7 @@ fn a_long_advance_is_checked_as_often_as_short_ones() {
 #[test]
 fn with_refusals_off_an_unstable_step_runs_and_goes_unstable() {
     let scene = Scene::new(SceneKind::JTurn, Amplitude::Calibrated);
-    let yaw = Outputs::index("yaw_rate").unwrap();
+    let yaw = Channel::YawRate.index();
     let peak = |config: &SimConfig, refusals: bool| -> Result<f64, rt_vehicle::error::ModelError> {
         let mut sim = scene.start(VehicleData::default_hmmwv(), config)?;
         sim.set_step_refusals(refusals);

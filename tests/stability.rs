@@ -85,7 +85,7 @@ fn the_point_contact_bump_is_a_case() {
     };
     let point = on_the_course(ContactModel::Point).expect("the paper's bump course with the point contact");
     assert!(on_the_course(ContactModel::Envelope).is_some(), "and with the enveloping contact");
-    let names: Vec<&str> = point.channels.iter().map(|c| c.name).collect();
+    let names: Vec<&str> = point.channels.iter().map(|c| c.output.name()).collect();
     assert!(names.contains(&"yaw_rate") && names.contains(&"wheel_z_fl") && !names.contains(&"az"), "{names:?}");
     let report = evaluate(point, 2);
     assert!(report.judged(), "{:?}", report.reference);

@@ -69,20 +69,60 @@ fn fmu_parameters_act_on_the_run() {
 
 #[test]
 fn bad_requests_are_named_before_anything_runs() {
-    for (json, expected) in [
-        (serde_json::json!({"case": "slalom"}), "unknown case 'slalom'"),
-        (serde_json::json!({"case": "jturn", "metrics": ["peak:nothing"]}), "unknown metric 'peak:nothing'"),
-        (serde_json::json!({"case": "jturn", "parameters": {"no_such": 1}}), "unknown FMU parameter 'no_such'"),
-        (serde_json::json!({"case": "jturn", "parameters": {"road_friction": 7.0}}), "road_friction must be in"),
-        (serde_json::json!({"case": "jturn", "parameters": {"integrator": 9}}), "integrator 9 is not one of"),
-        (serde_json::json!({"case": "jturn", "parameters": {"integrator": 2.5}}), "is not one"),
-        (serde_json::json!({"case": "jturn", "parameters": {"initial_speed": 10}}), "give it as the input 'speed'"),
-        (serde_json::json!({"case": "jturn", "speed": 99.0}), "speed 99 m/s is outside"),
-        (serde_json::json!({"case": "jturn", "amplitude": 0.5}), "beyond the steering's limit"),
-        (serde_json::json!({"case": "fishhook", "amplitude": 0.001}), "amplitude applies to the scenes"),
-        (serde_json::json!({"case": "jturn", "parameters": {"vehicle_file": "/nonexistent.json"}}), "nonexistent"),
+    // Each refusal with the request field it names (a JSON Pointer; None: no one field's).
+    for (json, expected, field) in [
+        (serde_json::json!({"case": "slalom"}), "unknown case 'slalom'", Some("/case")),
+        (
+            serde_json::json!({"case": "jturn", "metrics": ["peak:ay", "peak:nothing"]}),
+            "unknown metric 'peak:nothing'",
+            Some("/metrics/1"),
+        ),
+        (serde_json::json!({"case": "jturn", "metrics": ["pass:nothing"]}), "unknown metric", Some("/metrics/0")),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"no_such": 1}}),
+            "unknown FMU parameter 'no_such'",
+            Some("/parameters/no_such"),
+        ),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"a/b~c": 1}}),
+            "unknown FMU parameter 'a/b~c'",
+            Some("/parameters/a~1b~0c"),
+        ),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"road_friction": 7.0}}),
+            "road_friction must be in",
+            Some("/parameters/road_friction"),
+        ),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"integrator": 9}}),
+            "integrator 9 is not one of",
+            Some("/parameters/integrator"),
+        ),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"integrator": 2.5}}),
+            "is not one",
+            Some("/parameters/integrator"),
+        ),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"initial_speed": 10}}),
+            "give it as the input 'speed'",
+            Some("/parameters/initial_speed"),
+        ),
+        (serde_json::json!({"case": "jturn", "speed": 99.0}), "speed 99 m/s is outside", Some("/speed")),
+        (serde_json::json!({"case": "jturn", "amplitude": 0.5}), "beyond the steering's limit", Some("/amplitude")),
+        (
+            serde_json::json!({"case": "fishhook", "amplitude": 0.001}),
+            "amplitude applies to the scenes",
+            Some("/amplitude"),
+        ),
+        (
+            serde_json::json!({"case": "jturn", "parameters": {"vehicle_file": "/nonexistent.json"}}),
+            "nonexistent",
+            None,
+        ),
     ] {
-        let error = check(&request(json.clone())).expect_err(&json.to_string()).to_string();
-        assert!(error.contains(expected), "{json}: {error}");
+        let error = check(&request(json.clone())).expect_err(&json.to_string());
+        assert!(error.to_string().contains(expected), "{json}: {error}");
+        assert_eq!(error.field.as_deref(), field, "{json}: {error}");
     }
 }

@@ -10,7 +10,7 @@
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
-use rt_vehicle::sim::{ContactModel, Outputs, SimConfig};
+use rt_vehicle::sim::{Channel, ContactModel, SimConfig};
 use rt_vehicle::studies::work_precision::{self as wp, Case, Point, Setting};
 
 fn case(name: &str, duration: f64) -> Case {
@@ -61,7 +61,7 @@ fn sine_trace(h: f64, end: f64) -> Vec<(f64, [f64; 3])> {
     let scene = Scene::new(SceneKind::Sine, Amplitude::Calibrated);
     let config = SimConfig { integrator: IntegratorKind::Rk4, internal_step: h, ..SimConfig::default() };
     let mut sim = scene.start(VehicleData::default_hmmwv(), &config).unwrap();
-    let columns = ["ay", "yaw_rate", "roll_rate"].map(|n| Outputs::index(n).unwrap());
+    let columns = [Channel::Ay, Channel::YawRate, Channel::RollRate].map(Channel::index);
     let mut rows = Vec::new();
     run(&mut sim, end, 0.012, |o| rows.push((o.values[0], columns.map(|c| o.values[c])))).unwrap();
     rows

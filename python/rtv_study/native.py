@@ -17,12 +17,15 @@ _library_path = None
 
 class NativeError(Exception):
     """A run the model refused or could not finish: `cause` is the model's cause (Input, Data,
-    StepSizeInstability, PhysicalEvent, …), the message says why."""
+    StepSizeInstability, PhysicalEvent, …), the message says why, and `field`, where the refusal is about one
+    field of the request, is that field's JSON Pointer (`/metrics/2`, `/parameters/road_friction`, `/case`),
+    else None."""
 
-    def __init__(self, cause, message):
+    def __init__(self, cause, message, field=None):
         super().__init__(message)
         self.cause = cause
         self.message = message
+        self.field = field
 
 
 def default_library_path():
@@ -62,7 +65,8 @@ def call(op, request=None, library=None):
         lib.rtv_study_free(answer)
     reply = json.loads(text)
     if "error" in reply:
-        raise NativeError(reply["error"]["cause"], reply["error"]["message"])
+        error = reply["error"]
+        raise NativeError(error["cause"], error["message"], error.get("field"))
     return reply["ok"]
 
 

@@ -465,7 +465,7 @@ def _check(study, lines, library):
                 with_files(task, lambda request: native.call("check", request, library))
             except native.NativeError as e:
                 if j is None:
-                    line = _line_of_message(lines, e.message, study)
+                    line = _line_of_field(lines, e.field, study)
                     raise StudyError(study.path, line, f"{vehicle.path.name}: {e.message}") from None
                 p = study.parameters[j]
                 what = {"input": "input", "fmu": "fmu", "vehicle": "vehicle"}[p.kind]
@@ -474,12 +474,12 @@ def _check(study, lines, library):
                                  f"parameter '{p.name}' = {values[j]!r} on {vehicle.path.name}: {e.message}") from None
 
 
-def _line_of_message(lines, message, study):
-    """The study line a refusal of the nominal run points at: a metric, an FMU parameter or the case."""
-    for m in study.metrics:
-        if f"'{m}'" in message:
-            return lines.key("metrics")
-    for key in study.fixed:
-        if key in message:
-            return lines.key(key, "fmu")
+def _line_of_field(lines, field, study):
+    """The study line a refusal of the nominal run points at, from the request field the model names
+    (native.NativeError.field, a JSON Pointer): a metric, an FMU parameter of [fmu], else the case."""
+    parts = [p.replace("~1", "/").replace("~0", "~") for p in (field or "").split("/")[1:]]
+    if parts[:1] == ["metrics"]:
+        return lines.key("metrics")
+    if parts[:1] == ["parameters"] and len(parts) == 2 and parts[1] in study.fixed:
+        return lines.key(parts[1], "fmu")
     return lines.key("case")

@@ -135,16 +135,8 @@ impl Default for Outputs {
     }
 }
 
-impl Outputs {
-    pub fn index(name: &str) -> Option<usize> {
-        OUTPUT_NAMES.iter().position(|n| *n == name)
-    }
-
-    pub fn get(&self, name: &str) -> Option<f64> {
-        Self::index(name).map(|i| self.values[i])
-    }
-}
-
+/// Outputs are read by `Channel`, never by a name (a name from outside, such as a study's metric, is parsed
+/// once by `Channel::from_name`, where it can be refused with its cause).
 impl std::ops::Index<Channel> for Outputs {
     type Output = f64;
 

@@ -2,7 +2,7 @@
 //! each starting from steady rolling at its speed, and a runner that samples the outputs. Each scene
 //! declares what it needs (`SceneNeeds`); `rtv scene` runs with that and leaves the rest out.
 
-use super::{outputs, Options, Outputs, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
+use super::{outputs, Channel, Options, Outputs, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
 use crate::error::{Cause, ModelError};
 use crate::model::params::VehicleData;
 use crate::model::tire::SlipModel;
@@ -84,7 +84,7 @@ pub struct SceneNeeds {
     pub slip: SlipModel,
     pub speed_mode: SpeedMode,
     /// The output channels its summary and its plot read (docs/physics.md §8.3, scripts/plot_scenes.py).
-    pub outputs: &'static [&'static str],
+    pub outputs: &'static [Channel],
     /// Whether the run watches the physical events (a wheel off the road, locked or spun up: `Events`),
     /// which are seen only by the output evaluation. The bump course can lift a wheel and torques can
     /// lock or spin one; on a level road with the rack alone the sine lifts none (tests/pruning.rs
@@ -117,12 +117,8 @@ impl SceneNeeds {
     /// Whether a run needs the model evaluated at its output points: for an output that is not read
     /// straight from the state, or to watch the events.
     pub fn evaluates_outputs(&self) -> bool {
-        self.events || self.outputs.iter().any(|name| !outputs::from_state(output_index(name)))
+        self.events || self.outputs.iter().any(|channel| !channel.from_state())
     }
-}
-
-fn output_index(name: &str) -> usize {
-    Outputs::index(name).unwrap_or_else(|| panic!("a scene reads '{name}', which is no output"))
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -178,7 +174,15 @@ impl Scene {
                 needs: SceneNeeds {
                     road: RoadChoice::PaperBumps,
                     // Figs. 9-10: wheel-centre travel, chassis vertical acceleration, roll rate.
-                    outputs: &["time", "wheel_z_fl", "wheel_z_fr", "wheel_z_rl", "wheel_z_rr", "az", "roll_rate"],
+                    outputs: &[
+                        Channel::Time,
+                        Channel::WheelZFl,
+                        Channel::WheelZFr,
+                        Channel::WheelZRl,
+                        Channel::WheelZRr,
+                        Channel::Az,
+                        Channel::RollRate,
+                    ],
                     events: true,
                     ..needs
                 },
@@ -191,7 +195,7 @@ impl Scene {
                 duration: 8.0,
                 // Figs. 11-12: lateral acceleration and yaw rate (a_y needs the evaluation anyway, so the
                 // events cost nothing more).
-                needs: SceneNeeds { outputs: &["time", "ay", "yaw_rate"], events: true, ..needs },
+                needs: SceneNeeds { outputs: &[Channel::Time, Channel::Ay, Channel::YawRate], events: true, ..needs },
                 default_vehicle_amplitude: false,
             },
             SceneKind::Sine => Scene {
@@ -205,7 +209,10 @@ impl Scene {
                 },
                 duration: 8.0,
                 // Figs. 13-15: roll rate, yaw rate and the trajectory, all straight from the state.
-                needs: SceneNeeds { outputs: &["time", "roll_rate", "yaw_rate", "x", "y"], ..needs },
+                needs: SceneNeeds {
+                    outputs: &[Channel::Time, Channel::RollRate, Channel::YawRate, Channel::X, Channel::Y],
+                    ..needs
+                },
                 default_vehicle_amplitude: false,
             },
         }
@@ -229,7 +236,7 @@ impl Scene {
     /// cost no evaluation). The others are left out too: a CSV value costs about 1.7 k instructions to
     /// format, a twenty-fourth of an evaluation (callgrind, docs/results.md).
     pub fn columns(&self, keep_all: bool) -> Vec<usize> {
-        let read = |i: usize| self.needs.outputs.contains(&super::OUTPUT_NAMES[i]);
+        let read = |i: usize| self.needs.outputs.contains(&Channel::ALL[i]);
         (0..super::CSV_COLUMNS).filter(|&i| keep_all || outputs::from_state(i) || read(i)).collect()
     }
 

@@ -14,7 +14,7 @@ use crate::model::params::VehicleData;
 use crate::model::tire::{ChronoPart, TireConvention};
 use crate::sim::inputs::RackProfile;
 use crate::sim::scenes::{run, Scene, SceneKind};
-use crate::sim::{Outputs, SimConfig};
+use crate::sim::{Channel, Outputs, SimConfig};
 use std::path::Path;
 
 /// The reference runs' speed, m/s (60 km/h), and the window of each mean, s.
@@ -41,83 +41,53 @@ pub const QUANTITIES: [Quantity; 22] = [
     Quantity {
         label: "yaw rate [deg/s]",
         chrono: "r_yaw_rate_degps",
-        value: |o| o.get("yaw_rate").unwrap() * DEG,
+        value: |o| o[Channel::YawRate] * DEG,
         absolute: false,
     },
-    Quantity { label: "a_y [m/s²]", chrono: "ay_mps2", value: |o| o.get("ay").unwrap(), absolute: false },
-    Quantity { label: "roll [deg]", chrono: "roll_deg", value: |o| o.get("roll").unwrap() * DEG, absolute: false },
+    Quantity { label: "a_y [m/s²]", chrono: "ay_mps2", value: |o| o[Channel::Ay], absolute: false },
+    Quantity { label: "roll [deg]", chrono: "roll_deg", value: |o| o[Channel::Roll] * DEG, absolute: false },
     Quantity {
         label: "sideslip β [deg]",
         chrono: "beta_deg",
-        value: |o| o.get("vy").unwrap().atan2(o.get("vx").unwrap()) * DEG,
+        value: |o| o[Channel::Vy].atan2(o[Channel::Vx]) * DEG,
         absolute: false,
     },
-    Quantity { label: "F_z FL [N]", chrono: "Fz_FL_N", value: |o| o.get("tire_fz_fl").unwrap(), absolute: false },
-    Quantity { label: "F_z FR [N]", chrono: "Fz_FR_N", value: |o| o.get("tire_fz_fr").unwrap(), absolute: false },
-    Quantity { label: "F_z RL [N]", chrono: "Fz_RL_N", value: |o| o.get("tire_fz_rl").unwrap(), absolute: false },
-    Quantity { label: "F_z RR [N]", chrono: "Fz_RR_N", value: |o| o.get("tire_fz_rr").unwrap(), absolute: false },
-    Quantity { label: "F_y FL [N]", chrono: "Fy_FL_N", value: |o| o.get("tire_fy_fl").unwrap(), absolute: false },
-    Quantity { label: "F_y FR [N]", chrono: "Fy_FR_N", value: |o| o.get("tire_fy_fr").unwrap(), absolute: false },
-    Quantity { label: "F_y RL [N]", chrono: "Fy_RL_N", value: |o| o.get("tire_fy_rl").unwrap(), absolute: false },
-    Quantity { label: "F_y RR [N]", chrono: "Fy_RR_N", value: |o| o.get("tire_fy_rr").unwrap(), absolute: false },
+    Quantity { label: "F_z FL [N]", chrono: "Fz_FL_N", value: |o| o[Channel::TireFzFl], absolute: false },
+    Quantity { label: "F_z FR [N]", chrono: "Fz_FR_N", value: |o| o[Channel::TireFzFr], absolute: false },
+    Quantity { label: "F_z RL [N]", chrono: "Fz_RL_N", value: |o| o[Channel::TireFzRl], absolute: false },
+    Quantity { label: "F_z RR [N]", chrono: "Fz_RR_N", value: |o| o[Channel::TireFzRr], absolute: false },
+    Quantity { label: "F_y FL [N]", chrono: "Fy_FL_N", value: |o| o[Channel::TireFyFl], absolute: false },
+    Quantity { label: "F_y FR [N]", chrono: "Fy_FR_N", value: |o| o[Channel::TireFyFr], absolute: false },
+    Quantity { label: "F_y RL [N]", chrono: "Fy_RL_N", value: |o| o[Channel::TireFyRl], absolute: false },
+    Quantity { label: "F_y RR [N]", chrono: "Fy_RR_N", value: |o| o[Channel::TireFyRr], absolute: false },
     // The model's α is Pacejka's adapted one (−α ISO); Chrono's column is ISO.
-    Quantity {
-        label: "α FL [deg]",
-        chrono: "alpha_FL_deg",
-        value: |o| -o.get("alpha_fl").unwrap() * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "α FR [deg]",
-        chrono: "alpha_FR_deg",
-        value: |o| -o.get("alpha_fr").unwrap() * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "α RL [deg]",
-        chrono: "alpha_RL_deg",
-        value: |o| -o.get("alpha_rl").unwrap() * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "α RR [deg]",
-        chrono: "alpha_RR_deg",
-        value: |o| -o.get("alpha_rr").unwrap() * DEG,
-        absolute: false,
-    },
+    Quantity { label: "α FL [deg]", chrono: "alpha_FL_deg", value: |o| -o[Channel::AlphaFl] * DEG, absolute: false },
+    Quantity { label: "α FR [deg]", chrono: "alpha_FR_deg", value: |o| -o[Channel::AlphaFr] * DEG, absolute: false },
+    Quantity { label: "α RL [deg]", chrono: "alpha_RL_deg", value: |o| -o[Channel::AlphaRl] * DEG, absolute: false },
+    Quantity { label: "α RR [deg]", chrono: "alpha_RR_deg", value: |o| -o[Channel::AlphaRr] * DEG, absolute: false },
     // The steady values themselves: Chrono's straight running is not straight (the generic car drifts).
     Quantity {
         label: "yaw rate, steady value [deg/s]",
         chrono: "r_yaw_rate_degps",
-        value: |o| o.get("yaw_rate").unwrap() * DEG,
+        value: |o| o[Channel::YawRate] * DEG,
         absolute: true,
     },
-    Quantity { label: "a_y, steady value [m/s²]", chrono: "ay_mps2", value: |o| o.get("ay").unwrap(), absolute: true },
+    Quantity { label: "a_y, steady value [m/s²]", chrono: "ay_mps2", value: |o| o[Channel::Ay], absolute: true },
     Quantity {
         label: "roll, steady value [deg]",
         chrono: "roll_deg",
-        value: |o| o.get("roll").unwrap() * DEG,
+        value: |o| o[Channel::Roll] * DEG,
         absolute: true,
     },
     Quantity {
         label: "sideslip β, steady value [deg]",
         chrono: "beta_deg",
-        value: |o| o.get("vy").unwrap().atan2(o.get("vx").unwrap()) * DEG,
+        value: |o| o[Channel::Vy].atan2(o[Channel::Vx]) * DEG,
         absolute: true,
     },
     // The steering's kinematics: the road-wheel angles.
-    Quantity {
-        label: "steer FL [deg]",
-        chrono: "steer_FL_deg",
-        value: |o| o.get("steer_fl").unwrap() * DEG,
-        absolute: false,
-    },
-    Quantity {
-        label: "steer FR [deg]",
-        chrono: "steer_FR_deg",
-        value: |o| o.get("steer_fr").unwrap() * DEG,
-        absolute: false,
-    },
+    Quantity { label: "steer FL [deg]", chrono: "steer_FL_deg", value: |o| o[Channel::SteerFl] * DEG, absolute: false },
+    Quantity { label: "steer FR [deg]", chrono: "steer_FR_deg", value: |o| o[Channel::SteerFr] * DEG, absolute: false },
 ];
 
 /// One car: where its reference runs and its Chrono vehicle file are (relative to the repository), and
@@ -217,7 +187,7 @@ pub fn simulate(data: &VehicleData, car: &Car, convention: TireConvention) -> Re
     let mut sim = scene.start(data, &SimConfig::default())?;
     let (mut t, mut samples) = (Vec::new(), Vec::new());
     run(&mut sim, END_S, 0.01, |o| {
-        t.push(o.get("time").unwrap());
+        t.push(o[Channel::Time]);
         samples.push(QUANTITIES.iter().map(|q| (q.value)(o)).collect::<Vec<f64>>());
     })?;
     Ok((0..QUANTITIES.len())

@@ -12,7 +12,7 @@
 
 use crate::error::ModelError;
 use crate::model::params::VehicleData;
-use crate::sim::{Outputs, RackProfile, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::sim::{Channel, Outputs, RackProfile, SimConfig, Simulation, SpeedMode};
 
 /// The manoeuvres.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,13 +86,8 @@ impl Cost {
 /// Output interval of the manoeuvre runs, s.
 pub const SAMPLE: f64 = 0.005;
 
-fn column(name: &str) -> usize {
-    OUTPUT_NAMES.iter().position(|n| *n == name).expect("an output")
-}
-
-fn series(rows: &[Outputs], name: &str) -> Vec<f64> {
-    let c = column(name);
-    rows.iter().map(|r| r.values[c]).collect()
+fn series(rows: &[Outputs], channel: Channel) -> Vec<f64> {
+    rows.iter().map(|r| r[channel]).collect()
 }
 
 /// The ground a manoeuvre is driven on and the run options it is driven with: the flat road unless a road
@@ -161,7 +156,7 @@ fn rack_for_ay(data: &VehicleData, ground: &Ground, speed: f64, ay: f64, cost: &
         3.0,
         cost,
     )?;
-    let tail = &series(&rows, "ay")[rows.len() - (1.0 / SAMPLE) as usize..];
+    let tail = &series(&rows, Channel::Ay)[rows.len() - (1.0 / SAMPLE) as usize..];
     let mean = tail.iter().sum::<f64>() / tail.len() as f64;
     Ok(a0 * ay / mean)
 }
@@ -274,13 +269,13 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
                 4.5,
                 &mut cost,
             )?;
-            let t = series(&rows, "time");
+            let t = series(&rows, Channel::Time);
             let t50 = start + 0.5 * ramp; // the smootherstep is half-way at half its ramp
             let mut metrics = Vec::new();
             for (channel, label_rt, label_peak, label_os) in [
-                ("yaw_rate", "yaw-rate response time", Some("yaw-rate peak response time"), "yaw-rate overshoot"),
+                (Channel::YawRate, "yaw-rate response time", Some("yaw-rate peak response time"), "yaw-rate overshoot"),
                 // a_y rises without a peak here: no peak response time (ISO 7401 defines it for a peak).
-                ("ay", "lateral-acceleration response time", None, "lateral-acceleration overshoot"),
+                (Channel::Ay, "lateral-acceleration response time", None, "lateral-acceleration overshoot"),
             ] {
                 let y = series(&rows, channel);
                 let steady = y[y.len() - (1.0 / SAMPLE) as usize..].iter().sum::<f64>() / (1.0 / SAMPLE);
@@ -292,7 +287,7 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
                     metrics.push(metric(label, t[k_peak] - t50, "s"));
                 }
                 metrics.push(metric(label_os, (peak / steady - 1.0) * 100.0, "%"));
-                if channel == "yaw_rate" {
+                if channel == Channel::YawRate {
                     metrics.push(metric("steady yaw rate", steady.to_degrees(), "deg/s"));
                 } else {
                     metrics.push(metric("steady lateral acceleration", steady, "m/s2"));
@@ -309,7 +304,7 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
             let (f, start, dwell) = (0.7, 0.5, 0.5);
             let profile = RackProfile::SineWithDwell { amplitude: a, frequency: f, start, dwell, blend: 0.02 };
             let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 5.0, &mut cost)?;
-            let (t, r, y) = (series(&rows, "time"), series(&rows, "yaw_rate"), series(&rows, "y"));
+            let (t, r, y) = (series(&rows, Channel::Time), series(&rows, Channel::YawRate), series(&rows, Channel::Y));
             let end = start + 1.0 / f + dwell; // completion of steer (COS)
                                                // The first peak of yaw rate opposite to the first steer (S7.9.1: the second peak, after the
                                                // counter-steer), and its value at COS + 1.0 s and + 1.75 s.
@@ -361,13 +356,14 @@ pub fn run_once(m: Manoeuvre, data: &VehicleData, speed: Option<f64>, ground: &G
             let profile =
                 RackProfile::TwoMoves { first: a, start: 0.5, ramp: 0.25, second: -a, counter: 1.0, counter_ramp: 0.5 };
             let rows = simulate(data, ground, v, SpeedMode::Coast, profile, 4.5, &mut cost)?;
-            let roll = series(&rows, "roll");
+            let roll = series(&rows, Channel::Roll);
             let r0 = data.tire.unloaded_radius_m;
-            let lift = |c: &str| -> Vec<f64> {
-                let (z, fz) = (series(&rows, &format!("wheel_z_{c}")), series(&rows, &format!("tire_fz_{c}")));
+            // Wheels in the order fl, fr, rl, rr.
+            let lift = |wheel: usize| -> Vec<f64> {
+                let (z, fz) = (series(&rows, Channel::WHEEL_Z[wheel]), series(&rows, Channel::TIRE_FORCE[2][wheel]));
                 z.iter().zip(&fz).map(|(z, f)| if *f <= 0.0 { z - r0 } else { 0.0 }).collect()
             };
-            let sides = [(lift("fl"), lift("rl")), (lift("fr"), lift("rr"))];
+            let sides = [(lift(0), lift(2)), (lift(1), lift(3))];
             let two_wheel = sides
                 .iter()
                 .map(|(f, r)| f.iter().zip(r).map(|(a, b)| a.min(*b)).fold(0.0, f64::max))
@@ -428,7 +424,7 @@ pub fn steady_state_circle(
         ramp + 1.0,
         cost,
     )?;
-    let (ay, fl, fr) = (series(&rows, "ay"), series(&rows, "steer_fl"), series(&rows, "steer_fr"));
+    let (ay, fl, fr) = (series(&rows, Channel::Ay), series(&rows, Channel::SteerFl), series(&rows, Channel::SteerFr));
     // Least squares over the linear range, 0.5–3 m/s² (ISO 4138 reports the gradient at low a_y).
     let points: Vec<(f64, f64)> = ay
         .iter()
@@ -494,28 +490,27 @@ fn double_lane_change(data: &VehicleData, ground: &Ground, v: f64) -> Result<Rep
     let mut clearance = [f64::INFINITY; 3];
     let mut rows = vec![first];
     let control = 0.01;
-    while rows.last().and_then(|o| o.get("x")).unwrap_or(end) < end && rows.len() < 3000 {
+    while rows.last().map_or(end, |o| o[Channel::X]) < end && rows.len() < 3000 {
         let o = rows.last().expect("a row");
-        let value = |name: &str| o.get(name).expect("an output");
         let motion = rtv_driver::Motion {
-            x: value("x"),
-            y: value("y"),
-            yaw: value("yaw"),
-            speed: value("vx"),
-            yaw_rate: value("yaw_rate"),
+            x: o[Channel::X],
+            y: o[Channel::Y],
+            yaw: o[Channel::Yaw],
+            speed: o[Channel::Vx],
+            yaw_rate: o[Channel::YawRate],
         };
         let rack = driver.rack(&path, &motion);
         sim.set_external_rack(crate::sim::RackSample { value: rack, first_derivative: None, second_derivative: None });
         sim.advance(control)?;
         let o = sim.outputs()?;
-        let (x, y, yaw) = (o.get("x").unwrap(), o.get("y").unwrap(), o.get("yaw").unwrap());
+        let (x, y, yaw) = (o[Channel::X], o[Channel::Y], o[Channel::Yaw]);
         let footprint =
             corners.map(|(cx, cy)| [x + cx * yaw.cos() - cy * yaw.sin(), y + cx * yaw.sin() + cy * yaw.cos()]);
         course.update_clearance(&footprint, &mut clearance);
         rows.push(o);
     }
     let pass = clearance.iter().all(|c| *c >= 0.0);
-    let peak = |name: &str| rows.iter().map(|r| r.get(name).unwrap().abs()).fold(0.0, f64::max);
+    let peak = |channel: Channel| rows.iter().map(|r| r[channel].abs()).fold(0.0, f64::max);
     let metrics = vec![
         Metric {
             criterion: Some(("inside every lane", pass)),
@@ -524,18 +519,18 @@ fn double_lane_change(data: &VehicleData, ground: &Ground, v: f64) -> Result<Rep
         metric("clearance in lane 1 (entry)", clearance[0], "m"),
         metric("clearance in lane 3 (side lane)", clearance[1], "m"),
         metric("clearance in lane 5 (exit)", clearance[2], "m"),
-        metric("exit speed", rows.last().and_then(|r| r.get("vx")).unwrap_or(f64::NAN) * 3.6, "km/h"),
-        metric("peak lateral acceleration", peak("ay") / data.gravity_m_s2, "g"),
+        metric("exit speed", rows.last().map_or(f64::NAN, |r| r[Channel::Vx]) * 3.6, "km/h"),
+        metric("peak lateral acceleration", peak(Channel::Ay) / data.gravity_m_s2, "g"),
         match data.steering_input() {
             crate::model::params::SteeringInput::RackDisplacement => {
-                metric("peak rack displacement", peak("rack_displacement") * 1e3, "mm")
+                metric("peak rack displacement", peak(Channel::RackDisplacement) * 1e3, "mm")
             }
             crate::model::params::SteeringInput::PitmanArmAngle => {
-                metric("peak Pitman-arm angle", peak("rack_displacement"), "rad")
+                metric("peak Pitman-arm angle", peak(Channel::RackDisplacement), "rad")
             }
         },
     ];
-    let amplitude = peak("rack_displacement");
+    let amplitude = peak(Channel::RackDisplacement);
     let mut cost = Cost::default();
     cost.add(&sim);
     Ok(Report { manoeuvre: Manoeuvre::DoubleLaneChange, cost, speed: v, amplitude, rows, metrics })

@@ -20,7 +20,7 @@ use crate::error::{Cause, ModelError};
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 use crate::sim::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
-use crate::sim::{ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode, OUTPUT_NAMES};
+use crate::sim::{Channel as Output, ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
 
 /// Largest error of an OK run, relative to each channel's excursion in the reference.
 pub const TOLERANCE: f64 = 1e-2;
@@ -69,41 +69,43 @@ pub fn rule() -> String {
 /// a channel that hardly moves in a case is judged against this floor, not against its noise).
 #[derive(Debug, Clone, Copy)]
 pub struct Channel {
-    pub name: &'static str,
+    pub output: Output,
     pub floor: f64,
 }
 
-const fn ch(name: &'static str, floor: f64) -> Channel {
-    Channel { name, floor }
+const fn ch(output: Output, floor: f64) -> Channel {
+    Channel { output, floor }
 }
 
 /// The road cases' channels; the paper's bump course is unsymmetric, so it yaws the car too (IMEX-AB3 at
 /// 2 ms was 1 % off in yaw rate there while the other channels were within 0.4 %).
 const RIDE: &[Channel] = &[
-    ch("roll_rate", 0.01),
-    ch("pitch_rate", 0.01),
-    ch("yaw_rate", 0.01),
-    ch("az", 0.1),
-    ch("wheel_z_fl", 0.001),
-    ch("wheel_z_fr", 0.001),
-    ch("wheel_z_rl", 0.001),
-    ch("wheel_z_rr", 0.001),
+    ch(Output::RollRate, 0.01),
+    ch(Output::PitchRate, 0.01),
+    ch(Output::YawRate, 0.01),
+    ch(Output::Az, 0.1),
+    ch(Output::WheelZFl, 0.001),
+    ch(Output::WheelZFr, 0.001),
+    ch(Output::WheelZRl, 0.001),
+    ch(Output::WheelZRr, 0.001),
 ];
 /// The paper's single-point contact on its bump course: a_z jumps at the C⁰ bump edges (the tire's damping
 /// force jumps with the road's slope there), so a sample at an edge compares the two sides of a jump
 /// whatever the run's accuracy: the rates and the wheel travel are compared, as in docs/work_precision.md.
 const RIDE_EDGES: &[Channel] = &[
-    ch("roll_rate", 0.01),
-    ch("pitch_rate", 0.01),
-    ch("yaw_rate", 0.01),
-    ch("wheel_z_fl", 0.001),
-    ch("wheel_z_fr", 0.001),
-    ch("wheel_z_rl", 0.001),
-    ch("wheel_z_rr", 0.001),
+    ch(Output::RollRate, 0.01),
+    ch(Output::PitchRate, 0.01),
+    ch(Output::YawRate, 0.01),
+    ch(Output::WheelZFl, 0.001),
+    ch(Output::WheelZFr, 0.001),
+    ch(Output::WheelZRl, 0.001),
+    ch(Output::WheelZRr, 0.001),
 ];
-const CREEP: &[Channel] = &[ch("x", 0.001), ch("vx", 0.01), ch("pitch", 0.001)];
-const HANDLING: &[Channel] = &[ch("ay", 0.1), ch("yaw_rate", 0.01), ch("roll_rate", 0.01), ch("vx", 0.1)];
-const BRAKING: &[Channel] = &[ch("x", 0.01), ch("vx", 0.1), ch("yaw_rate", 0.01), ch("pitch", 0.001)];
+const CREEP: &[Channel] = &[ch(Output::X, 0.001), ch(Output::Vx, 0.01), ch(Output::Pitch, 0.001)];
+const HANDLING: &[Channel] =
+    &[ch(Output::Ay, 0.1), ch(Output::YawRate, 0.01), ch(Output::RollRate, 0.01), ch(Output::Vx, 0.1)];
+const BRAKING: &[Channel] =
+    &[ch(Output::X, 0.01), ch(Output::Vx, 0.1), ch(Output::YawRate, 0.01), ch(Output::Pitch, 0.001)];
 
 /// One case of the suite.
 #[derive(Clone)]
@@ -440,11 +442,7 @@ pub fn run_case_sampled(case: &Case, integrator: IntegratorKind, h: f64, sample:
     let mut data = case.vehicle.clone();
     (case.data)(&mut data);
     let config = SimConfig { integrator, internal_step: h, ..case.config.clone() };
-    let columns: Vec<usize> = case
-        .channels
-        .iter()
-        .map(|c| OUTPUT_NAMES.iter().position(|n| *n == c.name).expect("a channel is an output"))
-        .collect();
+    let columns: Vec<usize> = case.channels.iter().map(|c| c.output.index()).collect();
     let mut samples = Vec::new();
     let mut sim = match Simulation::new(data, config) {
         Ok(s) => s,
@@ -509,7 +507,7 @@ pub fn channel_errors(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> 
         .map(|(c, channel)| {
             // A reference that failed before its first sample compares nothing (its case is not judged).
             let Some(first) = reference.first() else {
-                return ChannelError { name: channel.name, excursion: channel.floor, difference: 0.0, at: 0 };
+                return ChannelError { name: channel.output.name(), excursion: channel.floor, difference: 0.0, at: 0 };
             };
             let start = first[c];
             let excursion = reference.iter().map(|r| (r[c] - start).abs()).fold(0.0, f64::max).max(channel.floor);
@@ -519,7 +517,7 @@ pub fn channel_errors(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> 
                 .map(|(a, b)| (a[c] - b[c]).abs())
                 .enumerate()
                 .fold((0, 0.0), |m, (k, d)| if d > m.1 { (k, d) } else { m });
-            ChannelError { name: channel.name, excursion, difference, at }
+            ChannelError { name: channel.output.name(), excursion, difference, at }
         })
         .collect()
 }
@@ -882,7 +880,8 @@ pub fn markdown(reports: &[CaseReport], command: &str, timing: &str) -> String {
     md += "## Cases and channels\n\nEach case's channels, compared as the rule says (the floor of each channel's \
            excursion in brackets, in its unit).\n\n| case | group | channels |\n|---|---|---|\n";
     for r in reports {
-        let channels: Vec<String> = r.case.channels.iter().map(|c| format!("{} ({})", c.name, c.floor)).collect();
+        let channels: Vec<String> =
+            r.case.channels.iter().map(|c| format!("{} ({})", c.output.name(), c.floor)).collect();
         md += &format!("| {} | {} | {} |\n", r.case.name, r.case.group, channels.join(", "));
     }
     md += "\n";

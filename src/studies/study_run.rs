@@ -14,7 +14,7 @@ use crate::fmi::vehicle::VehicleModel;
 use crate::fmi::{FmuModel, ModelContext, ResourceLocation};
 use crate::model::params::{SteeringInput, VehicleData};
 use crate::sim::scenes::{Amplitude, Scene, SceneKind};
-use crate::sim::{Outputs, SimConfig, INITIAL_SPEED_MAX, INITIAL_SPEED_MIN, OUTPUT_NAMES};
+use crate::sim::{Channel, Outputs, SimConfig, INITIAL_SPEED_MAX, INITIAL_SPEED_MIN, OUTPUT_NAMES};
 use crate::studies::manoeuvres::{self, Cost, Ground, Manoeuvre};
 use fmi_layer::variables::VarType;
 use serde::{Deserialize, Serialize};
@@ -83,14 +83,82 @@ fn input(message: String) -> ModelError {
     ModelError::new(Cause::Input, message)
 }
 
+/// A request refused or a run that failed: the model's error, and the request field it is about where it is
+/// one field's (`field`, a JSON Pointer into the request, RFC 6901: `/case`, `/speed`, `/amplitude`,
+/// `/metrics/2`, `/parameters/road_friction`), so that a caller (the study runner: the study file's line)
+/// never has to read the message to know what was refused.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunError {
+    pub error: ModelError,
+    pub field: Option<String>,
+}
+
+impl RunError {
+    fn at(field: String, error: ModelError) -> RunError {
+        RunError { error, field: Some(field) }
+    }
+}
+
+impl From<ModelError> for RunError {
+    fn from(error: ModelError) -> RunError {
+        RunError { error, field: None }
+    }
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.error.fmt(f)
+    }
+}
+
+impl std::error::Error for RunError {}
+
+/// The JSON Pointer of a request's FMU parameter (RFC 6901 escapes `~` and `/` in the key).
+fn parameter_field(name: &str) -> String {
+    format!("/parameters/{}", name.replace('~', "~0").replace('/', "~1"))
+}
+
 /// How an output channel is summarised over a run's samples.
-const STATISTICS: [(&str, &str); 5] = [
-    ("peak", "largest |value|"),
-    ("max", "largest value"),
-    ("min", "smallest value"),
-    ("rms", "root mean square"),
-    ("final", "value at the end"),
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Statistic {
+    Peak,
+    Max,
+    Min,
+    Rms,
+    Final,
+}
+
+/// Each statistic, its name in a metric key and what it means.
+const STATISTICS: [(Statistic, &str, &str); 5] = [
+    (Statistic::Peak, "peak", "largest |value|"),
+    (Statistic::Max, "max", "largest value"),
+    (Statistic::Min, "min", "smallest value"),
+    (Statistic::Rms, "rms", "root mean square"),
+    (Statistic::Final, "final", "value at the end"),
 ];
+
+/// A metric asked for, parsed once from its key: the case's own (a manoeuvre's metric or pass flag, by its
+/// key) or a statistic of an output channel (`STAT:OUTPUT`).
+#[derive(Debug, Clone, PartialEq)]
+enum Asked {
+    Own,
+    Statistic(Statistic, Channel),
+}
+
+impl Asked {
+    /// `key` among the keys the case offers (`metric_keys`), else None.
+    fn parse(key: &str, offered: &[String]) -> Option<Asked> {
+        if !offered.iter().any(|k| k == key) {
+            return None;
+        }
+        if is_own_metric(key) {
+            return Some(Asked::Own);
+        }
+        let (stat, channel) = key.split_once(':')?;
+        let stat = STATISTICS.iter().find(|(_, name, _)| *name == stat)?.0;
+        Some(Asked::Statistic(stat, Channel::from_name(channel)?))
+    }
+}
 
 /// A metric's key: its name in lower case with every run of other characters one underscore
 /// ("smallest clearance to a lane edge" → `smallest_clearance_to_a_lane_edge`).
@@ -121,7 +189,7 @@ pub fn metric_keys(case: &str, steering: SteeringInput) -> Result<Vec<String>, M
             keys.push("passed".to_string());
         }
     }
-    for (stat, _) in STATISTICS {
+    for (_, stat, _) in STATISTICS {
         keys.extend(OUTPUT_NAMES.iter().map(|o| format!("{stat}:{o}")));
     }
     Ok(keys)
@@ -139,7 +207,7 @@ fn judged_metric(m: Manoeuvre, name: &str) -> bool {
 }
 
 /// The run's vehicle data and configuration, from its FMU parameters, as the FMU would build them.
-fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), ModelError> {
+fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), RunError> {
     let context = ModelContext {
         instance_name: "study".into(),
         resources: match &request.files_dir {
@@ -153,11 +221,15 @@ fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), ModelError>
         let var = VARIABLES
             .iter()
             .find(|v| v.name == name && v.causality == crate::fmi::variables::Causality::Parameter)
-            .ok_or_else(|| input(format!("unknown FMU parameter '{name}' (the model description's parameters)")))?;
+            .ok_or_else(|| {
+                let error = input(format!("unknown FMU parameter '{name}' (the model description's parameters)"));
+                RunError::at(parameter_field(name), error)
+            })?;
         if name == "initial_speed" {
-            return Err(input(
+            let error = input(
                 "the FMU parameter initial_speed is the case's entry speed here: give it as the input 'speed'".into(),
-            ));
+            );
+            return Err(RunError::at(parameter_field(name), error));
         }
         let set = match (var.ty, value) {
             (VarType::Real, Value::Number(n)) => model.set_real(var, n.as_f64().unwrap_or(f64::NAN)),
@@ -168,7 +240,7 @@ fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), ModelError>
             (VarType::String, Value::String(s)) => model.set_string(var, s),
             (ty, v) => Err(format!("{name} is a {ty:?} parameter; {v} is not one")),
         };
-        set.map_err(|e| input(format!("FMU parameter {name}: {e}")))?;
+        set.map_err(|e| RunError::at(parameter_field(name), input(format!("FMU parameter {name}: {e}"))))?;
     }
     let silent = Logger::silent();
     let data = model.vehicle_data(&context, &silent).map_err(|e| ModelError::new(Cause::Data, e))?;
@@ -178,44 +250,51 @@ fn prepare(request: &RunRequest) -> Result<(VehicleData, SimConfig), ModelError>
 
 /// Check a request without running it: the parameters, the vehicle data, the configuration, the speed, a
 /// scene's amplitude and the metrics. What a study checks at each parameter's ends before any run.
-pub fn check(request: &RunRequest) -> Result<(), ModelError> {
+pub fn check(request: &RunRequest) -> Result<(), RunError> {
     checked(request).map(|_| ())
 }
 
-/// `check`, handing on what it built: the case, the vehicle data and the configuration (a run uses them, so
-/// the vehicle file is read and validated once per run).
-fn checked(request: &RunRequest) -> Result<(Case, VehicleData, SimConfig), ModelError> {
-    let case = Case::parse(&request.case)?;
+/// `check`, handing on what it built: the case, the vehicle data, the configuration (a run uses them, so
+/// the vehicle file is read and validated once per run) and the metrics asked for, parsed.
+fn checked(request: &RunRequest) -> Result<(Case, VehicleData, SimConfig, Vec<Asked>), RunError> {
+    let case = Case::parse(&request.case).map_err(|e| RunError::at("/case".into(), e))?;
     let (data, config) = prepare(request)?;
     config.validate()?;
     if let Some(v) = request.speed {
         if !(v > INITIAL_SPEED_MIN && v <= INITIAL_SPEED_MAX) {
-            return Err(input(format!("speed {v} m/s is outside ({INITIAL_SPEED_MIN}, {INITIAL_SPEED_MAX}] m/s")));
+            let error = input(format!("speed {v} m/s is outside ({INITIAL_SPEED_MIN}, {INITIAL_SPEED_MAX}] m/s"));
+            return Err(RunError::at("/speed".into(), error));
         }
     }
     match (case, request.amplitude) {
         (Case::Manoeuvre(m), Some(_)) => {
-            return Err(input(format!(
+            let error = input(format!(
                 "the {} manoeuvre sets its steering amplitude from the vehicle, as its standard says: amplitude \
                  applies to the scenes",
                 m.name()
-            )))
+            ));
+            return Err(RunError::at("/amplitude".into(), error));
         }
-        (Case::Scene(kind), Some(a)) => Scene::with_amplitude(kind, a).check_rack(data.steering_limit())?,
+        (Case::Scene(kind), Some(a)) => Scene::with_amplitude(kind, a)
+            .check_rack(data.steering_limit())
+            .map_err(|e| RunError::at("/amplitude".into(), e))?,
         _ => {}
     }
     let keys = metric_keys(&request.case, data.steering_input())?;
-    for asked in &request.metrics {
-        if !keys.contains(asked) {
+    let mut metrics = Vec::with_capacity(request.metrics.len());
+    for (i, asked) in request.metrics.iter().enumerate() {
+        let Some(metric) = Asked::parse(asked, &keys) else {
             let own: Vec<&String> = keys.iter().filter(|k| is_own_metric(k)).collect();
-            return Err(input(format!(
+            let error = input(format!(
                 "unknown metric '{asked}' for {}: its own are {:?}; any output by peak:, max:, min:, rms: or final: \
                  and its name",
                 request.case, own
-            )));
-        }
+            ));
+            return Err(RunError::at(format!("/metrics/{i}"), error));
+        };
+        metrics.push(metric);
     }
-    Ok((case, data, config))
+    Ok((case, data, config, metrics))
 }
 
 /// Whether a metric key is the case's own (a manoeuvre's metric or pass flag), not a statistic of an output.
@@ -224,8 +303,8 @@ fn is_own_metric(key: &str) -> bool {
 }
 
 /// Run a request: check it, run the case, compute the metrics asked for.
-pub fn run(request: &RunRequest) -> Result<RunResult, ModelError> {
-    let (case, data, config) = checked(request)?;
+pub fn run(request: &RunRequest) -> Result<RunResult, RunError> {
+    let (case, data, config, asked) = checked(request)?;
     let mut metrics = BTreeMap::new();
     let (rows, cost) = match case {
         Case::Manoeuvre(m) => {
@@ -263,8 +342,8 @@ pub fn run(request: &RunRequest) -> Result<RunResult, ModelError> {
             (rows, cost)
         }
     };
-    for key in &request.metrics {
-        if let Some((stat, channel)) = key.split_once(':').filter(|(s, _)| *s != "pass") {
+    for (key, metric) in request.metrics.iter().zip(&asked) {
+        if let Asked::Statistic(stat, channel) = *metric {
             metrics.insert(key.clone(), number(statistic(stat, channel, &rows)));
         }
     }
@@ -277,16 +356,14 @@ fn number(x: f64) -> Value {
     serde_json::Number::from_f64(x).map(Value::Number).unwrap_or(Value::Null)
 }
 
-fn statistic(stat: &str, channel: &str, rows: &[Outputs]) -> f64 {
-    let c = Outputs::index(channel).expect("checked: an output");
-    let values = rows.iter().map(|r| r.values[c]);
+fn statistic(stat: Statistic, channel: Channel, rows: &[Outputs]) -> f64 {
+    let values = rows.iter().map(|r| r[channel]);
     match stat {
-        "peak" => values.map(f64::abs).fold(0.0, f64::max),
-        "max" => values.fold(f64::NEG_INFINITY, f64::max),
-        "min" => values.fold(f64::INFINITY, f64::min),
-        "rms" => (values.map(|v| v * v).sum::<f64>() / rows.len() as f64).sqrt(),
-        "final" => values.last().unwrap_or(f64::NAN),
-        _ => unreachable!("checked: a statistic"),
+        Statistic::Peak => values.map(f64::abs).fold(0.0, f64::max),
+        Statistic::Max => values.fold(f64::NEG_INFINITY, f64::max),
+        Statistic::Min => values.fold(f64::INFINITY, f64::min),
+        Statistic::Rms => (values.map(|v| v * v).sum::<f64>() / rows.len() as f64).sqrt(),
+        Statistic::Final => values.last().unwrap_or(f64::NAN),
     }
 }
 
@@ -317,7 +394,7 @@ pub fn describe() -> Value {
     serde_json::json!({
         "cases": cases,
         "metrics": metrics,
-        "statistics": STATISTICS.iter().map(|(s, what)| serde_json::json!({"name": s, "meaning": what})).collect::<Vec<_>>(),
+        "statistics": STATISTICS.iter().map(|(_, s, what)| serde_json::json!({"name": s, "meaning": what})).collect::<Vec<_>>(),
         "outputs": OUTPUT_NAMES.to_vec(),
         "parameters": parameters,
         "speed_range": [INITIAL_SPEED_MIN, INITIAL_SPEED_MAX],

@@ -11,11 +11,11 @@
 //! stepping rule) or of the communication interval (error control), and its outputs are compared with the
 //! reference at the times of the `GRID` it lands on (every 10 ms to every 40 ms, depending on the step).
 
-use crate::error::{Cause, ModelError};
+use crate::error::ModelError;
 use crate::integrate::IntegratorKind;
 use crate::model::params::VehicleData;
 use crate::sim::scenes::{Amplitude, Scene, SceneKind};
-use crate::sim::{Outputs, SimConfig, Simulation};
+use crate::sim::{Channel as Output, SimConfig, Simulation};
 
 /// The comparison grid, s: outputs are compared at the multiples of it that a run lands on.
 pub const GRID: f64 = 0.01;
@@ -48,15 +48,15 @@ pub enum Norm {
 /// One compared output.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Channel {
-    pub name: &'static str,
+    pub output: Output,
     pub norm: Norm,
 }
 
 /// The tolerance's channels (docs/integrators.md, "Error control").
 pub const TOLERANCE_CHANNELS: [Channel; 3] = [
-    Channel { name: "ay", norm: Norm::Peak },
-    Channel { name: "yaw_rate", norm: Norm::Peak },
-    Channel { name: "roll_rate", norm: Norm::Peak },
+    Channel { output: Output::Ay, norm: Norm::Peak },
+    Channel { output: Output::YawRate, norm: Norm::Peak },
+    Channel { output: Output::RollRate, norm: Norm::Peak },
 ];
 
 /// One case of the study: a scene with its options and the channels compared.
@@ -81,12 +81,12 @@ pub fn cases() -> Vec<Case> {
 /// The cases on `vehicle` (its calibrated amplitude: `Scene::for_vehicle`).
 pub fn cases_for(vehicle: &VehicleData) -> Result<Vec<Case>, ModelError> {
     let wheels = [
-        Channel { name: "roll_rate", norm: Norm::Peak },
-        Channel { name: "yaw_rate", norm: Norm::Peak },
-        Channel { name: "wheel_z_fl", norm: Norm::Excursion },
-        Channel { name: "wheel_z_fr", norm: Norm::Excursion },
-        Channel { name: "wheel_z_rl", norm: Norm::Excursion },
-        Channel { name: "wheel_z_rr", norm: Norm::Excursion },
+        Channel { output: Output::RollRate, norm: Norm::Peak },
+        Channel { output: Output::YawRate, norm: Norm::Peak },
+        Channel { output: Output::WheelZFl, norm: Norm::Excursion },
+        Channel { output: Output::WheelZFr, norm: Norm::Excursion },
+        Channel { output: Output::WheelZRl, norm: Norm::Excursion },
+        Channel { output: Output::WheelZRr, norm: Norm::Excursion },
     ];
     let amplitude = crate::sim::calibration::resolve(Amplitude::Calibrated, vehicle)?;
     let scene = |kind| Scene::with_amplitude(kind, amplitude);
@@ -168,11 +168,7 @@ pub fn simulate(case: &Case, config: &SimConfig, interval: f64) -> Result<Trace,
     // The cost measured is the integration's by itself, as if nobody read the compared outputs: no stage
     // taken from an output evaluation (sim::FirstStage), whose own cost is counted out below.
     sim.set_stage_reuse(false);
-    let columns: Vec<usize> = case
-        .channels
-        .iter()
-        .map(|c| Outputs::index(c.name).ok_or_else(|| ModelError::new(Cause::Input, format!("no output {}", c.name))))
-        .collect::<Result<_, _>>()?;
+    let columns: Vec<usize> = case.channels.iter().map(|c| c.output.index()).collect();
     let mut trace = Trace::default();
     // Read the channels at a grid point; returns the evaluations the reads took (counted out of the
     // integration's).
@@ -395,7 +391,7 @@ pub fn largest_stable_step(
             return false;
         };
         sim.set_step_refusals(refusals);
-        let columns: Vec<usize> = case.channels.iter().filter_map(|c| Outputs::index(c.name)).collect();
+        let columns: Vec<usize> = case.channels.iter().map(|c| c.output.index()).collect();
         let n = (case.scene.duration / h).ceil() as usize;
         for _ in 0..n {
             if sim.advance(h).is_err() {
@@ -727,7 +723,7 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64, machine: &str) -> String
         w(format!(
             "{}. Channels: {}.\n",
             r.case.note,
-            r.case.channels.iter().map(|c| c.name).collect::<Vec<_>>().join(", ")
+            r.case.channels.iter().map(|c| c.output.name()).collect::<Vec<_>>().join(", ")
         ));
         w(format!(
             "Reference check: against DOPRI5 at {REFERENCE_CHECK_TOLERANCE:e}: {:.2e}; against RK4 at 0.5 ms: {:.2e}; \
@@ -747,7 +743,7 @@ pub fn markdown(results: &[CaseResult], total_cpu: f64, machine: &str) -> String
                 if ords.is_empty() { "–".into() } else { ords.join(", ") }
             ));
         }
-        let header: Vec<&str> = r.case.channels.iter().map(|c| c.name).collect();
+        let header: Vec<&str> = r.case.channels.iter().map(|c| c.output.name()).collect();
         w(format!("| setting | error | {} | evaluations | CPU ms | steps accepted / rejected |", header.join(" | ")));
         w(format!("|---|---|{}---|---|---|", "---|".repeat(header.len())));
         for p in &r.points {

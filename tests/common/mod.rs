@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::{SimConfig, Simulation, OUTPUT_NAMES};
+use rt_vehicle::sim::{Channel, SimConfig, Simulation};
 use std::path::PathBuf;
 
 /// `data/chrono` (Project Chrono's data, shipped with its licence), or the folder `RTV_CHRONO_DATA` names.
@@ -33,17 +33,12 @@ pub fn chrono_tir_files() -> Vec<PathBuf> {
     out
 }
 
-/// The index of an output channel.
-pub fn column(name: &str) -> usize {
-    OUTPUT_NAMES.iter().position(|n| *n == name).unwrap()
-}
-
 /// Time, chassis x, v_x and the front-left relative wheel spin every 2 ms of a run with constant brake
 /// torques.
 pub fn braked_trace(data: VehicleData, config: SimConfig, brake: [f64; 4], end: f64) -> Vec<[f64; 4]> {
     let mut sim = Simulation::new(data, config).unwrap();
     sim.set_wheel_torques([0.0; 4], brake);
-    let (x, vx, spin) = (column("x"), column("vx"), column("wheel_spin_fl"));
+    let (x, vx, spin) = (Channel::X.index(), Channel::Vx.index(), Channel::WheelSpinFl.index());
     let mut rows = Vec::new();
     for _ in 0..(end / 0.002).round() as usize {
         sim.advance(0.002).unwrap();

@@ -147,6 +147,9 @@ BAD = [
      .replace("levels = 3\n", ""), 6, "empty design"),
     ("unknown metric", SMALL.replace('"peak:roll"', '"peak:nothing"'), 2, "unknown metric 'peak:nothing'"),
     ("unknown FMU parameter", SMALL + '\n[fmu]\nno_such = 1\n', 19, "unknown FMU parameter 'no_such'"),
+    # Refused by the model, which names the request field (NativeError.field): the key's own line in [fmu].
+    ("FMU parameter refused by the model", SMALL + '\n[fmu]\nroad = 1\nroad_friction = 7.0\n', 20,
+     "road_friction must be in"),
     ("syntax error", SMALL.replace("levels = 3", "levels = = 3"), 10, "TOML syntax"),
     ("bad scheduler address", 'scheduler = "localhost"\n' + SMALL, 1, "scheduler must be an address"),
 ]
@@ -160,6 +163,19 @@ def test_bad_input_is_refused_with_its_line_before_any_run(tmp_path, what, text,
     assert e.value.line == line, str(e.value)
     assert words in str(e.value) and str(e.value).startswith(f"{path}:{line}: "), str(e.value)
     assert not (tmp_path / "study").exists()  # nothing ran
+
+
+def test_a_refusal_names_the_request_field_it_is_about():
+    """The study file's line comes from the field the model names, never from the message's words."""
+    for request, field in [
+        ({"case": "jturn", "metrics": ["peak:ay", "peak:nothing"]}, "/metrics/1"),
+        ({"case": "jturn", "parameters": {"road_friction": 7.0}}, "/parameters/road_friction"),
+        ({"case": "slalom"}, "/case"),
+        ({"case": "jturn", "speed": 99.0}, "/speed"),
+    ]:
+        with pytest.raises(native.NativeError) as e:
+            native.call("check", request)
+        assert (e.value.cause, e.value.field) == ("Input", field), e.value.message
 
 
 def test_a_scheduler_that_does_not_answer_is_said_within_seconds(tmp_path):

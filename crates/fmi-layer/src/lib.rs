@@ -28,4 +28,8 @@ pub use fmi_sys;
 pub use model::{FmuModel, Interface, ModelContext, ResourceLocation, StepFailure};
 
 #[cfg(test)]
+mod spring_tests;
+#[cfg(any(test, feature = "test-support"))]
+pub mod testing;
+#[cfg(test)]
 mod tests;

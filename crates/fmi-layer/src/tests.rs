@@ -22,8 +22,9 @@ enum V {
     EventIndicator(usize),
 }
 
+/// A variable of a hand-written description, as `codegen` writes one (`initial` from its causality and start).
 #[allow(clippy::too_many_arguments)]
-const fn var(
+pub(crate) const fn var<K: Copy>(
     index: usize,
     name: &'static str,
     vr: u32,
@@ -31,8 +32,8 @@ const fn var(
     variability: Variability,
     ty: VarType,
     start: Option<Start>,
-    var: V,
-) -> Variable<V> {
+    var: K,
+) -> Variable<K> {
     let initial = match (causality, start) {
         (Causality::Input, _) => Initial::None,
         (_, Some(_)) => Initial::Exact,

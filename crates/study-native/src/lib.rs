@@ -3,8 +3,10 @@
 //!
 //! `rtv_study_call(request)` takes `{"op": "run" | "check" | "describe", "request": {...}}` (the request is
 //! `rt_vehicle::studies::study_run::RunRequest`) and returns a string the caller frees with
-//! `rtv_study_free`: `{"ok": ...}` or `{"error": {"cause": ..., "message": ...}}`. No panic crosses the C
-//! boundary: one becomes an error answer naming it.
+//! `rtv_study_free`: `{"ok": ...}` or `{"error": {"cause": ..., "message": ..., "field": ...}}`, where
+//! `field`, present when the refusal is about one field of the request, is its JSON Pointer (`/metrics/2`,
+//! `/parameters/road_friction`: `study_run::RunError`). No panic crosses the C boundary: one becomes an error
+//! answer naming it.
 
 use rt_vehicle::studies::study_run::{self, RunRequest};
 use serde_json::{json, Value};
@@ -31,7 +33,13 @@ fn answer(request: &[u8]) -> Value {
     };
     match result {
         Ok(v) => json!({"ok": v}),
-        Err(e) => json!({"error": {"cause": format!("{:?}", e.cause()), "message": e.to_string()}}),
+        Err(e) => {
+            let mut error = json!({"cause": format!("{:?}", e.error.cause()), "message": e.to_string()});
+            if let Some(field) = e.field {
+                error["field"] = Value::from(field);
+            }
+            json!({ "error": error })
+        }
     }
 }
 
