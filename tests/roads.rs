@@ -318,7 +318,10 @@ fn the_default_contact_drives_over_a_small_obstacle_and_the_point_contact_refusa
     assert!(!err.contains("taller than the tire envelops"), "{err}");
     // 25 s at 20 km/h is 139 m: the front wheels leave the 100 m file at its end.
     let (ok, err) = rtv(&["scene", "bump", "--road", road, "--initial-speed", "5.5556", "--end", "25", "--out", out]);
-    assert!(!ok && err.contains("wheel fl left the road: at x = ") && err.contains("(u = 100.00 m, v = 0.91 m)"), "{err}");
+    assert!(
+        !ok && err.contains("wheel fl left the road: at x = ") && err.contains("(u = 100.00 m, v = 0.91 m)"),
+        "{err}"
+    );
     assert!(err.contains("whose extent is u 0..100 m, v -3..3 m"), "{err}");
     let _ = std::fs::remove_file(out);
 }

@@ -768,7 +768,7 @@ mod tests {
     use super::*;
 
     /// Three cross sections 1 m apart, long sections at v = −1, 0, 1 m: a 0.1 m ridge along u = 1 m.
-    const SMALL: &[u8] = b"$ROAD_CRG
+    pub(super) const SMALL: &[u8] = b"$ROAD_CRG
 REFERENCE_LINE_INCREMENT = 1.0
 LONG_SECTION_V_RIGHT = -1.0
 LONG_SECTION_V_INCREMENT = 1.0
@@ -802,7 +802,9 @@ $$$$
         assert!(off.contains("x = 20.00 m") && off.contains("u = 15.00 m") && off.contains("u 0..2 m"), "{off}");
         assert!(p.off_road(6.0, 0.5).is_none() && p.off_road(6.0, 1.2).unwrap().contains("v = 1.20 m"));
         // Border modes the file declares: keep along u continues the edge; v still has none.
-        let kept = String::from_utf8(SMALL.to_vec()).unwrap().replace("$KD_Definition", "$ROAD_CRG_OPTS\nBORDER_MODE_U = 2\n$\n$KD_Definition");
+        let kept = String::from_utf8(SMALL.to_vec())
+            .unwrap()
+            .replace("$KD_Definition", "$ROAD_CRG_OPTS\nBORDER_MODE_U = 2\n$\n$KD_Definition");
         let p = PlacedSurface::new(Arc::new(Surface::from_bytes("kept.crg", kept.as_bytes()).unwrap()), [5.0, 0.0]);
         assert_eq!(p.height_and_gradient(20.0, 0.0).0, 0.0);
         assert!(p.off_road(20.0, 0.0).is_none() && p.off_road(20.0, 1.2).is_some());
@@ -929,6 +931,40 @@ mod closed_tests {
         let off = p.off_road(30.0, 0.0).unwrap();
         assert!(off.contains("x = 30.00 m") && off.contains("v = -8.26 m") && off.contains("314.00 m a lap"), "{off}");
         assert!(p.height_and_gradient(30.0, 0.0).0.is_nan());
+    }
+
+    /// `$ROAD_CRG_FILE` includes are read relative to the including file's folder, checked as the including
+    /// file is; the including file's options apply (here a border mode). A missing or damaged include is
+    /// refused naming it.
+    #[test]
+    fn includes_are_read_relative_to_the_including_file() {
+        let dir = std::env::temp_dir().join(format!("rtv_crg_include_{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("data")).unwrap();
+        std::fs::write(dir.join("data/small.crg"), super::tests::SMALL).unwrap();
+        let wrapper = "$ROAD_CRG_FILE\ndata/small.crg\n$\n$ROAD_CRG_OPTS\nBORDER_MODE_U = 2\n$\n";
+        std::fs::write(dir.join("road.crg"), wrapper).unwrap();
+        let direct =
+            PlacedSurface::new(Arc::new(Surface::from_bytes("small.crg", super::tests::SMALL).unwrap()), [0.0; 2]);
+        let included = PlacedSurface::new(load(&dir.join("road.crg")).unwrap(), [0.0; 2]);
+        for (x, y) in [(0.5, 0.3), (1.0, -0.9), (1.7, 0.0)] {
+            assert_eq!(included.height_and_gradient(x, y), direct.height_and_gradient(x, y), "({x}, {y})");
+        }
+        // The wrapper's border mode: u continues (keep), the file alone has none.
+        assert!(included.off_road(5.0, 0.0).is_none() && direct.off_road(5.0, 0.0).is_some());
+        // Not from bytes (no folder), a missing include, a damaged one: named.
+        let e = Surface::from_bytes("road.crg", wrapper.as_bytes()).unwrap_err();
+        assert!(e.contains("road.crg") && e.contains("folder"), "{e}");
+        std::fs::write(dir.join("missing.crg"), "$ROAD_CRG_FILE\ndata/none.crg\n$\n").unwrap();
+        let e = load(&dir.join("missing.crg")).unwrap_err();
+        assert!(e.contains("none.crg"), "{e}");
+        let damaged = String::from_utf8(super::tests::SMALL.to_vec())
+            .unwrap()
+            .replace(" 0.1000000 0.1000000", " 0.1000000 abcdefghi");
+        std::fs::write(dir.join("data/damaged.crg"), damaged).unwrap();
+        std::fs::write(dir.join("damaged.crg"), "$ROAD_CRG_FILE\ndata/damaged.crg\n$\n").unwrap();
+        let e = load(&dir.join("damaged.crg")).unwrap_err();
+        assert!(e.contains("data/damaged.crg") && e.contains("not a number"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     /// A track that asks for the closed continuation and does not close is refused by name.

@@ -554,7 +554,10 @@ impl MapRoad {
             Some((left, right)) => format!("t {right:.2}..{left:.2} m at s = {:.2} m", s.clamp(0.0, self.length)),
             None => "no lanes".to_string(),
         };
-        Some(format!("(s = {s:.2} m, t = {t:.2} m) it is beyond the road, whose extent is s 0..{:.2} m and {lanes}", self.length))
+        Some(format!(
+            "(s = {s:.2} m, t = {t:.2} m) it is beyond the road, whose extent is s 0..{:.2} m and {lanes}",
+            self.length
+        ))
     }
 
     fn from_records(r: RoadRecords, crg: Vec<AttachedCrg>) -> Result<MapRoad, String> {

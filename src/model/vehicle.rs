@@ -788,8 +788,7 @@ impl Vehicle {
                 // contact's geometry, not the obstacle's height, and the enveloping contact follows it.
                 let (h, [hx, hy]) = road.height_and_gradient(centre_abs.x, centre_abs.y);
                 let below = self.tire.unloaded_radius_m - (centre_abs.z - h);
-                if matches!(road, RoadView::Point(_))
-                    && below <= tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m
+                if matches!(road, RoadView::Point(_)) && below <= tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m
                 {
                     return Err(ModelError::new(
                         Cause::ModelValidity,

@@ -1819,7 +1819,9 @@ impl Simulation {
                 ),
             ))
         };
-        if matches!(self.road, RoadModel::Bumps(_)) && self.config.options.contact.resolve(&self.road) == ContactModel::Point {
+        if matches!(self.road, RoadModel::Bumps(_))
+            && self.config.options.contact.resolve(&self.road) == ContactModel::Point
+        {
             return refuse(
                 "the paper's bumps under the single-point contact have C⁰ edges, where the tire's damping \
                            force jumps,"
