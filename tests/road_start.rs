@@ -157,12 +157,20 @@ fn the_jturn_and_the_bump_run_on_roads_that_start_on_a_grade_a_bank_or_above_zer
         }
     }
     // A road that is no plane under the car: curved (radius 100 m), its grade and bank changing along it.
+    // The scenes drive straight on, to the outside of the curve: its right lane is 80 m wide, so that they
+    // stay on the road (leaving it is an error, docs/roads.md "The road's edge").
     let twisted = dir.join("twisted.xodr");
     let text = xodr(0.05, 0.1)
+        .replace(
+            r#"<lane id="-1" type="driving" level="false"><width sOffset="0.0" a="10.0""#,
+            r#"<lane id="-1" type="driving" level="false"><width sOffset="0.0" a="80.0""#,
+        )
         .replace(r#"b="0.05" c="0.0""#, r#"b="0.05" c="0.001""#)
         .replace(r#"a="0.1" b="0.0""#, r#"a="0.1" b="0.002""#)
         .replace("<line/>", r#"<arc curvature="0.01"/>"#);
-    assert!(text.contains(r#"c="0.001""#) && text.contains(r#"b="0.002""#) && text.contains("arc"));
+    assert!(
+        text.contains(r#"c="0.001""#) && text.contains(r#"b="0.002""#) && text.contains("arc") && text.contains("80.0")
+    );
     std::fs::write(&twisted, text).unwrap();
     for scene in ["jturn", "bump"] {
         runs.push(["scene", scene, "--road", twisted.to_str().unwrap(), "--end", "4"].map(String::from).to_vec());

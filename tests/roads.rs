@@ -19,7 +19,7 @@ fn every_shipped_crg_file_loads_with_finite_heights_inside_its_extent() {
     let mut files: Vec<PathBuf> = std::fs::read_dir(crg_dir()).unwrap().flatten().map(|e| e.path()).collect();
     files.retain(|p| p.extension().is_some_and(|x| x == "crg"));
     files.sort();
-    assert_eq!(files.len(), 21, "{files:?}");
+    assert_eq!(files.len(), 22, "{files:?}"); // Chrono's 21 and its 50 m circle (issue 35)
     for path in files {
         let s = surface_for(path.to_str().unwrap()).unwrap_or_else(|e| panic!("{e}"));
         let ([u0, u1], [v0, v1]) = s.extent();
@@ -174,11 +174,11 @@ fn the_hmmwv_drives_a_half_round_obstacle_and_an_rms_course_through_the_cli() {
         let (ok, stderr) = drive(&road, speed, end, out);
         assert!(ok, "{road}: {stderr}");
     }
-    // A road that ends: the 100 m half-round file, driven past its end. Beyond its extent the border mode
-    // (keep) continues it, and the CLI says so.
+    // A road that ends: the 100 m half-round file, driven past its end. It declares no border mode: the run
+    // ends with an error naming where the wheel left it.
     let short = format!("{root}/resources/roads/halfround_4in.crg");
     let (ok, stderr) = drive(&short, "10", "11", out);
-    assert!(ok && stderr.contains("left the extent of the road"), "{stderr}");
+    assert!(!ok && stderr.contains("left the road: at x = ") && stderr.contains("u = 100.00 m"), "{stderr}");
     let _ = std::fs::remove_file(out);
 }
 
@@ -264,10 +264,12 @@ fn the_hmmwv_drives_opendrive_maps_through_the_cli() {
     let out = std::env::temp_dir().join(format!("rtv_xodr_{}.csv", std::process::id()));
     let out = out.to_str().unwrap();
     // The test track: straight over a 1.5 m crest (s = 30 … 150 m), then the vehicle, driving straight on,
-    // leaves the curving road, and the CLI says so. The chassis rises by the crest's height.
+    // leaves the curving road at its lanes' outer edge (6.25 m): the run ends with an error naming the
+    // position, s and t and the road's extent. The chassis rose by the crest's height before.
     let track = format!("{root}/resources/roads/test_track.xodr");
     let (ok, stderr) = drive(&track, "15", "10", out);
-    assert!(ok && stderr.contains("left the extent of the road"), "{stderr}");
+    assert!(!ok && stderr.contains("left the road: at x = "), "{stderr}");
+    assert!(stderr.contains("t = -6.25 m) it is beyond the road, whose extent is s 0..420.04 m"), "{stderr}");
     let z = column(out, "z");
     let rise = z.iter().cloned().fold(f64::MIN, f64::max) - z[0];
     assert!((rise - 1.5).abs() < 0.05, "the chassis rose {rise} m over the 1.5 m crest");
@@ -294,24 +296,93 @@ fn the_hmmwv_drives_opendrive_maps_through_the_cli() {
     let _ = std::fs::remove_file(out);
 }
 
-/// Chrono's smallest obstacle, the 4 in (10 cm) half-round, at 20 km/h with the default single-point
-/// contact: the point's tangent plane on the obstacle's foot (slope 4.4) reads a deflection of 0.37 m where
-/// the road below the wheel centre gives 3 cm. The refusal must say so and name the enveloping contact,
-/// never call a 10 cm obstacle taller than the tire envelops; with that contact the HMMWV drives over it
-/// (past the obstacle at 50 m with both axles).
+/// Chrono's smallest obstacle, the 4 in (10 cm) half-round, at 20 km/h. The default contact on a road file is
+/// the enveloping one: the HMMWV drives over it (past the obstacle at 50 m with both axles). With the
+/// single-point contact asked for, the point's tangent plane on the obstacle's foot (slope 4.4) reads a
+/// deflection of 0.37 m where the road below the wheel centre gives 3 cm: the refusal says so and names the
+/// enveloping contact, never calls a 10 cm obstacle taller than the tire envelops. Driven on past the file's
+/// end (u = 100 m), the run ends with an error naming the position and the extent.
 #[test]
-fn the_point_contact_refusal_on_a_small_obstacle_names_the_enveloping_contact() {
+fn the_default_contact_drives_over_a_small_obstacle_and_the_point_contact_refusal_names_it() {
     let road = crg_dir().join("halfround_4in.crg");
     let out = std::env::temp_dir().join(format!("rtv_halfround4_{}.csv", std::process::id()));
     let (road, out) = (road.to_str().unwrap(), out.to_str().unwrap());
     let args = ["scene", "bump", "--road", road, "--initial-speed", "5.5556", "--end", "16", "--out", out];
     let (ok, err) = rtv(&args);
-    assert!(!ok, "the point contact ran over the half-round");
-    assert!(err.contains("--contact envelope") && err.contains("`contact` = 2"), "{err}");
-    assert!(!err.contains("taller than the tire envelops"), "{err}");
-    let (ok, err) = rtv(&[&args[..], &["--contact", "envelope"]].concat());
     assert!(ok, "{err}");
     let x = column(out, "x");
     assert!(x.last().unwrap() > &55.0, "stopped at x = {}", x.last().unwrap());
+    let (ok, err) = rtv(&[&args[..], &["--contact", "point"]].concat());
+    assert!(!ok, "the point contact ran over the half-round");
+    assert!(err.contains("--contact envelope") && err.contains("`contact` = 2"), "{err}");
+    assert!(!err.contains("taller than the tire envelops"), "{err}");
+    // 25 s at 20 km/h is 139 m: the front wheels leave the 100 m file at its end.
+    let (ok, err) = rtv(&["scene", "bump", "--road", road, "--initial-speed", "5.5556", "--end", "25", "--out", out]);
+    assert!(
+        !ok && err.contains("wheel fl left the road: at x = ") && err.contains("(u = 100.00 m, v = 0.91 m)"),
+        "{err}"
+    );
+    assert!(err.contains("whose extent is u 0..100 m, v -3..3 m"), "{err}");
     let _ = std::fs::remove_file(out);
+}
+
+/// The HMMWV holds its wheel at the steer that circles it at 50 m radius on the level (found by the secant
+/// method on the yaw rate, as a driver finds it), at 36 km/h.
+fn circling_steer(v: f64, radius: f64) -> f64 {
+    use rt_vehicle::model::params::VehicleData;
+    use rt_vehicle::model::vehicle::Vehicle;
+    use rt_vehicle::sim::{SimConfig, Simulation};
+    let yaw_rate = |steer: f64| {
+        let vehicle = Vehicle::new(&VehicleData::default_hmmwv()).unwrap();
+        let config = SimConfig { initial_speed: v, ..SimConfig::default() };
+        let mut sim = Simulation::from_vehicle_steered(vehicle, config, steer).unwrap();
+        sim.advance(4.0).unwrap();
+        sim.outputs().unwrap().get("yaw_rate").unwrap()
+    };
+    let target = v / radius;
+    let (mut a, mut b) = (0.005, 0.01);
+    let (mut ra, mut rb) = (yaw_rate(a), yaw_rate(b));
+    for _ in 0..4 {
+        let c = b + (target - rb) * (b - a) / (rb - ra);
+        (a, ra) = (b, rb);
+        (b, rb) = (c, yaw_rate(c));
+    }
+    assert!((rb - target).abs() < 1e-3 * target, "yaw rate {rb} for {target}");
+    b
+}
+
+/// Issue 35 part 4: Chrono's 50 m circle (a closed reference line, REFLINE_CONTINUATION = 1) is lapped: u
+/// wraps, and the HMMWV, holding the wheel, drives more than a lap (35 s at 36 km/h is 350 m; the lap is
+/// 314 m) on the 12 m track. Let go (the steer held at 0), it drives straight off the track, and the run
+/// ends with an error naming the position, u and v, and the track's extent.
+#[test]
+fn a_lap_of_chronos_50_m_circle_runs_and_driving_off_it_is_an_error_naming_the_position() {
+    use rt_vehicle::model::params::VehicleData;
+    use rt_vehicle::model::vehicle::Vehicle;
+    use rt_vehicle::sim::{SimConfig, Simulation};
+    let road = crg_dir().join("circle_50m_left.crg").display().to_string();
+    let lap = surface_for(&road).unwrap().lap().expect("a closed line");
+    let radius = lap / (2.0 * std::f64::consts::PI);
+    let v = 10.0;
+    let steer = circling_steer(v, radius);
+    let start = |steer: f64| {
+        let config = SimConfig { initial_speed: v, road_file: Some(road.clone()), ..SimConfig::default() };
+        Simulation::from_vehicle_steered(Vehicle::new(&VehicleData::default_hmmwv()).unwrap(), config, steer).unwrap()
+    };
+    let mut sim = start(steer);
+    let (mut turned, mut last) = (0.0, sim.outputs().unwrap().get("yaw").unwrap());
+    for _ in 0..350 {
+        sim.advance(0.1).unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
+        let yaw = sim.outputs().unwrap().get("yaw").unwrap();
+        // Unwrapped: a step of 0.1 s turns the car by 0.02 rad.
+        turned += (yaw - last).sin().atan2((yaw - last).cos());
+        last = yaw;
+    }
+    println!("steer {steer:.6}: turned {turned:.3} rad in 35 s");
+    assert!(turned > 2.0 * std::f64::consts::PI, "turned {turned} rad");
+    let mut sim = start(0.0);
+    let e = (0..100).find_map(|_| sim.advance(0.1).err()).expect("driving straight leaves the circle");
+    let e = e.to_string();
+    assert!(e.contains("left the road: at x = ") && e.contains(", v = -6.0"), "{e}");
+    assert!(e.contains("whose extent is u wraps, a closed reference line of 314.00 m a lap, v -6..6 m"), "{e}");
 }

@@ -38,7 +38,7 @@ const USAGE: &str = "usage:
             [--speed coast|hold] [--slip relaxation|steady]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
             [--tire FILE.tir] [--tire-convention mfeval|chrono] [--initial-speed M_PER_S] [--bump-height M]
-            [--bump-length M] [--grade RISE/RUN] [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact point|envelope] [--keep-all]
+            [--bump-length M] [--grade RISE/RUN] [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact auto|point|envelope] [--keep-all]
             [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]] [--friction SCALE]
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv

@@ -42,7 +42,7 @@ impl Default for ForceSwitches {
 }
 
 /// How a run evaluates the vehicle. The defaults are the paper's model: synthesis, relaxation slip, speed
-/// hold, the level road, the point contact, every force on.
+/// hold, the level road, the point contact (`ContactModel::Auto`'s on it), every force on.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Options {
     pub formulation: Formulation,
@@ -53,7 +53,8 @@ pub struct Options {
     /// which is the road frame (x along the road, z normal to it). A car starts in equilibrium on the slope.
     #[serde(default)]
     pub slope: [f64; 2],
-    /// How the tires meet the road: the paper's single point, or the enveloping contact.
+    /// How the tires meet the road: the paper's single point, the enveloping contact, or (the default) the
+    /// enveloping one on a road file and the point on the analytic and ISO 8608 roads (`ContactModel::Auto`).
     #[serde(default)]
     pub contact: ContactModel,
     /// The road's friction as a scale on the tires' peak friction (STI's μ0, the Magic Formula's μ_x and
@@ -80,7 +81,7 @@ impl Default for Options {
             slip: SlipModel::Relaxation,
             speed_mode: SpeedMode::Hold,
             slope: [0.0; 2],
-            contact: ContactModel::Point,
+            contact: ContactModel::Auto,
             road_friction: 1.0,
             switches: ForceSwitches::default(),
             keep_unused_states: false,

@@ -10,10 +10,12 @@ use std::f64::consts::PI;
 pub trait Road {
     fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]);
 
-    /// Whether there is a surface at (x, y): false only beyond the edge of a road file whose border mode is
-    /// `none` (`road_crg`), where a wheel has nothing to stand on and the run ends with a named error.
-    fn has_surface(&self, _x: f64, _y: f64) -> bool {
-        true
+    /// `None` where the road has a surface at (x, y); beyond a road file's defined area (an OpenCRG grid
+    /// where the file declares no border mode that continues it, an OpenDRIVE road beyond its ends or its
+    /// lanes) what the wheel left: the position in the file's own coordinates and the file's extent. The run
+    /// then ends with this as its error (docs/roads.md, "The road's edge"): no surface is invented there.
+    fn off_road(&self, _x: f64, _y: f64) -> Option<String> {
+        None
     }
 
     /// The road's friction at (x, y) as a scale on the tires' peak friction (1: the tire data's road). The
@@ -211,10 +213,11 @@ impl Road for RoadModel {
         }
     }
 
-    fn has_surface(&self, x: f64, y: f64) -> bool {
+    fn off_road(&self, x: f64, y: f64) -> Option<String> {
         match self {
-            RoadModel::Surface(surface) => surface.has_surface(x, y),
-            _ => true,
+            RoadModel::Surface(surface) => surface.off_road(x, y),
+            RoadModel::Map(map) => map.off_road(x, y),
+            RoadModel::Flat | RoadModel::Bumps(_) => None,
         }
     }
 }

@@ -13,13 +13,17 @@
 //! - **Heights in double precision**: the crate evaluates the grid bilinearly in f64; it stores the grid's
 //!   values in f32 (a relative 6e-8: 3e-8 m on a 0.5 m obstacle, far below the 1e-6 m the check against an
 //!   independent reader asks); the gradient comes from its surface normal.
-//! - **Extent**: the u and v ranges of the grid. Outside, the file's border modes decide (the crate applies
-//!   them); `inside` reports it, and the simulation logs an event (`wheel … left the extent of …`). Where the
-//!   border mode is `None` there is no surface: `has_surface` is false and the run ends with a named error.
+//! - **Extent**: the u and v ranges of the grid. Outside, the border modes the file declares decide (the
+//!   crate applies them; `inside` reports it, and the simulation logs an event, `wheel … left the extent of
+//!   …`). Where the file declares none (`NO_BORDER`), or mode 0, there is no surface: `off_road` names the
+//!   position and the extent, and the run ends with it as its error.
+//! - **Closed tracks**: a reference line that ends where it starts (`Closure`) is lapped, u wrapping.
+//! - **Includes** (`$ROAD_CRG_FILE`): read (bounded, checked as the including file is) relative to the
+//!   including file's folder.
 //! - **Sharing**: a file loads once per process; FMU instances naming the same file (same path, length and
 //!   modification time) share it (`load`).
 use super::road::{FileRoad, Placement, Road};
-use opencrg::{BorderMode, CrgGrid, Uv, Xy};
+use opencrg::{BorderMode, CrgGrid, LoadOptions, Uv, Xy};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, Weak};
@@ -37,9 +41,32 @@ pub const START_BEHIND_REAR_AXLE_M: f64 = 2.0;
 pub struct Surface {
     pub name: String,
     pub grid: CrgGrid,
-    /// Whether both border modes continue the surface beyond the grid (not `None`).
-    bordered: bool,
+    /// Whether the border modes continue the surface beyond the grid's u ends and v sides (a mode the file
+    /// declares in `$ROAD_CRG_OPTS` other than 0; without one there is no surface beyond: `NO_BORDER`).
+    open: [bool; 2],
+    /// The lap of a closed reference line (`Closure`), if the line closes.
+    closed: Option<Closure>,
 }
+
+/// A reference line that ends where it starts: its last cross section lies a gap `gap` (at most
+/// `CLOSING_GAP_INCREMENTS` increments, 0.2 m on Chrono's circles and 0.18 m on Barber) before its first,
+/// heading the same way (within `CLOSING_HEADING_RAD`). u then wraps with the period `lap` = u range + gap,
+/// and the gap is bridged linearly from the last cross section to the first (as a grid cell is).
+#[derive(Debug, Clone, Copy)]
+struct Closure {
+    gap: f64,
+    lap: f64,
+}
+
+/// How far the last cross section may lie before the first, in increments, for the line to be closed.
+pub const CLOSING_GAP_INCREMENTS: f64 = 2.5;
+/// How far the end's heading may differ from the start's for the line to be closed, rad (6°).
+pub const CLOSING_HEADING_RAD: f64 = 0.1;
+
+/// The application's border mode where the file declares none (OpenCRG lets the application choose; the
+/// C-API's is 2, keep the last value): no surface, so that leaving the grid is an error naming the
+/// position, never a surface the file does not hold.
+pub const NO_BORDER: BorderMode = BorderMode::None;
 
 impl std::fmt::Debug for Surface {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -48,17 +75,40 @@ impl std::fmt::Debug for Surface {
 }
 
 impl Surface {
-    /// A surface from the bytes of a CRG file named `name` (for messages).
+    /// A surface from the bytes of a CRG file named `name` (for messages); includes are refused.
     pub fn from_bytes(name: &str, bytes: &[u8]) -> Result<Surface, String> {
-        check_ascii_data(name, bytes)?;
-        check_binary_data(name, bytes)?;
-        let centred = centre_long_sections(bytes);
-        let bytes = centred.as_deref().unwrap_or(bytes);
-        let grid = CrgGrid::from_bytes(bytes).map_err(|e| format!("road file {name}: {e}"))?;
+        Surface::from_bytes_in(name, bytes, None)
+    }
+
+    /// A surface from the bytes of a CRG file named `name`, its `$ROAD_CRG_FILE` includes read from the
+    /// folder `dir` (the including file's; `None`: includes are refused).
+    fn from_bytes_in(name: &str, bytes: &[u8], dir: Option<&Path>) -> Result<Surface, String> {
+        let (prepared, asked) = prepare(name, bytes)?;
+        let continuation = std::cell::Cell::new(asked);
+        let mut options = LoadOptions::default();
+        (options.border_mode_u, options.border_mode_v) = (NO_BORDER, NO_BORDER);
+        let included = std::cell::Cell::new(false);
+        let grid = CrgGrid::from_bytes_with(&prepared, &options, |include: &str| {
+            included.set(true);
+            let Some(dir) = dir else {
+                return Err(std::io::Error::other("includes ($ROAD_CRG_FILE) are read only from a file's folder"));
+            };
+            if include.contains('$') {
+                return Err(std::io::Error::other("environment variables in include names are not expanded"));
+            }
+            let path = dir.join(include);
+            let what = format!("the road file {} (included by {name})", path.display());
+            let bytes = bounded_read::read_bytes(&path, MAX_CRG_BYTES, &what).map_err(std::io::Error::other)?;
+            let (prepared, more) = prepare(&path.display().to_string(), &bytes).map_err(std::io::Error::other)?;
+            continuation.set(continuation.get() || more);
+            Ok(prepared)
+        })
+        .map_err(|e| format!("road file {name}: {e}"))?;
+        let bytes = &prepared[..];
         let (nu, nv) = grid.dims();
         // The crate reads the complete records it finds; a file that declares more (truncated, or a header
         // promising 10⁸ points over a few rows) is refused rather than read short.
-        if let Some(declared) = declared_cross_sections(bytes) {
+        if let Some(declared) = declared_cross_sections(bytes).filter(|_| !included.get()) {
             if declared != nu {
                 return Err(format!(
                     "road file {name}: its header declares {declared} cross sections (REFERENCE_LINE_START_U, END_U, \
@@ -80,22 +130,79 @@ impl Surface {
         if !probe(mid) {
             return Err(format!("road file {name}: no height at the middle of the grid (NaN data?)"));
         }
-        let bordered = probe(Uv { u: u1 + 1.0, ..mid }) && probe(Uv { v: v1 + 1.0, ..mid });
+        let open = [probe(Uv { u: u1 + 1.0, ..mid }), probe(Uv { v: v1 + 1.0, ..mid })];
         check_heights(name, &grid)?;
-        Ok(Surface { name: name.to_string(), grid, bordered })
+        let closed = closure(&grid);
+        if continuation.get() && closed.is_none() {
+            return Err(format!(
+                "road file {name}: REFLINE_CONTINUATION = 1 asks for a closed track, and its reference line does \
+                 not end where it starts (within {CLOSING_GAP_INCREMENTS} increments, {CLOSING_HEADING_RAD} rad)"
+            ));
+        }
+        Ok(Surface { name: name.to_string(), grid, open, closed })
     }
 
-    /// Reads a CRG file (bounded).
+    /// Reads a CRG file (bounded), its includes relative to its folder.
     fn read(path: &Path) -> Result<Surface, String> {
         let name = path.display().to_string();
         let bytes = bounded_read::read_bytes(path, MAX_CRG_BYTES, &format!("the road file {name}"))?;
-        Surface::from_bytes(&name, &bytes)
+        let dir = path.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+        Surface::from_bytes_in(&name, &bytes, Some(&dir))
     }
 
     /// The grid's u and v ranges, m.
     pub fn extent(&self) -> ([f64; 2], [f64; 2]) {
         (range(self.grid.u_range()), range(self.grid.v_range()))
     }
+
+    /// The length of a lap when the reference line is closed (u wraps), m.
+    pub fn lap(&self) -> Option<f64> {
+        self.closed.map(|c| c.lap)
+    }
+}
+
+/// A file's bytes checked (`check_ascii_data`, `check_binary_data`) and made ready for the crate: long
+/// sections centred where the file says so (`centre_long_sections`), and `REFLINE_CONTINUATION` taken out
+/// (the crate refuses a closed track's continuation; this module laps it, `Closure`) and returned.
+fn prepare(name: &str, bytes: &[u8]) -> Result<(Vec<u8>, bool), String> {
+    check_ascii_data(name, bytes)?;
+    check_binary_data(name, bytes)?;
+    let centred = centre_long_sections(bytes);
+    Ok(take_continuation(centred.as_deref().unwrap_or(bytes)))
+}
+
+/// The header without its `REFLINE_CONTINUATION` option (the line commented out, `*` in the first column),
+/// and whether it asked for the closed track (1).
+fn take_continuation(bytes: &[u8]) -> (Vec<u8>, bool) {
+    let head_len = data_layout(bytes).map_or(bytes.len().min(64 << 10), |l| l.start);
+    // A header that is not UTF-8 text is left as it is (the crate's own reading names what is wrong).
+    let Ok(head) = std::str::from_utf8(&bytes[..head_len]) else { return (bytes.to_vec(), false) };
+    let mut out = Vec::with_capacity(bytes.len() + 2);
+    let mut asked = false;
+    for line in head.split_inclusive('\n') {
+        let option = line.split_once('=').filter(|(k, _)| k.trim().eq_ignore_ascii_case("REFLINE_CONTINUATION"));
+        if let Some((_, value)) = option {
+            asked |= value.split('!').next().and_then(|v| v.trim().parse::<f64>().ok()) == Some(1.0);
+            out.extend_from_slice(b"* ");
+        }
+        out.extend_from_slice(line.as_bytes());
+    }
+    out.extend_from_slice(&bytes[head_len..]);
+    (out, asked)
+}
+
+/// The closure of a reference line (`Closure`), from the grid's reference line as loaded (modifiers applied).
+fn closure(grid: &CrgGrid) -> Option<Closure> {
+    let ([u0, u1], inc) = (range(grid.u_range()), (grid.u_range().1 - grid.u_range().0) / (grid.dims().0 - 1) as f64);
+    let (start, end) = (grid.xy_from_uv(Uv { u: u0, v: 0.0 }), grid.xy_from_uv(Uv { u: u1, v: 0.0 }));
+    let (phi0, phi1) = (grid.heading_at_uv(Uv { u: u0, v: 0.0 }).phi, grid.heading_at_uv(Uv { u: u1, v: 0.0 }).phi);
+    let (dx, dy) = (start.x - end.x, start.y - end.y);
+    let gap = dx.hypot(dy);
+    let turn = (phi0 - phi1).sin().atan2((phi0 - phi1).cos()).abs();
+    // The start lies ahead of the end along its heading (not beside or behind it).
+    let ahead = dx * phi1.cos() + dy * phi1.sin() > 0.9 * gap;
+    (gap > 0.0 && gap <= CLOSING_GAP_INCREMENTS * inc && turn <= CLOSING_HEADING_RAD && ahead)
+        .then_some(Closure { gap, lap: u1 - u0 + gap })
 }
 
 /// A file that gives the long sections' increment but neither LONG_SECTION_V_RIGHT nor _LEFT has them
@@ -510,7 +617,7 @@ impl PlacedSurface {
         let start = Uv { u: u0, v: 0.0 };
         let origin = surface.grid.xy_from_uv(start);
         let phi = surface.grid.heading_at_uv(start).phi;
-        let (u1, _) = surface.grid.u_range();
+        let (_, u1) = surface.grid.u_range();
         let end = surface.grid.xy_from_uv(Uv { u: u1, v: 0.0 });
         // Straight when the end lies on the start's heading, to 1e-9 of the length.
         let along = (end.x - origin.x) * phi.cos() + (end.y - origin.y) * phi.sin();
@@ -540,33 +647,98 @@ impl PlacedSurface {
         }
     }
 
-    /// Whether the ground point lies on the grid (u and v within their ranges).
-    pub fn inside(&self, x: f64, y: f64) -> bool {
-        let ([u0, u1], [v0, v1]) = self.surface.extent();
-        self.uv(x, y).is_some_and(|uv| uv.u >= u0 && uv.u <= u1 && uv.v >= v0 && uv.v <= v1)
+    /// Whether the surface is an ISO 8608 road (written by this model), not a road file.
+    pub fn is_generated(&self) -> bool {
+        self.surface.name.starts_with("iso8608:")
     }
 
-    /// Whether the road has a surface at the ground point (always, unless a border mode is `None` and the
-    /// point lies beyond that border).
-    pub fn has_surface(&self, x: f64, y: f64) -> bool {
-        self.surface.bordered || self.height_and_gradient(x, y).0.is_finite()
+    /// The grid position of a ground point with u in the grid's range or, on a closed line, in
+    /// [u1, u0 + lap) (the gap bridged from the last cross section to the first).
+    fn wrapped_uv(&self, x: f64, y: f64) -> Option<Uv> {
+        let mut uv = self.uv(x, y)?;
+        if let Some(c) = self.surface.closed {
+            let (u0, _) = self.surface.grid.u_range();
+            uv.u = u0 + (uv.u - u0).rem_euclid(c.lap);
+        }
+        Some(uv)
+    }
+
+    /// Whether the ground point lies on the grid (u and v within their ranges; u anywhere on a closed line).
+    pub fn inside(&self, x: f64, y: f64) -> bool {
+        let ([u0, u1], [v0, v1]) = self.surface.extent();
+        let u1 = self.surface.closed.map_or(u1, |c| u0 + c.lap);
+        self.wrapped_uv(x, y).is_some_and(|uv| uv.u >= u0 && uv.u <= u1 && uv.v >= v0 && uv.v <= v1)
+    }
+
+    /// `None` where the road has a surface: within the grid, beyond it where the file's border mode
+    /// continues it, anywhere along a closed line. Else the position and the extent (`Road::off_road`).
+    /// Asked only once a height is NaN (the contact's check), so it costs nothing per evaluation.
+    pub fn off_road(&self, x: f64, y: f64) -> Option<String> {
+        let s = &*self.surface;
+        if s.open == [true, true] {
+            return None;
+        }
+        let ([u0, u1], [v0, v1]) = s.extent();
+        let Some(uv) = self.wrapped_uv(x, y) else {
+            return Some(format!(
+                "at x = {x:.2} m, y = {y:.2} m the road file {} has no position along its reference line",
+                s.name
+            ));
+        };
+        let beyond_u = s.closed.is_none() && !s.open[0] && !(u0..=u1).contains(&uv.u);
+        let beyond_v = !s.open[1] && !(v0..=v1).contains(&uv.v);
+        (beyond_u || beyond_v).then(|| {
+            let along = match s.closed {
+                Some(c) => format!("u wraps, a closed reference line of {:.2} m a lap", c.lap),
+                None => format!("u {u0}..{u1} m"),
+            };
+            format!(
+                "at x = {x:.2} m, y = {y:.2} m (u = {:.2} m, v = {:.2} m) it is beyond the road file {}, whose \
+                 extent is {along}, v {v0}..{v1} m, and which declares no border mode that continues its surface \
+                 there (BORDER_MODE_U/V in $ROAD_CRG_OPTS; docs/roads.md, \"The road's edge\")",
+                uv.u, uv.v, s.name
+            )
+        })
+    }
+
+    /// The height and its slopes in the road's axes at a grid position (u wrapped), `None` where the grid
+    /// has no surface. In a closed line's gap, the last cross section and the first blended linearly.
+    fn surface_at(&self, uv: Uv) -> Option<(f64, [f64; 2])> {
+        let grid = &self.surface.grid;
+        let at = |uv: Uv| -> Option<(f64, [f64; 2])> {
+            let (z, n) = (grid.elevation_at_uv(uv)?, grid.normal_at_uv(uv)?);
+            (n.z > 0.0).then(|| (z, [-n.x / n.z, -n.y / n.z]))
+        };
+        let (u0, u1) = grid.u_range();
+        match self.surface.closed {
+            Some(c) if uv.u > u1 => {
+                let t = ((uv.u - u1) / c.gap).min(1.0);
+                let (za, ga) = at(Uv { u: u1, ..uv })?;
+                let (zb, gb) = at(Uv { u: u0, ..uv })?;
+                // Along the gap (from the end's point to the start's) the blend's slope; across it the
+                // end's and the start's lateral slopes, blended.
+                let (end, start) = (grid.xy_from_uv(Uv { u: u1, ..uv }), grid.xy_from_uv(Uv { u: u0, ..uv }));
+                let (dx, dy) = (start.x - end.x, start.y - end.y);
+                let length = dx.hypot(dy);
+                let d = [dx / length, dy / length];
+                let l = [-d[1], d[0]];
+                let along = (zb - za) / length;
+                let across = (1.0 - t) * (ga[0] * l[0] + ga[1] * l[1]) + t * (gb[0] * l[0] + gb[1] * l[1]);
+                Some((za + t * (zb - za), [along * d[0] + across * l[0], along * d[1] + across * l[1]]))
+            }
+            _ => at(uv),
+        }
     }
 }
 
 impl Road for PlacedSurface {
     /// The crate's elevation and its surface normal, the normal's slopes turned back into the ground frame;
-    /// NaN where there is no surface (`has_surface`).
+    /// NaN where there is no surface (`off_road` says why).
     fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
-        let nan = (f64::NAN, [f64::NAN; 2]);
-        let Some(uv) = self.uv(x, y) else { return nan };
-        let grid = &self.surface.grid;
-        let (Some(z), Some(n)) = (grid.elevation_at_uv(uv), grid.normal_at_uv(uv)) else { return nan };
-        if !(n.z > 0.0) {
-            return nan;
+        match self.wrapped_uv(x, y).and_then(|uv| self.surface_at(uv)) {
+            Some((z, gradient)) => (z, self.placement.gradient_to_ground(gradient)),
+            None => (f64::NAN, [f64::NAN; 2]),
         }
-        // The slopes in the road's axes, turned by −heading into the ground's.
-        let (gx, gy) = (-n.x / n.z, -n.y / n.z);
-        (z, self.placement.gradient_to_ground([gx, gy]))
     }
 }
 
@@ -596,7 +768,7 @@ mod tests {
     use super::*;
 
     /// Three cross sections 1 m apart, long sections at v = −1, 0, 1 m: a 0.1 m ridge along u = 1 m.
-    const SMALL: &[u8] = b"$ROAD_CRG
+    pub(super) const SMALL: &[u8] = b"$ROAD_CRG
 REFERENCE_LINE_INCREMENT = 1.0
 LONG_SECTION_V_RIGHT = -1.0
 LONG_SECTION_V_INCREMENT = 1.0
@@ -624,9 +796,18 @@ $$$$
         let (h, [hx, _]) = p.height_and_gradient(6.5, -0.2);
         assert!((h - 0.05).abs() < 1e-8 && (hx + 0.1).abs() < 1e-8);
         assert!(p.inside(6.0, 0.9) && !p.inside(8.0, 0.0) && !p.inside(6.0, 1.5));
-        // Keep (the default border mode): the edge continues, a surface everywhere.
-        assert!(p.has_surface(20.0, 0.0));
+        // No border mode declared: no surface beyond the grid, and what the wheel left is named.
+        assert!(p.height_and_gradient(20.0, 0.0).0.is_nan());
+        let off = p.off_road(20.0, 0.0).unwrap();
+        assert!(off.contains("x = 20.00 m") && off.contains("u = 15.00 m") && off.contains("u 0..2 m"), "{off}");
+        assert!(p.off_road(6.0, 0.5).is_none() && p.off_road(6.0, 1.2).unwrap().contains("v = 1.20 m"));
+        // Border modes the file declares: keep along u continues the edge; v still has none.
+        let kept = String::from_utf8(SMALL.to_vec())
+            .unwrap()
+            .replace("$KD_Definition", "$ROAD_CRG_OPTS\nBORDER_MODE_U = 2\n$\n$KD_Definition");
+        let p = PlacedSurface::new(Arc::new(Surface::from_bytes("kept.crg", kept.as_bytes()).unwrap()), [5.0, 0.0]);
         assert_eq!(p.height_and_gradient(20.0, 0.0).0, 0.0);
+        assert!(p.off_road(20.0, 0.0).is_none() && p.off_road(20.0, 1.2).is_some());
     }
 
     /// Chrono's 4 in half-round (binary, `#:KRBI`: 10 001 records of three f32 heights) and where its data
@@ -711,5 +892,89 @@ $$$$
             let e = Surface::from_bytes(name, body.as_bytes()).unwrap_err();
             assert!(e.contains(name), "{name}: {e}");
         }
+    }
+}
+#[cfg(test)]
+mod closed_tests {
+    use super::*;
+
+    fn circle() -> Arc<Surface> {
+        load(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/circle_50m_left.crg")))
+            .unwrap()
+    }
+
+    /// Chrono's 50 m circle: its last cross section lies one increment (0.2 m) before its first, and it asks
+    /// for the closed track (REFLINE_CONTINUATION = 1). Placed at the origin heading along x (the file's own
+    /// frame, whose start heading its modifiers put at 0): the crate's grid points come back at their (u, v),
+    /// those of a second lap at u − lap.
+    #[test]
+    fn a_closed_reference_line_is_lapped() {
+        let s = circle();
+        let lap = s.lap().expect("closed");
+        assert!((lap - 314.0).abs() < 1e-6, "{lap}"); // 313.8 m of cross sections and the 0.2 m gap
+        let p = PlacedSurface::new(s.clone(), [0.0, 0.0]);
+        assert_eq!(p.placement, Placement { anchor: [0.0; 2], origin: [0.0; 2], cos: 1.0, sin: 0.0 });
+        for u in [0.1, 50.3, 157.0, 300.0, 313.7] {
+            for v in [-5.5, 0.0, 4.0] {
+                let xy = s.grid.xy_from_uv(Uv { u, v });
+                // The search's answer to 1e-9 m (it inverts the same polygon).
+                let uv = p.wrapped_uv(xy.x, xy.y).unwrap();
+                assert!((uv.u - u).abs() < 1e-9 && (uv.v - v).abs() < 1e-9, "({u}, {v}): {uv:?}");
+                assert_eq!(p.height_and_gradient(xy.x, xy.y), (0.0, [0.0, 0.0]), "a level track");
+                assert!(p.off_road(xy.x, xy.y).is_none() && p.inside(xy.x, xy.y));
+            }
+        }
+        // Behind the start is the end of the lap (u wraps), in the gap too; off the track's 12 m is named.
+        let behind = p.wrapped_uv(-5.0, 0.25).unwrap();
+        assert!((behind.u - (lap - 5.0)).abs() < 0.02, "{behind:?}");
+        assert_eq!(p.height_and_gradient(-0.1, 0.0), (0.0, [0.0, 0.0]));
+        let off = p.off_road(30.0, 0.0).unwrap();
+        assert!(off.contains("x = 30.00 m") && off.contains("v = -8.26 m") && off.contains("314.00 m a lap"), "{off}");
+        assert!(p.height_and_gradient(30.0, 0.0).0.is_nan());
+    }
+
+    /// `$ROAD_CRG_FILE` includes are read relative to the including file's folder, checked as the including
+    /// file is; the including file's options apply (here a border mode). A missing or damaged include is
+    /// refused naming it.
+    #[test]
+    fn includes_are_read_relative_to_the_including_file() {
+        let dir = std::env::temp_dir().join(format!("rtv_crg_include_{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("data")).unwrap();
+        std::fs::write(dir.join("data/small.crg"), super::tests::SMALL).unwrap();
+        let wrapper = "$ROAD_CRG_FILE\ndata/small.crg\n$\n$ROAD_CRG_OPTS\nBORDER_MODE_U = 2\n$\n";
+        std::fs::write(dir.join("road.crg"), wrapper).unwrap();
+        let direct =
+            PlacedSurface::new(Arc::new(Surface::from_bytes("small.crg", super::tests::SMALL).unwrap()), [0.0; 2]);
+        let included = PlacedSurface::new(load(&dir.join("road.crg")).unwrap(), [0.0; 2]);
+        for (x, y) in [(0.5, 0.3), (1.0, -0.9), (1.7, 0.0)] {
+            assert_eq!(included.height_and_gradient(x, y), direct.height_and_gradient(x, y), "({x}, {y})");
+        }
+        // The wrapper's border mode: u continues (keep), the file alone has none.
+        assert!(included.off_road(5.0, 0.0).is_none() && direct.off_road(5.0, 0.0).is_some());
+        // Not from bytes (no folder), a missing include, a damaged one: named.
+        let e = Surface::from_bytes("road.crg", wrapper.as_bytes()).unwrap_err();
+        assert!(e.contains("road.crg") && e.contains("folder"), "{e}");
+        std::fs::write(dir.join("missing.crg"), "$ROAD_CRG_FILE\ndata/none.crg\n$\n").unwrap();
+        let e = load(&dir.join("missing.crg")).unwrap_err();
+        assert!(e.contains("none.crg"), "{e}");
+        let damaged = String::from_utf8(super::tests::SMALL.to_vec())
+            .unwrap()
+            .replace(" 0.1000000 0.1000000", " 0.1000000 abcdefghi");
+        std::fs::write(dir.join("data/damaged.crg"), damaged).unwrap();
+        std::fs::write(dir.join("damaged.crg"), "$ROAD_CRG_FILE\ndata/damaged.crg\n$\n").unwrap();
+        let e = load(&dir.join("damaged.crg")).unwrap_err();
+        assert!(e.contains("data/damaged.crg") && e.contains("not a number"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A track that asks for the closed continuation and does not close is refused by name.
+    #[test]
+    fn a_continuation_on_an_open_line_is_refused() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/handmade_straight.crg");
+        let text = std::fs::read_to_string(path).unwrap();
+        let asked = text.replacen("$KD_Definition", "$ROAD_CRG_OPTS\nREFLINE_CONTINUATION = 1\n$\n$KD_Definition", 1);
+        assert_ne!(asked, text);
+        let e = Surface::from_bytes("open.crg", asked.as_bytes()).unwrap_err();
+        assert!(e.contains("open.crg") && e.contains("does not end where it starts"), "{e}");
     }
 }

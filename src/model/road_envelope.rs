@@ -25,10 +25,27 @@ use std::f64::consts::PI;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 pub enum ContactModel {
     /// The road at the point below the wheel centre (the paper's, docs/physics.md §6.2).
-    #[default]
     Point,
     /// The road averaged over the contact length (this module).
     Envelope,
+    /// The default: `Envelope` on a road read from a file (OpenCRG, OpenDRIVE), whose obstacles may be
+    /// shorter than the tire (a point on their steep faces reads deflections the obstacle does not give);
+    /// `Point` on the analytic roads (flat, grade, the paper's bump course) and the ISO 8608 random roads,
+    /// the paper's contact, so that their runs stay those of the paper's model (docs/roads.md).
+    #[default]
+    Auto,
+}
+
+impl ContactModel {
+    /// The contact a run on `road` uses: `Auto` resolved, the others as they are.
+    pub fn resolve(self, road: &RoadModel) -> ContactModel {
+        match (self, road) {
+            (ContactModel::Auto, RoadModel::Map(_)) => ContactModel::Envelope,
+            (ContactModel::Auto, RoadModel::Surface(s)) if !s.is_generated() => ContactModel::Envelope,
+            (ContactModel::Auto, _) => ContactModel::Point,
+            (c, _) => c,
+        }
+    }
 }
 
 /// The static half contact length of a tire, m: a = √(2 R0 δ) with δ = F_z / k_z its static deflection
@@ -77,8 +94,9 @@ impl Road for Enveloped<'_> {
         }
     }
 
-    fn has_surface(&self, x: f64, y: f64) -> bool {
-        self.road.has_surface(x, y)
+    /// The envelope reads the road from x − a to x + a: off the road as soon as either end is.
+    fn off_road(&self, x: f64, y: f64) -> Option<String> {
+        [x, x + self.half_length, x - self.half_length].into_iter().find_map(|x| self.road.off_road(x, y))
     }
 }
 

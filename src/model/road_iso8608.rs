@@ -113,13 +113,16 @@ impl Iso8608 {
         (right, left)
     }
 
-    /// The road as the text of an OpenCRG file.
+    /// The road as the text of an OpenCRG file. It declares border mode 2 (keep the edge's heights) on both
+    /// axes: a random road stands for a kind of surface, not a place, and the runs on it (manoeuvres that
+    /// leave its 5.4 m width) keep what they met before road files' edges became errors (docs/roads.md).
     pub fn crg_text(&self) -> String {
         let (right, left) = self.tracks();
         let mut text = format!(
             "$CT\nISO 8608 class {} road, seed {}, {} m at {} m (rt-vehicle, model::road_iso8608)\n$\n$ROAD_CRG\n\
              REFERENCE_LINE_START_U = 0.0\nREFERENCE_LINE_END_U = {}\nREFERENCE_LINE_INCREMENT = {}\n\
              LONG_SECTION_V_RIGHT = {}\nLONG_SECTION_V_LEFT = {}\nLONG_SECTION_V_INCREMENT = {}\n$\n\
+             $ROAD_CRG_OPTS\nBORDER_MODE_U = 2\nBORDER_MODE_V = 2\n$\n\
              $KD_Definition\n#:LRFI\n{}$\n$$$$\n",
             self.class,
             self.seed,

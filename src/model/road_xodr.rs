@@ -472,6 +472,10 @@ impl MapRoad {
         let on = self.locate(x, y);
         let (mut h, mut h_s, mut h_d, phi) = self.own_height(on.s, on.d);
         let t = on.d / phi.cos();
+        // Beyond the road's ends or its lanes there is no surface (docs/roads.md, "The road's edge").
+        if !self.covers(on.s, t) {
+            return (f64::NAN, [f64::NAN; 2]);
+        }
         for crg in &self.crg {
             if !(crg.s_range[0]..=crg.s_range[1]).contains(&on.s) {
                 continue;
@@ -523,14 +527,37 @@ impl MapRoad {
         Some((offset + side(&section.left), offset - side(&section.right)))
     }
 
-    fn inside(&self, x: f64, y: f64) -> bool {
+    /// Whether (s, t) lies on the road: s within its length, t between its permanent lanes' outer edges.
+    fn covers(&self, s: f64, t: f64) -> bool {
+        (0.0..=self.length).contains(&s)
+            && self.edges(s).is_some_and(|(left, right)| t <= left + 1e-9 && t >= right - 1e-9)
+    }
+
+    /// The point's (s, t) on the road (t along the surface, d / cos of the superelevation).
+    fn s_t(&self, x: f64, y: f64) -> (f64, f64) {
         let on = self.locate(x, y);
-        if !(0.0..=self.length).contains(&on.s) {
-            return false;
+        (on.s, on.d / profile(&self.superelevation, on.s).0.cos())
+    }
+
+    fn inside(&self, x: f64, y: f64) -> bool {
+        let (s, t) = self.s_t(x, y);
+        self.covers(s, t)
+    }
+
+    /// What a point off the road left (`Road::off_road`): its s and t and the road's extent there.
+    fn off_road(&self, x: f64, y: f64) -> Option<String> {
+        let (s, t) = self.s_t(x, y);
+        if self.covers(s, t) {
+            return None;
         }
-        let phi = profile(&self.superelevation, on.s).0;
-        let t = on.d / phi.cos();
-        self.edges(on.s).is_some_and(|(left, right)| t <= left + 1e-9 && t >= right - 1e-9)
+        let lanes = match self.edges(s.clamp(0.0, self.length)) {
+            Some((left, right)) => format!("t {right:.2}..{left:.2} m at s = {:.2} m", s.clamp(0.0, self.length)),
+            None => "no lanes".to_string(),
+        };
+        Some(format!(
+            "(s = {s:.2} m, t = {t:.2} m) it is beyond the road, whose extent is s 0..{:.2} m and {lanes}",
+            self.length
+        ))
     }
 
     fn from_records(r: RoadRecords, crg: Vec<AttachedCrg>) -> Result<MapRoad, String> {
@@ -759,6 +786,12 @@ impl Road for PlacedMap {
         let [mx, my] = self.placement.to_file(x, y);
         let (h, gradient) = self.map.road.height_and_gradient(mx, my);
         (h - self.z0, self.placement.gradient_to_ground(gradient))
+    }
+
+    fn off_road(&self, x: f64, y: f64) -> Option<String> {
+        let [mx, my] = self.placement.to_file(x, y);
+        let off = self.map.road.off_road(mx, my)?;
+        Some(format!("at x = {x:.2} m, y = {y:.2} m {off} (road {} of {})", self.map.road.id, self.map.name))
     }
 }
 

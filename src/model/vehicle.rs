@@ -278,8 +278,13 @@ impl Road for RoadView<'_> {
         }
     }
 
-    fn has_surface(&self, x: f64, y: f64) -> bool {
-        self.ground().has_surface(x, y)
+    fn off_road(&self, x: f64, y: f64) -> Option<String> {
+        match *self {
+            RoadView::Enveloped { road, half_length } => {
+                crate::model::road_envelope::Enveloped { road, half_length }.off_road(x, y)
+            }
+            RoadView::Point(road) | RoadView::Rounded { road, .. } => road.off_road(x, y),
+        }
     }
 
     fn friction(&self, x: f64, y: f64) -> f64 {
@@ -290,8 +295,8 @@ impl Road for RoadView<'_> {
 impl<'a> Run<'a> {
     /// `vehicle` run with `options` on `road`.
     pub fn new(vehicle: &Vehicle, options: &'a Options, road: &'a RoadModel) -> Run<'a> {
-        let road = match options.contact {
-            ContactModel::Point => RoadView::Point(road),
+        let road = match options.contact.resolve(road) {
+            ContactModel::Point | ContactModel::Auto => RoadView::Point(road),
             // The static half contact length at a quarter of the weight on the level.
             ContactModel::Envelope => RoadView::Enveloped {
                 road,
@@ -759,21 +764,19 @@ impl Vehicle {
         diag.wheel_centre_z[i] = centre_abs.z;
         diag.wheel_spin_relative[i] = spin_rel;
         diag.wheel_centre_xy[i] = [centre_abs.x, centre_abs.y];
-        if !road.has_surface(centre_abs.x, centre_abs.y) {
-            return Err(ModelError::new(
-                Cause::PhysicalEvent,
-                format!(
-                    "wheel {} left the road surface at x = {:.2} m, y = {:.2} m: the road file's border mode is \
-                     none (no surface beyond its grid)",
-                    CORNERS[i], centre_abs.x, centre_abs.y
-                ),
-            ));
-        }
         let contact = if options.switches.tires {
             tire::contact(road, &centre_abs, &axle_ground, self.tire.unloaded_radius_m)
         } else {
             None
         };
+        // Beyond a road file's defined area the road's height is NaN (no surface is invented there): the
+        // check costs nothing until then, and the road names what the wheel left.
+        if contact.as_ref().is_some_and(|ct| ct.penetration.is_nan()) {
+            let off = road.off_road(centre_abs.x, centre_abs.y).unwrap_or_else(|| {
+                format!("the road has no surface at x = {:.2} m, y = {:.2} m", centre_abs.x, centre_abs.y)
+            });
+            return Err(ModelError::new(Cause::PhysicalEvent, format!("wheel {} left the road: {off}", CORNERS[i])));
+        }
         match contact {
             Some(ct) if ct.penetration > tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m => {
                 // The single point's tangent plane on an obstacle's steep face reads a deflection the road
@@ -781,8 +784,7 @@ impl Vehicle {
                 // contact's geometry, not the obstacle's height, and the enveloping contact follows it.
                 let (h, [hx, hy]) = road.height_and_gradient(centre_abs.x, centre_abs.y);
                 let below = self.tire.unloaded_radius_m - (centre_abs.z - h);
-                if options.contact == ContactModel::Point
-                    && below <= tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m
+                if matches!(road, RoadView::Point(_)) && below <= tire::BOTTOMING_FRACTION * self.tire.unloaded_radius_m
                 {
                     return Err(ModelError::new(
                         Cause::ModelValidity,

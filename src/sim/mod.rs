@@ -581,15 +581,15 @@ impl Events {
     fn observe(&mut self, t: f64, d: &Diagnostics, brake: &[f64; 4], road: &RoadModel) {
         use crate::model::vehicle::CORNERS;
         for i in 0..4 {
-            // A road file's edge: beyond it the file's border mode decides what the wheel meets (it is told,
-            // never a silent extrapolation; with border mode none the evaluation ends with an error).
+            // A road file's edge: beyond it a border mode the file declares continues the surface (it is told,
+            // never silent); without one the evaluation ends with an error naming the position.
             if let Some(file) = road.file() {
                 let [x, y] = d.wheel_centre_xy[i];
                 if !file.inside(x, y) {
                     self.note(3, i, || {
                         format!(
                             "t = {t:.3} s: wheel {} left the extent of the road {} at x = {x:.2} m, y = {y:.2} m: \
-                             beyond it the surface continues as docs/roads.md says for its file type",
+                             beyond it the border mode the file declares continues the surface",
                             CORNERS[i],
                             file.name()
                         )
@@ -1819,7 +1819,9 @@ impl Simulation {
                 ),
             ))
         };
-        if matches!(self.road, RoadModel::Bumps(_)) && self.config.options.contact == ContactModel::Point {
+        if matches!(self.road, RoadModel::Bumps(_))
+            && self.config.options.contact.resolve(&self.road) == ContactModel::Point
+        {
             return refuse(
                 "the paper's bumps under the single-point contact have C⁰ edges, where the tire's damping \
                            force jumps,"

@@ -129,6 +129,12 @@ pub const CONTACTS: Table<ContactModel> = Table {
     parameter: "contact",
     option: Some("contact"),
     choices: &[
+        Choice {
+            value: ContactModel::Auto,
+            code: 0,
+            name: "auto",
+            description: "enveloping on a road file (OpenCRG, OpenDRIVE), single point on the others (default)",
+        },
         Choice { value: ContactModel::Point, code: 1, name: "point", description: "single point (the paper's)" },
         Choice {
             value: ContactModel::Envelope,

@@ -153,7 +153,7 @@ def test_non_finite_reals_are_rejected_and_the_old_value_kept(make, bad):
     ("integrator", 0), ("integrator", 3), ("integrator", 6), ("slip_model", 3), ("road", 0), ("road", 3),
     ("road_grade", 1.01), ("road_cross_slope", -1.01), ("bump_height", -0.01), ("bump_height", 0.31),
     ("bump_length", 0.09), ("bump_length", 10.01),
-    ("tolerance", 0.0), ("tolerance", -1e-3), ("tolerance", 1e-10), ("tolerance", 0.2), ("contact", 0), ("contact", 3),
+    ("tolerance", 0.0), ("tolerance", -1e-3), ("tolerance", 1e-10), ("tolerance", 0.2), ("contact", -1), ("contact", 3),
 ])
 def test_out_of_range_values_are_errors(make, name, value):
     s = make()

@@ -79,6 +79,16 @@ def test_the_hmmwv_drives_every_half_round_file(make, height):
         assert any(c in m for m in messages(s.name) for c in causes), messages(s.name)[-3:]
 
 
+def test_the_default_contact_drives_over_the_4in_half_round(make):
+    # Issue 35: road_file = halfround_4in.crg, tire_file = HMMWV_Pac02Tire.tir, 20 km/h, all else default (the
+    # contact's default, 0, is the enveloping one on a road file): 16 s is 89 m, past the obstacle at 50 m.
+    s = make()
+    s.init(road_file="roads/halfround_4in.crg", tire_file="tires/HMMWV_Pac02Tire.tir", initial_speed=20 / 3.6)
+    x0 = s.get("x")
+    assert drive(s, 16.0) == OK, messages(s.name)[-3:]
+    assert s.get("x") - x0 > 80.0
+
+
 def test_the_hmmwv_drives_an_rms_course(make):
     s = make()
     s.init(road_file="roads/detrended_rms_course_1in.crg", contact=2, internal_step=0.001, initial_speed=10.0)
