@@ -4,6 +4,7 @@
 
 use rt_vehicle::model::road::Road;
 use rt_vehicle::model::road_crg::{surface_for, PlacedSurface, MAX_CRG_BYTES};
+use rt_vehicle::sim::Channel;
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -337,7 +338,7 @@ fn circling_steer(v: f64, radius: f64) -> f64 {
         let config = SimConfig { initial_speed: v, ..SimConfig::default() };
         let mut sim = Simulation::from_vehicle_steered(vehicle, config, steer).unwrap();
         sim.advance(4.0).unwrap();
-        sim.outputs().unwrap().get("yaw_rate").unwrap()
+        sim.outputs().unwrap()[Channel::YawRate]
     };
     let target = v / radius;
     let (mut a, mut b) = (0.005, 0.01);
@@ -370,10 +371,10 @@ fn a_lap_of_chronos_50_m_circle_runs_and_driving_off_it_is_an_error_naming_the_p
         Simulation::from_vehicle_steered(Vehicle::new(&VehicleData::default_hmmwv()).unwrap(), config, steer).unwrap()
     };
     let mut sim = start(steer);
-    let (mut turned, mut last) = (0.0, sim.outputs().unwrap().get("yaw").unwrap());
+    let (mut turned, mut last) = (0.0, sim.outputs().unwrap()[Channel::Yaw]);
     for _ in 0..350 {
         sim.advance(0.1).unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
-        let yaw = sim.outputs().unwrap().get("yaw").unwrap();
+        let yaw = sim.outputs().unwrap()[Channel::Yaw];
         // Unwrapped: a step of 0.1 s turns the car by 0.02 rad.
         turned += (yaw - last).sin().atan2((yaw - last).cos());
         last = yaw;
