@@ -356,7 +356,7 @@ def cases(p):
     """(case, Fz, kappa, alpha, gamma, Vx): pure longitudinal, pure lateral and combined slip at 3 loads and 3
     cambers, both signs of every slip, inside the file's own ranges (KPUMIN/KPUMAX, ALPMIN/ALPMAX: outside
     them MFeval clamps), at the measurement speed LONGVL; and the low-speed fade of M_y near a locked wheel
-    (kappa -1.2 ... -0.8 below 3 VXLOW)."""
+    (kappa -1.2 ... -0.8 at 1.5-3 VXLOW)."""
     k_lo, k_hi = max(p["KPUMIN"], -0.8), min(p["KPUMAX"], 0.8)
     a_lo, a_hi = max(p["ALPMIN"], -0.5), min(p["ALPMAX"], 0.5)
     vx = p["LONGVL"]
@@ -372,7 +372,8 @@ def cases(p):
                 for a in sweep(a_lo, a_hi, 5):
                     yield "combined", fz, k, a, gamma, vx
         if p["KPUMIN"] <= -1.2:
-            for v in [0.5 * p["VXLOW"], 2.0 * p["VXLOW"], 3.0 * p["VXLOW"]]:
+            # |Vx| > VXLOW: only M_y's fade acts (the slips' low-speed reductions start below VXLOW).
+            for v in [1.5 * p["VXLOW"], 2.0 * p["VXLOW"], 3.0 * p["VXLOW"]]:
                 for k in sweep(-1.2, -0.8, 9):
                     yield "rolling_low_speed", fz, k, 0.0, 0.0, v
 
