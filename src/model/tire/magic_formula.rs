@@ -297,17 +297,30 @@ pub enum CombinedSlip {
     FrictionEllipse,
 }
 
-/// How one evaluation is done, besides its slips: the road's friction scale (LMUX and LMUY times it) and
-/// the combined-slip method.
+/// The aligning and overturning moments' forms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MomentForms {
+    /// MFeval's: the trail and the residual torque at α* = tan α, as F_y (α_eq = atan √(tan² α_t + …), D_r
+    /// with cos α*), the trail times LFZO, s and M_x with F_z0 = FNOMIN.
+    Mfeval,
+    /// Chrono's Pac02 (what reproduces its runs, data/chrono_reference/): the trail and residual torque at
+    /// the angle (α_eq = atan √(α_t² + …), both times cos α), no LFZO on the trail, s and M_x with F_z0'.
+    Chrono,
+}
+
+/// How one evaluation is done, besides its slips: the road's friction scale (LMUX and LMUY times it), the
+/// combined-slip method and the moments' forms.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Evaluation {
-    friction: f64,
-    combined: CombinedSlip,
+pub struct Evaluation {
+    pub friction: f64,
+    pub combined: CombinedSlip,
+    pub moments: MomentForms,
 }
 
 impl Evaluation {
-    /// MFeval's: friction 1, the weighting functions.
-    const MFEVAL: Evaluation = Evaluation { friction: 1.0, combined: CombinedSlip::Weighting };
+    /// MFeval's: friction 1, the weighting functions, its moments.
+    pub const MFEVAL: Evaluation =
+        Evaluation { friction: 1.0, combined: CombinedSlip::Weighting, moments: MomentForms::Mfeval };
 }
 
 /// The pure lateral slip's force and the factors the combined slip and M_z reuse.
@@ -909,17 +922,25 @@ impl MagicFormula {
                     * gamma_zs
                     * c.LKZC)
             * r0
-            * lmuy
-            * alpha.cos();
-        // Equivalent slips (A54, A55): α_eq = atan(√(tan² α_t + (K_x/K_y)² κ²)) with the sign of α_t; α_t
-        // itself at κ = 0.
+            * lmuy;
         let k_ratio = p.kx / ky_safe;
         let kk = k_ratio * k_ratio * kappa * kappa;
-        let equivalent = |a: f64| if kk == 0.0 { a } else { a.tan().hypot(kk.sqrt()).atan().copysign(a) };
-        let (alpha_t_eq, alpha_r_eq) = (equivalent(alpha_t), equivalent(alpha_r));
-        let trail = dt * cosine_shape(bt, ct, et, alpha_t_eq) * cos_alpha * c.LFZO;
-        let mzr = dr * cos_atan(br * alpha_r_eq);
-        let s = r0 * (c.SSZ1 + c.SSZ2 * (fy / self.fz0) + (c.SSZ3 + c.SSZ4 * dfz) * gamma) * c.LS;
+        let (trail, mzr, fz0_arm) = match how.moments {
+            MomentForms::Mfeval => {
+                // Equivalent slips (A54, A55): α_eq = atan(√(tan² α_t + (K_x/K_y)² κ²)) with the sign of α_t;
+                // α_t itself at κ = 0.
+                let equivalent = |a: f64| if kk == 0.0 { a } else { a.tan().hypot(kk.sqrt()).atan().copysign(a) };
+                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha * c.LFZO;
+                (trail, dr * alpha.cos() * cos_atan(br * equivalent(alpha_r)), self.fz0)
+            }
+            MomentForms::Chrono => {
+                // tan α_eq = √(α² + (K_x/K_y)² κ²), α_eq entering as the angle.
+                let equivalent = |a: f64| (a * a + kk).sqrt().copysign(a).atan();
+                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha;
+                (trail, dr * cos_atan(br * equivalent(alpha_r)) * cos_alpha, self.fz0_scaled)
+            }
+        };
+        let s = r0 * (c.SSZ1 + c.SSZ2 * (fy / fz0_arm) + (c.SSZ3 + c.SSZ4 * dfz) * gamma) * c.LS;
         let trail_force = match self.version {
             // MF 5.x: the force less S_Vyκ.
             TirFormat::Pac2002 => fy - svyk,
@@ -933,7 +954,7 @@ impl MagicFormula {
         MfLoads {
             fx,
             fy,
-            mx: self.overturning_moment(fz, fy, gamma),
+            mx: self.overturning_moment(fz, fy, gamma, fz0_arm),
             mz,
             rolling_resistance: self.rolling_resistance(fz, fx, vx, gamma)
                 * self.rolling_resistance_fade(unlimited_kappa, vx),
@@ -964,11 +985,11 @@ impl MagicFormula {
     /// QSX10 atan(QSX11 F_z/F_z0') γ) + R0 LMX (F_y (QSX13 + QSX14 |γ|) − F_z QSX12 γ |γ|), the last term MF
     /// 6.x only.
     #[inline(always)]
-    fn overturning_moment(&self, fz: f64, fy: f64, gamma: f64) -> f64 {
+    fn overturning_moment(&self, fz: f64, fy: f64, gamma: f64, fz0: f64) -> f64 {
         let (c, r0, dpi) = (&self.c, self.unloaded_radius, self.pressure_ratio);
-        // F_z0 = FNOMIN, as MFeval (TNO's M_x), not the scaled F_z0'.
-        let fy_n = fy / self.fz0;
-        let fz_n = fz / self.fz0;
+        // F_z0 = FNOMIN in MFeval's (TNO's) M_x, the scaled F_z0' in Chrono's (`MomentForms`).
+        let fy_n = fy / fz0;
+        let fz_n = fz / fz0;
         let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi) + c.QSX3 * fy_n;
         // The MF 6.1 terms cost five transcendental calls; PAC2002 files leave them 0.
         if c.QSX4 != 0.0 || c.QSX10 != 0.0 {
@@ -1028,8 +1049,8 @@ impl MagicFormula {
     }
 
     /// The model's call: adapted slips (κ, tan α' = −tan α, γ_w = −γ), as the STI tire takes them, on a
-    /// road whose friction scales μ_x and μ_y by `friction` (as LMUX and LMUY do, wherever they enter). The
-    /// rolling resistance is the caller's (`tire::rolling_resistance_moment`, with the speed).
+    /// road whose friction scales μ_x and μ_y by `how.friction` (as LMUX and LMUY do, wherever they enter).
+    /// The rolling resistance is the caller's (`tire::rolling_resistance_moment`, with the speed).
     pub fn forces(
         &self,
         side: TireSide,
@@ -1037,10 +1058,9 @@ impl MagicFormula {
         kappa: f64,
         tan_alpha: f64,
         inclination: f64,
-        friction: f64,
-        combined: CombinedSlip,
+        how: Evaluation,
     ) -> MfLoads {
-        self.mounted(side, fz, kappa, -tan_alpha, -inclination, 0.0, Evaluation { friction, combined })
+        self.mounted(side, fz, kappa, -tan_alpha, -inclination, 0.0, how)
     }
 }
 
@@ -1065,7 +1085,7 @@ mod tests {
         let l = mf.loads_iso(fz, 0.0, 0.05, 0.0, 10.0);
         assert!(l.fy < 0.0 && l.mz > 0.0, "{l:?}");
         // The model's adapted slip: tan α' > 0 gives F_y > 0.
-        assert!(mf.forces(TireSide::Left, fz, 0.0, 0.05, 0.0, 10.0, CombinedSlip::Weighting).fy > 0.0);
+        assert!(mf.forces(TireSide::Left, fz, 0.0, 0.05, 0.0, Evaluation { friction: 10.0, ..Evaluation::MFEVAL }).fy > 0.0);
     }
 
     #[test]
