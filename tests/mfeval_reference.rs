@@ -80,9 +80,8 @@ fn rtv_reproduces_mfeval_on_every_committed_file_and_case() {
             }
         };
         // The peak of each quantity at each load, over the table.
-        let peak = |fz: f64, q: usize| {
-            rows.iter().filter(|r| r.fz == fz).map(|r| r.reference[q].abs()).fold(0.0, f64::max)
-        };
+        let peak =
+            |fz: f64, q: usize| rows.iter().filter(|r| r.fz == fz).map(|r| r.reference[q].abs()).fold(0.0, f64::max);
         let mut worst = [0.0f64; 5];
         let mut worst_row = [String::new(), String::new(), String::new(), String::new(), String::new()];
         for side in [TireSide::Left, TireSide::Right] {

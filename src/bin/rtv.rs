@@ -1040,10 +1040,8 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
 fn cmd_ride(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::ride;
     let test = args.first().map(String::as_str).ok_or_else(|| bad("ride: halfround or rms?"))?;
-    let opts = options(
-        &args[1..],
-        &["height", "road", "course", "rough", "speeds", "vehicle", "tire", "tire-convention"],
-    )?;
+    let opts =
+        options(&args[1..], &["height", "road", "course", "rough", "speeds", "vehicle", "tire", "tire-convention"])?;
     let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, Failure> {
         match opts.get(key) {
             None => Ok(default.to_vec()),

@@ -436,11 +436,18 @@ mod tests {
         chrono.convention = TireConvention::Chrono;
         for side in [TireSide::Left, TireSide::Right] {
             // Whatever the inclination: the tire on the other side, upright, combined by the ellipse.
-            let l = mf.forces(side.other(), 6300.0, 0.02, 0.03, 0.0, Evaluation {
-                combined: CombinedSlip::FrictionEllipse,
-                moments: MomentForms::Chrono,
-                ..Evaluation::MFEVAL
-            });
+            let l = mf.forces(
+                side.other(),
+                6300.0,
+                0.02,
+                0.03,
+                0.0,
+                Evaluation {
+                    combined: CombinedSlip::FrictionEllipse,
+                    moments: MomentForms::Chrono,
+                    ..Evaluation::MFEVAL
+                },
+            );
             let expected = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
             assert_eq!(at(&chrono, side, 0.02, 0.05), expected, "{side:?}");
             // Near zero drive slip the ellipse leaves F_y as the weighting functions do (within 0.3 %, the
