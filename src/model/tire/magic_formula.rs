@@ -1520,4 +1520,33 @@ mod tests {
         refused("m.tir", &text.replace("USE_MODE                   = 4", "USE_MODE = 2"), &["USE_MODE"]);
         refused("t.tir", &text.replace("[MODEL]", "[MODEL]\nTURNSLIP = 'YES'"), &["turn slip"]);
     }
+
+    #[test]
+    fn a_missing_or_zero_required_key_names_itself_and_what_it_is_for() {
+        // Issue 35, part 6: VERTICAL_STIFFNESS = 0 used to read "Q_FZ2 = 0 exceeds … = 0".
+        let text = mf61_text();
+        let zero = text.replace("VERTICAL_STIFFNESS         = 441900", "VERTICAL_STIFFNESS = 0");
+        refused("k0.tir", &zero, &["VERTICAL_STIFFNESS", "must be positive", "vertical stiffness"]);
+        assert!(!parse("k0.tir", &zero).unwrap_err().contains("Q_FZ2"));
+        let cut = |key: &str| text.lines().filter(|l| !l.starts_with(key)).collect::<Vec<_>>().join("\n");
+        refused("d.tir", &cut("PDX1"), &["PDX1", "missing", "longitudinal friction"]);
+        refused("q.tir", &cut("QDZ1 "), &["QDZ1", "missing", "pneumatic trail"]);
+        let zeroed = |key: &str| {
+            let zero = format!("{key} = 0");
+            text.lines().map(|l| if l.starts_with(key) { zero.as_str() } else { l }).collect::<Vec<_>>().join("\n")
+        };
+        refused("p.tir", &zeroed("PKY1 "), &["PKY1 = 0", "cornering stiffness"]);
+        refused("x.tir", &zeroed("PDX1"), &["PDX1 = 0", "longitudinal friction"]);
+        // MF-Tyre 6.x's three-digit modes ending in 4 (combined slip) are read; others name USE_MODE.
+        for mode in ["114", "124", "14"] {
+            let m = text.replace("USE_MODE                   = 4", &format!("USE_MODE = {mode}"));
+            assert!(parse("u.tir", &m).is_ok(), "{mode}");
+        }
+        refused("u.tir", &text.replace("USE_MODE                   = 4", "USE_MODE = 123"), &["USE_MODE = 123"]);
+        // FITTYP 5/6 (MF 5.x) read with PAC2002's equations.
+        let pac = std::fs::read_to_string(resource("HMMWV_Pac02Tire.tir")).unwrap();
+        let mf52 = pac.replace("PROPERTY_FILE_FORMAT       = 'PAC2002'", "FITTYP = 6");
+        let mf = parse("52.tir", &mf52).unwrap();
+        assert_eq!((mf.version, mf.format.as_str()), (TirFormat::Pac2002, "MF 5.2"));
+    }
 }
