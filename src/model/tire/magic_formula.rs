@@ -19,8 +19,10 @@
 //! stiffnesses (`relaxation_lengths`). Written from Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. 2012,
 //! §4.3.2, and Besselink, Schmeitz & Pacejka (2010), *Vehicle System Dynamics* 48 S1, checked against the
 //! MATLAB Magic Formula library mfeval (Marco Furlan), read through its Julia port (github
-//! matheusft/MFeval_julia: Fy0.jl, Mz.jl, Mx.jl, My.jl, relaxation.jl, geometry.jl). Where mfeval follows the
-//! TNO solver empirically rather than the book (M_z's trail times LFZO, s with F_z0), the book is used.
+//! matheusft/MFeval_julia: Fy0.jl, Mz.jl, Mx.jl, My.jl, relaxation.jl, geometry.jl). The loads are MFeval's
+//! (issue 35; docs/tire_magic_formula.md, "MFeval"; tests/mfeval_reference.rs): one α* = tan α in F_y and M_z,
+//! γ* = sin γ where MF 6.x has it, the trail times LFZO, s and M_x with F_z0; Chrono's Pac02 moments where the
+//! chrono convention asks for them (`MomentForms`).
 //!
 //! Sign convention: ISO 8855 / TYDEX W axes, which the `.tir` coefficients are fitted in — x forward, y to
 //! the left, z up; κ = −V_sx/|V_x| (> 0 driving); slip angle α with tan α = V_sy/|V_x| (> 0 when the contact
@@ -1095,6 +1097,7 @@ impl MagicFormula {
 
     /// `loads` of the tire mounted on `side`: the mirror image at (κ, −α, −γ) with F_y, M_x, M_z negated
     /// when that is not the side it was measured on.
+    #[allow(clippy::too_many_arguments)]
     fn mounted(
         &self,
         side: TireSide,
