@@ -7,8 +7,9 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The bound on |difference from Chrono| in % for each of `QUANTITIES`, with the `chrono` convention.
-fn check(car: usize, bounds: &[(&str, f64)]) {
+/// The bound on |difference from Chrono| in % for each of `QUANTITIES`, with the `chrono` convention; the
+/// steady values in `not_closer` are not required to be further off with the default convention.
+fn check(car: usize, bounds: &[(&str, f64)], not_closer: &[&str]) {
     let c = compare(root(), &CARS[car]).unwrap();
     for (label, bound) in bounds {
         let k = QUANTITIES.iter().position(|q| q.label.starts_with(label)).unwrap();
@@ -18,7 +19,10 @@ fn check(car: usize, bounds: &[(&str, f64)]) {
     }
     // The switch is what brings the import to its source: the default convention is further off in each
     // of the four the issue bounds, as steady values.
-    for k in (0..QUANTITIES.len()).filter(|&k| QUANTITIES[k].label.contains("steady value")) {
+    for k in (0..QUANTITIES.len())
+        .filter(|&k| QUANTITIES[k].label.contains("steady value"))
+        .filter(|&k| !not_closer.iter().any(|l| QUANTITIES[k].label.starts_with(l)))
+    {
         let (on, off) = (c.with_chrono_convention[k], c.with_mfeval[k]);
         assert!(
             percent(on, c.chrono[k]).abs() < percent(off, c.chrono[k]).abs(),
@@ -64,6 +68,7 @@ fn the_hmmwv_import_reproduces_chronos_j_turn() {
             ("steer FL", 1.5),
             ("steer FR", 1.5),
         ],
+        &[],
     );
 }
 
@@ -101,5 +106,10 @@ fn the_generic_macpherson_import_is_within_its_measured_distance_of_chronos_j_tu
             ("steer FL", 1.0),
             ("steer FR", 1.0),
         ],
+        // With MFeval's aligning moment (issue 35, part 5) the default convention's steady a_y is 3.2160
+        // m/s², 0.19 % from Chrono's 3.2221, closer than the chrono convention's 3.2687 (+1.44 %; it was
+        // 3.1616, −1.9 %, with the former M_z), and its roll 0.4256°, −0.59 %, against +1.19 % (was 0.4197°,
+        // −2.0 %). The chrono convention's values did not move.
+        &["a_y, steady value", "roll, steady value"],
     );
 }

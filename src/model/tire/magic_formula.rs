@@ -19,8 +19,10 @@
 //! stiffnesses (`relaxation_lengths`). Written from Pacejka, *Tire and Vehicle Dynamics*, 3rd ed. 2012,
 //! §4.3.2, and Besselink, Schmeitz & Pacejka (2010), *Vehicle System Dynamics* 48 S1, checked against the
 //! MATLAB Magic Formula library mfeval (Marco Furlan), read through its Julia port (github
-//! matheusft/MFeval_julia: Fy0.jl, Mz.jl, Mx.jl, My.jl, relaxation.jl, geometry.jl). Where mfeval follows the
-//! TNO solver empirically rather than the book (M_z's trail times LFZO, s with F_z0), the book is used.
+//! matheusft/MFeval_julia: Fy0.jl, Mz.jl, Mx.jl, My.jl, relaxation.jl, geometry.jl). The loads are MFeval's
+//! (issue 35; docs/tire_magic_formula.md, "MFeval"; tests/mfeval_reference.rs): one α* = tan α in F_y and M_z,
+//! γ* = sin γ where MF 6.x has it, the trail times LFZO, s and M_x with F_z0; Chrono's Pac02 moments where the
+//! chrono convention asks for them (`MomentForms`).
 //!
 //! Sign convention: ISO 8855 / TYDEX W axes, which the `.tir` coefficients are fitted in — x forward, y to
 //! the left, z up; κ = −V_sx/|V_x| (> 0 driving); slip angle α with tan α = V_sy/|V_x| (> 0 when the contact
@@ -41,6 +43,13 @@ use std::f64::consts::FRAC_2_PI;
 /// Added to C·D before dividing (B = K/(C D + ε)), N: keeps B finite at a vanishing load without moving it
 /// at any real one.
 const EPS_FORCE_N: f64 = 1e-6;
+/// VXLOW where a file gives none, m/s (MFeval's default).
+const DEFAULT_LOW_SPEED_M_S: f64 = 1.0;
+
+fn default_low_speed() -> f64 {
+    DEFAULT_LOW_SPEED_M_S
+}
+
 /// Added to K_y before dividing (S_Hf = S_Hy + S_Vy/K_y), N/rad.
 const EPS_STIFFNESS_N: f64 = 1e-6;
 
@@ -75,11 +84,36 @@ macro_rules! coefficients {
         $file.number_or($section, stringify!($name), $default)?
     };
     (@read $file:ident, $section:literal, $name:ident) => {
-        $file.number($section, stringify!($name))?
+        $file.number($section, stringify!($name)).map_err(|e| format!("{e}: {}", purpose(stringify!($name))))?
     };
     (@default $default:expr) => { $default };
     // A required key of the other format: never used by this one's equations.
     (@default) => { 0.0 };
+}
+
+/// What a required key is for, said where it is missing or unusable (issue 35, part 6).
+fn purpose(key: &str) -> &'static str {
+    match key {
+        "PCX1" => "the shape factor C_x of the longitudinal force",
+        "PDX1" => "the longitudinal friction μ_x (the peak F_x is μ_x F_z)",
+        "PKX1" => "the longitudinal slip stiffness K_xκ",
+        "PCY1" => "the shape factor C_y of the lateral force",
+        "PDY1" => "the lateral friction μ_y (the peak F_y is μ_y F_z)",
+        "PKY1" => "the cornering stiffness K_yα",
+        "PKY2" => "the load at which the cornering stiffness peaks (K_yα's load dependence)",
+        "PKY4" => "the curvature of the cornering stiffness over load (MF 6.x's K_yα)",
+        "PKY6" => "the camber stiffness K_yγ0 (MF 6.x's camber force)",
+        "QBZ1" => "the stiffness factor B_t of the pneumatic trail (aligning moment)",
+        "QCZ1" => "the shape factor C_t of the pneumatic trail (aligning moment)",
+        "QDZ1" => "the peak D_t of the pneumatic trail (aligning moment)",
+        "FNOMIN" => "the nominal load F_z0, which every load dependence is relative to",
+        "LFZO" => "the scale of the nominal load F_z0",
+        "UNLOADED_RADIUS" => "the free radius R0 (the moments and the rolling radius)",
+        "VERTICAL_STIFFNESS" => "the vertical stiffness (the normal force; MF 6.x's Q_FZ1 follows from it)",
+        "LONGVL" => "the measurement speed V_ref (the rolling resistance's speed terms)",
+        "NOMPRES" => "the nominal pressure, which every MF 6.x pressure term is relative to",
+        _ => "a coefficient the Magic Formula's equations use",
+    }
 }
 
 /// Which formats a coefficient belongs to (the tags of `coefficients!`).
@@ -210,6 +244,10 @@ pub struct MagicFormula {
     pub inflation_pressure: f64,
     /// Measurement speed (LONGVL), m/s: the reference of the rolling-resistance speed terms.
     pub reference_speed: f64,
+    /// VXLOW, m/s (1 where absent, as MFeval): the rolling speed below which M_y fades
+    /// (`rolling_resistance_fade`).
+    #[serde(default = "default_low_speed")]
+    pub low_speed: f64,
     /// Pressure ratio dp_i = (IP − IP_NOM)/IP_NOM (0 where the file gives no pressures).
     pub pressure_ratio: f64,
     /// MF 6.x: M_y's pressure factor (p/p_nom)^QSY8, computed with the pressure (1 for PAC2002).
@@ -259,6 +297,32 @@ pub enum CombinedSlip {
     /// Chrono's Pac02 default (its `.tir` without `FE_METHOD = 'NO'`): the friction ellipse of
     /// `ChPac02Tire::CalcFxyMz`, which ignores the R* coefficients.
     FrictionEllipse,
+}
+
+/// The aligning and overturning moments' forms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MomentForms {
+    /// MFeval's: the trail and the residual torque at α* = tan α, as F_y (α_eq = atan √(tan² α_t + …), D_r
+    /// with cos α*), the trail times LFZO, s and M_x with F_z0 = FNOMIN.
+    Mfeval,
+    /// Chrono's Pac02 (what reproduces its runs, data/chrono_reference/): the trail and residual torque at
+    /// the angle (α_eq = atan √(α_t² + …), both times cos α), no LFZO on the trail, s and M_x with F_z0'.
+    Chrono,
+}
+
+/// How one evaluation is done, besides its slips: the road's friction scale (LMUX and LMUY times it), the
+/// combined-slip method and the moments' forms.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Evaluation {
+    pub friction: f64,
+    pub combined: CombinedSlip,
+    pub moments: MomentForms,
+}
+
+impl Evaluation {
+    /// MFeval's: friction 1, the weighting functions, its moments.
+    pub const MFEVAL: Evaluation =
+        Evaluation { friction: 1.0, combined: CombinedSlip::Weighting, moments: MomentForms::Mfeval };
 }
 
 /// The pure lateral slip's force and the factors the combined slip and M_z reuse.
@@ -318,6 +382,48 @@ fn cos_atan(x: f64) -> f64 {
     1.0 / (1.0 + x * x).sqrt()
 }
 
+/// Below this |x| (rad), sin, cos and tan are Taylor polynomials (`sin`, `cos`, `tan`).
+const SMALL_ANGLE: f64 = 0.25;
+
+/// sin x: for |x| ≤ 0.25 its Taylor polynomial to x¹¹, whose remainder is below |x|¹²/13! ≤ 9.6e-18 of
+/// sin x, under its rounding (1.1e-16); libm beyond. The inclination and the slips MFeval takes sines, cosines and tangents of are that small in
+/// driving, and the polynomials cost a fraction of the calls (`examples/tire_instructions.rs`).
+#[inline(always)]
+fn sin(x: f64) -> f64 {
+    if x.abs() > SMALL_ANGLE {
+        return x.sin();
+    }
+    let x2 = x * x;
+    let p =
+        -1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5_040.0 + x2 * (1.0 / 362_880.0 + x2 * (-1.0 / 39_916_800.0))));
+    x + x * x2 * p
+}
+
+/// cos x: for |x| ≤ 0.25 its Taylor polynomial to x¹² (remainder |x|¹⁴/14! ≤ 4.3e-20, below half an ulp of
+/// cos x ≥ 0.97); libm beyond.
+#[inline(always)]
+fn cos(x: f64) -> f64 {
+    if x.abs() > SMALL_ANGLE {
+        return x.cos();
+    }
+    let x2 = x * x;
+    let p = -1.0 / 2.0
+        + x2 * (1.0 / 24.0
+            + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0 + x2 * (1.0 / 479_001_600.0)))));
+    1.0 + x2 * p
+}
+
+/// tan x: for |x| ≤ 0.25 Lambert's continued fraction x/(1 − x²/(3 − x²/(5 − … x²/13))), within 1.6e-16
+/// relative of tan x there (measured against 40-digit arithmetic at 2000 points); libm beyond.
+#[inline(always)]
+fn tan(x: f64) -> f64 {
+    if x.abs() > SMALL_ANGLE {
+        return x.tan();
+    }
+    let x2 = x * x;
+    x / (1.0 - x2 / (3.0 - x2 / (5.0 - x2 / (7.0 - x2 / (9.0 - x2 / (11.0 - x2 / 13.0))))))
+}
+
 /// sin(2 atan(x)) = 2x/(1 + x²).
 #[inline(always)]
 fn sin_2atan(x: f64) -> f64 {
@@ -331,12 +437,14 @@ impl MagicFormula {
         let name = &file.name;
         let format = file.format()?;
         if let Ok(mode) = file.number("MODEL", "USE_MODE") {
-            // 4: combined slip (this model); 14: the same with relaxation (the model always relaxes its
-            // slips). 0–3 switch forces off, negative values mirror: not implemented.
-            if !matches!(mode as i64, 4 | 14) {
+            // The last digit chooses the slip forces: 4 is combined slip (this model), 0–3 switch forces off.
+            // The digits before it choose the simulation (14: with relaxation, which the model always has;
+            // MF-Tyre 6.x's 114, 124, …: the contact and dynamics, which the model's own settings decide).
+            // Negative values mirror: not implemented.
+            if !(mode >= 4.0 && mode.fract() == 0.0 && mode as i64 % 10 == 4) {
                 return Err(format!(
-                    "{name}: [MODEL] USE_MODE = {mode}: only 4 and 14 (combined slip) are implemented; \
-                     uncombined, force-only and mirrored modes are not"
+                    "{name}: [MODEL] USE_MODE = {mode}: only modes ending in 4 (combined slip: 4, 14, 114, 124, …) \
+                     are implemented; uncombined, force-only and mirrored modes are not"
                 ));
             }
         }
@@ -390,6 +498,14 @@ impl MagicFormula {
         let mut mf = MagicFormula {
             source: name.clone(),
             format: match format {
+                // MF-Tyre 5.x files (FITTYP 5, 6, 21) that do not say PAC2002: the same equations.
+                TirFormat::Pac2002
+                    if file
+                        .text("MODEL", "PROPERTY_FILE_FORMAT")
+                        .is_none_or(|f| !f.eq_ignore_ascii_case("PAC2002")) =>
+                {
+                    "MF 5.2"
+                }
                 TirFormat::Pac2002 => "PAC2002",
                 TirFormat::Mf61 => "MF 6.1",
                 TirFormat::Mf62 => "MF 6.2",
@@ -408,6 +524,7 @@ impl MagicFormula {
             nominal_pressure: ip_nom * pressure,
             inflation_pressure: ip * pressure,
             reference_speed,
+            low_speed: file.number_or("MODEL", "VXLOW", DEFAULT_LOW_SPEED_M_S)? * length / time,
             pressure_ratio: 0.0,
             rolling_pressure_factor: 1.0,
             measured_side,
@@ -420,6 +537,13 @@ impl MagicFormula {
             fz_max: file.number_or("VERTICAL_FORCE_RANGE", "FZMAX", f64::INFINITY)? * force,
             warnings: file.warnings.clone(),
         };
+        if !(mf.nominal_vertical_stiffness > 0.0) {
+            return Err(format!(
+                "{name}: [VERTICAL] VERTICAL_STIFFNESS (times LCZ) = {} N/m must be positive: it is {}",
+                mf.nominal_vertical_stiffness,
+                purpose("VERTICAL_STIFFNESS")
+            ));
+        }
         mf.set_inflation_pressure(mf.inflation_pressure)?;
         mf.check()?;
         mf.warn_unused(file);
@@ -561,19 +685,21 @@ impl MagicFormula {
         ];
         for (key, value) in positive {
             if !(value > 0.0) {
-                return Err(format!("{name}: {key} = {value} must be positive"));
+                let purpose = purpose(key.split(' ').next().unwrap_or(key));
+                return Err(format!("{name}: {key} = {value} must be positive: it is {purpose}"));
             }
-        }
-        if self.c.PKY1 == 0.0 {
-            return Err(format!("{name}: PKY1 = 0 gives no cornering stiffness"));
-        }
-        if self.version != TirFormat::Pac2002 && self.c.PKY4 == 0.0 {
-            return Err(format!("{name}: PKY4 = 0 gives no cornering stiffness"));
         }
         // PDY1 < 0 in some MF-Tyre 5 exports ("W-axis system", the FED tire): D_y and B_y = K_y/(C_y D_y)
         // change sign together, so F_y ≈ K_y α keeps the sign of PKY1 either way.
-        if self.c.PDY1 == 0.0 {
-            return Err(format!("{name}: PDY1 = 0 gives no lateral friction"));
+        let mut nonzero =
+            vec![("PKY1", self.c.PKY1, "no cornering stiffness"), ("PDY1", self.c.PDY1, "no lateral friction")];
+        if self.version != TirFormat::Pac2002 {
+            nonzero.push(("PKY4", self.c.PKY4, "no cornering stiffness"));
+        }
+        for (key, value, gives) in nonzero {
+            if value == 0.0 {
+                return Err(format!("{name}: {key} = 0 gives {gives}: it is {}", purpose(key)));
+            }
         }
         if self.vertical_damping < 0.0 {
             return Err(format!("{name}: VERTICAL_DAMPING = {} must not be negative", self.vertical_damping));
@@ -716,10 +842,10 @@ impl MagicFormula {
         self.carcass_stiffness.is_some() || (self.c.PTX1 != 0.0 && self.c.PTY1 != 0.0)
     }
 
-    /// Pure slip: F_x0(κ), F_y0(α) and what combined slip and M_z reuse. ISO inputs (α is tan α, as the
-    /// PAC2002 α*).
+    /// Pure slip: F_x0(κ), F_y0(α) and what combined slip and M_z reuse. ISO inputs: α is α* = tan α, and
+    /// the inclination enters as MFeval has it, γ in F_x0 and γ* = sin γ in F_y0 (`[gamma, gamma_star]`).
     #[inline(always)]
-    fn pure(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, [lmux, lmuy]: [f64; 2]) -> Pure {
+    fn pure(&self, fz: f64, kappa: f64, alpha: f64, [gamma, gamma_star]: [f64; 2], [lmux, lmuy]: [f64; 2]) -> Pure {
         let c = &self.c;
         let dfz = self.load_increment(fz);
         let dpi = self.pressure_ratio;
@@ -740,12 +866,12 @@ impl MagicFormula {
         let bx = kx / (cx * dx + EPS_FORCE_N);
         let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * lmux;
         let fx0 = magic(bx, cx, dx, ex, kappa_x) + svx;
-        let y = self.lateral(fz, dfz, alpha, gamma, lmuy);
+        let y = self.lateral(fz, dfz, alpha, gamma_star, lmuy);
         Pure { fx0, kx, shx, svx, mu_x, y }
     }
 
-    /// Pure lateral slip F_y0(α) at inclination γ (4.E19–4.E30; MF 6.1 adds PEY5 γ² to E_y and its camber
-    /// structure in `ky`, `lateral_shifts`).
+    /// Pure lateral slip F_y0(α*) at inclination γ* = sin γ (4.E19–4.E30; MF 6.1 adds PEY5 γ*² to E_y and
+    /// its camber structure in `ky`, `lateral_shifts`).
     #[inline(always)]
     fn lateral(&self, fz: f64, dfz: f64, alpha: f64, gamma: f64, lmuy: f64) -> Lateral {
         let (c, dpi) = (&self.c, self.pressure_ratio);
@@ -770,59 +896,59 @@ impl MagicFormula {
 
     /// The loads of the tire as measured (its own side), ISO inputs, combined slip (USE_MODE 4).
     pub fn loads_iso(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64) -> MfLoads {
-        self.loads(fz, kappa, alpha, gamma, vx, 1.0, CombinedSlip::Weighting)
+        self.loads(fz, kappa, alpha, gamma, vx, Evaluation::MFEVAL)
     }
 
-    /// `loads_iso` on a road of friction scale `friction` (LMUX and LMUY times it).
-    fn loads(
-        &self,
-        fz: f64,
-        kappa: f64,
-        alpha: f64,
-        gamma: f64,
-        vx: f64,
-        friction: f64,
-        combined: CombinedSlip,
-    ) -> MfLoads {
+    /// The loads as MFeval computes them (useMode 121: α* = tan α, γ* = sin γ; docs/tire_magic_formula.md,
+    /// "MFeval"), on a road of friction scale `how.friction` (LMUX and LMUY times it). ISO inputs: α is
+    /// tan α, γ the inclination angle; `vx` only enters M_y.
+    fn loads(&self, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64, how: Evaluation) -> MfLoads {
         if fz.is_nan() || fz <= 0.0 {
             return MfLoads::default();
         }
         let c = &self.c;
         let fz = fz.min(self.fz_max);
+        let unlimited_kappa = kappa;
         let kappa = kappa.clamp(self.kappa_range[0], self.kappa_range[1]);
-        // The range is on the angle; α here is tan α (PAC2002's α*).
+        // The range is on the angle; α here is tan α (MFeval's α*).
         let alpha = alpha.clamp(self.tan_alpha_range[0], self.tan_alpha_range[1]);
         let gamma = gamma.clamp(self.camber_range[0], self.camber_range[1]);
+        // MF 6.x's γ* (4.E4), which MFeval uses in F_y, the combined-slip factors and parts of M_z; F_x0, the
+        // trail's B_t, D_t, the arm s, M_x and M_y take γ itself. The same to 5e-4 relative at 3°.
+        let gamma_star = sin(gamma);
         let dfz = self.load_increment(fz);
         let dpi = self.pressure_ratio;
-        let (lmux, lmuy) = (c.LMUX * friction, c.LMUY * friction);
-        let p = self.pure(fz, kappa, alpha, gamma, [lmux, lmuy]);
+        let (lmux, lmuy) = (c.LMUX * how.friction, c.LMUY * how.friction);
+        let p = self.pure(fz, kappa, alpha, [gamma, gamma_star], [lmux, lmuy]);
 
-        // Combined slip (4.E50–4.E67; MF 6.1 adds RBX3 γ² and RBY4 γ² to B_xα and B_yκ).
+        // Combined slip (4.E50–4.E67; MF 6.1 adds RBX3 γ*² and RBY4 γ*² to B_xα and B_yκ).
         let shxa = c.RHX1;
         let alpha_s = alpha + shxa;
-        let bxa = (c.RBX1 + c.RBX3 * gamma * gamma) * cos_atan(c.RBX2 * kappa) * c.LXAL;
+        let bxa = (c.RBX1 + c.RBX3 * gamma_star * gamma_star) * cos_atan(c.RBX2 * kappa) * c.LXAL;
         let exa = (c.REX1 + c.REX2 * dfz).min(1.0);
         let gxa = cosine_shape(bxa, c.RCX1, exa, alpha_s) / cosine_shape(bxa, c.RCX1, exa, shxa);
         let mut fx = gxa * p.fx0;
 
         let shyk = c.RHY1 + c.RHY2 * dfz;
         let kappa_s = kappa + shyk;
-        let byk = (c.RBY1 + c.RBY4 * gamma * gamma) * cos_atan(c.RBY2 * (alpha - c.RBY3)) * c.LYKA;
+        let byk = (c.RBY1 + c.RBY4 * gamma_star * gamma_star) * cos_atan(c.RBY2 * (alpha - c.RBY3)) * c.LYKA;
         let eyk = (c.REY1 + c.REY2 * dfz).min(1.0);
-        let dvyk = p.y.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma) * cos_atan(c.RVY4 * alpha);
+        let dvyk = p.y.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma_star) * cos_atan(c.RVY4 * alpha);
         let svyk = dvyk * (c.RVY5 * (c.RVY6 * kappa).atan()).sin() * c.LVYKA;
         let gyk = cosine_shape(byk, c.RCY1, eyk, kappa_s) / cosine_shape(byk, c.RCY1, eyk, shyk);
         let mut fy = gyk * p.y.fy0 + svyk;
-        if combined == CombinedSlip::FrictionEllipse {
+        if how.combined == CombinedSlip::FrictionEllipse {
             [fx, fy] = friction_ellipse(&p, fz, kappa, alpha);
         }
 
-        // Aligning moment (4.E31–4.E49, combined 4.E71–4.E78; MF 6.1's QDZ10–11 and LKZC in D_r).
+        // Aligning moment (4.E31–4.E49, combined 4.E71–4.E78; MF 6.1's QDZ10–11 and LKZC in D_r), as MFeval
+        // evaluates it: every slip is α* = tan α, the one F_y is computed at (the trail's and the residual
+        // torque's α_t, α_r, and D_r's cos α*); MFeval's forms where they leave the book (Besselink et al.
+        // 2010, A54–A60: B_t and D_t with γ, α_eq through tan α_t; the trail times LFZO and s with F_z0).
         let r0 = self.unloaded_radius;
-        let gamma_z = gamma * c.LGAZ;
+        let (gamma_z, gamma_zs) = (gamma * c.LGAZ, gamma_star * c.LGAZ);
         let cos_alpha = cos_atan(alpha);
-        let sht = c.QHZ1 + c.QHZ2 * dfz + (c.QHZ3 + c.QHZ4 * dfz) * gamma_z;
+        let sht = c.QHZ1 + c.QHZ2 * dfz + (c.QHZ3 + c.QHZ4 * dfz) * gamma_zs;
         let ky_safe = nonzero_stiffness(p.y.ky);
         let shf = p.y.shy + p.y.svy / ky_safe;
         let alpha_t = alpha + sht;
@@ -838,58 +964,75 @@ impl MagicFormula {
             * (r0 / self.fz0_scaled)
             * c.LTR;
         let et = ((c.QEZ1 + c.QEZ2 * dfz + c.QEZ3 * dfz * dfz)
-            * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_z) * FRAC_2_PI * (bt * ct * alpha_t).atan()))
+            * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_zs) * FRAC_2_PI * (bt * ct * alpha_t).atan()))
         .min(1.0);
         let br = c.QBZ9 * c.LKY / lmuy + c.QBZ10 * p.y.by * p.y.cy;
         let dr = fz
             * ((c.QDZ6 + c.QDZ7 * dfz) * c.LRES
-                + ((c.QDZ8 + c.QDZ9 * dfz) * (1.0 + c.QPZ2 * dpi) + (c.QDZ10 + c.QDZ11 * dfz) * gamma_z.abs())
-                    * gamma_z
+                + ((c.QDZ8 + c.QDZ9 * dfz) * (1.0 + c.QPZ2 * dpi) + (c.QDZ10 + c.QDZ11 * dfz) * gamma_zs.abs())
+                    * gamma_zs
                     * c.LKZC)
             * r0
             * lmuy;
-        // Equivalent slips: the κ part weighted by K_x/K_y (tan α_eq = √(tan² α + (K_x/K_y)² κ²)), with the
-        // sign of α.
         let k_ratio = p.kx / ky_safe;
         let kk = k_ratio * k_ratio * kappa * kappa;
-        let alpha_t_eq = (alpha_t * alpha_t + kk).sqrt().copysign(alpha_t);
-        let alpha_r_eq = (alpha_r * alpha_r + kk).sqrt().copysign(alpha_r);
-        // α_eq enters as an angle: atan of the tan values above.
-        let (alpha_t_eq, alpha_r_eq) = (alpha_t_eq.atan(), alpha_r_eq.atan());
-        let trail = dt * cosine_shape(bt, ct, et, alpha_t_eq) * cos_alpha;
-        let mzr = dr * cos_atan(br * alpha_r_eq) * cos_alpha;
-        let s = r0 * (c.SSZ1 + c.SSZ2 * (fy / self.fz0_scaled) + (c.SSZ3 + c.SSZ4 * dfz) * gamma) * c.LS;
-        let mz = -trail * self.trail_force(fz, dfz, alpha, gamma, lmuy, &p, gyk, fy - svyk) + mzr + s * fx;
+        let (trail, mzr, fz0_arm) = match how.moments {
+            MomentForms::Mfeval => {
+                // Equivalent slips (A54, A55): α_eq = atan(√(tan² α_t + (K_x/K_y)² κ²)) with the sign of α_t
+                // (at κ = 0 that is α_t, folded into ±π/2 as MFeval does where |α_t| > π/2).
+                let equivalent = |a: f64| {
+                    let t = tan(a);
+                    (t * t + kk).sqrt().atan().copysign(a)
+                };
+                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha * c.LFZO;
+                (trail, dr * cos(alpha) * cos_atan(br * equivalent(alpha_r)), self.fz0)
+            }
+            MomentForms::Chrono => {
+                // tan α_eq = √(α² + (K_x/K_y)² κ²), α_eq entering as the angle.
+                let equivalent = |a: f64| (a * a + kk).sqrt().copysign(a).atan();
+                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha;
+                (trail, dr * cos_atan(br * equivalent(alpha_r)) * cos_alpha, self.fz0_scaled)
+            }
+        };
+        let s = r0 * (c.SSZ1 + c.SSZ2 * (fy / fz0_arm) + (c.SSZ3 + c.SSZ4 * dfz) * gamma) * c.LS;
+        let trail_force = match self.version {
+            // MF 5.x: the force less S_Vyκ.
+            TirFormat::Pac2002 => fy - svyk,
+            // MF 6.x's F'_y = G_yκ F_y0(γ = 0) (4.E74: the camber thrust gives no trail moment, its moment is
+            // in M_zr), which at γ = 0 is the same force.
+            _ if gamma == 0.0 => gyk * p.y.fy0,
+            _ => gyk * self.lateral(fz, dfz, alpha, 0.0, lmuy).fy0,
+        };
+        let mz = -trail * trail_force + mzr + s * fx;
 
         MfLoads {
             fx,
             fy,
-            mx: self.overturning_moment(fz, fy, gamma),
+            mx: self.overturning_moment(fz, fy, gamma, fz0_arm),
             mz,
-            rolling_resistance: self.rolling_resistance(fz, fx, vx, gamma),
+            // 0 at standstill (`forces` passes V_x = 0: the caller computes M_y).
+            rolling_resistance: match self.rolling_resistance_fade(unlimited_kappa, vx) {
+                0.0 => 0.0,
+                fade => fade * self.rolling_resistance(fz, fx, vx, gamma),
+            },
         }
     }
 
-    /// The lateral force the pneumatic trail acts on: PAC2002's F_y − S_Vyκ (`fy_less_svyk`); MF 6.1's
-    /// F'_y = G_yκ F_y0(γ = 0) (Pacejka 2012 4.E74: the camber thrust gives no trail moment, its moment is
-    /// in M_zr), which at γ = 0 is the same force.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(always)]
-    fn trail_force(
-        &self,
-        fz: f64,
-        dfz: f64,
-        alpha: f64,
-        gamma: f64,
-        lmuy: f64,
-        pure: &Pure,
-        gyk: f64,
-        fy_less_svyk: f64,
-    ) -> f64 {
-        match self.version {
-            TirFormat::Pac2002 => fy_less_svyk,
-            _ if gamma == 0.0 => gyk * pure.y.fy0,
-            _ => gyk * self.lateral(fz, dfz, alpha, 0.0, lmuy).fy0,
+    /// MFeval's fade of M_y near a locked wheel (My.jl, "empirically discovered in the reference code"): with
+    /// the wheel's rolling speed (1 + κ)|V_x| below VXLOW, M_y is scaled by sin(π/2 (1 + κ)|V_x|/VXLOW); 0 at
+    /// V_x = 0, reversed when the wheel spins backwards faster than that band.
+    pub fn rolling_resistance_fade(&self, kappa: f64, vx: f64) -> f64 {
+        if vx == 0.0 {
+            return 0.0;
+        }
+        let high = self.low_speed / vx.abs() - 1.0;
+        let low = -1.0 - self.low_speed - high;
+        if kappa > high {
+            1.0
+        } else if kappa >= low {
+            (std::f64::consts::FRAC_PI_2 * (kappa + 1.0) / (high + 1.0)).sin()
+        } else {
+            -1.0
         }
     }
 
@@ -899,10 +1042,11 @@ impl MagicFormula {
     /// QSX10 atan(QSX11 F_z/F_z0') γ) + R0 LMX (F_y (QSX13 + QSX14 |γ|) − F_z QSX12 γ |γ|), the last term MF
     /// 6.x only.
     #[inline(always)]
-    fn overturning_moment(&self, fz: f64, fy: f64, gamma: f64) -> f64 {
+    fn overturning_moment(&self, fz: f64, fy: f64, gamma: f64, fz0: f64) -> f64 {
         let (c, r0, dpi) = (&self.c, self.unloaded_radius, self.pressure_ratio);
-        let fy_n = fy / self.fz0_scaled;
-        let fz_n = fz / self.fz0_scaled;
+        // F_z0 = FNOMIN in MFeval's (TNO's) M_x, the scaled F_z0' in Chrono's (`MomentForms`).
+        let fy_n = fy / fz0;
+        let fz_n = fz / fz0;
         let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi) + c.QSX3 * fy_n;
         // The MF 6.1 terms cost five transcendental calls; PAC2002 files leave them 0.
         if c.QSX4 != 0.0 || c.QSX10 != 0.0 {
@@ -929,7 +1073,7 @@ impl MagicFormula {
             TirFormat::Pac2002 => {
                 self.unloaded_radius
                     * fz
-                    * (c.QSY1 + c.QSY2 * fx / self.fz0_scaled + c.QSY3 * v.abs() + c.QSY4 * v.powi(4))
+                    * (c.QSY1 + c.QSY2 * fx / self.fz0 + c.QSY3 * v.abs() + c.QSY4 * v.powi(4))
                     * c.LMY
             }
             _ => {
@@ -948,7 +1092,7 @@ impl MagicFormula {
 
     /// The loads of this tire mounted on `side`, ISO inputs: mirrored when that is not the measured side.
     pub fn loads_on(&self, side: TireSide, fz: f64, kappa: f64, alpha: f64, gamma: f64, vx: f64) -> MfLoads {
-        self.mounted(side, fz, kappa, alpha, gamma, vx, 1.0, CombinedSlip::Weighting)
+        self.mounted(side, fz, kappa, alpha, gamma, vx, Evaluation::MFEVAL)
     }
 
     /// `loads` of the tire mounted on `side`: the mirror image at (κ, −α, −γ) with F_y, M_x, M_z negated
@@ -962,19 +1106,18 @@ impl MagicFormula {
         alpha: f64,
         gamma: f64,
         vx: f64,
-        friction: f64,
-        combined: CombinedSlip,
+        how: Evaluation,
     ) -> MfLoads {
         if side == self.measured_side {
-            return self.loads(fz, kappa, alpha, gamma, vx, friction, combined);
+            return self.loads(fz, kappa, alpha, gamma, vx, how);
         }
-        let m = self.loads(fz, kappa, -alpha, -gamma, vx, friction, combined);
+        let m = self.loads(fz, kappa, -alpha, -gamma, vx, how);
         MfLoads { fy: -m.fy, mx: -m.mx, mz: -m.mz, ..m }
     }
 
     /// The model's call: adapted slips (κ, tan α' = −tan α, γ_w = −γ), as the STI tire takes them, on a
-    /// road whose friction scales μ_x and μ_y by `friction` (as LMUX and LMUY do, wherever they enter). The
-    /// rolling resistance is the caller's (`tire::rolling_resistance_moment`, with the speed).
+    /// road whose friction scales μ_x and μ_y by `how.friction` (as LMUX and LMUY do, wherever they enter).
+    /// The rolling resistance is the caller's (`tire::rolling_resistance_moment`, with the speed).
     pub fn forces(
         &self,
         side: TireSide,
@@ -982,10 +1125,9 @@ impl MagicFormula {
         kappa: f64,
         tan_alpha: f64,
         inclination: f64,
-        friction: f64,
-        combined: CombinedSlip,
+        how: Evaluation,
     ) -> MfLoads {
-        self.mounted(side, fz, kappa, -tan_alpha, -inclination, 0.0, friction, combined)
+        self.mounted(side, fz, kappa, -tan_alpha, -inclination, 0.0, how)
     }
 }
 
@@ -1010,7 +1152,9 @@ mod tests {
         let l = mf.loads_iso(fz, 0.0, 0.05, 0.0, 10.0);
         assert!(l.fy < 0.0 && l.mz > 0.0, "{l:?}");
         // The model's adapted slip: tan α' > 0 gives F_y > 0.
-        assert!(mf.forces(TireSide::Left, fz, 0.0, 0.05, 0.0, 10.0, CombinedSlip::Weighting).fy > 0.0);
+        assert!(
+            mf.forces(TireSide::Left, fz, 0.0, 0.05, 0.0, Evaluation { friction: 10.0, ..Evaluation::MFEVAL }).fy > 0.0
+        );
     }
 
     #[test]
@@ -1036,12 +1180,12 @@ mod tests {
         let dfz = mf.load_increment(fz);
         let shx = mf.c.PHX1 + mf.c.PHX2 * dfz;
         let h = 1e-7;
-        let fx = |k: f64| mf.pure(fz, k, 0.0, 0.0, [mf.c.LMUX, mf.c.LMUY]).fx0;
+        let fx = |k: f64| mf.pure(fz, k, 0.0, [0.0; 2], [mf.c.LMUX, mf.c.LMUY]).fx0;
         let slope = (fx(-shx + h) - fx(-shx - h)) / (2.0 * h);
         let kx = mf.longitudinal_stiffness(fz);
         assert!((slope - kx).abs() < 1e-6 * kx, "{slope} vs {kx}");
         let shy = mf.c.PHY1 + mf.c.PHY2 * dfz;
-        let fy = |a: f64| mf.pure(fz, 0.0, a, 0.0, [mf.c.LMUX, mf.c.LMUY]).y.fy0;
+        let fy = |a: f64| mf.pure(fz, 0.0, a, [0.0; 2], [mf.c.LMUX, mf.c.LMUY]).y.fy0;
         let slope = (fy(-shy + h) - fy(-shy - h)) / (2.0 * h);
         assert!((slope + mf.cornering_stiffness(fz)).abs() < 1e-6 * mf.cornering_stiffness(fz), "{slope}");
     }
@@ -1242,7 +1386,7 @@ mod tests {
             let dfz = mf.load_increment(fz);
             let shx = mf.c.PHX1 + mf.c.PHX2 * dfz;
             let e = 1e-7;
-            let fx = |k: f64| mf.pure(fz, k, 0.0, 0.0, [mf.c.LMUX, mf.c.LMUY]).fx0;
+            let fx = |k: f64| mf.pure(fz, k, 0.0, [0.0; 2], [mf.c.LMUX, mf.c.LMUY]).fx0;
             let slope = (fx(-shx + e) - fx(-shx - e)) / (2.0 * e);
             assert!(close(slope, kx, 1e-6, 0.0), "{ratio}: slope {slope} vs {kx}");
         }
@@ -1378,5 +1522,34 @@ mod tests {
         // Turn slip and the USE_MODE variants stay refused for MF 6.x too.
         refused("m.tir", &text.replace("USE_MODE                   = 4", "USE_MODE = 2"), &["USE_MODE"]);
         refused("t.tir", &text.replace("[MODEL]", "[MODEL]\nTURNSLIP = 'YES'"), &["turn slip"]);
+    }
+
+    #[test]
+    fn a_missing_or_zero_required_key_names_itself_and_what_it_is_for() {
+        // Issue 35, part 6: VERTICAL_STIFFNESS = 0 used to read "Q_FZ2 = 0 exceeds … = 0".
+        let text = mf61_text();
+        let zero = text.replace("VERTICAL_STIFFNESS         = 441900", "VERTICAL_STIFFNESS = 0");
+        refused("k0.tir", &zero, &["VERTICAL_STIFFNESS", "must be positive", "vertical stiffness"]);
+        assert!(!parse("k0.tir", &zero).unwrap_err().contains("Q_FZ2"));
+        let cut = |key: &str| text.lines().filter(|l| !l.starts_with(key)).collect::<Vec<_>>().join("\n");
+        refused("d.tir", &cut("PDX1"), &["PDX1", "missing", "longitudinal friction"]);
+        refused("q.tir", &cut("QDZ1 "), &["QDZ1", "missing", "pneumatic trail"]);
+        let zeroed = |key: &str| {
+            let zero = format!("{key} = 0");
+            text.lines().map(|l| if l.starts_with(key) { zero.as_str() } else { l }).collect::<Vec<_>>().join("\n")
+        };
+        refused("p.tir", &zeroed("PKY1 "), &["PKY1 = 0", "cornering stiffness"]);
+        refused("x.tir", &zeroed("PDX1"), &["PDX1 = 0", "longitudinal friction"]);
+        // MF-Tyre 6.x's three-digit modes ending in 4 (combined slip) are read; others name USE_MODE.
+        for mode in ["114", "124", "14"] {
+            let m = text.replace("USE_MODE                   = 4", &format!("USE_MODE = {mode}"));
+            assert!(parse("u.tir", &m).is_ok(), "{mode}");
+        }
+        refused("u.tir", &text.replace("USE_MODE                   = 4", "USE_MODE = 123"), &["USE_MODE = 123"]);
+        // FITTYP 5/6 (MF 5.x) read with PAC2002's equations.
+        let pac = std::fs::read_to_string(resource("HMMWV_Pac02Tire.tir")).unwrap();
+        let mf52 = pac.replace("PROPERTY_FILE_FORMAT       = 'PAC2002'", "FITTYP = 6");
+        let mf = parse("52.tir", &mf52).unwrap();
+        assert_eq!((mf.version, mf.format.as_str()), (TirFormat::Pac2002, "MF 5.2"));
     }
 }

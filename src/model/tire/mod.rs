@@ -22,7 +22,7 @@ pub mod tir;
 pub use crate::model::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
-pub use magic_formula::{CombinedSlip, MagicFormula, TireSide};
+pub use magic_formula::{CombinedSlip, Evaluation, MagicFormula, MomentForms, TireSide};
 pub use slip::{
     damped_slip, effective_rolling_radius, low_speed_blend, penetration_rate, reference_speed, relaxation_rates,
     sliding_limits, slip_velocities, steady_slip, SlipStateContext, SlipVelocities, DAHL_SLIP_SPEED_M_S,
@@ -115,15 +115,17 @@ pub enum ChronoPart {
     RollingMoment,
     SlipSpeed,
     FrictionEllipse,
+    Moments,
 }
 
 impl ChronoPart {
-    pub const ALL: [ChronoPart; 5] = [
+    pub const ALL: [ChronoPart; 6] = [
         ChronoPart::Sides,
         ChronoPart::Camber,
         ChronoPart::RollingMoment,
         ChronoPart::SlipSpeed,
         ChronoPart::FrictionEllipse,
+        ChronoPart::Moments,
     ];
 
     pub fn describe(self) -> &'static str {
@@ -133,6 +135,7 @@ impl ChronoPart {
             ChronoPart::RollingMoment => "no rolling-resistance moment on the wheel",
             ChronoPart::SlipSpeed => "slips over v_x + 0.1 m/s",
             ChronoPart::FrictionEllipse => "combined slip by the friction ellipse",
+            ChronoPart::Moments => "M_z and M_x at the angle α, without LFZO (`MomentForms::Chrono`)",
         }
     }
 }
@@ -252,10 +255,12 @@ pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> Shea
                 } else {
                     CombinedSlip::Weighting
                 };
-                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, friction, combined);
+                let moments = if chrono(p, ChronoPart::Moments) { MomentForms::Chrono } else { MomentForms::Mfeval };
+                let how = Evaluation { friction, combined, moments };
+                let l = mf.forces(side, fz, kappa, tan_alpha, inclination, how);
                 let mut f = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
                 if blend < 1.0 {
-                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, friction, combined);
+                    let z = mf.forces(side, fz, 0.0, 0.0, inclination, how);
                     let fade = 1.0 - blend;
                     f.fx -= fade * z.fx;
                     f.fy -= fade * z.fy;
@@ -431,7 +436,18 @@ mod tests {
         chrono.convention = TireConvention::Chrono;
         for side in [TireSide::Left, TireSide::Right] {
             // Whatever the inclination: the tire on the other side, upright, combined by the ellipse.
-            let l = mf.forces(side.other(), 6300.0, 0.02, 0.03, 0.0, 1.0, CombinedSlip::FrictionEllipse);
+            let l = mf.forces(
+                side.other(),
+                6300.0,
+                0.02,
+                0.03,
+                0.0,
+                Evaluation {
+                    combined: CombinedSlip::FrictionEllipse,
+                    moments: MomentForms::Chrono,
+                    ..Evaluation::MFEVAL
+                },
+            );
             let expected = ShearForces { fx: l.fx, fy: l.fy, mz: l.mz, mx: l.mx };
             assert_eq!(at(&chrono, side, 0.02, 0.05), expected, "{side:?}");
             // Near zero drive slip the ellipse leaves F_y as the weighting functions do (within 0.3 %, the

@@ -294,11 +294,13 @@ impl TirFile {
             }
         }
         match self.number_or("MODEL", "FITTYP", 0.0)? as i64 {
+            // MF-Tyre 5.x (5, 6; 21 as MFeval takes it): PAC2002's equations.
+            5 | 6 | 21 => Ok(TirFormat::Pac2002),
             61 => Ok(TirFormat::Mf61),
             62 => Ok(TirFormat::Mf62),
             _ => Err(format!(
-                "{}: [MODEL] names neither PROPERTY_FILE_FORMAT = 'PAC2002' nor FITTYP = 61/62 (found {:?}, {:?}): \
-                 a format this model does not read",
+                "{}: [MODEL] names neither PROPERTY_FILE_FORMAT = 'PAC2002' nor FITTYP = 5/6/21 (MF 5.x) or 61/62 \
+                 (found {:?}, {:?}): a format this model does not read",
                 self.name,
                 self.text("MODEL", "PROPERTY_FILE_FORMAT"),
                 self.entry("MODEL", "FITTYP").map(|e| &e.value)
