@@ -983,7 +983,9 @@ pub fn markdown(reports: &[CaseReport], command: &str, timing: &str) -> String {
                 )),
                 None => {}
             }
-            for line in lines {
+            // The suite names its shipped roads by absolute path; the report names them from the repository.
+            let root = concat!(env!("CARGO_MANIFEST_DIR"), "/");
+            for line in lines.into_iter().map(|l| l.replace(root, "")) {
                 if !seen.contains(&line) {
                     seen.push(line);
                 }
