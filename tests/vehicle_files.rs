@@ -163,7 +163,7 @@ fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
     let d = &import.data.rear.damper;
     assert_eq!(d.midstroke_compression_Ns_per_m, 22459.0);
     assert_eq!([d.engagement_min_length_m, d.engagement_max_length_m], [0.0, 10.0]);
-    assert_eq!(import.data.front.spring.k1_N_per_m, 369150.0);
+    assert_eq!(import.data.front.spring.k1_N_per_m, Some(369150.0));
 }
 
 #[test]
@@ -514,9 +514,9 @@ fn the_loader_names_the_field_of_each_bad_input() {
         (
             mps,
             Box::new(|v| {
-                v["front"]["spring"]["k1_N_per_m"] = json!(0.0);
+                v["front"]["spring"].as_object_mut().unwrap().remove("k3_N_per_m3");
             }),
-            vec!["front.spring", "give k1_N_per_m and k3_N_per_m3, or a curve"],
+            vec!["front.spring.k3_N_per_m3", "missing: give k1_N_per_m and k3_N_per_m3, or a curve"],
         ),
         (
             mps,
@@ -526,7 +526,9 @@ fn the_loader_names_the_field_of_each_bad_input() {
         (
             mps,
             Box::new(|v| {
-                v["rear"]["spring"]["k1_N_per_m"] = json!(0.0);
+                let spring = v["rear"]["spring"].as_object_mut().unwrap();
+                spring.remove("k1_N_per_m");
+                spring.remove("k3_N_per_m3");
                 v["rear"]["spring"]["curve"] = json!({"deflection_m": [0.0, 0.1, 0.1], "force_N": [0.0, 1e4, 2e4]});
             }),
             vec!["rear.spring.curve.deflection_m", "increase strictly"],
@@ -534,7 +536,9 @@ fn the_loader_names_the_field_of_each_bad_input() {
         (
             mps,
             Box::new(|v| {
-                v["rear"]["spring"]["k1_N_per_m"] = json!(0.0);
+                let spring = v["rear"]["spring"].as_object_mut().unwrap();
+                spring.remove("k1_N_per_m");
+                spring.remove("k3_N_per_m3");
                 v["rear"]["spring"]["curve"] = json!({"deflection_m": [0.0, 0.1, 0.2], "force_N": [0.0, 1e4, 5e3]});
             }),
             vec!["rear.spring.curve.force_N", "rise with extension"],
@@ -542,7 +546,9 @@ fn the_loader_names_the_field_of_each_bad_input() {
         (
             mps,
             Box::new(|v| {
-                v["rear"]["spring"]["k1_N_per_m"] = json!(0.0);
+                let spring = v["rear"]["spring"].as_object_mut().unwrap();
+                spring.remove("k1_N_per_m");
+                spring.remove("k3_N_per_m3");
                 v["rear"]["spring"]["curve"] = json!({"deflection_m": [0.0], "force_N": [0.0]});
             }),
             vec!["rear.spring.curve.deflection_m", "less than 2 items"],
@@ -695,7 +701,7 @@ fn a_spring_curve_is_kept_as_chrono_interpolates_it_and_a_preload_lowers_it() {
     let curve = import.data.rear.spring.curve.as_ref().expect("the rear spring's curve");
     assert_eq!(curve.deflection_m, points.iter().map(|p| p[0]).collect::<Vec<_>>());
     assert_eq!(curve.force_N, points.iter().map(|p| p[1]).collect::<Vec<_>>());
-    assert_eq!([import.data.rear.spring.k1_N_per_m, import.data.rear.spring.k3_N_per_m3], [0.0, 0.0]);
+    assert_eq!([import.data.rear.spring.k1_N_per_m, import.data.rear.spring.k3_N_per_m3], [None, None]);
     VehicleData::from_json_in(&import.to_json(), import.tire.as_deref().and_then(Path::parent)).unwrap();
     // Chrono's spring force is P − F(x): a preload lowers every point of the curve by P.
     let dir = scratch("preload_curve");

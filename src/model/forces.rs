@@ -76,7 +76,8 @@ impl StopCurve {
 pub fn spring_force(spring: &Spring, free_length: f64, stops: Option<&StopCurve>, length: f64) -> f64 {
     let x = length - free_length;
     let elastic = match &spring.curve {
-        None => -(spring.k1_N_per_m * x + spring.k3_N_per_m3 * x * x * x),
+        // `VehicleData::validate` makes both coefficients present wherever the curve is absent.
+        None => -(spring.k1_N_per_m.unwrap_or(0.0) * x + spring.k3_N_per_m3.unwrap_or(0.0) * x * x * x),
         Some(curve) => -curve_force(curve, x),
     };
     let Some(stops) = stops else { return elastic };
@@ -196,7 +197,8 @@ mod tests {
         let c = StopCurve::new(&data.stop_table);
         let f = spring_force(s, s.free_length_m, Some(&c), 0.25);
         let x = 0.25 - s.free_length_m;
-        assert!((f + s.k1_N_per_m * x + s.k3_N_per_m3 * x.powi(3)).abs() < 1e-9);
+        let (k1, k3) = (s.k1_N_per_m.unwrap(), s.k3_N_per_m3.unwrap());
+        assert!((f + k1 * x + k3 * x.powi(3)).abs() < 1e-9);
         assert!(f > 0.0, "a compressed spring pushes apart");
         assert!(spring_force(s, s.free_length_m, Some(&c), s.stop_min_length_m - 0.01) > f, "bump stop adds push");
     }

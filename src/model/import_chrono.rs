@@ -1544,8 +1544,9 @@ impl Importer {
         }
         let spring = Spring {
             free_length_m: free_length,
-            k1_N_per_m: k1,
-            k3_N_per_m3: 0.0,
+            // A curve is the whole law; a rate is the cubic's k1 with k3 = 0.
+            k1_N_per_m: curve.is_none().then_some(k1),
+            k3_N_per_m3: curve.is_none().then_some(0.0),
             curve,
             stop_min_length_m: stop_min.unwrap_or(f64::NEG_INFINITY),
             stop_max_length_m: stop_max.unwrap_or(f64::INFINITY),

@@ -57,12 +57,12 @@ pub struct Rack {
 #[serde(deny_unknown_fields)]
 pub struct Spring {
     pub free_length_m: f64,
-    /// Odd cubic law F = k1 x + k3 x^3, x = L - free length (the data's `derived_cubic_fit`). Zero (or
-    /// absent) when `curve` gives the law.
-    #[serde(default)]
-    pub k1_N_per_m: f64,
-    #[serde(default)]
-    pub k3_N_per_m3: f64,
+    /// Odd cubic law F = k1 x + k3 x^3, x = L - free length (the data's `derived_cubic_fit`). Both given,
+    /// or both absent and `curve` gives the law (`validate` checks which).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k1_N_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k3_N_per_m3: Option<f64>,
     /// A tabulated law instead of the cubic: F(x) through the points, linear between them as Chrono's
     /// `Spring Curve Data` is (docs/physics.md §5.2, `forces::curve_force`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -528,20 +528,25 @@ impl VehicleData {
             nonneg(&format!("{name}.axle_shaft_spin_inertia_kg_m2"), axle.axle_shaft_spin_inertia_kg_m2)?;
             let s = &axle.spring;
             positive(&format!("{name}.spring.free_length_m"), s.free_length_m)?;
-            nonneg(&format!("{name}.spring.k1_N_per_m"), s.k1_N_per_m)?;
-            nonneg(&format!("{name}.spring.k3_N_per_m3"), s.k3_N_per_m3)?;
-            match &s.curve {
-                None if s.k1_N_per_m == 0.0 && s.k3_N_per_m3 == 0.0 => {
-                    return Err(err(&format!("{name}.spring"), "give k1_N_per_m and k3_N_per_m3, or a curve"));
+            match (&s.curve, s.k1_N_per_m, s.k3_N_per_m3) {
+                (None, Some(k1), Some(k3)) => {
+                    nonneg(&format!("{name}.spring.k1_N_per_m"), k1)?;
+                    nonneg(&format!("{name}.spring.k3_N_per_m3"), k3)?;
                 }
-                None => {}
-                Some(_) if s.k1_N_per_m != 0.0 || s.k3_N_per_m3 != 0.0 => {
+                (None, k1, _) => {
+                    let missing = if k1.is_none() { "k1_N_per_m" } else { "k3_N_per_m3" };
                     return Err(err(
-                        &format!("{name}.spring.curve"),
-                        "give either the cubic (k1, k3) or a curve, not both",
+                        format!("{name}.spring.{missing}"),
+                        "missing: give k1_N_per_m and k3_N_per_m3, or a curve",
                     ));
                 }
-                Some(c) => check_spring_curve(&format!("{name}.spring.curve"), c)?,
+                (Some(c), None, None) => check_spring_curve(&format!("{name}.spring.curve"), c)?,
+                (Some(_), _, _) => {
+                    return Err(err(
+                        format!("{name}.spring.curve"),
+                        "give either the cubic (k1_N_per_m, k3_N_per_m3) or a curve, not both",
+                    ));
+                }
             }
             // Absent stops are ∓∞ (serde defaults); a given one must be a positive length.
             let stop_ok = |v: f64| v.is_infinite() || (v.is_finite() && v > 0.0);

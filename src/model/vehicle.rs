@@ -1197,7 +1197,10 @@ impl Vehicle {
                 let length = (c.mount_point(pos, &c.spring) - c.spring.chassis).norm();
                 let xs = length - f.spring_free_length;
                 spring_potential += match &f.spring.curve {
-                    None => 0.5 * f.spring.k1_N_per_m * xs * xs + 0.25 * f.spring.k3_N_per_m3 * xs.powi(4),
+                    None => {
+                        let (k1, k3) = (f.spring.k1_N_per_m.unwrap_or(0.0), f.spring.k3_N_per_m3.unwrap_or(0.0));
+                        0.5 * k1 * xs * xs + 0.25 * k3 * xs.powi(4)
+                    }
                     Some(curve) => crate::model::forces::curve_energy(curve, xs),
                 };
             }
