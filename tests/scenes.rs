@@ -242,10 +242,12 @@ fn formulations_agree_on_every_scene_of_the_imported_vehicles() {
             let (syn, conv) = (trace(Formulation::Synthesis), trace(Formulation::Conventional));
             let worst = worst_relative_difference(&syn, &conv);
             println!("{} {}: synthesis vs conventional {:.2e} ({})", data.name, kind.name(), worst.0, worst.1);
-            // Round-off grown over 16 000 RK4 steps, as for the HMMWV above: its bound, 1e-8 of peak. (1e-9
-            // held while the imports rolled on the STI tire at the retuned ride height; on their own .tir and
-            // springs (issue 32) the sine's a_z, whose peak is small, differs by 3.1e-9.)
-            assert!(worst.0 <= 1e-8, "{} {}: {} differs by {:e}", data.name, kind.name(), worst.1, worst.0);
+            // Round-off grown over 16 000 RK4 steps: 5e-8 of peak. (1e-9 held while the imports rolled on
+            // the STI tire at the retuned ride height; on their own .tir and springs (issue 32) the sine's a_z,
+            // whose peak on a level road is small, differed by 3.1e-9, and with the Magic Formula as MFeval
+            // computes it (issue 35) and the recalibrated amplitude by 1.7e-8 on the MacPherson import. A
+            // formulation error shows at 1e-6 and above.)
+            assert!(worst.0 <= 5e-8, "{} {}: {} differs by {:e}", data.name, kind.name(), worst.1, worst.0);
         }
     }
 }
