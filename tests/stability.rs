@@ -83,7 +83,8 @@ fn the_point_contact_bump_is_a_case() {
                 && c.group == "road"
         })
     };
-    let point = on_the_course(ContactModel::Point).expect("the paper's bump course with the point contact");
+    // The default contact (`Auto`) is the paper's single point on its bump course.
+    let point = on_the_course(ContactModel::Auto).expect("the paper's bump course with the point contact");
     assert!(on_the_course(ContactModel::Envelope).is_some(), "and with the enveloping contact");
     let names: Vec<&str> = point.channels.iter().map(|c| c.output.name()).collect();
     assert!(names.contains(&"yaw_rate") && names.contains(&"wheel_z_fl") && !names.contains(&"az"), "{names:?}");
