@@ -71,7 +71,7 @@ TIMES = {
     "cargo run --release --bin rtv -- scene sine --tolerance 1e-4 --output-interval 0.04": 0.0,
     "cargo run --release --bin rtv -- scene sine --integrator imex-ab3 --step 0.008333333333333333 "
     "--output-interval 0.008333333333333333": 0.1,
-    "cargo run --release --bin rtv -- scene jturn --road resources/roads/test_track.xodr --out track.csv": 0.9,
+    "cargo run --release --bin rtv -- scene jturn --road resources/roads/test_track.xodr --end 5 --out track.csv": 0.9,
     "cargo run --release --bin rtv -- scene bump --contact envelope --out bump.csv": 0.4,
     "cargo run --release --bin rtv -- calibrate": 31.8,
     "cargo run --release --bin rtv -- scene bump --bump-height 0.2 --initial-speed 16.67 --out big_bump.csv": 0.5,
