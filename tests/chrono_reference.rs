@@ -1,94 +1,95 @@
 //! The imports of Chrono's two reference cars against Chrono's own runs (data/chrono_reference/;
 //! docs/vehicle_file.md, "How close an import is to its source"; `studies::chrono_compare`).
-use rt_vehicle::studies::chrono_compare::{compare, percent, CARS, QUANTITIES};
+use rt_vehicle::studies::chrono_compare::{compare, percent, quantity, Comparison, Measure, CARS, QUANTITIES};
 use std::path::Path;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The bound on |difference from Chrono| in % for each of `QUANTITIES`, with the `chrono` convention; the
-/// steady values in `not_closer` are not required to be further off with the default convention.
-fn check(car: usize, bounds: &[(&str, f64)], not_closer: &[&str]) {
-    let c = compare(root(), &CARS[car]).unwrap();
-    for (label, bound) in bounds {
-        let k = QUANTITIES.iter().position(|q| q.label.starts_with(label)).unwrap();
-        let d = percent(c.with_chrono_convention[k], c.chrono[k]);
-        println!("{} {label}: {d:+.2} % (bound {bound} %)", CARS[car].name);
-        assert!(d.abs() <= *bound, "{} {label}: {d:+.2} % from Chrono, bound {bound} %", CARS[car].name);
+/// The bound on |difference from Chrono| in % for each (quantity, measure), with the `chrono` convention.
+fn check(car: usize, c: &Comparison, bounds: &[(String, Measure, f64)]) {
+    for (label, measure, bound) in bounds {
+        let (k, m) = (quantity(label), *measure as usize);
+        let d = percent(c.with_chrono_convention[k][m], c.chrono[k][m]);
+        println!("{} {label} ({measure:?}): {d:+.2} % (bound {bound} %)", CARS[car].name);
+        assert!(d.abs() <= *bound, "{} {label} ({measure:?}): {d:+.2} % from Chrono, bound {bound} %", CARS[car].name);
     }
-    // The switch is what brings the import to its source: the default convention is further off in each
-    // of the four the issue bounds, as steady values.
-    for k in (0..QUANTITIES.len())
-        .filter(|&k| QUANTITIES[k].label.contains("steady value"))
-        .filter(|&k| !not_closer.iter().any(|l| QUANTITIES[k].label.starts_with(l)))
-    {
-        let (on, off) = (c.with_chrono_convention[k], c.with_mfeval[k]);
+}
+
+/// The switch is what brings the import to its source: with the default convention the steady value of each
+/// of the four the issue bounds is further off, except those in `not_closer`.
+fn switch_brings_closer(car: usize, c: &Comparison, not_closer: &[&str]) {
+    let steady = Measure::Steady as usize;
+    for label in ["yaw rate", "a_y [", "roll", "sideslip"].into_iter().filter(|l| !not_closer.contains(l)) {
+        let k = quantity(label);
+        let (on, off, chrono) = (c.with_chrono_convention[k][steady], c.with_mfeval[k][steady], c.chrono[k][steady]);
         assert!(
-            percent(on, c.chrono[k]).abs() < percent(off, c.chrono[k]).abs(),
-            "{} {}: the chrono convention ({on}) is not closer to Chrono ({}) than mfeval ({off})",
+            percent(on, chrono).abs() < percent(off, chrono).abs(),
+            "{} {}: the chrono convention ({on}) is not closer to Chrono ({chrono}) than mfeval ({off})",
             CARS[car].name,
-            QUANTITIES[k].label,
-            c.chrono[k]
+            QUANTITIES[k].label
         );
     }
 }
 
-#[test]
-fn the_hmmwv_import_reproduces_chronos_j_turn() {
-    // Chrono's h → 0 limit of this car is its README's estimate (0.5 % above its one run at 1.25e-4 s), good
-    // to a few tenths of a per cent: the issue's 1 % for yaw rate, a_y, sideslip and roll (reached: 0.05 %,
-    // 0.05 %, 0.23 %, 0.19 %, with the springs' curves as Chrono interpolates them; the odd cubic through the
-    // same points made roll 3.0 % larger). Per corner, where one corner's share of the same total is also
-    // compared, 1.5 %: loads' changes reached 0.94 % (FR), F_y 1.09 % (RL), slip angles 0.61 % (FL),
-    // road-wheel angles 1.36 % (FL).
-    check(
-        1,
-        &[
-            ("yaw rate", 1.0),
-            ("a_y", 1.0),
-            ("sideslip", 1.0),
-            ("roll", 1.0),
-            ("yaw rate, steady value", 1.0),
-            ("a_y, steady value", 1.0),
-            ("sideslip β, steady value", 1.0),
-            ("roll, steady value", 1.0),
-            ("F_z FL", 1.5),
-            ("F_z FR", 1.5),
-            ("F_z RL", 1.5),
-            ("F_z RR", 1.5),
-            ("F_y FL", 1.5),
-            ("F_y FR", 1.5),
-            ("F_y RL", 1.5),
-            ("F_y RR", 1.5),
-            ("α FL", 1.5),
-            ("α FR", 1.5),
-            ("α RL", 1.5),
-            ("α RR", 1.5),
-            ("steer FL", 1.5),
-            ("steer FR", 1.5),
-        ],
-        &[],
-    );
+/// The steady turn's four and its corners. The issue's bounds: 1 % for yaw rate and a_y, 2 % for roll and
+/// sideslip. The corners' loads, side forces and slip angles in the steady turn: 2 %, the bound of the
+/// issue's least certain pair; a corner's value is one share of the same totals, and Chrono's own limit is
+/// an estimate (the HMMWV: its README's +0.5 % for h → 0; the generic car: two first-order steps).
+fn steady_bounds() -> Vec<(String, Measure, f64)> {
+    let mut bounds = bounded(&[("yaw rate", 1.0), ("a_y [", 1.0), ("roll", 2.0), ("sideslip", 2.0)], Measure::Steady);
+    bounds.extend(corners(Measure::Steady, 2.0));
+    bounds
+}
+
+fn bounded(labels: &[(&str, f64)], measure: Measure) -> Vec<(String, Measure, f64)> {
+    labels.iter().map(|(label, bound)| (label.to_string(), measure, *bound)).collect()
+}
+
+/// Each corner's load, side force and slip angle, with one bound.
+fn corners(measure: Measure, bound: f64) -> Vec<(String, Measure, f64)> {
+    let kinds = ["F_z", "F_y", "α"];
+    ["FL", "FR", "RL", "RR"]
+        .iter()
+        .flat_map(|corner| kinds.iter().map(move |kind| (format!("{kind} {corner}"), measure, bound)))
+        .collect()
 }
 
 #[test]
-fn the_generic_macpherson_import_is_within_its_measured_distance_of_chronos_j_turn() {
-    // Chrono's two steps extrapolate to h → 0 (first order). The steady values themselves: the issue's 1 %
-    // for yaw rate (reached 0.6 %), 2 % for roll and sideslip (1.2 %, 0.6 %); a_y is 1.4 % off: 2 %, not the
-    // issue's 1 %. The changes from straight running subtract Chrono's drift in straight running, which this
-    // car does not have (docs/vehicle_file.md): 3–5 % lower here, one corner's F_y 9.5 %. Their bounds hold
-    // what is reached, half a point above it, so that the comparison is kept and a change either way is
-    // seen. The road-wheel angles agree within 0.7 %: 1 %.
-    check(
-        0,
+fn the_hmmwv_import_reproduces_chronos_j_turn() {
+    // Reached in the steady turn: yaw rate −0.05 %, a_y −0.11 %, roll +0.19 %, sideslip +0.23 %; corners'
+    // loads within 1.63 % (RL, the smallest load: Chrono's four loads at speed sum 0.55 % above its static
+    // sum, which the import's loads match within 0.06 %), side forces 0.84 %, slip angles 0.70 %. The
+    // changes from straight running (straight running is symmetric on this car): the four within 1 %, each
+    // corner's within 1.5 % (loads 0.94 %, F_y 1.09 %, α 0.61 %, road-wheel angles 1.36 %).
+    let c = compare(root(), &CARS[1]).unwrap();
+    let mut bounds = steady_bounds();
+    bounds.extend(bounded(&[("yaw rate", 1.0), ("a_y [", 1.0), ("roll", 1.0), ("sideslip", 1.0)], Measure::Change));
+    bounds.extend(corners(Measure::Change, 1.5));
+    bounds.extend(bounded(&[("steer FL", 1.5), ("steer FR", 1.5)], Measure::Change));
+    check(1, &c, &bounds);
+    switch_brings_closer(1, &c, &[]);
+}
+
+#[test]
+fn the_generic_macpherson_import_reproduces_chronos_steady_turn() {
+    // Reached in the steady turn: yaw rate +0.56 %, a_y +0.54 %, roll +1.19 %, sideslip +0.62 %; corners'
+    // loads within 0.52 %, side forces 1.42 % (RR), slip angles 1.04 % (RR); road-wheel angles within 0.2 %:
+    // 1 %, the steering's kinematics alone.
+    //
+    // The changes from straight running are not the issue's measure on this car: in Chrono it drifts right
+    // with the wheel straight (−0.51 deg/s, its loads 157 N heavier on the left at both axles, against 11 N
+    // at rest), which the import does not; the change subtracts that state. Their bounds hold what is
+    // reached, half a point above it, so that a change either way is seen: 3–5 % lower here, one corner's F_y
+    // 9.5 %.
+    let c = compare(root(), &CARS[0]).unwrap();
+    let mut bounds = steady_bounds();
+    bounds.extend(bounded(&[("steer FL", 1.0), ("steer FR", 1.0)], Measure::Steady));
+    bounds.extend(bounded(
         &[
-            ("yaw rate, steady value", 1.0),
-            ("a_y, steady value", 2.0),
-            ("roll, steady value", 2.0),
-            ("sideslip β, steady value", 2.0),
             ("yaw rate", 4.5),
-            ("a_y", 3.0),
+            ("a_y [", 4.5),
             ("roll", 4.0),
             ("sideslip", 5.0),
             ("F_z FL", 5.5),
@@ -106,10 +107,23 @@ fn the_generic_macpherson_import_is_within_its_measured_distance_of_chronos_j_tu
             ("steer FL", 1.0),
             ("steer FR", 1.0),
         ],
-        // With MFeval's aligning moment (issue 35, part 5) the default convention's steady a_y is 3.2160
-        // m/s², 0.19 % from Chrono's 3.2221, closer than the chrono convention's 3.2687 (+1.44 %; it was
-        // 3.1616, −1.9 %, with the former M_z), and its roll 0.4256°, −0.59 %, against +1.19 % (was 0.4197°,
-        // −2.0 %). The chrono convention's values did not move.
-        &["a_y, steady value", "roll, steady value"],
-    );
+        Measure::Change,
+    ));
+    check(0, &c, &bounds);
+    // With MFeval's aligning moment (issue 35, part 5) the default convention's steady roll is 0.4256°,
+    // −0.59 % from Chrono's, closer than the chrono convention's +1.19 %.
+    switch_brings_closer(0, &c, &["roll"]);
+}
+
+#[test]
+fn chronos_lateral_acceleration_from_its_velocities_matches_its_acceleration_column_where_that_is_smooth() {
+    // The a_y compared is Chrono's dv_y/dt + r v_x − p v_z (`chrono_compare::AY_FROM_VELOCITIES`), since its
+    // acceleration column is noise on the generic car. On the HMMWV the column is smooth (standard deviation
+    // 0.028 m/s² over the 201 samples of the steady turn: its mean's standard error 0.05 %): the two agree
+    // within three standard errors, 0.15 %.
+    let c = compare(root(), &CARS[1]).unwrap();
+    let steady = Measure::Steady as usize;
+    let (identity, column) = (c.chrono[quantity("a_y [")][steady], c.chrono[quantity("a_y, Chrono's")][steady]);
+    println!("HMMWV steady a_y: from the velocities {identity:.4}, Chrono's column {column:.4}");
+    assert!(percent(identity, column).abs() < 0.15, "{identity} against {column}");
 }
