@@ -235,7 +235,8 @@ pub fn tables(root: &Path) -> Result<String, ModelError> {
     let mut out = String::new();
     for car in &CARS {
         let c = compare(root, car)?;
-        let (steady, straight, change) = (Measure::Steady as usize, Measure::Straight as usize, Measure::Change as usize);
+        let (steady, straight, change) =
+            (Measure::Steady as usize, Measure::Straight as usize, Measure::Change as usize);
         out.push_str(&format!(
             "\n**{}** (`{}`), u = 0.08. The steady turn, the mean over 9–11 s:\n\n| quantity | Chrono, h → 0 | \
              `chrono` convention | `mfeval` (default) |\n|---|---|---|---|\n",
