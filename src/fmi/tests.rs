@@ -51,6 +51,21 @@ impl<'a, M: FmuModel> Inst<'a, M> {
         Inst { c, _cb: cb, rec, _m: std::marker::PhantomData }
     }
 
+    /// An instance on the shipped resources, set up at t = 0 and in initialization mode (where the file
+    /// parameters are set).
+    fn initializing(rec: &'a Recorder) -> Inst<'a, M> {
+        let inst = Inst::new(rec, Some(&resources_uri()));
+        inst.enter_initialization();
+        inst
+    }
+
+    fn enter_initialization(&self) {
+        unsafe {
+            assert_eq!(api::setup_experiment::<M>(self.c, 0, 0.0, 0.0, 0, 0.0), OK);
+            assert_eq!(api::enter_initialization_mode::<M>(self.c), OK, "{}", self.rec.last());
+        }
+    }
+
     fn init(&self, start: f64) {
         unsafe {
             assert_eq!(api::setup_experiment::<M>(self.c, 0, 0.0, start, 0, 0.0), OK);
@@ -355,10 +370,9 @@ fn vehicle_files_missing_or_broken_are_errors_at_exit_initialization() {
     std::fs::write(tmp.join("broken.json"), "{ \"name\": ").unwrap();
     let uri = CString::new(format!("file://{}", tmp.display())).unwrap();
     let rec = Recorder::default();
-    let exit = |inst: &Inst<VehicleModel>| unsafe {
-        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
-        api::enter_initialization_mode::<VehicleModel>(inst.c);
-        api::exit_initialization_mode::<VehicleModel>(inst.c)
+    let exit = |inst: &Inst<VehicleModel>| {
+        inst.enter_initialization();
+        unsafe { api::exit_initialization_mode::<VehicleModel>(inst.c) }
     };
     // The resources directory has no hmmwv.json: an error, not the compiled-in default.
     let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
@@ -387,12 +401,7 @@ fn tire_files_switch_to_the_magic_formula_and_bad_ones_are_errors() {
     let text = std::fs::read_to_string(&shipped).unwrap();
     std::fs::write(tmp.join("truncated.tir"), &text[..text.find("PKY1").unwrap()]).unwrap();
     let rec = Recorder::default();
-    let uri = resources_uri();
-    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
-    unsafe {
-        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
-        api::enter_initialization_mode::<VehicleModel>(inst.c);
-    }
+    let inst = Inst::<VehicleModel>::initializing(&rec);
     // A truncated file: an error naming the file and the key; the instance stays in initialization mode.
     let bad = tmp.join("truncated.tir");
     assert_eq!(inst.set_string(vr::TIRE_FILE, bad.to_str().unwrap()), OK);
@@ -418,12 +427,7 @@ fn road_files_place_a_road_and_bad_ones_are_errors() {
     std::fs::create_dir_all(&tmp).unwrap();
     std::fs::write(tmp.join("cut.crg"), "$ROAD_CRG\nREFERENCE_LINE_INCREMENT = 0.0\n$\n").unwrap();
     let rec = Recorder::default();
-    let uri = resources_uri();
-    let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
-    unsafe {
-        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
-        api::enter_initialization_mode::<VehicleModel>(inst.c);
-    }
+    let inst = Inst::<VehicleModel>::initializing(&rec);
     // A file that is not a road: found when it is read.
     let cut = tmp.join("cut.crg").display().to_string();
     assert_eq!(inst.set_string(vr::ROAD_FILE, &cut), OK);
@@ -463,12 +467,7 @@ fn the_point_contact_refusal_on_a_small_obstacle_names_the_contact_parameter() {
     // Issue 35's case: Chrono's 4 in half-round with the HMMWV's Pac02 tire at 20 km/h, all else default.
     let over_the_halfround = |contact: Option<i32>| {
         let rec = Recorder::default();
-        let uri = resources_uri();
-        let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
-        unsafe {
-            api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
-            api::enter_initialization_mode::<VehicleModel>(inst.c);
-        }
+        let inst = Inst::<VehicleModel>::initializing(&rec);
         assert_eq!(inst.set_string(vr::ROAD_FILE, "roads/halfround_4in.crg"), OK);
         assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/HMMWV_Pac02Tire.tir"), OK);
         assert_eq!(inst.set_real(&[vr::INITIAL_SPEED], &[20.0 / 3.6]), OK);
@@ -526,10 +525,7 @@ fn internal_step_has_a_range() {
     // 0: the automatic step (the default: the_table_matches_the_brief); the smallest fixed step.
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[0.0]), OK);
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[1e-6]), OK);
-    unsafe {
-        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
-        api::enter_initialization_mode::<VehicleModel>(inst.c);
-    }
+    inst.enter_initialization();
     assert_eq!(inst.set_real(&[vr::INTERNAL_STEP], &[5e-324]), ERROR);
     assert_eq!(inst.real(vr::INTERNAL_STEP), 1e-6, "the old value is kept");
     let var = DESCRIPTION.by_name("internal_step").unwrap();
@@ -644,11 +640,7 @@ fn vehicle_file_must_be_a_small_regular_file() {
     let big = tmp.join("big.json");
     std::fs::write(&big, vec![b' '; (crate::model::vehicle_file::MAX_FILE_BYTES + 1) as usize]).unwrap();
     let rec = Recorder::default();
-    let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
-    unsafe {
-        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
-        api::enter_initialization_mode::<VehicleModel>(inst.c);
-    }
+    let inst = Inst::<VehicleModel>::initializing(&rec);
     for (file, needle) in [
         (fifo.to_str().unwrap(), "not a regular file"), // used to block forever
         ("/dev/zero", "not a regular file"),            // used to read until memory ran out
@@ -772,11 +764,7 @@ fn the_tire_convention_refuses_bad_codes_and_reaches_the_vehicle() {
     assert_eq!(vehicle_model(&inst).tire_convention, None, "the old value (the vehicle file's) is kept");
     assert_eq!(inst.set_integer(&[vr::TIRE_CONVENTION], &[2]), OK);
     assert_eq!(inst.set_string(vr::TIRE_FILE, "tires/HMMWV_Pac02Tire.tir"), OK);
-    unsafe {
-        api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
-        api::enter_initialization_mode::<VehicleModel>(inst.c);
-        assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last());
-    }
+    inst.init(0.0);
     let sim = vehicle_model(&inst).sim.as_ref().expect("initialized");
     assert_eq!(sim.vehicle().tire.convention, TireConvention::Chrono);
     assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{}", rec.last());
@@ -1192,10 +1180,9 @@ fn string_parameters_are_checked_alike_when_set_initialized_and_restored() {
     let mut rng = XorShift64::new(31);
     let rec = Recorder::default();
     let inst = Inst::<VehicleModel>::new(&rec, Some(&resources_uri()));
-    let init = || unsafe {
-        assert_eq!(api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0), OK);
-        assert_eq!(api::enter_initialization_mode::<VehicleModel>(inst.c), OK);
-        api::exit_initialization_mode::<VehicleModel>(inst.c)
+    let init = || {
+        inst.enter_initialization();
+        unsafe { api::exit_initialization_mode::<VehicleModel>(inst.c) }
     };
     let reset = || unsafe { assert_eq!(api::reset::<VehicleModel>(inst.c), OK) };
     for (vr, name, seeds) in parameters {
