@@ -50,11 +50,19 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// The subsystem folders of a Chrono vehicle's data (the tire's apart: an import takes the `.tir` it finds).
+const SUBSYSTEMS: [&str; 7] = ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline"];
+
 /// A copy of the Chrono files the generic vehicles name, in a scratch folder, to be edited.
 fn chrono_copy(name: &str) -> PathBuf {
+    chrono_copy_of(name, "generic", &SUBSYSTEMS)
+}
+
+/// A copy of the folders `subs` of Chrono's `car` data, in the scratch folder `name`, to be edited.
+fn chrono_copy_of(name: &str, car: &str, subs: &[&str]) -> PathBuf {
     let dir = scratch(name);
-    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline"] {
-        let (from, to) = (chrono_data().join("generic").join(sub), dir.join("generic").join(sub));
+    for sub in subs {
+        let (from, to) = (chrono_data().join(car).join(sub), dir.join(car).join(sub));
         std::fs::create_dir_all(&to).unwrap();
         for f in std::fs::read_dir(&from).unwrap().flatten() {
             std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
@@ -704,14 +712,7 @@ fn a_spring_curve_is_kept_as_chrono_interpolates_it_and_a_preload_lowers_it() {
     assert_eq!([import.data.rear.spring.k1_N_per_m, import.data.rear.spring.k3_N_per_m3], [None, None]);
     VehicleData::from_json_in(&import.to_json(), import.tire.as_deref().and_then(Path::parent)).unwrap();
     // Chrono's spring force is P − F(x): a preload lowers every point of the curve by P.
-    let dir = scratch("preload_curve");
-    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "tire"] {
-        let (from, to) = (chrono_data().join("hmmwv").join(sub), dir.join("hmmwv").join(sub));
-        std::fs::create_dir_all(&to).unwrap();
-        for f in std::fs::read_dir(&from).unwrap().flatten() {
-            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
-        }
-    }
+    let dir = chrono_copy_of("preload_curve", "hmmwv", &[&SUBSYSTEMS[..], &["tire"]].concat());
     edit_json(&dir.join("hmmwv/suspension/HMMWV_DoubleWishboneRear.json"), |v| v["Spring"]["Preload"] = json!(500.0));
     let preloaded = import_vehicle(&dir.join(hmmwv), &dir, None).unwrap();
     let lowered = preloaded.data.rear.spring.curve.as_ref().unwrap();
