@@ -42,6 +42,14 @@ pub trait OdeSystem {
     fn switch_indicators(&self) -> &[f64] {
         &[]
     }
+    /// Indicators of the last evaluation whose upward zero crossing makes the right-hand side jump the way
+    /// a touchdown does, but about which nothing else changes (a wheel crossing a C⁰ edge of the road under
+    /// the single-point contact: the tire's damping force jumps with the road's slope). RK4 locates their
+    /// crossings as it locates touchdowns; the other schemes do not look at them. At most
+    /// `touchdown::MAX_SWITCHES`. Default: none.
+    fn edge_indicators(&self) -> &[f64] {
+        &[]
+    }
 }
 
 /// The integration schemes, selectable at run time.

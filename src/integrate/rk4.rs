@@ -21,7 +21,8 @@ pub struct Rk4 {
     /// Stage state, then the candidate x_{n+1}.
     #[serde(skip)]
     pub(super) xs: Vec<f64>,
-    /// The switch indicators at the four stages of the latest step (`OdeSystem::switch_indicators`).
+    /// The switch and edge indicators at the four stages of the latest step (`OdeSystem::switch_indicators`,
+    /// `OdeSystem::edge_indicators`).
     #[serde(skip)]
     pub(super) g: [Indicators; 4],
     /// The touchdown location's scratch.
@@ -69,17 +70,17 @@ impl Rk4 {
             self.xs[i] = x[i] + h2 * self.k1[i];
         }
         eval(sys, t + h2, &self.xs, &mut self.k2)?;
-        self.g[1].record(sys);
+        self.g[1].record_with_edges(sys);
         for i in 0..x.len() {
             self.xs[i] = x[i] + h2 * self.k2[i];
         }
         eval(sys, t + h2, &self.xs, &mut self.k3)?;
-        self.g[2].record(sys);
+        self.g[2].record_with_edges(sys);
         for i in 0..x.len() {
             self.xs[i] = x[i] + h * self.k3[i];
         }
         eval(sys, t + h, &self.xs, &mut self.k4)?;
-        self.g[3].record(sys);
+        self.g[3].record_with_edges(sys);
         let h6 = h / 6.0;
         for i in 0..x.len() {
             self.xs[i] = x[i] + h6 * (self.k1[i] + 2.0 * self.k2[i] + 2.0 * self.k3[i] + self.k4[i]);
@@ -92,7 +93,7 @@ impl Integrator for Rk4 {
     fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError> {
         self.fit(x.len());
         eval(sys, t, x, &mut self.k1)?;
-        self.g[0].record(sys);
+        self.g[0].record_with_edges(sys);
         touchdown::step(self, sys, t, h, x)
     }
 

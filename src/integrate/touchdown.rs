@@ -24,32 +24,44 @@ use super::rk4::Rk4;
 use super::{commit, eval, fit, projected, OdeSystem};
 use crate::error::ModelError;
 
-/// The most switch indicators a system may have (one per wheel).
+/// The most switch indicators a system may have of each kind (one per wheel).
 pub const MAX_SWITCHES: usize = 4;
 /// The bracket's width at which a touchdown is located, relative to the step.
 pub const TIME_TOLERANCE: f64 = 1e-9;
 /// Bracketing sub-steps per touchdown at most (regula falsi converges in 3–6 on a smooth approach; a
 /// discontinuous one, an enveloped obstacle's edge, falls back to about halving).
 pub const MAX_ITERATIONS: usize = 16;
-/// Touchdowns located in one step at most (each wheel twice).
+/// Touchdowns and edges located in one step at most (each wheel twice).
 pub const MAX_LOCATED_PER_STEP: usize = 2 * MAX_SWITCHES;
 /// Euler hops across a bracket at most (each doubling the last when the wheel is still in the air).
 pub(super) const MAX_HOPS: usize = 4;
 
-/// The switch indicators of one evaluation (`OdeSystem::switch_indicators`).
+/// The switch indicators of one evaluation (`OdeSystem::switch_indicators`, and with `record_with_edges`
+/// its `edge_indicators` after them).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Indicators {
     n: usize,
-    g: [f64; MAX_SWITCHES],
+    g: [f64; 2 * MAX_SWITCHES],
 }
 
 impl Indicators {
-    /// Take the indicators of `sys`'s last evaluation.
+    /// Take the touchdown indicators of `sys`'s last evaluation.
     pub fn record(&mut self, sys: &dyn OdeSystem) {
-        let s = sys.switch_indicators();
+        self.n = 0;
+        self.append(sys.switch_indicators());
+    }
+
+    /// Take the touchdown and the edge indicators of `sys`'s last evaluation (RK4 locates both).
+    pub fn record_with_edges(&mut self, sys: &dyn OdeSystem) {
+        self.record(sys);
+        self.append(sys.edge_indicators());
+    }
+
+    fn append(&mut self, s: &[f64]) {
         debug_assert!(s.len() <= MAX_SWITCHES);
-        self.n = s.len().min(MAX_SWITCHES);
-        self.g[..self.n].copy_from_slice(&s[..self.n]);
+        let k = s.len().min(MAX_SWITCHES);
+        self.g[self.n..self.n + k].copy_from_slice(&s[..k]);
+        self.n += k;
     }
 
     /// The largest indicator of `self` among the switches that are off (≤ 0) in `start`; −∞ if none is.
@@ -124,7 +136,7 @@ fn split_step(rk: &mut Rk4, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f6
             let t_now = if e_now == t_end - a { t_end } else { a + e_now };
             eval(sys, t_now, &rk.xs, &mut rk.location.k_try)?;
             let mut g = Indicators::default();
-            g.record(sys);
+            g.record_with_edges(sys);
             if last || g.largest_of_off(&off) > 0.0 {
                 commit(sys, t_now, &mut rk.xs, x)?;
                 rk.k1.copy_from_slice(&rk.location.k_try);
@@ -179,7 +191,7 @@ fn bracket(
         projected(sys, a + s, &mut rk.xs)?;
         eval(sys, a + s, &rk.xs, &mut rk.location.k_try)?;
         let mut g = Indicators::default();
-        g.record(sys);
+        g.record_with_edges(sys);
         let f = at(&g);
         if f <= 0.0 && stage_max <= 0.0 {
             (lo, f_lo) = (s, f);

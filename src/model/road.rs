@@ -199,6 +199,22 @@ impl RoadModel {
     }
 }
 
+impl RoadModel {
+    /// Where the road's height has a C⁰ edge across the path of a point at (x, y) moving along x (the
+    /// paper's bumps: each half-sine's start and end, on its side): x less the edge nearest to x, so that
+    /// it crosses zero upward at each edge in turn (and jumps down halfway between two). `None` on roads
+    /// without such edges: flat, and the file roads, whose bilinear grids have a kink at every node (the
+    /// enveloping contact rounds them).
+    pub fn edge_offset(&self, x: f64, y: f64) -> Option<f64> {
+        let RoadModel::Bumps(bumps) = self else { return None };
+        bumps
+            .iter()
+            .filter(|b| b.length > 0.0 && b.side * y > 0.0)
+            .flat_map(|b| [x - b.x_start, x - (b.x_start + b.length)])
+            .reduce(|a, b| if b.abs() < a.abs() { b } else { a })
+    }
+}
+
 impl Road for RoadModel {
     fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]) {
         match self {
@@ -253,6 +269,20 @@ mod tests {
         let slope = |x: f64| avg.height_and_gradient(x, TRACK_HALF).1[0];
         assert!((slope(10.0 + 1e-9) - slope(10.0 - 1e-9)).abs() < 1e-5);
         assert!((slope(10.5 + 1e-9) - slope(10.5 - 1e-9)).abs() < 1e-5);
+    }
+
+    #[test]
+    fn the_edge_offset_crosses_zero_upward_at_each_edge_of_the_wheels_side() {
+        let road = RoadModel::paper_bump_course(1.0);
+        // Left wheels: edges at 11, 11.5, 15, 15.5; the offset is x less the nearest.
+        for (x, offset) in
+            [(10.0, -1.0), (11.0, 0.0), (11.2, 0.2), (11.3, -0.2), (13.0, 1.5), (13.5, -1.5), (16.0, 0.5)]
+        {
+            assert!((road.edge_offset(x, TRACK_HALF).unwrap() - offset).abs() < 1e-12, "x = {x}");
+        }
+        // Right wheels: edges at 12, 12.5, 16, 16.5.
+        assert!((road.edge_offset(11.9, -TRACK_HALF).unwrap() + 0.1).abs() < 1e-12);
+        assert_eq!(RoadModel::Flat.edge_offset(11.0, TRACK_HALF), None);
     }
 
     #[test]

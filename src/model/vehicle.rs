@@ -203,6 +203,10 @@ pub struct Diagnostics {
     /// air. Its upward zero crossing is a touchdown, where the normal force jumps to c_z δ̇ (the fixed-step
     /// schemes locate it: `integrate::touchdown`).
     pub penetration: [f64; 4],
+    /// Each wheel centre's x less the nearest C⁰ edge of the road under the single-point contact (the
+    /// paper's bumps: `RoadModel::edge_offset`), m; −1 where the road has none. Its upward zero crossing is
+    /// where the tire's damping force jumps with the road's slope (RK4 locates it: `integrate::touchdown`).
+    pub road_edge: [f64; 4],
 }
 
 /// Per-corner force element data (the spring free length is what the ride-height retune changes).
@@ -326,6 +330,12 @@ impl<'a> Run<'a> {
             RoadView::Enveloped { .. } => *self,
             _ => Run { options: self.options, road: RoadView::Rounded { road: self.road.ground(), width: 0.002 } },
         }
+    }
+
+    /// Whether the run's road has C⁰ edges under its contact (the paper's bumps under the single point):
+    /// `Diagnostics::road_edge` then locates them.
+    pub fn has_road_edges(&self) -> bool {
+        self.options.switches.tires && matches!(self.road, RoadView::Point(RoadModel::Bumps(_)))
     }
 
     /// The road the run is on (before the contact model).
@@ -760,6 +770,10 @@ impl Vehicle {
         // The road is in the ground axes: the tire works there, on the wheel turned by A0, and its loads are
         // turned back.
         let centre_abs = a0 * rho_w + r0;
+        diag.road_edge[i] = match road {
+            RoadView::Point(ground) => ground.edge_offset(centre_abs.x, centre_abs.y).unwrap_or(-1.0),
+            _ => -1.0,
+        };
         let axle_ground = a0 * axle;
         diag.wheel_centre_z[i] = centre_abs.z;
         diag.wheel_spin_relative[i] = spin_rel;

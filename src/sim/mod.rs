@@ -314,6 +314,7 @@ pub struct FirstStage {
     warm_after: [WarmStart; 4],
     tire_loads: [f64; 4],
     penetration: [f64; 4],
+    road_edge: [f64; 4],
     dx: [f64; idx::DIM],
 }
 
@@ -349,6 +350,7 @@ impl OdeSystem for VehicleOde<'_> {
             self.cache.corners = f.warm_after;
             self.cache.tire_loads = f.tire_loads;
             self.cache.diagnostics.penetration = f.penetration;
+            self.cache.diagnostics.road_edge = f.road_edge;
             return Ok(());
         }
         self.evaluations += 1;
@@ -374,6 +376,14 @@ impl OdeSystem for VehicleOde<'_> {
     fn switch_indicators(&self) -> &[f64] {
         if self.run.options.switches.tires {
             &self.cache.diagnostics.penetration
+        } else {
+            &[]
+        }
+    }
+
+    fn edge_indicators(&self) -> &[f64] {
+        if self.run.has_road_edges() {
+            &self.cache.diagnostics.road_edge
         } else {
             &[]
         }
@@ -1924,6 +1934,7 @@ impl Simulation {
                 warm_after: Default::default(),
                 tire_loads: [0.0; 4],
                 penetration: [0.0; 4],
+                road_edge: [0.0; 4],
                 dx: [0.0; idx::DIM],
             });
             stage.dim = dx.len();
@@ -1932,6 +1943,7 @@ impl Simulation {
             (stage.inputs, stage.warm_before, stage.warm_after) = (inputs, warm_starts, warm_after);
             stage.tire_loads = self.cache.tire_loads;
             stage.penetration = d.penetration;
+            stage.road_edge = d.road_edge;
         }
         let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;
