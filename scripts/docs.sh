@@ -34,7 +34,7 @@ ride|check|docs/ride.md, docs/ride.png|bash scripts/ride.sh
 tire_comparison|check|docs/tire_magic_formula.md (above its hand-written section), docs/tire_mf_*.png|bash scripts/tire_comparison.sh
 work_precision|check|docs/work_precision.md, docs/work_precision.png|bash scripts/work_precision.sh
 chrono_compare|check|docs/vehicle_file.md, section \"How close an import is to its source\"|cargo run --release --bin rtv -- chrono-compare
-catalogue|check|docs/vehicle_file.md, block \"catalogue\" (Chrono's catalogue, one line per vehicle)|cargo run --release --bin rtv -- import-chrono --all data/chrono_catalogue/vehicle
+catalogue|check|docs/vehicle_file.md, block \"catalogue\" (a Chrono data folder, one line per vehicle)|cargo run --release --bin rtv -- import-chrono --all data/chrono
 hop_resolution|check|docs/hop_resolution_{rk4,imex,stiff_rk4,stiff_imex}.md (compiled into the library)|cargo run --release --example hop_resolution -- ... (each doc's first line)
 references|check|tests/reference/README.md and the reference traces tests/reference/*.csv|bash scripts/make_references.sh
 instructions|check|docs/results.md, block \"instructions\"|bash scripts/instructions.sh
@@ -110,7 +110,7 @@ run_ride() { bash scripts/ride.sh >/dev/null; echo ride.md; }
 run_tire_comparison() { bash scripts/tire_comparison.sh >/dev/null; echo tire_magic_formula.md; }
 run_work_precision() { bash scripts/work_precision.sh >/dev/null; echo work_precision.md; }
 run_chrono_compare() { $rtv chrono-compare --doc "$docs/vehicle_file.md" >/dev/null; echo vehicle_file.md; }
-run_catalogue() { block vehicle_file.md catalogue $rtv import-chrono --all data/chrono_catalogue/vehicle; echo vehicle_file.md; }
+run_catalogue() { block vehicle_file.md catalogue $rtv import-chrono --all data/chrono; echo vehicle_file.md; }
 run_hop_resolution() {
     local vehicles="resources/hmmwv.json resources/vehicles/generic_macpherson.json resources/vehicles/generic_double_wishbone.json"
     ./target/release/examples/hop_resolution rk4 $vehicles >"$docs/hop_resolution_rk4.md"

@@ -61,6 +61,12 @@ fn chrono_copy(name: &str) -> PathBuf {
 /// A copy of the folders `subs` of Chrono's `car` data, in the scratch folder `name`, to be edited.
 fn chrono_copy_of(name: &str, car: &str, subs: &[&str]) -> PathBuf {
     let dir = scratch(name);
+    copy_folders(&dir, car, subs);
+    dir
+}
+
+/// Copy the folders `subs` of Chrono's `car` data into `dir`, with their paths.
+fn copy_folders(dir: &Path, car: &str, subs: &[&str]) {
     for sub in subs {
         let (from, to) = (chrono_data().join(car).join(sub), dir.join(car).join(sub));
         std::fs::create_dir_all(&to).unwrap();
@@ -68,7 +74,6 @@ fn chrono_copy_of(name: &str, car: &str, subs: &[&str]) -> PathBuf {
             std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
         }
     }
-    dir
 }
 
 fn edit_json(path: &Path, edit: impl FnOnce(&mut Value)) {
@@ -820,70 +825,97 @@ fn a_file_named_relative_to_the_vehicle_is_found_and_said() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Chrono's catalogue (`data/chrono_catalogue/vehicle`: its data/vehicle at 7689fbc02d).
-fn catalogue() -> PathBuf {
-    repo().join("data/chrono_catalogue/vehicle")
+/// A catalogue laid out as Chrono's `data/vehicle` (paths relative to its root): the generic and HMMWV
+/// vehicles of `data/chrono`, and beside them vehicles of every kind the import refuses or follows, written
+/// here (Chrono's own files of those kinds are not in the repository): a tracked vehicle, a trailer, an
+/// articulated vehicle, a car with rotary-arm steering, and a top-level model file naming the generic car
+/// and a TMeasy tire.
+fn catalogue(name: &str) -> PathBuf {
+    let dir = chrono_copy(name);
+    copy_folders(&dir, "hmmwv", &[&SUBSYSTEMS[..], &["tire"]].concat());
+    let write = |file: &str, value: Value| {
+        let path = dir.join(file);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, serde_json::to_string_pretty(&value).unwrap()).unwrap();
+    };
+    write(
+        "tracked/Tracked_Vehicle.json",
+        json!({"Name": "tracked", "Type": "TrackVehicle", "Template": "TrackedVehicle"}),
+    );
+    write("trailer/Trailer.json", json!({"Name": "trailer", "Type": "Trailer", "Template": "WheeledTrailer"}));
+    write(
+        "articulated/Rear_Connector.json",
+        json!({"Name": "joint", "Type": "ChassisConnector", "Template": "ChassisConnectorArticulated"}),
+    );
+    let mut articulated: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(MACPHERSON)).unwrap()).unwrap();
+    articulated["Rear Chassis"] = json!([{
+        "Input File": "generic/chassis/Chassis.json",
+        "Connector Input File": "articulated/Rear_Connector.json"
+    }]);
+    write("articulated/Articulated_Vehicle.json", articulated);
+    write("rotary/RotaryArm.json", json!({"Name": "rotary", "Type": "Steering", "Template": "RotaryArm"}));
+    let mut rotary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(MACPHERSON)).unwrap()).unwrap();
+    rotary["Steering Subsystems"][0]["Input File"] = json!("rotary/RotaryArm.json");
+    write("rotary/Rotary_Vehicle.json", rotary);
+    write("model/TMeasy.json", json!({"Name": "tire", "Type": "Tire", "Template": "TMeasyTire"}));
+    write(
+        "model/Car.json",
+        json!({"Name": "car", "Type": "Vehicle", "Template": "WheeledVehicle",
+               "Vehicle": {"Input File": "generic/vehicle/Vehicle_MacPhersonStruts.json"},
+               "Tire": {"Input File": "model/TMeasy.json"}}),
+    );
+    dir
 }
 
 #[test]
 fn the_catalogue_imports_what_rtv_can_be_and_names_the_cause_of_every_refusal() {
     use rt_vehicle::model::import_chrono::{catalogue_markdown, import_catalogue};
-    let c = import_catalogue(&catalogue()).unwrap();
+    let dir = catalogue("catalogue");
+    let c = import_catalogue(&dir).unwrap();
     let entry = |file: &str| c.vehicles.iter().find(|e| e.file == file).unwrap_or_else(|| panic!("no entry {file}"));
     let refusal = |file: &str| entry(file).result.as_ref().map(|_| ()).unwrap_err().to_string();
     // Tracked and articulated vehicles and the trailer, refused by what they are.
-    let tracked: Vec<_> =
-        c.vehicles.iter().filter(|e| e.file.starts_with("M113") || e.file.starts_with("Marder")).collect();
-    assert_eq!(tracked.len(), 12, "the M113 and Marder vehicle files");
-    for e in tracked {
-        let err = e.result.as_ref().map(|_| ()).unwrap_err().to_string();
-        assert!(err.contains("a tracked vehicle"), "{}: {err}", e.file);
-    }
-    let acv = refusal("articulated_chassis/ACV_Vehicle.json");
-    assert!(acv.contains("articulated") && acv.contains("ChassisConnectorArticulated"), "{acv}");
-    assert!(refusal("ultra_tow/UT_Trailer.json").contains("a trailer (WheeledTrailer)"));
-    let truck = refusal("truck/json/truck.json");
-    assert!(truck.contains("truck/json/truck_RotaryArm.json: Template: rotary-arm steering (RotaryArm)"), "{truck}");
-    // The top-level model files lead to their vehicles, which import on their own Pac02 tire, and say that
-    // the model's TMeasy tire is not there.
-    for (model, vehicle, tir) in [
-        ("audi/json/audi.json", "audi/json/audi_Vehicle.json", "audi/json/audi_Pac02Tire.tir"),
-        ("Nissan_Patrol/json/suv.json", "Nissan_Patrol/json/suv_Vehicle.json", "Nissan_Patrol/json/suv_Pac02Tire.tir"),
-        ("sedan/Sedan.json", "sedan/vehicle/Sedan_Vehicle.json", "sedan/tire/Sedan_Pac02Tire.tir"),
-    ] {
-        let e = entry(model);
-        assert_eq!(e.followed.as_deref(), Some(vehicle));
-        let i = e.result.as_ref().unwrap_or_else(|err| panic!("{model}: {err}"));
-        assert!(
-            i.tire_note.starts_with(tir) && i.tire_note.contains("TMeasyTire, which rtv does not have"),
-            "{}",
-            i.tire_note
-        );
-        assert!(c.vehicles.iter().all(|e| e.file != vehicle), "{vehicle} has a line of its own besides {model}'s");
+    assert!(refusal("tracked/Tracked_Vehicle.json").contains("a tracked vehicle"));
+    let articulated = refusal("articulated/Articulated_Vehicle.json");
+    assert!(
+        articulated.contains("articulated") && articulated.contains("ChassisConnectorArticulated"),
+        "{articulated}"
+    );
+    assert!(refusal("trailer/Trailer.json").contains("a trailer (WheeledTrailer)"));
+    let rotary = refusal("rotary/Rotary_Vehicle.json");
+    assert!(rotary.contains("rotary/RotaryArm.json: Template: rotary-arm steering (RotaryArm)"), "{rotary}");
+    let lacks = &entry("rotary/Rotary_Vehicle.json").lacks;
+    assert!(lacks.iter().any(|l| l.contains("RotaryArm")), "{lacks:?}");
+    // The top-level model file leads to its vehicle, which imports on the .tir of its data folder, and says
+    // that the model's TMeasy tire is not there.
+    let e = entry("model/Car.json");
+    assert_eq!(e.followed.as_deref(), Some(MACPHERSON));
+    let i = e.result.as_ref().unwrap_or_else(|err| panic!("model/Car.json: {err}"));
+    assert!(i.tire_note.contains("TMeasyTire, which rtv does not have"), "{}", i.tire_note);
+    assert!(c.vehicles.iter().all(|e| e.file != MACPHERSON), "the model's vehicle has a line of its own");
+    // Chrono's double-wishbone car and HMMWV import.
+    for file in ["generic/vehicle/Vehicle_DoubleWishbones.json", "hmmwv/vehicle/HMMWV_Vehicle_RackPinion.json"] {
+        assert!(entry(file).result.is_ok(), "{file}: {:?}", entry(file).result.as_ref().err());
     }
     // Every refusal names a cause and a file of the catalogue.
     for e in &c.vehicles {
         if let Err(err) = &e.result {
             assert!(!err.message.is_empty(), "{}: a refusal without its cause", e.file);
-            assert!(
-                catalogue().join(&err.file).is_file(),
-                "{}: the refusal names {}, not a catalogue file",
-                e.file,
-                err.file
-            );
+            assert!(dir.join(&err.file).is_file(), "{}: the refusal names {}, not a catalogue file", e.file, err.file);
         }
     }
     // One table row per vehicle.
-    let md = catalogue_markdown(&catalogue(), &c);
+    let md = catalogue_markdown(&dir, &c);
     let rows = md.lines().filter(|l| l.starts_with("| `")).count();
     assert_eq!(rows, c.vehicles.len(), "{md}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn rtv_import_chrono_all_prints_one_line_per_vehicle_and_writes_the_imports() {
-    let dir = scratch("all");
+    let (source, dir) = (catalogue("all_source"), scratch("all"));
     let (code, out, err) =
-        rtv(&["import-chrono", "--all", catalogue().to_str().unwrap(), "--out-dir", dir.to_str().unwrap()]);
+        rtv(&["import-chrono", "--all", source.to_str().unwrap(), "--out-dir", dir.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     let imported: Vec<&str> = out.lines().filter(|l| l.contains("| imported: ")).collect();
     assert!(!imported.is_empty(), "{out}");

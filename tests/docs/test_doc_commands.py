@@ -86,7 +86,7 @@ TIMES = {
     "cargo run --release --bin rtv -- import-chrono data/chrono/generic/vehicle/Vehicle_MacPhersonStruts.json "
     "--data-dir data/chrono --out my_car.json": 0.0,
     "cargo run --release --bin rtv -- check-vehicle my_car.json": 0.0,
-    "cargo run --release --bin rtv -- import-chrono --all data/chrono_catalogue/vehicle": 0.2,
+    "cargo run --release --bin rtv -- import-chrono --all data/chrono": 0.2,
     "cargo run --release --bin rtv -- kc --vehicle my_car.json --out docs/kc/my_car.md": 5.6,
     "cargo run --release --bin rtv -- scene jturn --vehicle my_car.json --out jturn.csv": 0.6,
     "cargo run --release --bin rtv -- stability --vehicle my_car.json --out stability.md": 114.4,
