@@ -119,7 +119,7 @@ def read_tir(path):
 # not have (its M_x has no QSX4-QSX11, and a missing combined-slip R* coefficient means none). Here a
 # coefficient left out has its neutral value, as the MF-Tyre and ADAMS readers take it: 0, or the value
 # that switches the term off. Only the coefficients below differ from read_tir.jl's defaults; each table
-# names the ones its file leaves out. MFeval's example files MagicFormula61/62 have them all.
+# names the ones its file leaves out.
 FORMAT_NEUTRAL = {"PKY4": 2.0, "RCX1": 1.0, "RCY1": 1.0, "QSY7": 1.0}
 COEFFICIENT_DEFAULTS_CHANGED = [
     k for k, v in DEFAULTS.items()
@@ -332,11 +332,10 @@ def mfeval(p, Fz_in, kappa, alpha, gamma, Vcx, pressure=0.0):
     return Fx, Fy, Mx, My, Mz
 
 
-# The files: MFeval's own examples (data/mfeval_reference/tir/) and every .tir file the repository ships.
+# The files: every .tir file the repository ships, and an MF 6.2 variant of its MF 6.1 file
+# (data/mfeval_reference/tir/).
 FILES = [
-    "data/mfeval_reference/tir/MagicFormula52_Parameters.tir",
-    "data/mfeval_reference/tir/MagicFormula61_Parameters.tir",
-    "data/mfeval_reference/tir/MagicFormula62_Parameters.tir",
+    "data/mfeval_reference/tir/mf62_example.tir",
     "data/chrono/feda/tires/335_65R22_5_G275MSA_60psi.tir",
     "data/chrono/generic/tire/Generic_Pac02Tire.tir",
     "data/chrono/hmmwv/tire/HMMWV_Pac02Tire.tir",

@@ -1,7 +1,7 @@
 //! rtv's Magic Formula against MFeval's (issue 35, part 5): the tables of data/mfeval_reference/, written by
 //! `python3 scripts/mfeval_reference.py` (MFeval's algorithm as MFeval.jl a3b3ba4 states it, useMode 121;
 //! data/mfeval_reference/README.md), give F_x, F_y, M_x, M_y, M_z on pure and combined slip at 3 loads and 3
-//! cambers for MFeval's example files and every shipped `.tir` file. rtv's tire (the default `mfeval`
+//! cambers for every shipped `.tir` file and an MF 6.2 variant of the MF 6.1 one. rtv's tire (the default `mfeval`
 //! convention) must reproduce every row within 1e-6 of the peak of that quantity at that load, mounted on the
 //! side the file was measured on and, mirrored (κ, −α, −γ; F_y, M_x, M_z negated), on the other.
 use rt_vehicle::model::tire::magic_formula::{MagicFormula, MfLoads, TireSide};
@@ -67,7 +67,7 @@ fn rtv_reproduces_mfeval_on_every_committed_file_and_case() {
         .filter(|p| p.extension().is_some_and(|e| e == "csv"))
         .collect();
     tables.sort();
-    assert!(tables.len() >= 9, "{tables:?}");
+    assert!(tables.len() >= 7, "{tables:?}");
     let mut failures = Vec::new();
     println!("| file | rows | worst |Fx| | |Fy| | |Mx| | |My| | |Mz| (relative to the peak at that load) |");
     for table in &tables {
