@@ -527,6 +527,19 @@ impl MapRoad {
         Some((offset + side(&section.left), offset - side(&section.right)))
     }
 
+    /// The start's horizontal offset d from the reference line at s = 0: 0 (the line) where the road has
+    /// lanes on both sides of it; where the line is the road's edge or off it (lanes on one side only, as
+    /// esmini's `slope_up_leaning_right.xodr`), the middle of the road's width there, so that a vehicle
+    /// does not start with two wheels beside the road.
+    fn start_offset(&self) -> f64 {
+        match self.edges(0.0) {
+            Some((left, right)) if !(left > 0.0 && right < 0.0) => {
+                0.5 * (left + right) * profile(&self.superelevation, 0.0).0.cos()
+            }
+            _ => 0.0,
+        }
+    }
+
     /// Whether (s, t) lies on the road: s within its length, t between its permanent lanes' outer edges.
     fn covers(&self, s: f64, t: f64) -> bool {
         (0.0..=self.length).contains(&s)
@@ -776,8 +789,10 @@ impl PartialEq for PlacedMap {
 impl PlacedMap {
     pub fn new(map: Arc<OpenDrive>, anchor: [f64; 2]) -> PlacedMap {
         let p = map.road.pose(0.0);
-        let z0 = map.road.height_and_gradient(p.x, p.y).0;
-        PlacedMap { placement: Placement { anchor, origin: [p.x, p.y], cos: p.cos, sin: p.sin }, z0, map }
+        let d = map.road.start_offset();
+        let (x, y) = (p.x - d * p.sin, p.y + d * p.cos);
+        let z0 = map.road.height_and_gradient(x, y).0;
+        PlacedMap { placement: Placement { anchor, origin: [x, y], cos: p.cos, sin: p.sin }, z0, map }
     }
 }
 
