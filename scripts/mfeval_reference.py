@@ -332,7 +332,8 @@ def mfeval(p, Fz_in, kappa, alpha, gamma, Vcx, pressure=0.0):
     return Fx, Fy, Mx, My, Mz
 
 
-# The files: MFeval's own examples (data/mfeval_reference/tir/) and every .tir file the repository ships.
+# The files: MFeval's own examples (data/mfeval_reference/tir/), every .tir file the repository ships, and
+# TyreDyn's MF 6.2 examples.
 FILES = [
     "data/mfeval_reference/tir/MagicFormula52_Parameters.tir",
     "data/mfeval_reference/tir/MagicFormula61_Parameters.tir",
@@ -343,6 +344,11 @@ FILES = [
     "data/chrono/sedan/tire/Sedan_Pac02Tire.tir",
     "data/chrono/VW_microbus/json/mf_185_80R14.tir",
     "resources/tires/mf61_example.tir",
+] + [
+    # Seven MF 6.2 example files from TyreDyn (MIT; data/mfeval_reference/README.md says where from).
+    f"data/mfeval_reference/tir/tyredyn/{name}.tir"
+    for name in ["Bus_270_70R22", "Truck_430_50R38", "car145_70R13", "car205_60R19", "car213_40R21",
+                 "car235_50R24", "fsae190_50R10"]
 ]
 CAMBERS_DEG = [-3.0, 0.0, 3.0]
 LOAD_FACTORS = [0.5, 1.0, 1.5]
