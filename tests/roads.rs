@@ -387,3 +387,36 @@ fn a_lap_of_chronos_50_m_circle_runs_and_driving_off_it_is_an_error_naming_the_p
     assert!(e.contains("left the road: at x = ") && e.contains(", v = -6.0"), "{e}");
     assert!(e.contains("whose extent is u wraps, a closed reference line of 314.00 m a lap, v -6..6 m"), "{e}");
 }
+
+/// Issue 35 part 4, OpenDRIVE: a closed track of two linked roads (`data/roads/circle_50m_loop.xodr`, two
+/// half circles of radius 50 m whose successors lead to each other, rising 1 m and falling back, banked
+/// 0.05 rad) is lapped: the HMMWV, holding the steer that circles 50 m on the level, drives more than a lap
+/// (35 s at 36 km/h, 350 m; the lap is 314 m) across both joints. Let go, it drives off the 12 m track and the
+/// run ends naming where and the loop.
+#[test]
+fn a_lap_of_a_loop_of_two_opendrive_roads_runs() {
+    use rt_vehicle::model::params::VehicleData;
+    use rt_vehicle::model::vehicle::Vehicle;
+    use rt_vehicle::sim::{SimConfig, Simulation};
+    let road = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/roads/circle_50m_loop.xodr").display().to_string();
+    let v = 10.0;
+    let steer = circling_steer(v, 50.0);
+    let start = |steer: f64| {
+        let config = SimConfig { initial_speed: v, road_file: Some(road.clone()), ..SimConfig::default() };
+        Simulation::from_vehicle_steered(Vehicle::new(&VehicleData::default_hmmwv()).unwrap(), config, steer).unwrap()
+    };
+    let mut sim = start(steer);
+    let (mut turned, mut last) = (0.0, sim.outputs().unwrap()[Channel::Yaw]);
+    for _ in 0..350 {
+        sim.advance(0.1).unwrap_or_else(|e| panic!("t = {}: {e}", sim.time()));
+        let yaw = sim.outputs().unwrap()[Channel::Yaw];
+        turned += (yaw - last).sin().atan2((yaw - last).cos());
+        last = yaw;
+    }
+    println!("steer {steer:.6}: turned {turned:.3} rad in 35 s");
+    assert!(turned > 2.0 * std::f64::consts::PI, "turned {turned} rad");
+    let mut sim = start(0.0);
+    let e = (0..100).find_map(|_| sim.advance(0.1).err()).expect("driving straight leaves the circle").to_string();
+    assert!(e.contains("left the road: at x = ") && e.contains("t = -6.00 m"), "{e}");
+    assert!(e.contains("s around a loop of roads 1, 2 (314.16 m a lap)"), "{e}");
+}
