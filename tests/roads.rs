@@ -398,7 +398,8 @@ fn a_lap_of_a_loop_of_two_opendrive_roads_runs() {
     use rt_vehicle::model::params::VehicleData;
     use rt_vehicle::model::vehicle::Vehicle;
     use rt_vehicle::sim::{SimConfig, Simulation};
-    let road = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/roads/circle_50m_loop.xodr").display().to_string();
+    let road =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/roads/circle_50m_loop.xodr").display().to_string();
     let v = 10.0;
     let steer = circling_steer(v, 50.0);
     let start = |steer: f64| {

@@ -800,8 +800,8 @@ fn looped(
     for id in chain {
         let road = net.road_by_od_id(id).ok_or_else(|| format!("road file {name}: no road with id {id:?}"))?;
         // Each road alone: its own checks (refused elements), and its ends for the joints below.
-        let alone = MapRoad::from_records(records_of(name, road)?, Vec::new())
-            .map_err(|e| format!("road file {name}: {e}"))?;
+        let alone =
+            MapRoad::from_records(records_of(name, road)?, Vec::new()).map_err(|e| format!("road file {name}: {e}"))?;
         parts.push((road, alone));
     }
     for (k, (_, a)) in parts.iter().enumerate() {
@@ -848,7 +848,11 @@ fn looped(
             }
             out.extend(records.into_iter().map(|c| Cubic { start: c.start + o, ..c }));
         }
-        joined.sections.extend(r.sections.into_iter().map(|s| SectionRecord { start: s.start + o, end: s.end + o, ..s }));
+        joined.sections.extend(r.sections.into_iter().map(|s| SectionRecord {
+            start: s.start + o,
+            end: s.end + o,
+            ..s
+        }));
         for mut c in attached_crg(name, net, road, folder)? {
             c.s_range = [c.s_range[0] + o, c.s_range[1] + o];
             c.s_offset += o;
