@@ -28,9 +28,13 @@
 //!   the grid's height to the road's; `attached0` replaces the road's height by zScale times the file's
 //!   elevation. zOffset is added in both.
 //!
+//! - **Loops**: where the driven road's successors (`<link><successor>`, entered at their start) lead back
+//!   to it, the roads are joined into one road whose s wraps (`looped`).
+//!
 //! One road is driven: the first in the file, or the one named by `FILE.xodr#ID`. The vehicle starts
-//! `START_BEHIND_REAR_AXLE_M` along it, heading along its reference line; the map is shifted so that the
-//! road's height at its start is the ground frame's zero.
+//! `START_BEHIND_REAR_AXLE_M` along it, heading along its reference line, on the line or, where the road
+//! has lanes on one side of it only, in the middle of its width (`MapRoad::start_offset`); the map is
+//! shifted so that the road's height there is the ground frame's zero.
 use super::road::{FileRoad, Placement, Road};
 use super::road_crg::Surface;
 use serde::Deserialize;
