@@ -283,5 +283,14 @@ fn the_jturn_and_the_bump_run_from_rest_on_esmini_and_asam_roads() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(!o.status.success() && err.contains("left the road") && err.contains("s = -0.00 m"), "{scene}: {err}");
     }
+    // At speed (100 km/h, the default) steady rolling up ASAM's 45° grade would need F_x ≈ F_z from the
+    // tires: the start is refused, naming the road's tilt there.
+    let o = Command::new(env!("CARGO_BIN_EXE_rtv"))
+        .args(["scene", "jturn", "--road", asam.to_str().unwrap(), "--end", "1", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("initial equilibrium") && err.contains("tilted 54.7°"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
