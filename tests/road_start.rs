@@ -216,14 +216,16 @@ fn at_speed_the_vehicle_starts_in_steady_rolling_on_the_road() {
 
 /// Road files from other projects (issue 35's named roads, copied with their licences under `data/roads/`):
 /// esmini's `slope_up_leaning_right.xodr` (a 10 % grade, superelevation 0.4 rad = 22.9°, one 6 m lane right
-/// of the reference line, so the vehicle starts in its middle: docs/roads.md "Which road, where") and ASAM's
+/// of the reference line, so the vehicle starts in its middle: docs/roads.md "Which road, where"), esmini's
+/// `slope_up_slope_down.xodr` (a 50 % grade for 50 m, then down), and ASAM's
 /// `Ex_Line-Spiral-Arc_elevation_and_superelevation.xodr` from qc-opendrive (grade 1 and superelevation
 /// 0.785398 rad: 45° each way). Each with the elevation slope and superelevation the file gives at the
 /// start (both straight there), typed here from the file, independent of the reader.
-fn file_roads() -> [(&'static str, PathBuf, f64, f64); 2] {
+fn file_roads() -> [(&'static str, PathBuf, f64, f64); 3] {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/roads");
     [
         ("esmini slope_up_leaning_right", data.join("esmini/slope_up_leaning_right.xodr"), 0.1, 0.4),
+        ("esmini slope_up_slope_down", data.join("esmini/slope_up_slope_down.xodr"), 0.5, 0.0),
         (
             "ASAM Ex_Line-Spiral-Arc_elevation_and_superelevation",
             data.join("asam_qc_opendrive/Ex_Line-Spiral-Arc_elevation_and_superelevation.xodr"),
@@ -260,7 +262,7 @@ fn the_vehicle_starts_in_static_equilibrium_on_esmini_and_asam_roads() {
 }
 
 /// The J-turn and the bump scene from rest on the named files, through the CLI (default contact, automatic
-/// step). On esmini's road the speed hold (target 0) keeps the car on its 50 m for 4 s. ASAM's road tilts
+/// step). On esmini's roads the speed hold (target 0) keeps the car on them for 4 s. ASAM's road tilts
 /// 54.7° (tan = √2, more than the tires' peak friction, about 1): nothing can hold the car there, it slides
 /// back off the road's start in about 1.5 s. So there the scenes run 1 s, and the 4 s run must end with the
 /// error that names where the car left the road (docs/roads.md "The road's edge").
@@ -273,9 +275,9 @@ fn the_jturn_and_the_bump_run_from_rest_on_esmini_and_asam_roads() {
         let args = ["scene", scene, "--road", path.to_str().unwrap(), "--initial-speed", "0", "--end", end, "--out"];
         Command::new(env!("CARGO_BIN_EXE_rtv")).args(args).arg(&out).output().unwrap()
     };
-    let [(_, esmini, ..), (_, asam, ..)] = file_roads();
+    let [(_, esmini, ..), (_, esmini_steep, ..), (_, asam, ..)] = file_roads();
     for scene in ["jturn", "bump"] {
-        for (path, end) in [(&esmini, "4"), (&asam, "1")] {
+        for (path, end) in [(&esmini, "4"), (&esmini_steep, "4"), (&asam, "1")] {
             let o = run(scene, path, end);
             assert!(o.status.success(), "{scene} on {path:?}: {}", String::from_utf8_lossy(&o.stderr));
         }
