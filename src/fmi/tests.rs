@@ -421,6 +421,47 @@ fn tire_files_switch_to_the_magic_formula_and_bad_ones_are_errors() {
     std::fs::remove_dir_all(&tmp).ok();
 }
 
+/// Issue 35 through the FMU's `road_file`: a one-sided banked road (`data/roads/bank_one_side.xodr`: the car
+/// starts in its lane's middle, docs/roads.md "Which road, where") steps; a loop of two linked OpenDRIVE roads steps, and one
+/// whose joint does not meet is driven as a road with ends, the warning naming the gap in the log.
+#[test]
+fn one_sided_opendrive_roads_and_loops_run_in_the_fmu() {
+    let tmp = std::env::temp_dir().join(format!("rtv-fmi-loop-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let data = concat!(env!("CARGO_MANIFEST_DIR"), "/data/roads/");
+    let moved = std::fs::read_to_string(format!("{data}circle_50m_loop.xodr"))
+        .unwrap()
+        .replace("x=\"0.0\" y=\"100.0\"", "x=\"0.01\" y=\"100.0\"");
+    std::fs::write(tmp.join("moved.xodr"), moved).unwrap();
+    for (road, warning) in [
+        (format!("{data}bank_one_side.xodr"), None),
+        (format!("{data}circle_50m_loop.xodr"), None),
+        (tmp.join("moved.xodr").display().to_string(), Some("starts 1.00e-2 m away from where road 1 ends")),
+    ] {
+        let rec = Recorder::default();
+        let uri = resources_uri();
+        let inst = Inst::<VehicleModel>::new(&rec, Some(&uri));
+        unsafe {
+            // Every category on: the road's warnings are `logEvents` messages.
+            assert_eq!(api::set_debug_logging::<VehicleModel>(inst.c, 1, 0, std::ptr::null()), OK);
+            api::setup_experiment::<VehicleModel>(inst.c, 0, 0.0, 0.0, 0, 0.0);
+            api::enter_initialization_mode::<VehicleModel>(inst.c);
+        }
+        assert_eq!(inst.set_string(vr::ROAD_FILE, &road), OK);
+        unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{road}: {}", rec.last()) };
+        // 0.5 s at the default 100 km/h: within the banked road's 50 m and the circle's first half.
+        for _ in 0..50 {
+            assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{road}: {}", rec.last());
+        }
+        if let Some(w) = warning {
+            assert!(rec.contains(w) && rec.contains("the loop is not followed"), "{road}: {}", rec.last());
+        } else {
+            assert!(!rec.contains("loop is not followed"), "{road}");
+        }
+    }
+    std::fs::remove_dir_all(&tmp).ok();
+}
+
 #[test]
 fn road_files_place_a_road_and_bad_ones_are_errors() {
     let tmp = std::env::temp_dir().join(format!("rtv-fmi-road-{}", std::process::id()));

@@ -28,9 +28,13 @@
 //!   the grid's height to the road's; `attached0` replaces the road's height by zScale times the file's
 //!   elevation. zOffset is added in both.
 //!
+//! - **Loops**: where the driven road's successors (`<link><successor>`, entered at their start) lead back
+//!   to it, the roads are joined into one road whose s wraps (`looped`).
+//!
 //! One road is driven: the first in the file, or the one named by `FILE.xodr#ID`. The vehicle starts
-//! `START_BEHIND_REAR_AXLE_M` along it, heading along its reference line; the map is shifted so that the
-//! road's height at its start is the ground frame's zero.
+//! `START_BEHIND_REAR_AXLE_M` along it, heading along its reference line, on the line or, where the road
+//! has lanes on one side of it only, in the middle of its width (`MapRoad::start_offset`); the map is
+//! shifted so that the road's height there is the ground frame's zero.
 use super::road::{FileRoad, Placement, Road};
 use super::road_crg::Surface;
 use serde::Deserialize;
@@ -113,7 +117,7 @@ struct GeomRecord {
     shape: Shape,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Debug, Default)]
 struct LateralRecords {
     #[serde(default)]
     profiles: Vec<serde_json::Value>,
@@ -332,6 +336,9 @@ pub struct MapRoad {
     /// Reference-line samples (s, x, y) and a grid index over them.
     samples: Vec<(f64, f64, f64)>,
     index: std::collections::HashMap<(i64, i64), Vec<u32>, CellHash>,
+    /// A loop (a road whose successor is itself, or a chain of roads whose successors lead back to the
+    /// first): s wraps with the period `length`, and these are the roads, in order.
+    lap: Option<Vec<String>>,
 }
 
 /// The index's hasher: cell coordinates are small integers that no adversary chooses, so a multiply-mix
@@ -392,6 +399,7 @@ struct OnRoad {
 impl MapRoad {
     /// The pose at s; beyond the ends the line continues straight.
     fn pose(&self, s: f64) -> Pose {
+        let s = self.wrap(s);
         let first = &self.geoms[0];
         if s < first.s {
             return first.pose(0.0).straight_on(s - first.s);
@@ -403,6 +411,14 @@ impl MapRoad {
             return g.pose(g.length).straight_on(sigma - g.length);
         }
         g.pose(sigma.min(g.length))
+    }
+
+    /// s on a loop taken into [0, length); s itself on a road with ends.
+    fn wrap(&self, s: f64) -> f64 {
+        match self.lap {
+            Some(_) => s.rem_euclid(self.length),
+            None => s,
+        }
     }
 
     fn cell(x: f64, y: f64) -> (i64, i64) {
@@ -442,7 +458,7 @@ impl MapRoad {
             let along = wx * p.cos + wy * p.sin;
             let d = -wx * p.sin + wy * p.cos;
             if along.abs() < 1e-12 {
-                return OnRoad { s, d, pose: p };
+                return OnRoad { s: self.wrap(s), d, pose: p };
             }
             // d/ds of the tangential offset is −(1 − κ d); keep the step sane where the point lies beyond
             // the centre of curvature (then the projection is not unique anyway).
@@ -452,7 +468,7 @@ impl MapRoad {
         // Not converged in 40 steps (a point far off a tight curve): the last foot point found.
         let on = last.expect("at least one step");
         let p = self.pose(on.s);
-        OnRoad { s: on.s, d: -(x - p.x) * p.sin + (y - p.y) * p.cos, pose: p }
+        OnRoad { s: self.wrap(on.s), d: -(x - p.x) * p.sin + (y - p.y) * p.cos, pose: p }
     }
 
     /// The road's own height at (s, d) and its rates along s and d (profiles held beyond the ends).
@@ -527,6 +543,19 @@ impl MapRoad {
         Some((offset + side(&section.left), offset - side(&section.right)))
     }
 
+    /// The start's horizontal offset d from the reference line at s = 0: 0 (the line) where the road has
+    /// lanes on both sides of it; where the line is the road's edge or off it (lanes on one side only, as
+    /// esmini's `slope_up_leaning_right.xodr`), the middle of the road's width there, so that a vehicle
+    /// does not start with two wheels beside the road.
+    fn start_offset(&self) -> f64 {
+        match self.edges(0.0) {
+            Some((left, right)) if !(left > 0.0 && right < 0.0) => {
+                0.5 * (left + right) * profile(&self.superelevation, 0.0).0.cos()
+            }
+            _ => 0.0,
+        }
+    }
+
     /// Whether (s, t) lies on the road: s within its length, t between its permanent lanes' outer edges.
     fn covers(&self, s: f64, t: f64) -> bool {
         (0.0..=self.length).contains(&s)
@@ -554,10 +583,11 @@ impl MapRoad {
             Some((left, right)) => format!("t {right:.2}..{left:.2} m at s = {:.2} m", s.clamp(0.0, self.length)),
             None => "no lanes".to_string(),
         };
-        Some(format!(
-            "(s = {s:.2} m, t = {t:.2} m) it is beyond the road, whose extent is s 0..{:.2} m and {lanes}",
-            self.length
-        ))
+        let along = match &self.lap {
+            Some(roads) => format!("s around a loop of roads {} ({:.2} m a lap)", roads.join(", "), self.length),
+            None => format!("s 0..{:.2} m", self.length),
+        };
+        Some(format!("(s = {s:.2} m, t = {t:.2} m) it is beyond the road, whose extent is {along} and {lanes}"))
     }
 
     fn from_records(r: RoadRecords, crg: Vec<AttachedCrg>) -> Result<MapRoad, String> {
@@ -601,6 +631,7 @@ impl MapRoad {
             crg,
             samples: Vec::new(),
             index: Default::default(),
+            lap: None,
         };
         let n = (road.length / SAMPLE_M).ceil() as usize;
         for k in 0..=n {
@@ -676,13 +707,166 @@ impl OpenDrive {
                 format!("road file {name}: no road surface (no <road> the reader could build: {warnings:?})")
             })?,
         };
-        let value = serde_json::to_value(road).map_err(|e| format!("road file {name}: {e}"))?;
-        let records: RoadRecords = serde_json::from_value(value)
-            .map_err(|e| format!("road file {name}: the xodr crate's road records changed shape: {e}"))?;
+        let mut warnings = warnings;
+        let chain = match find_loop(&road_links(text), road.od_id()) {
+            Ok(chain) => chain,
+            Err(w) => {
+                warnings.push(format!("road file {name}: {w}"));
+                None
+            }
+        };
+        if let Some(chain) = chain {
+            match looped(name, &net, &chain, folder)? {
+                Ok(road) => return Ok(OpenDrive { name: name.to_string(), road, warnings }),
+                Err(w) => warnings.push(format!("road file {name}: {w}")),
+            }
+        }
         let crg = attached_crg(name, &net, road, folder)?;
-        let road = MapRoad::from_records(records, crg).map_err(|e| format!("road file {name}: {e}"))?;
+        let road = MapRoad::from_records(records_of(name, road)?, crg).map_err(|e| format!("road file {name}: {e}"))?;
         Ok(OpenDrive { name: name.to_string(), road, warnings })
     }
+}
+
+/// A road's records, read through the crate's serde form.
+fn records_of(name: &str, road: &xodr::Road) -> Result<RoadRecords, String> {
+    let value = serde_json::to_value(road).map_err(|e| format!("road file {name}: {e}"))?;
+    serde_json::from_value(value)
+        .map_err(|e| format!("road file {name}: the xodr crate's road records changed shape: {e}"))
+}
+
+/// Each road's `<link><successor>` (elementType, elementId, contactPoint), by road id. The crate keeps the
+/// links only as lane links, so the map's text is read again for them; a text the XML reader refuses (the
+/// crate read it) gives no links, and no loop.
+fn road_links(text: &str) -> std::collections::HashMap<String, [String; 3]> {
+    let options = roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() };
+    let Ok(doc) = roxmltree::Document::parse_with_options(text, options) else { return Default::default() };
+    let mut links = std::collections::HashMap::new();
+    for road in doc.root_element().children().filter(|n| n.has_tag_name("road")) {
+        let successor = road
+            .children()
+            .filter(|n| n.has_tag_name("link"))
+            .flat_map(|l| l.children())
+            .find(|n| n.has_tag_name("successor"));
+        if let (Some(id), Some(succ)) = (road.attribute("id"), successor) {
+            let attr = |a: &str| succ.attribute(a).unwrap_or("").to_string();
+            links.insert(id.to_string(), [attr("elementType"), attr("elementId"), attr("contactPoint")]);
+        }
+    }
+    links
+}
+
+/// The loop through road `first`: its successor, that road's successor, … back to `first`, each entered at
+/// its start. `Ok(None)` where the chain ends (no successor, a junction, a missing road) or closes
+/// without `first`; `Err` names a link the loop cannot follow (a road entered at its end, i.e. driven
+/// against its reference line).
+fn find_loop(
+    links: &std::collections::HashMap<String, [String; 3]>,
+    first: &str,
+) -> Result<Option<Vec<String>>, String> {
+    let mut chain = vec![first.to_string()];
+    loop {
+        let here = chain.last().expect("the chain starts with the driven road");
+        let Some([kind, next, contact]) = links.get(here) else { return Ok(None) };
+        if kind != "road" {
+            return Ok(None);
+        }
+        if contact != "start" {
+            return Err(format!(
+                "road {here}'s successor is road {next} at its {contact:?} (driven against its reference line): \
+                 rt-vehicle follows successors entered at their start, so this chain of roads is not followed \
+                 and road {first} ends at its end"
+            ));
+        }
+        if next == first {
+            return Ok(Some(chain));
+        }
+        if chain.contains(next) || chain.len() > links.len() {
+            return Ok(None);
+        }
+        chain.push(next.clone());
+    }
+}
+
+/// The largest gap where one road of a loop ends and the next starts: position and heights, m; heading and
+/// superelevation, rad. Beyond them the surface would step at the seam: the loop is not followed.
+const LOOP_GAP_M: f64 = 1e-3;
+const LOOP_GAP_RAD: f64 = 1e-3;
+
+/// The roads of a loop joined into one road whose s wraps: each road's records shifted by the lengths of
+/// the roads before it. `Ok(Err(warning))` where a road does not start where the one before it ends.
+fn looped(
+    name: &str,
+    net: &xodr::RoadNetwork,
+    chain: &[String],
+    folder: &Path,
+) -> Result<Result<MapRoad, String>, String> {
+    let mut parts = Vec::new();
+    for id in chain {
+        let road = net.road_by_od_id(id).ok_or_else(|| format!("road file {name}: no road with id {id:?}"))?;
+        // Each road alone: its own checks (refused elements), and its ends for the joints below.
+        let alone =
+            MapRoad::from_records(records_of(name, road)?, Vec::new()).map_err(|e| format!("road file {name}: {e}"))?;
+        parts.push((road, alone));
+    }
+    for (k, (_, a)) in parts.iter().enumerate() {
+        let b = &parts[(k + 1) % parts.len()].1;
+        let (end, start) = (a.pose(a.length), b.pose(0.0));
+        let turn = (end.heading - start.heading).sin().atan2((end.heading - start.heading).cos());
+        let dz = a.own_height(a.length, 0.0).0 - b.own_height(0.0, 0.0).0;
+        let dphi = a.own_height(a.length, 0.0).3 - b.own_height(0.0, 0.0).3;
+        let gap = (end.x - start.x).hypot(end.y - start.y);
+        if gap > LOOP_GAP_M || dz.abs() > LOOP_GAP_M || turn.abs() > LOOP_GAP_RAD || dphi.abs() > LOOP_GAP_RAD {
+            return Ok(Err(format!(
+                "roads {} close a loop, but road {} starts {gap:.2e} m away from where road {} ends, its heading \
+                 turned by {turn:.2e} rad, its height {dz:.2e} m, its superelevation {dphi:.2e} rad (at most \
+                 {LOOP_GAP_M} m and {LOOP_GAP_RAD} rad): the loop is not followed",
+                chain.join(", "),
+                b.id,
+                a.id
+            )));
+        }
+    }
+    let mut joined = RoadRecords {
+        od_id: chain[0].clone(),
+        length: 0.0,
+        geoms: Vec::new(),
+        elevations: Vec::new(),
+        superelevations: Vec::new(),
+        lateral: LateralRecords::default(),
+        lane_offsets: Vec::new(),
+        sections: Vec::new(),
+    };
+    let mut crg = Vec::new();
+    for (road, _) in &parts {
+        let r = records_of(name, road)?;
+        let o = joined.length;
+        joined.geoms.extend(r.geoms.into_iter().map(|g| GeomRecord { s: g.s + o, ..g }));
+        for (out, records) in [
+            (&mut joined.elevations, r.elevations),
+            (&mut joined.superelevations, r.superelevations),
+            (&mut joined.lane_offsets, r.lane_offsets),
+        ] {
+            // Before its first record a road's profile is 0, not the previous road's last record.
+            if records.iter().all(|c| c.start > 1e-9) {
+                out.push(Cubic { start: o, a: 0.0, b: 0.0, c: 0.0, d: 0.0 });
+            }
+            out.extend(records.into_iter().map(|c| Cubic { start: c.start + o, ..c }));
+        }
+        joined.sections.extend(r.sections.into_iter().map(|s| SectionRecord {
+            start: s.start + o,
+            end: s.end + o,
+            ..s
+        }));
+        for mut c in attached_crg(name, net, road, folder)? {
+            c.s_range = [c.s_range[0] + o, c.s_range[1] + o];
+            c.s_offset += o;
+            crg.push(c);
+        }
+        joined.length += r.length;
+    }
+    let mut road = MapRoad::from_records(joined, crg).map_err(|e| format!("road file {name}: {e}"))?;
+    road.lap = Some(chain.to_vec());
+    Ok(Ok(road))
 }
 
 /// The OpenCRG surfaces on the driven road: those whose stretch starts on its reference line.
@@ -776,8 +960,10 @@ impl PartialEq for PlacedMap {
 impl PlacedMap {
     pub fn new(map: Arc<OpenDrive>, anchor: [f64; 2]) -> PlacedMap {
         let p = map.road.pose(0.0);
-        let z0 = map.road.height_and_gradient(p.x, p.y).0;
-        PlacedMap { placement: Placement { anchor, origin: [p.x, p.y], cos: p.cos, sin: p.sin }, z0, map }
+        let d = map.road.start_offset();
+        let (x, y) = (p.x - d * p.sin, p.y + d * p.cos);
+        let z0 = map.road.height_and_gradient(x, y).0;
+        PlacedMap { placement: Placement { anchor, origin: [x, y], cos: p.cos, sin: p.sin }, z0, map }
     }
 }
 
@@ -943,6 +1129,125 @@ mod tests {
             assert!(e.contains(name) && e.contains(needle), "{name}: {e}");
         }
     }
+}
+
+#[cfg(test)]
+mod loop_tests {
+    use super::*;
+
+    const LOOP: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/roads/circle_50m_loop.xodr");
+
+    fn text() -> String {
+        std::fs::read_to_string(LOOP).unwrap()
+    }
+
+    fn road(text: &str, id: Option<&str>) -> OpenDrive {
+        OpenDrive::from_text("loop.xodr", text, id, Path::new(".")).unwrap()
+    }
+
+    /// The file's surface at map point (x, y), from the file's own numbers (a circle of radius 50 m about
+    /// (0, 50); the first half, s = R θ up to π R, rises by the smoothstep 1 m (3x² − 2x³), the second falls
+    /// back; superelevation −0.05 rad, t along the surface outward negative), independent of the reader.
+    fn expected(x: f64, y: f64) -> (f64, f64) {
+        let (r, pi) = (50.0, std::f64::consts::PI);
+        let theta = (x).atan2(r - y).rem_euclid(2.0 * pi);
+        let d = r - x.hypot(y - r);
+        let u = (theta % pi) / pi;
+        let smooth = 3.0 * u * u - 2.0 * u * u * u;
+        let z = if theta < pi { smooth } else { 1.0 - smooth };
+        (r * theta, z + d * (-0.05f64).tan())
+    }
+
+    /// Two half circles whose successors lead to each other are one loop: every point of the 12 m track,
+    /// all around it and across both joints, is on the road at its s (wrapping at 2πR) with the file's
+    /// height; the road's start can be either half.
+    #[test]
+    fn a_loop_of_two_roads_wraps() {
+        for id in [None, Some("2")] {
+            let map = road(&text(), id);
+            let r = &map.road;
+            let order: &[&str] = if id.is_some() { &["2", "1"] } else { &["1", "2"] };
+            assert_eq!(r.lap.as_ref().unwrap(), order);
+            assert!((r.length - 100.0 * std::f64::consts::PI).abs() < 1e-9, "{}", r.length);
+            let shift = if id.is_some() { 50.0 * std::f64::consts::PI } else { 0.0 };
+            for k in 0..2000 {
+                let theta = k as f64 * 2.0 * std::f64::consts::PI / 2000.0 + 1e-7 * (k % 3) as f64;
+                let d = -5.5 + (k as f64 * 0.37) % 11.0;
+                let (x, y) = ((50.0 - d) * theta.sin(), 50.0 - (50.0 - d) * theta.cos());
+                assert!(r.off_road(x, y).is_none(), "{k}: {:?}", r.off_road(x, y));
+                let (s, z) = expected(x, y);
+                let on = r.locate(x, y);
+                let s_expected = (s - shift).rem_euclid(r.length);
+                let ds = (on.s - s_expected).abs();
+                // 1e-9 m: Newton's tolerance is 1e-12 m, the arc's pose is closed-form.
+                assert!(ds.min(r.length - ds) < 1e-9, "{k}: s {} against {s_expected}", on.s);
+                let h = r.height_and_gradient(x, y).0;
+                assert!((h - z).abs() < 1e-9, "{k}: height {h} against {z}");
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod loop_link_tests {
+    use super::loop_tests_text as text;
+    use super::*;
+
+    fn load(text: &str) -> OpenDrive {
+        OpenDrive::from_text("loop.xodr", text, None, Path::new(".")).unwrap()
+    }
+
+    /// One road whose successor is itself, a whole circle in one arc (the file's first half made a whole
+    /// circle, linked to itself, level: its smoothstep rise would not meet its start): a loop of one road.
+    #[test]
+    fn a_road_linked_to_itself_is_a_loop() {
+        let pi = std::f64::consts::PI;
+        let level = r#"    <elevationProfile><elevation s="0.0" a="0.0" b="0.0" c="0.0" d="0.0"/></elevationProfile>"#;
+        let text = text()
+            .replace(&format!("length=\"{:?}\"", 50.0 * pi), &format!("length=\"{:?}\"", 100.0 * pi))
+            .replace("elementId=\"2\"", "elementId=\"1\"")
+            .lines()
+            .map(|l| if l.contains("<elevation ") { level } else { l })
+            .collect::<Vec<_>>()
+            .join("\n");
+        let map = load(&text);
+        let r = &map.road;
+        assert_eq!(r.lap.as_ref().unwrap(), &["1"]);
+        assert!((r.length - 100.0 * pi).abs() < 1e-9);
+        // Just behind the start (θ = −0.01 rad, 0.5 m) is the lap's end.
+        let (x, y) = (50.0 * (-0.01f64).sin(), 50.0 - 50.0 * (-0.01f64).cos());
+        assert!(r.off_road(x, y).is_none());
+        assert!((r.locate(x, y).s - (r.length - 0.5)).abs() < 1e-9, "{}", r.locate(x, y).s);
+    }
+
+    /// Links the loop cannot follow leave a road with ends and a warning naming why: a successor entered
+    /// at its end; roads that do not meet (the second half moved 1 cm); a chain that does not come back.
+    #[test]
+    fn links_the_loop_cannot_follow_are_named() {
+        let against = text().replacen("contactPoint=\"start\"", "contactPoint=\"end\"", 1);
+        let moved = text().replace("x=\"0.0\" y=\"100.0\"", "x=\"0.01\" y=\"100.0\"");
+        let open = text().replacen(r#"<successor elementType="road" elementId="1" contactPoint="start"/>"#, "", 1);
+        assert!(moved.contains("0.01") && open.len() < text().len());
+        for (name, t, needle) in [
+            ("against", against, Some("at its \"end\"")),
+            ("moved", moved, Some("starts 1.00e-2 m away from where road 1 ends")),
+            ("open", open, None),
+        ] {
+            let map = load(&t);
+            assert!(map.road.lap.is_none(), "{name}");
+            assert!((map.road.length - 50.0 * std::f64::consts::PI).abs() < 1e-9, "{name}");
+            let warned = map.warnings.iter().find(|w| w.contains("loop") || w.contains("chain"));
+            match needle {
+                Some(n) => assert!(warned.is_some_and(|w| w.contains(n)), "{name}: {:?}", map.warnings),
+                None => assert!(warned.is_none(), "{name}: {:?}", map.warnings),
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+fn loop_tests_text() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/roads/circle_50m_loop.xodr")).unwrap()
 }
 
 #[cfg(test)]

@@ -460,8 +460,15 @@ impl Start {
                 )
             })?;
             if !plane.is_level() {
+                // The plane's tilt in the message: a start beyond the tires' friction (steady rolling up a
+                // grade steeper than their peak force allows) fails there, and the tilt says why.
+                let [gx, gy] = plane.gradient;
+                let tilt = gx.hypot(gy).atan().to_degrees();
                 state = start_on_plane(&v, options, &road, &plane, config.initial_speed, steering, &mut cache)
-                    .context("initial equilibrium on the road's start")?;
+                    .context(&format!(
+                        "initial equilibrium on the road's start (the road there rises {gx:.3} along ground x and \
+                         {gy:.3} along y, tilted {tilt:.1}°)"
+                    ))?;
             }
         }
         Ok(Start { vehicle: v, road, state, cache, front_wheel_x0 })

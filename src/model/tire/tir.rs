@@ -172,7 +172,12 @@ impl TirFile {
                     return Err(format!("{name}, line {line}: a value without a key"));
                 }
                 if v.is_empty() {
-                    return Err(format!("{name}, line {line}: {key} has no value (a truncated file?)"));
+                    // A fit that leaves keys empty (teasit's TTC example `obfuscated.tir` leaves 53 of them)
+                    // is not a truncated file: say both, the reader cannot tell which.
+                    return Err(format!(
+                        "{name}, line {line}: {key} has no value (a truncated file, or a key the fit left empty: \
+                         give it a value or remove the line)"
+                    ));
                 }
                 let value = if v.starts_with('\'') || v.starts_with('"') {
                     let q = &v[..1];
