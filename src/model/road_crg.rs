@@ -899,14 +899,13 @@ mod closed_tests {
     use super::*;
 
     fn circle() -> Arc<Surface> {
-        load(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/chrono/terrain/crg_roads/circle_50m_left.crg")))
-            .unwrap()
+        load(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/roads/circle_50m.crg"))).unwrap()
     }
 
-    /// Chrono's 50 m circle: its last cross section lies one increment (0.2 m) before its first, and it asks
-    /// for the closed track (REFLINE_CONTINUATION = 1). Placed at the origin heading along x (the file's own
-    /// frame, whose start heading its modifiers put at 0): the crate's grid points come back at their (u, v),
-    /// those of a second lap at u − lap.
+    /// The 50 m circle (`data/roads/circle_50m.crg`, `scripts/make_circle_crg.py`): its last cross section
+    /// lies one increment (0.2 m) before its first, and it asks for the closed track (REFLINE_CONTINUATION =
+    /// 1). Placed at the origin heading along x (the file's own frame): the crate's grid points come back at
+    /// their (u, v), those of a second lap at u − lap.
     #[test]
     fn a_closed_reference_line_is_lapped() {
         let s = circle();
@@ -929,7 +928,8 @@ mod closed_tests {
         assert!((behind.u - (lap - 5.0)).abs() < 0.02, "{behind:?}");
         assert_eq!(p.height_and_gradient(-0.1, 0.0), (0.0, [0.0, 0.0]));
         let off = p.off_road(30.0, 0.0).unwrap();
-        assert!(off.contains("x = 30.00 m") && off.contains("v = -8.26 m") && off.contains("314.00 m a lap"), "{off}");
+        // v = R − |(30, 0) − (0, R)| = −8.31 m on the circle of R = 314/(2π); −8.36 m on the file's polygon.
+        assert!(off.contains("x = 30.00 m") && off.contains("v = -8.36 m") && off.contains("314.00 m a lap"), "{off}");
         assert!(p.height_and_gradient(30.0, 0.0).0.is_nan());
     }
 
