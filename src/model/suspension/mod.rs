@@ -685,6 +685,9 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
             return Err(DataError { field, message: format!("suspension loop cannot close: {e}") });
         }
     }
+    if let Some(bar) = &axle.antiroll_bar {
+        crate::model::antiroll_bar::check_closes(data, name, &g, bar)?;
+    }
     Ok(())
 }
 
