@@ -86,13 +86,14 @@ impl BarArm {
         let (a, b) = (d.dot(&self.u), d.dot(&self.v));
         let k = (d.norm_squared() + w * w - h * h) / (2.0 * w);
         let r = a.hypot(b);
+        // Round-off may put an exact toggle (|K/R| = 1) a few ulps beyond: that is the toggle, refused below.
         let ratio = k / r;
-        if !(ratio.abs() <= 1.0) {
+        if !(ratio.abs() <= 1.0 + 1e-12) {
             return Err(format!(
                 "the droplink ({h:.4} m) cannot reach its arm ({w:.4} m): the arm and the droplink do not meet"
             ));
         }
-        let alpha = b.atan2(a) + self.branch * ratio.acos();
+        let alpha = b.atan2(a) + self.branch * ratio.clamp(-1.0, 1.0).acos();
         let (sn, cs) = alpha.sin_cos();
         // The arm end's path direction t = −sin α u + cos α v; d·t = 0 is the toggle.
         let drive = b * cs - a * sn;
