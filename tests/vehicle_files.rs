@@ -323,7 +323,7 @@ fn the_importer_names_the_file_and_key_of_each_bad_input() {
             MACPHERSON,
             MACPHERSON,
             Box::new(|v| v["Axles"][0]["Antirollbar Input File"] = json!("generic/antirollbar/AntirollBarRSD.json")),
-            vec!["Vehicle_MacPhersonStruts.json", "Axles[0].Antirollbar Input File", "not supported"],
+            vec!["Vehicle_MacPhersonStruts.json", "Axles[0].Antirollbar Input File", "without `Antirollbar Location`"],
         ),
         (
             "falling_spring_curve",
