@@ -3,10 +3,15 @@
 //! the hand computation k·MR²·T², its twist against Chrono's template built from Chrono's own files, and
 //! each bad input refused with the field and cause named.
 
+use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::math::V3;
+use rt_vehicle::model::equilibrium::rest_state;
 use rt_vehicle::model::import_chrono::import_vehicle;
 use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle::Vehicle;
+use rt_vehicle::model::vehicle::{
+    idx, ForceSwitches, Formulation, Inputs, Layout, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
+};
+use rt_vehicle::sim::{inputs::RackProfile, RackSource, VehicleOde};
 use rt_vehicle::studies::kc::{roll_stiffness, wheel_at_travel};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -285,3 +290,103 @@ fn the_importer_names_the_file_and_key_of_a_bad_bar() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+
+/// The ARB vehicle in free flight (no tires, stops or dampers), its springs neutral at design so that the
+/// arms swing about it, started with the two front arms apart (a twisted bar), tumbling.
+fn free_flight(gravity: bool) -> (Vehicle, Options, Vec<f64>) {
+    let mut v = Vehicle::new(&with_bar()).unwrap();
+    for i in 0..4 {
+        let c = &v.corners[i];
+        v.corner_forces[i].spring_free_length = (c.spring.moving - c.spring.chassis).norm();
+    }
+    let switches = ForceSwitches { gravity, springs: true, stops: false, dampers: false, tires: false };
+    let o = Options { switches, speed_mode: SpeedMode::Coast, ..Options::default() };
+    let mut x = rest_state(&Layout::of(&o), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
+    x[idx::V0..idx::V0 + 3].copy_from_slice(&[12.0, -3.0, 1.5]);
+    x[idx::W0..idx::W0 + 3].copy_from_slice(&[0.4, -0.3, 0.6]);
+    x[idx::UD..idx::UD + 4].copy_from_slice(&[1.0, -0.8, 0.5, -1.2]);
+    x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&[20.0, -15.0, 30.0, 5.0]);
+    (v, o, x)
+}
+
+fn integrate(v: &Vehicle, o: &Options, x: &mut [f64], h: f64, steps: usize) {
+    let rack = RackSource::Profile(RackProfile::Zero);
+    let mut cache = Workspace::default();
+    let mut ode = VehicleOde {
+        vehicle: v,
+        run: Run::flat(v, o),
+        rack: &rack,
+        drive: [0.0; 4],
+        brake: [0.0; 4],
+        target_speed: 0.0,
+        cache: &mut cache,
+        evaluations: 0,
+        first_stage: None,
+    };
+    let mut rk4 = Rk4::new();
+    for k in 0..steps {
+        rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {e}"));
+    }
+}
+
+/// The bar is an internal, conservative element: with it, free flight keeps its momenta and springs, bar
+/// and gravity their energy (the bounds of tests/multibody.rs: RK4 at 1 ms over 0.3 s, whose truncation
+/// error is ~1e-12 per step on the fastest internal mode).
+#[test]
+fn the_bar_keeps_momentum_and_energy() {
+    let summary = |v: &Vehicle, o: &Options, x: &[f64]| {
+        v.mechanical_summary(o, x, &RackMotion::default(), &mut Workspace::default()).unwrap()
+    };
+    let (v, o, mut x) = free_flight(false);
+    let m0 = summary(&v, &o, &x);
+    integrate(&v, &o, &mut x, 1e-3, 300);
+    let m1 = summary(&v, &o, &x);
+    let dp = (m1.linear_momentum - m0.linear_momentum).norm() / m0.linear_momentum.norm();
+    let dh = (m1.angular_momentum - m0.angular_momentum).norm() / m0.angular_momentum.norm();
+    println!("free flight with the bar, 0.3 s: momentum drift {dp:.2e}, angular momentum drift {dh:.2e}");
+    assert!(dp < 1e-9 && dh < 1e-9, "{dp:e} {dh:e}");
+
+    let (v, o, mut x) = free_flight(true);
+    let bar = v.antiroll_bars[0].as_ref().unwrap();
+    let bar_energy = |x: &[f64]| {
+        let p = v.corner_positions(x, 0.0, &mut Workspace::default()).unwrap();
+        bar.potential(&bar.angles([&v.corners[0], &v.corners[1]], [&p[0], &p[1]]).unwrap())
+    };
+    let e0 = summary(&v, &o, &x);
+    let bar0 = bar_energy(&x);
+    integrate(&v, &o, &mut x, 1e-3, 300);
+    let e1 = summary(&v, &o, &x);
+    let drift = ((e1.kinetic_energy + e1.potential_energy) - (e0.kinetic_energy + e0.potential_energy)).abs()
+        / e0.kinetic_energy;
+    println!(
+        "energy drift {drift:.2e} of the kinetic energy; the bar's energy {bar0:.3} J → {:.3} J",
+        bar_energy(&x)
+    );
+    assert!(bar0 > 1.0, "the start twists the bar");
+    assert!(drift < 1e-9, "energy drift {drift:e}");
+}
+
+/// The bar's generalized forces enter every formulation alike: the three agree on ẋ with the bar twisted
+/// (as tests/multibody.rs requires of every state, to round-off: 1e-9 of the largest component).
+#[test]
+fn the_formulations_agree_with_a_twisted_bar() {
+    let (v, _, x) = free_flight(true);
+    let derivative = |f: Formulation, v: &Vehicle| {
+        let o = Options { formulation: f, speed_mode: SpeedMode::Coast, ..Options::default() };
+        let mut dx = vec![0.0; x.len()];
+        v.derivative(&Run::flat(v, &o), &x, &Inputs::default(), &mut Workspace::default(), &mut dx).unwrap();
+        dx
+    };
+    let reference = derivative(Formulation::Synthesis, &v);
+    let peak = reference.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+    for f in [Formulation::SynthesisAugmented, Formulation::Conventional] {
+        let d = derivative(f, &v);
+        let diff = d.iter().zip(&reference).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff < 1e-9 * peak, "{f:?}: {diff:e} of a peak {peak:e}");
+    }
+    // And the bar acts: without its spring the front arms accelerate otherwise.
+    let mut slack = v.clone();
+    slack.antiroll_bars[0].as_mut().unwrap().stiffness = 0.0;
+    let d = derivative(Formulation::Synthesis, &slack);
+    assert!((d[idx::UD] - reference[idx::UD]).abs() > 1.0, "{} {}", d[idx::UD], reference[idx::UD]);
+}
