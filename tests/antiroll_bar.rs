@@ -390,3 +390,37 @@ fn the_formulations_agree_with_a_twisted_bar() {
     let d = derivative(Formulation::Synthesis, &slack);
     assert!((d[idx::UD] - reference[idx::UD]).abs() > 1.0, "{} {}", d[idx::UD], reference[idx::UD]);
 }
+
+/// What the model leaves out (docs/physics.md §5.4): the arms turn with the chassis in its mass matrix, so
+/// their rotary inertia about the bar's axis relative to the chassis, I_yy·(dα/dθ_L)², is not in the lower
+/// arm's effective inertia m̃ = [1; ∂v/∂u]ᵀ M_qq [1; ∂v/∂u]. Printed here for Chrono's generic bar (whose
+/// 1 kg·m² arm inertia is a placeholder: a 1 kg arm's would be ~1e-2); bound at 2 % so that a bar heavy
+/// enough to matter is noticed.
+#[test]
+fn the_arms_rotary_inertia_left_out_is_small_beside_the_lower_arms_effective_inertia() {
+    let data = with_bar();
+    let i_yy = data.front.antiroll_bar.as_ref().unwrap().arm.as_ref().unwrap().inertia_moments_kg_m2[1];
+    let v = Vehicle::new(&data).unwrap();
+    let o = Options { speed_mode: SpeedMode::Coast, ..Options::default() };
+    let x = rest_state(&Layout::of(&o), 0.9, 0.0, 0.0, &[0.0; 4]);
+    let mut ws = Workspace::default();
+    let assembly = v.assemble(&Run::flat(&v, &o), &x, &Inputs::default(), &mut ws).unwrap();
+    let pos = &ws.positions[0];
+    let mut b = nalgebra::Vector5::zeros();
+    b[0] = 1.0;
+    for j in 0..4 {
+        b[1 + j] = pos.dv_du[j];
+    }
+    let effective = (b.transpose() * assembly.terms[0].m_qq * b)[0];
+    let bar = v.antiroll_bars[0].as_ref().unwrap();
+    let arms = bar.angles([&v.corners[0], &v.corners[1]], [&ws.positions[0], &ws.positions[1]]).unwrap();
+    let left_out = i_yy * arms[0].d_alpha * arms[0].d_alpha;
+    let ratio = left_out / effective;
+    println!(
+        "lower arm's effective inertia {effective:.4} kg·m²; the arm's I_yy·(dα/dθ_L)² = {i_yy} × {:.4}² = \
+         {left_out:.4} kg·m²: {:.2} %",
+        arms[0].d_alpha,
+        100.0 * ratio
+    );
+    assert!(ratio < 0.02, "{ratio}");
+}
