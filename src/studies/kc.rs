@@ -38,7 +38,8 @@ use crate::math::V3;
 use crate::model::forces::spring_force;
 use crate::model::params::{ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
 use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
-use crate::model::vehicle::Vehicle;
+use crate::model::equilibrium::retune_ride_height;
+use crate::model::vehicle::{Options, Vehicle};
 
 /// The sweeps: wheel travel (m, from ≤ 0 ≤ to, with design travel 0 always a point) and the number of
 /// steering points from full left to full right lock (odd, so that the centre is a point).
@@ -565,7 +566,12 @@ impl KcReport {
         if !(options.travel_increment > 0.0 && options.travel_from <= 0.0 && options.travel_to >= 0.0) {
             return Err(ModelError::new(Cause::Data, "K&C travel sweep: need increment > 0 and from ≤ 0 ≤ to"));
         }
-        let v = Vehicle::new(data)?;
+        let mut v = Vehicle::new(data)?;
+        // The springs' preload as the car stands (it enters the roll stiffness through the linkage's
+        // curvature): the free lengths retuned where the vehicle rides retuned, as a run does (`sim::Start`).
+        if !v.springs_as_written {
+            retune_ride_height(&mut v, &Options::default())?;
+        }
         let axles = vec![axle_kc("front", data, &v, options)?, axle_kc("rear", data, &v, options)?];
         Ok(KcReport {
             vehicle: data.name.clone(),
@@ -722,7 +728,8 @@ impl KcReport {
             "- Roll stiffness (per axle, at design, chassis fixed): dM/dφ, M the roll moment Σ F_z (y − y_mid) of \
              the vertical forces that hold the wheel centres, φ = (z_L − z_R)/T under opposite wheel-centre \
              travel (T the wheel-centre track), the forces from the model's spring, stop and anti-roll bar laws \
-             by virtual work (F_z = −Q/(dz/dθ_L)); a central difference over ±{:.1} mm of travel. Tires and \
+             by virtual work (F_z = −Q/(dz/dθ_L)), the springs preloaded as the car stands (free lengths \
+             retuned where the vehicle rides retuned); a central difference over ±{:.1} mm of travel. Tires and \
              dampers are not in it.\n",
             ROLL_TRAVEL * 1e3
         );
