@@ -666,7 +666,11 @@ impl Vehicle {
         };
 
         self.solve_corners(x, rack.position, ws)?;
-        let bar_forces = self.antiroll_bar_forces(run.options, x, &ws.positions)?;
+        // The bars' generalized forces (§5.4); out of line, so that a vehicle without one pays one test.
+        let mut bar_forces = [0.0; 4];
+        if self.antiroll_bars.iter().any(Option::is_some) {
+            self.antiroll_bar_forces(run.options, x, &ws.positions, &mut bar_forces)?;
+        }
         let chassis = ChassisStage { run, a0, r0, y0, g: g_chassis };
         // Each corner writes its terms in place (no array built and then moved).
         let Workspace { positions, assembly, diagnostics: local, .. } = ws;
@@ -701,14 +705,14 @@ impl Vehicle {
 
     /// The anti-roll bars' generalized forces on each corner's θ_L (§5.4), from the solved positions and θ̇_L
     /// of both corners of each axle; zero where an axle has no bar.
-    #[inline(always)]
+    #[inline(never)]
     fn antiroll_bar_forces(
         &self,
         options: &Options,
         x: &[f64],
         positions: &[CornerPositions; 4],
-    ) -> Result<[f64; 4], ModelError> {
-        let mut out = [0.0; 4];
+        out: &mut [f64; 4],
+    ) -> Result<(), ModelError> {
         for (axle, bar) in self.antiroll_bars.iter().enumerate() {
             let Some(bar) = bar else { continue };
             let (l, r) = (2 * axle, 2 * axle + 1);
@@ -717,7 +721,7 @@ impl Vehicle {
             let [ql, qr] = bar.generalized_forces(&arms, theta_dot, options.switches.springs, options.switches.dampers);
             (out[l], out[r]) = (ql, qr);
         }
-        Ok(out)
+        Ok(())
     }
 
     /// Kinematics, forces and the subsystem terms of corner i (§3.4, §4.2, §5, §6) in the chassis axes, from
