@@ -3,7 +3,6 @@
 //! the hand computation k·MR²·T², its twist against Chrono's template built from Chrono's own files, and
 //! each bad input refused with the field and cause named.
 
-use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::math::V3;
 use rt_vehicle::model::equilibrium::rest_state;
 use rt_vehicle::model::import_chrono::import_vehicle;
@@ -11,7 +10,9 @@ use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{
     idx, ForceSwitches, Formulation, Inputs, Layout, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };
-use rt_vehicle::sim::{inputs::RackProfile, RackSource, VehicleOde};
+
+mod common;
+use common::{integrate, tumbling_state};
 use rt_vehicle::studies::kc::{roll_stiffness, wheel_at_travel};
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -164,7 +165,11 @@ fn the_bar_twist_agrees_with_chronos_template_built_from_chronos_files() {
             arm_angle(V3::new(location.x, sign * l, location.z), end, hgt.abs(), low)
         };
         let chrono = side(1.0, pl.q[0]) - side(-1.0, pr.q[0]);
-        println!("travel {zl:+.2} / {zr:+.2} m: twist model {:.6}°, Chrono's template {:.6}°", model.to_degrees(), chrono.to_degrees());
+        println!(
+            "travel {zl:+.2} / {zr:+.2} m: twist model {:.6}°, Chrono's template {:.6}°",
+            model.to_degrees(),
+            chrono.to_degrees()
+        );
         largest = largest.max((model - chrono).abs());
     }
     // Both solve the same closure (the model in closed form, the test by bisection to 1e-16 rad); the
@@ -263,12 +268,20 @@ fn the_importer_names_the_file_and_key_of_a_bad_bar() {
     let original = std::fs::read_to_string(dir.join(rsd)).unwrap();
     let restore = || std::fs::write(dir.join(rsd), &original).unwrap();
     let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, Vec<&str>)> = vec![
-        (rsd, Box::new(|v| v["RSD"]["Spring Coefficient"] = json!(-5.0)), vec![rsd, "RSD.Spring Coefficient", "zero or positive"]),
+        (
+            rsd,
+            Box::new(|v| v["RSD"]["Spring Coefficient"] = json!(-5.0)),
+            vec![rsd, "RSD.Spring Coefficient", "zero or positive"],
+        ),
         (rsd, Box::new(|v| v["Template"] = json!("AntirollBarRSDX")), vec![rsd, "Template"]),
         (rsd, Box::new(|v| v["Droplink"]["Height"] = json!(0.0)), vec![rsd, "droplink has no length"]),
         (rsd, Box::new(|v| v["Arm"]["Width"] = json!(0.0)), vec![rsd, "the arm has no length"]),
         (rsd, Box::new(|v| v["Arm"]["Extra"] = json!(0.0)), vec![rsd, "Arm.Extra"]),
-        (ARB, Box::new(|v| v["Axles"][0]["Antirollbar Location"] = json!([0.6586, 0.1, -0.2364])), vec![ARB, "Axles[0].Antirollbar Location", "y = 0.1"]),
+        (
+            ARB,
+            Box::new(|v| v["Axles"][0]["Antirollbar Location"] = json!([0.6586, 0.1, -0.2364])),
+            vec![ARB, "Axles[0].Antirollbar Location", "y = 0.1"],
+        ),
         (
             ARB,
             Box::new(|v| {
@@ -290,7 +303,6 @@ fn the_importer_names_the_file_and_key_of_a_bad_bar() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-
 /// The ARB vehicle in free flight (no tires, stops or dampers), its springs neutral at design so that the
 /// arms swing about it, started with the two front arms apart (a twisted bar), tumbling.
 fn free_flight(gravity: bool) -> (Vehicle, Options, Vec<f64>) {
@@ -301,32 +313,8 @@ fn free_flight(gravity: bool) -> (Vehicle, Options, Vec<f64>) {
     }
     let switches = ForceSwitches { gravity, springs: true, stops: false, dampers: false, tires: false };
     let o = Options { switches, speed_mode: SpeedMode::Coast, ..Options::default() };
-    let mut x = rest_state(&Layout::of(&o), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
-    x[idx::V0..idx::V0 + 3].copy_from_slice(&[12.0, -3.0, 1.5]);
-    x[idx::W0..idx::W0 + 3].copy_from_slice(&[0.4, -0.3, 0.6]);
-    x[idx::UD..idx::UD + 4].copy_from_slice(&[1.0, -0.8, 0.5, -1.2]);
-    x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&[20.0, -15.0, 30.0, 5.0]);
+    let x = tumbling_state(&o);
     (v, o, x)
-}
-
-fn integrate(v: &Vehicle, o: &Options, x: &mut [f64], h: f64, steps: usize) {
-    let rack = RackSource::Profile(RackProfile::Zero);
-    let mut cache = Workspace::default();
-    let mut ode = VehicleOde {
-        vehicle: v,
-        run: Run::flat(v, o),
-        rack: &rack,
-        drive: [0.0; 4],
-        brake: [0.0; 4],
-        target_speed: 0.0,
-        cache: &mut cache,
-        evaluations: 0,
-        first_stage: None,
-    };
-    let mut rk4 = Rk4::new();
-    for k in 0..steps {
-        rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {e}"));
-    }
 }
 
 /// The bar is an internal, conservative element: with it, free flight keeps its momenta and springs, bar
@@ -339,7 +327,7 @@ fn the_bar_keeps_momentum_and_energy() {
     };
     let (v, o, mut x) = free_flight(false);
     let m0 = summary(&v, &o, &x);
-    integrate(&v, &o, &mut x, 1e-3, 300);
+    integrate(&v, &o, 0.0, &mut x, 1e-3, 300);
     let m1 = summary(&v, &o, &x);
     let dp = (m1.linear_momentum - m0.linear_momentum).norm() / m0.linear_momentum.norm();
     let dh = (m1.angular_momentum - m0.angular_momentum).norm() / m0.angular_momentum.norm();
@@ -354,14 +342,11 @@ fn the_bar_keeps_momentum_and_energy() {
     };
     let e0 = summary(&v, &o, &x);
     let bar0 = bar_energy(&x);
-    integrate(&v, &o, &mut x, 1e-3, 300);
+    integrate(&v, &o, 0.0, &mut x, 1e-3, 300);
     let e1 = summary(&v, &o, &x);
     let drift = ((e1.kinetic_energy + e1.potential_energy) - (e0.kinetic_energy + e0.potential_energy)).abs()
         / e0.kinetic_energy;
-    println!(
-        "energy drift {drift:.2e} of the kinetic energy; the bar's energy {bar0:.3} J → {:.3} J",
-        bar_energy(&x)
-    );
+    println!("energy drift {drift:.2e} of the kinetic energy; the bar's energy {bar0:.3} J → {:.3} J", bar_energy(&x));
     assert!(bar0 > 1.0, "the start twists the bar");
     assert!(drift < 1e-9, "energy drift {drift:e}");
 }

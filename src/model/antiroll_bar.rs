@@ -150,7 +150,13 @@ impl AxleBar {
     /// The generalized forces on the two lower-arm angles [left, right] from the twist and its rate (θ̇_L
     /// of each side): Q = ∓(k Δα + c Δα̇) dα/dθ_L, Δα = α_L − α_R. `spring` and `damper` switch the parts.
     #[inline(always)]
-    pub fn generalized_forces(&self, arms: &[ArmAngle; 2], theta_dot: [f64; 2], spring: bool, damper: bool) -> [f64; 2] {
+    pub fn generalized_forces(
+        &self,
+        arms: &[ArmAngle; 2],
+        theta_dot: [f64; 2],
+        spring: bool,
+        damper: bool,
+    ) -> [f64; 2] {
         let [l, r] = arms;
         let mut torque = 0.0;
         if spring {

@@ -25,9 +25,8 @@
 
 use crate::math::{M3, V3};
 use crate::model::params::{
-    AntirollBar,
-    Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate, VehicleData,
-    WheelBody,
+    AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate,
+    VehicleData, WheelBody,
 };
 use crate::model::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -1681,7 +1680,11 @@ impl Importer {
     fn antiroll_bar(&mut self, file: &File, location: V3) -> Result<AntirollBar, ImportError> {
         let o = file.obj();
         Self::template(&o, &["AntirollBarRSD"])?;
-        o.keys(&["Name", "Type", "Template", "Arm", "Droplink", "RSD"], &[("Output", "Chrono output settings")], &mut self.warnings)?;
+        o.keys(
+            &["Name", "Type", "Template", "Arm", "Droplink", "RSD"],
+            &[("Output", "Chrono output settings")],
+            &mut self.warnings,
+        )?;
         let arm = o.obj("Arm")?;
         arm.keys(&["Mass", "Inertia", "Length", "Width"], &[("Radius", VISUAL)], &mut self.warnings)?;
         let droplink = o.obj("Droplink")?;

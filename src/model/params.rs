@@ -810,7 +810,8 @@ fn nonneg(field: &str, v: f64) -> Result<(), DataError> {
 /// The anti-roll bar's data alone (that the droplink closes over the travel is checked with the suspension,
 /// `model::antiroll_bar::check_closes`).
 fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
-    for (k, p) in [("axis_point_m", &bar.axis_point_m), ("arm_end_m", &bar.arm_end_m), ("droplink_end_m", &bar.droplink_end_m)]
+    for (k, p) in
+        [("axis_point_m", &bar.axis_point_m), ("arm_end_m", &bar.arm_end_m), ("droplink_end_m", &bar.droplink_end_m)]
     {
         finite3(&format!("{field}.{k}"), p)?;
     }
@@ -823,7 +824,10 @@ fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
     if !(bar.arm_end_m[1] > 0.0) {
         return Err(err(
             format!("{field}.arm_end_m"),
-            format!("y = {} m: the left arm's end is on the left (y > 0), as every point of the file", bar.arm_end_m[1]),
+            format!(
+                "y = {} m: the left arm's end is on the left (y > 0), as every point of the file",
+                bar.arm_end_m[1]
+            ),
         ));
     }
     let arm = (bar.arm_end_m[0] - bar.axis_point_m[0]).hypot(bar.arm_end_m[2] - bar.axis_point_m[2]);
@@ -834,10 +838,7 @@ fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
         ));
     }
     if (Vector3::from(bar.droplink_end_m) - Vector3::from(bar.arm_end_m)).norm() < 1e-6 {
-        return Err(err(
-            format!("{field}.droplink_end_m"),
-            "coincides with arm_end_m: the droplink has no length",
-        ));
+        return Err(err(format!("{field}.droplink_end_m"), "coincides with arm_end_m: the droplink has no length"));
     }
     nonneg(&format!("{field}.torsional_stiffness_Nm_per_rad"), bar.torsional_stiffness_Nm_per_rad)?;
     nonneg(&format!("{field}.torsional_damping_Nms_per_rad"), bar.torsional_damping_Nms_per_rad)?;
