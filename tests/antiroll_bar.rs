@@ -1,7 +1,9 @@
-//! The anti-roll bar (docs/physics.md §5.4, docs/vehicle_file.md): Chrono's generic vehicle with its bar
-//! (`Vehicle_DoubleWishbones_ARB.json` of data/chrono_catalogue) imported, its K&C roll stiffness against
-//! the hand computation k·MR²·T², its twist against Chrono's template built from Chrono's own files, and
-//! each bad input refused with the field and cause named.
+//! The anti-roll bar (docs/physics.md §5.4, docs/vehicle_file.md): Chrono's generic vehicle with its front bar
+//! (Chrono's `generic/vehicle/Vehicle_DoubleWishbones_ARB.json` at 7689fbc02d: data/chrono's
+//! `Vehicle_DoubleWishbones.json` with the two `Antirollbar` keys, and `generic/antirollbar/AntirollBarRSD.json`,
+//! which data/chrono does not hold: the test writes both, with Chrono's numbers, beside a copy of data/chrono's
+//! generic files) imported; its K&C roll stiffness against the hand computation k·MR²·T², its twist against
+//! Chrono's template built from those files, and each bad input refused with the field and cause named.
 
 use rt_vehicle::math::V3;
 use rt_vehicle::model::equilibrium::rest_state;
@@ -10,29 +12,59 @@ use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{
     idx, ForceSwitches, Formulation, Inputs, Layout, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };
+use rt_vehicle::studies::kc::{roll_stiffness, wheel_at_travel};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
 
 mod common;
 use common::{integrate, tumbling_state};
-use rt_vehicle::studies::kc::{roll_stiffness, wheel_at_travel};
-use serde_json::{json, Value};
-use std::path::PathBuf;
 
 const ARB: &str = "generic/vehicle/Vehicle_DoubleWishbones_ARB.json";
+const RSD: &str = "generic/antirollbar/AntirollBarRSD.json";
 
-fn catalogue() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/chrono_catalogue/vehicle")
+/// A scratch folder of its own (removed first if a previous run left it) holding a copy of data/chrono's
+/// generic files, Chrono's generic bar `RSD` and the vehicle `ARB` that names it.
+fn chrono_folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rtv-antiroll-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "tire"] {
+        let (from, to) = (common::chrono_data().join("generic").join(sub), dir.join("generic").join(sub));
+        std::fs::create_dir_all(&to).unwrap();
+        for f in std::fs::read_dir(&from).unwrap().flatten() {
+            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
+        }
+    }
+    let rsd = json!({
+        "Name": "Generic RSD Antirollbar",
+        "Type": "Antirollbar",
+        "Template": "AntirollBarRSD",
+        "Arm": {"Mass": 1.0, "Inertia": [1, 1, 1], "Length": 0.70, "Width": 0.4, "Radius": 0.02},
+        "Droplink": {"Height": -0.04},
+        "RSD": {"Spring Coefficient": 10000, "Damping Coefficient": 100}
+    });
+    std::fs::create_dir_all(dir.join("generic/antirollbar")).unwrap();
+    std::fs::write(dir.join(RSD), serde_json::to_string_pretty(&rsd).unwrap()).unwrap();
+    let mut vehicle = read_json(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"));
+    vehicle["Axles"][0]["Antirollbar Input File"] = json!(RSD);
+    vehicle["Axles"][0]["Antirollbar Location"] = json!([0.6586, 0, -0.2364]);
+    std::fs::write(dir.join(ARB), serde_json::to_string_pretty(&vehicle).unwrap()).unwrap();
+    dir
+}
+
+fn read_json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
 /// Chrono's generic double-wishbone vehicle with its front anti-roll bar, imported (the tire is left out:
 /// nothing here reads it).
 fn with_bar() -> VehicleData {
-    let mut data = import_vehicle(&catalogue().join(ARB), &catalogue(), None).expect("the ARB vehicle imports").data;
+    // A folder per call: the tests run in parallel.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let dir = chrono_folder(&format!("vehicle{}", CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed)));
+    let mut data = import_vehicle(&dir.join(ARB), &dir, None).expect("the ARB vehicle imports").data;
+    let _ = std::fs::remove_dir_all(&dir);
     data.tire.tir_file = None;
     data
-}
-
-fn chrono_json(file: &str) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(catalogue().join(file)).unwrap()).unwrap()
 }
 
 fn v3(v: &Value) -> V3 {
@@ -130,6 +162,8 @@ fn the_kc_roll_stiffness_rises_by_the_bars_hand_computed_k_mr2_t2() {
 /// compared with the model's twist for pairs of wheel travels.
 #[test]
 fn the_bar_twist_agrees_with_chronos_template_built_from_chronos_files() {
+    let dir = chrono_folder("template");
+    let chrono_json = |file: &str| read_json(&dir.join(file));
     let vehicle = chrono_json(ARB);
     let axle = &vehicle["Axles"][0];
     let location = v3(&axle["Antirollbar Location"]);
@@ -172,6 +206,7 @@ fn the_bar_twist_agrees_with_chronos_template_built_from_chronos_files() {
         );
         largest = largest.max((model - chrono).abs());
     }
+    let _ = std::fs::remove_dir_all(&dir);
     // Both solve the same closure (the model in closed form, the test by bisection to 1e-16 rad); the
     // hardpoints pass through the import's sums (location + offsets) and the sprung-CM shift, ~1e-15 m.
     assert!(largest < 1e-9, "largest twist difference {largest:e} rad");
@@ -248,15 +283,7 @@ fn the_loader_names_the_field_and_cause_of_each_bad_bar() {
 /// The importer refuses a bar it cannot be, naming Chrono's file and key.
 #[test]
 fn the_importer_names_the_file_and_key_of_a_bad_bar() {
-    let dir = std::env::temp_dir().join(format!("rtv-arb-import-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "antirollbar", "tire"] {
-        let (from, to) = (catalogue().join("generic").join(sub), dir.join("generic").join(sub));
-        std::fs::create_dir_all(&to).unwrap();
-        for f in std::fs::read_dir(&from).unwrap().flatten() {
-            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
-        }
-    }
+    let dir = chrono_folder("import");
     let edit = |file: &str, change: &dyn Fn(&mut Value)| {
         let p = dir.join(file);
         let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
@@ -264,7 +291,7 @@ fn the_importer_names_the_file_and_key_of_a_bad_bar() {
         std::fs::write(&p, v.to_string()).unwrap();
     };
     let import = || import_vehicle(&dir.join(ARB), &dir, None).map(|_| ()).unwrap_err().to_string();
-    let rsd = "generic/antirollbar/AntirollBarRSD.json";
+    let rsd = RSD;
     let original = std::fs::read_to_string(dir.join(rsd)).unwrap();
     let restore = || std::fs::write(dir.join(rsd), &original).unwrap();
     let cases: Vec<(&str, Box<dyn Fn(&mut Value)>, Vec<&str>)> = vec![
