@@ -8,7 +8,7 @@
 //! axle's `Suspension Location` (translation), the steering's points and axes by its `Location` and
 //! `Orientation`; a spring curve is kept as the piecewise-linear law Chrono makes of it, a damper curve
 //! becomes the model's two-rate damper by least squares. What the model has no place for is listed as a warning; what it cannot represent (another
-//! template, an unknown key, camber or toe offsets, different wheels) is an error that
+//! template, an unknown key, different wheels) is an error that
 //! names the file and the key. Chrono's vehicle files name no tire: the tire is the `.tir` file of the
 //! vehicle's data folder (`tire_file`), copied beside the vehicle file. The springs ride as written
 //! (`ride_height: data`), as in Chrono. The stop table, gravity and the speed hold are the HMMWV's
@@ -1397,13 +1397,8 @@ impl Importer {
         ];
         used.push(if wishbone { "Upper Control Arm" } else { "Strut" });
         o.keys(&used, &[("Output", "Chrono output settings")], &mut self.warnings)?;
-        for k in ["Camber Angle (deg)", "Toe Angle (deg)"] {
-            if let Some(a) = o.opt_num(k)? {
-                if a != 0.0 {
-                    return Err(o.err(k, format!("{a}°: static camber and toe offsets are not supported (give 0)")));
-                }
-            }
-        }
+        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
+        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
         let vehicle_frame = o.flag("Vehicle-Frame Inertia")?;
         let mut points = BTreeMap::new();
         let mut put = |name: &str, p: V3| {
@@ -1644,6 +1639,8 @@ impl Importer {
             spring,
             damper,
             reference_kinematics: None,
+            static_camber_deg,
+            static_toe_deg,
             antiroll_bar: None,
         })
     }

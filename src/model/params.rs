@@ -84,6 +84,10 @@ pub struct SpringCurve {
     pub force_N: Vec<f64>,
 }
 
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
 fn no_bump_stop() -> f64 {
     f64::NEG_INFINITY
 }
@@ -183,6 +187,13 @@ pub struct Axle {
     /// Published kinematic figures the model is checked against (the HMMWV's data set; optional).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference_kinematics: Option<ReferenceKinematics>,
+    /// Static camber and toe of the wheels at design, deg (Chrono's `Camber Angle (deg)`, `Toe Angle (deg)`):
+    /// the spindle's axis turned by Rz(∓toe)·Rx(∓camber) from the chassis y axis (upper sign left, as
+    /// `ChDoubleWishbone::InitializeSide`); + camber = top of the wheel outboard, + toe = toe-in. Absent: 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub static_camber_deg: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub static_toe_deg: f64,
     /// An anti-roll bar between the axle's two lower arms (optional; `model::antiroll_bar`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub antiroll_bar: Option<AntirollBar>,
@@ -363,6 +374,10 @@ impl RideHeight {
         *self == RideHeight::default()
     }
 }
+
+/// The largest static camber or toe accepted, deg: alignments are a few degrees; beyond this a value is
+/// most likely in radians' place or a typo.
+pub const MAX_STATIC_ANGLE_DEG: f64 = 10.0;
 
 /// The hardpoints a MacPherson-strut axle must name (Chrono's names: the strut runs from SPRING_U on the
 /// upright to its top mount SPRING_C on the chassis; the damper acts from SHOCK_U to SHOCK_C).
@@ -608,6 +623,14 @@ impl VehicleData {
             }
             if let Some(bar) = &axle.antiroll_bar {
                 check_antiroll_bar(&format!("{name}.antiroll_bar"), bar)?;
+            }
+            for (k, v) in [("static_camber_deg", axle.static_camber_deg), ("static_toe_deg", axle.static_toe_deg)] {
+                if !(v.abs() <= MAX_STATIC_ANGLE_DEG) {
+                    return Err(err(
+                        format!("{name}.{k}"),
+                        format!("{v}° is beyond ±{MAX_STATIC_ANGLE_DEG}° (an alignment angle, in degrees)"),
+                    ));
+                }
             }
         }
         let t = &self.stop_table;
