@@ -16,15 +16,7 @@ const VEHICLE: &str = "generic/vehicle/Vehicle_DoubleWishbones.json";
 /// Chrono's generic double-wishbone vehicle (data/chrono) with the given alignment [camber, toe] (deg) on its
 /// front and rear suspension files, imported (the tire left out: nothing here reads it).
 fn generic_with(front: [f64; 2], rear: [f64; 2]) -> VehicleData {
-    let dir = std::env::temp_dir().join(format!("rtv-alignment-{}-{}-{}", std::process::id(), front[0], rear[0]));
-    let _ = std::fs::remove_dir_all(&dir);
-    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "tire"] {
-        let (from, to) = (common::chrono_data().join("generic").join(sub), dir.join("generic").join(sub));
-        std::fs::create_dir_all(&to).unwrap();
-        for f in std::fs::read_dir(&from).unwrap().flatten() {
-            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
-        }
-    }
+    let dir = common::chrono_generic_copy(&format!("alignment-{}-{}", front[0], rear[0]));
     for (file, [camber, toe]) in
         [("generic/suspension/DoubleWishboneCurve.json", front), ("generic/suspension/DoubleWishbone.json", rear)]
     {

@@ -25,15 +25,7 @@ const RSD: &str = "generic/antirollbar/AntirollBarRSD.json";
 /// A scratch folder of its own (removed first if a previous run left it) holding a copy of data/chrono's
 /// generic files, Chrono's generic bar `RSD` and the vehicle `ARB` that names it.
 fn chrono_folder(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rtv-antiroll-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "tire"] {
-        let (from, to) = (common::chrono_data().join("generic").join(sub), dir.join("generic").join(sub));
-        std::fs::create_dir_all(&to).unwrap();
-        for f in std::fs::read_dir(&from).unwrap().flatten() {
-            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
-        }
-    }
+    let dir = common::chrono_generic_copy(&format!("antiroll-{name}"));
     let rsd = json!({
         "Name": "Generic RSD Antirollbar",
         "Type": "Antirollbar",

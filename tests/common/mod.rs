@@ -110,3 +110,19 @@ pub fn integrate(v: &Vehicle, o: &Options, target_speed: f64, x: &mut [f64], h: 
         rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {e}"));
     }
 }
+
+/// A scratch folder `rtv-NAME-PID` (removed first if a previous run left it) holding a copy of the Chrono data
+/// folder's `generic/` vehicle files (vehicle, chassis, suspension, steering, wheel, brake, driveline, tire), to
+/// be edited and imported.
+pub fn chrono_generic_copy(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rtv-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "tire"] {
+        let (from, to) = (chrono_data().join("generic").join(sub), dir.join("generic").join(sub));
+        std::fs::create_dir_all(&to).unwrap();
+        for f in std::fs::read_dir(&from).unwrap().flatten() {
+            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
+        }
+    }
+    dir
+}
