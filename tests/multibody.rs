@@ -1,13 +1,14 @@
 //! The multibody core as a whole: the three formulations agree, free flight conserves momentum, springs
 //! and gravity conserve energy, and a damped settle finds the static equilibrium (docs/physics.md §9.4–§9.6).
 
-use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::model::equilibrium::{static_equilibrium, steady_rolling};
 use rt_vehicle::model::params::VehicleData;
 use rt_vehicle::model::vehicle::{
-    idx, ForceSwitches, Formulation, Inputs, Layout, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
+    idx, ForceSwitches, Formulation, Inputs, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };
-use rt_vehicle::sim::{inputs::RackProfile, RackSource, VehicleOde};
+
+mod common;
+use common::{integrate, tumbling_state};
 
 /// Small deterministic PRNG (xorshift64*), so the random states are reproducible.
 struct Rng(u64);
@@ -146,36 +147,6 @@ fn free_flight_vehicle() -> Vehicle {
         v.corner_forces[i].spring_free_length = (c.spring.moving - c.spring.chassis).norm();
     }
     v
-}
-
-/// A non-trivial free-flight state: translating, tumbling, arms moving, wheels spinning.
-fn tumbling_state(o: &Options) -> Vec<f64> {
-    let mut x = rt_vehicle::model::equilibrium::rest_state(&Layout::of(o), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
-    x[idx::V0..idx::V0 + 3].copy_from_slice(&[12.0, -3.0, 1.5]);
-    x[idx::W0..idx::W0 + 3].copy_from_slice(&[0.4, -0.3, 0.6]);
-    x[idx::UD..idx::UD + 4].copy_from_slice(&[1.0, -0.8, 0.5, -1.2]);
-    x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&[20.0, -15.0, 30.0, 5.0]);
-    x
-}
-
-fn integrate(v: &Vehicle, o: &Options, target_speed: f64, x: &mut [f64], h: f64, steps: usize) {
-    let rack = RackSource::Profile(RackProfile::Zero);
-    let mut cache = Workspace::default();
-    let mut ode = VehicleOde {
-        vehicle: v,
-        run: Run::flat(v, o),
-        rack: &rack,
-        drive: [0.0; 4],
-        brake: [0.0; 4],
-        target_speed,
-        cache: &mut cache,
-        evaluations: 0,
-        first_stage: None,
-    };
-    let mut rk4 = Rk4::new();
-    for k in 0..steps {
-        rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {e}"));
-    }
 }
 
 #[test]

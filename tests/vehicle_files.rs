@@ -260,8 +260,8 @@ fn the_importer_names_the_file_and_key_of_each_bad_input() {
             "camber",
             MACPHERSON,
             MPS,
-            Box::new(|v| v["Camber Angle (deg)"] = json!(-1.0)),
-            vec!["Camber Angle (deg)", "not supported"],
+            Box::new(|v| v["Camber Angle (deg)"] = json!(-12.0)),
+            vec!["MacPhersonStrut.json", "static_camber_deg", "-10 (deg)"],
         ),
         (
             "steering_template",
@@ -323,7 +323,7 @@ fn the_importer_names_the_file_and_key_of_each_bad_input() {
             MACPHERSON,
             MACPHERSON,
             Box::new(|v| v["Axles"][0]["Antirollbar Input File"] = json!("generic/antirollbar/AntirollBarRSD.json")),
-            vec!["Vehicle_MacPhersonStruts.json", "Axles[0].Antirollbar Input File", "not supported"],
+            vec!["Vehicle_MacPhersonStruts.json", "Axles[0].Antirollbar Input File", "without `Antirollbar Location`"],
         ),
         (
             "falling_spring_curve",

@@ -917,7 +917,12 @@ fn cmd_check_vehicle(args: &[String]) -> Result<(), Failure> {
     let weight: f64 = s.axle_load_n.iter().sum();
     let input = data.steering_input();
     let steering = if data.pitman_arm.is_some() { "Pitman arm" } else { "rack and pinion" };
-    let axle = |i: usize| format!("{}{}", s.templates[i].name(), if s.steered[i] { " (steered)" } else { "" });
+    let axle = |i: usize| {
+        let bar = data.axles()[i].1.antiroll_bar.as_ref().map_or(String::new(), |b| {
+            format!(" with an anti-roll bar ({} N·m/rad)", b.torsional_stiffness_Nm_per_rad)
+        });
+        format!("{}{}{bar}", s.templates[i].name(), if s.steered[i] { " (steered)" } else { "" })
+    };
     println!("{file}: valid");
     println!("name: {}", s.name);
     println!("total mass: {:.1} kg (sprung {:.1} kg)", s.total_mass_kg, s.sprung_mass_kg);

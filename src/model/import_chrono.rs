@@ -3,11 +3,12 @@
 //!
 //! Reads a `WheeledVehicle` file and the subsystem files it names (paths relative to the data folder, as
 //! Chrono's `data/vehicle/`): a `RigidChassis`, two axles of `DoubleWishbone` or `MacPhersonStrut`, one
-//! steering (`PitmanArm` or `RackPinion`), `Wheel` and `BrakeSimple` files. Hardpoints are moved by each
+//! steering (`PitmanArm` or `RackPinion`), `Wheel` and `BrakeSimple` files, and `AntirollBarRSD` anti-roll
+//! bars. Hardpoints are moved by each
 //! axle's `Suspension Location` (translation), the steering's points and axes by its `Location` and
 //! `Orientation`; a spring curve is kept as the piecewise-linear law Chrono makes of it, a damper curve
 //! becomes the model's two-rate damper by least squares. What the model has no place for is listed as a warning; what it cannot represent (another
-//! template, an unknown key, camber or toe offsets, an anti-roll bar, different wheels) is an error that
+//! template, an unknown key, different wheels) is an error that
 //! names the file and the key. Chrono's vehicle files name no tire: the tire is the `.tir` file of the
 //! vehicle's data folder (`tire_file`), copied beside the vehicle file. The springs ride as written
 //! (`ride_height: data`), as in Chrono. The stop table, gravity and the speed hold are the HMMWV's
@@ -24,8 +25,8 @@
 
 use crate::math::{M3, V3};
 use crate::model::params::{
-    Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate, VehicleData,
-    WheelBody,
+    AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate,
+    VehicleData, WheelBody,
 };
 use crate::model::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -961,7 +962,7 @@ impl Importer {
                 }
             }
             if a.has("Antirollbar Input File") {
-                out.insert("anti-roll bar".into());
+                out.extend(check(self, &a, "Antirollbar Input File", &["AntirollBarRSD"]));
             }
         }
         if axles.len() != 2 {
@@ -1042,9 +1043,9 @@ impl Importer {
         let mut wheels: Vec<(String, Wheel)> = Vec::new();
         for (i, a) in axles.iter().enumerate() {
             let a = v.item("Axles", i, a)?;
-            for k in ["Antirollbar Input File", "Antirollbar Location", "Wheel Separation", "Subchassis Index"] {
+            for k in ["Wheel Separation", "Subchassis Index"] {
                 if a.has(k) {
-                    return Err(a.err(k, "not supported: the model has no anti-roll bar, twin wheels or subchassis"));
+                    return Err(a.err(k, "not supported: the model has no twin wheels or subchassis"));
                 }
             }
             a.keys(
@@ -1056,6 +1057,8 @@ impl Importer {
                     "Right Wheel Input File",
                     "Left Brake Input File",
                     "Right Brake Input File",
+                    "Antirollbar Input File",
+                    "Antirollbar Location",
                 ],
                 &[("Output", "Chrono output settings")],
                 &mut self.warnings,
@@ -1069,7 +1072,31 @@ impl Importer {
             };
             let location = a.point("Suspension Location")?;
             let suspension = self.subsystem(&a, "Suspension Input File", "Suspension")?;
-            let axle = self.suspension(&suspension, location, steered)?;
+            let mut axle = self.suspension(&suspension, location, steered)?;
+            let mut bar_file = None;
+            match (a.has("Antirollbar Input File"), a.has("Antirollbar Location")) {
+                (false, false) => {}
+                (true, true) => {
+                    let bar = self.subsystem(&a, "Antirollbar Input File", "Antirollbar")?;
+                    let at = a.point("Antirollbar Location")?;
+                    if at.y != 0.0 {
+                        return Err(a.err(
+                            "Antirollbar Location",
+                            format!("y = {} m: the model's bar is centred on the plane of symmetry (y = 0)", at.y),
+                        ));
+                    }
+                    axle.antiroll_bar = Some(self.antiroll_bar(&bar, at)?);
+                    bar_file = Some(bar.shown.clone());
+                }
+                (has_file, _) => {
+                    let (k, other) = if has_file {
+                        ("Antirollbar Input File", "Antirollbar Location")
+                    } else {
+                        ("Antirollbar Location", "Antirollbar Input File")
+                    };
+                    return Err(a.err(k, format!("given without `{other}`: a bar needs both")));
+                }
+            }
             for side in ["Left", "Right"] {
                 let key = format!("{side} Wheel Input File");
                 let wheel_file = self.subsystem(&a, &key, "Wheel")?;
@@ -1080,7 +1107,7 @@ impl Importer {
                     self.brake(&brake)?;
                 }
             }
-            imported.push((location.x, suspension.shown.clone(), axle));
+            imported.push((location.x, suspension.shown.clone(), axle, bar_file));
         }
         // The model has one wheel body for all four corners: left and right, front and rear, must agree.
         for (key, w) in &wheels[1..] {
@@ -1157,7 +1184,7 @@ impl Importer {
         let import = Import { data, warnings, tire: tir.clone(), tire_note, followed: self.followed.clone() };
         let beside = tir.as_deref().and_then(Path::parent);
         if let Err(e) = VehicleData::from_json_in(&import.to_json(), beside) {
-            return Err(loader_error(e, &file.shown, &front.1, &rear.1));
+            return Err(loader_error(e, &file.shown, [(&front.1, front.3.as_deref()), (&rear.1, rear.3.as_deref())]));
         }
         Ok(import)
     }
@@ -1370,13 +1397,8 @@ impl Importer {
         ];
         used.push(if wishbone { "Upper Control Arm" } else { "Strut" });
         o.keys(&used, &[("Output", "Chrono output settings")], &mut self.warnings)?;
-        for k in ["Camber Angle (deg)", "Toe Angle (deg)"] {
-            if let Some(a) = o.opt_num(k)? {
-                if a != 0.0 {
-                    return Err(o.err(k, format!("{a}°: static camber and toe offsets are not supported (give 0)")));
-                }
-            }
-        }
+        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
+        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
         let vehicle_frame = o.flag("Vehicle-Frame Inertia")?;
         let mut points = BTreeMap::new();
         let mut put = |name: &str, p: V3| {
@@ -1617,6 +1639,9 @@ impl Importer {
             spring,
             damper,
             reference_kinematics: None,
+            static_camber_deg,
+            static_toe_deg,
+            antiroll_bar: None,
         })
     }
 
@@ -1646,6 +1671,49 @@ impl Importer {
         Ok(Wheel { mass: o.mass("Mass")?, inertia: inertia.into() })
     }
 
+    /// Chrono's `AntirollBarRSD` at `location` (chassis frame): the bar's axis through it along y, the arms'
+    /// ends at location + (Width, ±Length, 0), the droplinks' lower ends Height below (above) them
+    /// (`ChAntirollBarRSD::Construct`), on the lower control arms (`GetAntirollBody` of both templates).
+    fn antiroll_bar(&mut self, file: &File, location: V3) -> Result<AntirollBar, ImportError> {
+        let o = file.obj();
+        Self::template(&o, &["AntirollBarRSD"])?;
+        o.keys(
+            &["Name", "Type", "Template", "Arm", "Droplink", "RSD"],
+            &[("Output", "Chrono output settings")],
+            &mut self.warnings,
+        )?;
+        let arm = o.obj("Arm")?;
+        arm.keys(&["Mass", "Inertia", "Length", "Width"], &[("Radius", VISUAL)], &mut self.warnings)?;
+        let droplink = o.obj("Droplink")?;
+        droplink.keys(&["Height"], &[], &mut self.warnings)?;
+        let rsd = o.obj("RSD")?;
+        rsd.keys(&["Spring Coefficient", "Damping Coefficient"], &[], &mut self.warnings)?;
+        let (length, width, height) = (arm.length("Length")?, arm.num("Width")?, droplink.num("Height")?);
+        let moments = arm.vec3("Inertia")?;
+        if !moments.iter().all(|x| *x > 0.0) {
+            return Err(arm.err("Inertia", "moments of inertia must be positive (kg m²)"));
+        }
+        let (k, c) = (rsd.num("Spring Coefficient")?, rsd.num("Damping Coefficient")?);
+        for (key, v) in [("Spring Coefficient", k), ("Damping Coefficient", c)] {
+            if !(v >= 0.0) {
+                return Err(rsd.err(key, format!("must be zero or positive (N m/rad, N m s/rad), got {v}")));
+            }
+        }
+        let end = location + V3::new(width, length, 0.0);
+        Ok(AntirollBar {
+            axis_point_m: location.into(),
+            arm_end_m: end.into(),
+            droplink_end_m: (end + V3::new(0.0, 0.0, height)).into(),
+            torsional_stiffness_Nm_per_rad: k,
+            torsional_damping_Nms_per_rad: c,
+            arm: Some(RigidBody {
+                mass_kg: arm.mass("Mass")?,
+                inertia_moments_kg_m2: moments.into(),
+                inertia_products_kg_m2: [0.0; 3],
+            }),
+        })
+    }
+
     fn brake(&mut self, file: &File) -> Result<(), ImportError> {
         let o = file.obj();
         Self::template(&o, &["BrakeSimple"])?;
@@ -1657,14 +1725,15 @@ impl Importer {
     }
 }
 
-/// A loader error on the imported data, told with the Chrono file it came from.
-fn loader_error(e: DataError, vehicle: &str, front: &str, rear: &str) -> ImportError {
-    let file = if e.field.starts_with("front.") {
-        front
-    } else if e.field.starts_with("rear.") {
-        rear
-    } else {
-        vehicle
+/// A loader error on the imported data, told with the Chrono file it came from: an axle's suspension file,
+/// or its anti-roll bar's for the bar's fields ([front, rear], each (suspension, bar)).
+fn loader_error(e: DataError, vehicle: &str, axles: [(&str, Option<&str>); 2]) -> ImportError {
+    let file = match ["front.", "rear."].iter().position(|p| e.field.starts_with(p)) {
+        Some(i) => match axles[i] {
+            (_, Some(bar)) if e.field.contains(".antiroll_bar") => bar,
+            (suspension, _) => suspension,
+        },
+        None => vehicle,
     };
     ImportError {
         file: file.to_string(),

@@ -1,6 +1,7 @@
 //! The vehicle: data, the SLA suspension subsystems, the kinematic rack, force elements, tires and road,
 //! assembled into one derivative function.
 
+pub mod antiroll_bar;
 pub mod brake;
 pub mod equilibrium;
 pub mod forces;

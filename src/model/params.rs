@@ -84,6 +84,10 @@ pub struct SpringCurve {
     pub force_N: Vec<f64>,
 }
 
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
 fn no_bump_stop() -> f64 {
     f64::NEG_INFINITY
 }
@@ -183,6 +187,43 @@ pub struct Axle {
     /// Published kinematic figures the model is checked against (the HMMWV's data set; optional).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference_kinematics: Option<ReferenceKinematics>,
+    /// Static camber and toe of the wheels at design, deg (Chrono's `Camber Angle (deg)`, `Toe Angle (deg)`):
+    /// the spindle's axis turned by Rz(∓toe)·Rx(∓camber) from the chassis y axis (upper sign left, as
+    /// `ChDoubleWishbone::InitializeSide`); + camber = top of the wheel outboard, + toe = toe-in. Absent: 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub static_camber_deg: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub static_toe_deg: f64,
+    /// An anti-roll bar between the axle's two lower arms (optional; `model::antiroll_bar`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub antiroll_bar: Option<AntirollBar>,
+}
+
+/// An anti-roll bar, Chrono's `AntirollBarRSD`: a bar along the chassis y axis, split at the middle by a
+/// torsion spring-damper, with an arm on each half; each arm's end is joined by a droplink (a massless
+/// distance constraint) to the lower control arm of its side (Chrono's `GetAntirollBody` of both templates).
+/// Points in the chassis reference frame, left side (the right mirrors it).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AntirollBar {
+    /// A point of the bar's axis, which is parallel to the chassis y axis, in the plane of symmetry (y = 0).
+    pub axis_point_m: [f64; 3],
+    /// The left arm's end, where the droplink is jointed to it (Chrono: location + (Width, Length, 0)).
+    pub arm_end_m: [f64; 3],
+    /// The droplink's other end, a point of the left lower control arm (Chrono: location + (Width, Length,
+    /// Height)). The droplink's length is its distance from `arm_end_m`.
+    pub droplink_end_m: [f64; 3],
+    /// Torsion spring between the two halves: torque per radian of twist (left arm's angle minus the
+    /// right's), N·m/rad.
+    pub torsional_stiffness_Nm_per_rad: f64,
+    /// Its damping, N·m·s/rad.
+    #[serde(default)]
+    pub torsional_damping_Nms_per_rad: f64,
+    /// Each arm's body (optional): mass and inertia in chassis axes about its CM, which is on the bar's axis
+    /// midway between the plane of symmetry and the arm's end (Chrono's). The chassis carries it: its CM
+    /// does not move as the arm turns (docs/physics.md §5.4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arm: Option<RigidBody>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -333,6 +374,10 @@ impl RideHeight {
         *self == RideHeight::default()
     }
 }
+
+/// The largest static camber or toe accepted, deg: alignments are a few degrees; beyond this a value is
+/// most likely in radians' place or a typo.
+pub const MAX_STATIC_ANGLE_DEG: f64 = 10.0;
 
 /// The hardpoints a MacPherson-strut axle must name (Chrono's names: the strut runs from SPRING_U on the
 /// upright to its top mount SPRING_C on the chassis; the damper acts from SHOCK_U to SHOCK_C).
@@ -576,6 +621,17 @@ impl VehicleData {
                     "must be below engagement_max_length_m",
                 ));
             }
+            if let Some(bar) = &axle.antiroll_bar {
+                check_antiroll_bar(&format!("{name}.antiroll_bar"), bar)?;
+            }
+            for (k, v) in [("static_camber_deg", axle.static_camber_deg), ("static_toe_deg", axle.static_toe_deg)] {
+                if !(v.abs() <= MAX_STATIC_ANGLE_DEG) {
+                    return Err(err(
+                        format!("{name}.{k}"),
+                        format!("{v}° is beyond ±{MAX_STATIC_ANGLE_DEG}° (an alignment angle, in degrees)"),
+                    ));
+                }
+            }
         }
         let t = &self.stop_table;
         if t.deflection_m.len() != t.force_N.len() || t.deflection_m.len() < 2 {
@@ -659,7 +715,8 @@ impl VehicleData {
         out
     }
 
-    /// Bodies the chassis carries rigidly besides its own: the MacPherson strut rods (CM midway between
+    /// Bodies the chassis carries rigidly besides its own: the anti-roll bars' arms (their CMs are on the
+    /// bar's axis), the MacPherson strut rods (CM midway between
     /// SPRING_C and SPRING_U, both sides) and the Pitman arm and steering link. Each as (mass, CM in the
     /// chassis reference frame, inertia about its CM in chassis axes).
     pub fn carried_bodies(&self) -> Vec<(f64, Vector3<f64>, Matrix3<f64>)> {
@@ -670,6 +727,15 @@ impl VehicleData {
                 let mirror = Matrix3::from_diagonal(&Vector3::new(1.0, -1.0, 1.0));
                 out.push((strut.mass_kg, c, strut.inertia()));
                 out.push((strut.mass_kg, Vector3::new(c.x, -c.y, c.z), mirror * strut.inertia() * mirror));
+            }
+        }
+        for (_, axle) in self.axles() {
+            if let Some(AntirollBar { arm: Some(arm), axis_point_m: c, arm_end_m: e, .. }) = &axle.antiroll_bar {
+                // Chrono's arm CM: on the bar's axis, halfway out to the arm's end; mirrored on the right.
+                for y in [0.5 * e[1], -0.5 * e[1]] {
+                    let mirror = Matrix3::from_diagonal(&Vector3::new(1.0, y.signum(), 1.0));
+                    out.push((arm.mass_kg, Vector3::new(c[0], y, c[2]), mirror * arm.inertia() * mirror));
+                }
             }
         }
         if let Some(p) = &self.pitman_arm {
@@ -762,6 +828,48 @@ fn nonneg(field: &str, v: f64) -> Result<(), DataError> {
     } else {
         Err(err(field, format!("must be zero or positive, got {v}")))
     }
+}
+
+/// The anti-roll bar's data alone (that the droplink closes over the travel is checked with the suspension,
+/// `model::antiroll_bar::check_closes`).
+fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
+    for (k, p) in
+        [("axis_point_m", &bar.axis_point_m), ("arm_end_m", &bar.arm_end_m), ("droplink_end_m", &bar.droplink_end_m)]
+    {
+        finite3(&format!("{field}.{k}"), p)?;
+    }
+    if bar.axis_point_m[1] != 0.0 {
+        return Err(err(
+            format!("{field}.axis_point_m"),
+            format!("y = {} m: the bar's axis lies in the plane of symmetry (y = 0)", bar.axis_point_m[1]),
+        ));
+    }
+    if !(bar.arm_end_m[1] > 0.0) {
+        return Err(err(
+            format!("{field}.arm_end_m"),
+            format!(
+                "y = {} m: the left arm's end is on the left (y > 0), as every point of the file",
+                bar.arm_end_m[1]
+            ),
+        ));
+    }
+    let arm = (bar.arm_end_m[0] - bar.axis_point_m[0]).hypot(bar.arm_end_m[2] - bar.axis_point_m[2]);
+    if arm < 1e-6 {
+        return Err(err(
+            format!("{field}.arm_end_m"),
+            "lies on the bar's axis: the arm has no length, so the droplink cannot turn the bar",
+        ));
+    }
+    if (Vector3::from(bar.droplink_end_m) - Vector3::from(bar.arm_end_m)).norm() < 1e-6 {
+        return Err(err(format!("{field}.droplink_end_m"), "coincides with arm_end_m: the droplink has no length"));
+    }
+    nonneg(&format!("{field}.torsional_stiffness_Nm_per_rad"), bar.torsional_stiffness_Nm_per_rad)?;
+    nonneg(&format!("{field}.torsional_damping_Nms_per_rad"), bar.torsional_damping_Nms_per_rad)?;
+    if let Some(b) = &bar.arm {
+        positive(&format!("{field}.arm.mass_kg"), b.mass_kg)?;
+        pos_def(&format!("{field}.arm.inertia"), b)?;
+    }
+    Ok(())
 }
 
 /// A spring curve: at least two points, deflections strictly increasing, forces finite and never falling

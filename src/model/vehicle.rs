@@ -9,6 +9,7 @@ use crate::dynamics::body::{ang, body_force, lin, mass_hat, mass_hat_times, poin
 use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, PhiVSolved, SubsystemTerms};
 use crate::error::{Cause, Context, ModelError};
 use crate::math::{quat_rate, quat_to_matrix, skew, Axes, ChassisAxes, M3, V3};
+use crate::model::antiroll_bar::AxleBar;
 use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::params::{DataError, Spring, VehicleData};
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
@@ -222,6 +223,9 @@ pub struct CornerForces {
 pub struct Vehicle {
     pub corners: [Corner; 4],
     pub corner_forces: [CornerForces; 4],
+    /// The anti-roll bars of the front and rear axles, where the vehicle file gives one.
+    #[serde(default)]
+    pub antiroll_bars: [Option<AxleBar>; 2],
     pub stops: StopCurve,
     pub chassis: BodyInertia,
     pub steering: Steering,
@@ -402,9 +406,11 @@ impl Vehicle {
         let total_mass = chassis.mass
             + steering.body.mass
             + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>();
+        let antiroll_bars = [&data.front, &data.rear].map(|a| a.antiroll_bar.as_ref().map(|b| AxleBar::new(data, b)));
         let mut v = Vehicle {
             corners,
             corner_forces,
+            antiroll_bars,
             stops: StopCurve::new(&data.stop_table),
             chassis,
             steering,
@@ -660,6 +666,11 @@ impl Vehicle {
         };
 
         self.solve_corners(x, rack.position, ws)?;
+        // The bars' generalized forces (§5.4); out of line, so that a vehicle without one pays one test.
+        let mut bar_forces = [0.0; 4];
+        if self.antiroll_bars.iter().any(Option::is_some) {
+            self.antiroll_bar_forces(run.options, x, &ws.positions, &mut bar_forces)?;
+        }
         let chassis = ChassisStage { run, a0, r0, y0, g: g_chassis };
         // Each corner writes its terms in place (no array built and then moved).
         let Workspace { positions, assembly, diagnostics: local, .. } = ws;
@@ -681,7 +692,7 @@ impl Vehicle {
                 drive_torque: drive,
                 brake_torque: inputs.brake[i],
             };
-            let motion = CornerMotion { positions: pos, qd, gamma_bar };
+            let motion = CornerMotion { positions: pos, qd, gamma_bar, bar_force: bar_forces[i] };
             let wheel = self.corner_terms(&chassis, i, &motion, &state, local, &mut assembly.terms[i])?;
             chassis_force += wheel.chassis_wrench;
             assembly.spin_torque[i] = wheel.spin_torque;
@@ -689,6 +700,27 @@ impl Vehicle {
         }
         assembly.chassis = ChassisTerms { mass: chassis_mass, force: chassis_force };
         assembly.heading_speed = vx_body;
+        Ok(())
+    }
+
+    /// The anti-roll bars' generalized forces on each corner's θ_L (§5.4), from the solved positions and θ̇_L
+    /// of both corners of each axle; zero where an axle has no bar.
+    #[inline(never)]
+    fn antiroll_bar_forces(
+        &self,
+        options: &Options,
+        x: &[f64],
+        positions: &[CornerPositions; 4],
+        out: &mut [f64; 4],
+    ) -> Result<(), ModelError> {
+        for (axle, bar) in self.antiroll_bars.iter().enumerate() {
+            let Some(bar) = bar else { continue };
+            let (l, r) = (2 * axle, 2 * axle + 1);
+            let arms = bar.angles([&self.corners[l], &self.corners[r]], [&positions[l], &positions[r]])?;
+            let theta_dot = [x[idx::UD + l], x[idx::UD + r]];
+            let [ql, qr] = bar.generalized_forces(&arms, theta_dot, options.switches.springs, options.switches.dampers);
+            (out[l], out[r]) = (ql, qr);
+        }
         Ok(())
     }
 
@@ -706,7 +738,8 @@ impl Vehicle {
     ) -> Result<CornerOutput, ModelError> {
         let ChassisStage { run, a0, r0, y0, g } = chassis;
         let (road, options) = (&run.road, run.options);
-        let CornerMotion { positions: pos, qd, gamma_bar } = motion;
+        let CornerMotion { positions: pos, qd, gamma_bar, bar_force } = motion;
+        let bar_force = *bar_force;
         let WheelState { spin, xi, drive_torque, brake_torque } = *wheel;
         let c = &self.corners[i];
         let (v0, w0) = (lin(y0), ang(y0));
@@ -756,6 +789,13 @@ impl Vehicle {
         }
         if options.switches.dampers {
             line_element(&c.shock, LineElement::Damper);
+        }
+        // The anti-roll bar's generalized force on θ_L: a torque about the lower arm's hinge, its reaction on
+        // the chassis (§5.4). Skipped when zero, so that a vehicle without a bar computes what it did.
+        if bar_force != 0.0 {
+            let torque = ang(&k.b_l) * bar_force;
+            q_l += wrench(&V3::zeros(), &torque);
+            chassis_wrench -= wrench(&V3::zeros(), &torque);
         }
 
         // Wheel: tire on the road, spin decoupled exactly (§4.8, §6).
@@ -1127,11 +1167,14 @@ struct ChassisStage<'a> {
     g: V3,
 }
 
-/// One corner's solved motion: its positions (Newton), q̇ and γ̄.
+/// One corner's solved motion: its positions (Newton), q̇ and γ̄, and the anti-roll bar's generalized force
+/// on its θ_L (computed from both corners of the axle before the corner terms).
+#[derive(Clone, Copy)]
 struct CornerMotion<'a> {
     positions: &'a CornerPositions,
     qd: Vector5f,
     gamma_bar: Vector4<f64>,
+    bar_force: f64,
 }
 
 /// A wheel's own state and torques, as one corner's evaluation reads them.
@@ -1217,6 +1260,15 @@ impl Vehicle {
                     }
                     Some(curve) => crate::model::forces::curve_energy(curve, xs),
                 };
+            }
+        }
+        if options.switches.springs {
+            for (axle, bar) in self.antiroll_bars.iter().enumerate() {
+                if let Some(bar) = bar {
+                    let (l, r) = (2 * axle, 2 * axle + 1);
+                    let arms = bar.angles([&self.corners[l], &self.corners[r]], [&positions[l], &positions[r]])?;
+                    spring_potential += bar.potential(&arms);
+                }
             }
         }
         v += spring_potential;

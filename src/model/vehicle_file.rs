@@ -100,6 +100,9 @@ fn unit_of(field: &str) -> &'static str {
         return "(m)";
     }
     [
+        ("_Nms_per_rad", "(N m s/rad)"),
+        ("_Nm_per_rad", "(N m/rad)"),
+        ("_deg", "(deg)"),
         ("_m_s2", "(m/s²)"),
         ("_m_s", "(m/s)"),
         ("_kg_m2", "(kg m²)"),

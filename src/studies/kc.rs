@@ -35,9 +35,11 @@
 
 use crate::error::{Cause, ModelError};
 use crate::math::V3;
+use crate::model::equilibrium::retune_ride_height;
+use crate::model::forces::spring_force;
 use crate::model::params::{ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
 use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
-use crate::model::vehicle::Vehicle;
+use crate::model::vehicle::{Options, Vehicle};
 
 /// The sweeps: wheel travel (m, from ≤ 0 ≤ to, with design travel 0 always a point) and the number of
 /// steering points from full left to full right lock (odd, so that the centre is a point).
@@ -256,6 +258,67 @@ pub struct StaticFigures {
     /// within the sweep.
     pub bump_stop_travel: Option<f64>,
     pub rebound_stop_travel: Option<f64>,
+    /// The axle's roll stiffness at design (`roll_stiffness`), N·m/rad.
+    pub roll_stiffness: RollStiffness,
+}
+
+/// An axle's roll stiffness at design, chassis fixed (N·m/rad), by part: dM/dφ, the roll moment of the
+/// vertical forces that hold the wheel centres, M = Σ F_z (y − y_mid), against the roll angle
+/// φ = (z_L − z_R)/T of opposite wheel-centre travel (T the wheel-centre track at design); the forces
+/// from the model's own force laws by virtual work, F_z = −Q/(dz/dθ_L), Q the generalized force on θ_L.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RollStiffness {
+    /// The springs (and their stops, where engaged).
+    pub springs: f64,
+    /// The anti-roll bar (0 without one).
+    pub antiroll_bar: f64,
+}
+
+impl RollStiffness {
+    pub fn total(&self) -> f64 {
+        self.springs + self.antiroll_bar
+    }
+}
+
+/// The opposite wheel-centre travel (each way) of the roll stiffness' central difference, m: its truncation
+/// error is of order (z/ℓ)², ℓ the linkage's shortest length (a 40 mm droplink: 1.6e-4; tests/kc.rs).
+pub const ROLL_TRAVEL: f64 = 5e-4;
+
+/// The roll moments [springs, anti-roll bar] (N·m) of axle `axle` (0 front, 1 rear) with the left wheel
+/// centre `z` above design and the right one `z` below, chassis fixed, steering centred.
+pub fn roll_moments(v: &Vehicle, axle: usize, z: f64) -> Result<[f64; 2], ModelError> {
+    let (l, r) = (2 * axle, 2 * axle + 1);
+    let corners = [&v.corners[l], &v.corners[r]];
+    let pos = [wheel_at_travel(corners[0], z, 0.0, None)?, wheel_at_travel(corners[1], -z, 0.0, None)?];
+    let y_mid = 0.5 * (corners[0].w0.y + corners[1].w0.y);
+    let mut spring = [0.0; 2];
+    let mut lever = [0.0; 2];
+    for s in 0..2 {
+        let (c, f) = (corners[s], &v.corner_forces[l + s]);
+        let pose = wheel_pose(c, &pos[s], c.w0.z - 1.0, Along::LowerArm);
+        // The spring pushes its ends apart by `push`: Q = push · dL/dθ_L.
+        let push = spring_force(&f.spring, f.spring_free_length, Some(&v.stops), pose.spring_length);
+        spring[s] = push * pose.d_spring_length;
+        // F_z = −Q/(dz/dθ_L), times its arm about the axle's centre plane.
+        lever[s] = -(pose.centre.y - y_mid) / pose.d_centre.z;
+    }
+    let bar = match &v.antiroll_bars[axle] {
+        Some(bar) => {
+            let arms = bar.angles(corners, [&pos[0], &pos[1]])?;
+            bar.generalized_forces(&arms, [0.0; 2], true, false)
+        }
+        None => [0.0; 2],
+    };
+    let moment = |q: [f64; 2]| q[0] * lever[0] + q[1] * lever[1];
+    Ok([moment(spring), moment(bar)])
+}
+
+/// `RollStiffness` of axle `axle` by the central difference over ±`ROLL_TRAVEL`.
+pub fn roll_stiffness(v: &Vehicle, axle: usize) -> Result<RollStiffness, ModelError> {
+    let (up, down) = (roll_moments(v, axle, ROLL_TRAVEL)?, roll_moments(v, axle, -ROLL_TRAVEL)?);
+    let track = v.corners[2 * axle].w0.y - v.corners[2 * axle + 1].w0.y;
+    let per_roll = track / (4.0 * ROLL_TRAVEL);
+    Ok(RollStiffness { springs: (up[0] - down[0]) * per_roll, antiroll_bar: (up[1] - down[1]) * per_roll })
 }
 
 /// The K&C of one axle.
@@ -336,12 +399,9 @@ pub fn roll_centre_height(contact: &V3, velocity: &V3, y_mid: f64) -> f64 {
     (contact.y - y_mid) * velocity.y / velocity.z
 }
 
-fn axle_kc(
-    name: &'static str,
-    data: &VehicleData,
-    corners: [&Corner; 2],
-    options: &KcOptions,
-) -> Result<AxleKc, ModelError> {
+fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<AxleKc, ModelError> {
+    let index = if name == "front" { 0 } else { 1 };
+    let corners = [&v.corners[2 * index], &v.corners[2 * index + 1]];
     let axle = if name == "front" { &data.front } else { &data.rear };
     let radius = data.tire.unloaded_radius_m;
     let [left, right] = corners;
@@ -434,6 +494,7 @@ fn axle_kc(
         tie_rod_length: left.tie_length,
         bump_stop_travel: crossing(axle.spring.stop_min_length_m),
         rebound_stop_travel: crossing(axle.spring.stop_max_length_m),
+        roll_stiffness: roll_stiffness(v, index)?,
     };
     Ok(AxleKc {
         name,
@@ -505,9 +566,13 @@ impl KcReport {
         if !(options.travel_increment > 0.0 && options.travel_from <= 0.0 && options.travel_to >= 0.0) {
             return Err(ModelError::new(Cause::Data, "K&C travel sweep: need increment > 0 and from ≤ 0 ≤ to"));
         }
-        let v = Vehicle::new(data)?;
-        let [fl, fr, rl, rr] = &v.corners;
-        let axles = vec![axle_kc("front", data, [fl, fr], options)?, axle_kc("rear", data, [rl, rr], options)?];
+        let mut v = Vehicle::new(data)?;
+        // The springs' preload as the car stands (it enters the roll stiffness through the linkage's
+        // curvature): the free lengths retuned where the vehicle rides retuned, as a run does (`sim::Start`).
+        if !v.springs_as_written {
+            retune_ride_height(&mut v, &Options::default())?;
+        }
+        let axles = vec![axle_kc("front", data, &v, options)?, axle_kc("rear", data, &v, options)?];
         Ok(KcReport {
             vehicle: data.name.clone(),
             tire_radius: data.tire.unloaded_radius_m,
@@ -608,6 +673,7 @@ impl KcReport {
     pub fn markdown(&self, files: &ReportFiles, command: &str, plots: Result<&str, &str>) -> String {
         let deg = |x: f64| format!("{:.3}", x.to_degrees());
         let mm = |x: f64| format!("{:.1}", x * 1e3);
+        let nm_per_deg = |x: f64| format!("{:.1}", x.to_radians());
         let (_, ratio_unit) = input_column(self.steering.input);
         let mut md = format!("# K&C report: {}\n\n", self.vehicle);
         md += &format!("Written by `{command}`");
@@ -659,6 +725,15 @@ impl KcReport {
                (the axle is mirror-symmetric), at height (C_y − y_mid)·v_y/v_z above the ground. `tests/kc.rs` \
                checks it against the instant centre constructed from the hardpoints.\n";
         md += &format!(
+            "- Roll stiffness (per axle, at design, chassis fixed): dM/dφ, M the roll moment Σ F_z (y − y_mid) of \
+             the vertical forces that hold the wheel centres, φ = (z_L − z_R)/T under opposite wheel-centre \
+             travel (T the wheel-centre track), the forces from the model's spring, stop and anti-roll bar laws \
+             by virtual work (F_z = −Q/(dz/dθ_L)), the springs preloaded as the car stands (free lengths \
+             retuned where the vehicle rides retuned); a central difference over ±{:.1} mm of travel. Tires and \
+             dampers are not in it.\n",
+            ROLL_TRAVEL * 1e3
+        );
+        md += &format!(
             "- Ackermann error: inside road-wheel angle minus the ideal Ackermann inside angle for the outside \
              one, cot δ_o − cot δ_i = t/L, with wheelbase L = {:.4} m (front − rear wheel centre) and front \
              track t = {:.4} m (contact points); + = more inside angle than Ackermann. Overall steering ratio: \
@@ -671,7 +746,7 @@ impl KcReport {
         md += "## Static figures at design (left wheel; the right mirrors it)\n\n";
         md += "| | front | rear |\n|---|---:|---:|\n";
         type Cell<'a> = &'a dyn Fn(&StaticFigures) -> String;
-        let rows: [(&str, Cell); 17] = [
+        let rows: [(&str, Cell); 20] = [
             ("template", &|_| String::new()),
             ("caster, deg", &|f| deg(f.caster)),
             ("kingpin inclination, deg", &|f| deg(f.kingpin_inclination)),
@@ -689,6 +764,9 @@ impl KcReport {
             ("spring / damper length, m", &|f| format!("{:.4} / {:.4}", f.spring_length, f.damper_length)),
             ("bump stop engages at travel, mm", &|f| f.bump_stop_travel.map_or("beyond the sweep".into(), mm)),
             ("rebound stop engages at travel, mm", &|f| f.rebound_stop_travel.map_or("beyond the sweep".into(), mm)),
+            ("roll stiffness, springs, N·m/deg", &|f| nm_per_deg(f.roll_stiffness.springs)),
+            ("roll stiffness, anti-roll bar, N·m/deg", &|f| nm_per_deg(f.roll_stiffness.antiroll_bar)),
+            ("roll stiffness, total, N·m/deg", &|f| nm_per_deg(f.roll_stiffness.total())),
         ];
         for (i, (label, value)) in rows.iter().enumerate() {
             let cells: Vec<String> = self

@@ -2,7 +2,10 @@
 //! tire files, a braked run's trace, and the `rtv` command line run. Each test crate uses some of them.
 #![allow(dead_code)]
 
+use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::vehicle::{idx, Layout, Options, Run, Vehicle, Workspace};
+use rt_vehicle::sim::{inputs::RackProfile, RackSource, VehicleOde};
 use rt_vehicle::sim::{Channel, SimConfig, Simulation};
 use std::path::PathBuf;
 
@@ -74,4 +77,52 @@ pub fn rtv(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&out.stdout).into(),
         String::from_utf8_lossy(&out.stderr).into(),
     )
+}
+
+/// A non-trivial free-flight state: translating, tumbling, arms moving (the arms of each axle apart), wheels
+/// spinning.
+pub fn tumbling_state(o: &Options) -> Vec<f64> {
+    let mut x = rt_vehicle::model::equilibrium::rest_state(&Layout::of(o), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
+    x[idx::V0..idx::V0 + 3].copy_from_slice(&[12.0, -3.0, 1.5]);
+    x[idx::W0..idx::W0 + 3].copy_from_slice(&[0.4, -0.3, 0.6]);
+    x[idx::UD..idx::UD + 4].copy_from_slice(&[1.0, -0.8, 0.5, -1.2]);
+    x[idx::SPIN..idx::SPIN + 4].copy_from_slice(&[20.0, -15.0, 30.0, 5.0]);
+    x
+}
+
+/// `steps` RK4 steps of `h` from `x` on the flat road, steering centred, no drive or brake.
+pub fn integrate(v: &Vehicle, o: &Options, target_speed: f64, x: &mut [f64], h: f64, steps: usize) {
+    let rack = RackSource::Profile(RackProfile::Zero);
+    let mut cache = Workspace::default();
+    let mut ode = VehicleOde {
+        vehicle: v,
+        run: Run::flat(v, o),
+        rack: &rack,
+        drive: [0.0; 4],
+        brake: [0.0; 4],
+        target_speed,
+        cache: &mut cache,
+        evaluations: 0,
+        first_stage: None,
+    };
+    let mut rk4 = Rk4::new();
+    for k in 0..steps {
+        rk4.step(&mut ode, k as f64 * h, h, x).unwrap_or_else(|e| panic!("step {k}: {e}"));
+    }
+}
+
+/// A scratch folder `rtv-NAME-PID` (removed first if a previous run left it) holding a copy of the Chrono data
+/// folder's `generic/` vehicle files (vehicle, chassis, suspension, steering, wheel, brake, driveline, tire), to
+/// be edited and imported.
+pub fn chrono_generic_copy(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rtv-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for sub in ["vehicle", "chassis", "suspension", "steering", "wheel", "brake", "driveline", "tire"] {
+        let (from, to) = (chrono_data().join("generic").join(sub), dir.join("generic").join(sub));
+        std::fs::create_dir_all(&to).unwrap();
+        for f in std::fs::read_dir(&from).unwrap().flatten() {
+            std::fs::copy(f.path(), to.join(f.file_name())).unwrap();
+        }
+    }
+    dir
 }

@@ -183,7 +183,8 @@ pub struct Corner {
     pub carrier: BodyInertia,
     /// Spin inertia I_s about the axle (spindle + wheel + tire + half-shaft).
     pub spin_inertia: f64,
-    /// Axle direction in the knuckle's design frame (+y on both sides: Ω > 0 rolls forward).
+    /// Axle direction in the knuckle's design frame (+y on both sides: Ω > 0 rolls forward; turned by the
+    /// static camber and toe, `static_axle`).
     pub axle: V3,
     /// |det Φ_v| at the design position, the reference for the singularity guard.
     pub design_det: f64,
@@ -298,10 +299,28 @@ pub(crate) fn arm_inertia(axle: &Axle, side: Side, c0: V3, body: &RigidBody, nam
     }
 }
 
+/// The wheel's axle (spin axis) at design, in the knuckle's design frame: +y on both sides (Ω > 0 rolls
+/// forward), turned by the static camber and toe as Chrono turns its spindle, Rz(σ·toe)·Rx(σ·camber) with σ = −1
+/// on the left, +1 on the right (`ChDoubleWishbone::InitializeSide`): + camber = top outboard, + toe = toe-in.
+/// Exactly +y without them.
+pub fn static_axle(axle: &Axle, side: Side) -> V3 {
+    if axle.static_camber_deg == 0.0 && axle.static_toe_deg == 0.0 {
+        return V3::y();
+    }
+    let sign = match side {
+        Side::Left => -1.0,
+        Side::Right => 1.0,
+    };
+    let (sc, cc) = (sign * axle.static_camber_deg.to_radians()).sin_cos();
+    let (st, ct) = (sign * axle.static_toe_deg.to_radians()).sin_cos();
+    // Rx(c) e_y = (0, cos c, sin c), then Rz(t): (−sin t cos c, cos t cos c, sin c).
+    V3::new(-st * cc, ct * cc, sc)
+}
+
 /// The composite carrier K (upright + the non-spin part of spindle, wheel and tire) and the spin inertia
 /// (spindle + wheel + tire + half-shaft about the axle), from the upright CM and the wheel centre on this side.
 pub(crate) fn carrier_inertia(data: &VehicleData, axle: &Axle, side: Side, c_up: V3, w0: V3) -> (BodyInertia, f64) {
-    let a = V3::new(0.0, 1.0, 0.0);
+    let a = static_axle(axle, side);
     let m_up = axle.upright.mass_kg;
     let m_w = axle.spindle.mass_kg + data.wheel.mass_kg + data.tire.mass_kg;
     let i_t = axle.spindle.inertia_moments_kg_m2[0] + data.wheel.inertia_kg_m2[0] + data.tire.inertia_kg_m2[0];
@@ -367,7 +386,7 @@ impl Corner {
             upper,
             carrier,
             spin_inertia,
-            axle: V3::new(0.0, 1.0, 0.0),
+            axle: static_axle(points.axle, side),
             design_det: 1.0,
         };
         let design = c.evaluate(&Vector5f::zeros(), 0.0);
@@ -684,6 +703,9 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
         if let Err(e) = g.solve_positions(theta, s, &[0.0; 4]) {
             return Err(DataError { field, message: format!("suspension loop cannot close: {e}") });
         }
+    }
+    if let Some(bar) = &axle.antiroll_bar {
+        crate::model::antiroll_bar::check_closes(data, name, &g, bar)?;
     }
     Ok(())
 }
