@@ -76,7 +76,13 @@ impl HalfSineBump {
     /// Whether (x, y) lies on the bump's footprint. A bump of non-positive length has no footprint (this
     /// also keeps the division by `length` below safe for hand-written road files).
     fn covers(&self, x: f64, y: f64) -> bool {
-        self.length > 0.0 && self.side * y > 0.0 && x >= self.x_start && x <= self.x_start + self.length
+        self.on_its_side(y) && x >= self.x_start && x <= self.x_start + self.length
+    }
+
+    /// Whether a point at lateral position y runs over the bump (its side of the centre line; a bump of
+    /// non-positive length is nowhere).
+    fn on_its_side(&self, y: f64) -> bool {
+        self.length > 0.0 && self.side * y > 0.0
     }
 }
 
@@ -97,7 +103,7 @@ impl HalfSineBump {
     /// profile is only C⁰: h̄(x) = (1/w) ∫ h over [x − w/2, x + w/2], h̄'(x) = (h(x + w/2) − h(x − w/2))/w.
     /// It differs from h by at most (π H/W)·w/8 next to an edge.
     fn averaged(&self, x: f64, y: f64, width: f64) -> (f64, [f64; 2]) {
-        if !(self.length > 0.0 && self.side * y > 0.0) {
+        if !self.on_its_side(y) {
             return (0.0, [0.0, 0.0]);
         }
         let wave_number = PI / self.length;
@@ -209,7 +215,7 @@ impl RoadModel {
         let RoadModel::Bumps(bumps) = self else { return None };
         bumps
             .iter()
-            .filter(|b| b.length > 0.0 && b.side * y > 0.0)
+            .filter(|b| b.on_its_side(y))
             .flat_map(|b| [x - b.x_start, x - (b.x_start + b.length)])
             .reduce(|a, b| if b.abs() < a.abs() { b } else { a })
     }

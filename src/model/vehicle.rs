@@ -205,8 +205,9 @@ pub struct Diagnostics {
     /// schemes locate it: `integrate::touchdown`).
     pub penetration: [f64; 4],
     /// Each wheel centre's x less the nearest C⁰ edge of the road under the single-point contact (the
-    /// paper's bumps: `RoadModel::edge_offset`), m; −1 where the road has none. Its upward zero crossing is
-    /// where the tire's damping force jumps with the road's slope (RK4 locates it: `integrate::touchdown`).
+    /// paper's bumps: `RoadModel::edge_offset`), m; −1 where its side has none. Written only where
+    /// `Run::has_road_edges`, the one place that decides it. Its upward zero crossing is where the tire's
+    /// forces jump with the road's slope (RK4 locates it: `integrate::touchdown`).
     pub road_edge: [f64; 4],
 }
 
@@ -810,10 +811,9 @@ impl Vehicle {
         // The road is in the ground axes: the tire works there, on the wheel turned by A0, and its loads are
         // turned back.
         let centre_abs = a0 * rho_w + r0;
-        diag.road_edge[i] = match road {
-            RoadView::Point(ground) => ground.edge_offset(centre_abs.x, centre_abs.y).unwrap_or(-1.0),
-            _ => -1.0,
-        };
+        if run.has_road_edges() {
+            diag.road_edge[i] = road.ground().edge_offset(centre_abs.x, centre_abs.y).unwrap_or(-1.0);
+        }
         let axle_ground = a0 * axle;
         diag.wheel_centre_z[i] = centre_abs.z;
         diag.wheel_spin_relative[i] = spin_rel;
