@@ -402,7 +402,7 @@ pub fn roll_centre_height(contact: &V3, velocity: &V3, y_mid: f64) -> f64 {
 fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<AxleKc, ModelError> {
     let index = if name == "front" { 0 } else { 1 };
     let corners = [&v.corners[2 * index], &v.corners[2 * index + 1]];
-    let axle = if name == "front" { &data.front } else { &data.rear };
+    let axle = [&data.front, &data.rear][index];
     let radius = data.tire.unloaded_radius_m;
     let [left, right] = corners;
     let y_mid = 0.5 * (left.w0.y + right.w0.y);
