@@ -1,4 +1,4 @@
-//! The wheel-hop resolution bound of a scheme (`sim::hop_resolution`), measured: the stability suite's road
+//! The wheel-hop resolution bound of a scheme (`Integrator::hop_resolution`), measured: the stability suite's road
 //! cases (obstacles that strike the wheel hop) run with the step check's refusals off
 //! (`studies::stability::run_case_refusing`) at the suite's steps halved down to 0.26 ms, each judged against
 //! the suite's reference and tolerance, beside |hλ| of the vehicle's fastest wheel-hop mode at the start.
@@ -34,7 +34,7 @@ fn main() {
          case of the stability suite runs at the suite's steps halved down to 0.26 ms with the step check refusing \
          nothing (`Simulation::set_step_refusals(false)`; IMEX-AB3's own accuracy monitor still refuses: \
          \"stopped\"), judged against the suite's reference and tolerance (the last column: error over tolerance, \
-         above 1 is off; \"no reference\" where the suite's rule finds no converged one, docs/stability.md). |hλ| is the fastest wheel-hop mode's at the start. IMEX-AB3's bound (`sim::hop_resolution`) \
+         above 1 is off; \"no reference\" where the suite's rule finds no converged one, docs/stability.md). |hλ| is the fastest wheel-hop mode's at the start. IMEX-AB3's bound (`Integrator::hop_resolution`) \
          is set 20 % below the smallest |hλ| of a run that finishes off on a road where it is not refused whatever \
          the step (`Simulation::check_imex_on_bumps` refuses it from the start on the paper's bumps under the \
          single-point contact, and once a wheel leaves the road); RK4's (0.25) acts together with the \

@@ -15,7 +15,7 @@ use common::braked_trace;
 
 /// The runs of the HMMWV's suite that are WRONG, each with why (docs/stability.md): RK4 at 1.04 ms on the tire
 /// k_z × 10 bump course is 1.2e-2 off in yaw rate, below the wheel-hop bound (|hλ| = 0.22 ≤ 0.25) that lets the
-/// paper's bump course run at the default 2 ms (|hλ| up to 0.19): `sim::hop_resolution`. A run that joins or
+/// paper's bump course run at the default 2 ms (|hλ| up to 0.19): `Integrator::hop_resolution`. A run that joins or
 /// leaves this list fails the test.
 const KNOWN_WRONG: &[(&str, IntegratorKind, f64)] = &[("paper's bump, tire k_z x10", IntegratorKind::Rk4, STEPS[3])];
 

@@ -311,6 +311,15 @@ impl Integrator for Dopri5 {
     /// Nothing to forget: the proposed step stays valid across an input breakpoint (the stages never
     /// straddle one, and the first stage after it is evaluated afresh).
     fn restart(&mut self) {}
+
+    /// Its error control resolves what the road excites.
+    fn hop_resolution(&self) -> f64 {
+        f64::INFINITY
+    }
+
+    fn step_counts(&self) -> Option<(u64, u64)> {
+        Some((self.accepted, self.rejected))
+    }
 }
 
 #[cfg(test)]

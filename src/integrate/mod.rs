@@ -107,11 +107,29 @@ impl IntegratorKind {
     }
 }
 
-/// One step of size h from t; `x` is updated in place.
+/// A scheme: one step of size h from t (`x` updated in place), and what the simulation asks of it beyond the
+/// step, answered by each scheme rather than by a `match` on its kind there.
 pub trait Integrator {
     fn step(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f64]) -> Result<(), ModelError>;
     /// Forget any history (multistep schemes restart with their starter).
     fn restart(&mut self);
+    /// The largest |hλ| of the fastest wheel-hop mode at which the scheme resolves what a road with bumps
+    /// excites: the step check's hop-resolution bound (docs/integrators.md; each scheme's value says where it
+    /// was measured). Infinite for a scheme whose error control resolves it.
+    fn hop_resolution(&self) -> f64;
+    /// Its Jacobian needs: a scheme that integrates part of the state implicitly takes the step check's
+    /// partial Jacobian (and its error limit and order) through this; `None` for the explicit schemes.
+    fn implicit_block(&mut self) -> Option<&mut ImexAb3> {
+        None
+    }
+    /// `implicit_block`, to read (its located touchdowns, its sub-stepped steps).
+    fn implicit_block_ref(&self) -> Option<&ImexAb3> {
+        None
+    }
+    /// Accepted and rejected steps of a scheme that controls its error; `None` for the fixed-step ones.
+    fn step_counts(&self) -> Option<(u64, u64)> {
+        None
+    }
 }
 
 /// One of the concrete schemes, chosen at run time; this is what a simulation holds and saves.
@@ -178,11 +196,39 @@ impl Integrator for AnyIntegrator {
         }
     }
     fn restart(&mut self) {
+        self.scheme_mut().restart()
+    }
+    fn hop_resolution(&self) -> f64 {
+        self.scheme().hop_resolution()
+    }
+    fn implicit_block(&mut self) -> Option<&mut ImexAb3> {
+        self.scheme_mut().implicit_block()
+    }
+    fn implicit_block_ref(&self) -> Option<&ImexAb3> {
+        self.scheme().implicit_block_ref()
+    }
+    fn step_counts(&self) -> Option<(u64, u64)> {
+        self.scheme().step_counts()
+    }
+}
+
+impl AnyIntegrator {
+    /// The scheme itself, behind the trait (the one `match` over the kinds that forwards every question).
+    fn scheme(&self) -> &dyn Integrator {
         match self {
-            AnyIntegrator::Rk4(i) => i.restart(),
-            AnyIntegrator::Ab3(i) => i.restart(),
-            AnyIntegrator::Dopri5(i) => i.restart(),
-            AnyIntegrator::ImexAb3(i) => i.restart(),
+            AnyIntegrator::Rk4(i) => i,
+            AnyIntegrator::Ab3(i) => i,
+            AnyIntegrator::Dopri5(i) => i,
+            AnyIntegrator::ImexAb3(i) => i,
+        }
+    }
+
+    fn scheme_mut(&mut self) -> &mut dyn Integrator {
+        match self {
+            AnyIntegrator::Rk4(i) => i,
+            AnyIntegrator::Ab3(i) => i,
+            AnyIntegrator::Dopri5(i) => i,
+            AnyIntegrator::ImexAb3(i) => i,
         }
     }
 }

@@ -741,7 +741,7 @@ impl Simulation {
     /// The accuracy policy `Warn` on IMEX-AB3: the first steps its error monitor would have refused, and
     /// ran on instead, are logged once.
     fn warn_unresolved_steps(&mut self) {
-        let AnyIntegrator::ImexAb3(scheme) = &self.integrator else { return };
+        let Some(scheme) = self.integrator.implicit_block_ref() else { return };
         if scheme.unresolved == 0 || self.events.warned_monitor {
             return;
         }
@@ -926,27 +926,18 @@ impl Simulation {
     /// IMEX-AB3's largest local error estimate (relative to the state's scales) since the last call; `None`
     /// for the other schemes.
     pub fn take_largest_local_error(&mut self) -> Option<f64> {
-        match &mut self.integrator {
-            AnyIntegrator::ImexAb3(s) => Some(s.take_largest_error()),
-            _ => None,
-        }
+        self.integrator.implicit_block().map(|s| s.take_largest_error())
     }
 
     /// IMEX-AB3's steps retaken in four sub-steps (their full step's estimate above the limit) so far.
     pub fn substepped_steps(&self) -> Option<u64> {
-        match &self.integrator {
-            AnyIntegrator::ImexAb3(s) => Some(s.substepped),
-            _ => None,
-        }
+        self.integrator.implicit_block_ref().map(|s| s.substepped)
     }
 
     /// Accepted and rejected steps of the error-controlled integrator so far (`None` for the fixed-step
     /// ones).
     pub fn step_counts(&self) -> Option<(u64, u64)> {
-        match &self.integrator {
-            AnyIntegrator::Dopri5(d) => Some((d.accepted, d.rejected)),
-            _ => None,
-        }
+        self.integrator.step_counts()
     }
 
     /// The outputs that come straight from the state, without an evaluation: time, pose, velocities and

@@ -10,7 +10,7 @@ use super::{
 };
 use crate::error::{Cause, ModelError};
 use crate::integrate::stability::{bdf2_damped_up_to, damped_up_to, is_damped, largest_stable_step, DAMPED_GROWTH_MAX};
-use crate::integrate::{AnyIntegrator, Integrator, IntegratorKind};
+use crate::integrate::{Integrator, IntegratorKind};
 use crate::math::eigen::eigenvalues;
 use crate::math::V3;
 use crate::model::road::RoadModel;
@@ -58,32 +58,6 @@ pub(super) fn loads_changed(at_check: &[f64; 4], now: &[f64; 4]) -> bool {
 /// The wheel-hop mode with the largest |λ|.
 pub(super) fn fastest_hop(modes: &[FastMode; 12]) -> Option<&FastMode> {
     modes.iter().filter(|m| m.kind == ModeKind::WheelHop).max_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()))
-}
-
-/// Largest |hλ| of the wheel-hop mode on a road with bumps, per scheme (docs/stability.md: above it the
-/// bump cases are off by more than the suite's tolerance). Measured: the 20 cm bump, where the wheels
-/// leave the road, is 3e-2 off at |hλ| = 0.31 on the MacPherson import (RK4 1.04 ms); 0.25 keeps 20 % below
-/// it (the paper's bump at RK4 2 ms has 0.15 on the HMMWV, a wheel landing after a 15 cm bump 0.23). AB3's
-/// error constant is larger and its order lower: its bound is smaller, in the same ratio as before (0.3).
-/// (No bound on |hλ| alone separates RK4's runs off in yaw rate from those within the tolerance: the HMMWV's
-/// tire k_z × 10 bump course at 1.04 ms, |hλ| = 0.22, is 1.2e-2 off (docs/stability.md), while the paper's
-/// bump course at the default 2 ms reaches |hλ| = 0.19 at t = 3.6 s within it.)
-pub fn hop_resolution(kind: IntegratorKind) -> f64 {
-    match kind {
-        IntegratorKind::Rk4 => 0.25,
-        IntegratorKind::Ab3 => 0.075,
-        // Measured (`examples/hop_resolution.rs`, docs/hop_resolution_imex.md and _stiff_imex.md): with the
-        // check's refusals off, against references that locate touchdowns (RK4), and locating them itself
-        // (`ImexAb3`'s landings), every run that finished with |hλ| ≤ 0.25 is within 0.53 × the suite's
-        // tolerance then (max(1 %, 10 × the reference's change), the wheel travel and rates without the yaw
-        // rate) on all three vehicles and the stiff bump variants; the smallest |hλ| of one off by more is
-        // 0.315 (the MacPherson import's half-round at 1.04 ms, 3.8 ×): 0.25 keeps 20 % below it. (0.015
-        // before IMEX-AB3 located landings.) Its lift-offs, which it does not locate, are refused on such a
-        // road by `check_imex_on_bumps`: its error there is first order in h, not a matter of resolving the hop.
-        IntegratorKind::ImexAb3 => 0.25,
-        // Its error control resolves what the road excites.
-        IntegratorKind::Dopri5 => f64::INFINITY,
-    }
 }
 
 /// The step check judges hλ·`MODE_MARGIN`: the wheel-state Jacobian leaves out the chassis states, whose
@@ -503,9 +477,9 @@ impl Simulation {
         let wheel_modes = self.wheel_modes()?;
         // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
         // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.
-        if matches!(self.integrator, AnyIntegrator::ImexAb3(_)) {
+        if self.integrator.implicit_block().is_some() {
             let p = self.imex_partial_jacobian(&wheel_modes)?;
-            if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
+            if let Some(scheme) = self.integrator.implicit_block() {
                 scheme.set_partial_jacobian(&p.rows[..p.m], &p.cols[..p.nc], &p.jac[..p.m * p.nc], wheel_modes.len);
                 scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
                 scheme.set_run_on(self.config.accuracy == AccuracyPolicy::Warn);
@@ -535,7 +509,7 @@ impl Simulation {
                 _ => !is_damped(kind, judged(l) * h),
             };
         }
-        if let AnyIntegrator::ImexAb3(scheme) = &mut self.integrator {
+        if let Some(scheme) = self.integrator.implicit_block() {
             let second = fails.iter().any(|f| *f) && coupled.iter().all(|l| bdf2_damped_up_to(judged(l), h));
             scheme.set_order(if second { 2 } else { 3 });
             if second {
@@ -588,10 +562,7 @@ impl Simulation {
 
     /// IMEX-AB3's located touchdowns so far (`ImexAb3::located`); 0 for the other schemes.
     pub(super) fn imex_landings(&self) -> u64 {
-        match &self.integrator {
-            AnyIntegrator::ImexAb3(scheme) => scheme.located,
-            _ => 0,
-        }
+        self.integrator.implicit_block_ref().map_or(0, |scheme| scheme.located)
     }
 
     /// The accuracy policy `Warn`: an under-resolving step runs on, and the first such check logs, once, the
@@ -619,7 +590,7 @@ impl Simulation {
     /// reach it, and a stable step is accurate: docs/stability.md.)
     pub(super) fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64, landed: bool) -> Result<(), ModelError> {
         let bumpy = matches!(self.road, RoadModel::Bumps(_) | RoadModel::Surface(_) | RoadModel::Map(_));
-        let bound = hop_resolution(self.config.integrator);
+        let bound = self.integrator.hop_resolution();
         match fastest_hop(modes) {
             Some(m) if bumpy && m.lambda.norm() * h > bound => Err(ModelError::step_refused(
                 bound / m.lambda.norm(),
