@@ -390,7 +390,6 @@ impl Events {
     }
 }
 
-
 /// A running simulation: plain data, cloned whole for FMU states. Serialized without its vehicle (three
 /// quarters of the bytes), which is data, not state: a saved state carries the vehicle's fingerprint, and
 /// `validate_restored` rebuilds the vehicle from the vehicle data and attaches it after checking it.
@@ -436,21 +435,9 @@ pub struct Simulation {
     state_before: Vec<f64>,
     #[serde(skip)]
     before: Option<Before>,
-    /// Time of the last check of the fast modes against the step (`check_fast_modes`).
-    #[serde(default)]
-    last_mode_check: Option<f64>,
-    /// The tire loads at that check, N: a wheel that leaves or meets the road, or whose load changes by
-    /// half since, changes the fast modes (the hop and tread stiffnesses are the tire's), so the next
-    /// `advance` checks again whatever the time (`LOAD_CHANGE_FOR_CHECK`).
-    #[serde(default)]
-    loads_at_mode_check: [f64; 4],
-    /// IMEX-AB3's located touchdowns (`ImexAb3::located`, not saved either) at the last check: a wheel that
-    /// landed since had left the road (`check_imex_on_bumps`).
-    #[serde(skip)]
-    landings_at_mode_check: u64,
-    /// Whether IMEX-AB3 located a touchdown between the last check and the one before it (`check_imex_on_bumps`).
-    #[serde(skip)]
-    landed_since_check: bool,
+    /// The step check's schedule and what it found (`step_check::StepCheck`), saved with the simulation.
+    #[serde(flatten)]
+    check: StepCheck,
     /// Physical events seen at output points.
     #[serde(default)]
     pub events: Events,
@@ -463,18 +450,6 @@ pub struct Simulation {
     /// Whether output evaluations are kept for that (`set_stage_reuse`).
     #[serde(skip)]
     stage_reuse_off: bool,
-    /// Whether the step check only measures, never refuses (`set_step_refusals`: to measure the largest
-    /// truly stable step and the check's own limit apart; never from the CLI or the FMU).
-    #[serde(skip)]
-    step_refusals_off: bool,
-    /// The internal step's bound in use, s: the fixed step, or the automatic step's last choice (0 before
-    /// the first check chose one).
-    #[serde(default)]
-    step: f64,
-    /// A bound on the automatic step set by a refusal inside a step (IMEX-AB3's error monitor), and the time
-    /// until which it holds (the next scheduled check after it may grow the step again).
-    #[serde(default)]
-    step_ceiling: Option<(f64, f64)>,
     /// The sub-steps taken so far (what the CLI prints).
     #[serde(default)]
     pub steps_taken: StepRecord,
@@ -566,18 +541,12 @@ impl Simulation {
             fresh: Fresh::None,
             state_before: Vec::with_capacity(idx::DIM), // the largest layout: no allocation per step
             before: None,
-            last_mode_check: None,
-            loads_at_mode_check: [0.0; 4],
-            landings_at_mode_check: 0,
-            landed_since_check: false,
+            check: StepCheck::default(),
             events: Events::default(),
             evaluations: 0,
             front_wheel_x0,
             first_stage: None,
             stage_reuse_off: false,
-            step_refusals_off: false,
-            step: 0.0,
-            step_ceiling: None,
             steps_taken: StepRecord::default(),
         };
         sim.evaluate_outputs()?;
@@ -721,9 +690,9 @@ impl Simulation {
                     let default = self.config.integrator.default_step();
                     match e.largest_stable_step().map(|s| ladder_step(default, s.min(0.5 * self.step_for(h)))) {
                         Some(ceiling) if ceiling >= FIXED_STEP_MIN && e.cause() == Cause::StepSizeInstability => {
-                            self.step_ceiling = Some((ceiling, self.time + MODE_CHECK_INTERVAL));
-                            self.step = ceiling;
-                            self.last_mode_check = None;
+                            self.check.step_ceiling = Some((ceiling, self.time + MODE_CHECK_INTERVAL));
+                            self.check.step = ceiling;
+                            self.check.last_mode_check = None;
                             tries += 1;
                         }
                         _ => return Err(e),
@@ -759,8 +728,8 @@ impl Simulation {
     /// The internal step's bound for the next interval `h`: the fixed step, or the automatic step's last
     /// choice (the scheme's default before the first).
     fn step_for(&self, h: f64) -> f64 {
-        if self.config.automatic_step() && self.step > 0.0 {
-            self.step
+        if self.config.automatic_step() && self.check.step > 0.0 {
+            self.check.step
         } else {
             self.config.step_bound(h)
         }
@@ -817,7 +786,7 @@ impl Simulation {
                     },
                 };
                 // The next attempt checks the modes (and hands IMEX-AB3 its Jacobian) at its own start.
-                self.last_mode_check = None;
+                self.check.last_mode_check = None;
                 Err(e.context(format_args!("t = {:.6} s", self.time)))
             }
         }
@@ -902,17 +871,14 @@ impl Simulation {
             first_stage: self.first_stage.as_ref(),
         };
         let config = &self.config;
-        let bound = if config.automatic_step() && self.step > 0.0 { self.step } else { config.step_bound(h) };
+        let bound =
+            if config.automatic_step() && self.check.step > 0.0 { self.check.step } else { config.step_bound(h) };
         let mut check = |t: f64, x: &[f64]| check_divergence(x, &layout, t);
         let result = stepping::integrate(
             &mut self.integrator,
             &mut ode,
             config,
-            breakpoints,
-            t0,
-            h,
-            (n, hs),
-            bound,
+            stepping::Interval { t0, h, plan: (n, hs), bound, breakpoints },
             &mut self.state,
             &mut check,
         );

@@ -17,6 +17,7 @@ use crate::model::road::RoadModel;
 use crate::model::tire::SlipModel;
 use crate::model::vehicle::{idx, Run};
 use nalgebra::{Complex, SMatrix};
+use serde::{Deserialize, Serialize};
 
 /// Simulated time between two checks of the fast modes against the step, s: an unstable mode needs many
 /// steps to grow, and six evaluations every 0.1 s cost 1.5 % of an RK4 run at 2 ms. The rule holds inside
@@ -58,6 +59,39 @@ pub(super) fn loads_changed(at_check: &[f64; 4], now: &[f64; 4]) -> bool {
 /// The wheel-hop mode with the largest |λ|.
 pub(super) fn fastest_hop(modes: &[FastMode; 12]) -> Option<&FastMode> {
     modes.iter().filter(|m| m.kind == ModeKind::WheelHop).max_by(|a, b| a.lambda.norm().total_cmp(&b.lambda.norm()))
+}
+
+/// The step check's schedule and what it found, part of the simulation's saved state (flattened into it:
+/// the saved form is as before the check had a struct of its own).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct StepCheck {
+    /// Time of the last check of the fast modes against the step (`check_fast_modes`).
+    #[serde(default)]
+    pub(super) last_mode_check: Option<f64>,
+    /// The tire loads at that check, N: a wheel that leaves or meets the road, or whose load changes by
+    /// half since, changes the fast modes (the hop and tread stiffnesses are the tire's), so the next
+    /// `advance` checks again whatever the time (`LOAD_CHANGE_FOR_CHECK`).
+    #[serde(default)]
+    pub(super) loads_at_mode_check: [f64; 4],
+    /// IMEX-AB3's located touchdowns (`ImexAb3::located`, not saved either) at the last check: a wheel that
+    /// landed since had left the road (`check_imex_on_bumps`).
+    #[serde(skip)]
+    pub(super) landings_at_mode_check: u64,
+    /// Whether IMEX-AB3 located a touchdown between the last check and the one before it (`check_imex_on_bumps`).
+    #[serde(skip)]
+    pub(super) landed_since_check: bool,
+    /// Whether the step check only measures, never refuses (`set_step_refusals`: to measure the largest
+    /// truly stable step and the check's own limit apart; never from the CLI or the FMU).
+    #[serde(skip)]
+    pub(super) step_refusals_off: bool,
+    /// The internal step's bound in use, s: the fixed step, or the automatic step's last choice (0 before
+    /// the first check chose one).
+    #[serde(default)]
+    pub(super) step: f64,
+    /// A bound on the automatic step set by a refusal inside a step (IMEX-AB3's error monitor), and the time
+    /// until which it holds (the next scheduled check after it may grow the step again).
+    #[serde(default)]
+    pub(super) step_ceiling: Option<(f64, f64)>,
 }
 
 /// The step check judges hλ·`MODE_MARGIN`: the wheel-state Jacobian leaves out the chassis states, whose
@@ -170,7 +204,7 @@ impl Simulation {
     /// no step: an unstable step then diverges (a state bound, a non-finite number) or runs on. Only for
     /// measuring the largest stable step apart from the check's limit (`studies::work_precision`).
     pub fn set_step_refusals(&mut self, on: bool) {
-        self.step_refusals_off = !on;
+        self.check.step_refusals_off = !on;
     }
 
     /// The scheduled step check before `remaining` seconds of the interval are integrated at sub-steps `hs`:
@@ -183,7 +217,7 @@ impl Simulation {
         }
         self.steps_taken.note(hs);
         match self.check_fast_modes(hs) {
-            Err(e) if self.step_refusals_off && e.cause() == Cause::StepSizeInstability => Ok(None),
+            Err(e) if self.check.step_refusals_off && e.cause() == Cause::StepSizeInstability => Ok(None),
             other => other.map(|()| None),
         }
     }
@@ -195,19 +229,19 @@ impl Simulation {
     pub(super) fn choose_step(&mut self, remaining: f64, hs: f64) -> Result<Option<(usize, f64)>, ModelError> {
         let modes = self.measure_fast_modes()?;
         let mut bound = self.config.integrator.default_step();
-        match self.step_ceiling {
+        match self.check.step_ceiling {
             Some((ceiling, until)) if self.time < until => bound = bound.min(ceiling),
-            _ => self.step_ceiling = None,
+            _ => self.check.step_ceiling = None,
         }
         let mut tries = 0;
         loop {
             let (m, hm) = self.config.plan_with(remaining, bound)?;
             match self.judge_step(&modes, hm) {
                 Ok(()) => {
-                    if self.step != 0.0 && bound != self.step {
+                    if self.check.step != 0.0 && bound != self.check.step {
                         self.steps_taken.changes += 1;
                     }
-                    self.step = bound;
+                    self.check.step = bound;
                     self.steps_taken.note(hm);
                     if hm == hs {
                         return Ok(None);
@@ -239,9 +273,9 @@ impl Simulation {
     /// the cause when a step fails).
     pub(super) fn mode_check_due(&self) -> bool {
         !self.config.integrator.is_error_controlled()
-            && (self.last_mode_check.is_none_or(|t| self.time - t >= MODE_CHECK_INTERVAL - 1e-12)
-                || loads_changed(&self.loads_at_mode_check, &self.cache.tire_loads)
-                || self.imex_landings() != self.landings_at_mode_check)
+            && (self.check.last_mode_check.is_none_or(|t| self.time - t >= MODE_CHECK_INTERVAL - 1e-12)
+                || loads_changed(&self.check.loads_at_mode_check, &self.cache.tire_loads)
+                || self.imex_landings() != self.check.landings_at_mode_check)
     }
 
     /// The fast modes of the vehicle at the current state, per corner (wheel hop, spin–tread, lateral
@@ -470,10 +504,10 @@ impl Simulation {
     /// The step check's measurement: the wheel modes at the current state (and IMEX-AB3's Jacobian from
     /// them), which `judge_step` then judges a step against (several steps, for the automatic one).
     pub(super) fn measure_fast_modes(&mut self) -> Result<WheelModes, ModelError> {
-        self.last_mode_check = Some(self.time);
-        self.loads_at_mode_check = self.cache.tire_loads;
-        self.landed_since_check = self.imex_landings() != self.landings_at_mode_check;
-        self.landings_at_mode_check = self.imex_landings();
+        self.check.last_mode_check = Some(self.time);
+        self.check.loads_at_mode_check = self.cache.tire_loads;
+        self.check.landed_since_check = self.imex_landings() != self.check.landings_at_mode_check;
+        self.check.landings_at_mode_check = self.imex_landings();
         let wheel_modes = self.wheel_modes()?;
         // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
         // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.
@@ -550,7 +584,7 @@ impl Simulation {
                     if kind == IntegratorKind::Ab3 { " or RK4, whose region is about five times larger" } else { "" }
                 ),
             )),
-            _ => match self.check_hop_resolution(modes, h, self.landed_since_check) {
+            _ => match self.check_hop_resolution(modes, h, self.check.landed_since_check) {
                 Err(under) if self.config.accuracy == AccuracyPolicy::Warn => {
                     self.warn_under_resolved(modes, h, &under);
                     Ok(())

@@ -75,23 +75,28 @@ pub fn step_limit(fz: &[f64; 4]) -> f64 {
     }
 }
 
-/// Cover [t0, t0 + h] by steps of `integrator` (see the module documentation); `plan` is the plain rule's
-/// (number, size) of sub-steps and `bound` the internal step they are no larger than (the error-controlled
-/// scheme's largest step); `check(t, x)` runs after every step. On `Err`, `x` holds the last accepted
-/// state (the simulation rolls the whole interval back).
-#[allow(clippy::too_many_arguments)]
+/// One interval to cover: [t0, t0 + h], the plain rule's `plan` (number, size) of sub-steps, the internal
+/// step `bound` they are no larger than (the error-controlled scheme's largest step), and the input's
+/// breakpoints.
+pub(super) struct Interval {
+    pub t0: f64,
+    pub h: f64,
+    pub plan: (usize, f64),
+    pub bound: f64,
+    pub breakpoints: Breakpoints,
+}
+
+/// Cover `interval` by steps of `integrator` (see the module documentation); `check(t, x)` runs after every
+/// step. On `Err`, `x` holds the last accepted state (the simulation rolls the whole interval back).
 pub(super) fn integrate(
     integrator: &mut AnyIntegrator,
     sys: &mut dyn OdeSystem,
     config: &SimConfig,
-    breakpoints: Breakpoints,
-    t0: f64,
-    h: f64,
-    plan: (usize, f64),
-    bound: f64,
+    interval: Interval,
     x: &mut [f64],
     check: &mut StepCheck<'_>,
 ) -> Result<(), ModelError> {
+    let Interval { t0, h, plan, bound, breakpoints } = interval;
     let t1 = t0 + h;
     let eps = BREAKPOINT_TIME_TOL * t0.abs().max(t1.abs()).max(1.0);
     if let AnyIntegrator::Dopri5(scheme) = integrator {
