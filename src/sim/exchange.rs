@@ -59,7 +59,7 @@ impl Simulation {
     /// The continuous states (`CONTINUOUS_STATES` of them).
     pub fn continuous_states(&self, x: &mut [f64]) -> Result<(), ModelError> {
         self.require_full_layout()?;
-        x.copy_from_slice(&self.state);
+        x.copy_from_slice(&self.run.state);
         Ok(())
     }
 
@@ -86,7 +86,7 @@ impl Simulation {
                 format!("the attitude quaternion's length is {norm}: not a rotation (a unit quaternion is expected)"),
             ));
         }
-        self.state.copy_from_slice(x);
+        self.run.state.copy_from_slice(x);
         self.changed();
         Ok(())
     }
@@ -96,16 +96,16 @@ impl Simulation {
         if !t.is_finite() {
             return Err(ModelError::new(Cause::Input, format!("time {t} is not finite")));
         }
-        let rack = self.rack.at(self.time);
-        self.time = t;
-        self.set_inputs_now(rack, self.drive, self.brake);
+        let rack = self.run.rack.at(self.run.time);
+        self.run.time = t;
+        self.set_inputs_now(rack, self.run.drive, self.run.brake);
         Ok(())
     }
 
     /// The inputs from now on: the steering input with its rates, the wheel torques.
     pub fn set_inputs_now(&mut self, rack: RackMotion, drive: [f64; 4], brake: [f64; 4]) {
-        self.rack = RackSource::External {
-            t_k: self.time,
+        self.run.rack = RackSource::External {
+            t_k: self.run.time,
             start: rack.position,
             slope: rack.velocity,
             curvature: rack.acceleration,
@@ -139,7 +139,7 @@ impl Simulation {
         /// Below this forward speed a bump is reached by no time worth predicting.
         const CREEPING_M_S: f64 = 1e-3;
         let RoadModel::Bumps(bumps) = &self.road else { return Ok(None) };
-        let vx = self.state[idx::V0];
+        let vx = self.run.state[idx::V0];
         if vx.abs() < CREEPING_M_S {
             return Ok(None);
         }
@@ -167,7 +167,7 @@ impl Simulation {
                 }
             }
         }
-        Ok(next.is_finite().then_some(self.time + next))
+        Ok(next.is_finite().then_some(self.run.time + next))
     }
 
     /// Nominal magnitudes of the continuous states, for the solver's error weights: the sizes a state moves
@@ -180,7 +180,7 @@ impl Simulation {
     /// State `i` of the full layout (zero for a state the run's options leave out): what a Co-Simulation
     /// instance serves for the state variables.
     pub fn full_state_value(&self, i: usize) -> f64 {
-        Layout::FULL.convert(&self.state, &Layout::of(&self.config.options))[i]
+        Layout::FULL.convert(&self.run.state, &Layout::of(&self.config.options))[i]
     }
 
     /// Evaluate ẋ, the outputs and the indicators at the current time, state and inputs, unless done.

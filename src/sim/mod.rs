@@ -390,6 +390,21 @@ impl Events {
     }
 }
 
+/// Where a run is, all that its next step depends on besides the vehicle, the road and the configuration:
+/// the time, the state, the integrator's history and the inputs (the Newton warm starts are in the
+/// workspace). Flattened into the saved simulation (the saved form is as before it had a struct).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct RunState {
+    integrator: AnyIntegrator,
+    time: f64,
+    state: Vec<f64>,
+    rack: RackSource,
+    /// Slope of the last external ramp (a change restarts multistep history: a declared kink).
+    last_external_slope: Option<f64>,
+    drive: [f64; 4],
+    brake: [f64; 4],
+}
+
 /// A running simulation: plain data, cloned whole for FMU states. Serialized without its vehicle (three
 /// quarters of the bytes), which is data, not state: a saved state carries the vehicle's fingerprint, and
 /// `validate_restored` rebuilds the vehicle from the vehicle data and attaches it after checking it.
@@ -408,15 +423,11 @@ pub struct Simulation {
     /// is rebuilt with it).
     #[serde(default)]
     initial_steering: f64,
-    integrator: AnyIntegrator,
-    time: f64,
-    state: Vec<f64>,
+    /// Where the run is: time, state, integrator history, inputs.
+    #[serde(flatten)]
+    run: RunState,
+    /// The evaluation's workspace, with the Newton warm starts (saved: the next step starts from them).
     cache: Workspace,
-    rack: RackSource,
-    /// Slope of the last external ramp (a change restarts multistep history: a declared kink).
-    last_external_slope: Option<f64>,
-    drive: [f64; 4],
-    brake: [f64; 4],
     outputs_values: Vec<f64>,
     /// Which of `outputs_values` belong to the current state.
     #[serde(default)]
@@ -521,20 +532,23 @@ impl Simulation {
     pub fn from_vehicle_steered(v: Vehicle, config: SimConfig, steering: f64) -> Result<Simulation, ModelError> {
         let Start { vehicle: v, road, state, cache, front_wheel_x0 } = Start::new(v, &config, steering)?;
         let vehicle_fingerprint = fingerprint(&v);
-        let mut sim = Simulation {
+        let run = RunState {
             integrator: AnyIntegrator::new(config.integrator),
+            time: 0.0,
+            state,
+            rack: RackSource::held(steering),
+            last_external_slope: None,
+            drive: [0.0; 4],
+            brake: [0.0; 4],
+        };
+        let mut sim = Simulation {
+            run,
             config,
             vehicle: Some(v),
             road,
             vehicle_fingerprint,
             initial_steering: steering,
-            time: 0.0,
-            state,
             cache,
-            rack: RackSource::held(steering),
-            last_external_slope: None,
-            drive: [0.0; 4],
-            brake: [0.0; 4],
             outputs_values: vec![0.0; OUTPUT_NAMES.len()],
             output_accelerations: None,
             output_derivative: None,
@@ -566,29 +580,32 @@ impl Simulation {
         }
         self.vehicle = Some(built.vehicle);
         self.road = built.road;
-        if !(self.time >= 0.0 && (self.time - elapsed).abs() <= 1e-6 * elapsed.abs().max(1.0)) {
-            return bad(format!("time {} differs from the FMU's time since the start {elapsed}", self.time));
+        if !(self.run.time >= 0.0 && (self.run.time - elapsed).abs() <= 1e-6 * elapsed.abs().max(1.0)) {
+            return bad(format!("time {} differs from the FMU's time since the start {elapsed}", self.run.time));
         }
         let layout = Layout::of(&self.config.options);
-        if self.state.len() != layout.dim || self.state.iter().any(|v| !v.is_finite()) {
-            return bad(format!("the state must be {} finite numbers (got {})", layout.dim, self.state.len()));
+        if self.run.state.len() != layout.dim || self.run.state.iter().any(|v| !v.is_finite()) {
+            return bad(format!("the state must be {} finite numbers (got {})", layout.dim, self.run.state.len()));
         }
-        let e = &self.state[idx::E0..idx::E0 + 4];
+        let e = &self.run.state[idx::E0..idx::E0 + 4];
         if (e.iter().map(|v| v * v).sum::<f64>().sqrt() - 1.0).abs() > 1e-6 {
             return bad("the attitude quaternion is not of unit length".into());
         }
-        check_divergence(&self.state, &layout, self.time).context("simulation")?;
-        if self.integrator.kind() != self.config.integrator {
+        check_divergence(&self.run.state, &layout, self.run.time).context("simulation")?;
+        if self.run.integrator.kind() != self.config.integrator {
             return bad("the integrator differs from the configured one".into());
         }
-        self.integrator.validate(layout.dim).map_err(|e| ModelError::new(Cause::Input, format!("simulation: {e}")))?;
+        self.run
+            .integrator
+            .validate(layout.dim)
+            .map_err(|e| ModelError::new(Cause::Input, format!("simulation: {e}")))?;
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        if !finite(&self.drive) || !self.brake.iter().all(|b| *b >= 0.0 && b.is_finite()) {
+        if !finite(&self.run.drive) || !self.run.brake.iter().all(|b| *b >= 0.0 && b.is_finite()) {
             return bad("wheel torques must be finite, brake torques >= 0".into());
         }
-        let rack = self.rack.at(self.time);
+        let rack = self.run.rack.at(self.run.time);
         if !(finite(&[rack.position, rack.velocity, rack.acceleration])
-            && self.last_external_slope.is_none_or(f64::is_finite))
+            && self.run.last_external_slope.is_none_or(f64::is_finite))
         {
             return bad("the rack input is not finite".into());
         }
@@ -609,12 +626,17 @@ impl Simulation {
 
     /// The model's inputs at time t: the steering source, the wheel torques and the speed hold's target.
     fn inputs_at(&self, t: f64) -> Inputs {
-        Inputs { rack: self.rack.at(t), drive: self.drive, brake: self.brake, target_speed: self.config.initial_speed }
+        Inputs {
+            rack: self.run.rack.at(t),
+            drive: self.run.drive,
+            brake: self.run.brake,
+            target_speed: self.config.initial_speed,
+        }
     }
 
     /// The model's inputs now.
     pub fn inputs(&self) -> Inputs {
-        self.inputs_at(self.time)
+        self.inputs_at(self.run.time)
     }
 
     pub fn vehicle(&self) -> &Vehicle {
@@ -622,11 +644,11 @@ impl Simulation {
     }
 
     pub fn state(&self) -> &[f64] {
-        &self.state
+        &self.run.state
     }
 
     pub fn time(&self) -> f64 {
-        self.time
+        self.run.time
     }
 
     pub fn front_wheel_x0(&self) -> f64 {
@@ -650,30 +672,30 @@ impl Simulation {
 
     /// Drive the rack by an analytic profile from now on.
     pub fn set_rack_profile(&mut self, profile: RackProfile) {
-        self.rack = RackSource::Profile(profile);
+        self.run.rack = RackSource::Profile(profile);
     }
 
     /// The external rack input for the next `advance` (docs/physics.md §8.1 item 4).
     pub fn set_external_rack(&mut self, sample: RackSample) {
-        let previous = self.rack.at(self.time).position;
-        self.rack = match sample.first_derivative {
+        let previous = self.run.rack.at(self.run.time).position;
+        self.run.rack = match sample.first_derivative {
             Some(d1) => RackSource::External {
-                t_k: self.time,
+                t_k: self.run.time,
                 start: sample.value,
                 slope: d1,
                 curvature: sample.second_derivative.unwrap_or(0.0),
             },
-            None => RackSource::PendingRamp { t_k: self.time, start: previous, target: sample.value },
+            None => RackSource::PendingRamp { t_k: self.run.time, start: previous, target: sample.value },
         };
         if sample.first_derivative.is_some() {
-            self.last_external_slope = None;
+            self.run.last_external_slope = None;
         }
     }
 
     /// Per-wheel torques in the order FL, FR, RL, RR, N·m; drive adds to the speed hold, brake ≥ 0.
     pub fn set_wheel_torques(&mut self, drive: [f64; 4], brake: [f64; 4]) {
-        self.drive = drive;
-        self.brake = brake.map(|b| b.max(0.0));
+        self.run.drive = drive;
+        self.run.brake = brake.map(|b| b.max(0.0));
     }
 
     /// Integrate over [t, t + h] in equal sub-steps no larger than the internal step (§7.2). On error the
@@ -690,7 +712,7 @@ impl Simulation {
                     let default = self.config.integrator.default_step();
                     match e.largest_stable_step().map(|s| ladder_step(default, s.min(0.5 * self.step_for(h)))) {
                         Some(ceiling) if ceiling >= FIXED_STEP_MIN && e.cause() == Cause::StepSizeInstability => {
-                            self.check.step_ceiling = Some((ceiling, self.time + MODE_CHECK_INTERVAL));
+                            self.check.step_ceiling = Some((ceiling, self.run.time + MODE_CHECK_INTERVAL));
                             self.check.step = ceiling;
                             self.check.last_mode_check = None;
                             tries += 1;
@@ -710,7 +732,7 @@ impl Simulation {
     /// The accuracy policy `Warn` on IMEX-AB3: the first steps its error monitor would have refused, and
     /// ran on instead, are logged once.
     fn warn_unresolved_steps(&mut self) {
-        let Some(scheme) = self.integrator.implicit_block_ref() else { return };
+        let Some(scheme) = self.run.integrator.implicit_block_ref() else { return };
         if scheme.unresolved == 0 || self.events.warned_monitor {
             return;
         }
@@ -719,7 +741,7 @@ impl Simulation {
             "warning (accuracy_policy warn): by t = {:.3} s IMEX-AB3 ran on through {} sub-steps whose local error \
              estimate stayed above its limit {:.1e} even in sixteen sub-steps of a step (a transient the step does not \
              resolve: a landing, a bump's edge); under the default policy the run would have stopped there",
-            self.time,
+            self.run.time,
             scheme.unresolved,
             IMEX_ERROR_PER_TOLERANCE * self.config.tolerance
         ));
@@ -739,23 +761,23 @@ impl Simulation {
         let (n, hs) = self.config.plan_with(h, self.step_for(h))?;
         // Rollback data, copied into a buffer that lives with the simulation: no allocation per step.
         self.state_before.clear();
-        self.state_before.extend_from_slice(&self.state);
+        self.state_before.extend_from_slice(&self.run.state);
         let before = Before {
-            time: self.time,
+            time: self.run.time,
             warm_starts: self.cache.corners,
             evaluations: self.evaluations,
-            rack: self.rack,
-            last_external_slope: self.last_external_slope,
+            rack: self.run.rack,
+            last_external_slope: self.run.last_external_slope,
             fresh: self.fresh,
         };
         self.before = Some(before);
-        if let RackSource::PendingRamp { t_k, start, target } = self.rack {
+        if let RackSource::PendingRamp { t_k, start, target } = self.run.rack {
             let slope = (target - start) / h;
-            if self.last_external_slope.is_some_and(|s| s != slope) {
-                self.integrator.restart(); // a ramp's kink is a declared discontinuity of the input (§7.3)
+            if self.run.last_external_slope.is_some_and(|s| s != slope) {
+                self.run.integrator.restart(); // a ramp's kink is a declared discontinuity of the input (§7.3)
             }
-            self.last_external_slope = Some(slope);
-            self.rack = RackSource::External { t_k, start, slope, curvature: 0.0 };
+            self.run.last_external_slope = Some(slope);
+            self.run.rack = RackSource::External { t_k, start, slope, curvature: 0.0 };
         }
         // The error-controlled scheme keeps its steps inside its stability region by its error estimate and
         // resolves what the road excites: the check has nothing to refuse it for, and costs 21 evaluations
@@ -787,7 +809,7 @@ impl Simulation {
                 };
                 // The next attempt checks the modes (and hands IMEX-AB3 its Jacobian) at its own start.
                 self.check.last_mode_check = None;
-                Err(e.context(format_args!("t = {:.6} s", self.time)))
+                Err(e.context(format_args!("t = {:.6} s", self.run.time)))
             }
         }
     }
@@ -814,17 +836,17 @@ impl Simulation {
         if n <= chunk {
             return self.integrate(h, n, hs);
         }
-        let end = self.time + h;
+        let end = self.run.time + h;
         let mut done = 0;
         while done < n {
             if done > 0 && self.mode_check_due() {
                 // The automatic step may change here: the rest of the interval in steps of the new size.
-                if let Some((m, hm)) = self.scheduled_mode_check(end - self.time, hs)? {
+                if let Some((m, hm)) = self.scheduled_mode_check(end - self.run.time, hs)? {
                     (n, hs, chunk) = (done + m, hm, chunk_of(m, hm));
                 }
             }
             let steps = chunk.min(n - done);
-            let length = if done + steps == n { end - self.time } else { steps as f64 * hs };
+            let length = if done + steps == n { end - self.run.time } else { steps as f64 * hs };
             self.integrate(length, steps, hs)?;
             done += steps;
         }
@@ -842,29 +864,29 @@ impl Simulation {
     }
 
     fn restore(&mut self, before: &Before) {
-        self.state.copy_from_slice(&self.state_before);
-        self.time = before.time;
+        self.run.state.copy_from_slice(&self.state_before);
+        self.run.time = before.time;
         self.cache.corners = before.warm_starts;
         self.evaluations = before.evaluations;
-        self.rack = before.rack;
-        self.last_external_slope = before.last_external_slope;
+        self.run.rack = before.rack;
+        self.run.last_external_slope = before.last_external_slope;
         self.fresh = before.fresh;
         // A multistep history may hold sub-steps of the undone interval: start it afresh.
-        self.integrator.restart();
+        self.run.integrator.restart();
     }
 
     fn integrate(&mut self, h: f64, n: usize, hs: f64) -> Result<(), ModelError> {
-        let t0 = self.time;
+        let t0 = self.run.time;
         let vehicle = attached(&self.vehicle)?;
         let run = Run::new(vehicle, &self.config.options, &self.road);
         let layout = run.layout();
-        let breakpoints = self.rack.breakpoints();
+        let breakpoints = self.run.rack.breakpoints();
         let mut ode = VehicleOde {
             vehicle,
             run,
-            rack: &self.rack,
-            drive: self.drive,
-            brake: self.brake,
+            rack: &self.run.rack,
+            drive: self.run.drive,
+            brake: self.run.brake,
             target_speed: self.config.initial_speed,
             cache: &mut self.cache,
             evaluations: 0,
@@ -875,16 +897,16 @@ impl Simulation {
             if config.automatic_step() && self.check.step > 0.0 { self.check.step } else { config.step_bound(h) };
         let mut check = |t: f64, x: &[f64]| check_divergence(x, &layout, t);
         let result = stepping::integrate(
-            &mut self.integrator,
+            &mut self.run.integrator,
             &mut ode,
             config,
             stepping::Interval { t0, h, plan: (n, hs), bound, breakpoints },
-            &mut self.state,
+            &mut self.run.state,
             &mut check,
         );
         self.evaluations += ode.evaluations;
         result?;
-        self.time = t0 + h;
+        self.run.time = t0 + h;
         self.fresh = Fresh::None; // outputs are computed when read
         Ok(())
     }
@@ -892,31 +914,31 @@ impl Simulation {
     /// IMEX-AB3's largest local error estimate (relative to the state's scales) since the last call; `None`
     /// for the other schemes.
     pub fn take_largest_local_error(&mut self) -> Option<f64> {
-        self.integrator.implicit_block().map(|s| s.take_largest_error())
+        self.run.integrator.implicit_block().map(|s| s.take_largest_error())
     }
 
     /// IMEX-AB3's steps retaken in four sub-steps (their full step's estimate above the limit) so far.
     pub fn substepped_steps(&self) -> Option<u64> {
-        self.integrator.implicit_block_ref().map(|s| s.substepped)
+        self.run.integrator.implicit_block_ref().map(|s| s.substepped)
     }
 
     /// Accepted and rejected steps of the error-controlled integrator so far (`None` for the fixed-step
     /// ones).
     pub fn step_counts(&self) -> Option<(u64, u64)> {
-        self.integrator.step_counts()
+        self.run.integrator.step_counts()
     }
 
     /// The outputs that come straight from the state, without an evaluation: time, pose, velocities and
     /// the rack position.
     fn write_state_outputs(&mut self) {
-        let x = &self.state;
+        let x = &self.run.state;
         let a0 = quat_to_matrix(&x[idx::E0..idx::E0 + 4]);
         let (roll, pitch, yaw) = euler_from_matrix(&a0);
         let v = a0.transpose() * V3::new(x[idx::V0], x[idx::V0 + 1], x[idx::V0 + 2]);
         let w = a0.transpose() * V3::new(x[idx::W0], x[idx::W0 + 1], x[idx::W0 + 2]);
         use Channel::*;
         let written = [
-            (Time, self.time),
+            (Time, self.run.time),
             (X, x[idx::R0]),
             (Y, x[idx::R0 + 1]),
             (Z, x[idx::R0 + 2]),
@@ -929,7 +951,7 @@ impl Simulation {
             (RollRate, w.x),
             (PitchRate, w.y),
             (YawRate, w.z),
-            (RackDisplacement, self.rack.at(self.time).position),
+            (RackDisplacement, self.run.rack.at(self.run.time).position),
         ];
         debug_assert!(written.iter().all(|(c, _)| c.from_state()));
         debug_assert_eq!(written.len(), Channel::ALL.iter().filter(|c| c.from_state()).count());
@@ -947,9 +969,9 @@ impl Simulation {
         let run = Run::new(vehicle, &self.config.options, &self.road);
         let mut dx = [0.0; idx::DIM]; // the largest layout
         let dx = &mut dx[..run.layout().dim];
-        let inputs = self.inputs_at(self.time);
+        let inputs = self.inputs_at(self.run.time);
         let warm_starts = self.cache.corners;
-        let evaluated = vehicle.derivative(&run, &self.state, &inputs, &mut self.cache, dx);
+        let evaluated = vehicle.derivative(&run, &self.run.state, &inputs, &mut self.cache, dx);
         let d = self.cache.diagnostics;
         let warm_after = std::mem::replace(&mut self.cache.corners, warm_starts);
         evaluated?;
@@ -967,14 +989,14 @@ impl Simulation {
                 dx: [0.0; idx::DIM],
             });
             stage.dim = dx.len();
-            stage.x[..dx.len()].copy_from_slice(&self.state);
+            stage.x[..dx.len()].copy_from_slice(&self.run.state);
             stage.dx[..dx.len()].copy_from_slice(dx);
             (stage.inputs, stage.warm_before, stage.warm_after) = (inputs, warm_starts, warm_after);
             stage.tire_loads = self.cache.tire_loads;
             stage.penetration = d.penetration;
             stage.road_edge = d.road_edge;
         }
-        let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
+        let a0 = quat_to_matrix(&self.run.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;
         self.output_accelerations = Some([d.chassis_acceleration, d.chassis_angular_acceleration]);
         let mut full = [0.0; idx::DIM];
@@ -1006,11 +1028,11 @@ impl Simulation {
         set(Channel::ConstraintResidual, d.max_residual);
         set(Channel::NewtonIterations, d.newton_iterations as f64);
         debug_assert_eq!(written.count_ones() as usize, Channel::ALL.iter().filter(|c| !c.from_state()).count());
-        self.events.observe(self.time, &d, &self.brake, &self.road);
+        self.events.observe(self.run.time, &d, &self.run.brake, &self.road);
         if let Some(i) = self.outputs_values.iter().position(|v| !v.is_finite()) {
             return Err(ModelError::new(
                 Cause::NonFinite,
-                format!("output {} is {} at t = {}", OUTPUT_NAMES[i], self.outputs_values[i], self.time),
+                format!("output {} is {} at t = {}", OUTPUT_NAMES[i], self.outputs_values[i], self.run.time),
             ));
         }
         self.fresh = Fresh::All;
@@ -1054,9 +1076,9 @@ impl Simulation {
         if self.fresh < Fresh::All || self.output_accelerations.is_none() {
             self.evaluate_outputs().context("outputs")?;
         }
-        let a0 = quat_to_matrix(&self.state[idx::E0..idx::E0 + 4]);
+        let a0 = quat_to_matrix(&self.run.state[idx::E0..idx::E0 + 4]);
         let r = a0 * point;
-        let w = V3::new(self.state[idx::W0], self.state[idx::W0 + 1], self.state[idx::W0 + 2]);
+        let w = V3::new(self.run.state[idx::W0], self.run.state[idx::W0 + 1], self.run.state[idx::W0 + 2]);
         let [linear, angular] = self.output_accelerations.expect("set by evaluate_outputs");
         Ok(linear + angular.cross(&r) + w.cross(&w.cross(&r)))
     }

@@ -230,7 +230,7 @@ impl Simulation {
         let modes = self.measure_fast_modes()?;
         let mut bound = self.config.integrator.default_step();
         match self.check.step_ceiling {
-            Some((ceiling, until)) if self.time < until => bound = bound.min(ceiling),
+            Some((ceiling, until)) if self.run.time < until => bound = bound.min(ceiling),
             _ => self.check.step_ceiling = None,
         }
         let mut tries = 0;
@@ -246,7 +246,7 @@ impl Simulation {
                     if hm == hs {
                         return Ok(None);
                     }
-                    self.integrator.restart(); // a multistep history holds points at the old step
+                    self.run.integrator.restart(); // a multistep history holds points at the old step
                     return Ok(Some((m, hm)));
                 }
                 Err(e) => match e.largest_stable_step().map(|s| ladder_step(bound, s)) {
@@ -273,7 +273,7 @@ impl Simulation {
     /// the cause when a step fails).
     pub(super) fn mode_check_due(&self) -> bool {
         !self.config.integrator.is_error_controlled()
-            && (self.check.last_mode_check.is_none_or(|t| self.time - t >= MODE_CHECK_INTERVAL - 1e-12)
+            && (self.check.last_mode_check.is_none_or(|t| self.run.time - t >= MODE_CHECK_INTERVAL - 1e-12)
                 || loads_changed(&self.check.loads_at_mode_check, &self.cache.tire_loads)
                 || self.imex_landings() != self.check.landings_at_mode_check)
     }
@@ -290,8 +290,8 @@ impl Simulation {
     pub fn state_jacobian(&self) -> Result<nalgebra::DMatrix<f64>, ModelError> {
         let vehicle = attached(&self.vehicle)?;
         let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
-        let inputs = self.inputs_at(self.time);
-        let x0 = self.state.clone();
+        let inputs = self.inputs_at(self.run.time);
+        let x0 = self.run.state.clone();
         let n = x0.len();
         let mut cache = self.cache.clone();
         let mut f = |x: &[f64]| -> Result<Vec<f64>, ModelError> {
@@ -330,10 +330,10 @@ impl Simulation {
         let n = layout.dim;
         // The slip states that are in use (a full layout may carry unused ones: they have no dynamics).
         let slip_states = layout.xi.filter(|_| run.options.slip == SlipModel::Relaxation);
-        let inputs = self.inputs_at(self.time);
+        let inputs = self.inputs_at(self.run.time);
         let warm_starts = self.cache.corners;
         let mut x = [0.0; idx::DIM];
-        x[..n].copy_from_slice(&self.state);
+        x[..n].copy_from_slice(&self.run.state);
         let mut f0 = [0.0; idx::DIM];
         // On C¹-rounded road edges: a perturbation that straddles a C⁰ edge would see an arbitrarily large
         // stiffness that is no mode (a step the integrator takes through the edge anyway).
@@ -405,7 +405,7 @@ impl Simulation {
                     format!(
                         "the step check's eigenvalue iteration did not converge in {EIGEN_MAX_ITERATIONS} sweeps at t = \
                          {:.3} s (wheel-state Jacobian {:e} in magnitude): the fast modes cannot be judged",
-                        self.time,
+                        self.run.time,
                         jac.amax()
                     ),
                 )
@@ -443,10 +443,10 @@ impl Simulation {
         let vehicle = attached(&self.vehicle)?;
         let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
         let n = run.layout().dim;
-        let inputs = self.inputs_at(self.time);
+        let inputs = self.inputs_at(self.run.time);
         let warm_starts = self.cache.corners;
         let mut x = [0.0; idx::DIM];
-        x[..n].copy_from_slice(&self.state);
+        x[..n].copy_from_slice(&self.run.state);
         let mut evaluate = |x: &[f64], out: &mut [f64]| {
             vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
             Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
@@ -504,16 +504,16 @@ impl Simulation {
     /// The step check's measurement: the wheel modes at the current state (and IMEX-AB3's Jacobian from
     /// them), which `judge_step` then judges a step against (several steps, for the automatic one).
     pub(super) fn measure_fast_modes(&mut self) -> Result<WheelModes, ModelError> {
-        self.check.last_mode_check = Some(self.time);
+        self.check.last_mode_check = Some(self.run.time);
         self.check.loads_at_mode_check = self.cache.tire_loads;
         self.check.landed_since_check = self.imex_landings() != self.check.landings_at_mode_check;
         self.check.landings_at_mode_check = self.imex_landings();
         let wheel_modes = self.wheel_modes()?;
         // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
         // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.
-        if self.integrator.implicit_block().is_some() {
+        if self.run.integrator.implicit_block().is_some() {
             let p = self.imex_partial_jacobian(&wheel_modes)?;
-            if let Some(scheme) = self.integrator.implicit_block() {
+            if let Some(scheme) = self.run.integrator.implicit_block() {
                 scheme.set_partial_jacobian(&p.rows[..p.m], &p.cols[..p.nc], &p.jac[..p.m * p.nc], wheel_modes.len);
                 scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
                 scheme.set_run_on(self.config.accuracy == AccuracyPolicy::Warn);
@@ -543,7 +543,7 @@ impl Simulation {
                 _ => !is_damped(kind, judged(l) * h),
             };
         }
-        if let Some(scheme) = self.integrator.implicit_block() {
+        if let Some(scheme) = self.run.integrator.implicit_block() {
             let second = fails.iter().any(|f| *f) && coupled.iter().all(|l| bdf2_damped_up_to(judged(l), h));
             scheme.set_order(if second { 2 } else { 3 });
             if second {
@@ -576,7 +576,7 @@ impl Simulation {
                     crate::model::vehicle::CORNERS[m.corner],
                     l.re,
                     l.im,
-                    self.time,
+                    self.run.time,
                     kind,
                     h,
                     (MODE_MARGIN - 1.0) * 100.0,
@@ -596,7 +596,7 @@ impl Simulation {
 
     /// IMEX-AB3's located touchdowns so far (`ImexAb3::located`); 0 for the other schemes.
     pub(super) fn imex_landings(&self) -> u64 {
-        self.integrator.implicit_block_ref().map_or(0, |scheme| scheme.located)
+        self.run.integrator.implicit_block_ref().map_or(0, |scheme| scheme.located)
     }
 
     /// The accuracy policy `Warn`: an under-resolving step runs on, and the first such check logs, once, the
@@ -615,7 +615,7 @@ impl Simulation {
         };
         self.events.messages.push(format!(
             "warning (accuracy_policy warn): t = {:.3} s: running on at a step the check would refuse: {under}. {expected}",
-            self.time
+            self.run.time
         ));
     }
 
@@ -624,7 +624,7 @@ impl Simulation {
     /// reach it, and a stable step is accurate: docs/stability.md.)
     pub(super) fn check_hop_resolution(&self, modes: &[FastMode; 12], h: f64, landed: bool) -> Result<(), ModelError> {
         let bumpy = matches!(self.road, RoadModel::Bumps(_) | RoadModel::Surface(_) | RoadModel::Map(_));
-        let bound = self.integrator.hop_resolution();
+        let bound = self.run.integrator.hop_resolution();
         match fastest_hop(modes) {
             Some(m) if bumpy && m.lambda.norm() * h > bound => Err(ModelError::step_refused(
                 bound / m.lambda.norm(),
@@ -670,7 +670,7 @@ impl Simulation {
                 format!(
                     "{why} at t = {:.3} s: IMEX-AB3 does not follow a jump of the forces inside its step (first order \
                      in the step, about 1 % off at 1–2 ms on the paper's bump course); use RK4 or DOPRI5 on this road",
-                    self.time
+                    self.run.time
                 ),
             ))
         };
@@ -704,7 +704,7 @@ impl Simulation {
         if self.config.integrator == IntegratorKind::Dopri5 {
             return Ok(());
         }
-        let speed = V3::new(self.state[idx::V0], self.state[idx::V0 + 1], 0.0).norm();
+        let speed = V3::new(self.run.state[idx::V0], self.run.state[idx::V0 + 1], 0.0).norm();
         let shortest = bumps.iter().map(|b| b.length).filter(|l| *l > 0.0).fold(f64::INFINITY, f64::min);
         let passage = shortest / speed;
         if passage.is_finite() && h * STEPS_PER_BUMP > passage {
@@ -776,7 +776,7 @@ mod tests {
             // The chassis lifted until the front left tire's deflection is `target`, everything else as it starts.
             sim.contact_indicators().unwrap();
             let resting = sim.cache.diagnostics.penetration[0];
-            let mut x = sim.state.clone();
+            let mut x = sim.run.state.clone();
             x[idx::R0 + 2] += resting - target;
             // Falling at 0.5 m/s: the jump at touchdown is c_z δ̇ (at δ̇ = 0 there is none to see).
             x[idx::V0 + 2] = -0.5;
