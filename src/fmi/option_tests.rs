@@ -1,0 +1,94 @@
+//! The options table (`sim::OPTIONS`, generated from the model description with the variable table) against
+//! what is bound from it: the FMU's get/set of the Real parameters, `SimConfig::validate`,
+//! `SimConfig::default` and docs/fmu.md's table. A row bound to the wrong field, a range or a default that
+//! drifts from the model description, or a docs table not regenerated fails here.
+
+use super::model::{FmuModel, Interface, ModelContext, ResourceLocation};
+use super::variables::{Causality, Start, VarType, VARIABLES};
+use super::vehicle::{real_parameters_markdown, VehicleModel};
+use crate::sim::{RealOption, SimConfig, OPTIONS};
+
+fn model() -> VehicleModel {
+    VehicleModel::new(&ModelContext {
+        instance_name: "options".into(),
+        resources: ResourceLocation::None,
+        interface: Interface::CoSimulation2,
+    })
+}
+
+/// A value in the option's range other than its default (its check accepts it: `internal_step`'s range
+/// has a gap below 1e-6, a quarter into [0, 0.1] is outside the gap).
+pub(crate) fn other_value(o: &RealOption) -> f64 {
+    let v = o.min + 0.25 * (o.max - o.min);
+    assert_ne!(v, o.start, "{}: the value chosen is the default", o.name);
+    v
+}
+
+#[test]
+fn every_real_parameter_is_one_row_with_the_model_description_s_unit_range_and_start() {
+    let reals: Vec<_> =
+        VARIABLES.iter().filter(|v| v.causality == Causality::Parameter && v.ty == VarType::Real).collect();
+    assert_eq!(reals.len(), OPTIONS.len(), "one row per Real parameter");
+    for (var, o) in reals.iter().zip(OPTIONS) {
+        assert_eq!(var.name, o.name);
+        assert_eq!(var.start, Some(Start::Real(o.start)), "{}", o.name);
+        assert_eq!((var.min, var.max), (Some(o.min), Some(o.max)), "{}", o.name);
+        assert_eq!(var.unit.unwrap_or("1"), o.unit, "{}", o.name);
+    }
+}
+
+#[test]
+fn the_defaults_are_the_start_values_in_the_code_and_in_a_new_instance() {
+    let (defaults, fmu) = (SimConfig::default(), model());
+    for (o, var) in OPTIONS.iter().map(|o| (o, VARIABLES.iter().find(|v| v.name == o.name).unwrap())) {
+        assert_eq!((o.get)(&defaults), o.start, "SimConfig::default's {}", o.name);
+        assert_eq!(fmu.get_real(var).unwrap(), o.start, "a new instance's {}", o.name);
+        o.check(o.start).unwrap_or_else(|e| panic!("{}: the default is refused: {e}", o.name));
+    }
+    assert!(defaults.validate().is_ok());
+}
+
+/// Each row's get and set reach one field, the same one through the FMU, the table and `validate`: a value set
+/// by the FMU changes that option alone and reads back; one out of range is refused by the FMU and by
+/// `validate` with the row's name, range and unit.
+#[test]
+fn each_option_is_set_and_read_through_the_fmu_and_checked_by_validate() {
+    for o in OPTIONS {
+        let var = VARIABLES.iter().find(|v| v.name == o.name).unwrap();
+        let mut fmu = model();
+        let v = other_value(o);
+        fmu.set_real(var, v).unwrap_or_else(|e| panic!("{}: {e}", o.name));
+        assert_eq!(fmu.get_real(var).unwrap(), v, "{}", o.name);
+        let mut expected = SimConfig::default();
+        (o.set)(&mut expected, v);
+        assert_eq!(fmu.config, expected, "{}: the FMU set another field than the table's", o.name);
+        for other in OPTIONS.iter().filter(|p| p.name != o.name) {
+            assert_eq!((other.get)(&fmu.config), other.start, "setting {} changed {}", o.name, other.name);
+        }
+
+        let outside = o.max + (o.max - o.min).max(1.0);
+        let refusal = fmu.set_real(var, outside).expect_err("out of range");
+        assert_eq!(fmu.get_real(var).unwrap(), v, "{}: a refused value is not kept", o.name);
+        let mut config = SimConfig::default();
+        (o.set)(&mut config, outside);
+        let e = config.validate().expect_err("out of range").to_string();
+        assert_eq!(e, refusal, "{}: the FMU and validate refuse alike", o.name);
+        let lo = if o.check.is_some() { crate::sim::FIXED_STEP_MIN } else { o.min };
+        let range = format!("[{}, {}]", crate::sim::Short(lo), crate::sim::Short(o.max));
+        assert!(e.contains(&range) && e.contains(o.unit.trim_start_matches('1')), "{}: {e}", o.name);
+    }
+}
+
+/// docs/fmu.md's block is `rtv options`' output (scripts/docs.sh fmu_parameters writes it).
+#[test]
+fn docs_fmu_md_has_the_generated_table() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/fmu.md")).unwrap();
+    let begin = doc.find("<!-- real-parameters: begin").expect("the block");
+    let body = &doc[begin..];
+    let body = &body[body.find("-->\n").unwrap() + 4..body.find("<!-- real-parameters: end -->").unwrap()];
+    assert_eq!(
+        body,
+        real_parameters_markdown(),
+        "docs/fmu.md's Real parameters differ from the model description: bash scripts/docs.sh fmu_parameters"
+    );
+}
