@@ -79,7 +79,9 @@ fn each_option_is_set_and_read_through_the_fmu_and_checked_by_validate() {
     }
 }
 
-/// docs/fmu.md's block is `rtv options`' output (scripts/docs.sh fmu_parameters writes it).
+/// docs/fmu.md's block is `rtv options`' output (scripts/docs.sh fmu_parameters writes it); not with the
+/// test-only setting, which the docs do not hold.
+#[cfg(not(feature = "test-option"))]
 #[test]
 fn docs_fmu_md_has_the_generated_table() {
     let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/fmu.md")).unwrap();
@@ -90,5 +92,35 @@ fn docs_fmu_md_has_the_generated_table() {
         body,
         real_parameters_markdown(),
         "docs/fmu.md's Real parameters differ from the model description: bash scripts/docs.sh fmu_parameters"
+    );
+}
+
+/// A setting added to the model description alone (build.rs's `TEST_VARIABLE`, feature `test-option`; the
+/// configuration has its field) is an FMU parameter, got and set by its value reference, checked against its
+/// range by `validate`, defaulted to its start, in the FMI 3.0 description and in docs/fmu.md's table; `rtv
+/// scene`'s flags are tested over the same table (src/bin/rtv.rs,
+/// `every_setting_of_the_table_is_a_flag_of_rtv_scene_under_each_of_its_spellings`).
+/// `cargo test --release --features test-option --lib fmi::option_tests` (and `--bin rtv`).
+#[cfg(feature = "test-option")]
+#[test]
+fn a_setting_declared_once_in_the_model_description_is_everywhere() {
+    let var = &VARIABLES[super::variables::variable_index(9999).expect("vr 9999 is a variable")];
+    assert_eq!((var.name, var.causality, var.ty), ("test_setting", Causality::Parameter, VarType::Real));
+    let mut fmu = model();
+    assert_eq!(fmu.get_real(var).unwrap(), 0.25, "the start value");
+    fmu.set_real(var, 0.5).unwrap();
+    assert_eq!((fmu.get_real(var).unwrap(), fmu.config.test_setting), (0.5, 0.5));
+    let refusal = fmu.set_real(var, 2.0).unwrap_err();
+    assert!(refusal.contains("test_setting 2 m is outside [0, 1] m (a test-only setting)"), "{refusal}");
+    assert_eq!(SimConfig::default().test_setting, 0.25);
+    let config = SimConfig { test_setting: -1.0, ..SimConfig::default() };
+    assert!(config.validate().unwrap_err().to_string().contains("test_setting -1 m is outside"));
+    let xml2 = include_str!(concat!(env!("OUT_DIR"), "/model_description.xml"));
+    let xml3 = fmi_layer::codegen::fmi3_model_description(xml2).unwrap();
+    assert!(xml3.contains(r#"<Float64 name="test_setting" valueReference="9999""#), "the FMI 3.0 description");
+    assert!(
+        real_parameters_markdown().contains("| `test_setting` | 9999 | `--test-setting`, `--test-alias` | m | 0.25 | [0, 1] |"),
+        "{}",
+        real_parameters_markdown()
     );
 }

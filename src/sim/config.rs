@@ -48,6 +48,11 @@ pub struct SimConfig {
     /// (`model::road_crg`), placed with its reference line's start 2 m behind the initial rear axle.
     #[serde(default)]
     pub road_file: Option<String>,
+    /// A setting that exists for a test only (feature `test-option`): declared in build.rs's test variable
+    /// and bound by the generated table alone (src/fmi/option_tests.rs).
+    #[cfg(feature = "test-option")]
+    #[serde(default)]
+    pub test_setting: f64,
 }
 
 // A state or file written before a setting existed takes its default (the model description's start).
@@ -273,6 +278,8 @@ impl Default for SimConfig {
             bump: [0.0; 2],
             tolerance: 0.0,
             road_file: None,
+            #[cfg(feature = "test-option")]
+            test_setting: 0.0,
         };
         for o in OPTIONS {
             (o.set)(&mut config, o.start);

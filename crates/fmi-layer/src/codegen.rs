@@ -29,10 +29,14 @@ pub fn build(xml: &str) {
     println!("cargo:rerun-if-changed={xml}");
     println!("cargo:rerun-if-changed=build.rs");
     let text = std::fs::read_to_string(xml).unwrap_or_else(|e| panic!("cannot read {xml}: {e}"));
-    let code = generate(xml, &text).unwrap_or_else(|e| panic!("{xml}: {e}"));
-    let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
+    build_from(xml, &text, &std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR")));
+}
+
+/// `build` of the description `text` (read from `xml`, or changed by the caller's build script), into `out`.
+pub fn build_from(xml: &str, text: &str, out: &std::path::Path) {
+    let code = generate(xml, text).unwrap_or_else(|e| panic!("{xml}: {e}"));
     std::fs::write(out.join("model_description.rs"), code).expect("cannot write the generated value-reference table");
-    let ranges = parameter_ranges(xml, &text).unwrap_or_else(|e| panic!("{xml}: {e}"));
+    let ranges = parameter_ranges(xml, text).unwrap_or_else(|e| panic!("{xml}: {e}"));
     std::fs::write(out.join("parameter_ranges.rs"), ranges).expect("cannot write the generated parameter ranges");
 }
 
