@@ -7,7 +7,7 @@ const XML: &str = "modelDescription/modelDescription.xml";
 /// The test-only setting (feature `test-option`): a variable as the model description declares its settings.
 const TEST_VARIABLE: &str = r#"    <ScalarVariable name="test_setting" valueReference="9999" causality="parameter" variability="fixed" initial="exact"
       description="a setting declared only in build.rs (feature test-option)">
-      <Real unit="m" start="0.25" min="0" max="1"/>
+      <Real unit="m" start="0.75" min="0" max="1"/>
       <Annotations><Tool name="rt-vehicle"><Option field="test_setting" aliases="test-alias" summary="a test-only setting"/></Tool></Annotations>
     </ScalarVariable>
 "#;

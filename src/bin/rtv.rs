@@ -24,7 +24,9 @@ use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
 use rt_vehicle::sim::calibration;
 use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
-use rt_vehicle::sim::{modes, RealOption, Short, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, OPTIONS, OUTPUT_NAMES};
+use rt_vehicle::sim::{
+    modes, RealOption, Short, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, MODE_OPTIONS, OPTIONS, OUTPUT_NAMES,
+};
 use rt_vehicle::studies::kc;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -33,11 +35,10 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage:
-  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|dopri5|imex-ab3]
-            [--accuracy refuse|warn] [--end T] [--output-interval DT]
-            [--speed coast|hold] [--slip relaxation|steady]
+  rtv scene <bump|jturn|sine> {modes}
+            [--end T] [--output-interval DT]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
-            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--brake N_M] [--drive N_M] [--contact auto|point|envelope] [--keep-all]
+            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--brake N_M] [--drive N_M] [--keep-all]
             [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]]
             {settings}
             [--out FILE.csv]
@@ -74,16 +75,31 @@ environment:
 /// model description: the FMU's Real parameters of the same names).
 fn usage() -> String {
     let flags: Vec<String> = OPTIONS.iter().map(|o| format!("[--{} {}]", o.flag(), metavar(o))).collect();
+    let modes: Vec<String> =
+        MODE_OPTIONS.iter().filter(|m| m.cli).map(|m| format!("[--{} {}]", m.flag(), (m.words)())).collect();
     let mut help = String::from(
         "rtv scene's settings (the FMU's parameters of the same name, docs/fmu.md; the defaults are the FMU's, a scene\n  declares its own speed):",
     );
+    let also = |aliases: &[&str]| {
+        let aliases: Vec<String> = aliases.iter().map(|a| format!("--{a}")).collect();
+        if aliases.is_empty() {
+            String::new()
+        } else {
+            format!(" (also {})", aliases.join(", "))
+        }
+    };
+    for m in MODE_OPTIONS.iter().filter(|m| m.cli && !m.aliases.is_empty()) {
+        write!(help, "\n  --{}{}", m.flag(), also(m.aliases)).expect("a String");
+    }
     for o in OPTIONS {
-        let aliases: Vec<String> = o.aliases.iter().map(|a| format!("--{a}")).collect();
-        let also = if aliases.is_empty() { String::new() } else { format!(" (also {})", aliases.join(", ")) };
+        let also = also(o.aliases);
         write!(help, "\n  --{}{also}: {}; {}, default {}", o.flag(), o.summary, o.range_text(), Short(o.start))
             .expect("a String");
     }
-    USAGE.replace("{settings}", &flags.join(" ")).replace("{settings_help}", help.trim_end())
+    USAGE
+        .replace("{modes}", &modes.join(" "))
+        .replace("{settings}", &flags.join(" "))
+        .replace("{settings_help}", help.trim_end())
 }
 
 /// The value's placeholder in the usage: its unit (`M/S`), `VALUE` for a number without one.
@@ -206,20 +222,11 @@ fn csv_writer(path: Option<&String>) -> Result<Box<dyn Write>, Failure> {
 /// The run options: `base` (the scene's declaration) with the options given on top.
 fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(SimConfig, f64), Failure> {
     let mut c = base;
-    if let Some(f) = opts.get("formulation") {
-        c.options.formulation = modes::FORMULATIONS.by_name(f).map_err(bad)?;
-    }
-    if let Some(i) = opts.get("integrator") {
-        c.integrator = modes::INTEGRATORS.by_name(i).map_err(bad)?;
-    }
-    if let Some(s) = opts.get("speed") {
-        c.options.speed_mode = modes::SPEED_MODES.by_name(s).map_err(bad)?;
-    }
-    if let Some(s) = opts.get("contact") {
-        c.options.contact = modes::CONTACTS.by_name(s).map_err(bad)?;
-    }
-    if let Some(s) = opts.get("slip") {
-        c.options.slip = modes::SLIP_MODELS.by_name(s).map_err(bad)?;
+    // The table's modes given (`canonical` renamed their older spellings).
+    for m in MODE_OPTIONS.iter().filter(|m| m.cli) {
+        if let Some(word) = opts.get(&m.flag()) {
+            (m.set_word)(&mut c, word).map_err(bad)?;
+        }
     }
     if let Some(r) = opts.get("ride-height") {
         // retuned: spring free lengths set so that the design position is the static equilibrium (§8.1);
@@ -264,9 +271,6 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
             "--internal-step: a fixed step must be positive (leave --internal-step out for the automatic step)",
         ));
     }
-    if let Some(a) = opts.get("accuracy") {
-        c.accuracy = modes::ACCURACY_POLICIES.by_name(a).map_err(bad)?;
-    }
     if let Some(road) = opts.get("road") {
         c.road_file = Some(road.clone());
     }
@@ -303,14 +307,14 @@ fn refused_option(c: &SimConfig, opts: &BTreeMap<String, String>) -> Option<Stri
 /// The table's settings among `--key value` pairs (`options`) under their one name: an older spelling (an
 /// alias, `--grade`) renamed to the name's flag (`--road-grade`); both given is refused.
 fn canonical(mut opts: BTreeMap<String, String>) -> Result<BTreeMap<String, String>, Failure> {
-    for o in OPTIONS {
-        for alias in o.aliases {
+    let spellings = OPTIONS.iter().map(|o| (o.flag(), o.aliases));
+    for (flag, aliases) in spellings.chain(MODE_OPTIONS.iter().filter(|m| m.cli).map(|m| (m.flag(), m.aliases))) {
+        for alias in aliases {
             if let Some(v) = opts.remove(*alias) {
-                let flag = o.flag();
                 if opts.contains_key(&flag) {
                     return Err(bad(format!("--{alias} and --{flag} name the same setting: give one")));
                 }
-                opts.insert(flag, v);
+                opts.insert(flag.clone(), v);
             }
         }
     }
@@ -319,7 +323,9 @@ fn canonical(mut opts: BTreeMap<String, String>) -> Result<BTreeMap<String, Stri
 
 /// The flags of the table's settings and their older spellings, for `options`' list of known keys.
 fn setting_flags() -> Vec<String> {
-    OPTIONS.iter().flat_map(|o| std::iter::once(o.flag()).chain(o.aliases.iter().map(|a| a.to_string()))).collect()
+    let spellings = OPTIONS.iter().map(|o| (o.flag(), o.aliases));
+    let spellings = spellings.chain(MODE_OPTIONS.iter().filter(|m| m.cli).map(|m| (m.flag(), m.aliases)));
+    spellings.flat_map(|(flag, aliases)| std::iter::once(flag).chain(aliases.iter().map(|a| a.to_string()))).collect()
 }
 
 /// `rtv options`: the settings table as docs/fmu.md writes it (scripts/docs.sh fmu_parameters).
@@ -345,13 +351,8 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     let settings = setting_flags();
     let mut known: Vec<&str> = settings.iter().map(String::as_str).collect();
     known.extend([
-        "formulation",
-        "integrator",
-        "accuracy",
         "end",
         "output-interval",
-        "speed",
-        "slip",
         "amplitude",
         "ride-height",
         "vehicle",
@@ -359,7 +360,6 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         "tire-convention",
         "brake",
         "drive",
-        "contact",
         "road",
         "out",
     ]);
@@ -697,11 +697,10 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
     let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
-    let opts =
-        canonical(options(
-            &args[1..],
-            &["initial-speed", "vehicle", "tire", "tire-convention", "road", "road-friction", "friction", "out"],
-        )?)?;
+    let opts = canonical(options(
+        &args[1..],
+        &["initial-speed", "vehicle", "tire", "tire-convention", "road", "road-friction", "friction", "out"],
+    )?)?;
     let speed = match opts.get("initial-speed") {
         Some(_) => {
             let v = number(&opts, "initial-speed", 0.0)?;
@@ -1340,6 +1339,20 @@ mod tests {
                 let opts = canonical(options(&args, &known).ok().unwrap()).ok().unwrap();
                 let (c, _) = scene_config(&opts, SimConfig::default()).unwrap_or_else(|f| panic!("{}", f.message));
                 assert_eq!((o.get)(&c), v, "--{spelling}");
+            }
+        }
+        // The modes: each word of each under each spelling.
+        for m in MODE_OPTIONS.iter().filter(|m| m.cli) {
+            let words = (m.words)();
+            assert!(usage.contains(&format!("[--{} {words}]", m.flag())), "the usage lacks --{}", m.flag());
+            for word in words.split('|') {
+                for spelling in std::iter::once(m.flag()).chain(m.aliases.iter().map(|a| a.to_string())) {
+                    let opts = canonical(BTreeMap::from([(spelling.clone(), word.to_string())])).ok().unwrap();
+                    let (c, _) = scene_config(&opts, SimConfig::default()).unwrap_or_else(|f| panic!("{}", f.message));
+                    let mut expected = SimConfig::default();
+                    (m.set_word)(&mut expected, word).unwrap();
+                    assert_eq!((m.get)(&c), (m.get)(&expected), "--{spelling} {word}");
+                }
             }
         }
         let both = ["--grade".to_string(), "0.1".into(), "--road-grade".into(), "0.1".into()];

@@ -6,7 +6,7 @@
 use super::model::{FmuModel, Interface, ModelContext, ResourceLocation};
 use super::variables::{Causality, Start, VarType, VARIABLES};
 use super::vehicle::{real_parameters_markdown, VehicleModel};
-use crate::sim::{RealOption, SimConfig, OPTIONS};
+use crate::sim::{RealOption, SimConfig, MODE_OPTIONS, OPTIONS};
 
 fn model() -> VehicleModel {
     VehicleModel::new(&ModelContext {
@@ -79,6 +79,43 @@ fn each_option_is_set_and_read_through_the_fmu_and_checked_by_validate() {
     }
 }
 
+/// Every Integer parameter but `tire_convention` (a vehicle-data override the instance keeps) is a mode row
+/// with the model description's start, which `SimConfig::default` and `Options::default` hold; each code of its
+/// `sim::modes` table is set and read back through the FMU, one beyond the declared range refused.
+#[test]
+fn each_mode_is_one_row_set_and_read_through_the_fmu() {
+    let ints: Vec<_> = VARIABLES
+        .iter()
+        .filter(|v| v.causality == Causality::Parameter && v.ty == VarType::Integer && v.name != "tire_convention")
+        .collect();
+    let names = |v: &[&str]| v.join(" ");
+    assert_eq!(
+        names(&ints.iter().map(|v| v.name).collect::<Vec<_>>()),
+        names(&MODE_OPTIONS.iter().map(|m| m.name).collect::<Vec<_>>())
+    );
+    let defaults = SimConfig::default();
+    assert_eq!(SimConfig { options: crate::model::options::Options::default(), ..defaults.clone() }, defaults);
+    for (var, m) in ints.iter().zip(&MODE_OPTIONS) {
+        assert_eq!(var.start, Some(Start::Integer(m.start)), "{}", m.name);
+        let mut fmu = model();
+        assert_eq!(fmu.get_integer(var).unwrap(), m.start, "{}", m.name);
+        let (lo, hi) = (var.min.unwrap() as i32, var.max.unwrap() as i32);
+        let mut accepted = 0;
+        for code in lo..=hi {
+            let mut expected = SimConfig::default();
+            if (m.set)(&mut expected, code).is_ok() {
+                fmu.set_integer(var, code).unwrap();
+                assert_eq!((fmu.get_integer(var).unwrap(), &fmu.config), (code, &expected), "{} = {code}", m.name);
+                accepted += 1;
+            } else {
+                assert!(fmu.set_integer(var, code).is_err(), "{} = {code}", m.name);
+            }
+        }
+        assert!(accepted >= 2, "{}: a mode has choices", m.name);
+        assert!(fmu.set_integer(var, hi + 1).is_err(), "{}", m.name);
+    }
+}
+
 /// docs/fmu.md's block is `rtv options`' output (scripts/docs.sh fmu_parameters writes it); not with the
 /// test-only setting, which the docs do not hold.
 #[cfg(not(feature = "test-option"))]
@@ -107,19 +144,20 @@ fn a_setting_declared_once_in_the_model_description_is_everywhere() {
     let var = &VARIABLES[super::variables::variable_index(9999).expect("vr 9999 is a variable")];
     assert_eq!((var.name, var.causality, var.ty), ("test_setting", Causality::Parameter, VarType::Real));
     let mut fmu = model();
-    assert_eq!(fmu.get_real(var).unwrap(), 0.25, "the start value");
+    assert_eq!(fmu.get_real(var).unwrap(), 0.75, "the start value");
     fmu.set_real(var, 0.5).unwrap();
     assert_eq!((fmu.get_real(var).unwrap(), fmu.config.test_setting), (0.5, 0.5));
     let refusal = fmu.set_real(var, 2.0).unwrap_err();
     assert!(refusal.contains("test_setting 2 m is outside [0, 1] m (a test-only setting)"), "{refusal}");
-    assert_eq!(SimConfig::default().test_setting, 0.25);
+    assert_eq!(SimConfig::default().test_setting, 0.75);
     let config = SimConfig { test_setting: -1.0, ..SimConfig::default() };
     assert!(config.validate().unwrap_err().to_string().contains("test_setting -1 m is outside"));
     let xml2 = include_str!(concat!(env!("OUT_DIR"), "/model_description.xml"));
     let xml3 = fmi_layer::codegen::fmi3_model_description(xml2).unwrap();
     assert!(xml3.contains(r#"<Float64 name="test_setting" valueReference="9999""#), "the FMI 3.0 description");
     assert!(
-        real_parameters_markdown().contains("| `test_setting` | 9999 | `--test-setting`, `--test-alias` | m | 0.25 | [0, 1] |"),
+        real_parameters_markdown()
+            .contains("| `test_setting` | 9999 | `--test-setting`, `--test-alias` | m | 0.75 | [0, 1] |"),
         "{}",
         real_parameters_markdown()
     );

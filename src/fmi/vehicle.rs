@@ -16,8 +16,8 @@ use crate::model::steering::RackMotion;
 use crate::model::vehicle::Vehicle;
 use crate::sim::scenes::SceneNeeds;
 use crate::sim::{
-    modes, Channel, RackSample, RealOption, SimConfig, Simulation, OUTPUT_NAMES, REAL_OPTIONS, TOLERANCE_MAX,
-    TOLERANCE_MIN,
+    modes, Channel, ModeOption, RackSample, RealOption, SimConfig, Simulation, MODE_OPTIONS, OUTPUT_NAMES,
+    REAL_OPTIONS, TOLERANCE_MAX, TOLERANCE_MIN,
 };
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -93,27 +93,16 @@ const OUTPUT_SLOTS: [Option<Channel>; VARIABLES.len()] = {
     slots
 };
 
-/// For each variable of the model description, its row of the options table (`sim::OPTIONS`, generated from
-/// the same description: every Real parameter has one), matched by name at compile time.
-const OPTION_SLOTS: [Option<usize>; VARIABLES.len()] = {
-    let mut slots = [None; VARIABLES.len()];
-    let mut i = 0;
-    while i < VARIABLES.len() {
-        let mut j = 0;
-        while j < REAL_OPTIONS.len() && !str_eq(REAL_OPTIONS[j].name, VARIABLES[i].name) {
-            j += 1;
-        }
-        if j < REAL_OPTIONS.len() {
-            slots[i] = Some(j);
-        }
-        i += 1;
-    }
-    slots
-};
-
-/// The option a variable sets (its Real parameters'), bound by the table's `get` and `set`.
+/// The option a variable sets (every Real parameter has one: the table and the variables are generated from
+/// the same description), bound by the table's `get` and `set`.
 fn real_option(var: &Variable) -> Option<&'static RealOption> {
-    OPTION_SLOTS[var.index].map(|j| &REAL_OPTIONS[j])
+    REAL_OPTIONS.iter().find(|o| o.name == var.name)
+}
+
+/// The mode a variable chooses (the Integer parameters but `tire_convention`, which overrides the vehicle
+/// data and is kept by the instance, not in `SimConfig`).
+fn mode_option(var: &Variable) -> Option<&'static ModeOption> {
+    MODE_OPTIONS.iter().find(|o| o.name == var.name)
 }
 
 /// docs/fmu.md's table of the Real parameters, written from the options table (`sim::OPTIONS`) and the
@@ -480,19 +469,13 @@ impl FmuModel for VehicleModel {
     }
 
     fn get_integer(&self, var: &Variable) -> Result<i32, String> {
-        let (c, o) = (&self.config, &self.config.options);
         Ok(match var.var {
-            Var::Parameter(P::SpeedMode) => modes::SPEED_MODES.code(o.speed_mode),
-            Var::Parameter(P::Formulation) => modes::FORMULATIONS.code(o.formulation),
-            Var::Parameter(P::Integrator) => modes::INTEGRATORS.code(c.integrator),
-            Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.code(o.slip),
-            Var::Parameter(P::Road) => modes::ROADS.code(c.road),
-            Var::Parameter(P::Contact) => modes::CONTACTS.code(o.contact),
-            Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.code(c.accuracy),
             Var::Parameter(P::TireConvention) => modes::TIRE_CONVENTIONS.code(self.tire_convention),
-            // The Real and String parameters.
-            Var::Parameter(_)
-            | Var::Input(_)
+            Var::Parameter(_) => match mode_option(var) {
+                Some(mode) => (mode.get)(&self.config),
+                None => return Err(format!("{} is not an Integer of this model", var.name)),
+            },
+            Var::Input(_)
             | Var::Local(_)
             | Var::Output(_)
             | Var::State(_)
@@ -561,19 +544,14 @@ impl FmuModel for VehicleModel {
     }
 
     fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String> {
-        let c = &mut self.config;
         match var.var {
-            Var::Parameter(P::SpeedMode) => modes::SPEED_MODES.by_code(value).map(|m| c.options.speed_mode = m),
-            Var::Parameter(P::Formulation) => modes::FORMULATIONS.by_code(value).map(|f| c.options.formulation = f),
-            Var::Parameter(P::Integrator) => modes::INTEGRATORS.by_code(value).map(|i| c.integrator = i),
-            Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.by_code(value).map(|m| c.options.slip = m),
-            Var::Parameter(P::Road) => modes::ROADS.by_code(value).map(|r| c.road = r),
-            Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|m| c.options.contact = m),
-            Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.by_code(value).map(|a| c.accuracy = a),
             Var::Parameter(P::TireConvention) => {
                 modes::TIRE_CONVENTIONS.by_code(value).map(|t| self.tire_convention = t)
             }
-            // The Real and String parameters.
+            // The options table's (`sim::MODE_OPTIONS`, through the `sim::modes` tables).
+            Var::Parameter(_) if mode_option(var).is_some() => {
+                (mode_option(var).expect("matched").set)(&mut self.config, value)
+            }
             Var::Parameter(_)
             | Var::Input(_)
             | Var::Local(_)

@@ -2,6 +2,7 @@
 //! ranges (generated from the model description) and the one check of them, `SimConfig::validate`.
 
 use super::inputs;
+use super::modes;
 use crate::error::{Cause, ModelError};
 use crate::integrate::{substeps, IntegratorKind};
 use crate::model::options::Options;
@@ -142,7 +143,37 @@ pub struct RealOption {
     pub set: fn(&mut SimConfig, f64),
 }
 
-// The table: `OPTIONS`, one row per Real parameter of the model description (`fmi_layer::codegen::options_table`).
+/// One mode of the run (an Integer parameter), generated from the model description (`MODE_OPTIONS`): its
+/// FMU name (also its command-line flag, with dashes), default code (`start`), and its place in `SimConfig`
+/// through its `sim::modes` table (codes and command-line words).
+#[derive(Debug, Clone, Copy)]
+pub struct ModeOption {
+    pub name: &'static str,
+    /// The default code (the model description's start value).
+    pub start: i32,
+    /// Older command-line spellings, without `--` (still accepted).
+    pub aliases: &'static [&'static str],
+    /// Whether `rtv scene` takes it (`road` is not: `--road` names a road file there, and the bump course is
+    /// the `bump` scene).
+    pub cli: bool,
+    pub description: &'static str,
+    pub get: fn(&SimConfig) -> i32,
+    pub set: fn(&mut SimConfig, i32) -> Result<(), String>,
+    /// Sets it by its command-line word.
+    pub set_word: fn(&mut SimConfig, &str) -> Result<(), String>,
+    /// The words, "a|b|c".
+    pub words: fn() -> String,
+}
+
+impl ModeOption {
+    /// The command-line flag, without `--`: the name with dashes.
+    pub fn flag(&self) -> String {
+        self.name.replace('_', "-")
+    }
+}
+
+// The tables: `REAL_OPTIONS` and `MODE_OPTIONS`, one row per Real parameter and per mode of the model
+// description (`fmi_layer::codegen::options_table`).
 include!(concat!(env!("OUT_DIR"), "/options_table.rs"));
 /// The Real options (`REAL_OPTIONS`, generated).
 pub const OPTIONS: &[RealOption] = &REAL_OPTIONS;
@@ -283,6 +314,9 @@ impl Default for SimConfig {
         };
         for o in OPTIONS {
             (o.set)(&mut config, o.start);
+        }
+        for m in &MODE_OPTIONS {
+            (m.set)(&mut config, m.start).expect("a mode's start value is one of its codes");
         }
         config
     }
