@@ -96,10 +96,25 @@ fn usage() -> String {
         write!(help, "\n  --{}{also}: {}; {}, default {}", o.flag(), o.summary, o.range_text(), Short(o.start))
             .expect("a String");
     }
-    USAGE
-        .replace("{modes}", &modes.join(" "))
-        .replace("{settings}", &flags.join(" "))
+    USAGE.replace("{modes}", &wrapped(&modes)).replace("{settings}", &wrapped(&flags))
         .replace("{settings_help}", help.trim_end())
+}
+
+/// Usage items on lines of about 100 characters, continued under the command's options.
+fn wrapped(items: &[String]) -> String {
+    let mut lines = vec![String::new()];
+    for item in items {
+        let line = lines.last_mut().expect("one line");
+        if !line.is_empty() && line.len() + item.len() > 100 {
+            lines.push(item.clone());
+        } else {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(item);
+        }
+    }
+    lines.join("\n            ")
 }
 
 /// The value's placeholder in the usage: its unit (`M/S`), `VALUE` for a number without one.
