@@ -38,6 +38,7 @@ catalogue|check|docs/vehicle_file.md, block \"catalogue\" (a Chrono data folder,
 hop_resolution|check|docs/hop_resolution_{rk4,imex,stiff_rk4,stiff_imex}.md (compiled into the library)|cargo run --release --example hop_resolution -- ... (each doc's first line)
 references|check|tests/reference/README.md and the reference traces tests/reference/*.csv|bash scripts/make_references.sh
 instructions|check|docs/results.md, block \"instructions\"|bash scripts/instructions.sh
+fmu_parameters|check|docs/fmu.md, block \"real-parameters\" (the options table of the model description)|cargo run --release --bin rtv -- options
 scene_costs|check|docs/results.md, blocks \"scene-costs\", \"scene-costs-steady\", \"scene-costs-imex\"|bash scripts/pruning_costs.sh (with the options each block names)
 manoeuvres|write|docs/manoeuvres.png|bash scripts/manoeuvres.sh
 ssp|write|docs/ssp_dlc.png|bash scripts/ssp.sh
@@ -120,6 +121,7 @@ run_hop_resolution() {
     printf '%s\n' hop_resolution_rk4.md hop_resolution_imex.md hop_resolution_stiff_rk4.md hop_resolution_stiff_imex.md
 }
 run_references() { bash scripts/make_references.sh >/dev/null; echo ../tests/reference/README.md; }
+run_fmu_parameters() { block fmu.md real-parameters $rtv options; echo fmu.md; }
 run_instructions() { block results.md instructions bash scripts/instructions.sh; echo results.md; }
 run_scene_costs() {
     block results.md scene-costs bash scripts/pruning_costs.sh

@@ -200,9 +200,10 @@ fn at_speed_the_vehicle_starts_in_steady_rolling_on_the_road() {
         let loads: f64 = Channel::TIRE_FORCE[2].iter().map(|&c| o[c]).sum();
         let ground_vx = sim.state()[idx::V0];
         println!("{name}: acceleration {:?}, loads {loads:.3} N, ground v_x {ground_vx:.9} m/s", a.as_slice());
-        // The speed hold holds the speed along the horizontal heading: it is its target (100 km/h, the
-        // default) to round-off.
-        assert!((ground_vx - 100.0 / 3.6).abs() < 1e-9, "{name}: {ground_vx}");
+        // The speed hold holds the speed along the horizontal heading: it is its target (the default, the
+        // model description's start of initial_speed, 27.7778 m/s) to round-off.
+        let target = SimConfig::default().initial_speed;
+        assert!((ground_vx - target).abs() < 1e-9, "{name}: {ground_vx}");
         if name.starts_with("bank") {
             let n = V3::new(0.0, -angle.tan(), 1.0).normalize();
             assert!(a.dot(&n).abs() < 1e-6, "{name}: {a:?}");

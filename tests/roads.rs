@@ -248,7 +248,7 @@ fn manoeuvres_and_scenes_run_on_random_roads_and_wet_ones() {
         rtv(&["manoeuvre", "step-steer", "--friction", "0.5", "--road", "iso8608:A:2:300", "--out", out]);
     assert!(ok, "{stderr}");
     let (ok, stderr) = rtv(&["manoeuvre", "step-steer", "--friction", "0"]);
-    assert!(!ok && stderr.contains("road friction 0"), "{stderr}");
+    assert!(!ok && stderr.contains("road_friction 0"), "{stderr}");
     let _ = std::fs::remove_file(out);
 }
 

@@ -90,7 +90,7 @@ fn bad_requests_are_named_before_anything_runs() {
         ),
         (
             serde_json::json!({"case": "jturn", "parameters": {"road_friction": 7.0}}),
-            "road_friction must be in",
+            "road_friction 7 is outside [0.05, 2]",
             Some("/parameters/road_friction"),
         ),
         (

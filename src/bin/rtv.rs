@@ -24,7 +24,9 @@ use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
 use rt_vehicle::sim::calibration;
 use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
-use rt_vehicle::sim::{modes, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, OUTPUT_NAMES};
+use rt_vehicle::sim::{
+    modes, RealOption, Short, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, MODE_OPTIONS, OPTIONS, OUTPUT_NAMES,
+};
 use rt_vehicle::studies::kc;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -33,13 +35,12 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 const USAGE: &str = "usage:
-  rtv scene <bump|jturn|sine> [--formulation synthesis|conventional|augmented] [--integrator ab3|rk4|dopri5|imex-ab3]
-            [--tolerance TOL] [--step S] [--accuracy refuse|warn] [--end T] [--output-interval DT]
-            [--speed coast|hold] [--slip relaxation|steady]
+  rtv scene <bump|jturn|sine> {modes}
+            [--end T] [--output-interval DT]
             [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
-            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--initial-speed M_PER_S] [--bump-height M]
-            [--bump-length M] [--grade RISE/RUN] [--cross-slope RISE/RUN] [--brake N_M] [--drive N_M] [--contact auto|point|envelope] [--keep-all]
-            [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]] [--friction SCALE]
+            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--brake N_M] [--drive N_M] [--keep-all]
+            [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]]
+            {settings}
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
@@ -49,7 +50,7 @@ const USAGE: &str = "usage:
   rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle FILE.json] [--tire FILE.tir]
   rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
             [--tire FILE.tir] [--tire-convention mfeval|chrono] [--road FILE.crg|FILE.xodr|iso8608:...]
-            [--friction SCALE] [--out FILE.csv]
+            [--road-friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
   rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json [--tire FILE.tir]
   rtv import-chrono --all DIR [--out-dir OUT]   every vehicle of a Chrono data folder: imported or refused, one line each
@@ -64,9 +65,66 @@ const USAGE: &str = "usage:
             [--out curves.csv]
   rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--tire-convention mfeval|chrono] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
             [--figure ROOT_LOCUS.png] [--iso4138 on|off] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]
+  rtv options   the settings table (markdown: docs/fmu.md's Real parameters, their flags here)
 environment:
   RTV_PARSE_ONLY=1   parse and check the arguments (the files they name read, values against their ranges),
-                     then exit 0 without running the command";
+                     then exit 0 without running the command
+{settings_help}";
+
+/// The usage: `USAGE` with `rtv scene`'s settings from the options table (`sim::OPTIONS`, generated from the
+/// model description: the FMU's Real parameters of the same names).
+fn usage() -> String {
+    let flags: Vec<String> = OPTIONS.iter().map(|o| format!("[--{} {}]", o.flag(), metavar(o))).collect();
+    let modes: Vec<String> =
+        MODE_OPTIONS.iter().filter(|m| m.cli).map(|m| format!("[--{} {}]", m.flag(), (m.words)())).collect();
+    let mut help = String::from(
+        "rtv scene's settings (the FMU's parameters of the same name, docs/fmu.md; the defaults are the FMU's, a scene\n  declares its own speed):",
+    );
+    let also = |aliases: &[&str]| {
+        let aliases: Vec<String> = aliases.iter().map(|a| format!("--{a}")).collect();
+        if aliases.is_empty() {
+            String::new()
+        } else {
+            format!(" (also {})", aliases.join(", "))
+        }
+    };
+    for m in MODE_OPTIONS.iter().filter(|m| m.cli && !m.aliases.is_empty()) {
+        write!(help, "\n  --{}{}", m.flag(), also(m.aliases)).expect("a String");
+    }
+    for o in OPTIONS {
+        let also = also(o.aliases);
+        write!(help, "\n  --{}{also}: {}; {}, default {}", o.flag(), o.summary, o.range_text(), Short(o.start))
+            .expect("a String");
+    }
+    USAGE.replace("{modes}", &wrapped(&modes)).replace("{settings}", &wrapped(&flags))
+        .replace("{settings_help}", help.trim_end())
+}
+
+/// Usage items on lines of about 100 characters, continued under the command's options.
+fn wrapped(items: &[String]) -> String {
+    let mut lines = vec![String::new()];
+    for item in items {
+        let line = lines.last_mut().expect("one line");
+        if !line.is_empty() && line.len() + item.len() > 100 {
+            lines.push(item.clone());
+        } else {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(item);
+        }
+    }
+    lines.join("\n            ")
+}
+
+/// The value's placeholder in the usage: its unit (`M/S`), `VALUE` for a number without one.
+fn metavar(o: &RealOption) -> String {
+    if o.unit == "1" {
+        "VALUE".into()
+    } else {
+        o.unit.to_uppercase()
+    }
+}
 
 struct Failure {
     message: String,
@@ -179,20 +237,11 @@ fn csv_writer(path: Option<&String>) -> Result<Box<dyn Write>, Failure> {
 /// The run options: `base` (the scene's declaration) with the options given on top.
 fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(SimConfig, f64), Failure> {
     let mut c = base;
-    if let Some(f) = opts.get("formulation") {
-        c.options.formulation = modes::FORMULATIONS.by_name(f).map_err(bad)?;
-    }
-    if let Some(i) = opts.get("integrator") {
-        c.integrator = modes::INTEGRATORS.by_name(i).map_err(bad)?;
-    }
-    if let Some(s) = opts.get("speed") {
-        c.options.speed_mode = modes::SPEED_MODES.by_name(s).map_err(bad)?;
-    }
-    if let Some(s) = opts.get("contact") {
-        c.options.contact = modes::CONTACTS.by_name(s).map_err(bad)?;
-    }
-    if let Some(s) = opts.get("slip") {
-        c.options.slip = modes::SLIP_MODELS.by_name(s).map_err(bad)?;
+    // The table's modes given (`canonical` renamed their older spellings).
+    for m in MODE_OPTIONS.iter().filter(|m| m.cli) {
+        if let Some(word) = opts.get(&m.flag()) {
+            (m.set_word)(&mut c, word).map_err(bad)?;
+        }
     }
     if let Some(r) = opts.get("ride-height") {
         // retuned: spring free lengths set so that the design position is the static equilibrium (§8.1);
@@ -216,35 +265,36 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
             Some(_) => {
                 return Err(bad(format!(
                     "--tolerance {t}: only dopri5 (error control) and imex-ab3 (its error monitor) take a tolerance; \
-                     rk4 and ab3 step at --step"
+                     rk4 and ab3 step at --internal-step"
                 )))
             }
         }
-        c.tolerance = number(opts, "tolerance", c.tolerance)?;
     }
-    // Without --step the step is automatic (`SimConfig::internal_step`): the largest the step check accepts,
-    // at most the scheme's default. The error-controlled integrator's largest step defaults to the output
-    // interval (each interval ends on an output point anyway).
-    let default_step = if c.integrator.is_error_controlled() { interval } else { AUTOMATIC_STEP };
-    c.internal_step = number(opts, "step", default_step)?;
-    if opts.contains_key("step") && c.automatic_step() {
-        return Err(bad("--step: a fixed step must be positive (leave --step out for the automatic step)"));
+    // Without --internal-step the step is automatic (`SimConfig::internal_step`): the largest the step check
+    // accepts, at most the scheme's default. The error-controlled integrator's largest step defaults to the
+    // output interval (each interval ends on an output point anyway).
+    c.internal_step = if c.integrator.is_error_controlled() { interval } else { AUTOMATIC_STEP };
+    // The table's settings given (`canonical` renamed their older spellings).
+    for o in OPTIONS {
+        let flag = o.flag();
+        if opts.contains_key(&flag) {
+            (o.set)(&mut c, number(opts, &flag, 0.0)?);
+        }
     }
-    if let Some(a) = opts.get("accuracy") {
-        c.accuracy = modes::ACCURACY_POLICIES.by_name(a).map_err(bad)?;
+    if opts.contains_key("internal-step") && c.automatic_step() {
+        return Err(bad(
+            "--internal-step: a fixed step must be positive (leave --internal-step out for the automatic step)",
+        ));
     }
-    c.options.slope = [number(opts, "grade", 0.0)?, number(opts, "cross-slope", 0.0)?];
-    c.bump = [number(opts, "bump-height", c.bump[0])?, number(opts, "bump-length", c.bump[1])?];
     if let Some(road) = opts.get("road") {
         c.road_file = Some(road.clone());
     }
-    c.options.road_friction = number(opts, "friction", c.options.road_friction)?;
     c.validate().map_err(|e| bad(refused_option(&c, opts).map_or(e.to_string(), |o| format!("{o}: {e}"))))?;
     // The step asked for is the step taken: it must divide the output interval.
     let ratio = interval / c.step_bound(interval);
     if !c.automatic_step() && ((ratio - ratio.round()).abs() > 1e-9 * ratio.max(1.0) || ratio.round() < 1.0) {
         return Err(bad(format!(
-            "--step {} does not divide the output interval {interval} (use a step such as {})",
+            "--internal-step {} does not divide the output interval {interval} (use a step such as {})",
             c.internal_step,
             interval / ratio.ceil()
         )));
@@ -256,28 +306,51 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
 
 /// The option behind a `SimConfig::validate` refusal: the one given whose field, put back to its default,
 /// changes the refusal (validate refuses the first field out of its range, and every default is in range).
-fn refused_option(c: &SimConfig, opts: &BTreeMap<String, String>) -> Option<&'static str> {
-    type Reset = fn(&mut SimConfig, &SimConfig);
-    let fields: [(&'static str, Reset); 9] = [
-        ("--step", |c, d| c.internal_step = d.internal_step),
-        // Without --step, the error-controlled integrator's largest step is the output interval.
-        ("--output-interval", |c, d| c.internal_step = d.internal_step),
-        ("--initial-speed", |c, d| c.initial_speed = d.initial_speed),
-        ("--friction", |c, d| c.options.road_friction = d.options.road_friction),
-        ("--grade", |c, d| c.options.slope[0] = d.options.slope[0]),
-        ("--cross-slope", |c, d| c.options.slope[1] = d.options.slope[1]),
-        ("--tolerance", |c, d| c.tolerance = d.tolerance),
-        ("--bump-height", |c, d| c.bump[0] = d.bump[0]),
-        ("--bump-length", |c, d| c.bump[1] = d.bump[1]),
-    ];
+fn refused_option(c: &SimConfig, opts: &BTreeMap<String, String>) -> Option<String> {
     let refusal = c.validate().err()?.to_string();
     let defaults = SimConfig::default();
-    let changes = |reset: &Reset| {
+    let changes = |o: &RealOption| {
         let mut t = c.clone();
-        reset(&mut t, &defaults);
+        (o.set)(&mut t, (o.get)(&defaults));
         t.validate().err().map(|e| e.to_string()).as_ref() != Some(&refusal)
     };
-    fields.iter().find(|(option, reset)| opts.contains_key(&option[2..]) && changes(reset)).map(|(option, _)| *option)
+    let given = OPTIONS.iter().find(|o| opts.contains_key(&o.flag()) && changes(o)).map(|o| format!("--{}", o.flag()));
+    // Without --internal-step, the error-controlled integrator's largest step is the output interval.
+    given.or_else(|| opts.contains_key("output-interval").then(|| "--output-interval".to_string()))
+}
+
+/// The table's settings among `--key value` pairs (`options`) under their one name: an older spelling (an
+/// alias, `--grade`) renamed to the name's flag (`--road-grade`); both given is refused.
+fn canonical(mut opts: BTreeMap<String, String>) -> Result<BTreeMap<String, String>, Failure> {
+    let spellings = OPTIONS.iter().map(|o| (o.flag(), o.aliases));
+    for (flag, aliases) in spellings.chain(MODE_OPTIONS.iter().filter(|m| m.cli).map(|m| (m.flag(), m.aliases))) {
+        for alias in aliases {
+            if let Some(v) = opts.remove(*alias) {
+                if opts.contains_key(&flag) {
+                    return Err(bad(format!("--{alias} and --{flag} name the same setting: give one")));
+                }
+                opts.insert(flag.clone(), v);
+            }
+        }
+    }
+    Ok(opts)
+}
+
+/// The flags of the table's settings and their older spellings, for `options`' list of known keys.
+fn setting_flags() -> Vec<String> {
+    let spellings = OPTIONS.iter().map(|o| (o.flag(), o.aliases));
+    let spellings = spellings.chain(MODE_OPTIONS.iter().filter(|m| m.cli).map(|m| (m.flag(), m.aliases)));
+    spellings.flat_map(|(flag, aliases)| std::iter::once(flag).chain(aliases.iter().map(|a| a.to_string()))).collect()
+}
+
+/// `rtv options`: the settings table as docs/fmu.md writes it (scripts/docs.sh fmu_parameters).
+fn cmd_options(args: &[String]) -> Result<(), Failure> {
+    options(args, &[])?;
+    if parse_only("options") {
+        return Ok(());
+    }
+    print!("{}", rt_vehicle::fmi::vehicle::real_parameters_markdown());
+    Ok(())
 }
 
 /// A scene run: at most an hour of driving (about 1 min of CPU at the default step) and 1e7 CSV rows.
@@ -290,36 +363,22 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     // --keep-all (a switch, no value): run without leaving out what the scene does not need, to compare.
     let keep_all = args[1..].iter().any(|a| a == "--keep-all");
     let rest: Vec<String> = args[1..].iter().filter(|a| *a != "--keep-all").cloned().collect();
-    let opts = options(
-        &rest,
-        &[
-            "formulation",
-            "integrator",
-            "tolerance",
-            "step",
-            "accuracy",
-            "end",
-            "output-interval",
-            "speed",
-            "slip",
-            "amplitude",
-            "ride-height",
-            "vehicle",
-            "tire",
-            "tire-convention",
-            "initial-speed",
-            "bump-height",
-            "bump-length",
-            "grade",
-            "cross-slope",
-            "brake",
-            "drive",
-            "contact",
-            "road",
-            "friction",
-            "out",
-        ],
-    )?;
+    let settings = setting_flags();
+    let mut known: Vec<&str> = settings.iter().map(String::as_str).collect();
+    known.extend([
+        "end",
+        "output-interval",
+        "amplitude",
+        "ride-height",
+        "vehicle",
+        "tire",
+        "tire-convention",
+        "brake",
+        "drive",
+        "road",
+        "out",
+    ]);
+    let opts = canonical(options(&rest, &known)?)?;
     let amplitude = match opts.get("amplitude") {
         Some(a) => Amplitude::parse(a).ok_or_else(|| {
             bad(format!(
@@ -340,13 +399,12 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
     }
     let mut scene = Scene::for_vehicle(kind, amplitude, &data).map_err(|e| bad(format!("--amplitude: {e}")))?;
     // The scene's declaration decides the configuration; options given override it.
-    let (mut config, interval) = scene_config(&opts, scene.config_for(&SimConfig::default()))?;
+    let (config, interval) = scene_config(&opts, scene.config_for(&SimConfig::default()))?;
     if opts.contains_key("brake") || opts.contains_key("drive") {
         scene.needs = scene.needs.with_torques();
     }
-    scene.speed = number(&opts, "initial-speed", scene.speed)?;
-    config.initial_speed = scene.speed;
-    config.validate().map_err(|e| bad(format!("--initial-speed: {e}")))?;
+    // --initial-speed (checked with the others by `scene_config`) is the scene's speed.
+    scene.speed = config.initial_speed;
     // Wheel torques on every wheel from the start (N·m): brake ≥ 0 is a clamp capacity.
     let brake = number(&opts, "brake", 0.0)?;
     let drive = number(&opts, "drive", 0.0)?;
@@ -654,8 +712,10 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     let names: Vec<&str> = Manoeuvre::ALL.iter().map(|m| m.name()).collect();
     let name = args.first().ok_or_else(|| bad(format!("manoeuvre: which one? {}", names.join(", "))))?;
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
-    let opts =
-        options(&args[1..], &["initial-speed", "vehicle", "tire", "tire-convention", "road", "friction", "out"])?;
+    let opts = canonical(options(
+        &args[1..],
+        &["initial-speed", "vehicle", "tire", "tire-convention", "road", "road-friction", "friction", "out"],
+    )?)?;
     let speed = match opts.get("initial-speed") {
         Some(_) => {
             let v = number(&opts, "initial-speed", 0.0)?;
@@ -671,7 +731,7 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
         check_road("--road", road)?;
     }
     let ground =
-        rt_vehicle::studies::manoeuvres::Ground::new(opts.get("road").cloned(), number(&opts, "friction", 1.0)?);
+        rt_vehicle::studies::manoeuvres::Ground::new(opts.get("road").cloned(), number(&opts, "road-friction", 1.0)?);
     if parse_only("manoeuvre") {
         return Ok(());
     }
@@ -1235,8 +1295,9 @@ fn main() -> ExitCode {
         Some("road") => cmd_road(&args[1..]),
         Some("ride") => cmd_ride(&args[1..]),
         Some("linearize") => cmd_linearize(&args[1..]),
+        Some("options") => cmd_options(&args[1..]),
         Some("--help") | Some("-h") | Some("help") => {
-            println!("{USAGE}");
+            println!("{}", usage());
             return ExitCode::SUCCESS;
         }
         Some(other) => Err(bad(format!("unknown command '{other}'"))),
@@ -1249,7 +1310,7 @@ fn main() -> ExitCode {
                 eprintln!("rtv: {}", f.message);
             }
             if f.usage {
-                eprintln!("{USAGE}");
+                eprintln!("{}", usage());
                 ExitCode::from(2)
             } else {
                 ExitCode::from(1)
@@ -1271,7 +1332,45 @@ mod tests {
             modes::SLIP_MODELS.names(),
             modes::CONTACTS.names(),
         ] {
-            assert!(USAGE.contains(&names), "the usage lacks {names}");
+            assert!(usage().contains(&names), "the usage lacks {names}");
         }
+    }
+
+    /// Every setting of the options table (generated from the model description) is a flag of `rtv scene`
+    /// under its FMU name and its older spellings, in the usage and in the parsing, and reaches the table's
+    /// field.
+    #[test]
+    fn every_setting_of_the_table_is_a_flag_of_rtv_scene_under_each_of_its_spellings() {
+        let usage = usage();
+        for o in OPTIONS {
+            assert!(usage.contains(&format!("[--{} ", o.flag())), "the usage lacks --{}", o.flag());
+            let v = o.min + 0.25 * (o.max - o.min);
+            for spelling in std::iter::once(o.flag()).chain(o.aliases.iter().map(|a| a.to_string())) {
+                assert!(usage.contains(&format!("--{spelling}")), "the usage lacks --{spelling}");
+                let args = [format!("--{spelling}"), v.to_string(), "--output-interval".into(), "0.1".into()];
+                let known = setting_flags();
+                let mut known: Vec<&str> = known.iter().map(String::as_str).collect();
+                known.push("output-interval");
+                let opts = canonical(options(&args, &known).ok().unwrap()).ok().unwrap();
+                let (c, _) = scene_config(&opts, SimConfig::default()).unwrap_or_else(|f| panic!("{}", f.message));
+                assert_eq!((o.get)(&c), v, "--{spelling}");
+            }
+        }
+        // The modes: each word of each under each spelling.
+        for m in MODE_OPTIONS.iter().filter(|m| m.cli) {
+            let words = (m.words)();
+            assert!(usage.contains(&format!("[--{} {words}]", m.flag())), "the usage lacks --{}", m.flag());
+            for word in words.split('|') {
+                for spelling in std::iter::once(m.flag()).chain(m.aliases.iter().map(|a| a.to_string())) {
+                    let opts = canonical(BTreeMap::from([(spelling.clone(), word.to_string())])).ok().unwrap();
+                    let (c, _) = scene_config(&opts, SimConfig::default()).unwrap_or_else(|f| panic!("{}", f.message));
+                    let mut expected = SimConfig::default();
+                    (m.set_word)(&mut expected, word).unwrap();
+                    assert_eq!((m.get)(&c), (m.get)(&expected), "--{spelling} {word}");
+                }
+            }
+        }
+        let both = ["--grade".to_string(), "0.1".into(), "--road-grade".into(), "0.1".into()];
+        assert!(canonical(options(&both, &["grade", "road-grade"]).ok().unwrap()).is_err());
     }
 }

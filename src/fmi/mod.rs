@@ -18,4 +18,6 @@ pub mod vehicle;
 pub use model::{FmuModel, ModelContext, ResourceLocation, StepFailure};
 
 #[cfg(test)]
+mod option_tests;
+#[cfg(test)]
 mod tests;

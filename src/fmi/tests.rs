@@ -635,8 +635,8 @@ fn deserialized_states_are_validated_like_the_setters() {
     assert!(value.pointer(&format!("{sim}/vehicle")).is_none(), "the vehicle is data, not state");
     let fp = value.pointer(&format!("{sim}/vehicle_fingerprint")).unwrap().as_u64().unwrap();
     let cases = [
-        (edited("/core/model/config/internal_step", (-1.0).into()), "internal step"),
-        (edited(&format!("{sim}/config/internal_step"), 1e-9.into()), "internal step"),
+        (edited("/core/model/config/internal_step", (-1.0).into()), "internal_step"),
+        (edited(&format!("{sim}/config/internal_step"), 1e-9.into()), "internal_step"),
         (edited("/core/model/brake/1", (-5.0).into()), "brake torque"),
         (edited(&format!("{sim}/brake/1"), (-5.0).into()), "brake torques"),
         (edited("/core/model/config/formulation", "Warp".into()), "Warp"),

@@ -15,7 +15,10 @@ use crate::model::road_iso8608::Iso8608;
 use crate::model::steering::RackMotion;
 use crate::model::vehicle::Vehicle;
 use crate::sim::scenes::SceneNeeds;
-use crate::sim::{modes, Channel, RackSample, SimConfig, Simulation, OUTPUT_NAMES, TOLERANCE_MAX, TOLERANCE_MIN};
+use crate::sim::{
+    modes, Channel, ModeOption, RackSample, RealOption, SimConfig, Simulation, MODE_OPTIONS, OUTPUT_NAMES,
+    REAL_OPTIONS, TOLERANCE_MAX, TOLERANCE_MIN,
+};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
 
@@ -90,20 +93,48 @@ const OUTPUT_SLOTS: [Option<Channel>; VARIABLES.len()] = {
     slots
 };
 
+/// The option a variable sets (every Real parameter has one: the table and the variables are generated from
+/// the same description), bound by the table's `get` and `set`.
+fn real_option(var: &Variable) -> Option<&'static RealOption> {
+    REAL_OPTIONS.iter().find(|o| o.name == var.name)
+}
+
+/// The mode a variable chooses (the Integer parameters but `tire_convention`, which overrides the vehicle
+/// data and is kept by the instance, not in `SimConfig`).
+fn mode_option(var: &Variable) -> Option<&'static ModeOption> {
+    MODE_OPTIONS.iter().find(|o| o.name == var.name)
+}
+
+/// docs/fmu.md's table of the Real parameters, written from the options table (`sim::OPTIONS`) and the
+/// variable table, both generated from the model description: name, value reference, `rtv scene`'s flag (and
+/// its older spellings), unit, start, range, description. Printed by `rtv options` (scripts/docs.sh
+/// `fmu_parameters`); a test compares it with docs/fmu.md.
+pub fn real_parameters_markdown() -> String {
+    use crate::sim::Short;
+    let mut table = String::from(
+        "| parameter | vr | `rtv scene` flag | unit | start | range | meaning |\n|---|---|---|---|---|---|---|\n",
+    );
+    for o in &REAL_OPTIONS {
+        let vr = VARIABLES.iter().find(|v| v.name == o.name).expect("every option is a variable").vr;
+        let mut flags = vec![format!("`--{}`", o.flag())];
+        flags.extend(o.aliases.iter().map(|a| format!("`--{a}`")));
+        let unit = if o.unit == "1" { "" } else { o.unit };
+        table.push_str(&format!(
+            "| `{}` | {vr} | {} | {unit} | {} | [{}, {}] | {} |\n",
+            o.name,
+            flags.join(", "),
+            Short(o.start),
+            Short(o.min),
+            Short(o.max),
+            o.description.replace('|', "\\|")
+        ));
+    }
+    table
+}
+
 /// The channel of an output variable.
 fn output_channel(var: &Variable) -> Channel {
     OUTPUT_SLOTS[var.index].expect("an output variable is a channel (OUTPUT_SLOTS)")
-}
-
-/// `value` if it lies in the variable's declared [min, max] (its variable table, generated from the model
-/// description: the one copy of the range), else the message naming it.
-fn ranged(var: &Variable, value: f64) -> Result<f64, String> {
-    let (lo, hi) = (var.min.unwrap_or(f64::NEG_INFINITY), var.max.unwrap_or(f64::INFINITY));
-    if (lo..=hi).contains(&value) {
-        Ok(value)
-    } else {
-        Err(format!("{} must be in [{lo:e}, {hi:e}] {}", var.name, var.unit.unwrap_or("")).trim_end().to_string())
-    }
 }
 
 /// Slot of a steering input in `VehicleModel::steering`.
@@ -418,7 +449,6 @@ impl FmuModel for VehicleModel {
     }
 
     fn get_real(&self, var: &Variable) -> Result<f64, String> {
-        let c = &self.config;
         Ok(match var.var {
             Var::Input(i) => match input_slot(i) {
                 InputSlot::Steering(input) => self.steering[steering_slot(input)],
@@ -429,57 +459,23 @@ impl FmuModel for VehicleModel {
             Var::State(i) => self.initialized(var)?.full_state_value(i),
             Var::Derivative(i) => self.evaluation(var)?.0[i],
             Var::EventIndicator(i) => self.evaluation(var)?.1[i],
-            Var::Parameter(P::InitialSpeed) => c.initial_speed,
-            Var::Parameter(P::InternalStep) => c.internal_step,
-            Var::Parameter(P::RoadGrade) => c.options.slope[0],
-            Var::Parameter(P::RoadCrossSlope) => c.options.slope[1],
-            Var::Parameter(P::BumpHeight) => c.bump[0],
-            Var::Parameter(P::BumpLength) => c.bump[1],
-            Var::Parameter(P::Tolerance) => c.tolerance,
-            Var::Parameter(P::RoadFriction) => c.options.road_friction,
-            Var::Parameter(
-                P::SpeedMode
-                | P::Formulation
-                | P::Integrator
-                | P::SlipModel
-                | P::Road
-                | P::VehicleFile
-                | P::TireFile
-                | P::RoadFile
-                | P::Contact
-                | P::AccuracyPolicy
-                | P::TireConvention,
-            ) => return Err(format!("{} is not a Real of this model", var.name)),
+            Var::Parameter(_) => match real_option(var) {
+                Some(option) => (option.get)(&self.config),
+                None => return Err(format!("{} is not a Real of this model", var.name)),
+            },
             Var::Local(L::StepCpuTime) => self.step_cpu_time,
             Var::Output(_) => self.output(var)?,
         })
     }
 
     fn get_integer(&self, var: &Variable) -> Result<i32, String> {
-        let (c, o) = (&self.config, &self.config.options);
         Ok(match var.var {
-            Var::Parameter(P::SpeedMode) => modes::SPEED_MODES.code(o.speed_mode),
-            Var::Parameter(P::Formulation) => modes::FORMULATIONS.code(o.formulation),
-            Var::Parameter(P::Integrator) => modes::INTEGRATORS.code(c.integrator),
-            Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.code(o.slip),
-            Var::Parameter(P::Road) => modes::ROADS.code(c.road),
-            Var::Parameter(P::Contact) => modes::CONTACTS.code(o.contact),
-            Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.code(c.accuracy),
             Var::Parameter(P::TireConvention) => modes::TIRE_CONVENTIONS.code(self.tire_convention),
-            Var::Parameter(
-                P::InitialSpeed
-                | P::InternalStep
-                | P::VehicleFile
-                | P::TireFile
-                | P::RoadFile
-                | P::RoadGrade
-                | P::RoadCrossSlope
-                | P::BumpHeight
-                | P::BumpLength
-                | P::Tolerance
-                | P::RoadFriction,
-            )
-            | Var::Input(_)
+            Var::Parameter(_) => match mode_option(var) {
+                Some(mode) => (mode.get)(&self.config),
+                None => return Err(format!("{} is not an Integer of this model", var.name)),
+            },
+            Var::Input(_)
             | Var::Local(_)
             | Var::Output(_)
             | Var::State(_)
@@ -528,32 +524,13 @@ impl FmuModel for VehicleModel {
                     }
                 }
             },
-            Var::Parameter(P::InitialSpeed) => self.config.initial_speed = ranged(var, value)?,
-            // The model description's range [0, 0.1] holds the automatic step 0 and a gap below 1e-6: the
-            // one check of the value (`sim::check_internal_step`) decides.
-            Var::Parameter(P::InternalStep) => {
-                crate::sim::check_internal_step(value).map_err(|e| format!("internal_step: {e}"))?;
-                self.config.internal_step = value
+            // The options table's (its one check, `RealOption::check`).
+            Var::Parameter(_) if real_option(var).is_some() => {
+                let option = real_option(var).expect("matched");
+                option.check(value).map_err(|e| e.to_string())?;
+                (option.set)(&mut self.config, value)
             }
-            Var::Parameter(P::RoadGrade) => self.config.options.slope[0] = ranged(var, value)?,
-            Var::Parameter(P::RoadCrossSlope) => self.config.options.slope[1] = ranged(var, value)?,
-            Var::Parameter(P::BumpHeight) => self.config.bump[0] = ranged(var, value)?,
-            Var::Parameter(P::BumpLength) => self.config.bump[1] = ranged(var, value)?,
-            Var::Parameter(P::Tolerance) => self.config.tolerance = ranged(var, value)?,
-            Var::Parameter(P::RoadFriction) => self.config.options.road_friction = ranged(var, value)?,
-            Var::Parameter(
-                P::SpeedMode
-                | P::Formulation
-                | P::Integrator
-                | P::SlipModel
-                | P::Road
-                | P::VehicleFile
-                | P::TireFile
-                | P::RoadFile
-                | P::Contact
-                | P::AccuracyPolicy
-                | P::TireConvention,
-            )
+            Var::Parameter(_)
             | Var::Local(_)
             | Var::Output(_)
             | Var::State(_)
@@ -567,31 +544,15 @@ impl FmuModel for VehicleModel {
     }
 
     fn set_integer(&mut self, var: &Variable, value: i32) -> Result<(), String> {
-        let c = &mut self.config;
         match var.var {
-            Var::Parameter(P::SpeedMode) => modes::SPEED_MODES.by_code(value).map(|m| c.options.speed_mode = m),
-            Var::Parameter(P::Formulation) => modes::FORMULATIONS.by_code(value).map(|f| c.options.formulation = f),
-            Var::Parameter(P::Integrator) => modes::INTEGRATORS.by_code(value).map(|i| c.integrator = i),
-            Var::Parameter(P::SlipModel) => modes::SLIP_MODELS.by_code(value).map(|m| c.options.slip = m),
-            Var::Parameter(P::Road) => modes::ROADS.by_code(value).map(|r| c.road = r),
-            Var::Parameter(P::Contact) => modes::CONTACTS.by_code(value).map(|m| c.options.contact = m),
-            Var::Parameter(P::AccuracyPolicy) => modes::ACCURACY_POLICIES.by_code(value).map(|a| c.accuracy = a),
             Var::Parameter(P::TireConvention) => {
                 modes::TIRE_CONVENTIONS.by_code(value).map(|t| self.tire_convention = t)
             }
-            Var::Parameter(
-                P::InitialSpeed
-                | P::InternalStep
-                | P::VehicleFile
-                | P::TireFile
-                | P::RoadFile
-                | P::RoadGrade
-                | P::RoadCrossSlope
-                | P::BumpHeight
-                | P::BumpLength
-                | P::Tolerance
-                | P::RoadFriction,
-            )
+            // The options table's (`sim::MODE_OPTIONS`, through the `sim::modes` tables).
+            Var::Parameter(_) if mode_option(var).is_some() => {
+                (mode_option(var).expect("matched").set)(&mut self.config, value)
+            }
+            Var::Parameter(_)
             | Var::Input(_)
             | Var::Local(_)
             | Var::Output(_)

@@ -2,10 +2,10 @@
 //! ranges (generated from the model description) and the one check of them, `SimConfig::validate`.
 
 use super::inputs;
+use super::modes;
 use crate::error::{Cause, ModelError};
 use crate::integrate::{substeps, IntegratorKind};
 use crate::model::options::Options;
-use crate::model::road::{PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M};
 use crate::model::vehicle::idx;
 use serde::{Deserialize, Serialize};
 
@@ -49,10 +49,16 @@ pub struct SimConfig {
     /// (`model::road_crg`), placed with its reference line's start 2 m behind the initial rear axle.
     #[serde(default)]
     pub road_file: Option<String>,
+    /// A setting that exists for a test only (feature `test-option`): declared in build.rs's test variable
+    /// and bound by the generated table alone (src/fmi/option_tests.rs).
+    #[cfg(feature = "test-option")]
+    #[serde(default)]
+    pub test_setting: f64,
 }
 
+// A state or file written before a setting existed takes its default (the model description's start).
 fn default_tolerance() -> f64 {
-    DEFAULT_TOLERANCE
+    SimConfig::default().tolerance
 }
 
 /// `internal_step`'s value for "automatic" (`SimConfig::internal_step`).
@@ -74,13 +80,11 @@ pub enum AccuracyPolicy {
     Warn,
 }
 
-/// The default tolerance of the error-controlled integrator (0.1 % of peak).
-pub const DEFAULT_TOLERANCE: f64 = 1e-3;
 // The tolerance's range (`limits`): below 1e-9 of peak the Newton solves' 1e-12 and the outputs' round-off
 // are no longer far below it; above 0.1 a run is not worth calling accurate.
 
 fn paper_bump() -> [f64; 2] {
-    [PAPER_BUMP_HEIGHT_M, PAPER_BUMP_LENGTH_M]
+    SimConfig::default().bump
 }
 
 /// The ranges of the run's Real settings, generated from the model description's min/max (written once, in
@@ -106,7 +110,7 @@ pub fn check_internal_step(step: f64) -> Result<(), ModelError> {
     Err(ModelError::new(
         Cause::Input,
         format!(
-            "internal step {step} s is outside [{FIXED_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s (a fixed step; 0 is the \
+            "internal_step {step} s is outside [{FIXED_STEP_MIN:e}, {INTERNAL_STEP_MAX}] s (a fixed step; 0 is the \
              automatic step)"
         ),
     ))
@@ -117,64 +121,122 @@ pub fn check_internal_step(step: f64) -> Result<(), ModelError> {
 /// interval). Split such an interval into several.
 pub const MAX_EVALUATIONS_PER_ADVANCE: u64 = 100_000;
 
+/// One Real setting of the run, generated from the model description (`OPTIONS`): its FMU name (also its
+/// command-line flag, with dashes), unit, range, default (`start`), its place in `SimConfig` (`get`, `set`),
+/// and what the FMU, the CLI, `SimConfig::validate`, `SimConfig::default` and docs/fmu.md make of it.
+#[derive(Debug, Clone, Copy)]
+pub struct RealOption {
+    pub name: &'static str,
+    pub unit: &'static str,
+    pub min: f64,
+    pub max: f64,
+    /// The default (the model description's start value).
+    pub start: f64,
+    /// Older command-line spellings, without `--` (still accepted).
+    pub aliases: &'static [&'static str],
+    /// A short meaning, for messages and the CLI's help.
+    pub summary: &'static str,
+    pub description: &'static str,
+    /// The check that replaces the range check (a range with a gap: `internal_step`).
+    pub check: Option<fn(f64) -> Result<(), ModelError>>,
+    pub get: fn(&SimConfig) -> f64,
+    pub set: fn(&mut SimConfig, f64),
+}
+
+/// One mode of the run (an Integer parameter), generated from the model description (`MODE_OPTIONS`): its
+/// FMU name (also its command-line flag, with dashes), default code (`start`), and its place in `SimConfig`
+/// through its `sim::modes` table (codes and command-line words).
+#[derive(Debug, Clone, Copy)]
+pub struct ModeOption {
+    pub name: &'static str,
+    /// The default code (the model description's start value).
+    pub start: i32,
+    /// Older command-line spellings, without `--` (still accepted).
+    pub aliases: &'static [&'static str],
+    /// Whether `rtv scene` takes it (`road` is not: `--road` names a road file there, and the bump course is
+    /// the `bump` scene).
+    pub cli: bool,
+    pub description: &'static str,
+    pub get: fn(&SimConfig) -> i32,
+    pub set: fn(&mut SimConfig, i32) -> Result<(), String>,
+    /// Sets it by its command-line word.
+    pub set_word: fn(&mut SimConfig, &str) -> Result<(), String>,
+    /// The words, "a|b|c".
+    pub words: fn() -> String,
+}
+
+impl ModeOption {
+    /// The command-line flag, without `--`: the name with dashes.
+    pub fn flag(&self) -> String {
+        self.name.replace('_', "-")
+    }
+}
+
+// The tables: `REAL_OPTIONS` and `MODE_OPTIONS`, one row per Real parameter and per mode of the model
+// description (`fmi_layer::codegen::options_table`).
+include!(concat!(env!("OUT_DIR"), "/options_table.rs"));
+/// The Real options (`REAL_OPTIONS`, generated).
+pub const OPTIONS: &[RealOption] = &REAL_OPTIONS;
+
+impl RealOption {
+    /// The option of FMU name `name`.
+    pub fn named(name: &str) -> Option<&'static RealOption> {
+        OPTIONS.iter().find(|o| o.name == name)
+    }
+
+    /// The command-line flag, without `--`: the name with dashes.
+    pub fn flag(&self) -> String {
+        self.name.replace('_', "-")
+    }
+
+    /// The unit as messages write it after a number: "" for 1, else " UNIT".
+    fn unit_suffix(&self) -> String {
+        if self.unit == "1" {
+            String::new()
+        } else {
+            format!(" {}", self.unit)
+        }
+    }
+
+    /// The range as messages, help and docs write it: `[0, 60] m/s`.
+    pub fn range_text(&self) -> String {
+        format!("[{}, {}]{}", Short(self.min), Short(self.max), self.unit_suffix())
+    }
+
+    /// The one check of a value, wherever it enters (CLI, FMU parameter, restored state): the option's own
+    /// check, else its declared range, the message naming the option, the range, its unit and its meaning.
+    pub fn check(&self, value: f64) -> Result<(), ModelError> {
+        if let Some(check) = self.check {
+            return check(value);
+        }
+        if (self.min..=self.max).contains(&value) {
+            return Ok(());
+        }
+        Err(ModelError::new(
+            Cause::Input,
+            format!("{} {value}{} is outside {} ({})", self.name, self.unit_suffix(), self.range_text(), self.summary),
+        ))
+    }
+}
+
+/// A number as a person writes it: 60, 0.05, 1e-9 (messages, help, docs/fmu.md).
+pub struct Short(pub f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0 != 0.0 && self.0.abs() < 1e-3 {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
+        }
+    }
+}
+
 impl SimConfig {
-    /// The ranges every entry point (CLI, FMU parameters, restored FMU states) enforces.
+    /// The ranges every entry point (CLI, FMU parameters, restored FMU states) enforces: each option's check
+    /// (`RealOption::check`), in the table's order.
     pub fn validate(&self) -> Result<(), ModelError> {
-        check_internal_step(self.internal_step)?;
-        if !(INITIAL_SPEED_MIN..=INITIAL_SPEED_MAX).contains(&self.initial_speed) {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!(
-                    "initial speed {} m/s is outside [{INITIAL_SPEED_MIN}, {INITIAL_SPEED_MAX}] m/s",
-                    self.initial_speed
-                ),
-            ));
-        }
-        use limits::{ROAD_FRICTION_MAX, ROAD_FRICTION_MIN};
-        if !(ROAD_FRICTION_MIN..=ROAD_FRICTION_MAX).contains(&self.options.road_friction) {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!(
-                    "road friction {} is outside [{ROAD_FRICTION_MIN}, {ROAD_FRICTION_MAX}] (a scale on the tires' \
-                     peak friction: 1 dry, about 0.5 wet, 0.2 snow)",
-                    self.options.road_friction
-                ),
-            ));
-        }
-        let [grade, cross] = self.options.slope;
-        use limits::{ROAD_CROSS_SLOPE_MAX, ROAD_CROSS_SLOPE_MIN, ROAD_GRADE_MAX, ROAD_GRADE_MIN};
-        if !((ROAD_GRADE_MIN..=ROAD_GRADE_MAX).contains(&grade)
-            && (ROAD_CROSS_SLOPE_MIN..=ROAD_CROSS_SLOPE_MAX).contains(&cross))
-        {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!(
-                    "road slope {:?} (rise over run) is outside [{ROAD_GRADE_MIN}, {ROAD_GRADE_MAX}] (grade) and \
-                     [{ROAD_CROSS_SLOPE_MIN}, {ROAD_CROSS_SLOPE_MAX}] (cross slope)",
-                    self.options.slope
-                ),
-            ));
-        }
-        if !(TOLERANCE_MIN..=TOLERANCE_MAX).contains(&self.tolerance) {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!("tolerance {} is outside [{TOLERANCE_MIN:e}, {TOLERANCE_MAX}]", self.tolerance),
-            ));
-        }
-        let [height, length] = self.bump;
-        if !(BUMP_HEIGHT_MIN..=BUMP_HEIGHT_MAX).contains(&height) {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!("bump height {height} m is outside [{BUMP_HEIGHT_MIN}, {BUMP_HEIGHT_MAX}] m"),
-            ));
-        }
-        if !(BUMP_LENGTH_MIN..=BUMP_LENGTH_MAX).contains(&length) {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!("bump length {length} m is outside [{BUMP_LENGTH_MIN}, {BUMP_LENGTH_MAX}] m"),
-            ));
-        }
-        Ok(())
+        OPTIONS.iter().try_for_each(|o| o.check((o.get)(self)))
     }
 
     /// Whether the internal step is chosen by the step check (`AUTOMATIC_STEP`).
@@ -234,18 +296,28 @@ impl SimConfig {
 }
 
 impl Default for SimConfig {
+    /// The model description's start values (`OPTIONS`) for the Real settings; the modes' defaults.
     fn default() -> Self {
-        SimConfig {
+        let mut config = SimConfig {
             options: Options::default(),
             integrator: IntegratorKind::Rk4,
             internal_step: AUTOMATIC_STEP,
             accuracy: AccuracyPolicy::Refuse,
             road: RoadChoice::Flat,
-            initial_speed: 100.0 / 3.6,
+            initial_speed: 0.0,
             ride_height_retune: true,
-            bump: paper_bump(),
-            tolerance: DEFAULT_TOLERANCE,
+            bump: [0.0; 2],
+            tolerance: 0.0,
             road_file: None,
+            #[cfg(feature = "test-option")]
+            test_setting: 0.0,
+        };
+        for o in OPTIONS {
+            (o.set)(&mut config, o.start);
         }
+        for m in &MODE_OPTIONS {
+            (m.set)(&mut config, m.start).expect("a mode's start value is one of its codes");
+        }
+        config
     }
 }

@@ -100,7 +100,7 @@ pub const INTEGRATORS: Table<IntegratorKind> = Table {
 
 pub const SPEED_MODES: Table<SpeedMode> = Table {
     parameter: "speed_mode",
-    option: Some("speed"),
+    option: Some("speed-mode"),
     choices: &[
         Choice { value: SpeedMode::Coast, code: 1, name: "coast", description: "coast" },
         Choice { value: SpeedMode::Hold, code: 2, name: "hold", description: "hold" },
@@ -109,7 +109,7 @@ pub const SPEED_MODES: Table<SpeedMode> = Table {
 
 pub const SLIP_MODELS: Table<SlipModel> = Table {
     parameter: "slip_model",
-    option: Some("slip"),
+    option: Some("slip-model"),
     choices: &[
         Choice { value: SlipModel::Relaxation, code: 1, name: "relaxation", description: "relaxation lengths" },
         Choice { value: SlipModel::Steady, code: 2, name: "steady", description: "steady slip" },
@@ -169,7 +169,7 @@ pub const TIRE_CONVENTIONS: Table<Option<TireConvention>> = Table {
 
 pub const ACCURACY_POLICIES: Table<AccuracyPolicy> = Table {
     parameter: "accuracy_policy",
-    option: Some("accuracy"),
+    option: Some("accuracy-policy"),
     choices: &[
         Choice { value: AccuracyPolicy::Refuse, code: 1, name: "refuse", description: "refused with its cause" },
         Choice {

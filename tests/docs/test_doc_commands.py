@@ -162,7 +162,7 @@ OUTPUT_OPTIONS = ("--out", "--csv", "--figure")
 # patterns its message must contain (the option and its range, or the file). Each also runs with
 # RTV_PARSE_ONLY=1, which must refuse it the same way.
 BAD_INPUTS = [
-    (["scene", "jturn", "--friction", "3"], [r"--friction", r"outside \[0\.05, 2\]"]),
+    (["scene", "jturn", "--friction", "3"], [r"--road-friction", r"outside \[0\.05, 2\]"]),
     (["scene", "jturn", "--vehicle", "missing.json"], [r"--vehicle", r"missing\.json"]),
     (["scene", "jturn", "--road", "missing.crg"], [r"--road", r"missing\.crg"]),
     (["kinematics", "--axle", "front", "--increment", "0"], [r"--increment > 0"]),

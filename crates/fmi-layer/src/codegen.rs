@@ -29,10 +29,14 @@ pub fn build(xml: &str) {
     println!("cargo:rerun-if-changed={xml}");
     println!("cargo:rerun-if-changed=build.rs");
     let text = std::fs::read_to_string(xml).unwrap_or_else(|e| panic!("cannot read {xml}: {e}"));
-    let code = generate(xml, &text).unwrap_or_else(|e| panic!("{xml}: {e}"));
-    let out = std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR"));
+    build_from(xml, &text, &std::path::PathBuf::from(std::env::var("OUT_DIR").expect("OUT_DIR")));
+}
+
+/// `build` of the description `text` (read from `xml`, or changed by the caller's build script), into `out`.
+pub fn build_from(xml: &str, text: &str, out: &std::path::Path) {
+    let code = generate(xml, text).unwrap_or_else(|e| panic!("{xml}: {e}"));
     std::fs::write(out.join("model_description.rs"), code).expect("cannot write the generated value-reference table");
-    let ranges = parameter_ranges(xml, &text).unwrap_or_else(|e| panic!("{xml}: {e}"));
+    let ranges = parameter_ranges(xml, text).unwrap_or_else(|e| panic!("{xml}: {e}"));
     std::fs::write(out.join("parameter_ranges.rs"), ranges).expect("cannot write the generated parameter ranges");
 }
 
@@ -917,4 +921,110 @@ mod tests {
         let e = fmi3_model_description(&VEHICLE.replace("<ModelVariables>", "<TypeDefinitions/>\n<ModelVariables>"));
         assert!(e.unwrap_err().contains("TypeDefinitions is not converted"));
     }
+}
+
+/// The run's options as tables, generated from the model description: every Real parameter that carries
+/// `<Annotations><Tool name="TOOL"><Option field="…"/></Tool></Annotations>` (FMI 2.0 allows a variable's own
+/// annotations; the FMI 3.0 writer above leaves them out) becomes a row of the crate's `RealOption`:
+///
+/// ```text
+/// RealOption { name, unit, min, max, start, aliases, summary, description, check, get, set }
+/// ```
+///
+/// `name`, `unit`, `min`, `max`, `start` and `description` are the variable's; from the annotation, `field`
+/// is the place of the value in the crate's configuration (a Rust place expression after `c.`, compiled into
+/// `get` and `set`: a wrong field does not build), `aliases` older command-line spellings (space-separated,
+/// without `--`), `summary` a short meaning for messages and help, `check` a function `fn(f64) -> Result<(),
+/// _>` that replaces the plain range check (a range with a gap). Every Real parameter must have a row, so that
+/// no setting is bound by hand.
+///
+/// An Integer parameter whose annotation names `modes="TABLE"` (the crate's `modes::TABLE`, translating codes
+/// and command-line words to values) becomes a `ModeOption { name, start, aliases, cli, description, get, set,
+/// set_word, words }`; `cli="false"` keeps it off the command line. An Integer parameter without an annotation is
+/// the crate's to bind. The code names `SimConfig`, `RealOption`, `ModeOption` and `modes`: the including
+/// module provides them.
+pub fn options_table(xml: &str, text: &str, tool: &str) -> Result<String, String> {
+    let doc = roxmltree::Document::parse(text).map_err(|e| format!("not well-formed XML: {e}"))?;
+    let vars = child(doc.root_element(), "ModelVariables").ok_or("no ModelVariables")?;
+    let (mut rows, mut modes) = (String::new(), String::new());
+    let (mut count, mut mode_count) = (0, 0);
+    for sv in vars.children().filter(|n| n.has_tag_name("ScalarVariable")) {
+        let name = sv.attribute("name").ok_or("a ScalarVariable without name")?;
+        let Some(ty) = sv.children().find(|n| n.is_element()) else { continue };
+        if sv.attribute("causality") != Some("parameter") {
+            continue;
+        }
+        let option = child(sv, "Annotations")
+            .into_iter()
+            .flat_map(|a| a.children())
+            .find(|t| t.has_tag_name("Tool") && t.attribute("name") == Some(tool))
+            .and_then(|t| child(t, "Option"));
+        let aliases = |option: roxmltree::Node| -> String {
+            let list: Vec<String> =
+                option.attribute("aliases").unwrap_or("").split_whitespace().map(|a| format!("{a:?}")).collect();
+            list.join(", ")
+        };
+        let description = sv.attribute("description").unwrap_or("");
+        match ty.tag_name().name() {
+            "Real" => {
+                let option = option.ok_or_else(|| {
+                    format!("{name}: a Real parameter without <Annotations><Tool name=\"{tool}\"><Option field=…/>")
+                })?;
+                let field = option.attribute("field").ok_or_else(|| format!("{name}: the Option has no field"))?;
+                let bound = |attr: &str, default: f64| -> Result<f64, String> {
+                    ty.attribute(attr).map_or(Ok(default), |v| num(v).map_err(|e| format!("{name}: {attr}: {e}")))
+                };
+                let (min, max) = (bound("min", f64::NEG_INFINITY)?, bound("max", f64::INFINITY)?);
+                let start = num(ty.attribute("start").ok_or_else(|| format!("{name}: no start"))?)?;
+                let check = match option.attribute("check") {
+                    Some(f) => format!("Some({f})"),
+                    None => "None".into(),
+                };
+                writeln!(
+                    rows,
+                    "    RealOption {{\n        name: {name:?},\n        unit: {:?},\n        min: {min:?},\n        max: \
+                     {max:?},\n        start: {start:?},\n        aliases: &[{}],\n        summary: {:?},\n        \
+                     description: {description:?},\n        check: {check},\n        get: |c: &SimConfig| \
+                     c.{field},\n        set: |c: &mut SimConfig, v: f64| c.{field} = v,\n    }},",
+                    ty.attribute("unit").unwrap_or("1"),
+                    aliases(option),
+                    option.attribute("summary").unwrap_or(""),
+                )
+                .unwrap();
+                count += 1;
+            }
+            "Integer" => {
+                let Some(option) = option else { continue };
+                let field = option.attribute("field").ok_or_else(|| format!("{name}: the Option has no field"))?;
+                let table =
+                    option.attribute("modes").ok_or_else(|| format!("{name}: an Integer Option needs modes"))?;
+                let start: i32 = ty
+                    .attribute("start")
+                    .ok_or_else(|| format!("{name}: no start"))?
+                    .trim()
+                    .parse()
+                    .map_err(|e| format!("{name}: start: {e}"))?;
+                let cli = option.attribute("cli") != Some("false");
+                writeln!(
+                    modes,
+                    "    ModeOption {{\n        name: {name:?},\n        start: {start},\n        aliases: &[{}],\n        \
+                     cli: {cli},\n        description: {description:?},\n        get: |c: &SimConfig| \
+                     modes::{table}.code(c.{field}),\n        set: |c: &mut SimConfig, v: i32| \
+                     modes::{table}.by_code(v).map(|m| c.{field} = m),\n        set_word: |c: &mut SimConfig, w: &str| \
+                     modes::{table}.by_name(w).map(|m| c.{field} = m),\n        words: || modes::{table}.names(),\n    \
+                     }},",
+                    aliases(option),
+                )
+                .unwrap();
+                mode_count += 1;
+            }
+            _ => {}
+        }
+    }
+    Ok(format!(
+        "// Generated by build.rs (fmi_layer::codegen::options_table) from {xml}. Do not edit.\n/// The Real \
+         parameters, in the model description's order.\npub const REAL_OPTIONS: [RealOption; {count}] = \
+         [\n{rows}];\n/// The Integer parameters that choose a mode, in the model description's order.\npub const \
+         MODE_OPTIONS: [ModeOption; {mode_count}] = [\n{modes}];\n"
+    ))
 }
