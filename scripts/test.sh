@@ -17,6 +17,10 @@ done
 bash scripts/setup.sh
 bash scripts/test_libclang.sh
 cargo test --workspace --release
+# The options table's own proof: a setting declared in the model description alone (feature `test-option`)
+# reaches the FMU, the CLI, the validation, the defaults, the FMI 3.0 description and docs/fmu.md.
+cargo test --release --features test-option --lib fmi::option_tests
+cargo test --release --features test-option --bin rtv
 cargo run --release -p packaging
 cargo build --release -p rtv-study-native
 RTV_DOCS_SLOW=$slow .venv/bin/python -m pytest -q tests/fmu tests/study tests/docs
