@@ -7,7 +7,7 @@
 mod common;
 
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{AccuracyPolicy, SimConfig, Simulation, AUTOMATIC_STEP};
 use rt_vehicle::studies::stability::{
     cases_for, relative_error, run_case, run_case_refusing, Case, REFERENCE_STEP, TOLERANCE,

@@ -4,7 +4,7 @@
 //! derivatives and were never read). A scene run as its declaration (`SceneNeeds`) asks gives the channels
 //! it reads bit for bit as the run that keeps everything.
 
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::tire::SlipModel;
 use rt_vehicle::model::vehicle::idx;
 use rt_vehicle::sim::inputs::RackSample;

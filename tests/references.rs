@@ -16,7 +16,7 @@
 //! runs their own discretisation.
 
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::scenes::{calibrated_jturn_amplitude, run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{Formulation, SimConfig, CSV_COLUMNS, OUTPUT_NAMES};
 

@@ -3,7 +3,7 @@
 
 use rt_vehicle::error::Cause;
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{ContactModel, RoadChoice, SimConfig, Simulation, SpeedMode};
 use rt_vehicle::studies::stability::{
     cases, evaluate, relative_error, run_case, run_case_refusing, run_case_sampled, stability, Outcome, Reference,

@@ -9,7 +9,7 @@
 use super::scenes::{run, Amplitude, Scene, SceneKind};
 use super::{Channel, Formulation, Options, SimConfig};
 use crate::error::{Cause, ModelError};
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
 use crate::model::vehicle::Vehicle;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -153,7 +153,7 @@ pub fn resolve(amplitude: Amplitude, data: &VehicleData) -> Result<f64, ModelErr
     match amplitude {
         Amplitude::Calibrated => amplitude_for(data).map(|(a, _)| a),
         Amplitude::Paper => match data.steering_input() {
-            crate::model::params::SteeringInput::RackDisplacement => Ok(super::scenes::PAPER_JTURN_AMPLITUDE),
+            crate::model::formats::params::SteeringInput::RackDisplacement => Ok(super::scenes::PAPER_JTURN_AMPLITUDE),
             other => Err(ModelError::new(
                 Cause::Input,
                 format!(

@@ -4,7 +4,7 @@
 
 use super::{outputs, Channel, Options, Outputs, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
 use crate::error::{Cause, ModelError};
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
 use crate::model::tire::SlipModel;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -18,7 +18,7 @@
 
 use crate::error::{Cause, ModelError};
 use crate::integrate::IntegratorKind;
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
 use crate::sim::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
 use crate::sim::{Channel as Output, ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
 

@@ -12,7 +12,7 @@ use crate::fmi::logger::Logger;
 use crate::fmi::variables::VARIABLES;
 use crate::fmi::vehicle::VehicleModel;
 use crate::fmi::{FmuModel, ModelContext, ResourceLocation};
-use crate::model::params::{SteeringInput, VehicleData};
+use crate::model::formats::params::{SteeringInput, VehicleData};
 use crate::sim::scenes::{Amplitude, Scene, SceneKind};
 use crate::sim::{Channel, Outputs, SimConfig, INITIAL_SPEED_MAX, INITIAL_SPEED_MIN, OUTPUT_NAMES};
 use crate::studies::manoeuvres::{self, Cost, Ground, Manoeuvre};

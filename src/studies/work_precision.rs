@@ -13,7 +13,7 @@
 
 use crate::error::ModelError;
 use crate::integrate::IntegratorKind;
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
 use crate::sim::scenes::{Amplitude, Scene, SceneKind};
 use crate::sim::{Channel as Output, SimConfig, Simulation};
 

@@ -8,7 +8,7 @@ pub mod rack;
 
 use crate::dynamics::body::{body_force, lin, mass_hat, wrench};
 use crate::math::{Axes, M3, V3};
-use crate::model::params::{DataError, RigidBody, SteeringInput, VehicleData};
+use crate::model::formats::params::{DataError, RigidBody, SteeringInput, VehicleData};
 use crate::model::suspension::{BodyInertia, TieRodDrive};
 use nalgebra::{Matrix6, Vector6};
 pub use rack::RackMotion;

@@ -9,7 +9,7 @@
 //! reason: their link turns, which this drive does not model.
 
 use crate::math::V3;
-use crate::model::params::{DataError, PitmanArm};
+use crate::model::formats::params::{DataError, PitmanArm};
 use crate::model::suspension::TieRodDrive;
 
 /// Relative tolerance of the parallelogram check (data are given to about 1e-6 m).

@@ -27,7 +27,7 @@ pub mod macpherson;
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
 use crate::math::{rotation_about_sc, BryantSinCos, M3, V3};
-use crate::model::params::{Axle, DataError, RigidBody, SuspensionTemplate, VehicleData};
+use crate::model::formats::params::{Axle, DataError, RigidBody, SuspensionTemplate, VehicleData};
 use double_wishbone::UpperArm;
 use macpherson::Strut;
 use nalgebra::{Matrix4, SMatrix, Vector4, Vector5};
