@@ -14,7 +14,7 @@ use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::formats::params::{DataError, Spring, VehicleData};
 use crate::model::road::envelope::ContactModel;
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
-use crate::model::steering::{tie_rod_drive, Steering};
+use crate::model::steering::{assembly::Steering, tie_rod_drive};
 use crate::model::suspension::{BodyInertia, Corner, CornerPositions, LineMount, MountBody, Side, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{SMatrix, Vector4, Vector6};
