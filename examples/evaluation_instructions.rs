@@ -15,8 +15,8 @@
 //! by `-`; a `.tir` file as third argument: the vehicle on that Magic Formula tire)
 use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::SimConfig;
+use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
 use std::hint::black_box;
 
 fn main() {

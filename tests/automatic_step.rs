@@ -19,7 +19,7 @@ fn vehicle(path: &str) -> VehicleData {
 
 /// The suite's cases on roads with bumps, where the default step is refused on some vehicle.
 fn road_cases(data: &VehicleData) -> Vec<Case> {
-    let (a, _) = rt_vehicle::sim::calibration::amplitude_for(data).unwrap();
+    let (a, _) = rt_vehicle::studies::calibration::amplitude_for(data).unwrap();
     cases_for(data, a).into_iter().filter(|c| c.config.road_file.is_some() || c.name.contains("bump")).collect()
 }
 

@@ -3,8 +3,8 @@
 
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::formats::params::VehicleData;
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{Channel, Formulation, Outputs, RackProfile, SimConfig, Simulation, SpeedMode};
+use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
 
 const G: f64 = 9.81;
 

@@ -191,7 +191,7 @@ fn steady_slip_below_its_speed_range_is_a_named_error() {
 fn the_macpherson_wheel_lock_lands_within_tolerance() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles/generic_macpherson.json");
     let data = VehicleData::from_file(&path).unwrap();
-    let (a, _) = rt_vehicle::sim::calibration::amplitude_for(&data).unwrap();
+    let (a, _) = rt_vehicle::studies::calibration::amplitude_for(&data).unwrap();
     let case = rt_vehicle::studies::stability::cases_for(&data, a)
         .into_iter()
         .find(|c| c.name.starts_with("wheel lock"))

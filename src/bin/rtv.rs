@@ -22,10 +22,10 @@
 use rt_vehicle::error::ModelError;
 use rt_vehicle::model::formats::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
-use rt_vehicle::sim::calibration;
-use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{modes, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, OUTPUT_NAMES};
+use rt_vehicle::studies::calibration;
 use rt_vehicle::studies::kc;
+use rt_vehicle::studies::scenes::{run_columns, Amplitude, Scene, SceneKind};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::Write;

@@ -14,7 +14,7 @@ use crate::model::formats::params::VehicleData;
 use crate::model::road::iso8608::Iso8608;
 use crate::model::steering::RackMotion;
 use crate::model::vehicle::Vehicle;
-use crate::sim::scenes::SceneNeeds;
+use crate::sim::needs::SceneNeeds;
 use crate::sim::{modes, Channel, RackSample, SimConfig, Simulation, OUTPUT_NAMES, TOLERANCE_MAX, TOLERANCE_MIN};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;

@@ -8,14 +8,13 @@
 //!   divergence or a model evaluation failure (the state then is the last good one).
 //! - `outputs()`: every CLI column by name (`OUTPUT_NAMES`), plus diagnostics.
 
-pub mod calibration;
 mod config;
 mod exchange;
 pub mod hop_measurements;
 pub mod inputs;
 pub mod modes;
+pub mod needs;
 pub mod outputs;
-pub mod scenes;
 pub mod stepping;
 
 use crate::error::{Cause, Context, ModelError};

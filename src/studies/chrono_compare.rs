@@ -15,8 +15,8 @@ use crate::model::formats::import_chrono::import_vehicle;
 use crate::model::formats::params::VehicleData;
 use crate::model::tire::{ChronoPart, TireConvention};
 use crate::sim::inputs::RackProfile;
-use crate::sim::scenes::{run, Scene, SceneKind};
 use crate::sim::{Channel, Outputs, SimConfig};
+use crate::studies::scenes::{run, Scene, SceneKind};
 use std::path::Path;
 
 /// The reference runs' speed, m/s (60 km/h), and the window of each mean, s.

@@ -146,7 +146,7 @@ pub fn rack_for_lateral_acceleration(
 
 /// `rack_for_lateral_acceleration`, adding its run to `cost`.
 fn rack_for_ay(data: &VehicleData, ground: &Ground, speed: f64, ay: f64, cost: &mut Cost) -> Result<f64, ModelError> {
-    let (a0, _) = crate::sim::calibration::amplitude_for(data)?;
+    let (a0, _) = crate::studies::calibration::amplitude_for(data)?;
     let rows = simulate(
         data,
         ground,
