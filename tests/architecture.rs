@@ -403,7 +403,10 @@ fn import_graph(src: &Path) -> BTreeMap<String, BTreeMap<String, usize>> {
         let out = edges.entry(me.clone()).or_default();
         for named in named_paths(&tokens(&text), &module_of(rel)) {
             if let Some(target) = resolve(&named, &modules) {
-                if target != me {
+                // A child naming its folder's `mod.rs` (or an ancestor's) sees its parent's namespace: not counted
+                // (every folder's children do; the circles the issue names are between siblings and folders).
+                let ancestor = target.strip_suffix("mod.rs").is_some_and(|dir| me.starts_with(dir));
+                if target != me && !ancestor && !KNOWN.contains(&(me.as_str(), target.as_str())) {
                     out.entry(target).or_insert(named.line);
                 }
             }
@@ -411,6 +414,15 @@ fn import_graph(src: &Path) -> BTreeMap<String, BTreeMap<String, usize>> {
     }
     edges
 }
+
+/// Imports that close a circle still, left for their own work (the lead's list): each is reported by
+/// `known_circles_still_exist` once it is gone, so that the list only shrinks.
+const KNOWN: [(&str, &str); 2] = [
+    // VehicleData's tire holds the Magic Formula read from its .tir file (tire <-> formats/params).
+    ("src/model/formats/params.rs", "src/model/tire/mod.rs"),
+    // check_loop_closes checks the anti-roll bar (suspension/ and antiroll_bar.rs are restructured in parallel).
+    ("src/model/suspension/mod.rs", "src/model/antiroll_bar.rs"),
+];
 
 #[test]
 fn no_import_circle() {
@@ -460,4 +472,16 @@ fn reader_finds_the_paths_it_should() {
     let acyclic: BTreeMap<String, BTreeMap<String, usize>> =
         [("x", "y"), ("y", "z")].iter().map(|(a, b)| (a.to_string(), [(b.to_string(), 1)].into())).collect();
     assert_eq!(find_cycle(&acyclic), None);
+}
+
+/// The imports `KNOWN` leaves out are still there (else delete them from the list).
+#[test]
+fn known_circles_still_exist() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    for (from, to) in KNOWN {
+        let text = std::fs::read_to_string(src.join(from.strip_prefix("src/").unwrap())).unwrap();
+        let module =
+            to.strip_prefix("src/").unwrap().trim_end_matches(".rs").trim_end_matches("/mod").replace('/', "::");
+        assert!(text.contains(&format!("crate::{module}")), "{from} no longer names {to}: remove it from KNOWN");
+    }
 }
