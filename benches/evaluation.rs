@@ -9,10 +9,10 @@ use criterion::Criterion;
 use fmi_sys::fmi2::fmi2Status_fmi2OK;
 use rt_vehicle::dynamics::Multipliers;
 use rt_vehicle::fmi::native::NativeInstance;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{accelerations, idx, Formulation, Inputs, Options, Run, Vehicle, Workspace};
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::SimConfig;
+use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
 use std::hint::black_box;
 use std::time::Instant;
 

@@ -1,7 +1,7 @@
 //! The tire loads and wheel spins of a stability case run with RK4 at the reference step, every sample
 //! between two times: `cargo run --release --example case_loads -- "CASE" FROM TO` ($VEHICLE for an import).
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{SimConfig, Simulation};
 use rt_vehicle::studies::stability;
 

@@ -13,10 +13,10 @@
 //! runs it from a fixed-length path in an empty environment, so that its count repeats.
 //! (a vehicle file as second argument: its J-turn at its calibrated amplitude; default the HMMWV, also named
 //! by `-`; a `.tir` file as third argument: the vehicle on that Magic Formula tire)
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::SimConfig;
+use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
 use std::hint::black_box;
 
 fn main() {

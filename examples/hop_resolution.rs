@@ -11,9 +11,9 @@
 //! (docs/hop_resolution_imex.md and docs/hop_resolution_rk4.md are this command's output on the HMMWV and
 //! both imports; with `--stiff`, the suite's stiff variants on the paper's bump course instead, on the HMMWV:
 //! where a fixed step resolves their wheel hop, apart from the check that refuses them.)
-use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::calibration;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{ModeKind, Simulation};
+use rt_vehicle::studies::calibration;
 use rt_vehicle::studies::stability;
 
 fn main() {

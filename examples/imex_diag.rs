@@ -7,7 +7,7 @@
 //! velocities; the fast rows with all columns; everything).
 use nalgebra::{Complex, DMatrix, DVector};
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::Run;
 use rt_vehicle::sim::{stepping, SimConfig, Simulation};
 use rt_vehicle::studies::stability;

@@ -19,10 +19,10 @@
 use rt_vehicle::error::ModelError;
 use rt_vehicle::integrate::imex_ab3::ImexAb3;
 use rt_vehicle::integrate::{Integrator, OdeSystem};
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{stepping, SimConfig};
+use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
 
 /// The vehicle with its inputs held (the J-turn's steer is constant after 1.5 s).
 struct Held<'a> {

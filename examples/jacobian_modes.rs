@@ -3,7 +3,7 @@
 //! A diagnostic for the step check's coverage (which modes limit a fixed step).
 
 use nalgebra::DMatrix;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::Run;
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode};
 

@@ -2,10 +2,10 @@
 //! `cargo run --release --example newton_count`
 use rt_vehicle::error::ModelError;
 use rt_vehicle::integrate::{Integrator, OdeSystem, Rk4};
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
-use rt_vehicle::sim::scenes::{Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{RackProfile, SimConfig};
+use rt_vehicle::studies::scenes::{Amplitude, Scene, SceneKind};
 
 struct Counting<'a> {
     vehicle: &'a Vehicle,

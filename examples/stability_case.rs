@@ -4,7 +4,7 @@
 //! INTEGRATOR (the CLI's name; rk4 by default). A diagnostic for WRONG cells.
 
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::studies::stability;
 
 fn main() {

@@ -4,7 +4,7 @@
 //! `cargo run --release --example tire_curves -- OUT.csv` writes one row per point:
 //! `sweep,fz_N,kappa,alpha_rad,fx_N,fy_N,mz_Nm`, where `sweep` is `kappa` (F_x against κ at α = 0) or
 //! `alpha` (F_y and M_z against α at κ = 0). Then `scripts/plot_tire_curves.py OUT.csv OUT.png` draws them.
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::tire::{shear_forces, SlipInput, TireModel, TireParams};
 use std::fmt::Write as _;
 use std::process::ExitCode;

@@ -12,7 +12,7 @@
 //! ```
 //! The inputs cycle through a cornering state's four wheels (loads 4–8 kN, small slips, camber), as the
 //! J-turn presents them, so that no branch is predicted from one repeated input.
-use rt_vehicle::model::params::{Tire, VehicleData};
+use rt_vehicle::model::formats::params::{Tire, VehicleData};
 use rt_vehicle::model::tire::{self, SlipInput, TireModel, TireSide};
 use std::hint::black_box;
 

@@ -18,7 +18,7 @@ and a rotation matrix A -- and each joint as Chrono's own constraint equations:
     ChLinkMotorRotationAngle  a revolute joint plus the imposed angle of the arm about its axis (1)
 
 It reads Chrono's JSON files directly (the vehicle file, then its suspension and steering files), never the
-imported resources/vehicles/*.json, so that the importer (src/model/import_chrono.rs) is checked too. The
+imported resources/vehicles/*.json, so that the importer (src/model/formats/import_chrono.rs) is checked too. The
 positions are solved by Newton's method on the full constraint set of an axle (both sides and, on the steered
 axle, the Pitman arm and the steering link as rigid bodies), with an analytic Jacobian in the bodies'
 translations and small rotations (A <- exp([dphi]x) A), to ||Phi||_inf <= 1e-12 (m for points, dimensionless
@@ -832,7 +832,7 @@ def markdown(all_results, s, command):
         "joint set in absolute coordinates from Chrono's own JSON**. It reads the Chrono vehicle file and the "
         "suspension and steering files it names (`data/chrono/generic/...`, Chrono commit 7689fbc02d; "
         "another folder with `--data` or `RTV_CHRONO_DATA`), never the imported `resources/vehicles/*.json`, so "
-        "the importer (`src/model/import_chrono.rs`) is under test as well as the model. Points are placed as "
+        "the importer (`src/model/formats/import_chrono.rs`) is under test as well as the model. Points are placed as "
         "Chrono's `Construct` places them: `Suspension Location` as an offset, the right side mirroring y, the "
         "spindle and upright points at their bodies' `COM`; the steering's points and directions through its "
         "`Location` and `ChMatrix33::SetFromQuaternion` of its `Orientation` as written (Chrono does not "

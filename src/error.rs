@@ -1,7 +1,7 @@
 //! The one error of the model's layers (suspension kinematics, solvers, integrators, simulation): a
 //! message and its cause, a kind a caller can act on (a smaller step, another slip model, a bad input)
 //! without reading the text. Vehicle-data errors keep their own structured `DataError`
-//! (`model::params`) and convert into this one with `?` (the conversion lives there: this module imports
+//! (`model::formats::params`) and convert into this one with `?` (the conversion lives there: this module imports
 //! no layer, so that `dynamics` can use it without importing `model`).
 //!
 //! The messages are those users and tests read: a failure of a named cause starts with its name

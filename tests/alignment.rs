@@ -5,8 +5,8 @@
 
 mod common;
 use rt_vehicle::math::V3;
-use rt_vehicle::model::import_chrono::import_vehicle;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::import_chrono::import_vehicle;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::Vehicle;
 use rt_vehicle::studies::kc::{KcOptions, KcReport};
 use serde_json::{json, Value};

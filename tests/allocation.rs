@@ -1,7 +1,7 @@
 //! The derivative function allocates nothing (a real-time requirement): counted by a global allocator.
 
 use rt_vehicle::alloc_count::{allocations, CountingAllocator};
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Formulation, Inputs, Options, RackMotion, Run, Workspace};
 use rt_vehicle::sim::{SimConfig, Simulation};
 

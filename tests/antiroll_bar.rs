@@ -7,8 +7,8 @@
 
 use rt_vehicle::math::V3;
 use rt_vehicle::model::equilibrium::rest_state;
-use rt_vehicle::model::import_chrono::import_vehicle;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::import_chrono::import_vehicle;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{
     idx, ForceSwitches, Formulation, Inputs, Layout, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };

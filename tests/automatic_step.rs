@@ -7,7 +7,7 @@
 mod common;
 
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{AccuracyPolicy, SimConfig, Simulation, AUTOMATIC_STEP};
 use rt_vehicle::studies::stability::{
     cases_for, relative_error, run_case, run_case_refusing, Case, REFERENCE_STEP, TOLERANCE,
@@ -19,7 +19,7 @@ fn vehicle(path: &str) -> VehicleData {
 
 /// The suite's cases on roads with bumps, where the default step is refused on some vehicle.
 fn road_cases(data: &VehicleData) -> Vec<Case> {
-    let (a, _) = rt_vehicle::sim::calibration::amplitude_for(data).unwrap();
+    let (a, _) = rt_vehicle::studies::calibration::amplitude_for(data).unwrap();
     cases_for(data, a).into_iter().filter(|c| c.config.road_file.is_some() || c.name.contains("bump")).collect()
 }
 

@@ -1,6 +1,6 @@
 //! Bad vehicle files: each kind of error is clear and names the field (issue: multibody core).
 
-use rt_vehicle::model::params::{VehicleData, DEFAULT_VEHICLE_JSON};
+use rt_vehicle::model::formats::params::{VehicleData, DEFAULT_VEHICLE_JSON};
 use serde_json::Value;
 
 fn edited(edit: impl FnOnce(&mut Value)) -> Result<VehicleData, String> {

@@ -3,7 +3,7 @@
 //! constructed from the hardpoints alone, and the Ackermann error's definition and properties.
 
 use nalgebra::{Matrix4, Vector3, Vector4};
-use rt_vehicle::model::params::{SteeringInput, VehicleData};
+use rt_vehicle::model::formats::params::{SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions};
 use rt_vehicle::model::vehicle::Vehicle;
 use rt_vehicle::studies::kc::{self, KcOptions, KcReport};

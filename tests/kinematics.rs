@@ -4,7 +4,7 @@
 //! struts, Pitman arm).
 
 use nalgebra::Vector4;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Vector5f};
 use rt_vehicle::model::vehicle::Vehicle;
 

@@ -3,7 +3,7 @@
 
 mod common;
 use common::rtv;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::studies::linear;
 use rt_vehicle::studies::manoeuvres::{run, Manoeuvre};
 

@@ -3,7 +3,7 @@
 //! the CLI; the low-speed behaviour (a braked stop from 60 km/h, a hold on a 20 % grade) meets the STI
 //! tire's criteria (tests/stability.rs).
 
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::tire::{self, MagicFormula, TireSide};
 use rt_vehicle::sim::{SimConfig, SpeedMode};
 use std::path::{Path, PathBuf};
@@ -177,7 +177,8 @@ fn the_vehicle_file_names_its_tire_file() {
     let dir = std::env::temp_dir().join(format!("rtv_vehicle_tir_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy(hmmwv_tir(), dir.join("t.tir")).unwrap();
-    let mut json: serde_json::Value = serde_json::from_str(rt_vehicle::model::params::DEFAULT_VEHICLE_JSON).unwrap();
+    let mut json: serde_json::Value =
+        serde_json::from_str(rt_vehicle::model::formats::params::DEFAULT_VEHICLE_JSON).unwrap();
     json["tire"]["tir_file"] = "t.tir".into();
     let file = dir.join("v.json");
     std::fs::write(&file, serde_json::to_string(&json).unwrap()).unwrap();

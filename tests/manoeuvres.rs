@@ -1,7 +1,7 @@
 //! The standard manoeuvres (`rtv manoeuvre`, docs/manoeuvres.md): their metrics are computed, and the
 //! ones that two manoeuvres measure alike agree.
 
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::Channel;
 use rt_vehicle::studies::manoeuvres::{run, Manoeuvre, Report};
 

@@ -2,7 +2,7 @@
 //! and gravity conserve energy, and a damped settle finds the static equilibrium (docs/physics.md §9.4–§9.6).
 
 use rt_vehicle::model::equilibrium::{static_equilibrium, steady_rolling};
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{
     idx, ForceSwitches, Formulation, Inputs, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };

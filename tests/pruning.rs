@@ -4,12 +4,12 @@
 //! derivatives and were never read). A scene run as its declaration (`SceneNeeds`) asks gives the channels
 //! it reads bit for bit as the run that keeps everything.
 
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::tire::SlipModel;
 use rt_vehicle::model::vehicle::idx;
 use rt_vehicle::sim::inputs::RackSample;
-use rt_vehicle::sim::scenes::{run, run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{SimConfig, Simulation, SpeedMode};
+use rt_vehicle::studies::scenes::{run, run_columns, Amplitude, Scene, SceneKind};
 
 /// Outputs every 0.01 s, the state dimension and the evaluation count of a 2 s run.
 fn run_scene(kind: SceneKind, config: &SimConfig, keep: bool) -> (Vec<Vec<f64>>, usize, u64) {

@@ -4,7 +4,7 @@
 //! there. The roads are written here: OpenDRIVE roads with a 10 % grade and a 23° bank, an OpenCRG surface
 //! 1.5 m up; and the analytic grade and cross slope.
 use rt_vehicle::math::V3;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::idx;
 use rt_vehicle::sim::{Channel, SimConfig, Simulation};
 use std::path::{Path, PathBuf};

@@ -2,8 +2,8 @@
 //! inputs of the issue are named errors; the HMMWV drives the shipped half-round obstacle and an RMS course
 //! through the CLI; ISO 8608 roads are deterministic.
 
+use rt_vehicle::model::road::crg::{surface_for, PlacedSurface, MAX_CRG_BYTES};
 use rt_vehicle::model::road::Road;
-use rt_vehicle::model::road_crg::{surface_for, PlacedSurface, MAX_CRG_BYTES};
 use rt_vehicle::sim::Channel;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -134,7 +134,7 @@ fn iso8608_roads_are_deterministic_for_a_seed() {
     let b = surface_for("iso8608:C:42:100").unwrap();
     let c = surface_for("iso8608:C:43:100").unwrap();
     let z =
-        |s: &rt_vehicle::model::road_crg::Surface, u: f64| s.grid.elevation_at_uv(opencrg::Uv { u, v: 0.9 }).unwrap();
+        |s: &rt_vehicle::model::road::crg::Surface, u: f64| s.grid.elevation_at_uv(opencrg::Uv { u, v: 0.9 }).unwrap();
     for u in [12.0, 33.3, 77.7] {
         assert_eq!(z(&a, u), z(&b, u));
     }
@@ -331,7 +331,7 @@ fn the_default_contact_drives_over_a_small_obstacle_and_the_point_contact_refusa
 /// The HMMWV holds its wheel at the steer that circles it at 50 m radius on the level (found by the secant
 /// method on the yaw rate, as a driver finds it), at 36 km/h.
 fn circling_steer(v: f64, radius: f64) -> f64 {
-    use rt_vehicle::model::params::VehicleData;
+    use rt_vehicle::model::formats::params::VehicleData;
     use rt_vehicle::model::vehicle::Vehicle;
     use rt_vehicle::sim::{SimConfig, Simulation};
     let yaw_rate = |steer: f64| {
@@ -357,7 +357,7 @@ fn circling_steer(v: f64, radius: f64) -> f64 {
 /// turns in 35 s (it must not leave the road), and the error that ends the run when it holds the wheel
 /// straight instead.
 fn lap_and_leave(road: &str, v: f64, radius: f64) -> (f64, String) {
-    use rt_vehicle::model::params::VehicleData;
+    use rt_vehicle::model::formats::params::VehicleData;
     use rt_vehicle::model::vehicle::Vehicle;
     use rt_vehicle::sim::{SimConfig, Simulation};
     let steer = circling_steer(v, radius);

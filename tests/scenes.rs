@@ -2,9 +2,9 @@
 //! integrator orders, steering sign, steady cornering, calibration, saturation, bump timing, stability.
 
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{Channel, Formulation, Outputs, RackProfile, SimConfig, Simulation, SpeedMode};
+use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
 
 const G: f64 = 9.81;
 

@@ -3,7 +3,7 @@
 
 use rt_vehicle::error::Cause;
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{ContactModel, RoadChoice, SimConfig, Simulation, SpeedMode};
 use rt_vehicle::studies::stability::{
     cases, evaluate, relative_error, run_case, run_case_refusing, run_case_sampled, stability, Outcome, Reference,
@@ -191,7 +191,7 @@ fn steady_slip_below_its_speed_range_is_a_named_error() {
 fn the_macpherson_wheel_lock_lands_within_tolerance() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles/generic_macpherson.json");
     let data = VehicleData::from_file(&path).unwrap();
-    let (a, _) = rt_vehicle::sim::calibration::amplitude_for(&data).unwrap();
+    let (a, _) = rt_vehicle::studies::calibration::amplitude_for(&data).unwrap();
     let case = rt_vehicle::studies::stability::cases_for(&data, a)
         .into_iter()
         .find(|c| c.name.starts_with("wheel lock"))

@@ -1,7 +1,7 @@
 //! One run of a parameter study (`studies::study_run`, docs/studies.md): the metrics a case offers before
 //! any run are those its runs give, FMU parameters act as in the FMU, bad requests are named errors.
 
-use rt_vehicle::model::params::{SteeringInput, VehicleData};
+use rt_vehicle::model::formats::params::{SteeringInput, VehicleData};
 use rt_vehicle::studies::manoeuvres::{run_once, Ground, Manoeuvre};
 use rt_vehicle::studies::study_run::{check, metric_key, metric_keys, run, RunRequest};
 

@@ -1,8 +1,8 @@
 //! Every Pacejka property file in `data/chrono` (or `RTV_CHRONO_DATA`) reads: its format is one the
 //! model reads, its units convert to SI, and the keys the Magic Formula's load and size scaling need are
-//! numbers (`model::tire::tir`, issue 18).
+//! numbers (`model::formats::tir`, issue 18).
 
-use rt_vehicle::model::tire::tir::{TirFile, TirFormat, UnitKind};
+use rt_vehicle::model::formats::tir::{TirFile, TirFormat, UnitKind};
 
 mod common;
 use common::chrono_tir_files;

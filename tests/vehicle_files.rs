@@ -5,9 +5,9 @@
 
 mod common;
 use common::rtv;
-use rt_vehicle::model::import_chrono::{import_vehicle, write_atomically};
-use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::model::vehicle_file::{check_schema, MAX_FILE_BYTES};
+use rt_vehicle::model::formats::import_chrono::{import_vehicle, write_atomically};
+use rt_vehicle::model::formats::params::VehicleData;
+use rt_vehicle::model::formats::vehicle_file::{check_schema, MAX_FILE_BYTES};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
@@ -128,7 +128,7 @@ fn the_schema_accepts_every_shipped_vehicle_file() {
 
 #[test]
 fn the_schema_is_a_valid_draft_2020_12_schema_naming_every_field() {
-    let schema: Value = serde_json::from_str(rt_vehicle::model::vehicle_file::VEHICLE_SCHEMA_JSON).unwrap();
+    let schema: Value = serde_json::from_str(rt_vehicle::model::formats::vehicle_file::VEHICLE_SCHEMA_JSON).unwrap();
     assert_eq!(schema["$schema"], "https://json-schema.org/draft/2020-12/schema");
     // Every key of the shipped files is described (additionalProperties: false everywhere, so a key the
     // schema did not name would have failed above); both templates and both steerings are there.
@@ -137,8 +137,8 @@ fn the_schema_is_a_valid_draft_2020_12_schema_naming_every_field() {
         assert!(defs[def].is_object(), "{def}");
     }
     for (def, names) in [
-        ("hardpoints_double_wishbone", &rt_vehicle::model::params::HARDPOINTS[..]),
-        ("hardpoints_macpherson_strut", &rt_vehicle::model::params::MACPHERSON_HARDPOINTS[..]),
+        ("hardpoints_double_wishbone", &rt_vehicle::model::formats::params::HARDPOINTS[..]),
+        ("hardpoints_macpherson_strut", &rt_vehicle::model::formats::params::MACPHERSON_HARDPOINTS[..]),
     ] {
         let required: Vec<&str> =
             defs[def]["required"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
@@ -156,7 +156,7 @@ fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
         let expected = std::fs::read_to_string(repo().join("resources/vehicles").join(shipped)).unwrap();
         assert!(import.to_json() == expected, "{vehicle} no longer imports to resources/vehicles/{shipped}");
         // Chrono's defaults: the springs as written, the tire of the vehicle's data folder (generic/tire/).
-        assert_eq!(import.data.ride_height, rt_vehicle::model::params::RideHeight::Data);
+        assert_eq!(import.data.ride_height, rt_vehicle::model::formats::params::RideHeight::Data);
         assert_eq!(import.data.tire.tir_file.as_deref(), Some("Generic_Pac02Tire.tir"));
         assert!(import.tire.as_ref().unwrap().ends_with("generic/tire/Generic_Pac02Tire.tir"), "{:?}", import.tire);
         let w = import.warnings.join("\n");
@@ -869,7 +869,7 @@ fn catalogue(name: &str) -> PathBuf {
 
 #[test]
 fn the_catalogue_imports_what_rtv_can_be_and_names_the_cause_of_every_refusal() {
-    use rt_vehicle::model::import_chrono::{catalogue_markdown, import_catalogue};
+    use rt_vehicle::model::formats::import_chrono::{catalogue_markdown, import_catalogue};
     let dir = catalogue("catalogue");
     let c = import_catalogue(&dir).unwrap();
     let entry = |file: &str| c.vehicles.iter().find(|e| e.file == file).unwrap_or_else(|| panic!("no entry {file}"));

@@ -8,9 +8,9 @@
 //! integrator within 3× of its tolerance (the calibration's claim, `sim::stepping::LOCAL_PER_TOLERANCE`).
 
 use rt_vehicle::integrate::IntegratorKind;
-use rt_vehicle::model::params::VehicleData;
-use rt_vehicle::sim::scenes::{run, Amplitude, Scene, SceneKind};
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::sim::{Channel, ContactModel, SimConfig};
+use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
 use rt_vehicle::studies::work_precision::{self as wp, Case, Point, Setting};
 
 fn case(name: &str, duration: f64) -> Case {

@@ -20,14 +20,14 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use rt_vehicle::error::ModelError;
-use rt_vehicle::model::params::{DataError, SteeringInput, VehicleData};
+use rt_vehicle::model::formats::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
-use rt_vehicle::sim::calibration;
-use rt_vehicle::sim::scenes::{run_columns, Amplitude, Scene, SceneKind};
 use rt_vehicle::sim::{
     modes, RealOption, Short, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, MODE_OPTIONS, OPTIONS, OUTPUT_NAMES,
 };
+use rt_vehicle::studies::calibration;
 use rt_vehicle::studies::kc;
+use rt_vehicle::studies::scenes::{run_columns, Amplitude, Scene, SceneKind};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::Write;
@@ -209,8 +209,8 @@ fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure>
     // `vehicle` (the FMU's code 0) keeps the vehicle file's.
     // --ride-height (scene_config reads it too): the vehicle's own choice, overridden either way.
     match opts.get("ride-height").map(String::as_str) {
-        Some("retuned") => data.ride_height = rt_vehicle::model::params::RideHeight::Retuned,
-        Some("data") => data.ride_height = rt_vehicle::model::params::RideHeight::Data,
+        Some("retuned") => data.ride_height = rt_vehicle::model::formats::params::RideHeight::Retuned,
+        Some("data") => data.ride_height = rt_vehicle::model::formats::params::RideHeight::Data,
         _ => {}
     }
     if let Some(word) = opts.get("tire-convention") {
@@ -865,7 +865,7 @@ fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
 
 /// `rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json` (docs/vehicle_file.md).
 fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::model::import_chrono;
+    use rt_vehicle::model::formats::import_chrono;
     let (vehicle, rest) = args.split_first().ok_or_else(|| bad("import-chrono: name the Chrono vehicle file"))?;
     if vehicle == "--all" {
         return import_chrono_all(rest);
@@ -895,7 +895,7 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
 /// catalogue"); with `--out-dir`, each imported vehicle is written there (its file's path with `/` → `_`)
 /// beside its tire. Exit 0 when the report is written, whatever it says.
 fn import_chrono_all(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::model::import_chrono;
+    use rt_vehicle::model::formats::import_chrono;
     let (dir, rest) = args.split_first().ok_or_else(|| bad("import-chrono --all: name the Chrono data folder"))?;
     let opts = options(rest, &["out-dir"])?;
     let dir = std::path::Path::new(dir);
@@ -920,8 +920,11 @@ fn import_chrono_all(args: &[String]) -> Result<(), Failure> {
 }
 
 /// Writes an import to `out_path`, its `.tir` file beside it (the vehicle file names it by its file name).
-fn write_import(import: &rt_vehicle::model::import_chrono::Import, out_path: &std::path::Path) -> Result<(), String> {
-    use rt_vehicle::model::import_chrono::write_atomically;
+fn write_import(
+    import: &rt_vehicle::model::formats::import_chrono::Import,
+    out_path: &std::path::Path,
+) -> Result<(), String> {
+    use rt_vehicle::model::formats::import_chrono::write_atomically;
     if let (Some(tir), Some(name)) = (&import.tire, &import.data.tire.tir_file) {
         let target = out_path.parent().unwrap_or(std::path::Path::new("")).join(name);
         let same = |a: &std::path::Path, b: &std::path::Path| a.canonicalize().ok() == b.canonicalize().ok();
@@ -1107,7 +1110,7 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
 fn cmd_road(args: &[String]) -> Result<(), Failure> {
     let opts = options(args, &["road", "step", "out"])?;
     let spec = opts.get("road").ok_or_else(|| bad("road: --road FILE.crg|iso8608:... is required"))?;
-    if rt_vehicle::model::road_xodr::is_xodr(spec) {
+    if rt_vehicle::model::road::xodr::is_xodr(spec) {
         return Err(bad(
             "road: profiles are written for OpenCRG files and iso8608: roads; an OpenDRIVE map is checked by \
              driving it (rtv scene … --road FILE.xodr)",
@@ -1117,7 +1120,7 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
     if !(step >= 1e-4) {
         return Err(bad("road: --step must be at least 1e-4 m"));
     }
-    let surface = rt_vehicle::model::road_crg::surface_for(spec).map_err(|e| failed(format!("--road: {e}")))?;
+    let surface = rt_vehicle::model::road::crg::surface_for(spec).map_err(|e| failed(format!("--road: {e}")))?;
     let ([u0, u1], [v0, v1]) = surface.extent();
     let count = ((u1 - u0) / step).floor() as usize + 1;
     if count > 20_000_000 {

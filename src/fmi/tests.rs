@@ -679,7 +679,7 @@ fn vehicle_file_must_be_a_small_regular_file() {
     let c_fifo = CString::new(fifo.to_str().unwrap()).unwrap();
     assert_eq!(unsafe { libc::mkfifo(c_fifo.as_ptr(), 0o600) }, 0);
     let big = tmp.join("big.json");
-    std::fs::write(&big, vec![b' '; (crate::model::vehicle_file::MAX_FILE_BYTES + 1) as usize]).unwrap();
+    std::fs::write(&big, vec![b' '; (crate::model::formats::vehicle_file::MAX_FILE_BYTES + 1) as usize]).unwrap();
     let rec = Recorder::default();
     let inst = Inst::<VehicleModel>::initializing(&rec);
     for (file, needle) in [

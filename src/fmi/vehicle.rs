@@ -9,12 +9,12 @@
 use super::logger::Logger;
 use super::model::{FmuModel, Interface, ModelContext, ResourceLocation, StepFailure};
 use super::variables::{Causality, Input as I, Local as L, Parameter as P, Var, VarType, Variable, VARIABLES};
-use crate::model::params::SteeringInput;
-use crate::model::params::VehicleData;
-use crate::model::road_iso8608::Iso8608;
+use crate::model::formats::params::SteeringInput;
+use crate::model::formats::params::VehicleData;
+use crate::model::road::iso8608::Iso8608;
 use crate::model::steering::RackMotion;
 use crate::model::vehicle::Vehicle;
-use crate::sim::scenes::SceneNeeds;
+use crate::sim::needs::SceneNeeds;
 use crate::sim::{
     modes, Channel, ModeOption, RackSample, RealOption, SimConfig, Simulation, MODE_OPTIONS, OUTPUT_NAMES,
     REAL_OPTIONS, TOLERANCE_MAX, TOLERANCE_MIN,
@@ -181,7 +181,7 @@ fn check_steering(input: SteeringInput, value: f64, active: SteeringInput, limit
 /// `FILE.xodr#ROAD_ID`.
 fn road_file_parts(road: &str) -> (&str, &str) {
     match road.rfind('#') {
-        Some(k) if crate::model::road_xodr::is_xodr(road) => (&road[..k], &road[k..]),
+        Some(k) if crate::model::road::xodr::is_xodr(road) => (&road[..k], &road[k..]),
         _ => (road, ""),
     }
 }

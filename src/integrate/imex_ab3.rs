@@ -553,7 +553,7 @@ impl SubSteps<'_> {
     /// A retaken step from (t, x) (f = `f_start`) whose wheels in the air at t (`g_start`) may touch down
     /// within it: the tire's normal force jumps there from 0 to c_z δ̇ (docs/physics.md §6.3), which no sub-step
     /// that straddles it follows (the estimate of the imports' wheel lock at 8.33 ms was 38 × its limit in
-    /// sixteenth steps). As RK4's location does (`touchdown`): trials from t (`trial`) bracket the first
+    /// sixteenth steps). As RK4's location does (`rk4`): trials from t (`trial`) bracket the first
     /// touchdown by Illinois' regula falsi on the largest penetration of the wheels that were in the air, to
     /// `TIME_TOLERANCE` of the step; an explicit Euler hop from the bracket's lower end crosses it into
     /// contact; the rest of the step is a fresh start of four checked sub-steps, split again at a later

@@ -38,7 +38,7 @@ pub trait OdeSystem {
     }
     /// Indicators of the last evaluation whose upward zero crossing makes the right-hand side jump (a tire
     /// touching down: its normal force jumps from 0 to c_z δ̇). RK4 locates such a crossing inside a step
-    /// and steps across it (`touchdown`); IMEX-AB3 inside a step its monitor retakes. At most `touchdown::MAX_SWITCHES`. Default: none.
+    /// and steps across it (`rk4`); IMEX-AB3 inside a step its monitor retakes. At most `touchdown::MAX_SWITCHES`. Default: none.
     fn switch_indicators(&self) -> &[f64] {
         &[]
     }

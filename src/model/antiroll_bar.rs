@@ -15,7 +15,7 @@
 
 use crate::error::{Cause, ModelError};
 use crate::math::V3;
-use crate::model::params::{AntirollBar, DataError, VehicleData};
+use crate::model::formats::params::{AntirollBar, DataError, VehicleData};
 use crate::model::suspension::{Corner, CornerPositions, Side};
 use serde::{Deserialize, Serialize};
 

@@ -6,8 +6,8 @@
 use crate::error::{Cause, ModelError};
 use crate::math::{quat_from_euler, quat_to_matrix, V3};
 use crate::model::options::Options;
+use crate::model::road::envelope::ContactModel;
 use crate::model::road::RoadModel;
-use crate::model::road_envelope::ContactModel;
 use crate::model::steering::RackMotion;
 use crate::model::tire::SlipModel;
 use crate::model::vehicle::{idx, Inputs, Layout, Run, SpeedMode, Vehicle, Workspace};

@@ -3,7 +3,7 @@
 //! the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
 
 use crate::math::smoothstep;
-use crate::model::params::{Damper, Spring, SpringCurve, StopTable};
+use crate::model::formats::params::{Damper, Spring, SpringCurve, StopTable};
 use serde::{Deserialize, Serialize};
 
 /// Width of the C¹ blend at a stop's engagement, m.
@@ -164,7 +164,7 @@ pub fn damper_force(d: &Damper, length: f64, rate: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::params::VehicleData;
+    use crate::model::formats::params::VehicleData;
 
     #[test]
     fn stop_curve_is_monotone_c1_and_passes_through_the_table() {

@@ -2,7 +2,7 @@
 //! MuJoCo's mjOption is beside mjModel). The vehicle (`vehicle::Vehicle`) is data built from a vehicle file;
 //! a run owns its `Options` and hands them, with its road, to every evaluation (`vehicle::Run`).
 //! `sim::SimConfig` carries them whole (flattened), and the FMU stores that configuration directly.
-use crate::model::road_envelope::ContactModel;
+use crate::model::road::envelope::ContactModel;
 use crate::model::tire::SlipModel;
 use serde::{Deserialize, Serialize};
 

@@ -46,7 +46,7 @@ pub struct SimConfig {
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
     /// A road of one's own in place of `road`: an OpenCRG file or `iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]`
-    /// (`model::road_crg`), placed with its reference line's start 2 m behind the initial rear axle.
+    /// (`model::road::crg`), placed with its reference line's start 2 m behind the initial rear axle.
     #[serde(default)]
     pub road_file: Option<String>,
     /// A setting that exists for a test only (feature `test-option`): declared in build.rs's test variable

@@ -215,7 +215,7 @@ impl Simulation {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::params::VehicleData;
+    use crate::model::formats::params::VehicleData;
     use crate::sim::SimConfig;
 
     fn exchange_simulation() -> Simulation {

@@ -8,14 +8,13 @@
 //!   divergence or a model evaluation failure (the state then is the last good one).
 //! - `outputs()`: every CLI column by name (`OUTPUT_NAMES`), plus diagnostics.
 
-pub mod calibration;
 mod config;
 mod exchange;
 pub mod hop_measurements;
 pub mod inputs;
 pub mod modes;
+pub mod needs;
 pub mod outputs;
-pub mod scenes;
 mod step_check;
 pub mod stepping;
 
@@ -25,7 +24,7 @@ use crate::error::{Cause, Context, ModelError};
 use crate::integrate::{AnyIntegrator, Integrator, OdeSystem};
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
 use crate::model::equilibrium::{retune_ride_height, start_on_plane, steady_rolling_steered, StartPlane};
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
 use crate::model::road::RoadModel;
 use crate::model::vehicle::{idx, Diagnostics, Inputs, Layout, Run, Vehicle, WarmStart, Workspace};
 use serde::{Deserialize, Serialize};
@@ -38,7 +37,7 @@ pub use outputs::{Channel, Outputs, CSV_COLUMNS, OUTPUT_NAMES};
 pub use config::*;
 
 pub use crate::model::options::{Formulation, Options, SpeedMode};
-pub use crate::model::road_envelope::ContactModel;
+pub use crate::model::road::envelope::ContactModel;
 
 /// A restored simulation's road until `validate_restored` rebuilds it from the configuration.
 fn flat_road() -> RoadModel {
@@ -198,7 +197,7 @@ impl Start {
                 let rear_x0 = 0.5
                     * (2..4).map(|i| (a0 * v.corners[i].on_carrier(&positions[i], &v.corners[i].w0)).x).sum::<f64>()
                     + state[idx::R0];
-                let anchor = [rear_x0 - crate::model::road_crg::START_BEHIND_REAR_AXLE_M, state[idx::R0 + 1]];
+                let anchor = [rear_x0 - crate::model::road::crg::START_BEHIND_REAR_AXLE_M, state[idx::R0 + 1]];
                 RoadModel::from_file(spec, anchor).map_err(|e| ModelError::new(Cause::Input, e))?
             }
             (None, RoadChoice::Flat) => RoadModel::Flat,

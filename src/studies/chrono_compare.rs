@@ -11,12 +11,12 @@
 //! extrapolated to h → 0 as 2·(1.25e-4 run) − (2.5e-4 run); the HMMWV has one run, and its README puts the
 //! limit 0.5 % above it.
 use crate::error::{Cause, ModelError};
-use crate::model::import_chrono::import_vehicle;
-use crate::model::params::VehicleData;
+use crate::model::formats::import_chrono::import_vehicle;
+use crate::model::formats::params::VehicleData;
 use crate::model::tire::{ChronoPart, TireConvention};
 use crate::sim::inputs::RackProfile;
-use crate::sim::scenes::{run, Scene, SceneKind};
 use crate::sim::{Channel, Outputs, SimConfig};
+use crate::studies::scenes::{run, Scene, SceneKind};
 use std::path::Path;
 
 /// The reference runs' speed, m/s (60 km/h), and the window of each mean, s.

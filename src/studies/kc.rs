@@ -37,7 +37,7 @@ use crate::error::{Cause, ModelError};
 use crate::math::V3;
 use crate::model::equilibrium::retune_ride_height;
 use crate::model::forces::spring_force;
-use crate::model::params::{ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
+use crate::model::formats::params::{ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
 use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
 use crate::model::vehicle::{Options, Vehicle};
 

@@ -23,7 +23,7 @@
 
 use crate::error::{Cause, ModelError};
 use crate::math::{euler_from_matrix, quat_from_euler, quat_to_matrix, V3};
-use crate::model::params::{SteeringInput, VehicleData};
+use crate::model::formats::params::{SteeringInput, VehicleData};
 use crate::model::steering::RackMotion;
 use crate::model::vehicle::{idx, Inputs, Layout, Run, Vehicle, WarmStart, Workspace, CORNERS};
 use crate::sim::{RackProfile, SimConfig, Simulation, SpeedMode};

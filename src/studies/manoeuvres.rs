@@ -11,7 +11,7 @@
 //! response is linear there) and scaled.
 
 use crate::error::ModelError;
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
 use crate::sim::{Channel, Outputs, RackProfile, SimConfig, Simulation, SpeedMode};
 
 /// The manoeuvres.
@@ -146,7 +146,7 @@ pub fn rack_for_lateral_acceleration(
 
 /// `rack_for_lateral_acceleration`, adding its run to `cost`.
 fn rack_for_ay(data: &VehicleData, ground: &Ground, speed: f64, ay: f64, cost: &mut Cost) -> Result<f64, ModelError> {
-    let (a0, _) = crate::sim::calibration::amplitude_for(data)?;
+    let (a0, _) = crate::studies::calibration::amplitude_for(data)?;
     let rows = simulate(
         data,
         ground,
@@ -205,7 +205,7 @@ impl Manoeuvre {
     /// The names of the metrics one run (`run_once`) computes, in its order (tests/manoeuvres.rs checks them
     /// against the runs): what a study may ask for before anything runs.
     /// The steering metric is named in the vehicle's own steering input.
-    pub fn metric_names(self, steering: crate::model::params::SteeringInput) -> Vec<&'static str> {
+    pub fn metric_names(self, steering: crate::model::formats::params::SteeringInput) -> Vec<&'static str> {
         let names: &[&str] = match self {
             Manoeuvre::StepSteer => &[
                 "yaw-rate response time",
@@ -239,8 +239,8 @@ impl Manoeuvre {
                 "exit speed",
                 "peak lateral acceleration",
                 match steering {
-                    crate::model::params::SteeringInput::RackDisplacement => "peak rack displacement",
-                    crate::model::params::SteeringInput::PitmanArmAngle => "peak Pitman-arm angle",
+                    crate::model::formats::params::SteeringInput::RackDisplacement => "peak rack displacement",
+                    crate::model::formats::params::SteeringInput::PitmanArmAngle => "peak Pitman-arm angle",
                 },
             ],
         };
@@ -448,7 +448,7 @@ pub fn dlc_driver(
     vehicle: &crate::model::vehicle::Vehicle,
 ) -> Result<rtv_driver::PurePursuit, ModelError> {
     let gain = vehicle.steering_gain_per_rack_metre()? * vehicle.steering.sign;
-    let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
+    let spindle = |axle: &crate::model::formats::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear) = (spindle(&data.front), spindle(&data.rear));
     Ok(rtv_driver::PurePursuit {
         preview_time: 0.6,
@@ -472,7 +472,7 @@ fn double_lane_change(data: &VehicleData, ground: &Ground, v: f64) -> Result<Rep
     let first = sim.outputs()?;
     // The course is laid out from the CM's start at the origin (tests/manoeuvres.rs checks it starts there).
     // Outer tire edges in the chassis frame, relative to the CM: (x, ±y).
-    let spindle = |axle: &crate::model::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
+    let spindle = |axle: &crate::model::formats::params::Axle| axle.hardpoints_chassis_frame_m["SPINDLE"];
     let (front, rear, com_x) = (spindle(&data.front), spindle(&data.rear), data.chassis.com_m[0]);
     // Every vehicle runs the HMMWV's tire for now: its width.
     let half_width = front[1] + 0.5 * HMMWV_TIRE_WIDTH_M;
@@ -522,10 +522,10 @@ fn double_lane_change(data: &VehicleData, ground: &Ground, v: f64) -> Result<Rep
         metric("exit speed", rows.last().map_or(f64::NAN, |r| r[Channel::Vx]) * 3.6, "km/h"),
         metric("peak lateral acceleration", peak(Channel::Ay) / data.gravity_m_s2, "g"),
         match data.steering_input() {
-            crate::model::params::SteeringInput::RackDisplacement => {
+            crate::model::formats::params::SteeringInput::RackDisplacement => {
                 metric("peak rack displacement", peak(Channel::RackDisplacement) * 1e3, "mm")
             }
-            crate::model::params::SteeringInput::PitmanArmAngle => {
+            crate::model::formats::params::SteeringInput::PitmanArmAngle => {
                 metric("peak Pitman-arm angle", peak(Channel::RackDisplacement), "rad")
             }
         },

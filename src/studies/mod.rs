@@ -15,12 +15,15 @@
 //! They are the Cargo feature `studies` (default on: the CLI, the tests): the FMU's library is built without
 //! it (packaging: `--no-default-features`), so it carries neither the studies nor the driver crate.
 
+pub mod calibration;
 pub mod chrono_compare;
 pub mod kc;
 pub mod linear;
 pub mod manoeuvres;
 pub mod ride;
 pub mod ride_filters;
+pub mod scenes;
+pub mod shipped_calibration;
 pub mod stability;
 pub mod study_run;
 pub mod work_precision;

@@ -14,9 +14,9 @@ use super::ride_filters::{absorbed_power_w, peak_filtered_g, speed_at};
 use crate::error::{Cause, ModelError};
 use crate::integrate::IntegratorKind;
 use crate::math::V3;
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
+use crate::model::road::envelope::ContactModel;
 use crate::model::road::RoadModel;
-use crate::model::road_envelope::ContactModel;
 use crate::sim::{SimConfig, Simulation, SpeedMode};
 
 /// Sampling of the seat acceleration and the integration step, s.
@@ -132,7 +132,7 @@ pub fn seat_acceleration(
     Ok(out)
 }
 
-/// Where the reference line starts relative to the CM's start, m (the placement of `road_crg`).
+/// Where the reference line starts relative to the CM's start, m (the placement of `road::crg`).
 fn road_start_behind_cm(data: &VehicleData, road: &str) -> Result<f64, ModelError> {
     let sim = Simulation::new(data.clone(), config(road, 5.0))?;
     match sim.road() {

@@ -18,9 +18,9 @@
 
 use crate::error::{Cause, ModelError};
 use crate::integrate::IntegratorKind;
-use crate::model::params::VehicleData;
-use crate::sim::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
+use crate::model::formats::params::VehicleData;
 use crate::sim::{Channel as Output, ContactModel, RackProfile, RoadChoice, SimConfig, Simulation, SpeedMode};
+use crate::studies::scenes::{calibrated_jturn_amplitude, Amplitude, Scene, SceneKind};
 
 /// Largest error of an OK run, relative to each channel's excursion in the reference.
 pub const TOLERANCE: f64 = 1e-2;
@@ -170,7 +170,7 @@ pub fn cases() -> Vec<Case> {
 }
 
 /// Every case on `vehicle`, whose calibrated J-turn amplitude is `a` (in its steering input; `Scene::for_vehicle`
-/// or `sim::calibration` give it). Full lock is the steering's limit.
+/// or `studies::calibration` give it). Full lock is the steering's limit.
 pub fn cases_for(vehicle: &VehicleData, a: f64) -> Vec<Case> {
     let bump = Scene::new(SceneKind::Bump, Amplitude::Calibrated);
     let lock = vehicle.steering_limit();
@@ -531,7 +531,7 @@ pub fn relative_error(case: &Case, run: &[Vec<f64>], reference: &[Vec<f64>]) -> 
 /// The case of the suite whose name contains `name`, for `data` at its calibrated J-turn amplitude (the
 /// diagnostic examples' way to name one).
 pub fn case_named(data: &VehicleData, name: &str) -> Result<Case, String> {
-    let (a, _) = crate::sim::calibration::amplitude_for(data).map_err(|e| e.to_string())?;
+    let (a, _) = crate::studies::calibration::amplitude_for(data).map_err(|e| e.to_string())?;
     cases_for(data, a).into_iter().find(|c| c.name.contains(name)).ok_or_else(|| format!("no case named {name:?}"))
 }
 

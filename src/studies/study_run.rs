@@ -12,10 +12,10 @@ use crate::fmi::logger::Logger;
 use crate::fmi::variables::VARIABLES;
 use crate::fmi::vehicle::VehicleModel;
 use crate::fmi::{FmuModel, ModelContext, ResourceLocation};
-use crate::model::params::{SteeringInput, VehicleData};
-use crate::sim::scenes::{Amplitude, Scene, SceneKind};
+use crate::model::formats::params::{SteeringInput, VehicleData};
 use crate::sim::{Channel, Outputs, SimConfig, INITIAL_SPEED_MAX, INITIAL_SPEED_MIN, OUTPUT_NAMES};
 use crate::studies::manoeuvres::{self, Cost, Ground, Manoeuvre};
+use crate::studies::scenes::{Amplitude, Scene, SceneKind};
 use fmi_layer::variables::VarType;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
@@ -337,7 +337,7 @@ pub fn run(request: &RunRequest) -> Result<RunResult, RunError> {
             let mut sim = crate::sim::Simulation::new(data, scene_config)?;
             sim.set_rack_profile(scene.rack);
             let mut rows = Vec::new();
-            crate::sim::scenes::run(&mut sim, scene.duration, manoeuvres::SAMPLE, |o| rows.push(o.clone()))?;
+            crate::studies::scenes::run(&mut sim, scene.duration, manoeuvres::SAMPLE, |o| rows.push(o.clone()))?;
             let cost = Cost { evaluations: sim.evaluations(), simulated_seconds: sim.time() };
             (rows, cost)
         }

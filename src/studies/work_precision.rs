@@ -13,9 +13,9 @@
 
 use crate::error::ModelError;
 use crate::integrate::IntegratorKind;
-use crate::model::params::VehicleData;
-use crate::sim::scenes::{Amplitude, Scene, SceneKind};
+use crate::model::formats::params::VehicleData;
 use crate::sim::{Channel as Output, SimConfig, Simulation};
+use crate::studies::scenes::{Amplitude, Scene, SceneKind};
 
 /// The comparison grid, s: outputs are compared at the multiples of it that a run lands on.
 pub const GRID: f64 = 0.01;
@@ -88,7 +88,7 @@ pub fn cases_for(vehicle: &VehicleData) -> Result<Vec<Case>, ModelError> {
         Channel { output: Output::WheelZRl, norm: Norm::Excursion },
         Channel { output: Output::WheelZRr, norm: Norm::Excursion },
     ];
-    let amplitude = crate::sim::calibration::resolve(Amplitude::Calibrated, vehicle)?;
+    let amplitude = crate::studies::calibration::resolve(Amplitude::Calibrated, vehicle)?;
     let scene = |kind| Scene::with_amplitude(kind, amplitude);
     let vehicle = vehicle.clone();
     Ok(vec![

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use rt_vehicle::integrate::{Integrator, Rk4};
-use rt_vehicle::model::params::VehicleData;
+use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Layout, Options, Run, Vehicle, Workspace};
 use rt_vehicle::sim::{inputs::RackProfile, RackSource, VehicleOde};
 use rt_vehicle::sim::{Channel, SimConfig, Simulation};

@@ -526,7 +526,7 @@ def test_a_fixed_step_integrator_ignores_the_experiment_tolerance(make):
 def test_physical_events_are_logged_even_when_no_evaluated_output_is_read(make):
     """(steps) The events (a wheel off the road, locked, spun up) are seen by the output evaluation. On a road
     with bumps or with torques live the FMU evaluates the outputs at every communication point whether or not
-    the master reads them (sim::scenes::SceneNeeds::of_run), so a master reading only the pose still gets them."""
+    the master reads them (studies::scenes::SceneNeeds::of_run), so a master reading only the pose still gets them."""
     s = make(logging_on=True)
     # 1 ms: at the default 2 ms the step check refuses the landing after the 15 cm bump (the wheel hop, up to
     # -140 1/s there, under-resolved: |hλ| = 0.28 > 0.25 for RK4, docs/integrators.md).

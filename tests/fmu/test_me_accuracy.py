@@ -40,7 +40,7 @@ FMU3 = ROOT / "target" / "fmu" / "RtVehicle3.fmu"
 TOLERANCE = 1e-4
 RELATIVE_TOLERANCE = 1e-8
 
-# The J-turn scene's steering (src/sim/scenes.rs): a smootherstep of the rack from 3 s over 0.1 s.
+# The J-turn scene's steering (src/studies/scenes.rs): a smootherstep of the rack from 3 s over 0.1 s.
 RAMP_START, RAMP = 3.0, 0.1
 
 JTURN_CHANNELS = ["ay", "yaw_rate", "roll_rate", "vy", "wheel_z_fl", "wheel_z_rr"]

@@ -21,7 +21,7 @@ def test_the_tire_file_ships_with_chronos_licence(fmu_path):
     assert "resources/tires/LICENSE-chrono" in names
 
 
-# The J-turn scene (src/sim/scenes.rs): at the FMU's default 100 km/h, the rack's smootherstep from 3 s over
+# The J-turn scene (src/studies/scenes.rs): at the FMU's default 100 km/h, the rack's smootherstep from 3 s over
 # 0.1 s to 3 mm; 8 s.
 AMPLITUDE, RAMP_START, RAMP, END = 0.003, 3.0, 0.1, 8.0
 

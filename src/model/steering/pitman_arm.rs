@@ -8,9 +8,9 @@
 //! joint then holds by itself (the link keeps its orientation). Other linkages are refused with the
 //! reason: their link turns, which this drive does not model.
 
+use super::tie_rod::TieRodDrive;
 use crate::math::V3;
-use crate::model::params::{DataError, PitmanArm};
-use crate::model::suspension::TieRodDrive;
+use crate::model::formats::params::{DataError, PitmanArm};
 
 /// Relative tolerance of the parallelogram check (data are given to about 1e-6 m).
 const PARALLELOGRAM_TOLERANCE: f64 = 1e-6;

@@ -6,7 +6,7 @@
 
 use super::{arm_inertia, Closure, Corner, Hardpoints, LineMount, MountBody, Side, TieRodDrive};
 use crate::math::{rotation_about_sc, M3, V3};
-use crate::model::params::{Axle, DataError, VehicleData};
+use crate::model::formats::params::{Axle, DataError, VehicleData};
 use serde::{Deserialize, Serialize};
 
 /// The upper arm: a revolute joint on the chassis (point p_u, axis h_u) and its ball joint u0 on the upright.

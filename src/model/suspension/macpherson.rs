@@ -14,7 +14,7 @@
 
 use super::{BodyInertia, Closure, Corner, Hardpoints, LineMount, MountBody, Side, TieRodDrive};
 use crate::math::{M3, V3};
-use crate::model::params::{Axle, DataError, VehicleData};
+use crate::model::formats::params::{Axle, DataError, VehicleData};
 use serde::{Deserialize, Serialize};
 
 /// The strut line in the upright: it passes through `lower` (SPRING_U at design) along `axis` (unit, toward

@@ -30,7 +30,7 @@ pub fn linear_friction_circle_forces(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::params::VehicleData;
+    use crate::model::formats::params::VehicleData;
 
     #[test]
     fn linear_is_the_stiffness_times_the_slip() {

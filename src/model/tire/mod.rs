@@ -4,7 +4,7 @@
 //! - [`normal_force`] (§6.3), [`rolling_resistance_moment`] (§6.6).
 //! - [`steady_slip`], [`relaxation_rates`] (§6.4, §6.7, `slip.rs`).
 //! - [`shear_forces`]: the STI composite-slip model (§6.5–§6.6, `sti.rs`), the Magic Formula from a `.tir`
-//!   file (`magic_formula.rs`, read by `tir.rs`), or a fallback (§6.8, `fallback.rs`).
+//!   file (`magic_formula.rs`, read by `model/formats/tir.rs`), or a fallback (§6.8, `fallback.rs`).
 //! - [`slip_stiffness`], [`peak_friction`]: what the slip states' low-speed model needs of the force law.
 //!
 //! Everything here is a pure function of its arguments, without allocation, so it can run inside every
@@ -17,9 +17,8 @@ mod geometry;
 pub mod magic_formula;
 mod slip;
 pub mod sti;
-pub mod tir;
 
-pub use crate::model::params::Tire as TireParams;
+pub use crate::model::formats::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
 pub use magic_formula::{CombinedSlip, Evaluation, MagicFormula, MomentForms, TireSide};
@@ -325,7 +324,7 @@ pub fn rolling_resistance_moment(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::params::VehicleData;
+    use crate::model::formats::params::VehicleData;
     use crate::model::road::RoadModel;
 
     fn params() -> TireParams {

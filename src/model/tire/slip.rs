@@ -156,7 +156,7 @@ pub fn relaxation_rates(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::params::VehicleData;
+    use crate::model::formats::params::VehicleData;
 
     fn params() -> TireParams {
         VehicleData::default_hmmwv().tire

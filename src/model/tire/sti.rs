@@ -123,7 +123,7 @@ pub const REFERENCE: [([f64; 4], [f64; 3]); 8] = [
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::params::VehicleData;
+    use crate::model::formats::params::VehicleData;
 
     fn params() -> TireParams {
         VehicleData::default_hmmwv().tire

@@ -24,11 +24,11 @@
 //! anything is written, and written atomically (`write_atomically`).
 
 use crate::math::{M3, V3};
-use crate::model::params::{
+use crate::model::formats::params::{
     AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate,
     VehicleData, WheelBody,
 };
-use crate::model::vehicle_file::MAX_FILE_BYTES;
+use crate::model::formats::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
 use serde_json::{Map, Value};
 use std::collections::{BTreeMap, BTreeSet};
@@ -1175,7 +1175,7 @@ impl Importer {
             wheel: WheelBody { mass_kg: wheel.mass, inertia_kg_m2: wheel.inertia },
             tire,
             speed_hold: hmmwv.speed_hold.clone(),
-            ride_height: crate::model::params::RideHeight::Data,
+            ride_height: crate::model::formats::params::RideHeight::Data,
         };
         // The loader's checks (schema, inertias, loop closure) on the text that will be written.
         // A file named twice (the same wheel on every corner) warns once.

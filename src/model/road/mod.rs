@@ -3,64 +3,21 @@
 //! The shipped roads are a flat plane z = 0 and that plane plus half-sine bumps, each confined to one side of
 //! the road (the paper's unsymmetric bump course). Height and gradient are analytic, so the contact normal
 //! (§6.2) is exact. The bumps are only C⁰ at their edges: the normal jumps there, which is the paper's profile.
+//!
+//! Files: `surface` (the `Road` and `FileRoad` traits and `Placement`, which every format implements), the
+//! formats `crg` (OpenCRG and the generated ISO 8608 roads of `iso8608`) and `xodr` (OpenDRIVE), `RoadModel`
+//! here above them, and `envelope` (the tire's enveloping contact) above `RoadModel`.
+
+pub mod crg;
+pub mod envelope;
+pub mod iso8608;
+pub mod surface;
+pub mod xodr;
+
+pub use surface::{FileRoad, Placement, Road};
+
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
-
-/// Height h(x, y) of the road in the ground frame and its gradient (dh/dx, dh/dy).
-pub trait Road {
-    fn height_and_gradient(&self, x: f64, y: f64) -> (f64, [f64; 2]);
-
-    /// `None` where the road has a surface at (x, y); beyond a road file's defined area (an OpenCRG grid
-    /// where the file declares no border mode that continues it, an OpenDRIVE road beyond its ends or its
-    /// lanes) what the wheel left: the position in the file's own coordinates and the file's extent. The run
-    /// then ends with this as its error (docs/roads.md, "The road's edge"): no surface is invented there.
-    fn off_road(&self, _x: f64, _y: f64) -> Option<String> {
-        None
-    }
-
-    /// The road's friction at (x, y) as a scale on the tires' peak friction (1: the tire data's road). The
-    /// shipped roads are uniform; the run's `Options::road_friction` multiplies it.
-    fn friction(&self, _x: f64, _y: f64) -> f64 {
-        1.0
-    }
-}
-
-/// A road read from a file (OpenCRG, ISO 8608, OpenDRIVE): it has a name and an extent, whose leaving the
-/// simulation reports as an event.
-pub trait FileRoad: Road {
-    fn name(&self) -> &str;
-    /// Whether the ground point lies within the file's extent (beyond it the surface continues as the file
-    /// type's documentation says: border modes for OpenCRG, held profiles for OpenDRIVE).
-    fn inside(&self, x: f64, y: f64) -> bool;
-    /// What the reader dropped or questioned in the file (an OpenDRIVE map's warnings).
-    fn warnings(&self) -> &[String] {
-        &[]
-    }
-}
-
-/// How a road file sits in the simulation's ground frame: ground (x, y) ↦ file (x, y) = origin + R(heading)
-/// ((x, y) − anchor), the file's start (`origin`, heading along its reference line) at ground point `anchor`,
-/// heading along ground x. Shared by the OpenCRG and OpenDRIVE roads.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Placement {
-    pub anchor: [f64; 2],
-    pub origin: [f64; 2],
-    pub cos: f64,
-    pub sin: f64,
-}
-
-impl Placement {
-    /// The file's (x, y) of a ground point.
-    pub fn to_file(&self, x: f64, y: f64) -> [f64; 2] {
-        let (dx, dy) = (x - self.anchor[0], y - self.anchor[1]);
-        [self.origin[0] + self.cos * dx - self.sin * dy, self.origin[1] + self.sin * dx + self.cos * dy]
-    }
-
-    /// A gradient in the file's axes turned into the ground's.
-    pub fn gradient_to_ground(&self, [gx, gy]: [f64; 2]) -> [f64; 2] {
-        [self.cos * gx + self.sin * gy, -self.sin * gx + self.cos * gy]
-    }
-}
 
 /// A half-sine bump on one side of the road: h = height sin(pi (x - x_start)/length) on [x_start, x_start + length]
 /// for side * y > 0 (side +1 left, -1 right).
@@ -135,7 +92,7 @@ impl Road for EdgeAveraged<'_> {
             // the enveloping quadrature, whose slope is continuous (a difference of box averages).
             RoadModel::Surface(_) | RoadModel::Map(_) => {
                 let file = self.road.file().expect("a file road");
-                crate::model::road_envelope::enveloped_by_quadrature(file, x, y, self.width)
+                surface::enveloped_by_quadrature(file, x, y, self.width)
             }
         }
     }
@@ -153,13 +110,13 @@ fn sum_averaged(bumps: &[HalfSineBump], x: f64, y: f64, width: f64) -> (f64, [f6
 pub enum RoadModel {
     Flat,
     Bumps(Vec<HalfSineBump>),
-    /// An OpenCRG file or an ISO 8608 random road, placed (`road_crg`); rebuilt from the configuration,
+    /// An OpenCRG file or an ISO 8608 random road, placed (`road::crg`); rebuilt from the configuration,
     /// never serialized.
     #[serde(skip)]
-    Surface(crate::model::road_crg::PlacedSurface),
-    /// A road of an OpenDRIVE map, placed (`road_xodr`); rebuilt from the configuration, never serialized.
+    Surface(crg::PlacedSurface),
+    /// A road of an OpenDRIVE map, placed (`road::xodr`); rebuilt from the configuration, never serialized.
     #[serde(skip)]
-    Map(crate::model::road_xodr::PlacedMap),
+    Map(xodr::PlacedMap),
 }
 
 /// Bump geometry of the paper's course [P, docs/physics.md §8.3].
@@ -182,11 +139,10 @@ impl RoadModel {
     /// The road a specification names (an OpenCRG file, `iso8608:…`, or an OpenDRIVE map `FILE.xodr[#ROAD]`),
     /// its start (reference line start, v = 0) at ground point `anchor`, heading along ground x.
     pub fn from_file(spec: &str, anchor: [f64; 2]) -> Result<RoadModel, String> {
-        use crate::model::{road_crg, road_xodr};
-        Ok(if road_xodr::is_xodr(spec) {
-            RoadModel::Map(road_xodr::PlacedMap::new(road_xodr::load(spec)?, anchor))
+        Ok(if xodr::is_xodr(spec) {
+            RoadModel::Map(xodr::PlacedMap::new(xodr::load(spec)?, anchor))
         } else {
-            RoadModel::Surface(road_crg::PlacedSurface::new(road_crg::surface_for(spec)?, anchor))
+            RoadModel::Surface(crg::PlacedSurface::new(crg::surface_for(spec)?, anchor))
         })
     }
 

@@ -1,6 +1,6 @@
 #![allow(non_snake_case)] // field names carry their units (N_per_m), as in the data file
 //! Vehicle data file (`resources/hmmwv.json`): serde structs and the checks of the data alone.
-//! Reading a file (schema, then these checks, then the suspension loops) is `model::vehicle_file`.
+//! Reading a file (schema, then these checks, then the suspension loops) is `model::formats::vehicle_file`.
 //!
 //! Every number the model uses comes from this file. Loading validates what would otherwise surface as a
 //! NaN deep inside a function evaluation: missing fields (serde names them), non-positive masses, inertia
@@ -444,7 +444,7 @@ pub(crate) fn err(field: impl Into<String>, message: impl Into<String>) -> DataE
 }
 
 /// The data shipped in `resources/`, compiled in so the library works without any file at hand.
-pub const DEFAULT_VEHICLE_JSON: &str = include_str!("../../resources/hmmwv.json");
+pub const DEFAULT_VEHICLE_JSON: &str = include_str!("../../../resources/hmmwv.json");
 
 impl VehicleData {
     /// Whether this is the default vehicle (the HMMWV of `resources/hmmwv.json`, its variants included), by

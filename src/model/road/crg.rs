@@ -22,7 +22,7 @@
 //!   including file's folder.
 //! - **Sharing**: a file loads once per process; FMU instances naming the same file (same path, length and
 //!   modification time) share it (`load`).
-use super::road::{FileRoad, Placement, Road};
+use super::surface::{FileRoad, Placement, Road};
 use opencrg::{BorderMode, CrgGrid, LoadOptions, Uv, Xy};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -584,9 +584,9 @@ pub fn load(path: &Path) -> Result<Arc<Surface>, String> {
 }
 
 /// The surface a road specification names: an OpenCRG file, or `iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]`
-/// (`road_iso8608`), generated and read as a CRG grid.
+/// (`road::iso8608`), generated and read as a CRG grid.
 pub fn surface_for(spec: &str) -> Result<Arc<Surface>, String> {
-    match crate::model::road_iso8608::Iso8608::parse(spec) {
+    match super::iso8608::Iso8608::parse(spec) {
         Some(iso) => Ok(Arc::new(Surface::from_bytes(spec, iso?.crg_text().as_bytes())?)),
         None => load(Path::new(spec)),
     }

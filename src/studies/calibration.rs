@@ -6,49 +6,17 @@
 //! keyed by the vehicle file's `name`. A vehicle the table does not know is calibrated when asked, by the
 //! same secant iteration in a quicker configuration (`Accuracy::Quick`).
 
-use super::scenes::{run, Amplitude, Scene, SceneKind};
-use super::{Channel, Formulation, Options, SimConfig};
+use super::scenes::{run, Amplitude, Scene, SceneKind, PAPER_JTURN_AMPLITUDE};
+pub use super::shipped_calibration::{default_vehicle_amplitude, shipped, SHIPPED_JSON};
 use crate::error::{Cause, ModelError};
-use crate::model::params::VehicleData;
+use crate::model::formats::params::VehicleData;
 use crate::model::vehicle::Vehicle;
-use serde::Deserialize;
-use std::collections::BTreeMap;
+use crate::sim::{Channel, Formulation, Options, SimConfig};
 
 /// The steady lateral acceleration the calibrated J-turn reaches, in g.
 pub const TARGET_G: f64 = 0.4;
 /// The secant iteration stops when the steady a_y is within this fraction of the target.
 const RELATIVE_TOLERANCE: f64 = 1e-5;
-
-pub const SHIPPED_JSON: &str = include_str!("../../resources/calibration.json");
-
-#[derive(Debug, Deserialize)]
-struct Entry {
-    jturn_amplitude: f64,
-}
-
-#[derive(Debug, Deserialize)]
-struct Table {
-    jturn_amplitude_m: f64,
-    #[serde(default)]
-    vehicles: BTreeMap<String, Entry>,
-}
-
-fn table() -> Table {
-    serde_json::from_str(SHIPPED_JSON).expect("resources/calibration.json holds jturn_amplitude_m and vehicles")
-}
-
-/// The calibrated J-turn amplitude of the default vehicle (the HMMWV), m of rack.
-pub fn default_vehicle_amplitude() -> f64 {
-    table().jturn_amplitude_m
-}
-
-/// The shipped calibration of the vehicle `data`, if any (by its name).
-pub fn shipped(data: &VehicleData) -> Option<f64> {
-    if data.is_default_vehicle() {
-        return Some(default_vehicle_amplitude());
-    }
-    table().vehicles.get(&data.name).map(|e| e.jturn_amplitude)
-}
 
 /// How a calibration run is integrated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -153,7 +121,7 @@ pub fn resolve(amplitude: Amplitude, data: &VehicleData) -> Result<f64, ModelErr
     match amplitude {
         Amplitude::Calibrated => amplitude_for(data).map(|(a, _)| a),
         Amplitude::Paper => match data.steering_input() {
-            crate::model::params::SteeringInput::RackDisplacement => Ok(super::scenes::PAPER_JTURN_AMPLITUDE),
+            crate::model::formats::params::SteeringInput::RackDisplacement => Ok(PAPER_JTURN_AMPLITUDE),
             other => Err(ModelError::new(
                 Cause::Input,
                 format!(
@@ -165,5 +133,15 @@ pub fn resolve(amplitude: Amplitude, data: &VehicleData) -> Result<f64, ModelErr
             )),
         },
         Amplitude::Value(a) => Ok(a),
+    }
+}
+
+// `Scene::for_vehicle` is defined here, not in scenes.rs: it resolves the amplitude by this module's
+// calibration, which runs scenes, so scenes.rs importing it would close an import circle (issue 33).
+impl Scene {
+    /// The scene on `data` with the amplitude resolved for its steering (`Calibrated`: the shipped
+    /// calibration or one made now, `studies::calibration`).
+    pub fn for_vehicle(kind: SceneKind, amplitude: Amplitude, data: &VehicleData) -> Result<Scene, ModelError> {
+        Ok(Scene::with_amplitude(kind, resolve(amplitude, data)?))
     }
 }

@@ -2,11 +2,11 @@
 //! `params::VehicleData::validate`, then the suspension loops (they must close at design and through the
 //! travel and steering ranges), which need the templates. Here, above both `params` and `suspension`, so
 //! that the data module does not depend on the kinematics built from it.
-use crate::model::params::{err, DataError, VehicleData, DEFAULT_VEHICLE_JSON};
+use crate::model::formats::params::{err, DataError, VehicleData, DEFAULT_VEHICLE_JSON};
 use std::path::Path;
 
 /// The vehicle file's JSON Schema, compiled in (docs/vehicle_file.md).
-pub const VEHICLE_SCHEMA_JSON: &str = include_str!("../../resources/vehicle.schema.json");
+pub const VEHICLE_SCHEMA_JSON: &str = include_str!("../../../resources/vehicle.schema.json");
 
 #[cfg(feature = "schema")]
 /// The schema's validator, compiled for each check: a file is loaded once per run, and a validator kept in

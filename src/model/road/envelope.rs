@@ -17,7 +17,8 @@
 //! x_start): no quadrature, whose nodes crossing an edge would leave kinks of their own. The slope is exactly
 //! the derivative of the height, so the contact plane (docs/physics.md §6.2) is consistent. The average is taken
 //! along the road's x (the bump course is straight and driven along x); across the road nothing changes.
-use super::road::{HalfSineBump, Road, RoadModel};
+use super::surface::{enveloped_by_quadrature, Road};
+use super::{HalfSineBump, RoadModel};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -98,37 +99,6 @@ impl Road for Enveloped<'_> {
     fn off_road(&self, x: f64, y: f64) -> Option<String> {
         [x, x + self.half_length, x - self.half_length].into_iter().find_map(|x| self.road.off_road(x, y))
     }
-}
-
-/// The triangular average of a gridded road (no antiderivatives there) by the trapezoidal rule on the
-/// nodes s_k = k a/6, k = −6…6. Height: weights (6 − |k|)/36 (the ends weigh 0). Slope along x: the
-/// derivative of the triangle average is the difference of two box averages, (∫_0^a h(x+s) ds −
-/// ∫_{−a}^0 h(x+s) ds)/a², taken from the same heights, so it is continuous in x wherever the heights are:
-/// the sum of the grid's point slopes would jump whenever a node crosses a grid line (a bilinear grid's
-/// slope is only piecewise constant), and a finite difference straddling the jump (the step check's, with
-/// a wheel standing on a grid line at the start) would read a stiffness of 10⁵ N/m per mm that is no mode.
-/// The lateral slope is the weighted sum of the point slopes (nothing moves the nodes across the road).
-/// With a ≈ 0.24 m (half the HMMWV's radius) the nodes are 4 cm apart, four grid increments of the
-/// shipped half-round files (1 cm), a fifth of their obstacles' 20 cm base.
-pub(crate) fn enveloped_by_quadrature(road: &dyn Road, x: f64, y: f64, half_length: f64) -> (f64, [f64; 2]) {
-    let spacing = half_length / 6.0;
-    let (mut height, mut ahead, mut behind, mut lateral) = (0.0, 0.0, 0.0, 0.0);
-    for k in -6i32..=6 {
-        let (h, [_, hy]) = road.height_and_gradient(x + f64::from(k) * spacing, y);
-        let w = f64::from(6 - k.abs()) / 36.0;
-        height += w * h;
-        lateral += w * hy;
-        // Trapezoid weights of the two box integrals over [0, a] and [−a, 0].
-        let edge = if k.abs() == 6 || k == 0 { 0.5 } else { 1.0 };
-        if k >= 0 {
-            ahead += edge * h;
-        }
-        if k <= 0 {
-            behind += edge * h;
-        }
-    }
-    let slope = (ahead - behind) * spacing / (half_length * half_length);
-    (height, [slope, lateral])
 }
 
 /// The first and second antiderivatives of a half-sine bump's profile at u = x − x_start (zero before it).

@@ -1,5 +1,5 @@
 //! ISO 8608 random roads (docs/roads.md): `iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]`, deterministic for a seed,
-//! written as an OpenCRG grid in memory and read by the same reader as a file (`road_crg`), so that every
+//! written as an OpenCRG grid in memory and read by the same reader as a file (`road::crg`), so that every
 //! road goes through one code path.
 //!
 //! - **Spectrum.** The displacement PSD of ISO 8608's class k (A = 0 … H = 7): G_d(n) = G_d(n0) (n/n0)^−2,

@@ -23,7 +23,7 @@
 //!   grids (the contact would meet another surface than the file's); OpenCRG surfaces in modes other than
 //!   `attached`/`attached0`.
 //! - **OpenCRG surfaces** (`<surface><CRG>`, modes `attached` and `attached0`, purpose elevation) on the
-//!   driven road: read by `road_crg` (the same bounded reader and checks as a `.crg` road), evaluated at
+//!   driven road: read by `road::crg` (the same bounded reader and checks as a `.crg` road), evaluated at
 //!   u = s − sOffset, v = t − tOffset (negated for `orientation="opposite"`). `attached` adds zScale times
 //!   the grid's height to the road's; `attached0` replaces the road's height by zScale times the file's
 //!   elevation. zOffset is added in both.
@@ -35,8 +35,8 @@
 //! `START_BEHIND_REAR_AXLE_M` along it, heading along its reference line, on the line or, where the road
 //! has lanes on one side of it only, in the middle of its width (`MapRoad::start_offset`); the map is
 //! shifted so that the road's height there is the ground frame's zero.
-use super::road::{FileRoad, Placement, Road};
-use super::road_crg::Surface;
+use super::crg::Surface;
+use super::surface::{FileRoad, Placement, Road};
 use serde::Deserialize;
 use std::path::Path;
 use std::sync::Arc;
@@ -924,7 +924,7 @@ fn attached_crg(
             return Err(format!("road file {name}: the OpenCRG surface {} covers no stretch of road", record.file));
         };
         let path = folder.join(&record.file);
-        let surface = super::road_crg::load(&path)
+        let surface = super::crg::load(&path)
             .map_err(|e| format!("road file {name}: its OpenCRG surface {}: {e}", record.file))?;
         out.push(AttachedCrg {
             surface,
@@ -1004,7 +1004,7 @@ pub fn is_xodr(spec: &str) -> bool {
 
 /// A map, loaded once per process (shared like CRG files: same path, road, length and time).
 pub fn load(spec: &str) -> Result<Arc<OpenDrive>, String> {
-    static LOADED: super::road_crg::SharedFiles<OpenDrive> = super::road_crg::SharedFiles::new();
+    static LOADED: super::crg::SharedFiles<OpenDrive> = super::crg::SharedFiles::new();
     let (file, road) = spec.rsplit_once('#').unwrap_or((spec, ""));
     LOADED.get(Path::new(file), road, || OpenDrive::load(spec))
 }
@@ -1253,12 +1253,12 @@ fn loop_tests_text() -> String {
 #[cfg(test)]
 mod attached_crg_tests {
     use super::*;
-    use crate::model::road_crg::{load as load_crg, PlacedSurface};
+    use crate::model::road::crg::{load as load_crg, PlacedSurface};
 
     #[test]
     fn an_attached_crg_adds_its_grid_to_the_road() {
         // The shipped RMS course on a straight road on a 1 % grade, against the same CRG file placed on its
-        // own (road_crg, checked against PyOpenCRG): the map's heights rise by the grade over the CRG's.
+        // own (road::crg, checked against PyOpenCRG): the map's heights rise by the grade over the CRG's.
         let roads = concat!(env!("CARGO_MANIFEST_DIR"), "/resources/roads/");
         let map = PlacedMap::new(load(&format!("{roads}rms_course_1in.xodr")).unwrap(), [-2.0, 0.0]);
         let crg = PlacedSurface::new(
