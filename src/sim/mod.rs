@@ -23,10 +23,10 @@ use crate::integrate::stability::{bdf2_damped_up_to, damped_up_to, is_damped, la
 use crate::integrate::{AnyIntegrator, Integrator, IntegratorKind, OdeSystem};
 use crate::math::eigen::eigenvalues;
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
-use crate::model::equilibrium::{retune_ride_height, start_on_plane, steady_rolling_steered, StartPlane};
 use crate::model::params::VehicleData;
 use crate::model::road::RoadModel;
 use crate::model::tire::SlipModel;
+use crate::model::vehicle::equilibrium::{retune_ride_height, start_on_plane, steady_rolling_steered, StartPlane};
 use crate::model::vehicle::{idx, Diagnostics, Inputs, Layout, Run, Vehicle, WarmStart, Workspace};
 use nalgebra::{Complex, SMatrix};
 use serde::{Deserialize, Serialize};
