@@ -6,9 +6,9 @@
 //! Chrono's template built from those files, and each bad input refused with the field and cause named.
 
 use rt_vehicle::math::V3;
-use rt_vehicle::model::equilibrium::rest_state;
 use rt_vehicle::model::formats::import_chrono::import_vehicle;
 use rt_vehicle::model::formats::params::VehicleData;
+use rt_vehicle::model::vehicle::equilibrium::rest_state;
 use rt_vehicle::model::vehicle::{
     idx, ForceSwitches, Formulation, Inputs, Layout, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };

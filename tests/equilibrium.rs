@@ -1,7 +1,7 @@
 //! Initial states: ride-height retune, static equilibrium, steady rolling (docs/physics.md §8.1, §9.6).
 
-use rt_vehicle::model::equilibrium::{retune_ride_height, static_equilibrium, steady_rolling};
 use rt_vehicle::model::formats::params::VehicleData;
+use rt_vehicle::model::vehicle::equilibrium::{retune_ride_height, static_equilibrium, steady_rolling};
 use rt_vehicle::model::vehicle::{
     idx, Diagnostics, Inputs, Layout, Options, Run, SpeedMode, Vehicle, Workspace, CORNERS,
 };

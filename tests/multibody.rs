@@ -1,8 +1,8 @@
 //! The multibody core as a whole: the three formulations agree, free flight conserves momentum, springs
 //! and gravity conserve energy, and a damped settle finds the static equilibrium (docs/physics.md §9.4–§9.6).
 
-use rt_vehicle::model::equilibrium::{static_equilibrium, steady_rolling};
 use rt_vehicle::model::formats::params::VehicleData;
+use rt_vehicle::model::vehicle::equilibrium::{static_equilibrium, steady_rolling};
 use rt_vehicle::model::vehicle::{
     idx, ForceSwitches, Formulation, Inputs, Options, RackMotion, Run, SpeedMode, Vehicle, Workspace,
 };
@@ -210,7 +210,7 @@ fn damped_settle_reaches_the_static_equilibrium_with_original_free_lengths() {
 fn steady_rolling_stays_steady() {
     let mut v = vehicle();
     let hold = Options::default();
-    rt_vehicle::model::equilibrium::retune_ride_height(&mut v, &hold).unwrap();
+    rt_vehicle::model::vehicle::equilibrium::retune_ride_height(&mut v, &hold).unwrap();
     let speed = 100.0 / 3.6;
     let mut x = steady_rolling(&v, &hold, speed, &mut Workspace::default()).unwrap();
     let x0 = x.clone();

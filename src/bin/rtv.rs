@@ -96,7 +96,9 @@ fn usage() -> String {
         write!(help, "\n  --{}{also}: {}; {}, default {}", o.flag(), o.summary, o.range_text(), Short(o.start))
             .expect("a String");
     }
-    USAGE.replace("{modes}", &wrapped(&modes)).replace("{settings}", &wrapped(&flags))
+    USAGE
+        .replace("{modes}", &wrapped(&modes))
+        .replace("{settings}", &wrapped(&flags))
         .replace("{settings_help}", help.trim_end())
 }
 

@@ -1,10 +1,6 @@
 //! The vehicle: data, the SLA suspension subsystems, the kinematic rack, force elements, tires and road,
 //! assembled into one derivative function.
 
-pub mod antiroll_bar;
-pub mod brake;
-pub mod equilibrium;
-pub mod forces;
 pub mod formats;
 pub mod options;
 pub mod road;

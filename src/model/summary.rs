@@ -9,9 +9,9 @@
 
 use crate::error::ModelError;
 use crate::math::{quat_to_matrix, V3};
-use crate::model::equilibrium::static_equilibrium;
 use crate::model::formats::params::{SuspensionTemplate, VehicleData};
 use crate::model::options::Options;
+use crate::model::vehicle::equilibrium::static_equilibrium;
 use crate::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
 
 /// How the loads and ride heights were found.

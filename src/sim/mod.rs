@@ -23,9 +23,9 @@ pub use step_check::*;
 use crate::error::{Cause, Context, ModelError};
 use crate::integrate::{AnyIntegrator, Integrator, OdeSystem};
 use crate::math::{euler_from_matrix, quat_to_matrix, V3};
-use crate::model::equilibrium::{retune_ride_height, start_on_plane, steady_rolling_steered, StartPlane};
 use crate::model::formats::params::VehicleData;
 use crate::model::road::RoadModel;
+use crate::model::vehicle::equilibrium::{retune_ride_height, start_on_plane, steady_rolling_steered, StartPlane};
 use crate::model::vehicle::{idx, Diagnostics, Inputs, Layout, Run, Vehicle, WarmStart, Workspace};
 use serde::{Deserialize, Serialize};
 

@@ -35,10 +35,10 @@
 
 use crate::error::{Cause, ModelError};
 use crate::math::V3;
-use crate::model::equilibrium::retune_ride_height;
-use crate::model::forces::spring_force;
 use crate::model::formats::params::{ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
+use crate::model::suspension::forces::spring_force;
 use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
+use crate::model::vehicle::equilibrium::retune_ride_height;
 use crate::model::vehicle::{Options, Vehicle};
 
 /// The sweeps: wheel travel (m, from ≤ 0 ≤ to, with design travel 0 always a point) and the number of

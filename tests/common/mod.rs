@@ -82,7 +82,13 @@ pub fn rtv(args: &[&str]) -> (i32, String, String) {
 /// A non-trivial free-flight state: translating, tumbling, arms moving (the arms of each axle apart), wheels
 /// spinning.
 pub fn tumbling_state(o: &Options) -> Vec<f64> {
-    let mut x = rt_vehicle::model::equilibrium::rest_state(&Layout::of(o), 1.5, 0.1, -0.05, &[0.05, -0.03, 0.08, 0.02]);
+    let mut x = rt_vehicle::model::vehicle::equilibrium::rest_state(
+        &Layout::of(o),
+        1.5,
+        0.1,
+        -0.05,
+        &[0.05, -0.03, 0.08, 0.02],
+    );
     x[idx::V0..idx::V0 + 3].copy_from_slice(&[12.0, -3.0, 1.5]);
     x[idx::W0..idx::W0 + 3].copy_from_slice(&[0.4, -0.3, 0.6]);
     x[idx::UD..idx::UD + 4].copy_from_slice(&[1.0, -0.8, 0.5, -1.2]);

@@ -194,7 +194,7 @@ pub struct Axle {
     pub static_camber_deg: f64,
     #[serde(default, skip_serializing_if = "is_zero")]
     pub static_toe_deg: f64,
-    /// An anti-roll bar between the axle's two lower arms (optional; `model::antiroll_bar`).
+    /// An anti-roll bar between the axle's two lower arms (optional; `model::suspension::antiroll_bar`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub antiroll_bar: Option<AntirollBar>,
 }
@@ -831,7 +831,7 @@ fn nonneg(field: &str, v: f64) -> Result<(), DataError> {
 }
 
 /// The anti-roll bar's data alone (that the droplink closes over the travel is checked with the suspension,
-/// `model::antiroll_bar::check_closes`).
+/// `model::suspension::antiroll_bar::check_closes`).
 fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
     for (k, p) in
         [("axis_point_m", &bar.axis_point_m), ("arm_end_m", &bar.arm_end_m), ("droplink_end_m", &bar.droplink_end_m)]

@@ -21,7 +21,9 @@
 //! Everything here is in the chassis frame with the sprung CM as origin (x' = x^C − c0), so a subsystem's
 //! constraints do not depend on the chassis motion: that is what lets each subsystem be solved on its own.
 
+pub mod antiroll_bar;
 pub mod double_wishbone;
+pub mod forces;
 pub mod macpherson;
 
 use crate::dynamics::lu::Lu;
@@ -666,7 +668,7 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
         }
     }
     if let Some(bar) = &axle.antiroll_bar {
-        crate::model::antiroll_bar::check_closes(data, name, &g, bar)?;
+        crate::model::suspension::antiroll_bar::check_closes(data, name, &g, bar)?;
     }
     Ok(())
 }

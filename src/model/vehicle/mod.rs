@@ -5,16 +5,19 @@
 //! accelerations by the selected formulation → state derivative. The spatial origin is put at the
 //! chassis CM in every evaluation (§4.0), so all positions below are relative to r0.
 
+pub mod brake;
+pub mod equilibrium;
+
 use crate::dynamics::body::{ang, body_force, lin, mass_hat, mass_hat_times, point_force, wrench, MassHatSum};
 use crate::dynamics::{self, Accelerations, ChassisTerms, Multipliers, PhiVSolved, SubsystemTerms};
 use crate::error::{Cause, Context, ModelError};
 use crate::math::{quat_rate, quat_to_matrix, skew, Axes, ChassisAxes, M3, V3};
-use crate::model::antiroll_bar::AxleBar;
-use crate::model::forces::{damper_force, spring_force, StopCurve};
 use crate::model::formats::params::{DataError, Spring, VehicleData};
 use crate::model::road::envelope::ContactModel;
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
 use crate::model::steering::{assembly::Steering, tie_rod_drive};
+use crate::model::suspension::antiroll_bar::AxleBar;
+use crate::model::suspension::forces::{damper_force, spring_force, StopCurve};
 use crate::model::suspension::{BodyInertia, Corner, CornerPositions, LineMount, MountBody, Side, Vector5f};
 use crate::model::tire::{self, SlipModel, TireModel, TireParams};
 use nalgebra::{SMatrix, Vector4, Vector6};
@@ -954,10 +957,10 @@ impl Vehicle {
                 }
             }
         }
-        // Brake between wheel and carrier (model::brake): holds the relative spin within its capacity.
-        let brake = crate::model::brake::torque(
+        // Brake between wheel and carrier (model::vehicle::brake): holds the relative spin within its capacity.
+        let brake = crate::model::vehicle::brake::torque(
             brake_torque,
-            crate::model::brake::demand(free_torque, c.spin_inertia, spin_rel),
+            crate::model::vehicle::brake::demand(free_torque, c.spin_inertia, spin_rel),
         );
         q_k += wrench(&V3::zeros(), &(axle * brake));
         let spin_torque = free_torque - brake;
@@ -1258,7 +1261,7 @@ impl Vehicle {
                         let (k1, k3) = (f.spring.k1_N_per_m.unwrap_or(0.0), f.spring.k3_N_per_m3.unwrap_or(0.0));
                         0.5 * k1 * xs * xs + 0.25 * k3 * xs.powi(4)
                     }
-                    Some(curve) => crate::model::forces::curve_energy(curve, xs),
+                    Some(curve) => crate::model::suspension::forces::curve_energy(curve, xs),
                 };
             }
         }
