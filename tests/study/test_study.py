@@ -138,7 +138,7 @@ BAD = [
     ("unknown parameter path", SMALL.replace("midstroke_rebound_Ns_per_m", "midstroke_rebound"), 14,
      "unknown parameter path"),
     ("value outside the model description's range", SMALL + '\n[[parameter]]\nfmu = "road_friction"\nrange = [0.5, 7.0]\n',
-     20, "road_friction must be in"),
+     20, "road_friction 7 is outside [0.05, 2]"),
     ("value outside the vehicle schema's range",
      SMALL + '\n[[parameter]]\nvehicle = "/chassis/mass_kg"\nvalues = [2000.0, -5.0]\n', 20, "mass_kg"),
     ("speed outside its range", SMALL.replace("range = [9.0, 19.0]", "range = [9.0, 90.0]"), 9, "outside"),
@@ -149,7 +149,7 @@ BAD = [
     ("unknown FMU parameter", SMALL + '\n[fmu]\nno_such = 1\n', 19, "unknown FMU parameter 'no_such'"),
     # Refused by the model, which names the request field (NativeError.field): the key's own line in [fmu].
     ("FMU parameter refused by the model", SMALL + '\n[fmu]\nroad = 1\nroad_friction = 7.0\n', 20,
-     "road_friction must be in"),
+     "road_friction 7 is outside [0.05, 2]"),
     ("syntax error", SMALL.replace("levels = 3", "levels = = 3"), 10, "TOML syntax"),
     ("bad scheduler address", 'scheduler = "localhost"\n' + SMALL, 1, "scheduler must be an address"),
 ]
