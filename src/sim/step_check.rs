@@ -728,7 +728,7 @@ mod tests {
     use super::super::{Options, RoadChoice, SimConfig, Simulation};
     use crate::error::Cause;
     use crate::integrate::IntegratorKind;
-    use crate::model::params::VehicleData;
+    use crate::model::formats::params::VehicleData;
     use crate::model::vehicle::idx;
 
     fn simulation(config: SimConfig) -> Simulation {

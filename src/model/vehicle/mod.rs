@@ -219,7 +219,7 @@ pub struct Diagnostics {
 pub struct CornerForces {
     pub spring: Spring,
     pub spring_free_length: f64,
-    pub damper: crate::model::params::Damper,
+    pub damper: crate::model::formats::params::Damper,
 }
 
 /// The vehicle model: geometry, inertia, force laws and modes. Immutable during a run.
@@ -264,7 +264,7 @@ pub struct Run<'a> {
 enum RoadView<'a> {
     /// At the point below the wheel (the paper's contact).
     Point(&'a RoadModel),
-    /// Averaged over the static contact length (`ContactModel::Envelope`, model::road_envelope).
+    /// Averaged over the static contact length (`ContactModel::Envelope`, model::road::envelope).
     Enveloped { road: &'a RoadModel, half_length: f64 },
     /// Rounded at its C⁰ edges by a moving average of `width` (`EdgeAveraged`): for finite differences.
     Rounded { road: &'a RoadModel, width: f64 },
@@ -284,7 +284,7 @@ impl Road for RoadView<'_> {
         match *self {
             RoadView::Point(road) => road.height_and_gradient(x, y),
             RoadView::Enveloped { road, half_length } => {
-                crate::model::road_envelope::Enveloped { road, half_length }.height_and_gradient(x, y)
+                crate::model::road::envelope::Enveloped { road, half_length }.height_and_gradient(x, y)
             }
             RoadView::Rounded { road, width } => EdgeAveraged { road, width }.height_and_gradient(x, y),
         }
@@ -293,7 +293,7 @@ impl Road for RoadView<'_> {
     fn off_road(&self, x: f64, y: f64) -> Option<String> {
         match *self {
             RoadView::Enveloped { road, half_length } => {
-                crate::model::road_envelope::Enveloped { road, half_length }.off_road(x, y)
+                crate::model::road::envelope::Enveloped { road, half_length }.off_road(x, y)
             }
             RoadView::Point(road) | RoadView::Rounded { road, .. } => road.off_road(x, y),
         }
@@ -312,7 +312,7 @@ impl<'a> Run<'a> {
             // The static half contact length at a quarter of the weight on the level.
             ContactModel::Envelope => RoadView::Enveloped {
                 road,
-                half_length: crate::model::road_envelope::enveloping_half_length(
+                half_length: crate::model::road::envelope::enveloping_half_length(
                     road,
                     vehicle.tire.unloaded_radius_m,
                     vehicle.tire.vertical_stiffness_N_per_m,
@@ -424,7 +424,7 @@ impl Vehicle {
             gravity: data.gravity_m_s2,
             total_mass,
             driver_position: data.driver_position_m.map(|p| V3::from(p) - data.sprung_com()),
-            springs_as_written: data.ride_height == crate::model::params::RideHeight::Data,
+            springs_as_written: data.ride_height == crate::model::formats::params::RideHeight::Data,
         };
         if data.tire.tir_file.is_some() && data.tire.magic_formula.is_none() {
             return Err(DataError {
