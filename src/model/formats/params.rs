@@ -7,6 +7,7 @@
 //! tensors that are not positive definite (and, in `vehicle_file`, suspension loops that cannot close). The triangle inequality
 //! of principal moments is only a warning: the source's control-arm inertias (placeholders) break it.
 
+use crate::model::tire::TireParams;
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -244,61 +245,6 @@ pub struct WheelBody {
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StiCoefficients {
-    pub a0: f64,
-    pub a1: f64,
-    pub a2_N: f64,
-    pub cs: f64,
-    pub mu0: f64,
-    pub k_mu: f64,
-    pub k_a: f64,
-    pub c1: f64,
-    pub c2: f64,
-    pub c3: f64,
-    pub c4: f64,
-    pub c_gamma_per_rad: f64,
-    pub trail_m: f64,
-}
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Tire {
-    pub mass_kg: f64,
-    pub inertia_kg_m2: [f64; 3],
-    pub unloaded_radius_m: f64,
-    pub vertical_stiffness_N_per_m: f64,
-    pub vertical_stiffness2_N_per_m2: f64,
-    pub vertical_damping_Ns_per_m: f64,
-    pub rolling_resistance: f64,
-    pub sti: StiCoefficients,
-    pub relaxation_length_x_m: f64,
-    pub relaxation_length_y_m: f64,
-    pub v_min_m_s: f64,
-    /// Forward speeds |V_x| between which the tire blends from its standstill form (damped tread spring,
-    /// no aligning moment or camber thrust) into the rolling relaxation model, m/s (docs/physics.md §6.9).
-    pub low_speed_blend_m_s: [f64; 2],
-    /// Damping of the tread against slip velocity at standstill, per tire, N·s/m (faded out by the blend).
-    pub low_speed_damping_Ns_per_m: f64,
-    /// A Pacejka property file (`.tir`, PAC2002): the tire is then the Magic Formula of that file, whose
-    /// radius, vertical stiffness and damping and relaxation lengths replace the ones above (the STI
-    /// coefficients stay for comparison runs). A relative path is taken from the vehicle file's folder.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tir_file: Option<String>,
-    /// The Magic Formula read from `tir_file` (`VehicleData::use_tire_file`); not part of the file format.
-    #[serde(skip)]
-    pub magic_formula: Option<Box<crate::model::tire::MagicFormula>>,
-    /// How the Magic Formula is evaluated (`TireConvention`): as MFeval computes it (the default), or as
-    /// Chrono's Pac02 does, to reproduce a Chrono run. Independent of the `.tir` file; the STI tire ignores it.
-    #[serde(default, skip_serializing_if = "crate::model::tire::TireConvention::is_default")]
-    pub convention: crate::model::tire::TireConvention,
-    /// One difference of `TireConvention::Chrono` left out, to measure its share (`studies::chrono_compare`);
-    /// not part of the file format.
-    #[serde(skip)]
-    pub chrono_without: Option<crate::model::tire::ChronoPart>,
-}
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct SpeedHold {
     pub kp_per_s: f64,
     pub ki_per_s2: f64,
@@ -350,7 +296,7 @@ pub struct VehicleData {
     pub rear: Axle,
     pub stop_table: StopTable,
     pub wheel: WheelBody,
-    pub tire: Tire,
+    pub tire: TireParams,
     pub speed_hold: SpeedHold,
     /// Where the car rides (docs/physics.md §8.1): `retuned` (the default, the paper's choice for the
     /// HMMWV) sets the spring free lengths so that the design position is the static equilibrium; `data`
