@@ -53,6 +53,28 @@ pub struct Rack {
     pub reference_gain_deg_per_m: f64,
 }
 
+impl Chassis {
+    /// Its mass and inertia as a body.
+    pub fn body(&self) -> RigidBody {
+        RigidBody {
+            mass_kg: self.mass_kg,
+            inertia_moments_kg_m2: self.inertia_moments_kg_m2,
+            inertia_products_kg_m2: self.inertia_products_kg_m2,
+        }
+    }
+}
+
+impl Rack {
+    /// Its mass and inertia as a body.
+    pub fn body(&self) -> RigidBody {
+        RigidBody {
+            mass_kg: self.mass_kg,
+            inertia_moments_kg_m2: self.inertia_moments_kg_m2,
+            inertia_products_kg_m2: self.inertia_products_kg_m2,
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Spring {
@@ -552,11 +574,7 @@ impl VehicleData {
 
     /// The sprung body's mass and inertia about `sprung_com` (chassis axes).
     pub fn sprung_inertia(&self) -> (f64, Matrix3<f64>) {
-        let chassis = RigidBody {
-            mass_kg: self.chassis.mass_kg,
-            inertia_moments_kg_m2: self.chassis.inertia_moments_kg_m2,
-            inertia_products_kg_m2: self.chassis.inertia_products_kg_m2,
-        };
+        let chassis = self.chassis.body();
         let carried = self.carried_bodies();
         if carried.is_empty() {
             return (chassis.mass_kg, chassis.inertia());
@@ -600,12 +618,7 @@ impl VehicleData {
 fn check_chassis(c: &Chassis) -> Result<(), DataError> {
     positive("chassis.mass_kg", c.mass_kg)?;
     finite3("chassis.com_m", &c.com_m)?;
-    let body = RigidBody {
-        mass_kg: c.mass_kg,
-        inertia_moments_kg_m2: c.inertia_moments_kg_m2,
-        inertia_products_kg_m2: c.inertia_products_kg_m2,
-    };
-    pos_def("chassis.inertia", &body)
+    pos_def("chassis.inertia", &c.body())
 }
 
 /// Exactly one steering, a rack or a Pitman arm, and its data.
@@ -624,12 +637,7 @@ fn check_rack(rack: &Rack) -> Result<(), DataError> {
     positive("rack.mass_kg", rack.mass_kg)?;
     positive("rack.travel_limit_m", rack.travel_limit_m)?;
     finite3("rack.com_m", &rack.com_m)?;
-    let body = RigidBody {
-        mass_kg: rack.mass_kg,
-        inertia_moments_kg_m2: rack.inertia_moments_kg_m2,
-        inertia_products_kg_m2: rack.inertia_products_kg_m2,
-    };
-    pos_def("rack.inertia", &body)
+    pos_def("rack.inertia", &rack.body())
 }
 
 fn check_pitman_arm(p: &PitmanArm) -> Result<(), DataError> {
