@@ -7,7 +7,7 @@
 //! tensors that are not positive definite (and, in `vehicle_file`, suspension loops that cannot close). The triangle inequality
 //! of principal moments is only a warning: the source's control-arm inertias (placeholders) break it.
 
-use crate::model::tire::TireParams;
+use crate::model::tire::{StiCoefficients, TireParams};
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -767,7 +767,7 @@ fn check_wheel(wheel: &WheelBody) -> Result<(), DataError> {
 }
 
 /// The tire's body, vertical law, relaxation, low-speed blend and its STI coefficients.
-fn check_tire(tire: &Tire) -> Result<(), DataError> {
+fn check_tire(tire: &TireParams) -> Result<(), DataError> {
     positive("tire.mass_kg", tire.mass_kg)?;
     for (i, v) in tire.inertia_kg_m2.iter().enumerate() {
         positive(&format!("tire.inertia_kg_m2[{i}]"), *v)?;
