@@ -340,10 +340,6 @@ impl Simulation {
         // Each evaluation also says which wheels are in contact: a perturbation that moves a wheel across
         // touchdown, where the normal force jumps by c_z δ̇, would see an arbitrarily large stiffness that is
         // no mode either; that column is differenced from the other side.
-        let mut evaluate = |x: &[f64], out: &mut [f64]| {
-            vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
-            Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
-        };
         // The wheel states of corner i, and the step of each difference: [θ_L, θ̇_L, Ω, ξ_x, ξ_y].
         let per_corner = if slip_states.is_some() { 5 } else { 3 };
         let state_of = |i: usize, s: usize| -> usize {
@@ -357,16 +353,23 @@ impl Simulation {
         const DELTA: [f64; 5] = [1e-6, 1e-5, 1e-5, 1e-7, 1e-7];
         let mut evaluations = 0;
         let result = (|| {
-            let in_contact = evaluate(&x[..n], &mut f0[..n])?;
+            vehicle.derivative(&run, &x[..n], &inputs, &mut self.cache, &mut f0[..n])?;
+            let in_contact = self.cache.diagnostics.penetration.map(|d| d > 0.0);
             evaluations += 1;
+            // Each column moves one corner's wheel state: f there by the corner-local evaluation
+            // (`Vehicle::wheel_derivative`) on the base's workspace, about a third of an evaluation.
             let mut jac = SMatrix::<f64, 20, 20>::zeros();
             let mut columns = [[0.0; idx::DIM]; 20];
             let mut out = [0.0; idx::DIM];
             for col in 0..4 * per_corner {
                 let (ci, cs) = (col / per_corner, col % per_corner);
+                let mut corner_local = |x: &[f64], out: &mut [f64]| {
+                    let penetration = vehicle.wheel_derivative(&run, x, &inputs, &mut self.cache, ci, out)?;
+                    Ok::<_, ModelError>(penetration.map(|d| d > 0.0))
+                };
                 let (delta, made) =
-                    difference_column(&mut evaluate, &x, n, state_of(ci, cs), DELTA[cs], in_contact, &mut out)?;
-                evaluations += made;
+                    difference_column(&mut corner_local, &x, n, state_of(ci, cs), DELTA[cs], in_contact, &mut out)?;
+                evaluations += made; // counted as evaluations of f, though each costs about a third of one
                 for k in 0..n {
                     columns[col][k] = (out[k] - f0[k]) / delta;
                 }
