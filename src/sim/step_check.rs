@@ -318,7 +318,8 @@ impl Simulation {
     }
 
     /// The Jacobian of f in the wheels' fast states, each corner's θ_L, θ̇_L, Ω, ξ_x, ξ_y (20 states; 12
-    /// without relaxation slip), by forward differences, one evaluation per column, and its eigenvalues:
+    /// without relaxation slip), by forward differences, one corner-local evaluation per column
+    /// (`Vehicle::wheel_derivative`: the column's corner's stages only, on the base's workspace), and its eigenvalues:
     /// the modes the step must hold, with their couplings (the hop of a corner with its spin–tread mode,
     /// which are close on a light unsprung mass, and the corners with each other through the chassis).
     /// The per-corner 2×2 blocks name them (wheel hop: θ_L, θ̇_L; spin–tread: ξ_x, Ω; lateral tread: ξ_y).
@@ -369,8 +370,15 @@ impl Simulation {
                     let penetration = vehicle.wheel_derivative(&run, x, &inputs, &mut self.cache, ci, out)?;
                     Ok::<_, ModelError>(penetration.map(|d| d > 0.0))
                 };
-                let (delta, made) =
-                    difference_column(&mut corner_local, &x, n, state_of(ci, cs), WHEEL_DELTA[cs], in_contact, &mut out)?;
+                let (delta, made) = difference_column(
+                    &mut corner_local,
+                    &x,
+                    n,
+                    state_of(ci, cs),
+                    WHEEL_DELTA[cs],
+                    in_contact,
+                    &mut out,
+                )?;
                 evaluations += made; // counted as evaluations of f, though each costs about a third of one
                 for k in 0..n {
                     columns[col][k] = (out[k] - f0[k]) / delta;

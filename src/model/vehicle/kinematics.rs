@@ -21,7 +21,13 @@ impl Vehicle {
 
     /// `solve_corners` for corner i alone (also the step check's corner-local evaluation, `wheel_columns.rs`).
     #[inline(always)]
-    pub(super) fn solve_corner(&self, i: usize, x: &[f64], rack_u: f64, cache: &mut Workspace) -> Result<(), ModelError> {
+    pub(super) fn solve_corner(
+        &self,
+        i: usize,
+        x: &[f64],
+        rack_u: f64,
+        cache: &mut Workspace,
+    ) -> Result<(), ModelError> {
         let s = self.rack_translation(i, rack_u);
         let c = &self.corners[i];
         let u = x[idx::U + i];
