@@ -47,16 +47,21 @@ impl super::Vehicle {
     /// (`assembly.spin_torque`, which the tire stage left as the drive and tire torques).
     #[inline(always)]
     pub(super) fn brake_stage(&self, inputs: &super::Inputs, ws: &mut super::Workspace) {
-        let super::Workspace { kinematics, wrenches, assembly, diagnostics, .. } = ws;
         for i in 0..4 {
-            let free_torque = assembly.spin_torque[i];
-            let spin_rel = diagnostics.wheel_spin_relative[i];
-            let brake = torque(inputs.brake[i], demand(free_torque, self.corners[i].spin_inertia, spin_rel));
-            let axle = kinematics[i].axle;
-            wrenches[i].bodies[super::BODY_K] +=
-                crate::dynamics::body::wrench(&crate::math::V3::zeros(), &(axle * brake));
-            assembly.spin_torque[i] = free_torque - brake;
+            self.corner_brake(i, inputs, ws);
         }
+    }
+
+    /// The brake stage for corner i alone.
+    #[inline(always)]
+    pub(super) fn corner_brake(&self, i: usize, inputs: &super::Inputs, ws: &mut super::Workspace) {
+        let super::Workspace { kinematics, wrenches, assembly, diagnostics, .. } = ws;
+        let free_torque = assembly.spin_torque[i];
+        let spin_rel = diagnostics.wheel_spin_relative[i];
+        let brake = torque(inputs.brake[i], demand(free_torque, self.corners[i].spin_inertia, spin_rel));
+        let axle = kinematics[i].axle;
+        wrenches[i].bodies[super::BODY_K] += crate::dynamics::body::wrench(&crate::math::V3::zeros(), &(axle * brake));
+        assembly.spin_torque[i] = free_torque - brake;
     }
 }
 

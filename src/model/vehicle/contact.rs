@@ -16,16 +16,22 @@ impl Vehicle {
     /// the brake) and the wheels' diagnostics; reads the kinematics and the drive torques.
     #[inline(always)]
     pub(super) fn tire_stage(&self, run: &Run, x: &[f64], ws: &mut Workspace) -> Result<(), ModelError> {
-        let layout = run.layout();
-        let Workspace { kinematics, wrenches, assembly, diagnostics, chassis, .. } = ws;
         for i in 0..4 {
-            let wheel = [x[idx::SPIN + i], diagnostics.drive_torque[i]];
-            let q_k = &mut wrenches[i].bodies[BODY_K];
-            let (free_torque, relaxation_rates) =
-                self.wheel_tire(run, i, &kinematics[i], chassis, wheel, layout.xi(x, i), diagnostics, q_k)?;
-            assembly.spin_torque[i] = free_torque;
-            assembly.relaxation_rates[i] = relaxation_rates;
+            self.corner_tire(run, i, x, ws)?;
         }
+        Ok(())
+    }
+
+    /// The tire stage for corner i alone.
+    #[inline(always)]
+    pub(super) fn corner_tire(&self, run: &Run, i: usize, x: &[f64], ws: &mut Workspace) -> Result<(), ModelError> {
+        let Workspace { kinematics, wrenches, assembly, diagnostics, chassis, .. } = ws;
+        let wheel = [x[idx::SPIN + i], diagnostics.drive_torque[i]];
+        let q_k = &mut wrenches[i].bodies[BODY_K];
+        let (free_torque, relaxation_rates) =
+            self.wheel_tire(run, i, &kinematics[i], chassis, wheel, run.layout().xi(x, i), diagnostics, q_k)?;
+        assembly.spin_torque[i] = free_torque;
+        assembly.relaxation_rates[i] = relaxation_rates;
         Ok(())
     }
 

@@ -47,7 +47,7 @@ impl Vehicle {
     /// The anti-roll bars' generalized forces on each corner's θ_L (§5.4), from the solved positions and θ̇_L
     /// of both corners of each axle; zero where an axle has no bar.
     #[inline(never)]
-    fn antiroll_bar_forces(
+    pub(super) fn antiroll_bar_forces(
         &self,
         options: &Options,
         x: &[f64],
@@ -69,7 +69,7 @@ impl Vehicle {
     /// wheel's [spin Ω, drive torque].
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn corner_wrenches(
+    pub(super) fn corner_wrenches(
         &self,
         options: &Options,
         i: usize,

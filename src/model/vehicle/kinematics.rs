@@ -14,17 +14,30 @@ impl Vehicle {
     #[inline(always)]
     pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut Workspace) -> Result<(), ModelError> {
         for i in 0..4 {
-            let s = self.rack_translation(i, rack_u);
-            let c = &self.corners[i];
-            let u = x[idx::U + i];
-            let guess = cache.corners[i].predict(u, s);
-            let p = &mut cache.positions[i];
-            c.solve_positions_into(u, s, &guess, p)
-                .map_err(|e| ModelError::new(Cause::MechanismRange, format!("corner {}: {e}", CORNERS[i])))?;
-            // The tangent of the constraint manifold at the solution: the next solve's start.
-            cache.corners[i] =
-                WarmStart { v: [p.q[1], p.q[2], p.q[3], p.q[4]], u, s, dv_du: p.dv_du.into(), dv_ds: p.dv_ds.into() };
+            self.solve_corner(i, x, rack_u, cache)?;
         }
+        Ok(())
+    }
+
+    /// `solve_corners` for corner i alone (also the step check's corner-local evaluation, `wheel_columns.rs`).
+    #[inline(always)]
+    pub(super) fn solve_corner(
+        &self,
+        i: usize,
+        x: &[f64],
+        rack_u: f64,
+        cache: &mut Workspace,
+    ) -> Result<(), ModelError> {
+        let s = self.rack_translation(i, rack_u);
+        let c = &self.corners[i];
+        let u = x[idx::U + i];
+        let guess = cache.corners[i].predict(u, s);
+        let p = &mut cache.positions[i];
+        c.solve_positions_into(u, s, &guess, p)
+            .map_err(|e| ModelError::new(Cause::MechanismRange, format!("corner {}: {e}", CORNERS[i])))?;
+        // The tangent of the constraint manifold at the solution: the next solve's start.
+        cache.corners[i] =
+            WarmStart { v: [p.q[1], p.q[2], p.q[3], p.q[4]], u, s, dv_du: p.dv_du.into(), dv_ds: p.dv_ds.into() };
         Ok(())
     }
 
@@ -33,18 +46,24 @@ impl Vehicle {
     /// diagnostics of the positions.
     #[inline(always)]
     pub(super) fn velocity_stage(&self, x: &[f64], ws: &mut Workspace) {
-        let Workspace { positions, kinematics, assembly, diagnostics, chassis, rack, .. } = ws;
         for i in 0..4 {
-            let c = &self.corners[i];
-            let pos = &positions[i];
-            let s_i = if c.steered() { rack.velocity } else { 0.0 };
-            let sdd_i = if c.steered() { rack.acceleration } else { 0.0 };
-            let qd = c.velocities(pos, x[idx::UD + i], s_i);
-            assembly.terms[i].gamma_bar = c.gamma_bar(pos, &qd, s_i, sdd_i);
-            diagnostics.max_residual = diagnostics.max_residual.max(pos.residual);
-            diagnostics.newton_iterations += pos.iterations;
-            kinematics[i] = self.corner_kinematics(i, pos, &qd, &ChassisAxes, &chassis.y0);
+            self.corner_velocity(i, x, ws);
         }
+    }
+
+    /// The velocity stage for corner i alone.
+    #[inline(always)]
+    pub(super) fn corner_velocity(&self, i: usize, x: &[f64], ws: &mut Workspace) {
+        let Workspace { positions, kinematics, assembly, diagnostics, chassis, rack, .. } = ws;
+        let c = &self.corners[i];
+        let pos = &positions[i];
+        let s_i = if c.steered() { rack.velocity } else { 0.0 };
+        let sdd_i = if c.steered() { rack.acceleration } else { 0.0 };
+        let qd = c.velocities(pos, x[idx::UD + i], s_i);
+        assembly.terms[i].gamma_bar = c.gamma_bar(pos, &qd, s_i, sdd_i);
+        diagnostics.max_residual = diagnostics.max_residual.max(pos.residual);
+        diagnostics.newton_iterations += pos.iterations;
+        kinematics[i] = self.corner_kinematics(i, pos, &qd, &ChassisAxes, &chassis.y0);
     }
 }
 

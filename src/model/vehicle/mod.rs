@@ -14,6 +14,7 @@ mod forces;
 mod kinematics;
 mod synthesis;
 mod terms;
+mod wheel_columns;
 
 pub use chassis::ChassisFrame;
 pub use forces::CornerWrenches;

@@ -22,7 +22,12 @@ impl Vehicle {
 
 /// One corner's effective terms from its positions, kinematics and body wrenches [Q_L, Q_K, Q_U].
 #[inline(always)]
-fn subsystem_terms(pos: &CornerPositions, k: &CornerKinematics, q: &[Vector6<f64>; 3], terms: &mut SubsystemTerms) {
+pub(super) fn subsystem_terms(
+    pos: &CornerPositions,
+    k: &CornerKinematics,
+    q: &[Vector6<f64>; 3],
+    terms: &mut SubsystemTerms,
+) {
     let [q_l, q_k, q_u] = q;
     // Subsystem terms (§4.2) from the joint-Jacobian structure: 𝔅_L = [b_L 0 0 0 0], 𝔅_K = [b_L B_K 0],
     // 𝔅_U = [0 0 0 0 b_U], so that M_qq = Σ 𝔅ᵀM̂𝔅 has the blocks below (zero between θ_U and the rest)
