@@ -45,7 +45,9 @@ DLC_FRAME_S = 0.01
 def machine():
     model = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
                  platform.processor() or "unknown CPU")
-    return f"{model}, {len(os.sched_getaffinity(0))} cores available, Linux {platform.release()}"
+    # The load average when the measurement starts: other work on the machine slows every time here.
+    return (f"{model}, {len(os.sched_getaffinity(0))} cores available, Linux {platform.release()}, load average "
+            f"{os.getloadavg()[0]:.1f} at the start")
 
 
 def study_file(folder, text, name="study.toml"):

@@ -56,11 +56,11 @@ def test_a_small_study_runs_end_to_end(tmp_path, capsys):
         # The speed hold keeps the entry speed through the course (within 0.5 m/s: its PI law's lag).
         assert abs(r["final:vx"] - r["speed"]) < 0.5
         assert r["evaluations"] > 1000 and r["simulated_s"] > 3 and r["wall_time_s"] > 0
-    # A row is the run the native code gives for the same request, called here directly.
+    # A row is the run the native code gives for the same request at the scheme and step the row records,
+    # called here directly.
     r = rows[0]
     run = next(x for x in study.all_runs() if x.run_id == r["run_id"])
-    direct = rtv_study.files.with_files(run.task, lambda request: native.call("run", request))
-    assert direct["metrics"]["peak:roll"] == r["peak:roll"]
+    assert _direct(run.task, r["scheme"], r["step_s"])["peak:roll"] == r["peak:roll"]
     # The damper scale reaches the vehicle: a different peak roll at the same speed.
     by = {(x["speed"], x["front damper scale"]): x["peak:roll"] for x in rows}
     assert by[(14.0, 0.5)] != by[(14.0, 2.0)]
