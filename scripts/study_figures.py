@@ -299,7 +299,9 @@ def write_doc(m):
             f"(4 per step, and the step cannot exceed the driver's 10 ms frame) and {check_per_s:.0f} for the step "
             f"check (the RK4 2 ms runs' check takes {base_check_per_s:.0f}: the same work, whatever the step). The "
             f"steps alone, with no check and no Dask, would give about "
-            f"{1 / (steps_per_s * alone['evaluation_s']):.0f} vehicle-seconds per core-second. Reaching 1 000 needs "
+            f"{1 / (steps_per_s * alone['evaluation_s']):.0f} vehicle-seconds per core-second. In counts, which no "
+            f"load changes: 1 000 needs an evaluation of at most {1e-3 / per_s * 1e6:.1f} µs all-in with the check "
+            f"({1e-3 / steps_per_s * 1e6:.1f} µs without it, Dask's overhead aside). Reaching 1 000 needs "
             "a cheaper step check (issue 36 part 1), a cheaper evaluation (part 4) and a step longer than the "
             "driver's frame, or a scheme of fewer evaluations per frame that the pilot accepts.")
     lines += ["", "![double lane change: pass/fail against entry speed and front damper scale](studies_dlc.png)"]

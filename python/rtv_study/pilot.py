@@ -7,14 +7,15 @@ pilot case, every metric of the study is within `a` × that metric's peak (its l
 reference's pilot cases) of the reference, every pass flag equals the reference's, every undefined metric
 (null) is undefined in both, and no run fails that the reference finished. The runs take the accepted
 candidate that cost the fewest derivative evaluations over the pilot (counted, so the choice does not depend
-on the machine's load), the smaller step on a tie (a step larger than the case's own frame is cut to it, so
-two candidates may run alike: the smaller is the step actually taken). When none is accepted, the runs take
+on the machine's load), the smaller step on a tie (a step larger than the case's own frame is cut to it: the
+double lane change's driver acts every 10 ms, the other cases are sampled every 5 ms; so two candidates may
+run alike, and the smaller is the step actually taken). When none is accepted, the runs take
 the reference itself (RK4 at 2 ms, the project's default).
 
 Why it is safe. The metrics are measured, not predicted: the chosen scheme is compared with a reference whose
 own error is far below the accuracy, and the pilot measures that too: RK4 is fourth order, so the reference's
 error is about the 5 ms RK4 candidate's difference from it over (5/2)^4 - 1 = 38 (Richardson; recorded as
-`reference_error` in pilot.json: about 1e-9 of peak on the double lane change), at the cases where the design
+`reference.error_estimate` in pilot.json; docs/studies.md has the example's), at the cases where the design
 is most extreme (the highest speed, the softest and stiffest settings: where errors
 grow). Every run keeps the step check (docs/integrators.md): a step that turns unstable anywhere in the design
 is refused with its cause, never run on; a failed run is a row with that cause.
