@@ -36,6 +36,7 @@
 //!
 //! Ranges: the file's `KPUMIN/KPUMAX`, `ALPMIN/ALPMAX`, `CAMMIN/CAMMAX` and `FZMAX` bound the inputs, as
 //! MF-Tyre does: beyond them the fit is an extrapolation, and the Magic Formula's sines turn back.
+use super::elementary::{atan, cos, sin, tan};
 use crate::model::formats::tir::{TirFile, TirFormat, UnitKind};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_2_PI;
@@ -353,7 +354,7 @@ fn nonzero_stiffness(k: f64) -> f64 {
 fn friction_ellipse(p: &Pure, fz: f64, kappa: f64, alpha: f64) -> [f64; 2] {
     let y = &p.y;
     let kappa_c = (kappa + p.shx + p.svx / nonzero_stiffness(p.kx)).abs();
-    let alpha_s = (alpha + y.shy + y.svy / nonzero_stiffness(y.ky)).sin().abs();
+    let alpha_s = sin(alpha + y.shy + y.svy / nonzero_stiffness(y.ky)).abs();
     let (mu_x_act, mu_y_act) = ((p.fx0 - p.svx).abs() / fz, (y.fy0 - y.svy).abs() / fz);
     // μ_x,c/μ_x,act = 1/hypot(1, μ_x,act tan β/μ_y,max); μ_y,c/μ_y,act = tan β/hypot(μ_y,act/μ_x,max, tan β).
     let x_scale = kappa_c / kappa_c.hypot(mu_x_act * alpha_s / y.mu_y);
@@ -366,62 +367,20 @@ fn friction_ellipse(p: &Pure, fz: f64, kappa: f64, alpha: f64) -> [f64; 2] {
 #[inline(always)]
 fn magic(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
-    d * (c * (bx - e * (bx - bx.atan())).atan()).sin()
+    d * sin(c * atan(bx - e * (bx - atan(bx))))
 }
 
 /// cos(C atan(B x − E (B x − atan(B x)))), the weighting functions' and the trail's shape.
 #[inline(always)]
 fn cosine_shape(b: f64, c: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
-    (c * (bx - e * (bx - bx.atan())).atan()).cos()
+    cos(c * atan(bx - e * (bx - atan(bx))))
 }
 
 /// cos(atan(x)) = 1/√(1 + x²), without the two transcendental calls.
 #[inline(always)]
 fn cos_atan(x: f64) -> f64 {
     1.0 / (1.0 + x * x).sqrt()
-}
-
-/// Below this |x| (rad), sin, cos and tan are Taylor polynomials (`sin`, `cos`, `tan`).
-const SMALL_ANGLE: f64 = 0.25;
-
-/// sin x: for |x| ≤ 0.25 its Taylor polynomial to x¹¹, whose remainder is below |x|¹²/13! ≤ 9.6e-18 of
-/// sin x, under its rounding (1.1e-16); libm beyond. The inclination and the slips MFeval takes sines, cosines and tangents of are that small in
-/// driving, and the polynomials cost a fraction of the calls (`examples/tire_instructions.rs`).
-#[inline(always)]
-fn sin(x: f64) -> f64 {
-    if x.abs() > SMALL_ANGLE {
-        return x.sin();
-    }
-    let x2 = x * x;
-    let p =
-        -1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5_040.0 + x2 * (1.0 / 362_880.0 + x2 * (-1.0 / 39_916_800.0))));
-    x + x * x2 * p
-}
-
-/// cos x: for |x| ≤ 0.25 its Taylor polynomial to x¹² (remainder |x|¹⁴/14! ≤ 4.3e-20, below half an ulp of
-/// cos x ≥ 0.97); libm beyond.
-#[inline(always)]
-fn cos(x: f64) -> f64 {
-    if x.abs() > SMALL_ANGLE {
-        return x.cos();
-    }
-    let x2 = x * x;
-    let p = -1.0 / 2.0
-        + x2 * (1.0 / 24.0
-            + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0 + x2 * (1.0 / 479_001_600.0)))));
-    1.0 + x2 * p
-}
-
-/// tan x: for |x| ≤ 0.25 Lambert's continued fraction x/(1 − x²/(3 − x²/(5 − … x²/13))), within 1.6e-16
-/// relative of tan x there (measured against 40-digit arithmetic at 2000 points); libm beyond.
-#[inline(always)]
-fn tan(x: f64) -> f64 {
-    if x.abs() > SMALL_ANGLE {
-        return x.tan();
-    }
-    let x2 = x * x;
-    x / (1.0 - x2 / (3.0 - x2 / (5.0 - x2 / (7.0 - x2 / (9.0 - x2 / (11.0 - x2 / 13.0))))))
 }
 
 /// sin(2 atan(x)) = 2x/(1 + x²).
@@ -775,7 +734,7 @@ impl MagicFormula {
             }
             _ => {
                 let x = fz / ((c.PKY2 + c.PKY5 * gamma * gamma) * (1.0 + c.PPY2 * dpi) * self.fz0_scaled);
-                (c.PKY4 * x.atan()).sin()
+                sin(c.PKY4 * atan(x))
             }
         }
     }
@@ -934,7 +893,7 @@ impl MagicFormula {
         let byk = (c.RBY1 + c.RBY4 * gamma_star * gamma_star) * cos_atan(c.RBY2 * (alpha - c.RBY3)) * c.LYKA;
         let eyk = (c.REY1 + c.REY2 * dfz).min(1.0);
         let dvyk = p.y.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma_star) * cos_atan(c.RVY4 * alpha);
-        let svyk = dvyk * (c.RVY5 * (c.RVY6 * kappa).atan()).sin() * c.LVYKA;
+        let svyk = dvyk * sin(c.RVY5 * atan(c.RVY6 * kappa)) * c.LVYKA;
         let gyk = cosine_shape(byk, c.RCY1, eyk, kappa_s) / cosine_shape(byk, c.RCY1, eyk, shyk);
         let mut fy = gyk * p.y.fy0 + svyk;
         if how.combined == CombinedSlip::FrictionEllipse {
@@ -964,7 +923,7 @@ impl MagicFormula {
             * (r0 / self.fz0_scaled)
             * c.LTR;
         let et = ((c.QEZ1 + c.QEZ2 * dfz + c.QEZ3 * dfz * dfz)
-            * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_zs) * FRAC_2_PI * (bt * ct * alpha_t).atan()))
+            * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_zs) * FRAC_2_PI * atan(bt * ct * alpha_t)))
         .min(1.0);
         let br = c.QBZ9 * c.LKY / lmuy + c.QBZ10 * p.y.by * p.y.cy;
         let dr = fz
@@ -982,14 +941,14 @@ impl MagicFormula {
                 // (at κ = 0 that is α_t, folded into ±π/2 as MFeval does where |α_t| > π/2).
                 let equivalent = |a: f64| {
                     let t = tan(a);
-                    (t * t + kk).sqrt().atan().copysign(a)
+                    atan((t * t + kk).sqrt()).copysign(a)
                 };
                 let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha * c.LFZO;
                 (trail, dr * cos(alpha) * cos_atan(br * equivalent(alpha_r)), self.fz0)
             }
             MomentForms::Chrono => {
                 // tan α_eq = √(α² + (K_x/K_y)² κ²), α_eq entering as the angle.
-                let equivalent = |a: f64| (a * a + kk).sqrt().copysign(a).atan();
+                let equivalent = |a: f64| atan((a * a + kk).sqrt().copysign(a));
                 let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha;
                 (trail, dr * cos_atan(br * equivalent(alpha_r)) * cos_alpha, self.fz0_scaled)
             }
@@ -1030,7 +989,7 @@ impl MagicFormula {
         if kappa > high {
             1.0
         } else if kappa >= low {
-            (std::f64::consts::FRAC_PI_2 * (kappa + 1.0) / (high + 1.0)).sin()
+            sin(std::f64::consts::FRAC_PI_2 * (kappa + 1.0) / (high + 1.0))
         } else {
             -1.0
         }
@@ -1051,9 +1010,9 @@ impl MagicFormula {
         // The MF 6.1 terms cost five transcendental calls; PAC2002 files leave them 0.
         if c.QSX4 != 0.0 || c.QSX10 != 0.0 {
             mx_terms += c.QSX4
-                * (c.QSX5 * (c.QSX6 * fz_n).powi(2).atan()).cos()
-                * (c.QSX7 * gamma + c.QSX8 * (c.QSX9 * fy_n).atan()).sin()
-                + c.QSX10 * (c.QSX11 * fz_n).atan() * gamma;
+                * cos(c.QSX5 * atan((c.QSX6 * fz_n).powi(2)))
+                * sin(c.QSX7 * gamma + c.QSX8 * atan(c.QSX9 * fy_n))
+                + c.QSX10 * atan(c.QSX11 * fz_n) * gamma;
         }
         let mx = r0 * fz * c.LMX * mx_terms;
         match self.version {
