@@ -47,8 +47,17 @@ pub fn atan(x: f64) -> f64 {
     let [q1, q2, q3, q4] = ATAN_Q;
     let p = p0 + z * (p1 + z * (p2 + z * p3));
     let q = 1.0 + z * (q1 + z * (q2 + z * (q3 + z * q4)));
-    (base + (u + u * z * (p / q))).copysign(x)
+    // The sum is ≥ 0: x's sign bit put on it is copysign in fewer instructions.
+    with_sign_of(base + (u + u * z * (p / q)), x)
 }
+
+/// y ≥ 0 (or +0) with the sign of x.
+#[inline(always)]
+fn with_sign_of(y: f64, x: f64) -> f64 {
+    f64::from_bits(y.to_bits() | (x.to_bits() & SIGN_BIT))
+}
+
+const SIGN_BIT: u64 = 1 << 63;
 
 /// π/2 in three pieces: the first two of 33 significant bits (so that n times either is exact for the n
 /// below `REDUCTION_LIMIT`), the third the rest rounded (π/2 − P1 − P2 to 1e-37).
@@ -101,7 +110,7 @@ fn cos_kernel(r: f64) -> f64 {
 /// y with the sign of y times the sign of x (sin is odd).
 #[inline(always)]
 fn times_sign_of(y: f64, x: f64) -> f64 {
-    f64::from_bits(y.to_bits() ^ (x.to_bits() & (1 << 63)))
+    f64::from_bits(y.to_bits() ^ (x.to_bits() & SIGN_BIT))
 }
 
 /// sin x (libm's beyond |x| = 1e5).
@@ -146,15 +155,16 @@ pub fn cos(x: f64) -> f64 {
 /// Below this |x| (rad), tan is a continued fraction (`tan`).
 const SMALL_ANGLE: f64 = 0.25;
 
-/// tan x: for |x| ≤ 0.25 Lambert's continued fraction x/(1 − x²/(3 − x²/(5 − … x²/13))), within 1.6e-16
-/// relative of tan x there (measured against 40-digit arithmetic at 2000 points); libm beyond.
+/// tan x: for |x| ≤ 0.25 Lambert's continued fraction x/(1 − x²/(3 − x²/(5 − … x²/13))) written as the one
+/// quotient it is, x (135135 − 17325 x² + 378 x⁴ − x⁶)/(135135 − 62370 x² + 3150 x⁴ − 28 x⁶) (its error is
+/// 1e-20 of tan x at 0.25: the tests measure the rounding); libm beyond.
 #[inline(always)]
 pub fn tan(x: f64) -> f64 {
     if x.abs() > SMALL_ANGLE {
         return x.tan();
     }
-    let x2 = x * x;
-    x / (1.0 - x2 / (3.0 - x2 / (5.0 - x2 / (7.0 - x2 / (9.0 - x2 / (11.0 - x2 / 13.0))))))
+    let z = x * x;
+    x * (135_135.0 + z * (-17_325.0 + z * (378.0 - z))) / (135_135.0 + z * (-62_370.0 + z * (3_150.0 - 28.0 * z)))
 }
 
 #[cfg(test)]
@@ -229,5 +239,15 @@ mod tests {
             assert_eq!(cos(-x), cos(x));
         }
         assert!(sin(f64::NAN).is_nan() && cos(f64::INFINITY).is_nan());
+    }
+
+    #[test]
+    fn tan_is_libms_to_a_few_ulp() {
+        let n = 1_000_000;
+        let points = (-n..=n).map(|i| 0.3 * f64::from(i) / f64::from(n)).chain(around(SMALL_ANGLE, 64));
+        let (e, at) = worst(points, tan, f64::tan);
+        println!("tan: largest relative difference to libm {e:.2e} at {at}");
+        assert!(e < BOUND && e < 1e-12, "{e:e} at {at}");
+        assert_eq!(tan(-0.1), -tan(0.1));
     }
 }
