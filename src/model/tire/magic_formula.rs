@@ -36,7 +36,7 @@
 //!
 //! Ranges: the file's `KPUMIN/KPUMAX`, `ALPMIN/ALPMAX`, `CAMMIN/CAMMAX` and `FZMAX` bound the inputs, as
 //! MF-Tyre does: beyond them the fit is an extrapolation, and the Magic Formula's sines turn back.
-use super::elementary::{atan, cos, sin, tan};
+use super::elementary::{atan, atan_pair, cos, sin, tan};
 use crate::model::formats::tir::{TirFile, TirFormat, UnitKind};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_2_PI;
@@ -282,6 +282,7 @@ pub struct MfLoads {
 /// The quantities of the pure-slip evaluation the combined slip and the moments reuse.
 struct Pure {
     fx0: f64,
+    fy0: f64,
     kx: f64,
     /// S_Hx, S_Vx and μ_x (the friction ellipse's).
     shx: f64,
@@ -326,15 +327,26 @@ impl Evaluation {
         Evaluation { friction: 1.0, combined: CombinedSlip::Weighting, moments: MomentForms::Mfeval };
 }
 
-/// The pure lateral slip's force and the factors the combined slip and M_z reuse.
+/// The pure lateral slip's Magic Formula factors (F_y0 = D_y sin(C_y atan(B_y α_y − …)) + S_Vy, `force`),
+/// which the combined slip and M_z reuse.
 struct Lateral {
-    fy0: f64,
     ky: f64,
     mu_y: f64,
     by: f64,
     cy: f64,
+    dy: f64,
+    ey: f64,
+    alpha_y: f64,
     shy: f64,
     svy: f64,
+}
+
+impl Lateral {
+    /// F_y0 (4.E19).
+    #[inline(always)]
+    fn force(&self) -> f64 {
+        magic(self.by, self.cy, self.dy, self.ey, self.alpha_y) + self.svy
+    }
 }
 
 /// A stiffness moved away from 0 by `EPS_STIFFNESS_N`, keeping its sign, to divide by (4.E39's K'_yα).
@@ -355,12 +367,12 @@ fn friction_ellipse(p: &Pure, fz: f64, kappa: f64, alpha: f64) -> [f64; 2] {
     let y = &p.y;
     let kappa_c = (kappa + p.shx + p.svx / nonzero_stiffness(p.kx)).abs();
     let alpha_s = sin(alpha + y.shy + y.svy / nonzero_stiffness(y.ky)).abs();
-    let (mu_x_act, mu_y_act) = ((p.fx0 - p.svx).abs() / fz, (y.fy0 - y.svy).abs() / fz);
+    let (mu_x_act, mu_y_act) = ((p.fx0 - p.svx).abs() / fz, (p.fy0 - y.svy).abs() / fz);
     // μ_x,c/μ_x,act = 1/hypot(1, μ_x,act tan β/μ_y,max); μ_y,c/μ_y,act = tan β/hypot(μ_y,act/μ_x,max, tan β).
     let x_scale = kappa_c / kappa_c.hypot(mu_x_act * alpha_s / y.mu_y);
     let y_scale = alpha_s / alpha_s.hypot(mu_y_act * kappa_c / p.mu_x);
     let finite = |s: f64| if s.is_finite() { s } else { 1.0 };
-    [p.fx0 * finite(x_scale), y.fy0 * finite(y_scale)]
+    [p.fx0 * finite(x_scale), p.fy0 * finite(y_scale)]
 }
 
 /// y = D sin(C atan(B x − E (B x − atan(B x)))), the Magic Formula itself.
@@ -370,11 +382,29 @@ fn magic(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     d * sin(c * atan(bx - e * (bx - atan(bx))))
 }
 
+/// `magic` of two shapes at once (F_x0 and F_y0), their atans in pairs (`atan_pair`): the same bits.
+#[inline(always)]
+fn magic_pair(b: [f64; 2], c: [f64; 2], d: [f64; 2], e: [f64; 2], x: [f64; 2]) -> [f64; 2] {
+    let bx = [b[0] * x[0], b[1] * x[1]];
+    let inner = atan_pair(bx);
+    let outer = atan_pair([bx[0] - e[0] * (bx[0] - inner[0]), bx[1] - e[1] * (bx[1] - inner[1])]);
+    [d[0] * sin(c[0] * outer[0]), d[1] * sin(c[1] * outer[1])]
+}
+
 /// cos(C atan(B x − E (B x − atan(B x)))), the weighting functions' and the trail's shape.
 #[inline(always)]
 fn cosine_shape(b: f64, c: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
     cos(c * atan(bx - e * (bx - atan(bx))))
+}
+
+/// `cosine_shape` at two x at once (a weighting function's numerator and denominator): the same bits.
+#[inline(always)]
+fn cosine_shape_pair(b: f64, c: f64, e: f64, x: [f64; 2]) -> [f64; 2] {
+    let bx = [b * x[0], b * x[1]];
+    let inner = atan_pair(bx);
+    let outer = atan_pair([bx[0] - e * (bx[0] - inner[0]), bx[1] - e * (bx[1] - inner[1])]);
+    [cos(c * outer[0]), cos(c * outer[1])]
 }
 
 /// cos(atan(x)) = 1/√(1 + x²), without the two transcendental calls.
@@ -824,13 +854,14 @@ impl MagicFormula {
             fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX;
         let bx = kx / (cx * dx + EPS_FORCE_N);
         let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * lmux;
-        let fx0 = magic(bx, cx, dx, ex, kappa_x) + svx;
         let y = self.lateral(fz, dfz, alpha, gamma_star, lmuy);
-        Pure { fx0, kx, shx, svx, mu_x, y }
+        // F_x0 (4.E9) and F_y0 (4.E19), as `magic` and `Lateral::force` give them, evaluated together.
+        let [fx0, fy0] = magic_pair([bx, y.by], [cx, y.cy], [dx, y.dy], [ex, y.ey], [kappa_x, y.alpha_y]);
+        Pure { fx0: fx0 + svx, fy0: fy0 + y.svy, kx, shx, svx, mu_x, y }
     }
 
     /// Pure lateral slip F_y0(α*) at inclination γ* = sin γ (4.E19–4.E30; MF 6.1 adds PEY5 γ*² to E_y and
-    /// its camber structure in `ky`, `lateral_shifts`).
+    /// its camber structure in `ky`, `lateral_shifts`): its factors, F_y0 itself by `Lateral::force`.
     #[inline(always)]
     fn lateral(&self, fz: f64, dfz: f64, alpha: f64, gamma: f64, lmuy: f64) -> Lateral {
         let (c, dpi) = (&self.c, self.pressure_ratio);
@@ -849,8 +880,7 @@ impl MagicFormula {
             * c.LEY)
             .min(1.0);
         let by = ky / (cy * dy + EPS_FORCE_N);
-        let fy0 = magic(by, cy, dy, ey, alpha_y) + svy;
-        Lateral { fy0, ky, mu_y, by, cy, shy, svy }
+        Lateral { ky, mu_y, by, cy, dy, ey, alpha_y, shy, svy }
     }
 
     /// The loads of the tire as measured (its own side), ISO inputs, combined slip (USE_MODE 4).
@@ -885,7 +915,8 @@ impl MagicFormula {
         let alpha_s = alpha + shxa;
         let bxa = (c.RBX1 + c.RBX3 * gamma_star * gamma_star) * cos_atan(c.RBX2 * kappa) * c.LXAL;
         let exa = (c.REX1 + c.REX2 * dfz).min(1.0);
-        let gxa = cosine_shape(bxa, c.RCX1, exa, alpha_s) / cosine_shape(bxa, c.RCX1, exa, shxa);
+        let [gxa_num, gxa_den] = cosine_shape_pair(bxa, c.RCX1, exa, [alpha_s, shxa]);
+        let gxa = gxa_num / gxa_den;
         let mut fx = gxa * p.fx0;
 
         let shyk = c.RHY1 + c.RHY2 * dfz;
@@ -894,8 +925,9 @@ impl MagicFormula {
         let eyk = (c.REY1 + c.REY2 * dfz).min(1.0);
         let dvyk = p.y.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma_star) * cos_atan(c.RVY4 * alpha);
         let svyk = dvyk * sin(c.RVY5 * atan(c.RVY6 * kappa)) * c.LVYKA;
-        let gyk = cosine_shape(byk, c.RCY1, eyk, kappa_s) / cosine_shape(byk, c.RCY1, eyk, shyk);
-        let mut fy = gyk * p.y.fy0 + svyk;
+        let [gyk_num, gyk_den] = cosine_shape_pair(byk, c.RCY1, eyk, [kappa_s, shyk]);
+        let gyk = gyk_num / gyk_den;
+        let mut fy = gyk * p.fy0 + svyk;
         if how.combined == CombinedSlip::FrictionEllipse {
             [fx, fy] = friction_ellipse(&p, fz, kappa, alpha);
         }
@@ -939,18 +971,18 @@ impl MagicFormula {
             MomentForms::Mfeval => {
                 // Equivalent slips (A54, A55): α_eq = atan(√(tan² α_t + (K_x/K_y)² κ²)) with the sign of α_t
                 // (at κ = 0 that is α_t, folded into ±π/2 as MFeval does where |α_t| > π/2).
-                let equivalent = |a: f64| {
-                    let t = tan(a);
-                    atan((t * t + kk).sqrt()).copysign(a)
-                };
-                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha * c.LFZO;
-                (trail, dr * cos(alpha) * cos_atan(br * equivalent(alpha_r)), self.fz0)
+                // [α_t,eq, α_r,eq], the two atans together.
+                let (tan_t, tan_r) = (tan(alpha_t), tan(alpha_r));
+                let [at, ar] = atan_pair([(tan_t * tan_t + kk).sqrt(), (tan_r * tan_r + kk).sqrt()]);
+                let trail = dt * cosine_shape(bt, ct, et, at.copysign(alpha_t)) * cos_alpha * c.LFZO;
+                (trail, dr * cos(alpha) * cos_atan(br * ar.copysign(alpha_r)), self.fz0)
             }
             MomentForms::Chrono => {
                 // tan α_eq = √(α² + (K_x/K_y)² κ²), α_eq entering as the angle.
-                let equivalent = |a: f64| atan((a * a + kk).sqrt().copysign(a));
-                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha;
-                (trail, dr * cos_atan(br * equivalent(alpha_r)) * cos_alpha, self.fz0_scaled)
+                let tan_equivalent = |a: f64| (a * a + kk).sqrt().copysign(a);
+                let [at, ar] = atan_pair([tan_equivalent(alpha_t), tan_equivalent(alpha_r)]);
+                let trail = dt * cosine_shape(bt, ct, et, at) * cos_alpha;
+                (trail, dr * cos_atan(br * ar) * cos_alpha, self.fz0_scaled)
             }
         };
         let s = r0 * (c.SSZ1 + c.SSZ2 * (fy / fz0_arm) + (c.SSZ3 + c.SSZ4 * dfz) * gamma) * c.LS;
@@ -959,8 +991,8 @@ impl MagicFormula {
             TirFormat::Pac2002 => fy - svyk,
             // MF 6.x's F'_y = G_yκ F_y0(γ = 0) (4.E74: the camber thrust gives no trail moment, its moment is
             // in M_zr), which at γ = 0 is the same force.
-            _ if gamma == 0.0 => gyk * p.y.fy0,
-            _ => gyk * self.lateral(fz, dfz, alpha, 0.0, lmuy).fy0,
+            _ if gamma == 0.0 => gyk * p.fy0,
+            _ => gyk * self.lateral(fz, dfz, alpha, 0.0, lmuy).force(),
         };
         let mz = -trail * trail_force + mzr + s * fx;
 
@@ -1144,7 +1176,7 @@ mod tests {
         let kx = mf.longitudinal_stiffness(fz);
         assert!((slope - kx).abs() < 1e-6 * kx, "{slope} vs {kx}");
         let shy = mf.c.PHY1 + mf.c.PHY2 * dfz;
-        let fy = |a: f64| mf.pure(fz, 0.0, a, [0.0; 2], [mf.c.LMUX, mf.c.LMUY]).y.fy0;
+        let fy = |a: f64| mf.pure(fz, 0.0, a, [0.0; 2], [mf.c.LMUX, mf.c.LMUY]).fy0;
         let slope = (fy(-shy + h) - fy(-shy - h)) / (2.0 * h);
         assert!((slope + mf.cornering_stiffness(fz)).abs() < 1e-6 * mf.cornering_stiffness(fz), "{slope}");
     }
@@ -1366,7 +1398,7 @@ mod tests {
             for fz in [3000.0, 6300.0, 12000.0] {
                 let dfz = mf.load_increment(fz);
                 let alpha = -(mf.c.PHY1 + mf.c.PHY2 * dfz) * mf.c.LHY;
-                let fy = |g: f64| mf.lateral(fz, dfz, alpha, g, mf.c.LMUY).fy0;
+                let fy = |g: f64| mf.lateral(fz, dfz, alpha, g, mf.c.LMUY).force();
                 // Small h: K_yα's (1 − PKY3 |γ|) gives the difference quotient an O(h) error.
                 let h = 1e-7;
                 let slope = (fy(h) - fy(-h)) / (2.0 * h);
