@@ -253,6 +253,8 @@ pub struct MagicFormula {
     pub pressure_ratio: f64,
     /// MF 6.x: M_y's pressure factor (p/p_nom)^QSY8, computed with the pressure (1 for PAC2002).
     pub rolling_pressure_factor: f64,
+    /// The products of coefficients and pressure every evaluation uses, computed with the pressure.
+    terms: Terms,
     /// The side the file was measured on.
     pub measured_side: TireSide,
     /// Input ranges the fit holds on: κ, α (rad), γ (rad), and the largest load, N.
@@ -264,6 +266,47 @@ pub struct MagicFormula {
     pub fz_max: f64,
     /// Keys read but not used, and other remarks (`warnings` of the file first).
     pub warnings: Vec<String>,
+}
+
+/// Products of a file's coefficients, scaling factors and pressure that every evaluation would otherwise
+/// repeat, named after their equations' terms (Pacejka 2006/2012 §4.3.2); `Terms::of` says what each is.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+struct Terms {
+    /// C_x = PCX1 LCX, C_y = PCY1 LCY.
+    cx: f64,
+    cy: f64,
+    /// μ_x's and μ_y's pressure factors 1 + PPX3 dp_i + PPX4 dp_i², 1 + PPY3 dp_i + PPY4 dp_i².
+    mu_x_pressure: f64,
+    mu_y_pressure: f64,
+    /// K_xκ's pressure factor and scale (1 + PPX1 dp_i + PPX2 dp_i²) LKX.
+    kx_pressure: f64,
+    /// K_yα's peak PKY1 F_z0' (1 + PPY1 dp_i) LKY, and PAC2002's load at it PKY2 F_z0' (1 + PPY2 dp_i).
+    ky_peak: f64,
+    ky_peak_load: f64,
+    /// D_t's (1 − QPZ1 dp_i) (R0/F_z0') LTR; D_r's camber pressure factor 1 + QPZ2 dp_i.
+    dt_scale: f64,
+    dr_pressure: f64,
+    /// M_x's camber pressure factor 1 + QPX1 dp_i, and whether its transcendental terms (QSX4, QSX10) are in.
+    mx_pressure: f64,
+    mx_shape_terms: bool,
+}
+
+impl Terms {
+    fn of(c: &Coefficients, fz0_scaled: f64, r0: f64, dpi: f64) -> Terms {
+        Terms {
+            cx: c.PCX1 * c.LCX,
+            cy: c.PCY1 * c.LCY,
+            mu_x_pressure: 1.0 + c.PPX3 * dpi + c.PPX4 * dpi * dpi,
+            mu_y_pressure: 1.0 + c.PPY3 * dpi + c.PPY4 * dpi * dpi,
+            kx_pressure: (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX,
+            ky_peak: c.PKY1 * fz0_scaled * (1.0 + c.PPY1 * dpi) * c.LKY,
+            ky_peak_load: c.PKY2 * fz0_scaled * (1.0 + c.PPY2 * dpi),
+            dt_scale: (1.0 - c.QPZ1 * dpi) * (r0 / fz0_scaled) * c.LTR,
+            dr_pressure: 1.0 + c.QPZ2 * dpi,
+            mx_pressure: 1.0 + c.QPX1 * dpi,
+            mx_shape_terms: c.QSX4 != 0.0 || c.QSX10 != 0.0,
+        }
+    }
 }
 
 /// The loads of a Magic Formula evaluation in the tire's W axes (ISO: x forward, y left, z up).
@@ -516,6 +559,7 @@ impl MagicFormula {
             low_speed: file.number_or("MODEL", "VXLOW", DEFAULT_LOW_SPEED_M_S)? * length / time,
             pressure_ratio: 0.0,
             rolling_pressure_factor: 1.0,
+            terms: Terms::default(),
             measured_side,
             kappa_range: range("LONG_SLIP_RANGE", "KPUMIN", "KPUMAX", [-1.5, 1.5])?,
             // Kept inside ±(π/2 − 0.01): the bound is applied to tan α (ALPMAX = 1.5708 is a hair past π/2).
@@ -618,6 +662,7 @@ impl MagicFormula {
             let qsy8 = self.c.QSY8;
             self.rolling_pressure_factor = if qsy8 == 0.0 { 1.0 } else { (1.0 + self.pressure_ratio).powf(qsy8) };
         }
+        self.terms = Terms::of(&self.c, self.fz0_scaled, self.unloaded_radius, self.pressure_ratio);
         Ok(())
     }
 
@@ -718,10 +763,14 @@ impl MagicFormula {
 
     /// Longitudinal slip stiffness K_xκ = ∂F_x/∂κ at κ = 0, γ = 0, N (≥ 0).
     pub fn longitudinal_stiffness(&self, fz: f64) -> f64 {
+        self.kx(fz, self.load_increment(fz)).abs()
+    }
+
+    /// K_xκ = F_z (PKX1 + PKX2 dF_z) exp(PKX3 dF_z) (1 + PPX1 dp_i + PPX2 dp_i²) LKX (4.E15).
+    #[inline(always)]
+    fn kx(&self, fz: f64, dfz: f64) -> f64 {
         let c = &self.c;
-        let dfz = self.load_increment(fz);
-        let dpi = self.pressure_ratio;
-        (fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX).abs()
+        fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * self.terms.kx_pressure
     }
 
     /// Cornering stiffness |K_yα| = |∂F_y/∂α| at α = 0, γ = 0, N/rad.
@@ -742,13 +791,7 @@ impl MagicFormula {
     /// (load shape) (1 − PKY3 |γ|) LKY (PAC2002 4.E25; MF 6.1 4.E25 of Pacejka 2012).
     #[inline(always)]
     fn ky(&self, fz: f64, gamma_y: f64) -> f64 {
-        let (c, dpi) = (&self.c, self.pressure_ratio);
-        c.PKY1
-            * self.fz0_scaled
-            * (1.0 + c.PPY1 * dpi)
-            * self.ky_load_shape(fz, gamma_y)
-            * (1.0 - c.PKY3 * gamma_y.abs())
-            * c.LKY
+        self.terms.ky_peak * self.ky_load_shape(fz, gamma_y) * (1.0 - self.c.PKY3 * gamma_y.abs())
     }
 
     /// K_yα's load dependence: PAC2002's sin(2 atan(F_z/(PKY2 F_z0' (1 + PPY2 dp_i)))), written 2x/(1 + x²);
@@ -757,7 +800,7 @@ impl MagicFormula {
     fn ky_load_shape(&self, fz: f64, gamma: f64) -> f64 {
         let (c, dpi) = (&self.c, self.pressure_ratio);
         match self.version {
-            TirFormat::Pac2002 => sin_2atan(fz / (c.PKY2 * self.fz0_scaled * (1.0 + c.PPY2 * dpi))),
+            TirFormat::Pac2002 => sin_2atan(fz / self.terms.ky_peak_load),
             // The usual PKY4 = 2 without the atan and sin calls (the same to rounding, ≈ 1e-16).
             _ if c.PKY4 == 2.0 => {
                 sin_2atan(fz / ((c.PKY2 + c.PKY5 * gamma * gamma) * (1.0 + c.PPY2 * dpi) * self.fz0_scaled))
@@ -837,21 +880,16 @@ impl MagicFormula {
     fn pure(&self, fz: f64, kappa: f64, alpha: f64, [gamma, gamma_star]: [f64; 2], [lmux, lmuy]: [f64; 2]) -> Pure {
         let c = &self.c;
         let dfz = self.load_increment(fz);
-        let dpi = self.pressure_ratio;
 
         // Longitudinal (4.E9–4.E18; MF 6.1 the same).
         let gamma_x = gamma * c.LGAX;
         let shx = (c.PHX1 + c.PHX2 * dfz) * c.LHX;
         let kappa_x = kappa + shx;
-        let cx = c.PCX1 * c.LCX;
-        let mu_x = (c.PDX1 + c.PDX2 * dfz)
-            * (1.0 + c.PPX3 * dpi + c.PPX4 * dpi * dpi)
-            * (1.0 - c.PDX3 * gamma_x * gamma_x)
-            * lmux;
+        let cx = self.terms.cx;
+        let mu_x = (c.PDX1 + c.PDX2 * dfz) * self.terms.mu_x_pressure * (1.0 - c.PDX3 * gamma_x * gamma_x) * lmux;
         let dx = mu_x * fz;
         let ex = ((c.PEX1 + c.PEX2 * dfz + c.PEX3 * dfz * dfz) * (1.0 - c.PEX4 * kappa_x.signum()) * c.LEX).min(1.0);
-        let kx =
-            fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX;
+        let kx = self.kx(fz, dfz);
         let bx = kx / (cx * dx + EPS_FORCE_N);
         let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * lmux;
         let y = self.lateral(fz, dfz, alpha, gamma_star, lmuy);
@@ -864,16 +902,13 @@ impl MagicFormula {
     /// its camber structure in `ky`, `lateral_shifts`): its factors, F_y0 itself by `Lateral::force`.
     #[inline(always)]
     fn lateral(&self, fz: f64, dfz: f64, alpha: f64, gamma: f64, lmuy: f64) -> Lateral {
-        let (c, dpi) = (&self.c, self.pressure_ratio);
+        let c = &self.c;
         let gamma_y = gamma * c.LGAY;
         let ky = self.ky(fz, gamma_y);
         let (shy, svy) = self.lateral_shifts(fz, dfz, gamma_y, ky, lmuy);
         let alpha_y = alpha + shy;
-        let cy = c.PCY1 * c.LCY;
-        let mu_y = (c.PDY1 + c.PDY2 * dfz)
-            * (1.0 + c.PPY3 * dpi + c.PPY4 * dpi * dpi)
-            * (1.0 - c.PDY3 * gamma_y * gamma_y)
-            * lmuy;
+        let cy = self.terms.cy;
+        let mu_y = (c.PDY1 + c.PDY2 * dfz) * self.terms.mu_y_pressure * (1.0 - c.PDY3 * gamma_y * gamma_y) * lmuy;
         let dy = mu_y * fz;
         let ey = ((c.PEY1 + c.PEY2 * dfz)
             * (1.0 + c.PEY5 * gamma_y * gamma_y - (c.PEY3 + c.PEY4 * gamma_y) * alpha_y.signum())
@@ -906,7 +941,6 @@ impl MagicFormula {
         // trail's B_t, D_t, the arm s, M_x and M_y take γ itself. The same to 5e-4 relative at 3°.
         let gamma_star = sin(gamma);
         let dfz = self.load_increment(fz);
-        let dpi = self.pressure_ratio;
         let (lmux, lmuy) = (c.LMUX * how.friction, c.LMUY * how.friction);
         let p = self.pure(fz, kappa, alpha, [gamma, gamma_star], [lmux, lmuy]);
 
@@ -948,19 +982,16 @@ impl MagicFormula {
             (c.QBZ1 + c.QBZ2 * dfz + c.QBZ3 * dfz * dfz) * (1.0 + c.QBZ4 * gamma_z + c.QBZ5 * gamma_z.abs()) * c.LKY
                 / lmuy;
         let ct = c.QCZ1;
-        let dt = fz
-            * (c.QDZ1 + c.QDZ2 * dfz)
-            * (1.0 - c.QPZ1 * dpi)
-            * (1.0 + c.QDZ3 * gamma_z + c.QDZ4 * gamma_z * gamma_z)
-            * (r0 / self.fz0_scaled)
-            * c.LTR;
+        // (1 − QPZ1 dp_i) (R0/F_z0') LTR: `Terms::dt_scale`.
+        let dt =
+            fz * (c.QDZ1 + c.QDZ2 * dfz) * (1.0 + c.QDZ3 * gamma_z + c.QDZ4 * gamma_z * gamma_z) * self.terms.dt_scale;
         let et = ((c.QEZ1 + c.QEZ2 * dfz + c.QEZ3 * dfz * dfz)
             * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_zs) * FRAC_2_PI * atan(bt * ct * alpha_t)))
         .min(1.0);
         let br = c.QBZ9 * c.LKY / lmuy + c.QBZ10 * p.y.by * p.y.cy;
         let dr = fz
             * ((c.QDZ6 + c.QDZ7 * dfz) * c.LRES
-                + ((c.QDZ8 + c.QDZ9 * dfz) * (1.0 + c.QPZ2 * dpi) + (c.QDZ10 + c.QDZ11 * dfz) * gamma_zs.abs())
+                + ((c.QDZ8 + c.QDZ9 * dfz) * self.terms.dr_pressure + (c.QDZ10 + c.QDZ11 * dfz) * gamma_zs.abs())
                     * gamma_zs
                     * c.LKZC)
             * r0
@@ -1034,13 +1065,13 @@ impl MagicFormula {
     /// 6.x only.
     #[inline(always)]
     fn overturning_moment(&self, fz: f64, fy: f64, gamma: f64, fz0: f64) -> f64 {
-        let (c, r0, dpi) = (&self.c, self.unloaded_radius, self.pressure_ratio);
+        let (c, r0) = (&self.c, self.unloaded_radius);
         // F_z0 = FNOMIN in MFeval's (TNO's) M_x, the scaled F_z0' in Chrono's (`MomentForms`).
         let fy_n = fy / fz0;
         let fz_n = fz / fz0;
-        let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi) + c.QSX3 * fy_n;
+        let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * self.terms.mx_pressure + c.QSX3 * fy_n;
         // The MF 6.1 terms cost five transcendental calls; PAC2002 files leave them 0.
-        if c.QSX4 != 0.0 || c.QSX10 != 0.0 {
+        if self.terms.mx_shape_terms {
             mx_terms += c.QSX4
                 * cos(c.QSX5 * atan((c.QSX6 * fz_n).powi(2)))
                 * sin(c.QSX7 * gamma + c.QSX8 * atan(c.QSX9 * fy_n))
