@@ -114,14 +114,14 @@ const REDUCTION_LIMIT: f64 = 1e5;
 /// 1.5 × 2⁵²: a double below 2⁵¹ in magnitude plus this is rounded to an integer (its last bits are the integer).
 const ROUND_TO_INTEGER: f64 = 6_755_399_441_055_744.0;
 
-/// |x| = n π/2 + r with |r| ≤ π/4 (to rounding), for 0 ≤ |x| < `REDUCTION_LIMIT`: (n mod 4, r).
+/// |x| = n π/2 + r with |r| ≤ π/4 (to rounding), for 0 ≤ |x| < `REDUCTION_LIMIT`: (n's last bits, r).
 #[inline(always)]
 fn quarter_turns(a: f64) -> (u64, f64) {
     let t = a * FRAC_2_PI + ROUND_TO_INTEGER;
     let n = t - ROUND_TO_INTEGER;
     // a − n P1 is exact (the two are within a factor of 2 of each other, Sterbenz), and so are n P1, n P2.
     let r = ((a - n * PIO2_1) - n * PIO2_2) - n * PIO2_3;
-    (t.to_bits() & 3, r)
+    (t.to_bits(), r)
 }
 
 /// sin r for |r| ≤ π/4: r + r z (−1/3! + z (1/5! − …)) to r¹⁵ (remainder below r¹⁶/17! ≤ 5.8e-17 relative).
@@ -156,6 +156,17 @@ fn times_sign_of(y: f64, x: f64) -> f64 {
     f64::from_bits(y.to_bits() ^ (x.to_bits() & SIGN_BIT))
 }
 
+/// sin(n π/2 + r) for |r| ≤ π/4: sin r, cos r, −sin r or −cos r as n mod 4 is 0, 1, 2 or 3.
+#[inline(always)]
+fn sin_quarter_turns(n: u64, r: f64) -> f64 {
+    match n & 3 {
+        0 => sin_kernel(r),
+        1 => cos_kernel(r),
+        2 => -sin_kernel(r),
+        _ => -cos_kernel(r),
+    }
+}
+
 /// sin x (libm's beyond |x| = 1e5).
 #[inline(always)]
 pub fn sin(x: f64) -> f64 {
@@ -167,16 +178,10 @@ pub fn sin(x: f64) -> f64 {
         return x.sin();
     }
     let (n, r) = quarter_turns(a);
-    let s = match n {
-        0 => sin_kernel(r),
-        1 => cos_kernel(r),
-        2 => -sin_kernel(r),
-        _ => -cos_kernel(r),
-    };
-    times_sign_of(s, x)
+    times_sign_of(sin_quarter_turns(n, r), x)
 }
 
-/// cos x (libm's beyond |x| = 1e5).
+/// cos x = sin(|x| + π/2) (libm's beyond |x| = 1e5).
 #[inline(always)]
 pub fn cos(x: f64) -> f64 {
     let a = x.abs();
@@ -187,12 +192,7 @@ pub fn cos(x: f64) -> f64 {
         return x.cos();
     }
     let (n, r) = quarter_turns(a);
-    match n {
-        0 => cos_kernel(r),
-        1 => -sin_kernel(r),
-        2 => -cos_kernel(r),
-        _ => sin_kernel(r),
-    }
+    sin_quarter_turns(n + 1, r)
 }
 
 /// Below this |x| (rad), tan is a continued fraction (`tan`).
