@@ -36,6 +36,7 @@
 //!
 //! Ranges: the file's `KPUMIN/KPUMAX`, `ALPMIN/ALPMAX`, `CAMMIN/CAMMAX` and `FZMAX` bound the inputs, as
 //! MF-Tyre does: beyond them the fit is an extrapolation, and the Magic Formula's sines turn back.
+use super::elementary::{atan, atan_pair, cos, sin, tan};
 use crate::model::formats::tir::{TirFile, TirFormat, UnitKind};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_2_PI;
@@ -252,6 +253,8 @@ pub struct MagicFormula {
     pub pressure_ratio: f64,
     /// MF 6.x: M_y's pressure factor (p/p_nom)^QSY8, computed with the pressure (1 for PAC2002).
     pub rolling_pressure_factor: f64,
+    /// The products of coefficients and pressure every evaluation uses, computed with the pressure.
+    terms: Terms,
     /// The side the file was measured on.
     pub measured_side: TireSide,
     /// Input ranges the fit holds on: κ, α (rad), γ (rad), and the largest load, N.
@@ -263,6 +266,47 @@ pub struct MagicFormula {
     pub fz_max: f64,
     /// Keys read but not used, and other remarks (`warnings` of the file first).
     pub warnings: Vec<String>,
+}
+
+/// Products of a file's coefficients, scaling factors and pressure that every evaluation would otherwise
+/// repeat, named after their equations' terms (Pacejka 2006/2012 §4.3.2); `Terms::of` says what each is.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+struct Terms {
+    /// C_x = PCX1 LCX, C_y = PCY1 LCY.
+    cx: f64,
+    cy: f64,
+    /// μ_x's and μ_y's pressure factors 1 + PPX3 dp_i + PPX4 dp_i², 1 + PPY3 dp_i + PPY4 dp_i².
+    mu_x_pressure: f64,
+    mu_y_pressure: f64,
+    /// K_xκ's pressure factor and scale (1 + PPX1 dp_i + PPX2 dp_i²) LKX.
+    kx_pressure: f64,
+    /// K_yα's peak PKY1 F_z0' (1 + PPY1 dp_i) LKY, and PAC2002's load at it PKY2 F_z0' (1 + PPY2 dp_i).
+    ky_peak: f64,
+    ky_peak_load: f64,
+    /// D_t's (1 − QPZ1 dp_i) (R0/F_z0') LTR; D_r's camber pressure factor 1 + QPZ2 dp_i.
+    dt_scale: f64,
+    dr_pressure: f64,
+    /// M_x's camber pressure factor 1 + QPX1 dp_i, and whether its transcendental terms (QSX4, QSX10) are in.
+    mx_pressure: f64,
+    mx_shape_terms: bool,
+}
+
+impl Terms {
+    fn of(c: &Coefficients, fz0_scaled: f64, r0: f64, dpi: f64) -> Terms {
+        Terms {
+            cx: c.PCX1 * c.LCX,
+            cy: c.PCY1 * c.LCY,
+            mu_x_pressure: 1.0 + c.PPX3 * dpi + c.PPX4 * dpi * dpi,
+            mu_y_pressure: 1.0 + c.PPY3 * dpi + c.PPY4 * dpi * dpi,
+            kx_pressure: (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX,
+            ky_peak: c.PKY1 * fz0_scaled * (1.0 + c.PPY1 * dpi) * c.LKY,
+            ky_peak_load: c.PKY2 * fz0_scaled * (1.0 + c.PPY2 * dpi),
+            dt_scale: (1.0 - c.QPZ1 * dpi) * (r0 / fz0_scaled) * c.LTR,
+            dr_pressure: 1.0 + c.QPZ2 * dpi,
+            mx_pressure: 1.0 + c.QPX1 * dpi,
+            mx_shape_terms: c.QSX4 != 0.0 || c.QSX10 != 0.0,
+        }
+    }
 }
 
 /// The loads of a Magic Formula evaluation in the tire's W axes (ISO: x forward, y left, z up).
@@ -281,6 +325,7 @@ pub struct MfLoads {
 /// The quantities of the pure-slip evaluation the combined slip and the moments reuse.
 struct Pure {
     fx0: f64,
+    fy0: f64,
     kx: f64,
     /// S_Hx, S_Vx and μ_x (the friction ellipse's).
     shx: f64,
@@ -325,15 +370,26 @@ impl Evaluation {
         Evaluation { friction: 1.0, combined: CombinedSlip::Weighting, moments: MomentForms::Mfeval };
 }
 
-/// The pure lateral slip's force and the factors the combined slip and M_z reuse.
+/// The pure lateral slip's Magic Formula factors (F_y0 = D_y sin(C_y atan(B_y α_y − …)) + S_Vy, `force`),
+/// which the combined slip and M_z reuse.
 struct Lateral {
-    fy0: f64,
     ky: f64,
     mu_y: f64,
     by: f64,
     cy: f64,
+    dy: f64,
+    ey: f64,
+    alpha_y: f64,
     shy: f64,
     svy: f64,
+}
+
+impl Lateral {
+    /// F_y0 (4.E19).
+    #[inline(always)]
+    fn force(&self) -> f64 {
+        magic(self.by, self.cy, self.dy, self.ey, self.alpha_y) + self.svy
+    }
 }
 
 /// A stiffness moved away from 0 by `EPS_STIFFNESS_N`, keeping its sign, to divide by (4.E39's K'_yα).
@@ -353,75 +409,51 @@ fn nonzero_stiffness(k: f64) -> f64 {
 fn friction_ellipse(p: &Pure, fz: f64, kappa: f64, alpha: f64) -> [f64; 2] {
     let y = &p.y;
     let kappa_c = (kappa + p.shx + p.svx / nonzero_stiffness(p.kx)).abs();
-    let alpha_s = (alpha + y.shy + y.svy / nonzero_stiffness(y.ky)).sin().abs();
-    let (mu_x_act, mu_y_act) = ((p.fx0 - p.svx).abs() / fz, (y.fy0 - y.svy).abs() / fz);
+    let alpha_s = sin(alpha + y.shy + y.svy / nonzero_stiffness(y.ky)).abs();
+    let (mu_x_act, mu_y_act) = ((p.fx0 - p.svx).abs() / fz, (p.fy0 - y.svy).abs() / fz);
     // μ_x,c/μ_x,act = 1/hypot(1, μ_x,act tan β/μ_y,max); μ_y,c/μ_y,act = tan β/hypot(μ_y,act/μ_x,max, tan β).
     let x_scale = kappa_c / kappa_c.hypot(mu_x_act * alpha_s / y.mu_y);
     let y_scale = alpha_s / alpha_s.hypot(mu_y_act * kappa_c / p.mu_x);
     let finite = |s: f64| if s.is_finite() { s } else { 1.0 };
-    [p.fx0 * finite(x_scale), y.fy0 * finite(y_scale)]
+    [p.fx0 * finite(x_scale), p.fy0 * finite(y_scale)]
 }
 
 /// y = D sin(C atan(B x − E (B x − atan(B x)))), the Magic Formula itself.
 #[inline(always)]
 fn magic(b: f64, c: f64, d: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
-    d * (c * (bx - e * (bx - bx.atan())).atan()).sin()
+    d * sin(c * atan(bx - e * (bx - atan(bx))))
+}
+
+/// `magic` of two shapes at once (F_x0 and F_y0), their atans in pairs (`atan_pair`): the same bits.
+#[inline(always)]
+fn magic_pair(b: [f64; 2], c: [f64; 2], d: [f64; 2], e: [f64; 2], x: [f64; 2]) -> [f64; 2] {
+    let bx = [b[0] * x[0], b[1] * x[1]];
+    let inner = atan_pair(bx);
+    let outer = atan_pair([bx[0] - e[0] * (bx[0] - inner[0]), bx[1] - e[1] * (bx[1] - inner[1])]);
+    [d[0] * sin(c[0] * outer[0]), d[1] * sin(c[1] * outer[1])]
 }
 
 /// cos(C atan(B x − E (B x − atan(B x)))), the weighting functions' and the trail's shape.
 #[inline(always)]
 fn cosine_shape(b: f64, c: f64, e: f64, x: f64) -> f64 {
     let bx = b * x;
-    (c * (bx - e * (bx - bx.atan())).atan()).cos()
+    cos(c * atan(bx - e * (bx - atan(bx))))
+}
+
+/// `cosine_shape` at two x at once (a weighting function's numerator and denominator): the same bits.
+#[inline(always)]
+fn cosine_shape_pair(b: f64, c: f64, e: f64, x: [f64; 2]) -> [f64; 2] {
+    let bx = [b * x[0], b * x[1]];
+    let inner = atan_pair(bx);
+    let outer = atan_pair([bx[0] - e * (bx[0] - inner[0]), bx[1] - e * (bx[1] - inner[1])]);
+    [cos(c * outer[0]), cos(c * outer[1])]
 }
 
 /// cos(atan(x)) = 1/√(1 + x²), without the two transcendental calls.
 #[inline(always)]
 fn cos_atan(x: f64) -> f64 {
     1.0 / (1.0 + x * x).sqrt()
-}
-
-/// Below this |x| (rad), sin, cos and tan are Taylor polynomials (`sin`, `cos`, `tan`).
-const SMALL_ANGLE: f64 = 0.25;
-
-/// sin x: for |x| ≤ 0.25 its Taylor polynomial to x¹¹, whose remainder is below |x|¹²/13! ≤ 9.6e-18 of
-/// sin x, under its rounding (1.1e-16); libm beyond. The inclination and the slips MFeval takes sines, cosines and tangents of are that small in
-/// driving, and the polynomials cost a fraction of the calls (`examples/tire_instructions.rs`).
-#[inline(always)]
-fn sin(x: f64) -> f64 {
-    if x.abs() > SMALL_ANGLE {
-        return x.sin();
-    }
-    let x2 = x * x;
-    let p =
-        -1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5_040.0 + x2 * (1.0 / 362_880.0 + x2 * (-1.0 / 39_916_800.0))));
-    x + x * x2 * p
-}
-
-/// cos x: for |x| ≤ 0.25 its Taylor polynomial to x¹² (remainder |x|¹⁴/14! ≤ 4.3e-20, below half an ulp of
-/// cos x ≥ 0.97); libm beyond.
-#[inline(always)]
-fn cos(x: f64) -> f64 {
-    if x.abs() > SMALL_ANGLE {
-        return x.cos();
-    }
-    let x2 = x * x;
-    let p = -1.0 / 2.0
-        + x2 * (1.0 / 24.0
-            + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0 + x2 * (1.0 / 479_001_600.0)))));
-    1.0 + x2 * p
-}
-
-/// tan x: for |x| ≤ 0.25 Lambert's continued fraction x/(1 − x²/(3 − x²/(5 − … x²/13))), within 1.6e-16
-/// relative of tan x there (measured against 40-digit arithmetic at 2000 points); libm beyond.
-#[inline(always)]
-fn tan(x: f64) -> f64 {
-    if x.abs() > SMALL_ANGLE {
-        return x.tan();
-    }
-    let x2 = x * x;
-    x / (1.0 - x2 / (3.0 - x2 / (5.0 - x2 / (7.0 - x2 / (9.0 - x2 / (11.0 - x2 / 13.0))))))
 }
 
 /// sin(2 atan(x)) = 2x/(1 + x²).
@@ -527,6 +559,7 @@ impl MagicFormula {
             low_speed: file.number_or("MODEL", "VXLOW", DEFAULT_LOW_SPEED_M_S)? * length / time,
             pressure_ratio: 0.0,
             rolling_pressure_factor: 1.0,
+            terms: Terms::default(),
             measured_side,
             kappa_range: range("LONG_SLIP_RANGE", "KPUMIN", "KPUMAX", [-1.5, 1.5])?,
             // Kept inside ±(π/2 − 0.01): the bound is applied to tan α (ALPMAX = 1.5708 is a hair past π/2).
@@ -629,6 +662,7 @@ impl MagicFormula {
             let qsy8 = self.c.QSY8;
             self.rolling_pressure_factor = if qsy8 == 0.0 { 1.0 } else { (1.0 + self.pressure_ratio).powf(qsy8) };
         }
+        self.terms = Terms::of(&self.c, self.fz0_scaled, self.unloaded_radius, self.pressure_ratio);
         Ok(())
     }
 
@@ -729,10 +763,14 @@ impl MagicFormula {
 
     /// Longitudinal slip stiffness K_xκ = ∂F_x/∂κ at κ = 0, γ = 0, N (≥ 0).
     pub fn longitudinal_stiffness(&self, fz: f64) -> f64 {
+        self.kx(fz, self.load_increment(fz)).abs()
+    }
+
+    /// K_xκ = F_z (PKX1 + PKX2 dF_z) exp(PKX3 dF_z) (1 + PPX1 dp_i + PPX2 dp_i²) LKX (4.E15).
+    #[inline(always)]
+    fn kx(&self, fz: f64, dfz: f64) -> f64 {
         let c = &self.c;
-        let dfz = self.load_increment(fz);
-        let dpi = self.pressure_ratio;
-        (fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX).abs()
+        fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * self.terms.kx_pressure
     }
 
     /// Cornering stiffness |K_yα| = |∂F_y/∂α| at α = 0, γ = 0, N/rad.
@@ -753,13 +791,7 @@ impl MagicFormula {
     /// (load shape) (1 − PKY3 |γ|) LKY (PAC2002 4.E25; MF 6.1 4.E25 of Pacejka 2012).
     #[inline(always)]
     fn ky(&self, fz: f64, gamma_y: f64) -> f64 {
-        let (c, dpi) = (&self.c, self.pressure_ratio);
-        c.PKY1
-            * self.fz0_scaled
-            * (1.0 + c.PPY1 * dpi)
-            * self.ky_load_shape(fz, gamma_y)
-            * (1.0 - c.PKY3 * gamma_y.abs())
-            * c.LKY
+        self.terms.ky_peak * self.ky_load_shape(fz, gamma_y) * (1.0 - self.c.PKY3 * gamma_y.abs())
     }
 
     /// K_yα's load dependence: PAC2002's sin(2 atan(F_z/(PKY2 F_z0' (1 + PPY2 dp_i)))), written 2x/(1 + x²);
@@ -768,14 +800,14 @@ impl MagicFormula {
     fn ky_load_shape(&self, fz: f64, gamma: f64) -> f64 {
         let (c, dpi) = (&self.c, self.pressure_ratio);
         match self.version {
-            TirFormat::Pac2002 => sin_2atan(fz / (c.PKY2 * self.fz0_scaled * (1.0 + c.PPY2 * dpi))),
+            TirFormat::Pac2002 => sin_2atan(fz / self.terms.ky_peak_load),
             // The usual PKY4 = 2 without the atan and sin calls (the same to rounding, ≈ 1e-16).
             _ if c.PKY4 == 2.0 => {
                 sin_2atan(fz / ((c.PKY2 + c.PKY5 * gamma * gamma) * (1.0 + c.PPY2 * dpi) * self.fz0_scaled))
             }
             _ => {
                 let x = fz / ((c.PKY2 + c.PKY5 * gamma * gamma) * (1.0 + c.PPY2 * dpi) * self.fz0_scaled);
-                (c.PKY4 * x.atan()).sin()
+                sin(c.PKY4 * atan(x))
             }
         }
     }
@@ -848,50 +880,42 @@ impl MagicFormula {
     fn pure(&self, fz: f64, kappa: f64, alpha: f64, [gamma, gamma_star]: [f64; 2], [lmux, lmuy]: [f64; 2]) -> Pure {
         let c = &self.c;
         let dfz = self.load_increment(fz);
-        let dpi = self.pressure_ratio;
 
         // Longitudinal (4.E9–4.E18; MF 6.1 the same).
         let gamma_x = gamma * c.LGAX;
         let shx = (c.PHX1 + c.PHX2 * dfz) * c.LHX;
         let kappa_x = kappa + shx;
-        let cx = c.PCX1 * c.LCX;
-        let mu_x = (c.PDX1 + c.PDX2 * dfz)
-            * (1.0 + c.PPX3 * dpi + c.PPX4 * dpi * dpi)
-            * (1.0 - c.PDX3 * gamma_x * gamma_x)
-            * lmux;
+        let cx = self.terms.cx;
+        let mu_x = (c.PDX1 + c.PDX2 * dfz) * self.terms.mu_x_pressure * (1.0 - c.PDX3 * gamma_x * gamma_x) * lmux;
         let dx = mu_x * fz;
         let ex = ((c.PEX1 + c.PEX2 * dfz + c.PEX3 * dfz * dfz) * (1.0 - c.PEX4 * kappa_x.signum()) * c.LEX).min(1.0);
-        let kx =
-            fz * (c.PKX1 + c.PKX2 * dfz) * (c.PKX3 * dfz).exp() * (1.0 + c.PPX1 * dpi + c.PPX2 * dpi * dpi) * c.LKX;
+        let kx = self.kx(fz, dfz);
         let bx = kx / (cx * dx + EPS_FORCE_N);
         let svx = fz * (c.PVX1 + c.PVX2 * dfz) * c.LVX * lmux;
-        let fx0 = magic(bx, cx, dx, ex, kappa_x) + svx;
         let y = self.lateral(fz, dfz, alpha, gamma_star, lmuy);
-        Pure { fx0, kx, shx, svx, mu_x, y }
+        // F_x0 (4.E9) and F_y0 (4.E19), as `magic` and `Lateral::force` give them, evaluated together.
+        let [fx0, fy0] = magic_pair([bx, y.by], [cx, y.cy], [dx, y.dy], [ex, y.ey], [kappa_x, y.alpha_y]);
+        Pure { fx0: fx0 + svx, fy0: fy0 + y.svy, kx, shx, svx, mu_x, y }
     }
 
     /// Pure lateral slip F_y0(α*) at inclination γ* = sin γ (4.E19–4.E30; MF 6.1 adds PEY5 γ*² to E_y and
-    /// its camber structure in `ky`, `lateral_shifts`).
+    /// its camber structure in `ky`, `lateral_shifts`): its factors, F_y0 itself by `Lateral::force`.
     #[inline(always)]
     fn lateral(&self, fz: f64, dfz: f64, alpha: f64, gamma: f64, lmuy: f64) -> Lateral {
-        let (c, dpi) = (&self.c, self.pressure_ratio);
+        let c = &self.c;
         let gamma_y = gamma * c.LGAY;
         let ky = self.ky(fz, gamma_y);
         let (shy, svy) = self.lateral_shifts(fz, dfz, gamma_y, ky, lmuy);
         let alpha_y = alpha + shy;
-        let cy = c.PCY1 * c.LCY;
-        let mu_y = (c.PDY1 + c.PDY2 * dfz)
-            * (1.0 + c.PPY3 * dpi + c.PPY4 * dpi * dpi)
-            * (1.0 - c.PDY3 * gamma_y * gamma_y)
-            * lmuy;
+        let cy = self.terms.cy;
+        let mu_y = (c.PDY1 + c.PDY2 * dfz) * self.terms.mu_y_pressure * (1.0 - c.PDY3 * gamma_y * gamma_y) * lmuy;
         let dy = mu_y * fz;
         let ey = ((c.PEY1 + c.PEY2 * dfz)
             * (1.0 + c.PEY5 * gamma_y * gamma_y - (c.PEY3 + c.PEY4 * gamma_y) * alpha_y.signum())
             * c.LEY)
             .min(1.0);
         let by = ky / (cy * dy + EPS_FORCE_N);
-        let fy0 = magic(by, cy, dy, ey, alpha_y) + svy;
-        Lateral { fy0, ky, mu_y, by, cy, shy, svy }
+        Lateral { ky, mu_y, by, cy, dy, ey, alpha_y, shy, svy }
     }
 
     /// The loads of the tire as measured (its own side), ISO inputs, combined slip (USE_MODE 4).
@@ -917,7 +941,6 @@ impl MagicFormula {
         // trail's B_t, D_t, the arm s, M_x and M_y take γ itself. The same to 5e-4 relative at 3°.
         let gamma_star = sin(gamma);
         let dfz = self.load_increment(fz);
-        let dpi = self.pressure_ratio;
         let (lmux, lmuy) = (c.LMUX * how.friction, c.LMUY * how.friction);
         let p = self.pure(fz, kappa, alpha, [gamma, gamma_star], [lmux, lmuy]);
 
@@ -926,7 +949,8 @@ impl MagicFormula {
         let alpha_s = alpha + shxa;
         let bxa = (c.RBX1 + c.RBX3 * gamma_star * gamma_star) * cos_atan(c.RBX2 * kappa) * c.LXAL;
         let exa = (c.REX1 + c.REX2 * dfz).min(1.0);
-        let gxa = cosine_shape(bxa, c.RCX1, exa, alpha_s) / cosine_shape(bxa, c.RCX1, exa, shxa);
+        let [gxa_num, gxa_den] = cosine_shape_pair(bxa, c.RCX1, exa, [alpha_s, shxa]);
+        let gxa = gxa_num / gxa_den;
         let mut fx = gxa * p.fx0;
 
         let shyk = c.RHY1 + c.RHY2 * dfz;
@@ -934,9 +958,10 @@ impl MagicFormula {
         let byk = (c.RBY1 + c.RBY4 * gamma_star * gamma_star) * cos_atan(c.RBY2 * (alpha - c.RBY3)) * c.LYKA;
         let eyk = (c.REY1 + c.REY2 * dfz).min(1.0);
         let dvyk = p.y.mu_y * fz * (c.RVY1 + c.RVY2 * dfz + c.RVY3 * gamma_star) * cos_atan(c.RVY4 * alpha);
-        let svyk = dvyk * (c.RVY5 * (c.RVY6 * kappa).atan()).sin() * c.LVYKA;
-        let gyk = cosine_shape(byk, c.RCY1, eyk, kappa_s) / cosine_shape(byk, c.RCY1, eyk, shyk);
-        let mut fy = gyk * p.y.fy0 + svyk;
+        let svyk = dvyk * sin(c.RVY5 * atan(c.RVY6 * kappa)) * c.LVYKA;
+        let [gyk_num, gyk_den] = cosine_shape_pair(byk, c.RCY1, eyk, [kappa_s, shyk]);
+        let gyk = gyk_num / gyk_den;
+        let mut fy = gyk * p.fy0 + svyk;
         if how.combined == CombinedSlip::FrictionEllipse {
             [fx, fy] = friction_ellipse(&p, fz, kappa, alpha);
         }
@@ -957,19 +982,16 @@ impl MagicFormula {
             (c.QBZ1 + c.QBZ2 * dfz + c.QBZ3 * dfz * dfz) * (1.0 + c.QBZ4 * gamma_z + c.QBZ5 * gamma_z.abs()) * c.LKY
                 / lmuy;
         let ct = c.QCZ1;
-        let dt = fz
-            * (c.QDZ1 + c.QDZ2 * dfz)
-            * (1.0 - c.QPZ1 * dpi)
-            * (1.0 + c.QDZ3 * gamma_z + c.QDZ4 * gamma_z * gamma_z)
-            * (r0 / self.fz0_scaled)
-            * c.LTR;
+        // (1 − QPZ1 dp_i) (R0/F_z0') LTR: `Terms::dt_scale`.
+        let dt =
+            fz * (c.QDZ1 + c.QDZ2 * dfz) * (1.0 + c.QDZ3 * gamma_z + c.QDZ4 * gamma_z * gamma_z) * self.terms.dt_scale;
         let et = ((c.QEZ1 + c.QEZ2 * dfz + c.QEZ3 * dfz * dfz)
-            * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_zs) * FRAC_2_PI * (bt * ct * alpha_t).atan()))
+            * (1.0 + (c.QEZ4 + c.QEZ5 * gamma_zs) * FRAC_2_PI * atan(bt * ct * alpha_t)))
         .min(1.0);
         let br = c.QBZ9 * c.LKY / lmuy + c.QBZ10 * p.y.by * p.y.cy;
         let dr = fz
             * ((c.QDZ6 + c.QDZ7 * dfz) * c.LRES
-                + ((c.QDZ8 + c.QDZ9 * dfz) * (1.0 + c.QPZ2 * dpi) + (c.QDZ10 + c.QDZ11 * dfz) * gamma_zs.abs())
+                + ((c.QDZ8 + c.QDZ9 * dfz) * self.terms.dr_pressure + (c.QDZ10 + c.QDZ11 * dfz) * gamma_zs.abs())
                     * gamma_zs
                     * c.LKZC)
             * r0
@@ -980,18 +1002,18 @@ impl MagicFormula {
             MomentForms::Mfeval => {
                 // Equivalent slips (A54, A55): α_eq = atan(√(tan² α_t + (K_x/K_y)² κ²)) with the sign of α_t
                 // (at κ = 0 that is α_t, folded into ±π/2 as MFeval does where |α_t| > π/2).
-                let equivalent = |a: f64| {
-                    let t = tan(a);
-                    (t * t + kk).sqrt().atan().copysign(a)
-                };
-                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha * c.LFZO;
-                (trail, dr * cos(alpha) * cos_atan(br * equivalent(alpha_r)), self.fz0)
+                // [α_t,eq, α_r,eq], the two atans together.
+                let (tan_t, tan_r) = (tan(alpha_t), tan(alpha_r));
+                let [at, ar] = atan_pair([(tan_t * tan_t + kk).sqrt(), (tan_r * tan_r + kk).sqrt()]);
+                let trail = dt * cosine_shape(bt, ct, et, at.copysign(alpha_t)) * cos_alpha * c.LFZO;
+                (trail, dr * cos(alpha) * cos_atan(br * ar.copysign(alpha_r)), self.fz0)
             }
             MomentForms::Chrono => {
                 // tan α_eq = √(α² + (K_x/K_y)² κ²), α_eq entering as the angle.
-                let equivalent = |a: f64| (a * a + kk).sqrt().copysign(a).atan();
-                let trail = dt * cosine_shape(bt, ct, et, equivalent(alpha_t)) * cos_alpha;
-                (trail, dr * cos_atan(br * equivalent(alpha_r)) * cos_alpha, self.fz0_scaled)
+                let tan_equivalent = |a: f64| (a * a + kk).sqrt().copysign(a);
+                let [at, ar] = atan_pair([tan_equivalent(alpha_t), tan_equivalent(alpha_r)]);
+                let trail = dt * cosine_shape(bt, ct, et, at) * cos_alpha;
+                (trail, dr * cos_atan(br * ar) * cos_alpha, self.fz0_scaled)
             }
         };
         let s = r0 * (c.SSZ1 + c.SSZ2 * (fy / fz0_arm) + (c.SSZ3 + c.SSZ4 * dfz) * gamma) * c.LS;
@@ -1000,8 +1022,8 @@ impl MagicFormula {
             TirFormat::Pac2002 => fy - svyk,
             // MF 6.x's F'_y = G_yκ F_y0(γ = 0) (4.E74: the camber thrust gives no trail moment, its moment is
             // in M_zr), which at γ = 0 is the same force.
-            _ if gamma == 0.0 => gyk * p.y.fy0,
-            _ => gyk * self.lateral(fz, dfz, alpha, 0.0, lmuy).fy0,
+            _ if gamma == 0.0 => gyk * p.fy0,
+            _ => gyk * self.lateral(fz, dfz, alpha, 0.0, lmuy).force(),
         };
         let mz = -trail * trail_force + mzr + s * fx;
 
@@ -1030,7 +1052,7 @@ impl MagicFormula {
         if kappa > high {
             1.0
         } else if kappa >= low {
-            (std::f64::consts::FRAC_PI_2 * (kappa + 1.0) / (high + 1.0)).sin()
+            sin(std::f64::consts::FRAC_PI_2 * (kappa + 1.0) / (high + 1.0))
         } else {
             -1.0
         }
@@ -1043,17 +1065,17 @@ impl MagicFormula {
     /// 6.x only.
     #[inline(always)]
     fn overturning_moment(&self, fz: f64, fy: f64, gamma: f64, fz0: f64) -> f64 {
-        let (c, r0, dpi) = (&self.c, self.unloaded_radius, self.pressure_ratio);
+        let (c, r0) = (&self.c, self.unloaded_radius);
         // F_z0 = FNOMIN in MFeval's (TNO's) M_x, the scaled F_z0' in Chrono's (`MomentForms`).
         let fy_n = fy / fz0;
         let fz_n = fz / fz0;
-        let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * (1.0 + c.QPX1 * dpi) + c.QSX3 * fy_n;
+        let mut mx_terms = c.QSX1 * c.LVMX - c.QSX2 * gamma * self.terms.mx_pressure + c.QSX3 * fy_n;
         // The MF 6.1 terms cost five transcendental calls; PAC2002 files leave them 0.
-        if c.QSX4 != 0.0 || c.QSX10 != 0.0 {
+        if self.terms.mx_shape_terms {
             mx_terms += c.QSX4
-                * (c.QSX5 * (c.QSX6 * fz_n).powi(2).atan()).cos()
-                * (c.QSX7 * gamma + c.QSX8 * (c.QSX9 * fy_n).atan()).sin()
-                + c.QSX10 * (c.QSX11 * fz_n).atan() * gamma;
+                * cos(c.QSX5 * atan((c.QSX6 * fz_n).powi(2)))
+                * sin(c.QSX7 * gamma + c.QSX8 * atan(c.QSX9 * fy_n))
+                + c.QSX10 * atan(c.QSX11 * fz_n) * gamma;
         }
         let mx = r0 * fz * c.LMX * mx_terms;
         match self.version {
@@ -1185,7 +1207,7 @@ mod tests {
         let kx = mf.longitudinal_stiffness(fz);
         assert!((slope - kx).abs() < 1e-6 * kx, "{slope} vs {kx}");
         let shy = mf.c.PHY1 + mf.c.PHY2 * dfz;
-        let fy = |a: f64| mf.pure(fz, 0.0, a, [0.0; 2], [mf.c.LMUX, mf.c.LMUY]).y.fy0;
+        let fy = |a: f64| mf.pure(fz, 0.0, a, [0.0; 2], [mf.c.LMUX, mf.c.LMUY]).fy0;
         let slope = (fy(-shy + h) - fy(-shy - h)) / (2.0 * h);
         assert!((slope + mf.cornering_stiffness(fz)).abs() < 1e-6 * mf.cornering_stiffness(fz), "{slope}");
     }
@@ -1407,7 +1429,7 @@ mod tests {
             for fz in [3000.0, 6300.0, 12000.0] {
                 let dfz = mf.load_increment(fz);
                 let alpha = -(mf.c.PHY1 + mf.c.PHY2 * dfz) * mf.c.LHY;
-                let fy = |g: f64| mf.lateral(fz, dfz, alpha, g, mf.c.LMUY).fy0;
+                let fy = |g: f64| mf.lateral(fz, dfz, alpha, g, mf.c.LMUY).force();
                 // Small h: K_yα's (1 − PKY3 |γ|) gives the difference quotient an O(h) error.
                 let h = 1e-7;
                 let slope = (fy(h) - fy(-h)) / (2.0 * h);
