@@ -456,7 +456,7 @@ fn number(v: &Value) -> Option<f64> {
 }
 
 /// Chrono's JSON files may carry comments (rapidjson `kParseCommentsFlag`); serde_json takes none.
-fn strip_comments(text: &str) -> String {
+pub(crate) fn strip_comments(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let mut chars = text.chars().peekable();
     let mut in_string = false;

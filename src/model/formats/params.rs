@@ -287,6 +287,10 @@ pub struct Tire {
     /// The Magic Formula read from `tir_file` (`VehicleData::use_tire_file`); not part of the file format.
     #[serde(skip)]
     pub magic_formula: Option<Box<crate::model::tire::MagicFormula>>,
+    /// The TMeasy tire read from `tir_file` when it names a Chrono TMeasy JSON file (`.json`,
+    /// `VehicleData::use_tire_file`); not part of the file format.
+    #[serde(skip)]
+    pub tmeasy: Option<Box<crate::model::tire::tmeasy::TMeasy>>,
     /// How the Magic Formula is evaluated (`TireConvention`): as MFeval computes it (the default), or as
     /// Chrono's Pac02 does, to reproduce a Chrono run. Independent of the `.tir` file; the STI tire ignores it.
     #[serde(default, skip_serializing_if = "crate::model::tire::TireConvention::is_default")]
@@ -711,6 +715,9 @@ impl VehicleData {
         // The tire file's remarks: unused sections and keys, mirrored slip ranges.
         if let Some(mf) = &self.tire.magic_formula {
             out.extend(mf.warnings.iter().cloned());
+        }
+        if let Some(tm) = &self.tire.tmeasy {
+            out.extend(tm.warnings.iter().cloned());
         }
         out
     }
