@@ -587,7 +587,24 @@ impl TMeasy {
         } else {
             return Err(v.err("Vertical Tire Stiffness [N/m]", "missing, and no Tire Spring Curve Data either"));
         };
-        let dz = v.positive("Tire Vertical Damping [Ns/m]")?;
+        const DAMPING: &str = "Tire Vertical Damping [Ns/m]";
+        if !v.has(DAMPING) && v.has("Vertical Tire Damping [Ns/m]") {
+            // Chrono's own van_TMeasyTireFull.json spells it so; Chrono's reader does not find it either.
+            return Err(v.err(
+                DAMPING,
+                "missing (the file has 'Vertical Tire Damping [Ns/m]', a key Chrono's reader does not read)",
+            ));
+        }
+        let dz = v.positive(DAMPING)?;
+        let mut warnings = Vec::new();
+        for k in ["Tire Bottoming Radius [m]", "Tire Bottoming Stiffness [N/m]"] {
+            if v.has(k) {
+                warnings.push(v.err(k, "not modelled: rtv has no bottoming spring (deflections beyond half the unloaded radius are refused)"));
+            }
+        }
+        if let Some(r) = v.opt_num("Tire Bottoming Radius [m]")?.filter(|r| *r >= design.unloaded_radius) {
+            warnings.push(v.err("Tire Bottoming Radius [m]", format!("{r} m is not inside the unloaded radius {} m: in Chrono the bottoming spring pushes from the first contact", design.unloaded_radius)));
+        }
         let a = p.obj("Aligning")?;
         Ok(TMeasy {
             source: String::new(),
@@ -609,7 +626,7 @@ impl TMeasy {
             trail0: a.pair("Normalized Trail at Zero Slip sy")?,
             trail_zero: a.pair("Slip sy where Trail Changes Sign")?,
             trail_end: a.pair("Slip sy where Trail Tends to Zero")?,
-            warnings: Vec::new(),
+            warnings,
         })
     }
 
