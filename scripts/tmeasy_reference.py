@@ -21,6 +21,7 @@ Tires (their JSON files are written here with Chrono's numbers, and read back by
       reader does not find (rtv refuses that file, naming the key); and without its bottoming keys: its
       "Tire Bottoming Radius [m]" 0.396 exceeds its unloaded radius 0.3135, so Chrono's bottoming spring
       (500 kN/m) would push from the first contact (Chrono's default, rim radius + 0.01 m, is used).
+  branches.json: that tire with slopes and sliding forces that take every branch of tmxy_combined.
 
 Usage: python3 scripts/tmeasy_reference.py   (writes data/tmeasy_reference/; under a second)
 """
@@ -94,6 +95,14 @@ VAN_FULL = {
         },
     },
 }
+
+# The van's tire with its slopes and sliding forces changed so that every branch of tmxy_combined is taken:
+# an initial slope below 2 F_M/s_M (raised), and a steep lateral slope with a low sliding force (the cubic).
+VARIANT = json.loads(json.dumps(VAN_FULL))
+VARIANT["Name"] = "TMeasy branches"
+VARIANT["Parameters"]["Longitudinal"]["Initial Slopes dFx/dsx [N]"] = [20000.0, 40000.0]
+VARIANT["Parameters"]["Lateral"]["Initial Slopes dFy/dsy [N]"] = [3.0e6, 6.0e6]
+VARIANT["Parameters"]["Lateral"]["Sliding Fy Load [N]"] = [300.0, 600.0]
 
 
 def tire_max_load(li):
@@ -294,7 +303,7 @@ def main():
     os.makedirs(OUT, exist_ok=True)
     slips = [x / 100.0 for x in range(-100, 101, 2)] + [-1.5, 1.5, 3.0]
     combined = [(a / 10.0, b / 10.0) for a in range(-6, 7, 2) for b in range(-6, 7, 2) if a and b]
-    for name, d in (("HMMWV_TMeasyTire", HMMWV), ("van_TMeasyTireFull", VAN_FULL)):
+    for name, d in (("HMMWV_TMeasyTire", HMMWV), ("van_TMeasyTireFull", VAN_FULL), ("branches", VARIANT)):
         with open(os.path.join(OUT, name + ".json"), "w") as f:
             json.dump(d, f, indent=2)
             f.write("\n")

@@ -70,8 +70,9 @@ fn compare(csv: &str, eval: impl Fn(&Row) -> [f64; 3]) -> [f64; 3] {
 #[test]
 fn the_steady_state_curves_agree_with_chronos() {
     // F_x(s_x), F_y(s_y), M_z(s_y) and combined slip at 0.5, 1, 2 and 4 F_N (4 F_N is beyond F_N,max:
-    // the curves stop growing there), on the load-index tire and the fully parametrized one.
-    for name in ["HMMWV_TMeasyTire", "van_TMeasyTireFull"] {
+    // the curves stop growing there), on the load-index tire, the fully parametrized one, and a variant of it
+    // that takes the raised initial slope and the cubic between peak and sliding.
+    for name in ["HMMWV_TMeasyTire", "van_TMeasyTireFull", "branches"] {
         let tm = TMeasy::read(&reference(&format!("{name}.json"))).unwrap_or_else(|e| panic!("{e}"));
         let csv = format!("{name}.csv");
         for r in rows(&csv) {
