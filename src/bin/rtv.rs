@@ -1087,8 +1087,13 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
             let p = data.tire.clone();
             let model = tire::model_for(&p);
             Box::new(move |kappa, alpha| {
-                // The model's adapted slips: tan α' = −tan α, γ_w = −γ (model::tire::magic_formula).
-                let input = SlipInput { side, ..SlipInput::rolling(fz, kappa, -alpha.tan(), -gamma) };
+                // The model's adapted slips: tan α' = −tan α, γ_w = −γ (model::tire::magic_formula); a TMeasy
+                // tire takes Rill's slips of them at this speed (docs/tire_tmeasy.md).
+                let [k, t] = match p.tmeasy {
+                    Some(_) => tire::tmeasy::rill_slips(kappa, -alpha.tan(), speed),
+                    None => [kappa, -alpha.tan()],
+                };
+                let input = SlipInput { side, ..SlipInput::rolling(fz, k, t, -gamma) };
                 let f = tire::shear_forces(model, &p, &input);
                 let my = tire::rolling_resistance_moment(&p, fz, p.unloaded_radius_m, 1e3, f.fx, speed, -gamma);
                 [f.fx, f.fy, f.mx, my, f.mz]
