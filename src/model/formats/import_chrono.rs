@@ -24,6 +24,7 @@
 //! anything is written, and written atomically (`write_atomically`).
 
 use crate::math::{M3, V3};
+use crate::model::formats::chrono_json::strip_comments;
 use crate::model::formats::params::{
     AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate,
     VehicleData, WheelBody,
@@ -453,58 +454,6 @@ impl<'a> Obj<'a> {
 
 fn number(v: &Value) -> Option<f64> {
     v.as_f64().filter(|x| x.is_finite())
-}
-
-/// Chrono's JSON files may carry comments (rapidjson `kParseCommentsFlag`); serde_json takes none.
-pub(crate) fn strip_comments(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut chars = text.chars().peekable();
-    let mut in_string = false;
-    while let Some(c) = chars.next() {
-        if in_string {
-            out.push(c);
-            match c {
-                '\\' => {
-                    if let Some(n) = chars.next() {
-                        out.push(n);
-                    }
-                }
-                '"' => in_string = false,
-                _ => {}
-            }
-            continue;
-        }
-        match (c, chars.peek()) {
-            ('"', _) => {
-                in_string = true;
-                out.push(c);
-            }
-            ('/', Some('/')) => {
-                for n in chars.by_ref() {
-                    if n == '\n' {
-                        out.push('\n');
-                        break;
-                    }
-                }
-            }
-            ('/', Some('*')) => {
-                chars.next();
-                let mut prev = ' ';
-                for n in chars.by_ref() {
-                    if prev == '*' && n == '/' {
-                        break;
-                    }
-                    if n == '\n' {
-                        out.push('\n');
-                    }
-                    prev = n;
-                }
-                out.push(' ');
-            }
-            _ => out.push(c),
-        }
-    }
-    out
 }
 
 // ---------------------------------------------------------------------------------------------------------

@@ -467,7 +467,7 @@ impl TMeasy {
 
     /// `read` from the file's text; `source` names it in messages.
     pub fn parse(text: &str, source: &str) -> Result<TMeasy, String> {
-        let stripped = crate::model::formats::import_chrono::strip_comments(text);
+        let stripped = crate::model::formats::chrono_json::strip_comments(text);
         let value: Value = serde_json::from_str(&stripped).map_err(|e| format!("{source}: not JSON: {e}"))?;
         let Value::Object(map) = &value else { return Err(format!("{source}: must hold a JSON object")) };
         let o = Obj { source, path: String::new(), map };
