@@ -12,7 +12,8 @@
 //! ```
 //! The inputs cycle through a cornering state's four wheels (loads 4–8 kN, small slips, camber), as the
 //! J-turn presents them, so that no branch is predicted from one repeated input.
-use rt_vehicle::model::formats::params::{Tire, VehicleData};
+use rt_vehicle::model::formats::params::VehicleData;
+use rt_vehicle::model::tire::TireParams;
 use rt_vehicle::model::tire::{self, SlipInput, TireModel, TireSide};
 use std::hint::black_box;
 
@@ -40,7 +41,7 @@ fn main() {
 
 /// The N evaluations, the only code callgrind counts (`--toggle-collect='*measured*'`).
 #[inline(never)]
-fn measured(n: usize, model: TireModel, p: &Tire, wheels: &[SlipInput; 4]) -> f64 {
+fn measured(n: usize, model: TireModel, p: &TireParams, wheels: &[SlipInput; 4]) -> f64 {
     let mut sum = 0.0;
     for i in 0..n {
         let input = black_box(wheels[i % 4]);

@@ -135,9 +135,9 @@ run_ssp() { bash scripts/ssp.sh >/dev/null; }
 run_studies() { bash scripts/studies.sh >/dev/null; }
 run_stability() {
     $rtv stability --out "$docs/stability.md" >/dev/null
-    $rtv stability --tire resources/tires/HMMWV_Pac02Tire.tir --out "$docs/stability_pac02.md" >/dev/null
+    $rtv stability --tire-file resources/tires/HMMWV_Pac02Tire.tir --out "$docs/stability_pac02.md" >/dev/null
     for v in generic_macpherson generic_double_wishbone; do
-        $rtv stability --vehicle "resources/vehicles/$v.json" --out "$docs/stability_$v.md" >/dev/null
+        $rtv stability --vehicle-file "resources/vehicles/$v.json" --out "$docs/stability_$v.md" >/dev/null
     done
     printf '%s\n' stability.md stability_pac02.md stability_generic_macpherson.md stability_generic_double_wishbone.md
 }

@@ -12,6 +12,6 @@ $rtv kc --out $docs/kc/hmmwv.md 2> >(grep -v 'triangle inequality' >&2)
 for f in resources/vehicles/*.json; do
     [ -e "$f" ] || continue
     name=$(basename "$f" .json)
-    $rtv kc --vehicle "$f" --out "$docs/kc/$name.md" 2> >(grep -v 'triangle inequality' >&2)
+    $rtv kc --vehicle-file "$f" --out "$docs/kc/$name.md" 2> >(grep -v 'triangle inequality' >&2)
 done
 ls $docs/kc

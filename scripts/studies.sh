@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The study runner's figures (docs/studies.md, docs/studies_dlc.png): the fmpy-vs-binding comparison, runs per
-# second with 1 and 2 workers, the per-task overhead and the 1 000-run example. About 4 minutes on 2 cores.
+# second with 1 and 2 workers, the pilot's choice against RK4 at 2 ms, the per-task overhead and the 1 000-run example
+# with its pass/fail map at both. About 5 minutes on 2 cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh >/dev/null

@@ -428,3 +428,53 @@ fn the_arms_rotary_inertia_left_out_is_small_beside_the_lower_arms_effective_ine
     );
     assert!(ratio < 0.02, "{ratio}");
 }
+
+/// The step check's corner-local evaluation (`Vehicle::wheel_derivative`) reruns a bar's whole axle: moving
+/// one front arm changes the bar's force on the other. Its ẋ at a state that moves one corner's wheel states
+/// from the evaluated one is the full evaluation's, to round-off (1e-9 of the largest component, as above),
+/// and the partner's θ̈_L does move (the bar is seen).
+#[test]
+fn the_corner_local_evaluation_carries_the_bar_to_the_axle_partner() {
+    let (v, _, x) = free_flight(true);
+    let o = Options { speed_mode: SpeedMode::Coast, ..Options::default() };
+    let run = Run::flat(&v, &o);
+    let inputs = Inputs::default();
+    let full = |x: &[f64]| {
+        let mut dx = vec![0.0; x.len()];
+        v.derivative(&run, x, &inputs, &mut Workspace::default(), &mut dx).unwrap();
+        dx
+    };
+    let base = full(&x);
+    let mut ws = Workspace::default();
+    let mut dx = vec![0.0; x.len()];
+    v.derivative(&run, &x, &inputs, &mut ws, &mut dx).unwrap();
+    for i in 0..4 {
+        for (state, delta) in [(idx::U + i, 1e-3), (idx::UD + i, 1e-1), (idx::SPIN + i, 1.0)] {
+            let mut xp = x.clone();
+            xp[state] += delta;
+            let reference = full(&xp);
+            let mut local = vec![0.0; x.len()];
+            v.wheel_derivative(&run, &xp, &inputs, &mut ws, i, &mut local).unwrap();
+            let peak = reference.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+            let diff = local.iter().zip(&reference).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(diff < 1e-9 * peak, "corner {i}, state {state}: {diff:e} of a peak {peak:e}");
+        }
+        // What the bar carries to the partner's θ̈_L (against the same vehicle with a slack bar, where only the
+        // chassis couples them) is far above the tolerance: a rerun of corner i alone would fail above.
+        if i < 2 {
+            let mut slack = v.clone();
+            slack.antiroll_bars[0].as_mut().unwrap().stiffness = 0.0;
+            let partner_move = |v: &Vehicle| {
+                let mut xp = x.clone();
+                xp[idx::U + i] += 1e-3;
+                let (mut d0, mut d1) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+                v.derivative(&run, &x, &inputs, &mut Workspace::default(), &mut d0).unwrap();
+                v.derivative(&run, &xp, &inputs, &mut Workspace::default(), &mut d1).unwrap();
+                d1[idx::UD + (i ^ 1)] - d0[idx::UD + (i ^ 1)]
+            };
+            let by_bar = (partner_move(&v) - partner_move(&slack)).abs();
+            let peak = base.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+            assert!(by_bar > 1e3 * 1e-9 * peak, "corner {i}: the bar moves the partner by {by_bar:e} only");
+        }
+    }
+}

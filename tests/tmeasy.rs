@@ -123,7 +123,7 @@ fn the_hmmwv_j_turn_runs_on_chronos_hmmwv_tmeasy_tire() {
         let mut cmd = Command::new(env!("CARGO_BIN_EXE_rtv"));
         cmd.args(["scene", "jturn", "--amplitude", "paper", "--out"]).arg(&out);
         if let Some(t) = tire {
-            cmd.arg("--tire").arg(t);
+            cmd.arg("--tire-file").arg(t);
         }
         let run = cmd.output().unwrap();
         assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));

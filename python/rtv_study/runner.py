@@ -17,7 +17,7 @@ import pyarrow.parquet as pq
 
 from distributed import WorkerPlugin, get_worker
 
-from . import native
+from . import native, pilot
 from .files import with_files
 from .study import StudyError
 
@@ -60,7 +60,9 @@ def run_task(run_id, task):
         worker = get_worker().address
     except ValueError:  # called outside a worker (tests, a debugger)
         worker = f"pid {os.getpid()}"
-    row = {"run_id": run_id, "worker": worker}
+    parameters = task["request"]["parameters"]
+    row = {"run_id": run_id, "worker": worker, "scheme": pilot.INTEGRATORS.get(parameters.get("integrator", 2)),
+           "step_s": float(parameters.get("internal_step", 0.0)), "pilot_error": task.get("pilot_error")}
     try:
         result = with_files(task, lambda request: native.call("run", request))
         row.update(status="ok", cause=None, message=None, evaluations=result["evaluations"],
@@ -73,7 +75,8 @@ def run_task(run_id, task):
 
 def schema(study):
     """The results' Parquet schema: run id, vehicle, the parameters, the metrics (pass flags Boolean, the rest
-    Float64), status, cause, message, cost."""
+    Float64), the scheme and step the run took and the pilot's measured error (pilot.py), status, cause,
+    message, cost."""
     fields = [pa.field("run_id", pa.string()), pa.field("vehicle", pa.string())]
     for p in study.parameters:
         numeric = p.values is None or all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in p.values)
@@ -81,6 +84,9 @@ def schema(study):
     for m in study.metrics:
         fields.append(pa.field(m, pa.bool_() if is_pass_metric(m) else pa.float64()))
     fields += [
+        pa.field("scheme", pa.string()),
+        pa.field("step_s", pa.float64()),
+        pa.field("pilot_error", pa.float64()),
         pa.field("status", pa.string()),
         pa.field("cause", pa.string()),
         pa.field("message", pa.string()),
@@ -109,7 +115,8 @@ def _table(rows, runs_by_id, study):
         for m in study.metrics:
             v = row["metrics"].get(m)
             columns[m].append(v if v is None or is_pass_metric(m) else float(v))
-        for key in ("status", "cause", "message", "wall_time_s", "evaluations", "simulated_s", "worker"):
+        for key in ("scheme", "step_s", "pilot_error", "status", "cause", "message", "wall_time_s", "evaluations",
+                    "simulated_s", "worker"):
             columns[key].append(row[key])
     return pa.table(columns, schema=s)
 
@@ -175,7 +182,14 @@ def run(study, out=None, scheduler=None, workers=None, progress=True, plots=True
             client.register_plugin(NativeLibraryPlugin(library_path, send_bytes=not local))
             if on_client:
                 on_client(client)
-            futures = client.map(run_task, [r.run_id for r in todo], [r.task for r in todo],
+            tasks = [r.task for r in todo]
+            if not study.scheme_fixed:
+                choice = pilot.choose(study, out, lambda pilot_tasks: _run_pilot(client, pilot_tasks))
+                error = choice["pilot_error"]
+                print(f"pilot: {choice['scheme']} at {choice['step_s'] * 1e3:.4g} ms, largest error "
+                      f"{error:.2g} of peak on {choice['cases']} cases (accuracy {study.accuracy:g})", flush=True)
+                tasks = [pilot.with_scheme(t, choice["scheme"], choice["step_s"], error) for t in tasks]
+            futures = client.map(run_task, [r.run_id for r in todo], tasks,
                                  key=[f"run-{r.run_id}" for r in todo], pure=False)
             lost = _collect(as_completed(futures, with_results=False), len(todo), out, study, runs_by_id, progress)
         finally:
@@ -190,6 +204,12 @@ def run(study, out=None, scheduler=None, workers=None, progress=True, plots=True
         from .plots import plot_study
         plot_study(table, study, out / "plots")
     return table
+
+
+def _run_pilot(client, tasks):
+    """The pilot's runs on the cluster, their rows in order (pilot.choose)."""
+    futures = client.map(run_task, [f"pilot-{i}" for i in range(len(tasks))], tasks, pure=False)
+    return client.gather(futures)
 
 
 def _collect(completed, total, out, study, runs_by_id, progress):

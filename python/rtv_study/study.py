@@ -4,6 +4,8 @@ turned into runs here; every mistake is refused before any run starts, with the 
     case = "double-lane-change"              # a scene (bump, jturn, sine) or a manoeuvre
     vehicles = ["../../resources/hmmwv.json"] # relative to the study file; default: the HMMWV
     metrics = ["passed", "peak:roll"]        # the case's own metrics and peak/max/min/rms/final:OUTPUT
+    accuracy = 0.01                          # in (0, 0.1]: the runs' scheme and step are chosen by a pilot to
+                                             # keep every metric within 1 % of its peak of an RK4 reference
 
     [fmu]                                    # FMU parameters fixed for every run
     integrator = 2
@@ -47,6 +49,12 @@ DESIGNS = ("full-factorial", "latin-hypercube", "monte-carlo")
 INPUTS = ("speed", "amplitude", "case")
 # FMU parameters naming a file: the file is read here and sent with each task.
 FILE_PARAMETERS = ("tire_file", "road_file")
+# The FMU parameters that set the scheme and step: a study that sets either runs as it says, with no pilot.
+SCHEME_PARAMETERS = ("integrator", "internal_step")
+# A study's accuracy (a fraction of each metric's peak, pilot.py): the default, and the largest allowed (above
+# 10 % a metric no longer says much, and a candidate that far off is no reason to trust its pass/fail flags).
+DEFAULT_ACCURACY = 0.01
+MAX_ACCURACY = 0.1
 DEFAULT_VEHICLE = Path(__file__).resolve().parents[2] / "resources" / "hmmwv.json"
 
 
@@ -183,6 +191,13 @@ class Study:
     files: dict = field(default_factory=dict)  # FMU-parameter files: name -> bytes
     scheduler: str = None  # a Dask scheduler's address (None: an embedded LocalCluster)
     scheduler_line: int = None
+    accuracy: float = DEFAULT_ACCURACY  # the pilot's bound, a fraction of each metric's peak (pilot.py)
+
+    @property
+    def scheme_fixed(self):
+        """Whether the study sets the scheme or step itself ([fmu] or a parameter): then no pilot chooses."""
+        return any(k in self.fixed for k in SCHEME_PARAMETERS) or any(
+            p.kind == "fmu" and p.target in SCHEME_PARAMETERS for p in self.parameters)
 
     @property
     def default_out(self):
@@ -240,6 +255,8 @@ class Study:
                 task = self.task(vehicle, values)
                 digest = hashlib.sha256()
                 digest.update(json.dumps(task["request"], sort_keys=True).encode())
+                if not self.scheme_fixed:  # the accuracy decides the scheme and step the run takes
+                    digest.update(f"accuracy={self.accuracy!r}".encode())
                 for name in sorted(task["files"]):
                     digest.update(name.encode() + b"\0" + task["files"][name])
                 named = {p.name: _plain(v) for p, v in zip(self.parameters, values)}
@@ -268,7 +285,7 @@ def load(path, library=None):
     def fail(message, key=None, table=None, index=None):
         raise StudyError(path, lines.key(key, table, index) if key else lines.table(table, index), message)
 
-    known_top = {"name", "case", "vehicles", "metrics", "fmu", "design", "parameter", "scheduler"}
+    known_top = {"name", "case", "vehicles", "metrics", "fmu", "design", "parameter", "scheduler", "accuracy"}
     for key in raw:
         if key not in known_top:
             fail(f"unknown field '{key}' (fields: {', '.join(sorted(known_top))})", key)
@@ -342,8 +359,12 @@ def load(path, library=None):
     scheduler = raw.get("scheduler")
     if scheduler is not None and not (isinstance(scheduler, str) and re.match(r"^(tcp|tls|inproc)://\S+$", scheduler)):
         fail(f"scheduler must be an address tcp://HOST:PORT (got {scheduler!r})", "scheduler")
+    accuracy = raw.get("accuracy", DEFAULT_ACCURACY)
+    if not (isinstance(accuracy, (int, float)) and not isinstance(accuracy, bool) and 0 < accuracy <= MAX_ACCURACY):
+        fail(f"accuracy must be in (0, {MAX_ACCURACY}]: a fraction of each metric's peak, 0.01 for 1 % "
+             f"(got {accuracy!r})", "accuracy")
     study = Study(path, raw.get("name", path.stem), case, vehicles, metrics, fixed, kind, runs, seed, parameters,
-                  files, scheduler, lines.key("scheduler"))
+                  files, scheduler, lines.key("scheduler"), float(accuracy))
     if not study.design_points():
         fail("an empty design: no runs", None, "design")
     _check(study, lines, library)

@@ -23,7 +23,7 @@ use rt_vehicle::error::ModelError;
 use rt_vehicle::model::formats::params::{DataError, SteeringInput, VehicleData};
 use rt_vehicle::model::suspension::{Corner, CornerPositions, Side};
 use rt_vehicle::sim::{
-    modes, RealOption, Short, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, MODE_OPTIONS, OPTIONS, OUTPUT_NAMES,
+    modes, RealOption, Short, SimConfig, AUTOMATIC_STEP, CSV_COLUMNS, FILE_OPTIONS, MODE_OPTIONS, OPTIONS, OUTPUT_NAMES,
 };
 use rt_vehicle::studies::calibration;
 use rt_vehicle::studies::kc;
@@ -37,33 +37,33 @@ use std::time::Instant;
 const USAGE: &str = "usage:
   rtv scene <bump|jturn|sine> {modes}
             [--end T] [--output-interval DT]
-            [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle FILE.json]
-            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--brake N_M] [--drive N_M] [--keep-all]
-            [--road FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]]
+            [--amplitude calibrated|paper|METRES] [--ride-height retuned|data] [--vehicle-file FILE.json]
+            [--tire-file FILE.tir] [--tire-convention mfeval|chrono] [--brake N_M] [--drive N_M] [--keep-all]
+            [--road-file FILE.crg|FILE.xodr[#ROAD_ID]|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]]]
             {settings}
             [--out FILE.csv]
   rtv kinematics --axle front|rear [--from -0.15] [--to 0.10] [--increment 0.005] --out FILE.csv
   rtv steering [--from -0.06] [--to 0.06] [--increment 0.002] --out FILE.csv
-  rtv kc [--vehicle FILE.json] [--out docs/kc/NAME.md] [--from -0.10] [--to 0.10] [--increment 0.0025]
+  rtv kc [--vehicle-file FILE.json] [--out docs/kc/NAME.md] [--from -0.10] [--to 0.10] [--increment 0.0025]
             [--steering-points 81] [--plots auto|none]
-  rtv calibrate [--vehicle FILE.json] [--tire FILE.tir] [--tire-convention mfeval|chrono]
-  rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle FILE.json] [--tire FILE.tir]
-  rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle FILE.json]
-            [--tire FILE.tir] [--tire-convention mfeval|chrono] [--road FILE.crg|FILE.xodr|iso8608:...]
+  rtv calibrate [--vehicle-file FILE.json] [--tire-file FILE.tir] [--tire-convention mfeval|chrono]
+  rtv stability [--out docs/stability.md] [--threads 2] [--case TEXT] [--vehicle-file FILE.json] [--tire-file FILE.tir]
+  rtv manoeuvre <step-steer|sine-with-dwell|steady-state|fishhook> [--initial-speed M_PER_S] [--vehicle-file FILE.json]
+            [--tire-file FILE.tir] [--tire-convention mfeval|chrono] [--road-file FILE.crg|FILE.xodr|iso8608:...]
             [--road-friction SCALE] [--out FILE.csv]
   rtv work-precision [--out docs/work_precision.md] [--csv out/work_precision.csv] [--cases jturn,sine,...]
-  rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json [--tire FILE.tir]
+  rtv import-chrono VEHICLE.json --data-dir DIR --out FILE.json [--tire-file FILE.tir]
   rtv import-chrono --all DIR [--out-dir OUT]   every vehicle of a Chrono data folder: imported or refused, one line each
   rtv check-vehicle FILE.json
   rtv chrono-compare [--doc docs/vehicle_file.md]   (from the repository's root: reads data/)
-  rtv ride halfround --height 4|8|10|12|16|20 [--road FILE.crg] [--speeds 5,10,...] [--vehicle FILE.json] [--tire FILE.tir]
+  rtv ride halfround --height 4|8|10|12|16|20 [--road-file FILE.crg] [--speeds 5,10,...] [--vehicle-file FILE.json] [--tire-file FILE.tir]
             [--tire-convention mfeval|chrono]
-  rtv ride rms --course FILE.crg [--rough 100,404.8] [--speeds 10,20,...] [--vehicle FILE.json] [--tire FILE.tir]
+  rtv ride rms --course FILE.crg [--rough 100,404.8] [--speeds 10,20,...] [--vehicle-file FILE.json] [--tire-file FILE.tir]
             [--tire-convention mfeval|chrono]
-  rtv road --road FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]] [--step M] [--out profile.csv]
-  rtv tire [--tir FILE.tir | --vehicle FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
+  rtv road --road-file FILE.crg|iso8608:CLASS:SEED[:LENGTH_M[:DX_M]] [--step M] [--out profile.csv]
+  rtv tire [--tire-file FILE.tir | --vehicle-file FILE.json] --fz N [--camber DEG] [--speed M_PER_S] --sweep alpha|kappa|combined [--side left|right]
             [--out curves.csv]
-  rtv linearize [--vehicle FILE.json] [--tire FILE.tir] [--tire-convention mfeval|chrono] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
+  rtv linearize [--vehicle-file FILE.json] [--tire-file FILE.tir] [--tire-convention mfeval|chrono] [--speed M_PER_S] [--ay M_PER_S2] [--out FILE.md]
             [--figure ROOT_LOCUS.png] [--iso4138 on|off] [--sweep-speeds FROM:TO:STEP --csv FILE.csv]
   rtv options   the settings table (markdown: docs/fmu.md's Real parameters, their flags here)
 environment:
@@ -88,6 +88,9 @@ fn usage() -> String {
             format!(" (also {})", aliases.join(", "))
         }
     };
+    for f in FILE_OPTIONS {
+        write!(help, "\n  --{}{}", f.flag(), also(f.aliases)).expect("a String");
+    }
     for m in MODE_OPTIONS.iter().filter(|m| m.cli && !m.aliases.is_empty()) {
         write!(help, "\n  --{}{}", m.flag(), also(m.aliases)).expect("a String");
     }
@@ -160,12 +163,21 @@ fn options(args: &[String], known: &[&str]) -> Result<BTreeMap<String, String>, 
     let mut out = BTreeMap::new();
     let mut it = args.iter();
     while let Some(a) = it.next() {
-        let key = a.strip_prefix("--").ok_or_else(|| bad(format!("unexpected argument '{a}'")))?;
-        if !known.contains(&key) {
+        let given = a.strip_prefix("--").ok_or_else(|| bad(format!("unexpected argument '{a}'")))?;
+        // A file's older spelling (`--vehicle` for `--vehicle-file`) where the command takes that file.
+        let key = FILE_OPTIONS
+            .iter()
+            .map(|f| f.flag())
+            .zip(FILE_OPTIONS.iter().map(|f| f.aliases))
+            .find(|(flag, aliases)| aliases.contains(&given) && known.contains(&flag.as_str()))
+            .map_or(given.to_string(), |(flag, _)| flag);
+        if !known.contains(&key.as_str()) {
             return Err(bad(format!("unknown option --{key}")));
         }
-        let value = it.next().ok_or_else(|| bad(format!("--{key} needs a value")))?;
-        out.insert(key.to_string(), value.clone());
+        let value = it.next().ok_or_else(|| bad(format!("--{given} needs a value")))?;
+        if out.insert(key.clone(), value.clone()).is_some() {
+            return Err(bad(format!("--{key} is given twice (or with its older spelling): give it once")));
+        }
     }
     Ok(out)
 }
@@ -199,14 +211,14 @@ fn number(opts: &BTreeMap<String, String>, key: &str, default: f64) -> Result<f6
 }
 
 fn vehicle_data(opts: &BTreeMap<String, String>) -> Result<VehicleData, Failure> {
-    let mut data = match opts.get("vehicle") {
+    let mut data = match opts.get("vehicle-file") {
         Some(path) => {
-            VehicleData::from_file(std::path::Path::new(path)).map_err(|e| failed(format!("--vehicle: {e}")))?
+            VehicleData::from_file(std::path::Path::new(path)).map_err(|e| failed(format!("--vehicle-file: {e}")))?
         }
         None => VehicleData::default_hmmwv(),
     };
-    if let Some(tir) = opts.get("tire") {
-        data.use_tire_file(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire: {e}")))?;
+    if let Some(tir) = opts.get("tire-file") {
+        data.use_tire_file(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire-file: {e}")))?;
     }
     // `vehicle` (the FMU's code 0) keeps the vehicle file's.
     // --ride-height (scene_config reads it too): the vehicle's own choice, overridden either way.
@@ -288,7 +300,7 @@ fn scene_config(opts: &BTreeMap<String, String>, base: SimConfig) -> Result<(Sim
             "--internal-step: a fixed step must be positive (leave --internal-step out for the automatic step)",
         ));
     }
-    if let Some(road) = opts.get("road") {
+    if let Some(road) = opts.get("road-file") {
         c.road_file = Some(road.clone());
     }
     c.validate().map_err(|e| bad(refused_option(&c, opts).map_or(e.to_string(), |o| format!("{o}: {e}"))))?;
@@ -372,12 +384,12 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         "output-interval",
         "amplitude",
         "ride-height",
-        "vehicle",
-        "tire",
+        "vehicle-file",
+        "tire-file",
         "tire-convention",
         "brake",
         "drive",
-        "road",
+        "road-file",
         "out",
     ]);
     let opts = canonical(options(&rest, &known)?)?;
@@ -420,8 +432,8 @@ fn cmd_scene(args: &[String]) -> Result<(), Failure> {
         )));
     }
     scene.check_rack(data.steering_limit()).map_err(|e| bad(format!("--amplitude: {e}")))?;
-    if let Some(road) = opts.get("road") {
-        check_road("--road", road)?;
+    if let Some(road) = opts.get("road-file") {
+        check_road("--road-file", road)?;
     }
     if parse_only("scene") {
         return Ok(());
@@ -503,7 +515,7 @@ fn sweep(opts: &BTreeMap<String, String>, from: f64, to: f64, inc: f64) -> Resul
 }
 
 fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["axle", "from", "to", "increment", "vehicle", "out"])?;
+    let opts = options(args, &["axle", "from", "to", "increment", "vehicle-file", "out"])?;
     let axle_name = opts.get("axle").ok_or_else(|| bad("kinematics: --axle front|rear is required"))?;
     let data = vehicle_data(&opts)?;
     let axle = match axle_name.as_str() {
@@ -548,7 +560,7 @@ fn cmd_kinematics(args: &[String]) -> Result<(), Failure> {
 /// `rtv kc`: the K&C report (`studies::kc`), its CSVs beside it and, where `.venv/bin/python` and
 /// `scripts/plot_kc.py` are at hand, its figures.
 fn cmd_kc(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["vehicle", "out", "from", "to", "increment", "steering-points", "plots"])?;
+    let opts = options(args, &["vehicle-file", "out", "from", "to", "increment", "steering-points", "plots"])?;
     let data = vehicle_data(&opts)?;
     let defaults = kc::KcOptions::default();
     let points = number(&opts, "steering-points", defaults.steering_points as f64)?;
@@ -575,7 +587,7 @@ fn cmd_kc(args: &[String]) -> Result<(), Failure> {
     if !["auto", "none"].contains(&plots) {
         return Err(bad(format!("--plots: '{plots}' is not auto or none")));
     }
-    let stem = match opts.get("vehicle") {
+    let stem = match opts.get("vehicle-file") {
         Some(v) => std::path::Path::new(v).file_stem().map_or("vehicle".into(), |s| s.to_string_lossy().into_owned()),
         None => "hmmwv".into(),
     };
@@ -627,7 +639,7 @@ fn cmd_kc(args: &[String]) -> Result<(), Failure> {
 }
 
 fn cmd_steering(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["from", "to", "increment", "vehicle", "out"])?;
+    let opts = options(args, &["from", "to", "increment", "vehicle-file", "out"])?;
     let data = vehicle_data(&opts)?;
     let (from, inc, n) = sweep(&opts, -0.06, 0.06, 0.002)?;
     let input = data.steering_input();
@@ -667,7 +679,7 @@ fn cmd_steering(args: &[String]) -> Result<(), Failure> {
 }
 
 fn cmd_calibrate(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["vehicle", "tire", "tire-convention", "out"])?;
+    let opts = options(args, &["vehicle-file", "tire-file", "tire-convention", "out"])?;
     let data = vehicle_data(&opts)?;
     if parse_only("calibrate") {
         return Ok(());
@@ -716,7 +728,16 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
     let m = Manoeuvre::parse(name).ok_or_else(|| bad(format!("unknown manoeuvre '{name}': {}", names.join(", "))))?;
     let opts = canonical(options(
         &args[1..],
-        &["initial-speed", "vehicle", "tire", "tire-convention", "road", "road-friction", "friction", "out"],
+        &[
+            "initial-speed",
+            "vehicle-file",
+            "tire-file",
+            "tire-convention",
+            "road-file",
+            "road-friction",
+            "friction",
+            "out",
+        ],
     )?)?;
     let speed = match opts.get("initial-speed") {
         Some(_) => {
@@ -729,11 +750,13 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
         None => None,
     };
     let data = vehicle_data(&opts)?;
-    if let Some(road) = opts.get("road") {
-        check_road("--road", road)?;
+    if let Some(road) = opts.get("road-file") {
+        check_road("--road-file", road)?;
     }
-    let ground =
-        rt_vehicle::studies::manoeuvres::Ground::new(opts.get("road").cloned(), number(&opts, "road-friction", 1.0)?);
+    let ground = rt_vehicle::studies::manoeuvres::Ground::new(
+        opts.get("road-file").cloned(),
+        number(&opts, "road-friction", 1.0)?,
+    );
     if parse_only("manoeuvre") {
         return Ok(());
     }
@@ -776,7 +799,7 @@ fn cmd_manoeuvre(args: &[String]) -> Result<(), Failure> {
 /// The stability suite (docs/stability.md): every case × integrator × step, classified.
 fn cmd_stability(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::stability;
-    let opts = options(args, &["out", "threads", "case", "vehicle", "tire"])?;
+    let opts = options(args, &["out", "threads", "case", "vehicle-file", "tire-file"])?;
     let threads = number(&opts, "threads", 2.0)?;
     if !(1.0..=64.0).contains(&threads) {
         return Err(bad("--threads must be in 1..=64"));
@@ -803,7 +826,7 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
         reports.push(report);
     }
     let mut command = "cargo run --release --bin rtv -- stability".to_string();
-    for key in ["vehicle", "tire"] {
+    for key in ["vehicle-file", "tire-file"] {
         if let Some(v) = opts.get(key) {
             command.push_str(&format!(" --{key} {v}"));
         }
@@ -831,7 +854,7 @@ fn cmd_stability(args: &[String]) -> Result<(), Failure> {
 /// The work-precision study (src/studies/work_precision.rs): the markdown report and the CSV of its figure.
 fn cmd_work_precision(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::work_precision as wp;
-    let opts = options(args, &["out", "csv", "cases", "vehicle"])?;
+    let opts = options(args, &["out", "csv", "cases", "vehicle-file"])?;
     let mut cases = wp::cases_for(&vehicle_data(&opts)?)?;
     if let Some(list) = opts.get("cases") {
         let wanted: Vec<&str> = list.split(',').collect();
@@ -872,12 +895,12 @@ fn cmd_import_chrono(args: &[String]) -> Result<(), Failure> {
     if vehicle == "--all" {
         return import_chrono_all(rest);
     }
-    let opts = options(rest, &["data-dir", "out", "tire"])?;
+    let opts = options(rest, &["data-dir", "out", "tire-file"])?;
     let dir = opts.get("data-dir").ok_or_else(|| {
         bad("import-chrono: --data-dir DIR is needed (the folder the vehicle's file paths are relative to)")
     })?;
     let out = opts.get("out").ok_or_else(|| bad("import-chrono: --out FILE.json is needed"))?;
-    let tire = opts.get("tire").map(std::path::Path::new);
+    let tire = opts.get("tire-file").map(std::path::Path::new);
     let import = import_chrono::import_vehicle(std::path::Path::new(vehicle), std::path::Path::new(dir), tire)
         .map_err(|e| failed(format!("import-chrono: {e}")))?;
     for w in &import.warnings {
@@ -1042,7 +1065,7 @@ fn column_name(input: &SteeringInput, i: usize) -> &'static str {
 /// ±20° at κ = 0, `kappa` sweeps κ over ±1 at α = 0, `combined` sweeps κ over ±1 at α = 0°, 2°, 4°, 8°.
 fn cmd_tire(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::model::tire::{self, MagicFormula, SlipInput, TireSide};
-    let opts = options(args, &["tir", "vehicle", "fz", "camber", "speed", "sweep", "side", "out"])?;
+    let opts = options(args, &["tire-file", "vehicle-file", "fz", "camber", "speed", "sweep", "side", "out"])?;
     let fz = number(&opts, "fz", f64::NAN)?;
     if !(fz > 0.0 && fz <= 1e6) {
         return Err(bad("tire: --fz N is required, a load in (0, 1e6] N"));
@@ -1071,9 +1094,9 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
     };
     let gamma = camber_deg.to_radians();
     // Loads in ISO axes at (κ, α, γ): [F_x, F_y, M_x, M_y, M_z].
-    let evaluate: Box<dyn Fn(f64, f64) -> [f64; 5]> = match opts.get("tir") {
+    let evaluate: Box<dyn Fn(f64, f64) -> [f64; 5]> = match opts.get("tire-file") {
         Some(tir) => {
-            let mf = MagicFormula::read(std::path::Path::new(tir)).map_err(|e| failed(format!("--tir: {e}")))?;
+            let mf = MagicFormula::read(std::path::Path::new(tir)).map_err(|e| failed(format!("--tire-file: {e}")))?;
             for w in &mf.warnings {
                 eprintln!("warning: {w}");
             }
@@ -1115,8 +1138,8 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
 /// A road's profile in its own coordinates (docs/roads.md): u along the reference line, the heights at
 /// v = −0.9, 0 and 0.9 m (a vehicle's wheel tracks), every `--step` metres, with its extent and name.
 fn cmd_road(args: &[String]) -> Result<(), Failure> {
-    let opts = options(args, &["road", "step", "out"])?;
-    let spec = opts.get("road").ok_or_else(|| bad("road: --road FILE.crg|iso8608:... is required"))?;
+    let opts = options(args, &["road-file", "step", "out"])?;
+    let spec = opts.get("road-file").ok_or_else(|| bad("road: --road-file FILE.crg|iso8608:... is required"))?;
     if rt_vehicle::model::road::xodr::is_xodr(spec) {
         return Err(bad(
             "road: profiles are written for OpenCRG files and iso8608: roads; an OpenDRIVE map is checked by \
@@ -1127,7 +1150,7 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
     if !(step >= 1e-4) {
         return Err(bad("road: --step must be at least 1e-4 m"));
     }
-    let surface = rt_vehicle::model::road::crg::surface_for(spec).map_err(|e| failed(format!("--road: {e}")))?;
+    let surface = rt_vehicle::model::road::crg::surface_for(spec).map_err(|e| failed(format!("--road-file: {e}")))?;
     let ([u0, u1], [v0, v1]) = surface.extent();
     let count = ((u1 - u0) / step).floor() as usize + 1;
     if count > 20_000_000 {
@@ -1153,8 +1176,10 @@ fn cmd_road(args: &[String]) -> Result<(), Failure> {
 fn cmd_ride(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::ride;
     let test = args.first().map(String::as_str).ok_or_else(|| bad("ride: halfround or rms?"))?;
-    let opts =
-        options(&args[1..], &["height", "road", "course", "rough", "speeds", "vehicle", "tire", "tire-convention"])?;
+    let opts = options(
+        &args[1..],
+        &["height", "road-file", "course", "rough", "speeds", "vehicle-file", "tire-file", "tire-convention"],
+    )?;
     let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, Failure> {
         match opts.get(key) {
             None => Ok(default.to_vec()),
@@ -1167,8 +1192,8 @@ fn cmd_ride(args: &[String]) -> Result<(), Failure> {
     };
     let data = vehicle_data(&opts)?;
     // The road read first: a sweep over a road that cannot be read would refuse every speed and exit 0.
-    let (road, option) = match (test, opts.get("road"), opts.get("height"), opts.get("course")) {
-        ("halfround", Some(r), _, _) => (r.clone(), "--road".to_string()),
+    let (road, option) = match (test, opts.get("road-file"), opts.get("height"), opts.get("course")) {
+        ("halfround", Some(r), _, _) => (r.clone(), "--road-file".to_string()),
         ("halfround", None, Some(h), _) => (format!("resources/roads/halfround_{h}in.crg"), format!("--height {h}")),
         ("halfround", None, None, _) => return Err(bad("ride halfround: --height IN or --road FILE.crg")),
         ("rms", _, _, Some(c)) => (c.clone(), "--course".to_string()),
@@ -1203,7 +1228,18 @@ fn cmd_linearize(args: &[String]) -> Result<(), Failure> {
     use rt_vehicle::studies::linear;
     let opts = options(
         args,
-        &["vehicle", "tire", "tire-convention", "speed", "ay", "out", "figure", "iso4138", "sweep-speeds", "csv"],
+        &[
+            "vehicle-file",
+            "tire-file",
+            "tire-convention",
+            "speed",
+            "ay",
+            "out",
+            "figure",
+            "iso4138",
+            "sweep-speeds",
+            "csv",
+        ],
     )?;
     let speed_in_range = |v: f64| v > 1.0 && v <= rt_vehicle::sim::INITIAL_SPEED_MAX;
     let out_of_range = |v: f64| bad(format!("--speed {v}: must be in (1, {}] m/s", rt_vehicle::sim::INITIAL_SPEED_MAX));
@@ -1379,6 +1415,17 @@ mod tests {
                     assert_eq!((m.get)(&c), (m.get)(&expected), "--{spelling} {word}");
                 }
             }
+        }
+        // The files: the FMU's name and each older spelling reach the same key, where a command takes it.
+        for f in FILE_OPTIONS {
+            assert!(usage.contains(&format!("--{} ", f.flag())), "the usage lacks --{}", f.flag());
+            for spelling in std::iter::once(f.flag()).chain(f.aliases.iter().map(|a| a.to_string())) {
+                let args = [format!("--{spelling}"), "x".into()];
+                let opts = options(&args, &[f.flag().as_str()]).ok().unwrap();
+                assert_eq!(opts.get(&f.flag()).map(String::as_str), Some("x"), "--{spelling}");
+            }
+            let twice = [format!("--{}", f.flag()), "x".into(), format!("--{}", f.aliases[0]), "y".into()];
+            assert!(options(&twice, &[f.flag().as_str()]).is_err(), "--{} twice", f.flag());
         }
         let both = ["--grade".to_string(), "0.1".into(), "--road-grade".into(), "0.1".into()];
         assert!(canonical(options(&both, &["grade", "road-grade"]).ok().unwrap()).is_err());

@@ -116,6 +116,24 @@ fn each_mode_is_one_row_set_and_read_through_the_fmu() {
     }
 }
 
+/// Every String parameter (a file the run reads) is one row of `FILE_OPTIONS`, in the description's order,
+/// set and read back through the FMU under that name.
+#[test]
+fn each_file_is_one_row_set_and_read_through_the_fmu() {
+    let strings: Vec<_> =
+        VARIABLES.iter().filter(|v| v.causality == Causality::Parameter && v.ty == VarType::String).collect();
+    assert_eq!(
+        strings.iter().map(|v| v.name).collect::<Vec<_>>(),
+        crate::sim::FILE_OPTIONS.iter().map(|f| f.name).collect::<Vec<_>>()
+    );
+    for (var, f) in strings.iter().zip(&crate::sim::FILE_OPTIONS) {
+        let mut fmu = model();
+        assert_eq!(fmu.get_string(var).unwrap(), "", "{}", f.name);
+        fmu.set_string(var, "some.file").unwrap();
+        assert_eq!(fmu.get_string(var).unwrap(), "some.file", "{}", f.name);
+    }
+}
+
 /// docs/fmu.md's block is `rtv options`' output (scripts/docs.sh fmu_parameters writes it); not with the
 /// test-only setting, which the docs do not hold.
 #[cfg(not(feature = "test-option"))]

@@ -172,8 +172,26 @@ impl ModeOption {
     }
 }
 
-// The tables: `REAL_OPTIONS` and `MODE_OPTIONS`, one row per Real parameter and per mode of the model
-// description (`fmi_layer::codegen::options_table`).
+/// One file the run reads (a String parameter), generated from the model description (`FILE_OPTIONS`): its
+/// FMU name (also its command-line flag, with dashes) and older command-line spellings. The value belongs to
+/// the FMU instance or the command, which locate the file (an FMU's resources, a path): not to `SimConfig`.
+#[derive(Debug, Clone, Copy)]
+pub struct FileOption {
+    pub name: &'static str,
+    /// Older command-line spellings, without `--` (still accepted).
+    pub aliases: &'static [&'static str],
+    pub description: &'static str,
+}
+
+impl FileOption {
+    /// The command-line flag, without `--`: the name with dashes.
+    pub fn flag(&self) -> String {
+        self.name.replace('_', "-")
+    }
+}
+
+// The tables: `REAL_OPTIONS`, `MODE_OPTIONS` and `FILE_OPTIONS`, one row per Real parameter, per mode and per
+// file of the model description (`fmi_layer::codegen::options_table`).
 include!(concat!(env!("OUT_DIR"), "/options_table.rs"));
 /// The Real options (`REAL_OPTIONS`, generated).
 pub const OPTIONS: &[RealOption] = &REAL_OPTIONS;

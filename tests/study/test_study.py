@@ -56,11 +56,11 @@ def test_a_small_study_runs_end_to_end(tmp_path, capsys):
         # The speed hold keeps the entry speed through the course (within 0.5 m/s: its PI law's lag).
         assert abs(r["final:vx"] - r["speed"]) < 0.5
         assert r["evaluations"] > 1000 and r["simulated_s"] > 3 and r["wall_time_s"] > 0
-    # A row is the run the native code gives for the same request, called here directly.
+    # A row is the run the native code gives for the same request at the scheme and step the row records,
+    # called here directly.
     r = rows[0]
     run = next(x for x in study.all_runs() if x.run_id == r["run_id"])
-    direct = rtv_study.files.with_files(run.task, lambda request: native.call("run", request))
-    assert direct["metrics"]["peak:roll"] == r["peak:roll"]
+    assert _direct(run.task, r["scheme"], r["step_s"])["peak:roll"] == r["peak:roll"]
     # The damper scale reaches the vehicle: a different peak roll at the same speed.
     by = {(x["speed"], x["front damper scale"]): x["peak:roll"] for x in rows}
     assert by[(14.0, 0.5)] != by[(14.0, 2.0)]
@@ -74,7 +74,8 @@ def test_parquet_schema(tmp_path):
     expected = [("run_id", pa.string()), ("vehicle", pa.string()), ("speed", pa.float64()),
                 ("front damper scale", pa.float64()), ("passed", pa.bool_()),
                 ("smallest_clearance_to_a_lane_edge", pa.float64()), ("peak:roll", pa.float64()),
-                ("final:vx", pa.float64()), ("status", pa.string()), ("cause", pa.string()),
+                ("final:vx", pa.float64()), ("scheme", pa.string()), ("step_s", pa.float64()),
+                ("pilot_error", pa.float64()), ("status", pa.string()), ("cause", pa.string()),
                 ("message", pa.string()), ("wall_time_s", pa.float64()), ("evaluations", pa.int64()),
                 ("simulated_s", pa.float64()), ("worker", pa.string())]
     assert [(f.name, f.type) for f in rtv_study.schema(study)] == expected
@@ -152,6 +153,12 @@ BAD = [
      "road_friction 7 is outside [0.05, 2]"),
     ("syntax error", SMALL.replace("levels = 3", "levels = = 3"), 10, "TOML syntax"),
     ("bad scheduler address", 'scheduler = "localhost"\n' + SMALL, 1, "scheduler must be an address"),
+    # A study's accuracy is a fraction of each metric's peak in (0, 0.1] (issue 36).
+    ("accuracy above 0.1", SMALL.replace("[design]", "accuracy = 0.2\n[design]"), 4, "accuracy must be in (0, 0.1]"),
+    ("accuracy zero", SMALL.replace("[design]", "accuracy = 0\n[design]"), 4, "accuracy must be in (0, 0.1]"),
+    ("accuracy negative", 'accuracy = -0.01\n' + SMALL, 1, "accuracy must be in (0, 0.1]"),
+    ("accuracy not a number", 'accuracy = nan\n' + SMALL, 1, "accuracy must be in (0, 0.1]"),
+    ("accuracy as text", 'accuracy = "1 %"\n' + SMALL, 1, "accuracy must be in (0, 0.1]"),
 ]
 
 
@@ -297,3 +304,102 @@ def test_the_command_line_refuses_a_worker_count_below_one(tmp_path):
                           capture_output=True, text=True)
     assert done.returncode == 2 and "--workers must be a whole number" in done.stderr, done.stderr
     assert not (tmp_path / "study").exists()
+
+
+# The scheme and step a study's runs take, chosen by the pilot (python/rtv_study/pilot.py, issue 36 part 3).
+
+def _direct(task, scheme, step):
+    """One run called directly, without Dask or the pilot: its metrics."""
+    from rtv_study import pilot
+    return rtv_study.files.with_files(pilot.with_scheme(task, scheme, step),
+                                      lambda request: native.call("run", request))["metrics"]
+
+
+def test_the_pilot_picks_the_cheapest_scheme_within_the_accuracy_and_records_it(tmp_path):
+    import json
+    from rtv_study import pilot
+    study = rtv_study.load(write(tmp_path, SMALL))
+    assert study.accuracy == 0.01 and not study.scheme_fixed
+    table = rtv_study.run(study, out=tmp_path / "out", workers=2, progress=False, plots=False)
+    choice = json.loads((tmp_path / "out" / "pilot.json").read_text())
+    # 2 speeds x 2 damper scales: the design's corners.
+    assert choice["cases"] == 4
+    tried = {(t["scheme"], t["step_s"]): t for t in choice["candidates"]}
+    chosen = tried.get((choice["scheme"], choice["step_s"]))
+    assert chosen is not None and chosen["accepted"] and chosen["error"] <= study.accuracy
+    # No accepted candidate is cheaper (fewer evaluations over the pilot's cases).
+    assert all(t["evaluations"] >= chosen["evaluations"] for t in choice["candidates"] if t["accepted"])
+    # Every rejected candidate is further from the reference than the accuracy, or failed.
+    assert all((t["error"] is None) or t["error"] > study.accuracy for t in choice["candidates"] if not t["accepted"])
+    # Each run records the choice and takes it.
+    rows = table.to_pylist()
+    assert {(r["scheme"], r["step_s"], r["pilot_error"]) for r in rows} == {
+        (choice["scheme"], choice["step_s"], choice["pilot_error"])}
+    # Judged independently: a pilot corner and a case inside the design (14 m/s, not a pilot case) run here
+    # with the reference (RK4 at 2 ms) and with the chosen scheme stay within the accuracy of each metric's
+    # peak (the peak over these runs of the reference: the scale the rule uses), pass flags equal.
+    runs = {(r.values["speed"], r.values["front damper scale"]): r for r in study.all_runs()}
+    reference = {k: _direct(runs[k].task, *pilot.REFERENCE) for k in [(19.0, 0.5), (14.0, 2.0)]}
+    for key, ref in reference.items():
+        got = next(r for r in rows if (r["speed"], r["front damper scale"]) == key)
+        assert got["passed"] == ref["passed"]
+        for metric in ("smallest_clearance_to_a_lane_edge", "peak:roll", "final:vx"):
+            peak = max(abs(x[metric]) for x in reference.values())
+            assert abs(got[metric] - ref[metric]) <= study.accuracy * peak, (key, metric)
+    # A resumed study keeps its pilot: nothing is measured again.
+    stamp = (tmp_path / "out" / "pilot.json").stat().st_mtime_ns
+    rtv_study.run(study, out=tmp_path / "out", workers=2, progress=False, plots=False)
+    assert (tmp_path / "out" / "pilot.json").stat().st_mtime_ns == stamp
+
+
+def test_a_tighter_accuracy_takes_a_dearer_scheme(tmp_path):
+    """At 1e-9 of peak no cheap candidate stays within: the choice costs more than at the default 1 %."""
+    import json
+    text = SMALL.replace("levels = 3", "levels = 2").replace("values = [0.5, 2.0]", "values = [1.0]")
+    loose = rtv_study.load(write(tmp_path, text, "loose.toml"))
+    tight = rtv_study.load(write(tmp_path, "accuracy = 1e-9\n" + text, "tight.toml"))
+    assert tight.accuracy == 1e-9
+    # The accuracy is part of what defines a run: the two studies' runs have different ids.
+    assert {r.run_id for r in loose.all_runs()}.isdisjoint(r.run_id for r in tight.all_runs())
+    choices = {}
+    for study in (loose, tight):
+        rtv_study.run(study, out=tmp_path / study.name, workers=2, progress=False, plots=False)
+        choices[study.name] = json.loads((tmp_path / study.name / "pilot.json").read_text())
+    cost = {}
+    for name, c in choices.items():
+        chosen = [t for t in c["candidates"] if (t["scheme"], t["step_s"]) == (c["scheme"], c["step_s"])]
+        cost[name] = chosen[0]["evaluations"] if chosen else c["reference"]["evaluations"]
+        assert c["pilot_error"] <= c["accuracy"]
+    assert cost["tight"] > cost["loose"], choices
+
+
+def test_a_study_that_sets_its_scheme_runs_it_without_a_pilot(tmp_path):
+    study = rtv_study.load(write(tmp_path, SMALL.replace("levels = 3", "levels = 1")
+                                 + "\n[fmu]\nintegrator = 2\ninternal_step = 0.005\n"))
+    assert study.scheme_fixed
+    table = rtv_study.run(study, out=tmp_path / "out", workers=1, progress=False, plots=False)
+    assert {(r["scheme"], r["step_s"], r["pilot_error"]) for r in table.to_pylist()} == {("rk4", 0.005, None)}
+    assert not (tmp_path / "out" / "pilot.json").exists()
+
+
+def test_the_pilot_error_rule():
+    """pilot.largest_error on rows made here: the error is relative to each metric's peak over the reference's
+    cases; a pass flag, a null or a failed run that differs is an infinite error; a case the reference did not
+    finish is not judged."""
+    import math
+    from types import SimpleNamespace
+    from rtv_study import pilot
+    study = SimpleNamespace(metrics=["passed", "clearance", "t"])
+
+    def ok(passed, clearance, t):
+        return {"status": "ok", "metrics": {"passed": passed, "clearance": clearance, "t": t}}
+    failed = {"status": "error", "metrics": {}}
+    reference = [ok(True, 0.5, 1.0), ok(False, -2.0, None)]
+    # Peaks: clearance 2.0, t 1.0. Errors 0.01/2.0 = 0.005 and 0.002/1.0: the largest is 0.005.
+    assert pilot.largest_error(study, reference, [ok(True, 0.51, 1.002), ok(False, -2.0, None)]) == \
+        pytest.approx(0.005)
+    assert pilot.largest_error(study, reference, [ok(False, 0.5, 1.0), ok(False, -2.0, None)]) == math.inf
+    assert pilot.largest_error(study, reference, [ok(True, 0.5, 1.0), ok(False, -2.0, 3.0)]) == math.inf
+    assert pilot.largest_error(study, reference, [ok(True, 0.5, 1.0), failed]) == math.inf
+    assert pilot.largest_error(study, [failed, reference[1]], [failed, ok(False, -2.0, None)]) == 0.0
+    assert pilot.largest_error(study, [failed, failed], [ok(True, 0.5, 1.0)] * 2) == math.inf

@@ -663,6 +663,331 @@ struct Wheel {
     inertia: [f64; 3],
 }
 
+/// What the steps of `Importer::suspension` share: the suspension file's object, where the suspension sits
+/// on the chassis, its template, the hardpoints read so far (in the chassis frame) and the import's warnings.
+struct SuspensionReader<'a> {
+    o: Obj<'a>,
+    location: V3,
+    /// A double wishbone; else a MacPherson strut.
+    wishbone: bool,
+    /// Chrono's `Vehicle-Frame Inertia`: the control arms' inertias are given in chassis axes.
+    vehicle_frame: bool,
+    points: BTreeMap<String, [f64; 3]>,
+    warnings: &'a mut Vec<String>,
+}
+
+impl SuspensionReader<'_> {
+    fn lower_arm_key(&self) -> &'static str {
+        if self.wishbone {
+            "Lower Control Arm"
+        } else {
+            "Control Arm"
+        }
+    }
+
+    /// The key of the spring's and the damper's lower end: on the lower arm of a double wishbone, on the
+    /// upright of a MacPherson strut.
+    fn moving_key(&self) -> &'static str {
+        if self.wishbone {
+            "Location Arm"
+        } else {
+            "Location Upright"
+        }
+    }
+
+    /// Hardpoint `name` at `p` of the suspension file, moved to the suspension's location on the chassis.
+    fn put(&mut self, name: &str, p: V3) {
+        self.points.insert(name.to_string(), <[f64; 3]>::from(p + self.location));
+    }
+
+    /// The file's own keys, its static alignment (camber, toe, in degrees) and how its arms' inertias are
+    /// given.
+    fn top_level(&mut self) -> Result<(f64, f64), ImportError> {
+        let o = &self.o;
+        let upper = if self.wishbone { "Upper Control Arm" } else { "Strut" };
+        let used = [
+            "Name",
+            "Type",
+            "Template",
+            "Camber Angle (deg)",
+            "Toe Angle (deg)",
+            "Vehicle-Frame Inertia",
+            "Spindle",
+            "Upright",
+            self.lower_arm_key(),
+            "Tierod",
+            "Spring",
+            "Shock",
+            "Axle",
+            upper,
+        ];
+        o.keys(&used, &[("Output", "Chrono output settings")], self.warnings)?;
+        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
+        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
+        self.vehicle_frame = o.flag("Vehicle-Frame Inertia")?;
+        Ok((static_camber_deg, static_toe_deg))
+    }
+
+    /// A body of the file (`key`, read with the keys `used` and `ignored`): its mass and inertia, and its
+    /// CM as the hardpoint `com` if the model has one.
+    fn body(
+        &mut self,
+        key: &str,
+        used: &[&str],
+        ignored: &[Ignored],
+        com: Option<&str>,
+    ) -> Result<RigidBody, ImportError> {
+        let b = self.o.obj(key)?;
+        b.keys(used, ignored, self.warnings)?;
+        if let Some(name) = com {
+            self.put(name, b.point("COM")?);
+        }
+        let j = inertia_of(&b)?;
+        moments_positive(&b, &j)?;
+        Ok(body_of(b.mass("Mass")?, &j))
+    }
+
+    fn spindle(&mut self) -> Result<RigidBody, ImportError> {
+        self.body("Spindle", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL), ("Width", VISUAL)], Some("SPINDLE"))
+    }
+
+    fn upright(&mut self) -> Result<RigidBody, ImportError> {
+        let used = ["Mass", "COM", "Inertia", "Moments of Inertia", "Products of Inertia"];
+        self.body("Upright", &used, &[("Radius", VISUAL)], Some("UPRIGHT"))
+    }
+
+    /// The control arm `key`: its hardpoints `{prefix}_F`, `_B`, `_U` (chassis front, back, upright) and
+    /// `_CM`, and its body with the inertia in the arm frame.
+    fn control_arm(&mut self, key: &str, prefix: &str) -> Result<RigidBody, ImportError> {
+        let arm = self.o.obj(key)?;
+        arm.keys(
+            &[
+                "Mass",
+                "COM",
+                "Inertia",
+                "Moments of Inertia",
+                "Products of Inertia",
+                "Location Chassis Front",
+                "Location Chassis Back",
+                "Location Upright",
+            ],
+            &[("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")],
+            self.warnings,
+        )?;
+        let (f, b, u) =
+            (arm.point("Location Chassis Front")?, arm.point("Location Chassis Back")?, arm.point("Location Upright")?);
+        self.put(&format!("{prefix}_F"), f);
+        self.put(&format!("{prefix}_B"), b);
+        self.put(&format!("{prefix}_U"), u);
+        self.put(&format!("{prefix}_CM"), arm.point("COM")?);
+        let j = inertia_of(&arm)?;
+        moments_positive(&arm, &j)?;
+        let frame = arm_frame(&arm, f, b, u)?;
+        // Chrono's "Vehicle-Frame Inertia" gives it in chassis axes: turn it into the arm frame.
+        let j = if self.vehicle_frame { frame.transpose() * j * frame } else { j };
+        Ok(body_of(arm.mass("Mass")?, &j))
+    }
+
+    /// A double wishbone's upper arm, or a MacPherson strut's strut body (its rod; its CM is the model's).
+    fn upper_arm_or_strut(&mut self) -> Result<(Option<RigidBody>, Option<RigidBody>), ImportError> {
+        if self.wishbone {
+            Ok((Some(self.control_arm("Upper Control Arm", "UCA")?), None))
+        } else {
+            let used = ["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"];
+            Ok((None, Some(self.body("Strut", &used, &[("Radius", VISUAL)], None)?)))
+        }
+    }
+
+    /// The tie rod's two hardpoints (the model's tie rod is a massless rigid link).
+    fn tie_rod(&mut self) -> Result<(), ImportError> {
+        let tierod = self.o.obj("Tierod")?;
+        tierod.keys(
+            &["Location Chassis", "Location Upright"],
+            &[
+                ("Mass", "the model's tie rod is massless"),
+                ("Inertia", "the model's tie rod is massless"),
+                ("Radius", VISUAL),
+                ("Bushing Data", "the model's joints are rigid"),
+            ],
+            self.warnings,
+        )?;
+        self.put("TIEROD_C", tierod.point("Location Chassis")?);
+        self.put("TIEROD_U", tierod.point("Location Upright")?);
+        Ok(())
+    }
+
+    /// The spring: its ends, free length, law (a rate or a curve), preload and stops.
+    fn spring(&mut self) -> Result<Spring, ImportError> {
+        let sp = self.o.obj("Spring")?;
+        let moving = self.moving_key();
+        sp.keys(
+            &[
+                "Location Chassis",
+                moving,
+                "Free Length",
+                "Spring Coefficient",
+                "Spring Curve Data",
+                "Curve Data",
+                "Minimum Length",
+                "Maximum Length",
+                "Preload",
+            ],
+            &[],
+            self.warnings,
+        )?;
+        self.put("SPRING_C", sp.point("Location Chassis")?);
+        let lower_end = if self.wishbone { "SPRING_A" } else { "SPRING_U" };
+        self.put(lower_end, sp.point(moving)?);
+        let mut free_length = sp.length("Free Length")?;
+        let (k1, mut curve) = self.spring_law(&sp)?;
+        self.fold_preload(&sp, k1, &mut free_length, curve.as_mut())?;
+        let (stop_min, stop_max) = self.spring_stops(&sp)?;
+        Ok(Spring {
+            free_length_m: free_length,
+            // A curve is the whole law; a rate is the cubic's k1 with k3 = 0.
+            k1_N_per_m: curve.is_none().then_some(k1),
+            k3_N_per_m3: curve.is_none().then_some(0.0),
+            curve,
+            stop_min_length_m: stop_min.unwrap_or(f64::NEG_INFINITY),
+            stop_max_length_m: stop_max.unwrap_or(f64::INFINITY),
+        })
+    }
+
+    /// The spring's rate, or its curve (a straight line through the origin becomes a rate).
+    fn spring_law(&mut self, sp: &Obj) -> Result<(f64, Option<SpringCurve>), ImportError> {
+        // A curve is kept as Chrono interpolates it, linearly between its points (`forces::curve_force`).
+        match force_law(sp, "Spring Coefficient", "Spring Curve Data", "N/m")? {
+            Law::Coefficient(k) => Ok((k, None)),
+            Law::Curve(key, points) => {
+                if points.windows(2).any(|w| w[1].1 < w[0].1) || !(points[points.len() - 1].1 > points[0].1) {
+                    return Err(sp.err(key, "the curve does not rise with extension: no spring the model can take"));
+                }
+                if let Some(k) = straight_line_rate(&points) {
+                    self.warnings.push(format!(
+                        "{}: {}: a straight line through the origin: the rate {k:.6e} N/m",
+                        self.o.file,
+                        sp.key(key)
+                    ));
+                    Ok((k, None))
+                } else {
+                    let (deflection_m, force_n): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
+                    Ok((0.0, Some(SpringCurve { deflection_m, force_N: force_n })))
+                }
+            }
+        }
+    }
+
+    /// The spring's `Preload`, folded into the curve or (a rate `k1`) the free length.
+    fn fold_preload(
+        &mut self,
+        sp: &Obj,
+        k1: f64,
+        free_length: &mut f64,
+        curve: Option<&mut SpringCurve>,
+    ) -> Result<(), ImportError> {
+        let Some(preload) = sp.opt_num("Preload")?.filter(|p| *p != 0.0) else {
+            return Ok(());
+        };
+        // Chrono's spring force is P − F(x): the preload lowers the curve by P, or (linear spring) moves the
+        // free length: −k (L − L0) + P = −k (L − (L0 + P/k)).
+        if let Some(c) = curve {
+            c.force_N.iter_mut().for_each(|f| *f -= preload);
+            self.warnings.push(format!("{}: {}: subtracted from the curve's forces", self.o.file, sp.key("Preload")));
+        } else if k1 > 0.0 {
+            *free_length += preload / k1;
+            self.warnings.push(format!(
+                "{}: {}: folded into the free length ({free_length} m)",
+                self.o.file,
+                sp.key("Preload")
+            ));
+        } else {
+            return Err(sp.err("Preload", "a preload needs a spring rate or a curve"));
+        }
+        Ok(())
+    }
+
+    /// The spring's `Minimum Length` and `Maximum Length` stops, if given.
+    fn spring_stops(&mut self, sp: &Obj) -> Result<(Option<f64>, Option<f64>), ImportError> {
+        let stop = |k: &str| -> Result<Option<f64>, ImportError> {
+            if sp.has(k) {
+                sp.length(k).map(Some)
+            } else {
+                Ok(None)
+            }
+        };
+        let (stop_min, stop_max) = (stop("Minimum Length")?, stop("Maximum Length")?);
+        if stop_min.is_some() || stop_max.is_some() {
+            self.warnings.push(format!(
+                "{}: {}: the stops act at these lengths with the HMMWV's stop table (Chrono's own stop law is not \
+                 imported)",
+                self.o.file, sp.path
+            ));
+        }
+        Ok((stop_min, stop_max))
+    }
+
+    /// The damper (`Shock`): its ends and its law, a rate or a curve fitted by a rate per direction.
+    fn damper(&mut self) -> Result<Damper, ImportError> {
+        let sh = self.o.obj("Shock")?;
+        for k in [
+            "Degressivity Compression",
+            "Degressivity Expansion",
+            "Map Data",
+            "Spring Coefficient",
+            "Spring Curve Data",
+        ] {
+            if sh.has(k) {
+                return Err(sh.err(k, "not supported: the model's damper is a linear damper per direction"));
+            }
+        }
+        let moving = self.moving_key();
+        sh.keys(
+            &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
+            &[("Free Length", "a damper has no free length in the model")],
+            self.warnings,
+        )?;
+        self.put("SHOCK_C", sh.point("Location Chassis")?);
+        let lower_end = if self.wishbone { "SHOCK_A" } else { "SHOCK_U" };
+        self.put(lower_end, sh.point(moving)?);
+        let (compression, rebound) = match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
+            Law::Coefficient(c) => (c, c),
+            Law::Curve(key, points) => {
+                let (c, r, error) = fit_damper(&points);
+                if !(c >= 0.0 && r >= 0.0) {
+                    return Err(sh.err(key, "the curve does not resist motion: no damper the model can take"));
+                }
+                self.warnings.push(fit_warning(
+                    &sh,
+                    key,
+                    &points,
+                    format!("a compression rate {c:.6e} N s/m and a rebound rate {r:.6e} N s/m"),
+                    error,
+                ));
+                (c, r)
+            }
+        };
+        Ok(Damper {
+            midstroke_compression_Ns_per_m: compression,
+            midstroke_rebound_Ns_per_m: rebound,
+            bumpstop_compression_Ns_per_m: compression,
+            bumpstop_rebound_Ns_per_m: rebound,
+            engagement_min_length_m: DAMPER_ENGAGEMENT_M[0],
+            engagement_max_length_m: DAMPER_ENGAGEMENT_M[1],
+        })
+    }
+
+    /// The axle shaft's spin inertia (`Axle`), kg m².
+    fn axle_shaft(&mut self) -> Result<f64, ImportError> {
+        let axle = self.o.obj("Axle")?;
+        axle.keys(&["Inertia"], &[], self.warnings)?;
+        let shaft = axle.num("Inertia")?;
+        if !(shaft >= 0.0) {
+            return Err(axle.err("Inertia", format!("must be zero or positive (kg m²), got {shaft}")));
+        }
+        Ok(shaft)
+    }
+}
+
 impl Importer {
     fn read(&mut self, path: &Path, shown: &str, kind: &str) -> Result<File, ImportError> {
         let file = self.read_any(path, shown, kind)?;
@@ -1338,268 +1663,38 @@ impl Importer {
         Ok((None, Some(p)))
     }
 
+    /// A `DoubleWishbone` or `MacPhersonStrut` suspension file, its hardpoints placed at `location` on the
+    /// chassis: one step per part of the file, in the file's order (the order of the warnings and errors).
     fn suspension(&mut self, file: &File, location: V3, steered: bool) -> Result<Axle, ImportError> {
         let o = file.obj();
         let template = Self::template(&o, &["DoubleWishbone", "MacPhersonStrut"])?;
-        let wishbone = template == "DoubleWishbone";
-        let (arm_key, moving) =
-            if wishbone { ("Lower Control Arm", "Location Arm") } else { ("Control Arm", "Location Upright") };
-        let mut used = vec![
-            "Name",
-            "Type",
-            "Template",
-            "Camber Angle (deg)",
-            "Toe Angle (deg)",
-            "Vehicle-Frame Inertia",
-            "Spindle",
-            "Upright",
-            arm_key,
-            "Tierod",
-            "Spring",
-            "Shock",
-            "Axle",
-        ];
-        used.push(if wishbone { "Upper Control Arm" } else { "Strut" });
-        o.keys(&used, &[("Output", "Chrono output settings")], &mut self.warnings)?;
-        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
-        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
-        let vehicle_frame = o.flag("Vehicle-Frame Inertia")?;
-        let mut points = BTreeMap::new();
-        let mut put = |name: &str, p: V3| {
-            points.insert(name.to_string(), <[f64; 3]>::from(p + location));
+        let mut s = SuspensionReader {
+            o,
+            location,
+            wishbone: template == "DoubleWishbone",
+            vehicle_frame: false,
+            points: BTreeMap::new(),
+            warnings: &mut self.warnings,
         };
-
-        let spindle = o.obj("Spindle")?;
-        spindle.keys(&["Mass", "COM", "Inertia"], &[("Radius", VISUAL), ("Width", VISUAL)], &mut self.warnings)?;
-        put("SPINDLE", spindle.point("COM")?);
-        let j = inertia_of(&spindle)?;
-        moments_positive(&spindle, &j)?;
-        let spindle_body = body_of(spindle.mass("Mass")?, &j);
-
-        let upright = o.obj("Upright")?;
-        upright.keys(
-            &["Mass", "COM", "Inertia", "Moments of Inertia", "Products of Inertia"],
-            &[("Radius", VISUAL)],
-            &mut self.warnings,
-        )?;
-        put("UPRIGHT", upright.point("COM")?);
-        let j = inertia_of(&upright)?;
-        moments_positive(&upright, &j)?;
-        let upright_body = body_of(upright.mass("Mass")?, &j);
-
-        // Control arms: hardpoints and the inertia in the arm frame.
-        let arm_keys = [
-            "Mass",
-            "COM",
-            "Inertia",
-            "Moments of Inertia",
-            "Products of Inertia",
-            "Location Chassis Front",
-            "Location Chassis Back",
-            "Location Upright",
-        ];
-        let arm_ignored = [("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")];
-        let arm = |o: &Obj,
-                   prefix: &str,
-                   warnings: &mut Vec<String>,
-                   put: &mut dyn FnMut(&str, V3)|
-         -> Result<RigidBody, ImportError> {
-            o.keys(&arm_keys, &arm_ignored, warnings)?;
-            let (f, b, u) =
-                (o.point("Location Chassis Front")?, o.point("Location Chassis Back")?, o.point("Location Upright")?);
-            put(&format!("{prefix}_F"), f);
-            put(&format!("{prefix}_B"), b);
-            put(&format!("{prefix}_U"), u);
-            put(&format!("{prefix}_CM"), o.point("COM")?);
-            let j = inertia_of(o)?;
-            moments_positive(o, &j)?;
-            let frame = arm_frame(o, f, b, u)?;
-            // Chrono's "Vehicle-Frame Inertia" gives it in chassis axes: turn it into the arm frame.
-            let j = if vehicle_frame { frame.transpose() * j * frame } else { j };
-            Ok(body_of(o.mass("Mass")?, &j))
-        };
-        let lower = o.obj(arm_key)?;
-        let lower_arm = arm(&lower, "LCA", &mut self.warnings, &mut put)?;
-        let (upper_arm, strut) = if wishbone {
-            let upper = o.obj("Upper Control Arm")?;
-            (Some(arm(&upper, "UCA", &mut self.warnings, &mut put)?), None)
-        } else {
-            let s = o.obj("Strut")?;
-            s.keys(
-                &["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"],
-                &[("Radius", VISUAL)],
-                &mut self.warnings,
-            )?;
-            let j = inertia_of(&s)?;
-            moments_positive(&s, &j)?;
-            (None, Some(body_of(s.mass("Mass")?, &j)))
-        };
-
-        let tierod = o.obj("Tierod")?;
-        tierod.keys(
-            &["Location Chassis", "Location Upright"],
-            &[
-                ("Mass", "the model's tie rod is massless"),
-                ("Inertia", "the model's tie rod is massless"),
-                ("Radius", VISUAL),
-                ("Bushing Data", "the model's joints are rigid"),
-            ],
-            &mut self.warnings,
-        )?;
-        put("TIEROD_C", tierod.point("Location Chassis")?);
-        put("TIEROD_U", tierod.point("Location Upright")?);
-
-        // Spring: linear or a curve, optional stops and preload.
-        let (spring_name, shock_name) = if wishbone { ("SPRING_A", "SHOCK_A") } else { ("SPRING_U", "SHOCK_U") };
-        let sp = o.obj("Spring")?;
-        sp.keys(
-            &[
-                "Location Chassis",
-                moving,
-                "Free Length",
-                "Spring Coefficient",
-                "Spring Curve Data",
-                "Curve Data",
-                "Minimum Length",
-                "Maximum Length",
-                "Preload",
-            ],
-            &[],
-            &mut self.warnings,
-        )?;
-        put("SPRING_C", sp.point("Location Chassis")?);
-        put(spring_name, sp.point(moving)?);
-        let mut free_length = sp.length("Free Length")?;
-        // A curve is kept as Chrono interpolates it, linearly between its points (`forces::curve_force`).
-        let (k1, mut curve) = match force_law(&sp, "Spring Coefficient", "Spring Curve Data", "N/m")? {
-            Law::Coefficient(k) => (k, None),
-            Law::Curve(key, points) => {
-                if points.windows(2).any(|w| w[1].1 < w[0].1) || !(points[points.len() - 1].1 > points[0].1) {
-                    return Err(sp.err(key, "the curve does not rise with extension: no spring the model can take"));
-                }
-                if let Some(k) = straight_line_rate(&points) {
-                    self.warnings.push(format!(
-                        "{}: {}: a straight line through the origin: the rate {k:.6e} N/m",
-                        o.file,
-                        sp.key(key)
-                    ));
-                    (k, None)
-                } else {
-                    let (deflection_m, force_n): (Vec<f64>, Vec<f64>) = points.into_iter().unzip();
-                    (0.0, Some(SpringCurve { deflection_m, force_N: force_n }))
-                }
-            }
-        };
-        if let Some(preload) = sp.opt_num("Preload")? {
-            if preload != 0.0 {
-                // Chrono's spring force is P − F(x): the preload lowers the curve by P, or (linear spring)
-                // moves the free length: −k (L − L0) + P = −k (L − (L0 + P/k)).
-                if let Some(c) = curve.as_mut() {
-                    c.force_N.iter_mut().for_each(|f| *f -= preload);
-                    self.warnings.push(format!(
-                        "{}: {}: subtracted from the curve's forces",
-                        o.file,
-                        sp.key("Preload")
-                    ));
-                } else if k1 > 0.0 {
-                    free_length += preload / k1;
-                    self.warnings.push(format!(
-                        "{}: {}: folded into the free length ({free_length} m)",
-                        o.file,
-                        sp.key("Preload")
-                    ));
-                } else {
-                    return Err(sp.err("Preload", "a preload needs a spring rate or a curve"));
-                }
-            }
-        }
-        let stop = |k: &str| -> Result<Option<f64>, ImportError> {
-            if sp.has(k) {
-                sp.length(k).map(Some)
-            } else {
-                Ok(None)
-            }
-        };
-        let (stop_min, stop_max) = (stop("Minimum Length")?, stop("Maximum Length")?);
-        if stop_min.is_some() || stop_max.is_some() {
-            self.warnings.push(format!(
-                "{}: {}: the stops act at these lengths with the HMMWV's stop table (Chrono's own stop law is not \
-                 imported)",
-                o.file, sp.path
-            ));
-        }
-        let spring = Spring {
-            free_length_m: free_length,
-            // A curve is the whole law; a rate is the cubic's k1 with k3 = 0.
-            k1_N_per_m: curve.is_none().then_some(k1),
-            k3_N_per_m3: curve.is_none().then_some(0.0),
-            curve,
-            stop_min_length_m: stop_min.unwrap_or(f64::NEG_INFINITY),
-            stop_max_length_m: stop_max.unwrap_or(f64::INFINITY),
-        };
-
-        // Damper: linear or a curve.
-        let sh = o.obj("Shock")?;
-        for k in [
-            "Degressivity Compression",
-            "Degressivity Expansion",
-            "Map Data",
-            "Spring Coefficient",
-            "Spring Curve Data",
-        ] {
-            if sh.has(k) {
-                return Err(sh.err(k, "not supported: the model's damper is a linear damper per direction"));
-            }
-        }
-        sh.keys(
-            &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
-            &[("Free Length", "a damper has no free length in the model")],
-            &mut self.warnings,
-        )?;
-        put("SHOCK_C", sh.point("Location Chassis")?);
-        put(shock_name, sh.point(moving)?);
-        let (compression, rebound) = match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
-            Law::Coefficient(c) => (c, c),
-            Law::Curve(key, points) => {
-                let (c, r, error) = fit_damper(&points);
-                if !(c >= 0.0 && r >= 0.0) {
-                    return Err(sh.err(key, "the curve does not resist motion: no damper the model can take"));
-                }
-                self.warnings.push(fit_warning(
-                    &sh,
-                    key,
-                    &points,
-                    format!("a compression rate {c:.6e} N s/m and a rebound rate {r:.6e} N s/m"),
-                    error,
-                ));
-                (c, r)
-            }
-        };
-        let damper = Damper {
-            midstroke_compression_Ns_per_m: compression,
-            midstroke_rebound_Ns_per_m: rebound,
-            bumpstop_compression_Ns_per_m: compression,
-            bumpstop_rebound_Ns_per_m: rebound,
-            engagement_min_length_m: DAMPER_ENGAGEMENT_M[0],
-            engagement_max_length_m: DAMPER_ENGAGEMENT_M[1],
-        };
-
-        let axle = o.obj("Axle")?;
-        axle.keys(&["Inertia"], &[], &mut self.warnings)?;
-        let shaft = axle.num("Inertia")?;
-        if !(shaft >= 0.0) {
-            return Err(axle.err("Inertia", format!("must be zero or positive (kg m²), got {shaft}")));
-        }
+        let (static_camber_deg, static_toe_deg) = s.top_level()?;
+        let spindle = s.spindle()?;
+        let upright = s.upright()?;
+        let lower_arm = s.control_arm(s.lower_arm_key(), "LCA")?;
+        let (upper_arm, strut) = s.upper_arm_or_strut()?;
+        s.tie_rod()?;
+        let spring = s.spring()?;
+        let damper = s.damper()?;
+        let axle_shaft_spin_inertia_kg_m2 = s.axle_shaft()?;
         Ok(Axle {
-            template: if wishbone { SuspensionTemplate::DoubleWishbone } else { SuspensionTemplate::MacphersonStrut },
+            template: if s.wishbone { SuspensionTemplate::DoubleWishbone } else { SuspensionTemplate::MacphersonStrut },
             steered,
-            hardpoints_chassis_frame_m: points,
+            hardpoints_chassis_frame_m: s.points,
             lower_arm,
             upper_arm,
             strut,
-            upright: upright_body,
-            spindle: spindle_body,
-            axle_shaft_spin_inertia_kg_m2: shaft,
+            upright,
+            spindle,
+            axle_shaft_spin_inertia_kg_m2,
             spring,
             damper,
             reference_kinematics: None,

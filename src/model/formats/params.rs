@@ -7,6 +7,7 @@
 //! tensors that are not positive definite (and, in `vehicle_file`, suspension loops that cannot close). The triangle inequality
 //! of principal moments is only a warning: the source's control-arm inertias (placeholders) break it.
 
+use crate::model::tire::{StiCoefficients, TireParams};
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -51,6 +52,28 @@ pub struct Rack {
     pub travel_limit_m: f64,
     /// Steering gain at centre from the data set, for the kinematics test.
     pub reference_gain_deg_per_m: f64,
+}
+
+impl Chassis {
+    /// Its mass and inertia as a body.
+    pub fn body(&self) -> RigidBody {
+        RigidBody {
+            mass_kg: self.mass_kg,
+            inertia_moments_kg_m2: self.inertia_moments_kg_m2,
+            inertia_products_kg_m2: self.inertia_products_kg_m2,
+        }
+    }
+}
+
+impl Rack {
+    /// Its mass and inertia as a body.
+    pub fn body(&self) -> RigidBody {
+        RigidBody {
+            mass_kg: self.mass_kg,
+            inertia_moments_kg_m2: self.inertia_moments_kg_m2,
+            inertia_products_kg_m2: self.inertia_products_kg_m2,
+        }
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -244,65 +267,6 @@ pub struct WheelBody {
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StiCoefficients {
-    pub a0: f64,
-    pub a1: f64,
-    pub a2_N: f64,
-    pub cs: f64,
-    pub mu0: f64,
-    pub k_mu: f64,
-    pub k_a: f64,
-    pub c1: f64,
-    pub c2: f64,
-    pub c3: f64,
-    pub c4: f64,
-    pub c_gamma_per_rad: f64,
-    pub trail_m: f64,
-}
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Tire {
-    pub mass_kg: f64,
-    pub inertia_kg_m2: [f64; 3],
-    pub unloaded_radius_m: f64,
-    pub vertical_stiffness_N_per_m: f64,
-    pub vertical_stiffness2_N_per_m2: f64,
-    pub vertical_damping_Ns_per_m: f64,
-    pub rolling_resistance: f64,
-    pub sti: StiCoefficients,
-    pub relaxation_length_x_m: f64,
-    pub relaxation_length_y_m: f64,
-    pub v_min_m_s: f64,
-    /// Forward speeds |V_x| between which the tire blends from its standstill form (damped tread spring,
-    /// no aligning moment or camber thrust) into the rolling relaxation model, m/s (docs/physics.md §6.9).
-    pub low_speed_blend_m_s: [f64; 2],
-    /// Damping of the tread against slip velocity at standstill, per tire, N·s/m (faded out by the blend).
-    pub low_speed_damping_Ns_per_m: f64,
-    /// A Pacejka property file (`.tir`, PAC2002): the tire is then the Magic Formula of that file, whose
-    /// radius, vertical stiffness and damping and relaxation lengths replace the ones above (the STI
-    /// coefficients stay for comparison runs). A relative path is taken from the vehicle file's folder.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tir_file: Option<String>,
-    /// The Magic Formula read from `tir_file` (`VehicleData::use_tire_file`); not part of the file format.
-    #[serde(skip)]
-    pub magic_formula: Option<Box<crate::model::tire::MagicFormula>>,
-    /// The TMeasy tire read from `tir_file` when it names a Chrono TMeasy JSON file (`.json`,
-    /// `VehicleData::use_tire_file`); not part of the file format.
-    #[serde(skip)]
-    pub tmeasy: Option<Box<crate::model::tire::tmeasy::TMeasy>>,
-    /// How the Magic Formula is evaluated (`TireConvention`): as MFeval computes it (the default), or as
-    /// Chrono's Pac02 does, to reproduce a Chrono run. Independent of the `.tir` file; the STI tire ignores it.
-    #[serde(default, skip_serializing_if = "crate::model::tire::TireConvention::is_default")]
-    pub convention: crate::model::tire::TireConvention,
-    /// One difference of `TireConvention::Chrono` left out, to measure its share (`studies::chrono_compare`);
-    /// not part of the file format.
-    #[serde(skip)]
-    pub chrono_without: Option<crate::model::tire::ChronoPart>,
-}
-
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct SpeedHold {
     pub kp_per_s: f64,
     pub ki_per_s2: f64,
@@ -354,7 +318,7 @@ pub struct VehicleData {
     pub rear: Axle,
     pub stop_table: StopTable,
     pub wheel: WheelBody,
-    pub tire: Tire,
+    pub tire: TireParams,
     pub speed_hold: SpeedHold,
     /// Where the car rides (docs/physics.md §8.1): `retuned` (the default, the paper's choice for the
     /// HMMWV) sets the spring free lengths so that the design position is the static equilibrium; `data`
@@ -466,228 +430,21 @@ impl VehicleData {
         [("front", &self.front), ("rear", &self.rear)]
     }
 
+    /// Every check of the data, in this order (the first failing one is the error): gravity, chassis,
+    /// steering, driver, each axle, stop table, wheel, tire, speed hold.
     pub fn validate(&self) -> Result<(), DataError> {
         positive("gravity_m_s2", self.gravity_m_s2)?;
-        positive("chassis.mass_kg", self.chassis.mass_kg)?;
-        finite3("chassis.com_m", &self.chassis.com_m)?;
-        pos_def(
-            "chassis.inertia",
-            &RigidBody {
-                mass_kg: self.chassis.mass_kg,
-                inertia_moments_kg_m2: self.chassis.inertia_moments_kg_m2,
-                inertia_products_kg_m2: self.chassis.inertia_products_kg_m2,
-            },
-        )?;
-        match (&self.rack, &self.pitman_arm) {
-            (Some(rack), None) => {
-                positive("rack.mass_kg", rack.mass_kg)?;
-                positive("rack.travel_limit_m", rack.travel_limit_m)?;
-                finite3("rack.com_m", &rack.com_m)?;
-                pos_def(
-                    "rack.inertia",
-                    &RigidBody {
-                        mass_kg: rack.mass_kg,
-                        inertia_moments_kg_m2: rack.inertia_moments_kg_m2,
-                        inertia_products_kg_m2: rack.inertia_products_kg_m2,
-                    },
-                )?;
-            }
-            (None, Some(p)) => {
-                for (body, b) in [("pitman_arm.arm", &p.arm), ("pitman_arm.link", &p.link)] {
-                    positive(&format!("{body}.mass_kg"), b.mass_kg)?;
-                    pos_def(&format!("{body}.inertia"), b)?;
-                }
-                for (k, v) in [
-                    ("arm_com_m", &p.arm_com_m),
-                    ("link_com_m", &p.link_com_m),
-                    ("arm_pivot_m", &p.arm_pivot_m),
-                    ("arm_link_joint_m", &p.arm_link_joint_m),
-                    ("idler_pivot_m", &p.idler_pivot_m),
-                    ("idler_link_joint_m", &p.idler_link_joint_m),
-                ] {
-                    finite3(&format!("pitman_arm.{k}"), v)?;
-                }
-                for (k, v) in [("arm_axis", &p.arm_axis), ("idler_axis", &p.idler_axis)] {
-                    finite3(&format!("pitman_arm.{k}"), v)?;
-                    if Vector3::from(*v).norm() < 1e-9 {
-                        return Err(err(format!("pitman_arm.{k}"), "axis direction of zero length"));
-                    }
-                }
-                positive("pitman_arm.max_angle_rad", p.max_angle_rad)?;
-                if p.max_angle_rad >= std::f64::consts::FRAC_PI_2 {
-                    return Err(err("pitman_arm.max_angle_rad", "must be below π/2 (90°)"));
-                }
-            }
-            (Some(_), Some(_)) => {
-                return Err(err("rack", "a vehicle has one steering: give either `rack` or `pitman_arm`, not both"))
-            }
-            (None, None) => return Err(err("rack", "missing steering: give `rack` (rack and pinion) or `pitman_arm`")),
-        }
+        check_chassis(&self.chassis)?;
+        check_steering(self.rack.as_ref(), self.pitman_arm.as_ref())?;
         if let Some(d) = &self.driver_position_m {
             finite3("driver_position_m", d)?;
         }
         for (name, axle) in self.axles() {
-            for p in axle.template.hardpoints() {
-                let v = axle
-                    .hardpoints_chassis_frame_m
-                    .get(*p)
-                    .ok_or_else(|| err(format!("{name}.hardpoints_chassis_frame_m.{p}"), "missing hardpoint"))?;
-                finite3(&format!("{name}.hardpoints_chassis_frame_m.{p}"), v)?;
-            }
-            for (k, v) in &axle.hardpoints_chassis_frame_m {
-                if !axle.template.hardpoints().contains(&k.as_str()) {
-                    return Err(err(
-                        format!("{name}.hardpoints_chassis_frame_m.{k}"),
-                        format!(
-                            "not a hardpoint of the {} template (it has: {})",
-                            axle.template.name(),
-                            axle.template.hardpoints().join(", ")
-                        ),
-                    ));
-                }
-                finite3(&format!("{name}.hardpoints_chassis_frame_m.{k}"), v)?;
-            }
-            match axle.template {
-                SuspensionTemplate::DoubleWishbone => {
-                    if axle.upper_arm.is_none() {
-                        return Err(err(format!("{name}.upper_arm"), "missing: a double wishbone has an upper arm"));
-                    }
-                    if axle.strut.is_some() {
-                        return Err(err(format!("{name}.strut"), "a double wishbone has no strut body"));
-                    }
-                }
-                SuspensionTemplate::MacphersonStrut => {
-                    if axle.upper_arm.is_some() {
-                        return Err(err(format!("{name}.upper_arm"), "a MacPherson strut has no upper arm"));
-                    }
-                }
-            }
-            let mut bodies =
-                vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
-            if let Some(b) = &axle.upper_arm {
-                bodies.push(("upper_arm", b));
-            }
-            if let Some(b) = &axle.strut {
-                bodies.push(("strut", b));
-            }
-            for (body, b) in bodies {
-                positive(&format!("{name}.{body}.mass_kg"), b.mass_kg)?;
-                pos_def(&format!("{name}.{body}.inertia"), b)?;
-            }
-            nonneg(&format!("{name}.axle_shaft_spin_inertia_kg_m2"), axle.axle_shaft_spin_inertia_kg_m2)?;
-            let s = &axle.spring;
-            positive(&format!("{name}.spring.free_length_m"), s.free_length_m)?;
-            match (&s.curve, s.k1_N_per_m, s.k3_N_per_m3) {
-                (None, Some(k1), Some(k3)) => {
-                    nonneg(&format!("{name}.spring.k1_N_per_m"), k1)?;
-                    nonneg(&format!("{name}.spring.k3_N_per_m3"), k3)?;
-                }
-                (None, k1, _) => {
-                    let missing = if k1.is_none() { "k1_N_per_m" } else { "k3_N_per_m3" };
-                    return Err(err(
-                        format!("{name}.spring.{missing}"),
-                        "missing: give k1_N_per_m and k3_N_per_m3, or a curve",
-                    ));
-                }
-                (Some(c), None, None) => check_spring_curve(&format!("{name}.spring.curve"), c)?,
-                (Some(_), _, _) => {
-                    return Err(err(
-                        format!("{name}.spring.curve"),
-                        "give either the cubic (k1_N_per_m, k3_N_per_m3) or a curve, not both",
-                    ));
-                }
-            }
-            // Absent stops are ∓∞ (serde defaults); a given one must be a positive length.
-            let stop_ok = |v: f64| v.is_infinite() || (v.is_finite() && v > 0.0);
-            if !(stop_ok(s.stop_min_length_m)
-                && stop_ok(s.stop_max_length_m)
-                && s.stop_min_length_m < s.stop_max_length_m
-                && s.stop_min_length_m != f64::INFINITY
-                && s.stop_max_length_m != f64::NEG_INFINITY)
-            {
-                return Err(err(
-                    format!("{name}.spring.stop_min_length_m"),
-                    "stop lengths must satisfy 0 < stop_min_length_m < stop_max_length_m",
-                ));
-            }
-            let d = &axle.damper;
-            for (k, v) in [
-                ("midstroke_compression_Ns_per_m", d.midstroke_compression_Ns_per_m),
-                ("midstroke_rebound_Ns_per_m", d.midstroke_rebound_Ns_per_m),
-                ("bumpstop_compression_Ns_per_m", d.bumpstop_compression_Ns_per_m),
-                ("bumpstop_rebound_Ns_per_m", d.bumpstop_rebound_Ns_per_m),
-            ] {
-                nonneg(&format!("{name}.damper.{k}"), v)?;
-            }
-            if !(d.engagement_min_length_m < d.engagement_max_length_m) {
-                return Err(err(
-                    format!("{name}.damper.engagement_min_length_m"),
-                    "must be below engagement_max_length_m",
-                ));
-            }
-            if let Some(bar) = &axle.antiroll_bar {
-                check_antiroll_bar(&format!("{name}.antiroll_bar"), bar)?;
-            }
-            for (k, v) in [("static_camber_deg", axle.static_camber_deg), ("static_toe_deg", axle.static_toe_deg)] {
-                if !(v.abs() <= MAX_STATIC_ANGLE_DEG) {
-                    return Err(err(
-                        format!("{name}.{k}"),
-                        format!("{v}° is beyond ±{MAX_STATIC_ANGLE_DEG}° (an alignment angle, in degrees)"),
-                    ));
-                }
-            }
+            check_axle(name, axle)?;
         }
-        let t = &self.stop_table;
-        if t.deflection_m.len() != t.force_N.len() || t.deflection_m.len() < 2 {
-            return Err(err("stop_table", "deflection_m and force_N must have the same length, at least 2"));
-        }
-        if t.deflection_m.windows(2).any(|w| !(w[1] > w[0])) || t.deflection_m[0] != 0.0 {
-            return Err(err("stop_table.deflection_m", "must start at 0 and increase strictly"));
-        }
-        if t.force_N.windows(2).any(|w| w[1] < w[0]) || t.force_N[0] != 0.0 {
-            return Err(err("stop_table.force_N", "must start at 0 and never decrease"));
-        }
-        positive("wheel.mass_kg", self.wheel.mass_kg)?;
-        for (i, v) in self.wheel.inertia_kg_m2.iter().enumerate() {
-            positive(&format!("wheel.inertia_kg_m2[{i}]"), *v)?;
-        }
-        let tire = &self.tire;
-        positive("tire.mass_kg", tire.mass_kg)?;
-        for (i, v) in tire.inertia_kg_m2.iter().enumerate() {
-            positive(&format!("tire.inertia_kg_m2[{i}]"), *v)?;
-        }
-        positive("tire.unloaded_radius_m", tire.unloaded_radius_m)?;
-        positive("tire.vertical_stiffness_N_per_m", tire.vertical_stiffness_N_per_m)?;
-        nonneg("tire.vertical_stiffness2_N_per_m2", tire.vertical_stiffness2_N_per_m2)?;
-        nonneg("tire.vertical_damping_Ns_per_m", tire.vertical_damping_Ns_per_m)?;
-        nonneg("tire.rolling_resistance", tire.rolling_resistance)?;
-        positive("tire.relaxation_length_x_m", tire.relaxation_length_x_m)?;
-        positive("tire.relaxation_length_y_m", tire.relaxation_length_y_m)?;
-        positive("tire.v_min_m_s", tire.v_min_m_s)?;
-        let [v_lo, v_hi] = tire.low_speed_blend_m_s;
-        positive("tire.low_speed_blend_m_s[0]", v_lo)?;
-        if !(v_hi > v_lo && v_hi.is_finite()) {
-            return Err(err("tire.low_speed_blend_m_s", "must be two increasing finite speeds, the first positive"));
-        }
-        nonneg("tire.low_speed_damping_Ns_per_m", tire.low_speed_damping_Ns_per_m)?;
-        let sti = &tire.sti;
-        positive("tire.sti.a1", sti.a1)?;
-        positive("tire.sti.a2_N", sti.a2_N)?;
-        positive("tire.sti.cs", sti.cs)?;
-        positive("tire.sti.mu0", sti.mu0)?;
-        for (k, v) in [
-            ("a0", sti.a0),
-            ("k_mu", sti.k_mu),
-            ("k_a", sti.k_a),
-            ("c1", sti.c1),
-            ("c2", sti.c2),
-            ("c3", sti.c3),
-            ("c4", sti.c4),
-            ("c_gamma_per_rad", sti.c_gamma_per_rad),
-            ("trail_m", sti.trail_m),
-        ] {
-            finite(&format!("tire.sti.{k}"), v)?;
-        }
+        check_stop_table(&self.stop_table)?;
+        check_wheel(&self.wheel)?;
+        check_tire(&self.tire)?;
         nonneg("speed_hold.kp_per_s", self.speed_hold.kp_per_s)?;
         nonneg("speed_hold.ki_per_s2", self.speed_hold.ki_per_s2)?;
         Ok(())
@@ -766,11 +523,7 @@ impl VehicleData {
 
     /// The sprung body's mass and inertia about `sprung_com` (chassis axes).
     pub fn sprung_inertia(&self) -> (f64, Matrix3<f64>) {
-        let chassis = RigidBody {
-            mass_kg: self.chassis.mass_kg,
-            inertia_moments_kg_m2: self.chassis.inertia_moments_kg_m2,
-            inertia_products_kg_m2: self.chassis.inertia_products_kg_m2,
-        };
+        let chassis = self.chassis.body();
         let carried = self.carried_bodies();
         if carried.is_empty() {
             return (chassis.mass_kg, chassis.inertia());
@@ -807,6 +560,257 @@ impl VehicleData {
     pub fn point(axle: &Axle, name: &str) -> Vector3<f64> {
         Vector3::from(axle.hardpoints_chassis_frame_m[name])
     }
+}
+
+// The steps of `VehicleData::validate`, one part of the vehicle each.
+
+fn check_chassis(c: &Chassis) -> Result<(), DataError> {
+    positive("chassis.mass_kg", c.mass_kg)?;
+    finite3("chassis.com_m", &c.com_m)?;
+    pos_def("chassis.inertia", &c.body())
+}
+
+/// Exactly one steering, a rack or a Pitman arm, and its data.
+fn check_steering(rack: Option<&Rack>, pitman_arm: Option<&PitmanArm>) -> Result<(), DataError> {
+    match (rack, pitman_arm) {
+        (Some(rack), None) => check_rack(rack),
+        (None, Some(p)) => check_pitman_arm(p),
+        (Some(_), Some(_)) => {
+            Err(err("rack", "a vehicle has one steering: give either `rack` or `pitman_arm`, not both"))
+        }
+        (None, None) => Err(err("rack", "missing steering: give `rack` (rack and pinion) or `pitman_arm`")),
+    }
+}
+
+fn check_rack(rack: &Rack) -> Result<(), DataError> {
+    positive("rack.mass_kg", rack.mass_kg)?;
+    positive("rack.travel_limit_m", rack.travel_limit_m)?;
+    finite3("rack.com_m", &rack.com_m)?;
+    pos_def("rack.inertia", &rack.body())
+}
+
+fn check_pitman_arm(p: &PitmanArm) -> Result<(), DataError> {
+    for (body, b) in [("pitman_arm.arm", &p.arm), ("pitman_arm.link", &p.link)] {
+        positive(&format!("{body}.mass_kg"), b.mass_kg)?;
+        pos_def(&format!("{body}.inertia"), b)?;
+    }
+    for (k, v) in [
+        ("arm_com_m", &p.arm_com_m),
+        ("link_com_m", &p.link_com_m),
+        ("arm_pivot_m", &p.arm_pivot_m),
+        ("arm_link_joint_m", &p.arm_link_joint_m),
+        ("idler_pivot_m", &p.idler_pivot_m),
+        ("idler_link_joint_m", &p.idler_link_joint_m),
+    ] {
+        finite3(&format!("pitman_arm.{k}"), v)?;
+    }
+    for (k, v) in [("arm_axis", &p.arm_axis), ("idler_axis", &p.idler_axis)] {
+        finite3(&format!("pitman_arm.{k}"), v)?;
+        if Vector3::from(*v).norm() < 1e-9 {
+            return Err(err(format!("pitman_arm.{k}"), "axis direction of zero length"));
+        }
+    }
+    positive("pitman_arm.max_angle_rad", p.max_angle_rad)?;
+    if p.max_angle_rad >= std::f64::consts::FRAC_PI_2 {
+        return Err(err("pitman_arm.max_angle_rad", "must be below π/2 (90°)"));
+    }
+    Ok(())
+}
+
+/// One axle (`name`: front or rear): its hardpoints, bodies, shaft, spring, damper, bar and alignment.
+fn check_axle(name: &str, axle: &Axle) -> Result<(), DataError> {
+    check_hardpoints(name, axle)?;
+    check_suspension_bodies(name, axle)?;
+    nonneg(&format!("{name}.axle_shaft_spin_inertia_kg_m2"), axle.axle_shaft_spin_inertia_kg_m2)?;
+    check_spring(&format!("{name}.spring"), &axle.spring)?;
+    check_damper(&format!("{name}.damper"), &axle.damper)?;
+    if let Some(bar) = &axle.antiroll_bar {
+        check_antiroll_bar(&format!("{name}.antiroll_bar"), bar)?;
+    }
+    check_alignment(name, axle)
+}
+
+/// Every hardpoint of the axle's template given and finite, and no other.
+fn check_hardpoints(name: &str, axle: &Axle) -> Result<(), DataError> {
+    let field = |p: &str| format!("{name}.hardpoints_chassis_frame_m.{p}");
+    let template = axle.template.hardpoints();
+    for p in template {
+        let v = axle.hardpoints_chassis_frame_m.get(*p).ok_or_else(|| err(field(p), "missing hardpoint"))?;
+        finite3(&field(p), v)?;
+    }
+    for (k, v) in &axle.hardpoints_chassis_frame_m {
+        if !template.contains(&k.as_str()) {
+            return Err(err(
+                field(k),
+                format!("not a hardpoint of the {} template (it has: {})", axle.template.name(), template.join(", ")),
+            ));
+        }
+        finite3(&field(k), v)?;
+    }
+    Ok(())
+}
+
+/// The bodies the template has (an upper arm for a double wishbone, none for a MacPherson strut; a strut
+/// body only for the latter), each with a positive mass and a positive definite inertia.
+fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
+    match axle.template {
+        SuspensionTemplate::DoubleWishbone => {
+            if axle.upper_arm.is_none() {
+                return Err(err(format!("{name}.upper_arm"), "missing: a double wishbone has an upper arm"));
+            }
+            if axle.strut.is_some() {
+                return Err(err(format!("{name}.strut"), "a double wishbone has no strut body"));
+            }
+        }
+        SuspensionTemplate::MacphersonStrut => {
+            if axle.upper_arm.is_some() {
+                return Err(err(format!("{name}.upper_arm"), "a MacPherson strut has no upper arm"));
+            }
+        }
+    }
+    let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
+    if let Some(b) = &axle.upper_arm {
+        bodies.push(("upper_arm", b));
+    }
+    if let Some(b) = &axle.strut {
+        bodies.push(("strut", b));
+    }
+    for (body, b) in bodies {
+        positive(&format!("{name}.{body}.mass_kg"), b.mass_kg)?;
+        pos_def(&format!("{name}.{body}.inertia"), b)?;
+    }
+    Ok(())
+}
+
+/// The spring (`field`, e.g. `front.spring`): its free length, its law (the cubic or a curve, exactly one)
+/// and its stops.
+fn check_spring(field: &str, s: &Spring) -> Result<(), DataError> {
+    positive(&format!("{field}.free_length_m"), s.free_length_m)?;
+    match (&s.curve, s.k1_N_per_m, s.k3_N_per_m3) {
+        (None, Some(k1), Some(k3)) => {
+            nonneg(&format!("{field}.k1_N_per_m"), k1)?;
+            nonneg(&format!("{field}.k3_N_per_m3"), k3)?;
+        }
+        (None, k1, _) => {
+            let missing = if k1.is_none() { "k1_N_per_m" } else { "k3_N_per_m3" };
+            return Err(err(format!("{field}.{missing}"), "missing: give k1_N_per_m and k3_N_per_m3, or a curve"));
+        }
+        (Some(c), None, None) => check_spring_curve(&format!("{field}.curve"), c)?,
+        (Some(_), _, _) => {
+            return Err(err(
+                format!("{field}.curve"),
+                "give either the cubic (k1_N_per_m, k3_N_per_m3) or a curve, not both",
+            ));
+        }
+    }
+    // Absent stops are ∓∞ (serde defaults); a given one must be a positive length.
+    let stop_ok = |v: f64| v.is_infinite() || (v.is_finite() && v > 0.0);
+    if !(stop_ok(s.stop_min_length_m)
+        && stop_ok(s.stop_max_length_m)
+        && s.stop_min_length_m < s.stop_max_length_m
+        && s.stop_min_length_m != f64::INFINITY
+        && s.stop_max_length_m != f64::NEG_INFINITY)
+    {
+        return Err(err(
+            format!("{field}.stop_min_length_m"),
+            "stop lengths must satisfy 0 < stop_min_length_m < stop_max_length_m",
+        ));
+    }
+    Ok(())
+}
+
+/// The damper (`field`, e.g. `front.damper`): its rates and its engagement lengths.
+fn check_damper(field: &str, d: &Damper) -> Result<(), DataError> {
+    for (k, v) in [
+        ("midstroke_compression_Ns_per_m", d.midstroke_compression_Ns_per_m),
+        ("midstroke_rebound_Ns_per_m", d.midstroke_rebound_Ns_per_m),
+        ("bumpstop_compression_Ns_per_m", d.bumpstop_compression_Ns_per_m),
+        ("bumpstop_rebound_Ns_per_m", d.bumpstop_rebound_Ns_per_m),
+    ] {
+        nonneg(&format!("{field}.{k}"), v)?;
+    }
+    if !(d.engagement_min_length_m < d.engagement_max_length_m) {
+        return Err(err(format!("{field}.engagement_min_length_m"), "must be below engagement_max_length_m"));
+    }
+    Ok(())
+}
+
+/// The static camber and toe, within ±`MAX_STATIC_ANGLE_DEG`.
+fn check_alignment(name: &str, axle: &Axle) -> Result<(), DataError> {
+    for (k, v) in [("static_camber_deg", axle.static_camber_deg), ("static_toe_deg", axle.static_toe_deg)] {
+        if !(v.abs() <= MAX_STATIC_ANGLE_DEG) {
+            return Err(err(
+                format!("{name}.{k}"),
+                format!("{v}° is beyond ±{MAX_STATIC_ANGLE_DEG}° (an alignment angle, in degrees)"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn check_stop_table(t: &StopTable) -> Result<(), DataError> {
+    if t.deflection_m.len() != t.force_N.len() || t.deflection_m.len() < 2 {
+        return Err(err("stop_table", "deflection_m and force_N must have the same length, at least 2"));
+    }
+    if t.deflection_m.windows(2).any(|w| !(w[1] > w[0])) || t.deflection_m[0] != 0.0 {
+        return Err(err("stop_table.deflection_m", "must start at 0 and increase strictly"));
+    }
+    if t.force_N.windows(2).any(|w| w[1] < w[0]) || t.force_N[0] != 0.0 {
+        return Err(err("stop_table.force_N", "must start at 0 and never decrease"));
+    }
+    Ok(())
+}
+
+fn check_wheel(wheel: &WheelBody) -> Result<(), DataError> {
+    positive("wheel.mass_kg", wheel.mass_kg)?;
+    for (i, v) in wheel.inertia_kg_m2.iter().enumerate() {
+        positive(&format!("wheel.inertia_kg_m2[{i}]"), *v)?;
+    }
+    Ok(())
+}
+
+/// The tire's body, vertical law, relaxation, low-speed blend and its STI coefficients.
+fn check_tire(tire: &TireParams) -> Result<(), DataError> {
+    positive("tire.mass_kg", tire.mass_kg)?;
+    for (i, v) in tire.inertia_kg_m2.iter().enumerate() {
+        positive(&format!("tire.inertia_kg_m2[{i}]"), *v)?;
+    }
+    positive("tire.unloaded_radius_m", tire.unloaded_radius_m)?;
+    positive("tire.vertical_stiffness_N_per_m", tire.vertical_stiffness_N_per_m)?;
+    nonneg("tire.vertical_stiffness2_N_per_m2", tire.vertical_stiffness2_N_per_m2)?;
+    nonneg("tire.vertical_damping_Ns_per_m", tire.vertical_damping_Ns_per_m)?;
+    nonneg("tire.rolling_resistance", tire.rolling_resistance)?;
+    positive("tire.relaxation_length_x_m", tire.relaxation_length_x_m)?;
+    positive("tire.relaxation_length_y_m", tire.relaxation_length_y_m)?;
+    positive("tire.v_min_m_s", tire.v_min_m_s)?;
+    let [v_lo, v_hi] = tire.low_speed_blend_m_s;
+    positive("tire.low_speed_blend_m_s[0]", v_lo)?;
+    if !(v_hi > v_lo && v_hi.is_finite()) {
+        return Err(err("tire.low_speed_blend_m_s", "must be two increasing finite speeds, the first positive"));
+    }
+    nonneg("tire.low_speed_damping_Ns_per_m", tire.low_speed_damping_Ns_per_m)?;
+    check_sti(&tire.sti)
+}
+
+fn check_sti(sti: &StiCoefficients) -> Result<(), DataError> {
+    positive("tire.sti.a1", sti.a1)?;
+    positive("tire.sti.a2_N", sti.a2_N)?;
+    positive("tire.sti.cs", sti.cs)?;
+    positive("tire.sti.mu0", sti.mu0)?;
+    for (k, v) in [
+        ("a0", sti.a0),
+        ("k_mu", sti.k_mu),
+        ("k_a", sti.k_a),
+        ("c1", sti.c1),
+        ("c2", sti.c2),
+        ("c3", sti.c3),
+        ("c4", sti.c4),
+        ("c_gamma_per_rad", sti.c_gamma_per_rad),
+        ("trail_m", sti.trail_m),
+    ] {
+        finite(&format!("tire.sti.{k}"), v)?;
+    }
+    Ok(())
 }
 
 fn finite(field: &str, v: f64) -> Result<(), DataError> {

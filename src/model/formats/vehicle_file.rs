@@ -232,3 +232,13 @@ impl VehicleData {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    /// The tire tests read the HMMWV's tire straight from its file (`tire::hmmwv_tire`, below the loader); the
+    /// loader must give the same tire, else those tests would test another tire than the shipped vehicle's.
+    #[test]
+    fn the_tire_tests_read_the_shipped_hmmwv_tire() {
+        assert_eq!(crate::model::tire::hmmwv_tire(), super::VehicleData::default_hmmwv().tire);
+    }
+}

@@ -4,7 +4,7 @@
 use super::RackMotion;
 use crate::dynamics::body::{body_force, lin, mass_hat, wrench};
 use crate::math::{Axes, M3, V3};
-use crate::model::formats::params::{RigidBody, SteeringInput, VehicleData};
+use crate::model::formats::params::{SteeringInput, VehicleData};
 use crate::model::suspension::BodyInertia;
 use nalgebra::{Matrix6, Vector6};
 use serde::{Deserialize, Serialize};
@@ -29,11 +29,7 @@ impl Steering {
         let c0 = data.sprung_com();
         match &data.rack {
             Some(r) => {
-                let inertia = RigidBody {
-                    mass_kg: r.mass_kg,
-                    inertia_moments_kg_m2: r.inertia_moments_kg_m2,
-                    inertia_products_kg_m2: r.inertia_products_kg_m2,
-                };
+                let inertia = r.body();
                 let com = V3::from(r.com_m) - c0;
                 Steering {
                     input: SteeringInput::RackDisplacement,

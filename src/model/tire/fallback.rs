@@ -30,11 +30,11 @@ pub fn linear_friction_circle_forces(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::formats::params::VehicleData;
+    use crate::model::tire::params::hmmwv_tire;
 
     #[test]
     fn linear_is_the_stiffness_times_the_slip() {
-        let p = VehicleData::default_hmmwv().tire;
+        let p = hmmwv_tire();
         let f = linear_forces(&p, 6300.0, 0.5, 0.3);
         assert!((f.fx - p.sti.cs * 6300.0 * 0.5).abs() < 1e-9);
         assert!((f.fy - slip_stiffness(&p, 6300.0)[1] * 0.3).abs() < 1e-9);
@@ -43,7 +43,7 @@ mod tests {
 
     #[test]
     fn friction_circle_caps_the_resultant_and_keeps_its_direction() {
-        let p = VehicleData::default_hmmwv().tire;
+        let p = hmmwv_tire();
         let fz = 6300.0;
         // Small slip: inside the circle, unchanged.
         assert_eq!(linear_friction_circle_forces(&p, fz, 0.001, 0.001, 1.0), linear_forces(&p, fz, 0.001, 0.001));

@@ -16,14 +16,17 @@ use serde::{Deserialize, Serialize};
 mod fallback;
 mod geometry;
 pub mod magic_formula;
+mod params;
 mod slip;
 pub mod sti;
 pub mod tmeasy;
 
-pub use crate::model::formats::params::Tire as TireParams;
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
 pub use magic_formula::{CombinedSlip, Evaluation, MagicFormula, MomentForms, TireSide};
+#[cfg(test)]
+pub(crate) use params::hmmwv_tire;
+pub use params::{StiCoefficients, TireParams};
 pub use slip::{
     damped_slip, effective_rolling_radius, low_speed_blend, penetration_rate, reference_speed, relaxation_rates,
     sliding_limits, slip_velocities, steady_slip, SlipStateContext, SlipVelocities, DAHL_SLIP_SPEED_M_S,
@@ -359,11 +362,11 @@ pub fn rolling_resistance_moment(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::formats::params::VehicleData;
     use crate::model::road::RoadModel;
+    use crate::model::tire::params::hmmwv_tire;
 
     fn params() -> TireParams {
-        VehicleData::default_hmmwv().tire
+        hmmwv_tire()
     }
 
     #[test]

@@ -156,10 +156,10 @@ pub fn relaxation_rates(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::formats::params::VehicleData;
+    use crate::model::tire::params::hmmwv_tire;
 
     fn params() -> TireParams {
-        VehicleData::default_hmmwv().tire
+        hmmwv_tire()
     }
 
     /// Rolling above the blend, in contact (limits unused there).

@@ -123,10 +123,10 @@ pub const REFERENCE: [([f64; 4], [f64; 3]); 8] = [
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::formats::params::VehicleData;
+    use crate::model::tire::params::hmmwv_tire;
 
     fn params() -> TireParams {
-        VehicleData::default_hmmwv().tire
+        hmmwv_tire()
     }
 
     /// Relative error of each component; exact zeros in the table must be zero to 1e-9 of the load.

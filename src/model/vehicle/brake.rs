@@ -1,4 +1,5 @@
-//! Wheel brake (docs/physics.md §5.5): a friction clamp of a given capacity between the wheel and its carrier.
+//! Wheel brake (docs/physics.md §5.5): a friction clamp of a given capacity between the wheel and its carrier;
+//! its stage of the evaluation (`brake_stage`) follows the tire's.
 //!
 //! A brake either holds the wheel to its carrier or slips at its capacity. The old law, capacity ×
 //! tanh(Ω_rel / 0.5 rad/s), made "holding" a viscous coupling of slope capacity/0.5 rad/s: a stiff
@@ -38,6 +39,30 @@ pub fn torque(capacity: f64, demand: f64) -> f64 {
 /// The holding demand T* for a wheel of spin inertia `spin_inertia` at relative spin `spin_rel`.
 pub fn demand(other_torque: f64, spin_inertia: f64, spin_rel: f64) -> f64 {
     other_torque + spin_inertia * spin_rel / STICK_TIME_S
+}
+
+/// The brake stage: each brake between its wheel and carrier holds the relative spin within its capacity.
+impl super::Vehicle {
+    /// Adds each brake's torque to its carrier's wrench and takes it out of the wheel's spin torque
+    /// (`assembly.spin_torque`, which the tire stage left as the drive and tire torques).
+    #[inline(always)]
+    pub(super) fn brake_stage(&self, inputs: &super::Inputs, ws: &mut super::Workspace) {
+        for i in 0..4 {
+            self.corner_brake(i, inputs, ws);
+        }
+    }
+
+    /// The brake stage for corner i alone.
+    #[inline(always)]
+    pub(super) fn corner_brake(&self, i: usize, inputs: &super::Inputs, ws: &mut super::Workspace) {
+        let super::Workspace { kinematics, wrenches, assembly, diagnostics, .. } = ws;
+        let free_torque = assembly.spin_torque[i];
+        let spin_rel = diagnostics.wheel_spin_relative[i];
+        let brake = torque(inputs.brake[i], demand(free_torque, self.corners[i].spin_inertia, spin_rel));
+        let axle = kinematics[i].axle;
+        wrenches[i].bodies[super::BODY_K] += crate::dynamics::body::wrench(&crate::math::V3::zeros(), &(axle * brake));
+        assembly.spin_torque[i] = free_torque - brake;
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,178 @@
+//! The kinematics stages (§3.3–§3.4): each corner's dependent coordinates by Newton (positions), then q̇, γ̄
+//! and its bodies' velocity-state kinematics (velocities). Written into `Workspace::{positions, kinematics}`.
+
+use super::{idx, Vehicle, WarmStart, Workspace, CORNERS};
+use crate::dynamics::body::{ang, lin, wrench};
+use crate::error::{Cause, ModelError};
+use crate::math::{skew, Axes, ChassisAxes, M3, V3};
+use crate::model::suspension::{CornerPositions, Vector5f};
+use nalgebra::{SMatrix, Vector6};
+
+impl Vehicle {
+    /// Solve the dependent coordinates of every corner into `cache.positions` (in place) from the warm
+    /// starts, and update the warm starts.
+    #[inline(always)]
+    pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut Workspace) -> Result<(), ModelError> {
+        for i in 0..4 {
+            self.solve_corner(i, x, rack_u, cache)?;
+        }
+        Ok(())
+    }
+
+    /// `solve_corners` for corner i alone (also the step check's corner-local evaluation, `wheel_columns.rs`).
+    #[inline(always)]
+    pub(super) fn solve_corner(
+        &self,
+        i: usize,
+        x: &[f64],
+        rack_u: f64,
+        cache: &mut Workspace,
+    ) -> Result<(), ModelError> {
+        let s = self.rack_translation(i, rack_u);
+        let c = &self.corners[i];
+        let u = x[idx::U + i];
+        let guess = cache.corners[i].predict(u, s);
+        let p = &mut cache.positions[i];
+        c.solve_positions_into(u, s, &guess, p)
+            .map_err(|e| ModelError::new(Cause::MechanismRange, format!("corner {}: {e}", CORNERS[i])))?;
+        // The tangent of the constraint manifold at the solution: the next solve's start.
+        cache.corners[i] =
+            WarmStart { v: [p.q[1], p.q[2], p.q[3], p.q[4]], u, s, dv_du: p.dv_du.into(), dv_ds: p.dv_ds.into() };
+        Ok(())
+    }
+
+    /// The velocity stage: each corner's q̇ (from θ̇_L and the rack's ṡ) and γ̄ (into its terms), and its
+    /// bodies' velocity-state kinematics B, D, Y (`Workspace::kinematics`), in the chassis axes; the Newton
+    /// diagnostics of the positions.
+    #[inline(always)]
+    pub(super) fn velocity_stage(&self, x: &[f64], ws: &mut Workspace) {
+        for i in 0..4 {
+            self.corner_velocity(i, x, ws);
+        }
+    }
+
+    /// The velocity stage for corner i alone.
+    #[inline(always)]
+    pub(super) fn corner_velocity(&self, i: usize, x: &[f64], ws: &mut Workspace) {
+        let Workspace { positions, kinematics, assembly, diagnostics, chassis, rack, .. } = ws;
+        let c = &self.corners[i];
+        let pos = &positions[i];
+        let s_i = if c.steered() { rack.velocity } else { 0.0 };
+        let sdd_i = if c.steered() { rack.acceleration } else { 0.0 };
+        let qd = c.velocities(pos, x[idx::UD + i], s_i);
+        assembly.terms[i].gamma_bar = c.gamma_bar(pos, &qd, s_i, sdd_i);
+        diagnostics.max_residual = diagnostics.max_residual.max(pos.residual);
+        diagnostics.newton_iterations += pos.iterations;
+        kinematics[i] = self.corner_kinematics(i, pos, &qd, &ChassisAxes, &chassis.y0);
+    }
+}
+
+pub const BODY_L: usize = 0;
+pub const BODY_K: usize = 1;
+pub const BODY_U: usize = 2;
+
+/// Kinematics of the three bodies of one corner (origin at the chassis CM, in the axes `corner_kinematics`
+/// is given), in the order lower arm, carrier, upper arm: Y_b = Y0 + 𝔅_b q̇, Ẏ_b = Ẏ0 + 𝔅_b q̈ + 𝔇_b (§3.4).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CornerKinematics {
+    /// The non-zero columns of the joint Jacobians 𝔅_b (6×5): 𝔅_L = [b_L 0 0 0 0], 𝔅_K = [b_L B_K 0],
+    /// 𝔅_U = [0 0 0 0 b_U] (`jacobian(b)` builds them whole).
+    pub b_l: Vector6<f64>,
+    pub b_k: SMatrix<f64, 6, 3>,
+    pub b_u: Vector6<f64>,
+    pub rate: [Vector6<f64>; 3],
+    pub velocity: [Vector6<f64>; 3],
+    pub mass: [f64; 3],
+    pub com: [V3; 3],
+    pub inertia: [M3; 3],
+    pub axle: V3,
+    pub wheel_centre: V3,
+}
+
+impl CornerKinematics {
+    /// 𝔅_b as a dense 6×5 matrix (for tests and diagnostics; the terms use the columns).
+    pub fn jacobian(&self, b: usize) -> SMatrix<f64, 6, 5> {
+        let mut m = SMatrix::<f64, 6, 5>::zeros();
+        match b {
+            BODY_L => m.set_column(0, &self.b_l),
+            BODY_K => {
+                m.set_column(0, &self.b_l);
+                m.fixed_view_mut::<6, 3>(0, 1).copy_from(&self.b_k);
+            }
+            _ => m.set_column(4, &self.b_u),
+        }
+        m
+    }
+}
+
+impl Vehicle {
+    /// The corner's kinematics in the `axes` (the evaluation's: `ChassisAxes`; ground: A0), with the chassis
+    /// velocity state `y0` in the same axes.
+    #[inline(always)]
+    pub fn corner_kinematics(
+        &self,
+        i: usize,
+        pos: &CornerPositions,
+        qd: &Vector5f,
+        axes: &impl Axes,
+        y0: &Vector6<f64>,
+    ) -> CornerKinematics {
+        let c = &self.corners[i];
+        let (v0, w0) = (lin(y0), ang(y0));
+        let phid = V3::new(qd[1], qd[2], qd[3]);
+        // Joint velocity matrices: revolute B = [ρ_p × h; h], spherical B_K = [ρ̃_b; I] A_L G.
+        // The body of q[4]: the upper arm's revolute, or (the strut slide) no body: B_U = 0, D_U = 0.
+        let (p_u, h_u) = c.upper_revolute().unwrap_or((V3::zeros(), V3::zeros()));
+        let h_l = axes.vector(&c.h_l);
+        let h_u = axes.vector(&h_u);
+        let rho_pl = axes.vector(&c.p_l);
+        let rho_pu = axes.vector(&p_u);
+        let rho_b = axes.vector(&pos.b);
+        let a_l_g = axes.matrix(&pos.rl_g);
+        let b_l = wrench(&rho_pl.cross(&h_l), &h_l);
+        let b_u = wrench(&rho_pu.cross(&h_u), &h_u);
+        let mut b_k = SMatrix::<f64, 6, 3>::zeros();
+        b_k.fixed_view_mut::<3, 3>(0, 0).copy_from(&(skew(&rho_b) * a_l_g));
+        b_k.fixed_view_mut::<3, 3>(3, 0).copy_from(&a_l_g);
+        let y_l = y0 + b_l * qd[0];
+        let y_k = y_l + b_k * phid;
+        let y_u = y0 + b_u * qd[4];
+        // Rates: D = d(B)/dt q̇ with the chassis turning the axes (ḣ = ω0 × h).
+        let revolute_rate = |rho_p: &V3, h: &V3, rate: f64| -> Vector6<f64> {
+            let hd = w0.cross(h);
+            let pd = v0 + w0.cross(rho_p);
+            wrench(&((pd.cross(h) + rho_p.cross(&hd)) * rate), &(hd * rate))
+        };
+        let d_l = revolute_rate(&rho_pl, &h_l, qd[0]);
+        let d_u = revolute_rate(&rho_pu, &h_u, qd[4]);
+        let omega_r = a_l_g * phid;
+        let w_l = ang(&y_l);
+        let wv = w_l.cross(&omega_r) + axes.vector(&(pos.r_l * pos.bryant.rate_quadratic(&phid)));
+        let b_dot = lin(&y_l) + w_l.cross(&rho_b);
+        let d_k = wrench(&(b_dot.cross(&omega_r) + rho_b.cross(&wv)), &wv);
+
+        let rot_l = axes.matrix(&pos.r_l);
+        let rot_u = axes.matrix(&pos.r_u);
+        let rot_k = axes.matrix(&pos.r_k);
+        CornerKinematics {
+            b_l,
+            b_k,
+            b_u,
+            rate: [d_l, d_l + d_k, d_u],
+            velocity: [y_l, y_k, y_u],
+            mass: [c.lower.mass, c.carrier.mass, c.upper.mass],
+            com: [
+                axes.vector(&c.on_lower(pos, &c.lower.com)),
+                axes.vector(&c.on_carrier(pos, &c.carrier.com)),
+                axes.vector(&c.on_upper(pos, &c.upper.com)),
+            ],
+            inertia: [
+                rot_l * c.lower.inertia * rot_l.transpose(),
+                rot_k * c.carrier.inertia * rot_k.transpose(),
+                rot_u * c.upper.inertia * rot_u.transpose(),
+            ],
+            axle: rot_k * c.axle,
+            wheel_centre: axes.vector(&c.on_carrier(pos, &c.w0)),
+        }
+    }
+}

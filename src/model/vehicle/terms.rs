@@ -1,0 +1,77 @@
+//! The subsystem stage (§4.2): each corner's effective terms M_qq, M_q0, P_q, M̂_00, P̂_0, Φ_q and the
+//! factored Φ_v (`Workspace::assembly.terms`; γ̄ is written by the velocity stage), from its kinematics and
+//! the wrenches the force, tire and brake stages put on its bodies.
+
+use super::kinematics::{CornerKinematics, BODY_K, BODY_L, BODY_U};
+use super::{Vehicle, Workspace};
+use crate::dynamics::body::{mass_hat_times, MassHatSum};
+use crate::dynamics::{PhiVSolved, SubsystemTerms};
+use crate::model::suspension::CornerPositions;
+use nalgebra::Vector6;
+
+impl Vehicle {
+    /// Writes `assembly.terms` (all but γ̄) from the positions, the kinematics and the wrenches.
+    #[inline(always)]
+    pub(super) fn subsystem_terms_stage(&self, ws: &mut Workspace) {
+        let Workspace { positions, kinematics, wrenches, assembly, .. } = ws;
+        for i in 0..4 {
+            subsystem_terms(&positions[i], &kinematics[i], &wrenches[i].bodies, &mut assembly.terms[i]);
+        }
+    }
+}
+
+/// One corner's effective terms from its positions, kinematics and body wrenches [Q_L, Q_K, Q_U].
+#[inline(always)]
+pub(super) fn subsystem_terms(
+    pos: &CornerPositions,
+    k: &CornerKinematics,
+    q: &[Vector6<f64>; 3],
+    terms: &mut SubsystemTerms,
+) {
+    let [q_l, q_k, q_u] = q;
+    // Subsystem terms (§4.2) from the joint-Jacobian structure: 𝔅_L = [b_L 0 0 0 0], 𝔅_K = [b_L B_K 0],
+    // 𝔅_U = [0 0 0 0 b_U], so that M_qq = Σ 𝔅ᵀM̂𝔅 has the blocks below (zero between θ_U and the rest)
+    // and only M̂ times these columns is needed: 6-vector products instead of dense 6×5 ones.
+    let mh = |b: usize, y: &Vector6<f64>| mass_hat_times(k.mass[b], &k.com[b], &k.inertia[b], y);
+    let ml_bl = mh(BODY_L, &k.b_l);
+    let mk_bl = mh(BODY_K, &k.b_l);
+    let mk_bk_j = |j: usize| mh(BODY_K, &k.b_k.column(j).into_owned());
+    let mk_bk = [mk_bk_j(0), mk_bk_j(1), mk_bk_j(2)];
+    let mu_bu = mh(BODY_U, &k.b_u);
+    let m_bl = ml_bl + mk_bl;
+    let p_l = q_l - mh(BODY_L, &k.rate[BODY_L]);
+    let p_k = q_k - mh(BODY_K, &k.rate[BODY_K]);
+    let p_u = q_u - mh(BODY_U, &k.rate[BODY_U]);
+    let SubsystemTerms { m_qq, m_q0, p_q, .. } = terms;
+    // M_qq's zero block (θ_U with the rest): set here, every other entry is written below.
+    for j in 0..4 {
+        m_qq[(j, 4)] = 0.0;
+        m_qq[(4, j)] = 0.0;
+    }
+    m_qq[(0, 0)] = k.b_l.dot(&m_bl);
+    m_qq[(4, 4)] = k.b_u.dot(&mu_bu);
+    for j in 0..3 {
+        let bkj = k.b_k.column(j);
+        m_qq[(0, 1 + j)] = k.b_l.dot(&mk_bk[j]);
+        m_qq[(1 + j, 0)] = m_qq[(0, 1 + j)];
+        for l in j..3 {
+            m_qq[(1 + j, 1 + l)] = bkj.dot(&mk_bk[l]);
+            m_qq[(1 + l, 1 + j)] = m_qq[(1 + j, 1 + l)];
+        }
+        m_q0.set_row(1 + j, &mk_bk[j].transpose());
+        p_q[1 + j] = bkj.dot(&p_k);
+    }
+    m_q0.set_row(0, &m_bl.transpose());
+    m_q0.set_row(4, &mu_bu.transpose());
+    p_q[0] = k.b_l.dot(&(p_l + p_k));
+    p_q[4] = k.b_u.dot(&p_u);
+    let mut m_00 = MassHatSum::new();
+    for b in [BODY_L, BODY_K, BODY_U] {
+        m_00.add(k.mass[b], &k.com[b], &k.inertia[b]);
+    }
+    m_00.write_into(&mut terms.m_00);
+    terms.p_0 = p_l + p_k + p_u;
+    terms.phi_q = pos.phi_q;
+    // ∂v/∂u = −Φ_v⁻¹Φ_u, solved with the same factors: the negation is exact, so GCP gets its own bits.
+    terms.phi_v_solved = pos.lu_v.map(|lu| PhiVSolved { lu, phi_v_inv_phi_u: -pos.dv_du });
+}
