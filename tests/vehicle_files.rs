@@ -762,11 +762,27 @@ fn a_model_file_is_followed_to_its_vehicle_and_its_tire() {
     assert_eq!(i.data.tire.tir_file.as_deref(), Some("Own.tir"));
     assert!(i.tire_note.contains("generic/tire/Own.tir (the Pac02 tire the model names"), "{}", i.tire_note);
     assert!(i.warnings.iter().any(|w| w.contains("Powertrain: ignored")), "{:?}", i.warnings);
-    // A TMeasy tire: rtv has none; the import says so and rolls on the folder's .tir (here Own.tir).
-    let tmeasy = json!({"Name": "t", "Type": "Tire", "Template": "TMeasyTire"});
+    // A TMeasy tire (Chrono's HMMWV one, data/tmeasy_reference/): the import rolls on it and says so.
+    let tmeasy: Value = serde_json::from_str(
+        &std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("data/tmeasy_reference/HMMWV_TMeasyTire.json"),
+        )
+        .unwrap(),
+    )
+    .unwrap();
     let model = model_file(&dir, MACPHERSON, Some(tmeasy));
     let i = import_vehicle(&model, &dir, None).unwrap();
-    assert!(i.tire_note.contains("generic/tire/Tire.json is TMeasyTire, which rtv does not have"), "{}", i.tire_note);
+    assert_eq!(i.data.tire.tir_file.as_deref(), Some("Tire.json"));
+    assert!(i.data.provenance.contains("The tire is the TMeasy tire of Tire.json"), "{}", i.data.provenance);
+    assert!(i.tire_note.contains("generic/tire/Tire.json (the TMeasy tire the model names"), "{}", i.tire_note);
+    // A bad TMeasy file is refused by its name and key; a tire rtv lacks is said, and the import rolls on
+    // the folder's .tir (here Own.tir).
+    let bare = json!({"Name": "t", "Type": "Tire", "Template": "TMeasyTire"});
+    let e = import_vehicle(&model_file(&dir, MACPHERSON, Some(bare)), &dir, None).unwrap_err().to_string();
+    assert!(e.contains("generic/tire/Tire.json") && e.contains("Design: missing"), "{e}");
+    let fiala = json!({"Name": "t", "Type": "Tire", "Template": "FialaTire"});
+    let i = import_vehicle(&model_file(&dir, MACPHERSON, Some(fiala)), &dir, None).unwrap();
+    assert!(i.tire_note.contains("generic/tire/Tire.json is FialaTire, which rtv does not have"), "{}", i.tire_note);
     // The vehicle named one folder off (as Chrono's audi.json does): the file of that name beside the model.
     let model = model_file(&dir, "elsewhere/Vehicle_MacPhersonStruts.json", None);
     let i = import_vehicle(&model, &dir, None).unwrap();
@@ -829,7 +845,7 @@ fn a_file_named_relative_to_the_vehicle_is_found_and_said() {
 /// vehicles of `data/chrono`, and beside them vehicles of every kind the import refuses or follows, written
 /// here (Chrono's own files of those kinds are not in the repository): a tracked vehicle, a trailer, an
 /// articulated vehicle, a car with rotary-arm steering, and a top-level model file naming the generic car
-/// and a TMeasy tire.
+/// and a Fiala tire (rtv has none).
 fn catalogue(name: &str) -> PathBuf {
     let dir = chrono_copy(name);
     copy_folders(&dir, "hmmwv", &[&SUBSYSTEMS[..], &["tire"]].concat());
@@ -857,12 +873,12 @@ fn catalogue(name: &str) -> PathBuf {
     let mut rotary: Value = serde_json::from_str(&std::fs::read_to_string(dir.join(MACPHERSON)).unwrap()).unwrap();
     rotary["Steering Subsystems"][0]["Input File"] = json!("rotary/RotaryArm.json");
     write("rotary/Rotary_Vehicle.json", rotary);
-    write("model/TMeasy.json", json!({"Name": "tire", "Type": "Tire", "Template": "TMeasyTire"}));
+    write("model/Fiala.json", json!({"Name": "tire", "Type": "Tire", "Template": "FialaTire"}));
     write(
         "model/Car.json",
         json!({"Name": "car", "Type": "Vehicle", "Template": "WheeledVehicle",
                "Vehicle": {"Input File": "generic/vehicle/Vehicle_MacPhersonStruts.json"},
-               "Tire": {"Input File": "model/TMeasy.json"}}),
+               "Tire": {"Input File": "model/Fiala.json"}}),
     );
     dir
 }
@@ -887,11 +903,11 @@ fn the_catalogue_imports_what_rtv_can_be_and_names_the_cause_of_every_refusal() 
     let lacks = &entry("rotary/Rotary_Vehicle.json").lacks;
     assert!(lacks.iter().any(|l| l.contains("RotaryArm")), "{lacks:?}");
     // The top-level model file leads to its vehicle, which imports on the .tir of its data folder, and says
-    // that the model's TMeasy tire is not there.
+    // that the model's Fiala tire is not there.
     let e = entry("model/Car.json");
     assert_eq!(e.followed.as_deref(), Some(MACPHERSON));
     let i = e.result.as_ref().unwrap_or_else(|err| panic!("model/Car.json: {err}"));
-    assert!(i.tire_note.contains("TMeasyTire, which rtv does not have"), "{}", i.tire_note);
+    assert!(i.tire_note.contains("FialaTire, which rtv does not have"), "{}", i.tire_note);
     assert!(c.vehicles.iter().all(|e| e.file != MACPHERSON), "the model's vehicle has a line of its own");
     // Chrono's double-wishbone car and HMMWV import.
     for file in ["generic/vehicle/Vehicle_DoubleWishbones.json", "hmmwv/vehicle/HMMWV_Vehicle_RackPinion.json"] {

@@ -1064,7 +1064,7 @@ fn column_name(input: &SteeringInput, i: usize) -> &'static str {
 /// γ > 0 with the top of the wheel leaning right; M_y < 0 resists forward rolling. `alpha` sweeps α over
 /// ±20° at κ = 0, `kappa` sweeps κ over ±1 at α = 0, `combined` sweeps κ over ±1 at α = 0°, 2°, 4°, 8°.
 fn cmd_tire(args: &[String]) -> Result<(), Failure> {
-    use rt_vehicle::model::tire::{self, MagicFormula, SlipInput, TireModel, TireSide};
+    use rt_vehicle::model::tire::{self, MagicFormula, SlipInput, TireSide};
     let opts = options(args, &["tire-file", "vehicle-file", "fz", "camber", "speed", "sweep", "side", "out"])?;
     let fz = number(&opts, "fz", f64::NAN)?;
     if !(fz > 0.0 && fz <= 1e6) {
@@ -1108,10 +1108,15 @@ fn cmd_tire(args: &[String]) -> Result<(), Failure> {
         None => {
             let data = vehicle_data(&opts)?;
             let p = data.tire.clone();
-            let model = if p.magic_formula.is_some() { TireModel::MagicFormula } else { TireModel::Sti };
+            let model = tire::model_for(&p);
             Box::new(move |kappa, alpha| {
-                // The model's adapted slips: tan α' = −tan α, γ_w = −γ (model::tire::magic_formula).
-                let input = SlipInput { side, ..SlipInput::rolling(fz, kappa, -alpha.tan(), -gamma) };
+                // The model's adapted slips: tan α' = −tan α, γ_w = −γ (model::tire::magic_formula); a TMeasy
+                // tire takes Rill's slips of them at this speed (docs/tire_tmeasy.md).
+                let [k, t] = match p.tmeasy {
+                    Some(_) => tire::tmeasy::rill_slips(kappa, -alpha.tan(), speed),
+                    None => [kappa, -alpha.tan()],
+                };
+                let input = SlipInput { side, ..SlipInput::rolling(fz, k, t, -gamma) };
                 let f = tire::shear_forces(model, &p, &input);
                 let my = tire::rolling_resistance_moment(&p, fz, p.unloaded_radius_m, 1e3, f.fx, speed, -gamma);
                 [f.fx, f.fy, f.mx, my, f.mz]

@@ -421,6 +421,26 @@ fn tire_files_switch_to_the_magic_formula_and_bad_ones_are_errors() {
     std::fs::remove_dir_all(&tmp).ok();
 }
 
+#[test]
+fn a_tmeasy_json_tire_file_is_taken_and_a_bad_one_is_an_error() {
+    let tmp = std::env::temp_dir().join(format!("rtv-fmi-tmeasy-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let tire = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/tmeasy_reference/HMMWV_TMeasyTire.json");
+    let bad = tmp.join("no_design.json");
+    std::fs::write(&bad, r#"{"Type": "Tire", "Template": "TMeasyTire"}"#).unwrap();
+    let rec = Recorder::default();
+    let inst = Inst::<VehicleModel>::initializing(&rec);
+    assert_eq!(inst.set_string(vr::TIRE_FILE, bad.to_str().unwrap()), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), ERROR) };
+    assert!(rec.contains("no_design.json") && rec.contains("Design: missing"), "{}", rec.last());
+    assert_eq!(inst.set_string(vr::TIRE_FILE, tire.to_str().unwrap()), OK);
+    unsafe { assert_eq!(api::exit_initialization_mode::<VehicleModel>(inst.c), OK, "{}", rec.last()) };
+    for _ in 0..50 {
+        assert_eq!(vehicle_step(&inst, 0.01).0, OK, "{}", rec.last());
+    }
+    std::fs::remove_dir_all(&tmp).ok();
+}
+
 /// Issue 35 through the FMU's `road_file`: a one-sided banked road (`data/roads/bank_one_side.xodr`: the car
 /// starts in its lane's middle, docs/roads.md "Which road, where") steps; a loop of two linked OpenDRIVE roads steps, and one
 /// whose joint does not meet is driven as a road with ends, the warning naming the gap in the log.

@@ -219,7 +219,8 @@ pub struct VehicleModel {
     pub config: SimConfig,
     /// The `vehicle_file` parameter.
     pub vehicle_file: String,
-    /// The `tire_file` parameter (a `.tir` file; empty: the vehicle file's tire).
+    /// The `tire_file` parameter (a `.tir` file, or a Chrono TMeasy `.json` file; empty: the vehicle file's
+    /// tire).
     #[serde(default)]
     pub tire_file: String,
     /// The `road_file` parameter (an OpenCRG file or an `iso8608:` road; empty: the `road` code's).
@@ -282,7 +283,8 @@ impl VehicleModel {
         if !tir.is_empty() {
             let path = fmi_layer::resources::locate("tire_file", tir, context)?;
             data.use_tire_file(&path).map_err(|e| format!("tire_file: {e}"))?;
-            log.event(&format!("tire: Magic Formula of {}", path.display()));
+            let kind = if data.tire.tmeasy.is_some() { "TMeasy tire" } else { "Magic Formula" };
+            log.event(&format!("tire: {kind} of {}", path.display()));
         }
         if let Some(convention) = self.tire_convention {
             data.tire.convention = convention;

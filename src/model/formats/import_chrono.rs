@@ -15,7 +15,7 @@
 //! (`VehicleData::default_hmmwv`).
 //!
 //! A top-level model file (Chrono's `audi.json`: vehicle, powertrain and tire files) is followed to its
-//! vehicle file and its tire (a Pac02 `.tir` is taken; another tire, TMeasy, is said). Vehicles the model
+//! vehicle file and its tire (a Pac02 `.tir` or a TMeasy JSON file is taken; another tire is said). Vehicles the model
 //! cannot be are refused by what they are: tracked, a trailer, articulated (`Rear Chassis`). A template rtv
 //! lacks is refused with what it is and the file. `import_catalogue` runs over a whole data folder
 //! (`rtv import-chrono --all DIR`), one entry per vehicle.
@@ -24,6 +24,7 @@
 //! anything is written, and written atomically (`write_atomically`).
 
 use crate::math::{M3, V3};
+use crate::model::formats::chrono_json::strip_comments;
 use crate::model::formats::params::{
     AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate,
     VehicleData, WheelBody,
@@ -455,58 +456,6 @@ fn number(v: &Value) -> Option<f64> {
     v.as_f64().filter(|x| x.is_finite())
 }
 
-/// Chrono's JSON files may carry comments (rapidjson `kParseCommentsFlag`); serde_json takes none.
-fn strip_comments(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut chars = text.chars().peekable();
-    let mut in_string = false;
-    while let Some(c) = chars.next() {
-        if in_string {
-            out.push(c);
-            match c {
-                '\\' => {
-                    if let Some(n) = chars.next() {
-                        out.push(n);
-                    }
-                }
-                '"' => in_string = false,
-                _ => {}
-            }
-            continue;
-        }
-        match (c, chars.peek()) {
-            ('"', _) => {
-                in_string = true;
-                out.push(c);
-            }
-            ('/', Some('/')) => {
-                for n in chars.by_ref() {
-                    if n == '\n' {
-                        out.push('\n');
-                        break;
-                    }
-                }
-            }
-            ('/', Some('*')) => {
-                chars.next();
-                let mut prev = ' ';
-                for n in chars.by_ref() {
-                    if prev == '*' && n == '/' {
-                        break;
-                    }
-                    if n == '\n' {
-                        out.push('\n');
-                    }
-                    prev = n;
-                }
-                out.push(' ');
-            }
-            _ => out.push(c),
-        }
-    }
-    out
-}
-
 // ---------------------------------------------------------------------------------------------------------
 // Conversions.
 
@@ -683,7 +632,7 @@ fn curve(o: &Obj, k: &str) -> Result<Vec<(f64, f64)>, ImportError> {
 struct Importer {
     data_dir: PathBuf,
     warnings: Vec<String>,
-    /// The `.tir` file asked for (`import_vehicle`).
+    /// The tire file asked for (`import_vehicle`): a `.tir`, or the TMeasy JSON file a model file names.
     tire: Option<PathBuf>,
     /// Where the tire comes from when `tire` is set (`--tire`, or the model file's Pac02 tire).
     tire_source: String,
@@ -1210,8 +1159,8 @@ impl Importer {
     }
 
     /// A top-level model file (Chrono's `audi.json`: the vehicle, powertrain and tire files of one car):
-    /// the vehicle file it names; its tire becomes the import's (`tire`) when it is a Pac02 `.tir`, else it
-    /// is said (`tire_not_taken`).
+    /// the vehicle file it names; its tire becomes the import's (`tire`) when it is a Pac02 `.tir` or a TMeasy
+    /// JSON file (read here, so a bad one is refused by its name), else it is said (`tire_not_taken`).
     fn model(&mut self, file: &File) -> Result<(PathBuf, String), ImportError> {
         let o = file.obj();
         o.keys(
@@ -1239,6 +1188,16 @@ impl Importer {
                 let (tir, _) = self.locate(&to, "TIR Specification File")?;
                 self.tire = Some(tir);
                 self.tire_source = format!("the Pac02 tire the model names ({})", tire.shown);
+            } else if template == "TMeasyTire" {
+                // Read here so that a bad file is refused by its own name and key, before anything else.
+                let path = self.paths.get(&tire.shown).cloned().unwrap_or_default();
+                crate::model::tire::tmeasy::TMeasy::read(&path).map_err(|why| ImportError {
+                    file: tire.shown.clone(),
+                    key: String::new(),
+                    message: why,
+                })?;
+                self.tire = Some(path);
+                self.tire_source = format!("the TMeasy tire the model names ({})", tire.shown);
             } else {
                 let kind =
                     if template == "Pac02Tire" { "a Pac02 tire given in JSON, not a .tir file" } else { template };
@@ -1467,9 +1426,14 @@ impl Importer {
             Some((t, source)) => {
                 let name = t.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
                 tire.tir_file = Some(name.clone());
+                let law = if t.extension().is_some_and(|x| x.eq_ignore_ascii_case("json")) {
+                    "TMeasy tire"
+                } else {
+                    "Magic Formula"
+                };
                 (
                     format!(
-                        "The tire is the Magic Formula of {name}, {source}, copied beside this file (its mass and \
+                        "The tire is the {law} of {name}, {source}, copied beside this file (its mass and \
                          inertia are the HMMWV's tire's){not_taken}."
                     ),
                     format!("{} ({source}){not_taken}", self.shown(t)),

@@ -473,6 +473,9 @@ impl VehicleData {
         if let Some(mf) = &self.tire.magic_formula {
             out.extend(mf.warnings.iter().cloned());
         }
+        if let Some(tm) = &self.tire.tmeasy {
+            out.extend(tm.warnings.iter().cloned());
+        }
         out
     }
 

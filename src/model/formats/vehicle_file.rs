@@ -137,16 +137,16 @@ impl VehicleData {
         VehicleData::from_json_in(&text, path.parent())
     }
 
-    /// The tire becomes the Magic Formula of a `.tir` file (`tire.tir_file`, or the CLI's `--tire`, the FMU's
-    /// `tire_file`): the file's radius, vertical stiffness and damping replace the vehicle file's; the
+    /// The tire becomes the Magic Formula of a `.tir` file, or the TMeasy tire of a Chrono TMeasy JSON file
+    /// (`.json`, `use_tmeasy_file`) (`tire.tir_file`, or the CLI's `--tire`, the FMU's `tire_file`): the
+    /// file's radius, vertical stiffness and damping replace the vehicle file's; the Magic Formula's
     /// relaxation lengths follow from the file at the vehicle's static load (`Vehicle::new`).
     pub fn use_tire_file(&mut self, path: &Path) -> Result<(), DataError> {
-        let mf = crate::model::tire::MagicFormula::read(path).map_err(|why| err("tire.tir_file", why))?;
-        // Another tire is another vehicle for the calibrations, which are keyed by name.
-        let stem = path.file_stem().map_or("tire".into(), |s| s.to_string_lossy().into_owned());
-        if self.tire.magic_formula.is_none() {
-            self.name = format!("{} on {stem}", self.name);
+        if path.extension().is_some_and(|x| x.eq_ignore_ascii_case("json")) {
+            return self.use_tmeasy_file(path);
         }
+        let mf = crate::model::tire::MagicFormula::read(path).map_err(|why| err("tire.tir_file", why))?;
+        self.name_tire(path);
         let t = &mut self.tire;
         t.unloaded_radius_m = mf.unloaded_radius;
         t.vertical_stiffness_N_per_m = mf.vertical_stiffness;
@@ -154,7 +154,35 @@ impl VehicleData {
         t.vertical_damping_Ns_per_m = mf.vertical_damping;
         t.tir_file = Some(path.display().to_string());
         t.magic_formula = Some(Box::new(mf));
+        t.tmeasy = None;
         self.check()
+    }
+
+    /// The tire becomes the TMeasy tire of a Chrono TMeasy JSON file (docs/tire_tmeasy.md): its unloaded
+    /// radius, vertical spring d1 δ + d2 δ², damping and rolling-resistance coefficient replace the vehicle
+    /// file's (the tire's mass and inertia stay the vehicle file's, as with a `.tir` file).
+    pub fn use_tmeasy_file(&mut self, path: &Path) -> Result<(), DataError> {
+        let tm = crate::model::tire::tmeasy::TMeasy::read(path).map_err(|why| err("tire.tir_file", why))?;
+        self.name_tire(path);
+        let t = &mut self.tire;
+        t.unloaded_radius_m = tm.unloaded_radius_m;
+        t.vertical_stiffness_N_per_m = tm.d1;
+        t.vertical_stiffness2_N_per_m2 = tm.d2;
+        t.vertical_damping_Ns_per_m = tm.dz;
+        t.rolling_resistance = tm.rolling_resistance;
+        t.tir_file = Some(path.display().to_string());
+        t.tmeasy = Some(Box::new(tm));
+        t.magic_formula = None;
+        self.check()
+    }
+
+    /// Another tire is another vehicle for the calibrations, which are keyed by name: "NAME on FILE-STEM"
+    /// (once, at the first tire file).
+    fn name_tire(&mut self, path: &Path) {
+        let stem = path.file_stem().map_or("tire".into(), |s| s.to_string_lossy().into_owned());
+        if self.tire.magic_formula.is_none() && self.tire.tmeasy.is_none() {
+            self.name = format!("{} on {stem}", self.name);
+        }
     }
 
     /// Parse and validate: the JSON Schema (`resources/vehicle.schema.json`) first, then serde, then

@@ -4,7 +4,8 @@
 //! - [`normal_force`] (§6.3), [`rolling_resistance_moment`] (§6.6).
 //! - [`steady_slip`], [`relaxation_rates`] (§6.4, §6.7, `slip.rs`).
 //! - [`shear_forces`]: the STI composite-slip model (§6.5–§6.6, `sti.rs`), the Magic Formula from a `.tir`
-//!   file (`magic_formula.rs`, read by `model/formats/tir.rs`), or a fallback (§6.8, `fallback.rs`).
+//!   file (`magic_formula.rs`, read by `model/formats/tir.rs`), TMeasy from a Chrono TMeasy JSON file
+//!   (`tmeasy.rs`, docs/tire_tmeasy.md), or a fallback (§6.8, `fallback.rs`).
 //! - [`slip_stiffness`], [`peak_friction`]: what the slip states' low-speed model needs of the force law.
 //!
 //! Everything here is a pure function of its arguments, without allocation, so it can run inside every
@@ -19,6 +20,7 @@ pub mod magic_formula;
 mod params;
 mod slip;
 pub mod sti;
+pub mod tmeasy;
 
 pub use fallback::{linear_forces, linear_friction_circle_forces};
 pub use geometry::contact;
@@ -80,6 +82,8 @@ pub enum TireModel {
     Sti,
     /// The Magic Formula of the tire's `.tir` file (`TireParams::magic_formula`).
     MagicFormula,
+    /// TMeasy from a Chrono TMeasy JSON file (`TireParams::tmeasy`, docs/tire_tmeasy.md).
+    TMeasy,
     Linear,
     LinearFrictionCircle,
     Frictionless,
@@ -152,9 +156,24 @@ fn chrono(p: &TireParams, part: ChronoPart) -> bool {
 /// −V_sx/(|v_x| + 0.1), α = atan2(−v_y, |v_x| + 0.1)), which makes its slips 0.6 % smaller at 60 km/h.
 pub const CHRONO_SLIP_SPEED_M_S: f64 = 0.1;
 
+/// The force law a vehicle's tire data selects: the TMeasy or Magic Formula file's, else the STI.
+pub fn model_for(p: &TireParams) -> TireModel {
+    if p.tmeasy.is_some() {
+        TireModel::TMeasy
+    } else if p.magic_formula.is_some() {
+        TireModel::MagicFormula
+    } else {
+        TireModel::Sti
+    }
+}
+
 /// The slips [κ, tan α] the force law is evaluated at, from the model's at forward speed `vx`: the same,
-/// except under Chrono's convention (`CHRONO_SLIP_SPEED_M_S`) on the Magic Formula.
+/// except under Chrono's convention (`CHRONO_SLIP_SPEED_M_S`) on the Magic Formula, and Rill's slips
+/// [s_x, s_y] for a TMeasy tire (`tmeasy::rill_slips`).
 pub fn evaluated_slips(p: &TireParams, kappa: f64, tan_alpha: f64, vx: f64) -> [f64; 2] {
+    if p.tmeasy.is_some() {
+        return tmeasy::rill_slips(kappa, tan_alpha, vx);
+    }
     match &p.magic_formula {
         Some(_) if chrono(p, ChronoPart::SlipSpeed) => {
             let scale = vx.abs() / (vx.abs() + CHRONO_SLIP_SPEED_M_S);
@@ -275,23 +294,37 @@ pub fn shear_forces(model: TireModel, p: &TireParams, input: &SlipInput) -> Shea
             // Vehicle::new refuses the model without the data; never reached.
             None => ShearForces::default(),
         },
+        // The slips are Rill's here (`evaluated_slips`); the contact length's deflection is the static one
+        // at this load (docs/tire_tmeasy.md). No force at zero slip: nothing to fade at standstill.
+        TireModel::TMeasy => match &p.tmeasy {
+            Some(tm) => tm.forces(fz, kappa, tan_alpha, friction, tm.static_deflection(fz)),
+            None => ShearForces::default(),
+        },
         TireModel::Linear => linear_forces(p, fz, kappa, tan_alpha),
         TireModel::LinearFrictionCircle => linear_friction_circle_forces(p, fz, kappa, tan_alpha, friction),
         TireModel::Frictionless => ShearForces::default(),
     }
 }
 
-/// Slip stiffnesses [C_s (∂F_x/∂κ), C_α (∂F_y/∂tan α)] at zero slip, N: the Magic Formula's K_xκ, |K_yα| when
-/// the tire has a `.tir` file, else the STI fit's.
+/// Slip stiffnesses [C_s (∂F_x/∂κ), C_α (∂F_y/∂tan α)] at zero slip, N: the TMeasy initial slopes (Rill's
+/// slips equal κ, tan α at zero slip), the Magic Formula's K_xκ, |K_yα| when the tire has a `.tir` file,
+/// else the STI fit's.
 pub fn slip_stiffness(p: &TireParams, fz: f64) -> [f64; 2] {
+    if let Some(tm) = &p.tmeasy {
+        return tm.slip_stiffness(fz);
+    }
     match &p.magic_formula {
         Some(mf) => [mf.longitudinal_stiffness(fz), mf.cornering_stiffness(fz)],
         None => [sti::longitudinal_stiffness(p, fz), sti::cornering_stiffness(p, fz)],
     }
 }
 
-/// Peak friction coefficients [μ_x, μ_y]: the Magic Formula's D/F_z at `fz`, else the STI's μ0.
+/// Peak friction coefficients [μ_x, μ_y]: TMeasy's F_M/F_z, the Magic Formula's D/F_z at `fz`, else the
+/// STI's μ0.
 pub fn peak_friction(p: &TireParams, fz: f64) -> [f64; 2] {
+    if let Some(tm) = &p.tmeasy {
+        return tm.peak_friction(fz);
+    }
     match &p.magic_formula {
         Some(mf) => mf.peak_friction(fz),
         None => [p.sti.mu0; 2],
@@ -305,7 +338,8 @@ const ROLLING_RESISTANCE_SPIN_WIDTH_RAD_S: f64 = 0.5;
 /// with a `.tir` file the Magic Formula's M_y magnitude R0 F_z (QSY1 + QSY2 F_x/F_z0 + QSY3 |V_x/V_ref| +
 /// QSY4 (V_x/V_ref)⁴) LMY in place of f_rr F_z R_l (MF 6.x: its form with the inclination, load and pressure
 /// terms, `MagicFormula::rolling_resistance`; `inclination` is the wheel's γ_w, its sign does not matter);
-/// none under Chrono's convention (`TireConvention::Chrono`).
+/// none under Chrono's convention (`TireConvention::Chrono`); a TMeasy tire's f_rr F_z R0 (Chrono's
+/// `ChTMeasyTire`: the unloaded radius).
 /// The tanh keeps the right-hand side smooth through standstill, where sign(Ω_rel) would chatter.
 pub fn rolling_resistance_moment(
     p: &TireParams,
@@ -317,6 +351,7 @@ pub fn rolling_resistance_moment(
     inclination: f64,
 ) -> f64 {
     let magnitude = match &p.magic_formula {
+        _ if p.tmeasy.is_some() => p.rolling_resistance * fz * p.unloaded_radius_m,
         // Chrono's Pac02 computes M_y but does not apply it to the wheel.
         Some(_) if chrono(p, ChronoPart::RollingMoment) => 0.0,
         Some(mf) => mf.rolling_resistance(fz, fx, vx, -inclination),

@@ -48,6 +48,10 @@ pub struct TireParams {
     /// The Magic Formula read from `tir_file` (`VehicleData::use_tire_file`); not part of the file format.
     #[serde(skip)]
     pub magic_formula: Option<Box<super::MagicFormula>>,
+    /// The TMeasy tire read from `tir_file` when it names a Chrono TMeasy JSON file (`.json`,
+    /// `VehicleData::use_tire_file`); not part of the file format.
+    #[serde(skip)]
+    pub tmeasy: Option<Box<super::tmeasy::TMeasy>>,
     /// How the Magic Formula is evaluated (`TireConvention`): as MFeval computes it (the default), or as
     /// Chrono's Pac02 does, to reproduce a Chrono run. Independent of the `.tir` file; the STI tire ignores it.
     #[serde(default, skip_serializing_if = "super::TireConvention::is_default")]

@@ -452,17 +452,17 @@ impl Vehicle {
             chassis,
             steering,
             tire: data.tire.clone(),
-            tire_model: if data.tire.magic_formula.is_some() { TireModel::MagicFormula } else { TireModel::Sti },
+            tire_model: crate::model::tire::model_for(&data.tire),
             speed_gains: (data.speed_hold.kp_per_s, data.speed_hold.ki_per_s2),
             gravity: data.gravity_m_s2,
             total_mass,
             driver_position: data.driver_position_m.map(|p| V3::from(p) - data.sprung_com()),
             springs_as_written: data.ride_height == crate::model::formats::params::RideHeight::Data,
         };
-        if data.tire.tir_file.is_some() && data.tire.magic_formula.is_none() {
+        if data.tire.tir_file.is_some() && data.tire.magic_formula.is_none() && data.tire.tmeasy.is_none() {
             return Err(DataError {
                 field: "tire.tir_file".into(),
-                message: "names a .tir file that was not read (VehicleData::use_tire_file)".into(),
+                message: "names a tire file that was not read (VehicleData::use_tire_file)".into(),
             });
         }
         // The Magic Formula's relaxation lengths depend on the load; the slip states use them at the static
