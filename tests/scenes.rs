@@ -330,6 +330,30 @@ fn imex_ab3_runs_the_papers_frame_on_the_jturn_and_the_sine_within_1_percent() {
     assert!(refused.to_string().contains("IMEX-AB3's local error estimate"), "{refused}");
 }
 
+/// The step check's refresh rule on a flat road (sim::MODE_CHECK_INTERVAL_QUIET): a car at rest is checked
+/// once a second, a car whose state keeps moving (a 0.5 Hz sine steer at 100 km/h) at every scheduled check,
+/// ten a second. Counted over 3 s in 10 ms intervals, RK4 at 2 ms.
+#[test]
+fn a_still_state_skips_scheduled_checks_a_moving_one_does_not() {
+    let checks = |initial_speed: f64, rack: RackProfile| {
+        let config =
+            SimConfig { integrator: IntegratorKind::Rk4, internal_step: 0.002, initial_speed, ..SimConfig::default() };
+        let mut sim = Simulation::new(VehicleData::default_hmmwv(), config).unwrap();
+        sim.set_rack_profile(rack);
+        for _ in 0..300 {
+            sim.advance(0.01).unwrap();
+        }
+        sim.mode_checks()
+    };
+    let at_rest = checks(0.0, RackProfile::Zero);
+    let steered = checks(27.78, RackProfile::Sine { amplitude: 0.002, period: 2.0 });
+    println!("checks in 3 s: at rest {at_rest}, sine steer {steered}");
+    // At rest: at 0, 1 and 2 s (3 s itself is the end of the run), and perhaps once as it settles.
+    assert!(at_rest <= 4, "a car at rest checked {at_rest} times in 3 s");
+    // Moving: the scheduled checks at 0, 0.1, ..., 2.9 s, every one of them (the state moves between any two).
+    assert!(steered >= 30, "a steered car checked {steered} times in 3 s");
+}
+
 /// The step check's rule holds inside one long `advance` as between short ones (sim::MODE_CHECK_INTERVAL):
 /// coasting down from 2 m/s, the tread's low-speed damping brings a spin-tread eigenvalue of about -240 1/s,
 /// outside AB3's region at 2 ms, some seconds into the run. Advanced in 10 ms intervals the run is refused

@@ -659,6 +659,11 @@ impl Simulation {
         self.evaluations
     }
 
+    /// Step checks measured so far (docs/integrators.md, "The step check"; for cost reports).
+    pub fn mode_checks(&self) -> u64 {
+        self.check.measured
+    }
+
     /// Whether the next step's first stage may be the output evaluation already made at its start
     /// (`FirstStage`; on by default). Off, every stage is evaluated: a measurement of what the integration
     /// costs by itself (the work-precision report) turns it off.

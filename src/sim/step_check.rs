@@ -95,7 +95,8 @@ pub(super) struct CheckedState {
 impl CheckedState {
     /// Whether `now` has moved from `self` by one of the changes that refresh the check on a flat road.
     pub(super) fn moved(&self, now: &CheckedState) -> bool {
-        let relative = |a: f64, b: f64, floor: f64| (a - b).abs() > STATE_CHANGE_FOR_CHECK * a.abs().max(b.abs()).max(floor);
+        let relative =
+            |a: f64, b: f64, floor: f64| (a - b).abs() > STATE_CHANGE_FOR_CHECK * a.abs().max(b.abs()).max(floor);
         relative(self.speed, now.speed, SPEED_FLOOR_FOR_CHECK)
             || (0..4).any(|i| {
                 relative(self.loads[i].max(0.0), now.loads[i].max(0.0), 0.0)
@@ -142,6 +143,9 @@ pub struct StepCheck {
     /// Whether IMEX-AB3 located a touchdown between the last check and the one before it (`check_imex_on_bumps`).
     #[serde(skip)]
     pub(super) landed_since_check: bool,
+    /// The checks measured so far (`Simulation::mode_checks`: for cost reports and the refresh rule's test).
+    #[serde(skip)]
+    pub(super) measured: u64,
     /// Whether the step check only measures, never refuses (`set_step_refusals`: to measure the largest
     /// truly stable step and the check's own limit apart; never from the CLI or the FMU).
     #[serde(skip)]
@@ -600,6 +604,7 @@ impl Simulation {
     /// them), which `judge_step` then judges a step against (several steps, for the automatic one).
     pub(super) fn measure_fast_modes(&mut self) -> Result<WheelModes, ModelError> {
         self.check.last_mode_check = Some(self.run.time);
+        self.check.measured += 1;
         self.check.loads_at_mode_check = self.cache.tire_loads;
         self.check.state_at_mode_check = self.checked_state();
         self.check.landed_since_check = self.imex_landings() != self.check.landings_at_mode_check;
