@@ -659,6 +659,12 @@ impl Simulation {
         self.evaluations
     }
 
+    /// The time of the last step check (for cost reports: `benches/hil_frame.rs` tells the frames that made
+    /// one by its change). Read only: it changes nothing in the run.
+    pub fn last_step_check(&self) -> Option<f64> {
+        self.check.last_mode_check
+    }
+
     /// Whether the next step's first stage may be the output evaluation already made at its start
     /// (`FirstStage`; on by default). Off, every stage is evaluated: a measurement of what the integration
     /// costs by itself (the work-precision report) turns it off.
