@@ -65,6 +65,14 @@ struct Pattern<'a> {
     /// Integer and Real parameters beyond the integrator and the step, set before initialization.
     integers: &'a [(u32, i32)],
     reals: &'a [(u32, f64)],
+    /// Issue 36's goal for the pattern, % of the frame.
+    goal: Option<Goal>,
+}
+
+#[derive(Clone, Copy)]
+struct Goal {
+    median: Option<f64>,
+    worst: f64,
 }
 
 /// What one frame did, the same in every run: evaluations, a step check, a step retaken in sub-steps.
@@ -138,7 +146,6 @@ fn run(p: &Pattern, frames: usize) -> (Vec<f64>, Vec<Work>) {
 
 /// The figures of one pattern.
 struct Report {
-    frames: usize,
     runs: usize,
     /// Median, p99, p99.9, max and mean of the first run, µs.
     median: f64,
@@ -176,7 +183,6 @@ fn measure(p: &Pattern, frames: usize, runs: usize) -> Report {
     }
     by_kind.sort_by(|a, b| a.0.cmp(b.0));
     Report {
-        frames,
         runs,
         median: at(0.5),
         p99: at(0.99),
@@ -204,14 +210,26 @@ fn main() {
     let pattern = args.first().cloned().filter(|p| p != "all").unwrap_or_default();
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(20_000);
     let runs: usize = std::env::var("RUNS").ok().and_then(|r| r.parse().ok()).unwrap_or(3).max(1);
-    let jturn_pattern =
-        |label, frame, outputs, rack| Pattern { label, frame, outputs, rack, brake: None, integers: &[], reals: &[] };
+    let jturn_pattern = |label, frame, outputs, rack| Pattern {
+        label,
+        frame,
+        outputs,
+        rack,
+        brake: None,
+        integers: &[],
+        reals: &[],
+        goal: None,
+    };
+    let paper_goal = Some(Goal { median: None, worst: 5.0 });
     let patterns = [
-        jturn_pattern("every output (47)", KHZ, &all[..], jturn),
+        Pattern {
+            goal: Some(Goal { median: Some(1.0), worst: 10.0 }),
+            ..jturn_pattern("every output (47)", KHZ, &all[..], jturn)
+        },
         jturn_pattern("pose and velocities (12)", KHZ, &pose[..], jturn),
         jturn_pattern("none", KHZ, &[][..], jturn),
         jturn_pattern("every output, live rack", KHZ, &all[..], live),
-        jturn_pattern("paper frame, J-turn", PAPER, &all[..], jturn),
+        Pattern { goal: paper_goal, ..jturn_pattern("paper frame, J-turn", PAPER, &all[..], jturn) },
         Pattern {
             label: "paper frame, braked stop",
             frame: PAPER,
@@ -220,6 +238,7 @@ fn main() {
             brake: Some(brake),
             integers: &[(vr::SPEED_MODE, 1)],
             reals: &[(vr::INITIAL_SPEED, 60.0 / 3.6)],
+            goal: paper_goal,
         },
         Pattern {
             label: "paper frame, bump course (warn)",
@@ -229,72 +248,93 @@ fn main() {
             brake: None,
             integers: &[(vr::ROAD, 2), (vr::ACCURACY_POLICY, 2)],
             reals: &[(vr::INITIAL_SPEED, 10.0 / 3.6)],
+            goal: paper_goal,
         },
     ];
-    if markdown {
-        println!(
-            "| pattern | frame | frames | median (µs) | p99 (µs) | p99.9 (µs) | max (µs) | mean (µs): real time × | \
-             worst frame's own cost (µs) | frames with a step check | steps retaken in sub-steps | most \
-             evaluations in one frame |"
-        );
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
-    } else {
+    if !markdown {
         println!(
             "HIL frame: set inputs, fmi2DoStep (1 ms: one RK4 step; 8.33 ms: one IMEX-AB3 step), get outputs; \
              {n} frames from t = 0, {runs} runs"
         );
     }
+    let mut times = Vec::new();
+    let mut kinds = Vec::new();
     for p in patterns.iter().filter(|p| p.label.contains(pattern.as_str())) {
         let r = measure(p, n, runs);
         let frame_us = p.frame.length * 1e6;
-        let time = |v: f64| format!("{v:.1} µs ({:.2} %)", 100.0 * v / frame_us);
+        let share = |v: f64| 100.0 * v / frame_us;
+        let time = |v: f64| format!("{v:.1} µs ({:.2} %)", share(v));
+        let at = |k: usize| format!("t = {:.3} s", k as f64 * p.frame.length);
         let checks = r.work.iter().filter(|w| w.check).count();
         let retaken = r.work.iter().filter(|w| w.retaken).count();
         let most = r.work.iter().map(|w| w.evaluations).max().unwrap_or(0);
         let (k, c) = r.worst;
-        let worst = format!(
-            "{} at t = {:.3} s: {}, {} ev.",
-            time(c),
-            k as f64 * p.frame.length,
-            r.work[k].kind(),
-            r.work[k].evaluations
-        );
+        let worst = format!("{} at {}: {}, {} ev.", time(c), at(k), r.work[k].kind(), r.work[k].evaluations);
         let factor = frame_us / r.mean;
         let frame = if p.frame.integrator == 2 { "1 ms, RK4" } else { "8.33 ms, IMEX-AB3" };
-        if markdown {
+        let yes = |ok: bool| if ok { "met" } else { "not met" };
+        let goal = match p.goal {
+            Some(Goal { median, worst }) => {
+                let median =
+                    median.map_or(String::new(), |m| format!("median ≤ {m} %: {}; ", yes(share(r.median) <= m)));
+                format!(
+                    "{median}worst ≤ {worst} %: {} by the max, {} by the worst frame's own cost",
+                    yes(share(r.max) <= worst),
+                    yes(share(c) <= worst)
+                )
+            }
+            None => "-".into(),
+        };
+        if !markdown {
             println!(
-                "| {} | {frame} | {} | {} | {} | {} | {} | {:.1} µs: {factor:.0} | {worst} | {checks} | {retaken} | {most} |",
+                "  {} ({frame}): median {}, p99 {}, p99.9 {}, max {}; mean {:.1} µs: {factor:.0}x real time",
                 p.label,
-                r.frames,
                 time(r.median),
                 time(r.p99),
                 time(r.p999),
                 time(r.max),
                 r.mean
             );
-            continue;
+            println!(
+                "    {checks} frames with a step check, {retaken} steps retaken in sub-steps, at most {most} \
+                 evaluations in one frame; worst frame (least of {} runs): {worst}; goal: {goal}",
+                r.runs
+            );
         }
-        println!(
-            "  {} ({frame}): median {}, p99 {}, p99.9 {}, max {}; mean {:.1} µs: {factor:.0}x real time",
+        times.push(format!(
+            "| {} | {frame} | {} | {} | {} | {} | {:.1} µs: {factor:.0} | {worst} | {goal} |",
             p.label,
             time(r.median),
             time(r.p99),
             time(r.p999),
             time(r.max),
             r.mean
-        );
+        ));
+        for (kind, c, _, k) in &r.by_kind {
+            let of_kind: Vec<&Work> = r.work.iter().filter(|w| w.kind() == *kind).collect();
+            let most = of_kind.iter().map(|w| w.evaluations).max().unwrap_or(0);
+            let line = format!("| {} | {kind} | {} | {most} | {} at {} |", p.label, of_kind.len(), time(*c), at(*k));
+            if !markdown {
+                println!(
+                    "    {kind}: {} frames, at most {most} evaluations, worst {} at {}",
+                    of_kind.len(),
+                    time(*c),
+                    at(*k)
+                );
+            }
+            kinds.push(line);
+        }
+    }
+    if markdown {
         println!(
-            "    {checks} frames with a step check, {retaken} steps retaken in sub-steps, at most {most} evaluations \
-             in one frame; worst frame (least of {} runs): {worst}",
-            r.runs
+            "| pattern | frame | median (µs) | p99 (µs) | p99.9 (µs) | max (µs) | mean (µs): real time × | worst \
+             frame's own cost (µs) | issue 36's goal (on the µs columns) |"
         );
-        let kinds: Vec<String> = r
-            .by_kind
-            .iter()
-            .map(|(kind, c, w, k)| {
-                format!("{kind} {} ({} ev., t = {:.3} s)", time(*c), w.evaluations, *k as f64 * p.frame.length)
-            })
-            .collect();
-        println!("    worst of each kind (least of {} runs): {}", r.runs, kinds.join("; "));
+        println!("|---|---|---|---|---|---|---|---|---|");
+        times.iter().for_each(|l| println!("{l}"));
+        println!();
+        println!("| pattern | frames of the kind | frames | most evaluations in one | worst one's own cost (µs) |");
+        println!("|---|---|---|---|---|");
+        kinds.iter().for_each(|l| println!("{l}"));
     }
 }

@@ -40,6 +40,7 @@ references|check|tests/reference/README.md and the reference traces tests/refere
 instructions|check|docs/results.md, block \"instructions\"|bash scripts/instructions.sh
 fmu_parameters|check|docs/fmu.md, block \"real-parameters\" (the options table of the model description)|cargo run --release --bin rtv -- options
 scene_costs|check|docs/results.md, blocks \"scene-costs\", \"scene-costs-steady\", \"scene-costs-imex\"|bash scripts/pruning_costs.sh (with the options each block names)
+hil_frame|check|docs/results.md, block \"hil-frame\" (the HIL frames' times and worst frames)|bash scripts/hil_frame.sh
 manoeuvres|write|docs/manoeuvres.png|bash scripts/manoeuvres.sh
 ssp|write|docs/ssp_dlc.png|bash scripts/ssp.sh
 studies|write|docs/studies.md, block \"figures\"; docs/studies_dlc.png|bash scripts/studies.sh
@@ -130,6 +131,7 @@ run_scene_costs() {
         --integrator imex-ab3 --step 0.008333333333333333 --output-interval 0.1
     echo results.md
 }
+run_hil_frame() { block results.md hil-frame bash scripts/hil_frame.sh; echo results.md; }
 run_manoeuvres() { bash scripts/manoeuvres.sh >/dev/null; }
 run_ssp() { bash scripts/ssp.sh >/dev/null; }
 run_studies() { bash scripts/studies.sh >/dev/null; }
