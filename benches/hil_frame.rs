@@ -1,7 +1,7 @@
 //! The HIL frame through the C API, as a real-time master drives it: each frame sets the inputs
 //! (fmi2SetReal), advances one frame (fmi2DoStep: one internal step) and reads outputs (fmi2GetReal).
 //!
-//! Patterns (issue 36, "a bounded worst frame"; docs/results.md, "The HIL frame"):
+//! Patterns (issue 36, "a bounded worst frame"; docs/results.md, "The HIL frames' times and worst frames"):
 //! - The 1 kHz frame, one RK4 step of 1 ms, on a J-turn-like input (the rack ramps 3 mm over 0.1 s from
 //!   t = 0.5 s, then holds), with three read patterns: every output; the pose and velocities only (what a
 //!   motion platform or an image generator reads, straight from the state, no evaluation); nothing. While
@@ -26,11 +26,11 @@
 //! (`Simulation::last_step_check` changed) and how many retook their IMEX-AB3 step in sub-steps
 //! (`Simulation::substepped_steps`: a landing is located there).
 //!
-//! `cargo bench --bench hil_frame [-- PATTERN [FRAMES]] [-- --markdown]` (only the patterns whose name
+//! `cargo bench --bench hil_frame [-- PATTERN [FRAMES] [--markdown]]` (only the patterns whose name
 //! contains PATTERN, "all" for every one; FRAMES measured frames instead of 20,000; `--markdown` prints the
-//! table `scripts/hil_frame.sh` writes into docs/results.md). Instructions per frame, free of machine noise,
+//! tables `scripts/hil_frame.sh` writes into docs/results.md). Instructions per frame, free of machine noise,
 //! are the callgrind totals of two frame counts, differenced: `valgrind --tool=callgrind <bench binary>
-//! "every output (47)" 4000`, then 2000, with `RUNS=1`.
+//! "every output (47)" 4000`, then 2000, with `RUNS=1` (scripts/hil_frame.sh counts every pattern so).
 
 use fmi_sys::fmi2::fmi2Status_fmi2OK;
 use rt_vehicle::fmi::exports::{fmi2GetReal, fmi2SetReal};
