@@ -3,7 +3,7 @@
 # regenerated into a scratch folder and compared with the committed docs.
 #
 #   bash scripts/docs.sh [NAME...]            regenerate (all, or the generators named), in place
-#   bash scripts/docs.sh --check [NAME...]    regenerate the checked ones into a scratch folder; exit 1, naming
+#   bash scripts/docs.sh --check [NAME...]    regenerate the checked ones (or those named) into a scratch folder; exit 1, naming
 #                                             the doc and the line, if a figure differs (scripts/test.sh runs it)
 #   bash scripts/docs.sh --list               the generators: name, checked or not, what each writes and how
 #
@@ -21,10 +21,12 @@
 # the generators marked "write only" in --list: their figures are times (studies), need the packaged FMUs
 # (ssp, studies) or are figures only (plots, manoeuvres). The four stability suites are written here but not
 # checked: each takes 1-2 min on 2 cores, over --check's budget of about 10 min in CI (issue 31).
+# Marked "slow" in --list: checked only when named (`bash scripts/docs.sh --check hil_frame`, which
+# `scripts/test.sh --slow` runs): a benchmark's build and run, which `scripts/test.sh` without --slow does not pay.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# name | checked (check) or not (write) | what it writes | the command (as the docs name it)
+# name | checked (check), checked only when named (slow) or not (write) | what it writes | the command (as the docs name it)
 GENERATORS="\
 plots|write|docs/kinematics.png, docs/scene_*.png, docs/tire_curves.png|bash scripts/plots.sh
 linear|check|docs/linear.md, docs/linear_root_locus.png|bash scripts/linear.sh
@@ -40,6 +42,7 @@ references|check|tests/reference/README.md and the reference traces tests/refere
 instructions|check|docs/results.md, block \"instructions\"|bash scripts/instructions.sh
 fmu_parameters|check|docs/fmu.md, block \"real-parameters\" (the options table of the model description)|cargo run --release --bin rtv -- options
 scene_costs|check|docs/results.md, blocks \"scene-costs\", \"scene-costs-steady\", \"scene-costs-imex\"|bash scripts/pruning_costs.sh (with the options each block names)
+hil_frame|slow|docs/results.md, block \"hil-frame\" (the HIL frames' times and worst frames)|bash scripts/hil_frame.sh
 manoeuvres|write|docs/manoeuvres.png|bash scripts/manoeuvres.sh
 ssp|write|docs/ssp_dlc.png|bash scripts/ssp.sh
 studies|write|docs/studies.md, block \"figures\"; docs/studies_dlc.png|bash scripts/studies.sh
@@ -130,6 +133,7 @@ run_scene_costs() {
         --integrator imex-ab3 --step 0.008333333333333333 --output-interval 0.1
     echo results.md
 }
+run_hil_frame() { block results.md hil-frame bash scripts/hil_frame.sh; echo results.md; }
 run_manoeuvres() { bash scripts/manoeuvres.sh >/dev/null; }
 run_ssp() { bash scripts/ssp.sh >/dev/null; }
 run_studies() { bash scripts/studies.sh >/dev/null; }

@@ -4,7 +4,8 @@
 # commands), the docs' figures regenerated and compared (scripts/docs.sh --check) and a valgrind memcheck of the
 # lifecycle.
 # `--slow` also runs the documented commands that take over a minute (tests/docs; without it their arguments
-# are checked).
+# are checked) and the benchmarks, so that they cannot rot: hil_frame through its docs generator (the HIL frames
+# of docs/results.md regenerated and compared), the criterion benches once each (criterion's --test mode).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 slow=0
@@ -27,6 +28,10 @@ RTV_DOCS_SLOW=$slow .venv/bin/python -m pytest -q tests/fmu tests/study tests/do
 # Every figure of README.md and docs/ that does not depend on the machine, regenerated into a scratch folder and
 # compared with the committed docs (issue 31; docs/results.md, "How the figures are checked").
 bash scripts/docs.sh --check
+if [ $slow = 1 ]; then
+    bash scripts/docs.sh --check hil_frame
+    cargo bench --bench evaluation --bench acceleration -- --test
+fi
 # setup.sh installs valgrind; a machine without it (not set up by this project) skips the memcheck, saying so.
 if command -v valgrind >/dev/null 2>&1; then
     bash tests/valgrind/run.sh
