@@ -178,7 +178,7 @@ fn every_bad_input_is_refused_by_file_key_and_cause() {
             "radius text",
             hmmwv_json,
             |j| j["Design"]["Unloaded Radius [m]"] = "big".into(),
-            &["Design.Unloaded Radius [m]", "must be a number"],
+            &["Design.Unloaded Radius [m]", "must be a finite number"],
         ),
         ("negative mass", hmmwv_json, |j| j["Design"]["Mass [kg]"] = (-1.0).into(), &["Design.Mass [kg]", "positive"]),
         (

@@ -35,25 +35,8 @@ use serde_json::{Map, Value};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// An import that failed: the Chrono file, the key in it (dotted path; empty for the whole file) and why.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ImportError {
-    pub file: String,
-    pub key: String,
-    pub message: String,
-}
-
-impl std::fmt::Display for ImportError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.key.is_empty() {
-            write!(f, "{}: {}", self.file, self.message)
-        } else {
-            write!(f, "{}: {}: {}", self.file, self.key, self.message)
-        }
-    }
-}
-
-impl std::error::Error for ImportError {}
+pub use super::chrono_json::ImportError;
+use super::chrono_json::{number, Ignored, Obj};
 
 /// An imported vehicle and what the import left out or approximated (one line each, `FILE: KEY: why`).
 #[derive(Debug, Clone)]
@@ -313,72 +296,9 @@ fn ignored_key(warning: &str) -> Option<(String, String)> {
 // ---------------------------------------------------------------------------------------------------------
 // Reading JSON objects with every key accounted for.
 
-/// One JSON object of a Chrono file, with the dotted path of its key in that file.
-#[derive(Clone)]
-struct Obj<'a> {
-    file: &'a str,
-    path: String,
-    map: &'a Map<String, Value>,
-}
-
-/// What the model does with a key it reads but has no place for.
-type Ignored<'k> = (&'k str, &'k str);
-
 const VISUAL: &str = "visualization only";
 
-impl<'a> Obj<'a> {
-    fn key(&self, k: &str) -> String {
-        if self.path.is_empty() {
-            k.to_string()
-        } else {
-            format!("{}.{k}", self.path)
-        }
-    }
-
-    fn err(&self, k: &str, message: impl Into<String>) -> ImportError {
-        ImportError { file: self.file.to_string(), key: self.key(k), message: message.into() }
-    }
-
-    fn has(&self, k: &str) -> bool {
-        self.map.contains_key(k)
-    }
-
-    fn get(&self, k: &str) -> Result<&'a Value, ImportError> {
-        self.map.get(k).ok_or_else(|| self.err(k, "missing"))
-    }
-
-    fn num(&self, k: &str) -> Result<f64, ImportError> {
-        number(self.get(k)?).ok_or_else(|| self.err(k, "must be a finite number"))
-    }
-
-    fn opt_num(&self, k: &str) -> Result<Option<f64>, ImportError> {
-        if self.has(k) {
-            self.num(k).map(Some)
-        } else {
-            Ok(None)
-        }
-    }
-
-    fn text(&self, k: &str) -> Result<&'a str, ImportError> {
-        self.get(k)?.as_str().ok_or_else(|| self.err(k, "must be a string"))
-    }
-
-    fn flag(&self, k: &str) -> Result<bool, ImportError> {
-        match self.map.get(k) {
-            None => Ok(false),
-            Some(v) => v.as_bool().ok_or_else(|| self.err(k, "must be true or false")),
-        }
-    }
-
-    fn array(&self, k: &str, n: usize) -> Result<Vec<f64>, ImportError> {
-        let a = self.get(k)?.as_array().ok_or_else(|| self.err(k, format!("must be an array of {n} numbers")))?;
-        let v: Vec<f64> = a.iter().filter_map(number).collect();
-        if a.len() != n || v.len() != n {
-            return Err(self.err(k, format!("must be an array of {n} finite numbers")));
-        }
-        Ok(v)
-    }
-
+impl Obj<'_> {
     fn vec3(&self, k: &str) -> Result<V3, ImportError> {
         Ok(V3::from_column_slice(&self.array(k, 3)?))
     }
@@ -419,41 +339,6 @@ impl<'a> Obj<'a> {
         }
         Ok(l)
     }
-
-    fn obj(&self, k: &str) -> Result<Obj<'a>, ImportError> {
-        let map = self.get(k)?.as_object().ok_or_else(|| self.err(k, "must be an object"))?;
-        Ok(Obj { file: self.file, path: self.key(k), map })
-    }
-
-    /// The `i`-th object of the array `k`.
-    fn item(&self, k: &str, i: usize, v: &'a Value) -> Result<Obj<'a>, ImportError> {
-        let path = format!("{k}[{i}]");
-        let map = v.as_object().ok_or_else(|| self.err(&path, "must be an object"))?;
-        Ok(Obj { file: self.file, path: self.key(&path), map })
-    }
-
-    /// Every key must be one the reader uses (`used`) or knows to leave out (`ignored`, each with the
-    /// reason, which becomes a warning); any other key is an error.
-    fn keys(&self, used: &[&str], ignored: &[Ignored], warnings: &mut Vec<String>) -> Result<(), ImportError> {
-        for k in self.map.keys() {
-            if used.contains(&k.as_str()) {
-                continue;
-            }
-            match ignored.iter().find(|(name, _)| name == k) {
-                Some((_, why)) => warnings.push(format!("{}: {}: ignored ({why})", self.file, self.key(k))),
-                None => {
-                    let mut known: Vec<&str> = used.to_vec();
-                    known.extend(ignored.iter().map(|(n, _)| *n));
-                    return Err(self.err(k, format!("unknown key (known here: {})", known.join(", "))));
-                }
-            }
-        }
-        Ok(())
-    }
-}
-
-fn number(v: &Value) -> Option<f64> {
-    v.as_f64().filter(|x| x.is_finite())
 }
 
 // ---------------------------------------------------------------------------------------------------------

@@ -20,7 +20,8 @@
 //! slopes stay). Left out (docs/tire_tmeasy.md): Chrono's Dahl bristle model below 3 m/s, the overturning
 //! moment, the bottoming spring, the start-up ramp.
 use super::ShearForces;
-use serde_json::{Map, Value};
+use crate::model::formats::chrono_json::Obj;
+use serde_json::Value;
 use std::path::Path;
 
 /// Chrono's v_N (`m_vnum`): keeps Rill's slips finite at standstill, m/s.
@@ -281,55 +282,10 @@ const KNOWN_KEYS: [&str; 13] = [
     "Visualization",
 ];
 
-/// A JSON object and its dotted path, for messages that name the file and the key.
-struct Obj<'a> {
-    source: &'a str,
-    path: String,
-    map: &'a Map<String, Value>,
-}
-
-impl<'a> Obj<'a> {
-    fn key(&self, k: &str) -> String {
-        if self.path.is_empty() {
-            k.to_string()
-        } else {
-            format!("{}.{k}", self.path)
-        }
-    }
-
-    fn err(&self, k: &str, why: impl std::fmt::Display) -> String {
-        format!("{}: {}: {why}", self.source, self.key(k))
-    }
-
-    fn has(&self, k: &str) -> bool {
-        self.map.contains_key(k)
-    }
-
-    fn get(&self, k: &str) -> Result<&'a Value, String> {
-        self.map.get(k).ok_or_else(|| self.err(k, "missing"))
-    }
-
-    fn obj(&self, k: &str) -> Result<Obj<'a>, String> {
-        match self.get(k)? {
-            Value::Object(map) => Ok(Obj { source: self.source, path: self.key(k), map }),
-            _ => Err(self.err(k, "must be an object")),
-        }
-    }
-
-    fn num(&self, k: &str) -> Result<f64, String> {
-        self.get(k)?.as_f64().filter(|x| x.is_finite()).ok_or_else(|| self.err(k, "must be a number"))
-    }
-
-    fn opt_num(&self, k: &str) -> Result<Option<f64>, String> {
-        if self.has(k) {
-            self.num(k).map(Some)
-        } else {
-            Ok(None)
-        }
-    }
-
-    fn text(&self, k: &str) -> Result<&'a str, String> {
-        self.get(k)?.as_str().ok_or_else(|| self.err(k, "must be a string"))
+/// TMeasy's own readers on Chrono's JSON objects (`chrono_json::Obj`); this reader's errors are text.
+impl Obj<'_> {
+    fn fail(&self, k: &str, why: impl Into<String>) -> String {
+        self.err(k, why).to_string()
     }
 
     fn positive(&self, k: &str) -> Result<f64, String> {
@@ -337,21 +293,21 @@ impl<'a> Obj<'a> {
         if x > 0.0 {
             Ok(x)
         } else {
-            Err(self.err(k, format!("is {x}: must be positive")))
+            Err(self.fail(k, format!("is {x}: must be positive")))
         }
     }
 
     /// A [at F_N, at 2 F_N] pair of positive numbers.
     fn pair(&self, k: &str) -> Result<[f64; 2], String> {
-        let items = self.get(k)?.as_array().ok_or_else(|| self.err(k, "must be an array [at F_N, at 2 F_N]"))?;
+        let items = self.get(k)?.as_array().ok_or_else(|| self.fail(k, "must be an array [at F_N, at 2 F_N]"))?;
         if items.len() != 2 {
-            return Err(self.err(k, format!("has {} numbers: must have 2 [at F_N, at 2 F_N]", items.len())));
+            return Err(self.fail(k, format!("has {} numbers: must have 2 [at F_N, at 2 F_N]", items.len())));
         }
         let mut out = [0.0; 2];
         for (o, v) in out.iter_mut().zip(items) {
-            *o = v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| self.err(k, "must hold numbers"))?;
+            *o = v.as_f64().filter(|x| x.is_finite()).ok_or_else(|| self.fail(k, "must hold numbers"))?;
             if !(*o > 0.0) {
-                return Err(self.err(k, format!("holds {o}: must be positive")));
+                return Err(self.fail(k, format!("holds {o}: must be positive")));
             }
         }
         Ok(out)
@@ -365,7 +321,7 @@ impl<'a> Obj<'a> {
             fs: self.pair(&format!("Sliding F{f} Load [N]"))?,
             ss: self.pair(&format!("Slip s{s} where sliding begins"))?,
         };
-        check_curve(&self.key(""), &c, dir).map_err(|why| format!("{}: {why}", self.source))?;
+        check_curve(&self.key(""), &c, dir).map_err(|why| format!("{}: {why}", self.file))?;
         Ok(c)
     }
 }
@@ -392,14 +348,14 @@ fn check_curve(at: &str, c: &Curve, dir: &str) -> Result<(), String> {
 /// Least-squares F = d1 δ + d2 δ² through [deflection m, force N] points (Chrono's `SetVerticalStiffness`
 /// from test data), by the normal equations.
 fn fit_spring(o: &Obj, k: &str) -> Result<(f64, f64), String> {
-    let rows = o.get(k)?.as_array().ok_or_else(|| o.err(k, "must be an array of [deflection m, force N]"))?;
+    let rows = o.get(k)?.as_array().ok_or_else(|| o.fail(k, "must be an array of [deflection m, force N]"))?;
     let mut m = [0.0; 5];
     for row in rows {
         let p = row
             .as_array()
             .filter(|p| p.len() == 2)
             .and_then(|p| Some((p[0].as_f64()?, p[1].as_f64()?)))
-            .ok_or_else(|| o.err(k, "each point must be [deflection m, force N]"))?;
+            .ok_or_else(|| o.fail(k, "each point must be [deflection m, force N]"))?;
         let (d, f) = p;
         m[0] += d * d;
         m[1] += d * d * d;
@@ -411,10 +367,10 @@ fn fit_spring(o: &Obj, k: &str) -> Result<(f64, f64), String> {
     let d1 = (m[3] * m[2] - m[1] * m[4]) / det;
     let d2 = (m[0] * m[4] - m[1] * m[3]) / det;
     if !(det > 1e-12 * m[0] * m[2]) || !d1.is_finite() || !d2.is_finite() {
-        return Err(o.err(k, "needs at least two points at different non-zero deflections"));
+        return Err(o.fail(k, "needs at least two points at different non-zero deflections"));
     }
     if !(d1 > 0.0) {
-        return Err(o.err(k, format!("gives a spring {d1} N/m + {d2} N/m² δ: its stiffness at 0 must be positive")));
+        return Err(o.fail(k, format!("gives a spring {d1} N/m + {d2} N/m² δ: its stiffness at 0 must be positive")));
     }
     Ok((d1, d2))
 }
@@ -470,14 +426,14 @@ impl TMeasy {
         let stripped = crate::model::formats::chrono_json::strip_comments(text);
         let value: Value = serde_json::from_str(&stripped).map_err(|e| format!("{source}: not JSON: {e}"))?;
         let Value::Object(map) = &value else { return Err(format!("{source}: must hold a JSON object")) };
-        let o = Obj { source, path: String::new(), map };
+        let o = Obj::root(source, map);
         let ty = o.text("Type")?;
         if ty != "Tire" {
-            return Err(o.err("Type", format!("is '{ty}': a TMeasy file is a Tire file")));
+            return Err(o.fail("Type", format!("is '{ty}': a TMeasy file is a Tire file")));
         }
         let template = o.text("Template")?;
         if template != "TMeasyTire" {
-            return Err(o.err("Template", format!("is '{template}': this reader takes TMeasyTire")));
+            return Err(o.fail("Template", format!("is '{template}': this reader takes TMeasyTire")));
         }
         let mut warnings: Vec<String> = map
             .keys()
@@ -498,9 +454,9 @@ impl TMeasy {
             .map(|a| a.iter().filter_map(Value::as_f64).filter(|x| *x > 0.0).collect())
             .unwrap_or_default();
         let inertia: [f64; 3] =
-            inertia.try_into().map_err(|_| d.err("Inertia [kg.m2]", "must be three positive numbers"))?;
+            inertia.try_into().map_err(|_| d.fail("Inertia [kg.m2]", "must be three positive numbers"))?;
         if design.rim_radius >= design.unloaded_radius {
-            return Err(d.err(
+            return Err(d.fail(
                 "Rim Radius [m]",
                 format!("{} m is not inside the unloaded radius {} m", design.rim_radius, design.unloaded_radius),
             ));
@@ -511,14 +467,14 @@ impl TMeasy {
             let li = o.num("Load Index")?;
             let table = LOAD_INDEX_KG.len() - 1;
             if !(li >= 0.0 && li.fract() == 0.0 && li <= table as f64) {
-                return Err(o.err("Load Index", format!("is {li}: must be a whole number from 0 to {table}")));
+                return Err(o.fail("Load Index", format!("is {li}: must be a whole number from 0 to {table}")));
             }
             let load = LOAD_INDEX_KG[li as usize] * LOAD_INDEX_GRAVITY;
             let kind = o.text("Vehicle Type")?;
             let pattern = match kind {
                 "Truck" => &TRUCK_80,
                 "Passenger" => &PASSENGER_70,
-                _ => return Err(o.err("Vehicle Type", format!("is '{kind}': must be Truck or Passenger"))),
+                _ => return Err(o.fail("Vehicle Type", format!("is '{kind}': must be Truck or Passenger"))),
             };
             let [p_li, p_use] = pressures(&o)?;
             let mut t = TMeasy::guess(pattern, load, &design, 2.0 * design.rim_radius, p_li, p_use);
@@ -554,13 +510,13 @@ impl TMeasy {
         };
         if let Some(mu) = o.opt_num("Coefficient of Friction")? {
             if !(mu > 0.0) {
-                return Err(o.err("Coefficient of Friction", format!("is {mu}: must be positive")));
+                return Err(o.fail("Coefficient of Friction", format!("is {mu}: must be positive")));
             }
             tire.mu0 = mu;
         }
         if let Some(rr) = o.opt_num("Rolling Resistance Coefficient")? {
             if !(rr >= 0.0) {
-                return Err(o.err("Rolling Resistance Coefficient", format!("is {rr}: must not be negative")));
+                return Err(o.fail("Rolling Resistance Coefficient", format!("is {rr}: must not be negative")));
             }
             tire.rolling_resistance = rr;
         }
@@ -585,12 +541,12 @@ impl TMeasy {
         } else if v.has("Tire Spring Curve Data") {
             fit_spring(&v, "Tire Spring Curve Data")?
         } else {
-            return Err(v.err("Vertical Tire Stiffness [N/m]", "missing, and no Tire Spring Curve Data either"));
+            return Err(v.fail("Vertical Tire Stiffness [N/m]", "missing, and no Tire Spring Curve Data either"));
         };
         const DAMPING: &str = "Tire Vertical Damping [Ns/m]";
         if !v.has(DAMPING) && v.has("Vertical Tire Damping [Ns/m]") {
             // Chrono's own van_TMeasyTireFull.json spells it so; Chrono's reader does not find it either.
-            return Err(v.err(
+            return Err(v.fail(
                 DAMPING,
                 "missing (the file has 'Vertical Tire Damping [Ns/m]', a key Chrono's reader does not read)",
             ));
@@ -599,11 +555,11 @@ impl TMeasy {
         let mut warnings = Vec::new();
         for k in ["Tire Bottoming Radius [m]", "Tire Bottoming Stiffness [N/m]"] {
             if v.has(k) {
-                warnings.push(v.err(k, "not modelled: rtv has no bottoming spring (deflections beyond half the unloaded radius are refused)"));
+                warnings.push(v.fail(k, "not modelled: rtv has no bottoming spring (deflections beyond half the unloaded radius are refused)"));
             }
         }
         if let Some(r) = v.opt_num("Tire Bottoming Radius [m]")?.filter(|r| *r >= design.unloaded_radius) {
-            warnings.push(v.err("Tire Bottoming Radius [m]", format!("{r} m is not inside the unloaded radius {} m: in Chrono the bottoming spring pushes from the first contact", design.unloaded_radius)));
+            warnings.push(v.fail("Tire Bottoming Radius [m]", format!("{r} m is not inside the unloaded radius {} m: in Chrono the bottoming spring pushes from the first contact", design.unloaded_radius)));
         }
         let a = p.obj("Aligning")?;
         Ok(TMeasy {
