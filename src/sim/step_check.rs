@@ -62,6 +62,7 @@ pub const LOAD_CHANGE_FOR_CHECK: f64 = 0.5;
 ///   ratio and the stops: a change of `TRAVEL_CHANGE_FOR_CHECK` in θ_L (about 2.5 mm at the wheel); its
 ///   damping is the damper's slope at the damper's speed (its bands, and compression against rebound
 ///   blended over 0.01 m/s): a change of `TRAVEL_RATE_CHANGE_FOR_CHECK` in θ̇_L.
+///
 /// Tried first, a rule that checked only on such changes (five times larger) and at most every 1 s missed
 /// what the 0.1 s schedule catches: the Pac02 HMMWV's rear hop with dampers × 10 at −726 1/s 1.1 s into the
 /// J-turn (RK4 4.17 ms then finished 13 % off) and the double-wishbone import's spin-up (IMEX-AB3 8.33 ms,
