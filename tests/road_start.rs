@@ -223,6 +223,7 @@ fn at_speed_the_vehicle_starts_in_steady_rolling_on_the_road() {
 /// clothoid, arc, clothoid, arc, as ASAM's `Ex_Line-Spiral-Arc_elevation_and_superelevation`, with grade 1
 /// and superelevation 0.785398 rad: 45° each way). Each with the elevation slope and superelevation the file
 /// gives at the start (both straight there), typed here from the file, independent of the reader.
+#[allow(clippy::approx_constant)] // 0.785398 is the file's number, typed from it: not π/4
 fn file_roads() -> [(&'static str, PathBuf, f64, f64); 3] {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/roads");
     [

@@ -132,7 +132,10 @@ pub trait Integrator {
     }
 }
 
-/// One of the concrete schemes, chosen at run time; this is what a simulation holds and saves.
+/// One of the concrete schemes, chosen at run time; this is what a simulation holds and saves. (Its
+/// variants differ in size, IMEX-AB3's block being the largest: a simulation holds one, made once and never
+/// moved in the loop, so boxing it would only add an indirection to every step.)
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum AnyIntegrator {
     Rk4(Rk4),

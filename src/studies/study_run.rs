@@ -337,7 +337,7 @@ pub fn run(request: &RunRequest) -> Result<RunResult, RunError> {
             let mut sim = crate::sim::Simulation::new(data, scene_config)?;
             sim.set_rack_profile(scene.rack);
             let mut rows = Vec::new();
-            crate::studies::scenes::run(&mut sim, scene.duration, manoeuvres::SAMPLE, |o| rows.push(o.clone()))?;
+            crate::studies::scenes::run(&mut sim, scene.duration, manoeuvres::SAMPLE, |o| rows.push(*o))?;
             let cost = Cost { evaluations: sim.evaluations(), simulated_seconds: sim.time() };
             (rows, cost)
         }
@@ -357,13 +357,13 @@ fn number(x: f64) -> Value {
 }
 
 fn statistic(stat: Statistic, channel: Channel, rows: &[Outputs]) -> f64 {
-    let values = rows.iter().map(|r| r[channel]);
+    let mut values = rows.iter().map(|r| r[channel]);
     match stat {
         Statistic::Peak => values.map(f64::abs).fold(0.0, f64::max),
         Statistic::Max => values.fold(f64::NEG_INFINITY, f64::max),
         Statistic::Min => values.fold(f64::INFINITY, f64::min),
         Statistic::Rms => (values.map(|v| v * v).sum::<f64>() / rows.len() as f64).sqrt(),
-        Statistic::Final => values.last().unwrap_or(f64::NAN),
+        Statistic::Final => values.next_back().unwrap_or(f64::NAN),
     }
 }
 
