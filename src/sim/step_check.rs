@@ -828,6 +828,10 @@ impl Simulation {
 #[cfg(test)]
 mod tests {
     use super::super::{Options, RoadChoice, SimConfig, Simulation};
+    use super::{
+        CheckedState, SLIP_CHANGE_FOR_CHECK, SPEED_FLOOR_FOR_CHECK, STATE_CHANGE_FOR_CHECK, TRAVEL_CHANGE_FOR_CHECK,
+        TRAVEL_RATE_CHANGE_FOR_CHECK,
+    };
     use crate::error::Cause;
     use crate::integrate::IntegratorKind;
     use crate::model::formats::params::VehicleData;
@@ -943,5 +947,46 @@ mod tests {
             // The HMMWV's wheel modes at rest are a few hundred 1/s; the jump read as a stiffness gives ~1e4.
             assert!(largest < 2000.0, "deflection {target}: |λ| = {largest}");
         }
+    }
+
+    /// Each quantity of the refresh rule moves the state when it changes by more than its constant, and
+    /// not when it changes by less; a speed is compared with `SPEED_FLOOR_FOR_CHECK` near a stop.
+    #[test]
+    fn the_refresh_rule_moves_on_each_quantity_by_its_constant() {
+        let at = CheckedState {
+            loads: [8000.0, 8000.0, 9000.0, 9000.0],
+            speed: 20.0,
+            kappa: [0.01; 4],
+            tan_alpha: [0.02; 4],
+            travel: [0.1; 4],
+            travel_rate: [0.0; 4],
+        };
+        assert!(!at.moved(&at));
+        // Each quantity changed by k times its constant (a relative change by the larger of the two values).
+        let cases: [(&str, fn(&mut CheckedState, f64)); 6] = [
+            ("load", |s, k| s.loads[2] /= 1.0 - k * STATE_CHANGE_FOR_CHECK),
+            ("speed", |s, k| s.speed /= 1.0 - k * STATE_CHANGE_FOR_CHECK),
+            ("kappa", |s, k| s.kappa[1] += k * SLIP_CHANGE_FOR_CHECK),
+            ("tan alpha", |s, k| s.tan_alpha[3] -= k * SLIP_CHANGE_FOR_CHECK),
+            ("travel", |s, k| s.travel[0] += k * TRAVEL_CHANGE_FOR_CHECK),
+            ("travel rate", |s, k| s.travel_rate[2] -= k * TRAVEL_RATE_CHANGE_FOR_CHECK),
+        ];
+        for (name, change) in cases {
+            for (k, moves) in [(0.9, false), (1.1, true)] {
+                let mut now = at;
+                change(&mut now, k);
+                assert_eq!(at.moved(&now), moves, "{name} changed by {k} of its constant");
+            }
+        }
+        // Near a stop the speed's change is measured against the floor: 0.1 to 0.105 m/s is no move, 0.1 to
+        // 0.1 + 1.1 × floor × constant is.
+        let slow = CheckedState { speed: 0.1, ..at };
+        let floor = SPEED_FLOOR_FOR_CHECK * STATE_CHANGE_FOR_CHECK;
+        assert!(!slow.moved(&CheckedState { speed: 0.1 + 0.9 * floor, ..at }));
+        assert!(slow.moved(&CheckedState { speed: 0.1 + 1.1 * floor, ..at }));
+        // A wheel that leaves the road (its load to zero) moves the state.
+        let mut lifted = at;
+        lifted.loads[0] = 0.0;
+        assert!(at.moved(&lifted));
     }
 }
