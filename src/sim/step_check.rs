@@ -9,9 +9,11 @@ use super::{
     FIXED_STEP_MIN,
 };
 use crate::error::{Cause, ModelError};
-use crate::integrate::stability::{bdf2_damped_up_to, damped_up_to, is_damped, largest_stable_step, DAMPED_GROWTH_MAX};
+use crate::integrate::stability::{
+    bdf2_damped_up_to, damped_half_disc, damped_up_to, is_damped, largest_stable_step, DAMPED_GROWTH_MAX,
+};
 use crate::integrate::{Integrator, IntegratorKind};
-use crate::math::eigen::eigenvalues;
+use crate::math::eigen::{eigenvalues, spectral_radius_bound};
 use crate::math::V3;
 use crate::model::road::RoadModel;
 use crate::model::tire::SlipModel;
@@ -215,8 +217,11 @@ pub(super) fn difference_column(
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelModes {
     pub per_wheel: [FastMode; 12],
-    /// The eigenvalues of the 20×20 wheel-state Jacobian (zero-padded without relaxation slip).
-    pub coupled: [Complex<f64>; 20],
+    /// The eigenvalues of the 20×20 wheel-state Jacobian (zero-padded without relaxation slip), once computed
+    /// (`WheelModes::coupled`: the step check computes them only where `spectral_bound` does not settle it).
+    pub coupled: Option<[Complex<f64>; 20]>,
+    /// A bound on their moduli (`math::eigen::spectral_radius_bound`).
+    pub spectral_bound: f64,
     /// The states of that Jacobian (`states[..len]`) and the Jacobian, row-major (`len`² values).
     pub states: [usize; 20],
     pub len: usize,
@@ -227,6 +232,38 @@ pub struct WheelModes {
     /// f at the state (`[..dim]`) and which wheels touch the road there: the base of the differences.
     pub derivative: [f64; idx::DIM],
     pub contact: [bool; 4],
+}
+
+impl WheelModes {
+    /// The eigenvalues of the wheel-state Jacobian (`coupled`), computed on the first call. The QR iteration
+    /// with a bound, eigenvalues only (`math::eigen`; nalgebra's `complex_eigenvalues` iterates without a
+    /// bound, and its `Schur::try_new` also accumulates the orthogonal factor, unused here); where a wheel is
+    /// off the road its rows nearly vanish and the iteration may stall at the tight tolerance: then once more
+    /// at a loose one (eigenvalues to 1e-7 relative are plenty here). Their order matters in `judge_step` only
+    /// where two give exactly the same largest stable step (the first is named); a conjugate pair comes with
+    /// its positive imaginary part first, as from nalgebra. `time` names the check in the error.
+    pub fn coupled(&mut self, time: f64) -> Result<&[Complex<f64>; 20], ModelError> {
+        if self.coupled.is_none() {
+            let len = self.len;
+            let jac =
+                SMatrix::<f64, 20, 20>::from_fn(
+                    |r, c| if r < len && c < len { self.jacobian[r * len + c] } else { 0.0 },
+                );
+            let coupled = eigenvalues(&jac, EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS)
+                .or_else(|| eigenvalues(&jac, 1e3 * EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS));
+            self.coupled = Some(coupled.ok_or_else(|| {
+                ModelError::new(
+                    Cause::StepSizeInstability,
+                    format!(
+                        "the step check's eigenvalue iteration did not converge in {EIGEN_MAX_ITERATIONS} sweeps at t = \
+                         {time:.3} s (wheel-state Jacobian {:e} in magnitude): the fast modes cannot be judged",
+                        jac.amax()
+                    ),
+                )
+            })?);
+        }
+        Ok(self.coupled.as_ref().expect("computed above"))
+    }
 }
 
 /// Which fast sub-system a mode belongs to.
@@ -297,7 +334,7 @@ impl Simulation {
     /// over an obstacle grows back once it has passed), then the ladder's step below the one each refusal
     /// names; the modes are measured once. `Some` plan for the rest of the interval when the sub-step is not `hs`.
     pub(super) fn choose_step(&mut self, remaining: f64, hs: f64) -> Result<Option<(usize, f64)>, ModelError> {
-        let modes = self.measure_fast_modes()?;
+        let mut modes = self.measure_fast_modes()?;
         let mut bound = self.config.integrator.default_step();
         match self.check.step_ceiling {
             Some((ceiling, until)) if self.run.time < until => bound = bound.min(ceiling),
@@ -306,7 +343,7 @@ impl Simulation {
         let mut tries = 0;
         loop {
             let (m, hm) = self.config.plan_with(remaining, bound)?;
-            match self.judge_step(&modes, hm) {
+            match self.judge_step(&mut modes, hm) {
                 Ok(()) => {
                     if self.check.step != 0.0 && bound != self.check.step {
                         self.steps_taken.changes += 1;
@@ -415,6 +452,13 @@ impl Simulation {
     /// the full Jacobian): `MODE_MARGIN` covers it. The Newton warm starts are left as they were. No heap
     /// allocation.
     pub fn wheel_modes(&mut self) -> Result<WheelModes, ModelError> {
+        let mut modes = self.wheel_jacobian()?;
+        modes.coupled(self.run.time)?;
+        Ok(modes)
+    }
+
+    /// `wheel_modes` without the coupled eigenvalues (`WheelModes::coupled` computes them when needed).
+    fn wheel_jacobian(&mut self) -> Result<WheelModes, ModelError> {
         let vehicle = attached(&self.vehicle)?;
         let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
         let layout = run.layout();
@@ -490,26 +534,6 @@ impl Simulation {
                 let lateral = if slip_states.is_some() { at(i, 4, 4) } else { 0.0 };
                 modes[8 + i] = FastMode { kind: ModeKind::LateralTread, corner: i, lambda: Complex::new(lateral, 0.0) };
             }
-            // The QR iteration with a bound, eigenvalues only (`math::eigen`; nalgebra's
-            // `complex_eigenvalues` iterates without a bound, and its `Schur::try_new` also accumulates the
-            // orthogonal factor, unused here); where a wheel is off the road its rows nearly vanish and the
-            // iteration may stall at the tight tolerance: then once more at a loose one (eigenvalues to 1e-7
-            // relative are plenty here). Their order matters below only where two give exactly the same
-            // largest stable step (the first is named); a conjugate pair comes with its positive imaginary part
-            // first, as from nalgebra.
-            let coupled = eigenvalues(&jac, EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS)
-                .or_else(|| eigenvalues(&jac, 1e3 * EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS));
-            let coupled = coupled.ok_or_else(|| {
-                ModelError::new(
-                    Cause::StepSizeInstability,
-                    format!(
-                        "the step check's eigenvalue iteration did not converge in {EIGEN_MAX_ITERATIONS} sweeps at t = \
-                         {:.3} s (wheel-state Jacobian {:e} in magnitude): the fast modes cannot be judged",
-                        self.run.time,
-                        jac.amax()
-                    ),
-                )
-            })?;
             let len = 4 * per_corner;
             let states = std::array::from_fn(|k| if k < len { state_of(k / per_corner, k % per_corner) } else { 0 });
             let mut jacobian = [0.0; 400];
@@ -520,7 +544,8 @@ impl Simulation {
             }
             Ok(WheelModes {
                 per_wheel: modes,
-                coupled,
+                coupled: None,
+                spectral_bound: spectral_radius_bound(&jac),
                 states,
                 len,
                 jacobian,
@@ -597,8 +622,8 @@ impl Simulation {
     /// error names the mode, its eigenvalue and the largest stable step. Modes with Re λ > 0 grow
     /// physically whatever the step and are judged by their imaginary part alone.
     pub fn check_fast_modes(&mut self, h: f64) -> Result<(), ModelError> {
-        let modes = self.measure_fast_modes()?;
-        self.judge_step(&modes, h)
+        let mut modes = self.measure_fast_modes()?;
+        self.judge_step(&mut modes, h)
     }
 
     /// The step check's measurement: the wheel modes at the current state (and IMEX-AB3's Jacobian from
@@ -610,7 +635,7 @@ impl Simulation {
         self.check.state_at_mode_check = self.checked_state();
         self.check.landed_since_check = self.imex_landings() != self.check.landings_at_mode_check;
         self.check.landings_at_mode_check = self.imex_landings();
-        let wheel_modes = self.wheel_modes()?;
+        let wheel_modes = self.wheel_jacobian()?;
         // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
         // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.
         if self.run.integrator.implicit_block().is_some() {
@@ -626,46 +651,15 @@ impl Simulation {
 
     /// Refuse the step `h` if a measured fast mode lies outside the integrator's stability region (see
     /// `check_fast_modes`), or if it under-resolves what a road with bumps excites (`check_hop_resolution`).
-    pub(super) fn judge_step(&mut self, wheel_modes: &WheelModes, h: f64) -> Result<(), ModelError> {
+    pub(super) fn judge_step(&mut self, wheel_modes: &mut WheelModes, h: f64) -> Result<(), ModelError> {
         let kind = self.config.integrator;
-        let WheelModes { per_wheel: modes, coupled, .. } = wheel_modes;
-        // Each eigenvalue of the wheel states together, judged with the margin for what the block leaves
-        // out, and named by the per-wheel mode nearest to it.
-        // Every eigenvalue is judged (a refusal names the one with the smallest stable step); the bisection
-        // for that step runs only for those that fail, which keeps the check cheap when all pass.
-        let judged = |l: &Complex<f64>| Complex::new(l.re.min(0.0), l.im) * MODE_MARGIN;
-        // IMEX-AB3 also fails a step that jumps over BDF3's unstable lobe near the imaginary axis (the mode is
-        // undamped at some smaller step): there a weakly damped fast mode is damped numerically, not followed
-        // (tire k_z × 100 on the J-turn at 4.17 ms was 1 % off so). Where BDF3 fails a mode and A-stable BDF2
-        // damps every one, the scheme steps at second order until the next check (`ImexAb3::set_order`).
-        let mut fails = [false; 20];
-        for (f, l) in fails.iter_mut().zip(coupled.iter()) {
-            *f = match kind {
-                IntegratorKind::ImexAb3 => !damped_up_to(kind, judged(l), h),
-                _ => !is_damped(kind, judged(l) * h),
-            };
-        }
-        if let Some(scheme) = self.run.integrator.implicit_block() {
-            let second = fails.iter().any(|f| *f) && coupled.iter().all(|l| bdf2_damped_up_to(judged(l), h));
-            scheme.set_order(if second { 2 } else { 3 });
-            if second {
-                fails = [false; 20];
-            }
-        }
-        let worst = coupled
-            .iter()
-            .zip(fails)
-            .filter_map(|(l, fails)| {
-                let lambda = judged(l);
-                fails.then(|| {
-                    let m = modes
-                        .iter()
-                        .min_by(|a, b| (a.lambda - l).norm().total_cmp(&(b.lambda - l).norm()))
-                        .expect("twelve modes");
-                    (m, l, lambda, largest_stable_step(kind, lambda, h))
-                })
-            })
-            .min_by(|a, b| a.3.total_cmp(&b.3));
+        // Where the bound on every eigenvalue's modulus puts each judged hλ inside the half-disc the scheme
+        // damps (`stability::damped_half_disc`), every mode passes: the eigenvalues are not computed, and the
+        // verdict is the one they would give. (At the usual steps on a level road the bound settles it, and
+        // the eigenvalue problem is the larger part of an RK4 check's own work.)
+        let settled = damped_half_disc(kind).is_some_and(|r| MODE_MARGIN * h * wheel_modes.spectral_bound <= r);
+        let worst = if settled { None } else { self.worst_mode(wheel_modes, h)? };
+        let modes = &wheel_modes.per_wheel;
         match worst {
             Some((m, l, _, h_max)) => Err(ModelError::step_refused(
                 h_max,
@@ -694,6 +688,57 @@ impl Simulation {
                 resolved => resolved,
             },
         }
+    }
+
+    /// The eigenvalue of the wheel states together whose judged hλ fails with the smallest stable step, with
+    /// the per-wheel mode nearest to it (which names it), its judged value and that step; `None` if every one
+    /// passes. For IMEX-AB3 it also sets the scheme's order (below).
+    #[allow(clippy::type_complexity)]
+    fn worst_mode(
+        &mut self,
+        wheel_modes: &mut WheelModes,
+        h: f64,
+    ) -> Result<Option<(FastMode, Complex<f64>, Complex<f64>, f64)>, ModelError> {
+        let kind = self.config.integrator;
+        let coupled = *wheel_modes.coupled(self.run.time)?;
+        let modes = &wheel_modes.per_wheel;
+        // Each eigenvalue of the wheel states together, judged with the margin for what the block leaves
+        // out, and named by the per-wheel mode nearest to it.
+        // Every eigenvalue is judged (a refusal names the one with the smallest stable step); the bisection
+        // for that step runs only for those that fail, which keeps the check cheap when all pass.
+        let judged = |l: &Complex<f64>| Complex::new(l.re.min(0.0), l.im) * MODE_MARGIN;
+        // IMEX-AB3 also fails a step that jumps over BDF3's unstable lobe near the imaginary axis (the mode is
+        // undamped at some smaller step): there a weakly damped fast mode is damped numerically, not followed
+        // (tire k_z × 100 on the J-turn at 4.17 ms was 1 % off so). Where BDF3 fails a mode and A-stable BDF2
+        // damps every one, the scheme steps at second order until the next check (`ImexAb3::set_order`).
+        let mut fails = [false; 20];
+        for (f, l) in fails.iter_mut().zip(coupled.iter()) {
+            *f = match kind {
+                IntegratorKind::ImexAb3 => !damped_up_to(kind, judged(l), h),
+                _ => !is_damped(kind, judged(l) * h),
+            };
+        }
+        if let Some(scheme) = self.run.integrator.implicit_block() {
+            let second = fails.iter().any(|f| *f) && coupled.iter().all(|l| bdf2_damped_up_to(judged(l), h));
+            scheme.set_order(if second { 2 } else { 3 });
+            if second {
+                fails = [false; 20];
+            }
+        }
+        Ok(coupled
+            .iter()
+            .zip(fails)
+            .filter_map(|(l, fails)| {
+                let lambda = judged(l);
+                fails.then(|| {
+                    let m = modes
+                        .iter()
+                        .min_by(|a, b| (a.lambda - l).norm().total_cmp(&(b.lambda - l).norm()))
+                        .expect("twelve modes");
+                    (*m, *l, lambda, largest_stable_step(kind, lambda, h))
+                })
+            })
+            .min_by(|a, b| a.3.total_cmp(&b.3)))
     }
 
     /// IMEX-AB3's located touchdowns so far (`ImexAb3::located`); 0 for the other schemes.
@@ -943,7 +988,14 @@ mod tests {
             // deflection in the wheel's plane, so the lift gives a few 1e-9 m rather than exactly `target`.
             let reached = sim.cache.diagnostics.penetration[0];
             assert!(reached * target > 0.0 && reached.abs() < 1e-8, "{reached}");
-            let largest = sim.wheel_modes().unwrap().coupled.iter().map(|l| l.norm()).fold(0.0, f64::max);
+            let largest = sim
+                .wheel_modes()
+                .unwrap()
+                .coupled
+                .expect("computed by wheel_modes")
+                .iter()
+                .map(|l| l.norm())
+                .fold(0.0, f64::max);
             // The HMMWV's wheel modes at rest are a few hundred 1/s; the jump read as a stiffness gives ~1e4.
             assert!(largest < 2000.0, "deflection {target}: |λ| = {largest}");
         }
