@@ -131,12 +131,10 @@ pub struct StepCheck {
     /// Time of the last check of the fast modes against the step (`check_fast_modes`).
     #[serde(default)]
     pub(super) last_mode_check: Option<f64>,
-    /// The tire loads at that check, N: a wheel that leaves or meets the road, or whose load changes by
-    /// half since, changes the fast modes (the hop and tread stiffnesses are the tire's), so the next
-    /// `advance` checks again whatever the time (`LOAD_CHANGE_FOR_CHECK`).
-    #[serde(default)]
-    pub(super) loads_at_mode_check: [f64; 4],
-    /// The state at that check, for the refresh rule on a flat road (`MODE_CHECK_INTERVAL_FLAT`).
+    /// The state at that check: for the refresh rule on a flat road (`MODE_CHECK_INTERVAL_QUIET`), and its
+    /// tire loads, N, on every road: a wheel that leaves or meets the road, or whose load changes by half
+    /// since, changes the fast modes (the hop and tread stiffnesses are the tire's), so the next `advance`
+    /// checks again whatever the time (`LOAD_CHANGE_FOR_CHECK`).
     #[serde(default)]
     pub(super) state_at_mode_check: CheckedState,
     /// IMEX-AB3's located touchdowns (`ImexAb3::located`, not saved either) at the last check: a wheel that
@@ -386,7 +384,7 @@ impl Simulation {
                 && (!flat
                     || elapsed(MODE_CHECK_INTERVAL_QUIET)
                     || self.check.state_at_mode_check.moved(&self.checked_state())))
-                || loads_changed(&self.check.loads_at_mode_check, &self.cache.tire_loads)
+                || loads_changed(&self.check.state_at_mode_check.loads, &self.cache.tire_loads)
                 || self.imex_landings() != self.check.landings_at_mode_check)
     }
 
@@ -631,7 +629,6 @@ impl Simulation {
     pub(super) fn measure_fast_modes(&mut self) -> Result<WheelModes, ModelError> {
         self.check.last_mode_check = Some(self.run.time);
         self.check.measured += 1;
-        self.check.loads_at_mode_check = self.cache.tire_loads;
         self.check.state_at_mode_check = self.checked_state();
         self.check.landed_since_check = self.imex_landings() != self.check.landings_at_mode_check;
         self.check.landings_at_mode_check = self.imex_landings();

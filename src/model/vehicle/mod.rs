@@ -73,6 +73,24 @@ pub struct Layout {
 }
 
 impl Layout {
+    /// Refuse a state `x` or a derivative `dxdt` whose length is not this layout's (an evaluation's first
+    /// test, the whole one's and a corner's alike).
+    #[inline(always)]
+    pub fn check_lengths(&self, x: &[f64], dxdt: &[f64]) -> Result<(), ModelError> {
+        if x.len() != self.dim || dxdt.len() != self.dim {
+            return Err(ModelError::new(
+                Cause::Input,
+                format!(
+                    "state of {} and derivative of {} numbers, the layout of these options has {}",
+                    x.len(),
+                    dxdt.len(),
+                    self.dim
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// A state's name for messages: "roll rate (ω_x)", "wheel spin rl", …
     pub fn state_name(&self, i: usize) -> String {
         let corner = |k: usize| CORNERS[k % 4];
@@ -582,18 +600,7 @@ impl Vehicle {
         ws: &mut Workspace,
         dxdt: &mut [f64],
     ) -> Result<(), ModelError> {
-        let layout = run.layout();
-        if x.len() != layout.dim || dxdt.len() != layout.dim {
-            return Err(ModelError::new(
-                Cause::Input,
-                format!(
-                    "state of {} and derivative of {} numbers, the layout of these options has {}",
-                    x.len(),
-                    dxdt.len(),
-                    layout.dim
-                ),
-            ));
-        }
+        run.layout().check_lengths(x, dxdt)?;
         self.assemble_into(run, x, inputs, ws)?;
         self.acceleration_stage(run, x, inputs, ws, dxdt) // synthesis.rs
     }

@@ -33,13 +33,7 @@ impl Vehicle {
         i: usize,
         dxdt: &mut [f64],
     ) -> Result<[f64; 4], ModelError> {
-        let layout = run.layout();
-        if x.len() != layout.dim || dxdt.len() != layout.dim {
-            return Err(ModelError::new(
-                crate::error::Cause::Input,
-                format!("state of {} and derivative of {} numbers, the layout has {}", x.len(), dxdt.len(), layout.dim),
-            ));
-        }
+        run.layout().check_lengths(x, dxdt)?;
         // A bar on corner i's axle carries its θ_L and θ̇_L to the partner's θ_L: the whole axle again.
         let axle = i / 2;
         let with_bar = self.antiroll_bars[axle].is_some();
