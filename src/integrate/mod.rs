@@ -50,6 +50,13 @@ pub trait OdeSystem {
     fn edge_indicators(&self) -> &[f64] {
         &[]
     }
+    /// Indicators of the last evaluation whose upward zero crossing is where a contact ends and the
+    /// right-hand side jumps (a tire's lift-off: the tread's relaxation law switches). RK4 locates their
+    /// crossings as it locates touchdowns; the other schemes do not look at them. At most
+    /// `touchdown::MAX_SWITCHES`. Default: none.
+    fn lift_off_indicators(&self) -> &[f64] {
+        &[]
+    }
 }
 
 /// The integration schemes, selectable at run time.

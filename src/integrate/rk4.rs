@@ -22,9 +22,12 @@
 //! 3. The rest of the step is one RK4 sub-step whose stages all see the contact law. It is split again if
 //!    another wheel touches down in it (at most `MAX_LOCATED_PER_STEP` times per step).
 //!
-//! A step without a touchdown is exactly the plain RK4 step, bit for bit. Lift-off is not located: the force
-//! reaches 0 continuously there (the clamp of `tire::normal_force`), a kink, not a jump. Each located
-//! touchdown costs about 4 evaluations per bracketing sub-step (3–6 of them) and 2 more.
+//! A step without a touchdown is exactly the plain RK4 step, bit for bit. The same location steps across
+//! the other jumps a system reports (`OdeSystem::edge_indicators`, `OdeSystem::lift_off_indicators`): a C⁰
+//! edge of the road under the single-point contact, and a tire's lift-off, where the normal force reaches 0
+//! continuously (the clamp of `tire::normal_force`, a kink) but the tread's relaxation law switches (a jump
+//! of the slip states' rates). Each located switch costs about 4 evaluations per bracketing sub-step (3–6
+//! of them) and 2 more.
 use super::touchdown::{false_position, Indicators, MAX_HOPS, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
 use super::{commit, eval, fit, projected, Integrator, OdeSystem};
 use crate::error::ModelError;

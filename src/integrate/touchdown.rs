@@ -11,17 +11,17 @@ pub const TIME_TOLERANCE: f64 = 1e-9;
 /// Bracketing sub-steps per touchdown at most (regula falsi converges in 3–6 on a smooth approach; a
 /// discontinuous one, an enveloped obstacle's edge, falls back to about halving).
 pub const MAX_ITERATIONS: usize = 16;
-/// Touchdowns and edges located in one step at most (each wheel twice).
+/// Touchdowns, edges and lift-offs located in one step at most (each wheel twice).
 pub const MAX_LOCATED_PER_STEP: usize = 2 * MAX_SWITCHES;
 /// Euler hops across a bracket at most (each doubling the last when the wheel is still in the air).
 pub(super) const MAX_HOPS: usize = 4;
 
 /// The switch indicators of one evaluation (`OdeSystem::switch_indicators`, and with `record_with_edges`
-/// its `edge_indicators` after them).
+/// its `edge_indicators` and `lift_off_indicators` after them).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Indicators {
     n: usize,
-    g: [f64; 2 * MAX_SWITCHES],
+    g: [f64; 3 * MAX_SWITCHES],
 }
 
 impl Indicators {
@@ -31,10 +31,12 @@ impl Indicators {
         self.append(sys.switch_indicators());
     }
 
-    /// Take the touchdown and the edge indicators of `sys`'s last evaluation (RK4 locates both).
+    /// Take the touchdown, the edge and the lift-off indicators of `sys`'s last evaluation (RK4 locates all
+    /// three).
     pub fn record_with_edges(&mut self, sys: &dyn OdeSystem) {
         self.record(sys);
         self.append(sys.edge_indicators());
+        self.append(sys.lift_off_indicators());
     }
 
     fn append(&mut self, s: &[f64]) {
