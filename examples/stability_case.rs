@@ -1,7 +1,8 @@
 //! One case of the stability suite, channel by channel: `cargo run --release --example stability_case --
 //! VEHICLE.json "CASE NAME" STEP_S [INTEGRATOR]` prints each channel's largest difference from the reference
 //! (RK4 at the suite's reference step) relative to its excursion, and where it occurs, for the run with
-//! INTEGRATOR (the CLI's name; rk4 by default). A diagnostic for WRONG cells.
+//! INTEGRATOR (the CLI's name; rk4 by default), on the vehicle's own tire or on the Magic Formula tire of
+//! TIRE.tir (`... STEP_S INTEGRATOR TIRE.tir`, as `rtv stability --tire-file`). A diagnostic for WRONG cells.
 
 use rt_vehicle::integrate::IntegratorKind;
 use rt_vehicle::model::formats::params::VehicleData;
@@ -9,7 +10,10 @@ use rt_vehicle::studies::stability;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let data = VehicleData::from_file(std::path::Path::new(&args[1])).unwrap();
+    let mut data = VehicleData::from_file(std::path::Path::new(&args[1])).unwrap();
+    if let Some(tir) = args.get(5) {
+        data.use_tire_file(std::path::Path::new(tir)).unwrap();
+    }
     let case = stability::case_named(&data, &args[2]).unwrap();
     let h: f64 = args[3].parse().unwrap();
     let reference = stability::run_case(&case, IntegratorKind::Rk4, stability::REFERENCE_STEP);

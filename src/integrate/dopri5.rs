@@ -19,6 +19,15 @@
 //! failure; a stage the model cannot evaluate (a suspension driven out of its range by too long a trial
 //! step) is a rejection too, with the step quartered. What does fail, with a message: the step falling
 //! below `H_MIN_RELATIVE` of the time, or the stretch needing more derivative evaluations than its budget.
+//!
+//! Switches (docs/integrators.md, "Touchdowns"): where the right-hand side jumps (a tire's touchdown, a C⁰ edge
+//! of the road under the single-point contact, a tire's lift-off: the indicators RK4 locates), an error
+//! estimate across the jump means nothing: the controller shrinks the step until the jump's first-order error
+//! fits the tolerance, and a global error of 1 % could pass. So a step whose stages see a switch turn on is
+//! retaken: the earliest such stage is a bracket's upper end, the accepted point its lower end, and steps go
+//! to Illinois' false position until the bracket is narrower than `SWITCH_GAP` of the largest step; an explicit
+//! Euler hop crosses it (its error: the jump times that width), and the next step starts on the new law.
+use super::touchdown::{Indicators, MAX_HOPS};
 use super::{commit, eval, fit, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
 use serde::{Deserialize, Serialize};
@@ -68,6 +77,11 @@ pub const FIRST_STEP: f64 = 1e-3;
 pub const H_MIN_RELATIVE: f64 = 1e-12;
 /// Evaluations of one attempted step: six new stages, plus the first when it is not carried over (FSAL).
 pub const EVALUATIONS_PER_STEP: u64 = 7;
+/// The stages' times, as fractions of the step.
+const STAGE_TIMES: [f64; 7] = [0.0, C2, C3, C4, C5, 1.0, 1.0];
+/// How close to a switch (a touchdown, a C⁰ road edge, a lift-off) the steps that approach it end before an
+/// Euler hop crosses it, relative to the largest step.
+pub const SWITCH_GAP: f64 = 1e-9;
 
 /// A check of every accepted state (t, x): the simulation's divergence bounds.
 pub type StepCheck<'a> = dyn FnMut(f64, &[f64]) -> Result<(), ModelError> + 'a;
@@ -83,6 +97,15 @@ pub struct Control {
     pub max_evaluations: u64,
 }
 
+/// Where a switch is known on while it is located (`Dopri5::integrate`): the time of the earliest stage
+/// at which it was, and its indicator there; whether the upper end moved last (Illinois).
+#[derive(Debug, Clone, Copy)]
+struct SwitchOn {
+    t: f64,
+    f: f64,
+    moved_hi: bool,
+}
+
 /// The error-controlled scheme. Its state is the step the controller proposes next and its memory of the
 /// last error (both saved bit-exactly with an FMU state), and the step counts.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -96,8 +119,17 @@ pub struct Dopri5 {
     /// Accepted and rejected steps so far.
     pub accepted: u64,
     pub rejected: u64,
+    /// Switches located so far (touchdowns, edges, lift-offs: `OdeSystem::switch_indicators` and the others
+    /// RK4 locates), and the steps shortened to approach them.
+    #[serde(skip)]
+    pub located: u64,
+    #[serde(skip)]
+    pub approaches: u64,
     #[serde(skip)]
     k: [Vec<f64>; 7],
+    /// The switch indicators at each stage of the latest attempt (`Indicators::record_with_edges`).
+    #[serde(skip)]
+    g: [Indicators; 7],
     #[serde(skip)]
     xs: Vec<f64>,
     #[serde(skip)]
@@ -158,6 +190,11 @@ impl Dopri5 {
         let mut fsal = false;
         let mut just_rejected = false;
         let mut last_failure: Option<ModelError> = None;
+        // The controller's step before the steps that approach a switch (restored after its hop).
+        let mut h_resume: Option<f64> = None;
+        // The earliest time a switch is known on while one is located, and Illinois' weight of the lower end.
+        let mut bracket: Option<SwitchOn> = None;
+        let mut bracket_f_lo_scale = 1.0;
         while t < t1 {
             let remaining = t1 - t;
             h = h.min(control.h_max).min(sys.step_limit());
@@ -199,6 +236,7 @@ impl Dopri5 {
                 // f at an accepted state: a failure here is the model's, not the step's.
                 evaluations += 1;
                 eval(sys, t, x, &mut self.k[0])?;
+                self.g[0].record_with_edges(sys);
                 fsal = true;
             }
             let err = match self.attempt(sys, t, step, x, &mut evaluations) {
@@ -209,6 +247,34 @@ impl Dopri5 {
                     f64::INFINITY
                 }
             };
+            // A switch off at the step's start and on at a later stage: the right-hand side jumps inside the
+            // step, which no error estimate can be trusted across. The earliest stage at which one is on is
+            // the bracket's upper end; steps from the lower end (the accepted point) are retaken to Illinois'
+            // false position, so that each ends before the switch or moves the upper end down, and once the
+            // bracket is narrower than `SWITCH_GAP` an Euler hop crosses it, as RK4's location does.
+            let width = SWITCH_GAP * control.h_max;
+            if err.is_finite() {
+                if let Some(on) = self.first_stage_on(t, step) {
+                    self.approaches += 1;
+                    h_resume = Some(h_resume.unwrap_or(h));
+                    if bracket.is_some_and(|b| b.moved_hi) {
+                        bracket_f_lo_scale *= 0.5;
+                    }
+                    bracket = Some(on);
+                    if on.t - t > width {
+                        h = self.false_position(t, on, bracket_f_lo_scale, width);
+                        continue;
+                    }
+                    t = self.hop(sys, t, width.max(on.t - t), t1, x, &mut evaluations, check)?;
+                    self.located += 1;
+                    (bracket, bracket_f_lo_scale) = (None, 1.0);
+                    h = h_resume.take().unwrap_or(h);
+                    if t >= t1 {
+                        break;
+                    }
+                    continue;
+                }
+            }
             if err.is_nan() {
                 return Err(ModelError::new(
                     Cause::ErrorControl,
@@ -231,9 +297,21 @@ impl Dopri5 {
                 // The stage at the new point starts the next step (FSAL), before projection: the projection
                 // moves the state by round-off only (a unit quaternion renormalised).
                 self.k.swap(0, 6);
+                self.g[0] = self.g[6];
                 t = t_new;
                 // A step shortened to land on t1 does not shrink the proposal carried to the next interval.
                 h = if last || step < h { h_new.max(h) } else { h_new };
+                // Locating a switch: the lower end moved; the next step is to the false position.
+                if let Some(b) = bracket.as_mut() {
+                    if !b.moved_hi {
+                        b.f *= 0.5; // Illinois: the upper end retained twice
+                    }
+                    b.moved_hi = false;
+                    bracket_f_lo_scale = 1.0;
+                    if !last {
+                        h = self.false_position(t, *b, 1.0, width);
+                    }
+                }
                 if last {
                     break;
                 }
@@ -245,6 +323,65 @@ impl Dopri5 {
         }
         self.h_next = h.min(control.h_max);
         Ok(evaluations)
+    }
+
+    /// The earliest stage of the latest attempt (from t, of size `step`) at which a switch that was off at its
+    /// start is on, with its time and its largest such indicator; `None` if none is.
+    fn first_stage_on(&self, t: f64, step: f64) -> Option<SwitchOn> {
+        let start = &self.g[0];
+        (1..7)
+            .map(|j| (STAGE_TIMES[j], self.g[j].largest_of_off(start)))
+            .find(|&(_, f)| f > 0.0)
+            .map(|(c, f)| SwitchOn { t: t + c * step, f, moved_hi: true })
+    }
+
+    /// The step from t (f = f(t, x), whose indicators are in `g[0]`) to the false position of the switch in
+    /// [t, on.t], the lower end's indicator weighted by `f_lo_scale` (Illinois), kept `width` / 2 inside.
+    fn false_position(&self, t: f64, on: SwitchOn, f_lo_scale: f64, width: f64) -> f64 {
+        let f_lo = f_lo_scale * self.g[0].largest_of_off(&self.g[0]);
+        let span = on.t - t;
+        let s = span * (-f_lo) / (on.f - f_lo);
+        let s = if s.is_finite() { s } else { 0.5 * span };
+        s.clamp(0.5 * width.min(span), (span - 0.5 * width).max(0.5 * span.min(width)))
+    }
+
+    /// An explicit Euler hop across a switch from (t, x), `self.k[0]` = f(t, x): a step of `e`, doubled while
+    /// the switch is still off (at most `MAX_HOPS` times, and never past t1). Its error is the jump times
+    /// the part of the hop before the switch. Leaves f and the indicators at the new point in `k[0]`, `g[0]`
+    /// and returns its time.
+    #[allow(clippy::too_many_arguments)]
+    fn hop(
+        &mut self,
+        sys: &mut dyn OdeSystem,
+        t: f64,
+        mut e: f64,
+        t1: f64,
+        x: &mut [f64],
+        evaluations: &mut u64,
+        check: &mut StepCheck<'_>,
+    ) -> Result<f64, ModelError> {
+        let off = self.g[0];
+        for hop in 0..MAX_HOPS {
+            let e_now = e.min(t1 - t);
+            let t_now = if e_now == t1 - t { t1 } else { t + e_now };
+            for i in 0..x.len() {
+                self.xs[i] = x[i] + e_now * self.k[0][i];
+            }
+            sys.project(&mut self.xs);
+            *evaluations += 1;
+            eval(sys, t_now, &self.xs, &mut self.k[6])?;
+            let mut g = Indicators::default();
+            g.record_with_edges(sys);
+            if t_now == t1 || hop + 1 == MAX_HOPS || g.largest_of_off(&off) > 0.0 {
+                commit(sys, t_now, &mut self.xs, x)?;
+                check(t_now, x)?;
+                self.k.swap(0, 6);
+                self.g[0] = g;
+                return Ok(t_now);
+            }
+            e *= 2.0;
+        }
+        unreachable!("the last hop returns")
     }
 
     /// The error estimate of component i for a step h (stages already computed).
@@ -266,9 +403,14 @@ impl Dopri5 {
         let n = x.len();
         let [k1, k2, k3, k4, k5, k6, k7] = &mut self.k;
         let xs = &mut self.xs;
-        let mut stage = |c: f64, xs: &[f64], out: &mut [f64]| {
+        let g = &mut self.g;
+        let mut j = 0;
+        let mut stage = |c: f64, xs: &[f64], out: &mut [f64]| -> Result<(), ModelError> {
             *evaluations += 1;
-            eval(sys, t + c * h, xs, out)
+            eval(sys, t + c * h, xs, out)?;
+            j += 1;
+            g[j].record_with_edges(sys);
+            Ok(())
         };
         for i in 0..n {
             xs[i] = x[i] + h * A21 * k1[i];
@@ -430,6 +572,28 @@ mod tests {
         assert!(d.rejected > 0, "the jump costs rejected steps");
         assert!((x[0] - 0.63).abs() < 1e-6, "x(1) = 0.63, got {}", x[0]);
         assert!(d.proposed_step() > 0.0 && d.proposed_step() <= 0.1);
+    }
+
+    /// A located touchdown (the dropped mass of `touchdown`'s tests): the steps approach it, an Euler hop
+    /// crosses it, and the error at tolerance 1e-8 is a tenth or less of that of the same run left to its
+    /// error control alone (measured: 6.1e-11 against 3.2e-9), at fewer evaluations (218 against 451).
+    #[test]
+    fn a_touchdown_is_approached_and_hopped_across() {
+        use crate::integrate::touchdown::tests::{exact, Drop, Z0};
+        let run = |locate: bool| {
+            let (mut d, mut sys, mut x) = (Dopri5::new(), Drop { locate, penetration: [0.0], evaluations: 0 }, [Z0, 0.0]);
+            let control = Control { tolerance: 1e-8, h_max: 0.01, max_evaluations: 100_000 };
+            d.integrate(&mut sys, 0.0, 0.13, &mut x, control, &mut |_, _| Ok(())).unwrap();
+            let e = exact(0.13);
+            ((x[0] - e[0]).abs() + (x[1] - e[1]).abs() / 100.0, d, sys.evaluations)
+        };
+        let (located, d, evaluations) = run(true);
+        let (left, d_left, evaluations_left) = run(false);
+        println!("located: error {located:.2e}, {evaluations} evaluations, {} approaches; error control alone: {left:.2e}, {evaluations_left} evaluations, {} rejected",
+            d.approaches, d_left.rejected);
+        assert_eq!((d.located, d_left.located), (1, 0));
+        assert!(located < 0.1 * left, "{located:e} against {left:e}");
+        assert!(evaluations < evaluations_left, "{evaluations} against {evaluations_left}");
     }
 
     /// The smooth system with a step limit (as the vehicle sets one while a wheel is near lift-off).
