@@ -27,7 +27,7 @@
 //! retaken: the earliest such stage is a bracket's upper end, the accepted point its lower end, and steps go
 //! to Illinois' false position until the bracket is narrower than `SWITCH_GAP` of the largest step; an explicit
 //! Euler hop crosses it (its error: the jump times that width), and the next step starts on the new law.
-use super::touchdown::{Indicators, MAX_HOPS};
+use super::touchdown::{Indicators, MAX_HOPS, MAX_ITERATIONS};
 use super::{commit, eval, fit, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
 use serde::{Deserialize, Serialize};
@@ -195,6 +195,8 @@ impl Dopri5 {
         // The earliest time a switch is known on while one is located, and Illinois' weight of the lower end.
         let mut bracket: Option<SwitchOn> = None;
         let mut bracket_f_lo_scale = 1.0;
+        // Steps retaken for the switch being located (at most `MAX_ITERATIONS`, then the hop crosses the rest).
+        let mut tries = 0;
         while t < t1 {
             let remaining = t1 - t;
             h = h.min(control.h_max).min(sys.step_limit());
@@ -252,7 +254,8 @@ impl Dopri5 {
             // the bracket's upper end; steps from the lower end (the accepted point) are retaken to Illinois'
             // false position, so that each ends before the switch or moves the upper end down, and once the
             // bracket is narrower than `SWITCH_GAP` an Euler hop crosses it, as RK4's location does.
-            let width = SWITCH_GAP * control.h_max;
+            // (At least a few of the smallest steps f64 resolves at t, or the approach would end in one.)
+            let width = (SWITCH_GAP * control.h_max).max(4.0 * H_MIN_RELATIVE * t.abs().max(1.0));
             if err.is_finite() {
                 if let Some(on) = self.first_stage_on(t, step) {
                     self.approaches += 1;
@@ -261,13 +264,14 @@ impl Dopri5 {
                         bracket_f_lo_scale *= 0.5;
                     }
                     bracket = Some(on);
-                    if on.t - t > width {
+                    tries += 1;
+                    if on.t - t > width && tries < MAX_ITERATIONS {
                         h = self.false_position(t, on, bracket_f_lo_scale, width);
                         continue;
                     }
                     t = self.hop(sys, t, width.max(on.t - t), t1, x, &mut evaluations, check)?;
                     self.located += 1;
-                    (bracket, bracket_f_lo_scale) = (None, 1.0);
+                    (bracket, bracket_f_lo_scale, tries) = (None, 1.0, 0);
                     h = h_resume.take().unwrap_or(h);
                     if t >= t1 {
                         break;
@@ -301,15 +305,24 @@ impl Dopri5 {
                 t = t_new;
                 // A step shortened to land on t1 does not shrink the proposal carried to the next interval.
                 h = if last || step < h { h_new.max(h) } else { h_new };
-                // Locating a switch: the lower end moved; the next step is to the false position.
-                if let Some(b) = bracket.as_mut() {
+                // Locating a switch: the lower end moved; the next step is to the false position, or the hop
+                // once the bracket is narrow enough.
+                if let (Some(b), false) = (bracket.as_mut(), last) {
                     if !b.moved_hi {
                         b.f *= 0.5; // Illinois: the upper end retained twice
                     }
                     b.moved_hi = false;
                     bracket_f_lo_scale = 1.0;
-                    if !last {
+                    if b.t - t > width {
                         h = self.false_position(t, *b, 1.0, width);
+                    } else {
+                        t = self.hop(sys, t, width, t1, x, &mut evaluations, check)?;
+                        self.located += 1;
+                        (bracket, bracket_f_lo_scale, tries) = (None, 1.0, 0);
+                        h = h_resume.take().unwrap_or(h);
+                        if t >= t1 {
+                            break;
+                        }
                     }
                 }
                 if last {
