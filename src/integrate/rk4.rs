@@ -129,8 +129,8 @@ impl Integrator for Rk4 {
     /// import (RK4 1.04 ms); 0.25 keeps 20 % below it (the paper's bump at RK4 2 ms has 0.15 on the HMMWV, a
     /// wheel landing after a 15 cm bump 0.23; docs/stability.md). (No bound on |hλ| alone separates RK4's runs
     /// off in yaw rate from those within the tolerance: the HMMWV's tire k_z × 10 bump course at 1.04 ms,
-    /// |hλ| = 0.22, is 1.2e-2 off, while the paper's bump course at the default 2 ms reaches |hλ| = 0.19 at
-    /// t = 3.6 s within it.)
+    /// |hλ| = 0.22, was 1.2e-2 off before lift-offs were located, while the paper's bump course at the default
+    /// 2 ms reaches |hλ| = 0.19 at t = 3.6 s within it.)
     fn hop_resolution(&self) -> f64 {
         0.25
     }
