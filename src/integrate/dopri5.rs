@@ -27,7 +27,7 @@
 //! retaken: the earliest such stage is a bracket's upper end, the accepted point its lower end, and steps go
 //! to Illinois' false position until the bracket is narrower than `SWITCH_GAP` of the largest step; an explicit
 //! Euler hop crosses it (its error: the jump times that width), and the next step starts on the new law.
-use super::touchdown::{Indicators, MAX_HOPS, MAX_ITERATIONS};
+use super::touchdown::{euler_hop, Indicators, MAX_ITERATIONS};
 use super::{commit, eval, fit, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
 use serde::{Deserialize, Serialize};
@@ -358,43 +358,28 @@ impl Dopri5 {
         s.clamp(0.5 * width.min(span), (span - 0.5 * width).max(0.5 * span.min(width)))
     }
 
-    /// An explicit Euler hop across a switch from (t, x), `self.k[0]` = f(t, x): a step of `e`, doubled while
-    /// the switch is still off (at most `MAX_HOPS` times, and never past t1). Its error is the jump times
-    /// the part of the hop before the switch. Leaves f and the indicators at the new point in `k[0]`, `g[0]`
-    /// and returns its time.
+    /// The Euler hop across a located switch from (t, x) (`touchdown::euler_hop`), `e` long at first, never
+    /// past t1: f and the indicators at its end become the next step's first stage (`k[0]`, `g[0]`). Returns
+    /// its end's time.
     #[allow(clippy::too_many_arguments)]
     fn hop(
         &mut self,
         sys: &mut dyn OdeSystem,
         t: f64,
-        mut e: f64,
+        e: f64,
         t1: f64,
         x: &mut [f64],
         evaluations: &mut u64,
         check: &mut StepCheck<'_>,
     ) -> Result<f64, ModelError> {
         let off = self.g[0];
-        for hop in 0..MAX_HOPS {
-            let e_now = e.min(t1 - t);
-            let t_now = if e_now == t1 - t { t1 } else { t + e_now };
-            for i in 0..x.len() {
-                self.xs[i] = x[i] + e_now * self.k[0][i];
-            }
-            sys.project(&mut self.xs);
-            *evaluations += 1;
-            eval(sys, t_now, &self.xs, &mut self.k[6])?;
-            let mut g = Indicators::default();
-            g.record_with_edges(sys);
-            if t_now == t1 || hop + 1 == MAX_HOPS || g.largest_of_off(&off) > 0.0 {
-                commit(sys, t_now, &mut self.xs, x)?;
-                check(t_now, x)?;
-                self.k.swap(0, 6);
-                self.g[0] = g;
-                return Ok(t_now);
-            }
-            e *= 2.0;
-        }
-        unreachable!("the last hop returns")
+        let (first, rest) = self.k.split_at_mut(1);
+        let hop = euler_hop(sys, t, e, t1, x, &first[0], &off, &mut self.xs, &mut rest[5]);
+        let hop = hop.inspect(|hop| *evaluations += hop.evaluations)?;
+        check(hop.t, x)?;
+        self.k.swap(0, 6);
+        self.g[0] = hop.indicators;
+        Ok(hop.t)
     }
 
     /// The error estimate of component i for a step h (stages already computed).

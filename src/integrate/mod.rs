@@ -50,12 +50,11 @@ pub trait OdeSystem {
     fn edge_indicators(&self) -> &[f64] {
         &[]
     }
-    /// Indicators of the last evaluation whose upward zero crossing is where a contact ends and the
-    /// right-hand side jumps (a tire's lift-off: the tread's relaxation law switches). RK4 locates their
-    /// crossings as it locates touchdowns; the other schemes do not look at them. At most
-    /// `touchdown::MAX_SWITCHES`. Default: none.
-    fn lift_off_indicators(&self) -> &[f64] {
-        &[]
+    /// Whether the right-hand side also jumps where a switch indicator crosses zero downward (a tire's
+    /// lift-off: the tread's relaxation law switches). RK4 and DOPRI5 then locate those crossings as they
+    /// locate touchdowns, on the indicators' negatives; IMEX-AB3 does not. Default: no.
+    fn lift_offs_jump(&self) -> bool {
+        false
     }
 }
 

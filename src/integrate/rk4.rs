@@ -23,12 +23,12 @@
 //!    another wheel touches down in it (at most `MAX_LOCATED_PER_STEP` times per step).
 //!
 //! A step without a touchdown is exactly the plain RK4 step, bit for bit. The same location steps across
-//! the other jumps a system reports (`OdeSystem::edge_indicators`, `OdeSystem::lift_off_indicators`): a C⁰
+//! the other jumps a system reports (`OdeSystem::edge_indicators`, `OdeSystem::lift_offs_jump`): a C⁰
 //! edge of the road under the single-point contact, and a tire's lift-off, where the normal force reaches 0
 //! continuously (the clamp of `tire::normal_force`, a kink) but the tread's relaxation law switches (a jump
 //! of the slip states' rates). Each located switch costs about 4 evaluations per bracketing sub-step (3–6
 //! of them) and 2 more.
-use super::touchdown::{false_position, Indicators, MAX_HOPS, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
+use super::touchdown::{euler_hop, false_position, Indicators, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
 use super::{commit, eval, fit, projected, Integrator, OdeSystem};
 use crate::error::ModelError;
 use serde::{Deserialize, Serialize};
@@ -191,27 +191,11 @@ fn split_step(rk: &mut Rk4, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &mut [f6
             a += lo;
         }
         // Euler across the bracket, into contact.
-        let mut e = (hi - lo).max(f64::EPSILON * a.abs().max(1.0));
-        for hop in 0..MAX_HOPS {
-            let last = e >= t_end - a || hop + 1 == MAX_HOPS;
-            let e_now = e.min(t_end - a);
-            for i in 0..x.len() {
-                rk.xs[i] = x[i] + e_now * rk.k1[i];
-            }
-            sys.project(&mut rk.xs);
-            let t_now = if e_now == t_end - a { t_end } else { a + e_now };
-            eval(sys, t_now, &rk.xs, &mut rk.location.k_try)?;
-            let mut g = Indicators::default();
-            g.record_with_edges(sys);
-            if last || g.largest_of_off(&off) > 0.0 {
-                commit(sys, t_now, &mut rk.xs, x)?;
-                rk.k1.copy_from_slice(&rk.location.k_try);
-                rk.g[0] = g;
-                a = t_now;
-                break;
-            }
-            e *= 2.0;
-        }
+        let e = (hi - lo).max(f64::EPSILON * a.abs().max(1.0));
+        let hop = euler_hop(sys, a, e, t_end, x, &rk.k1, &off, &mut rk.xs, &mut rk.location.k_try)?;
+        rk.k1.copy_from_slice(&rk.location.k_try);
+        rk.g[0] = hop.indicators;
+        a = hop.t;
         rk.location.located += 1;
         if a == t_end {
             return Ok(());
@@ -341,10 +325,11 @@ mod tests {
 
     /// A contact that ends: a point rising at 1 m/s through the ground (z < 0 in contact), and a state that
     /// relaxes towards 1 at rate A in contact and decays with time constant TAU in the air: the jump of a
-    /// tread's slip-state rate at a tire's lift-off, where nothing else jumps. Its lift-off indicator is z.
+    /// tread's slip-state rate at a tire's lift-off, where nothing else jumps. Its switch indicator is the
+    /// penetration −z, and a lift-off its downward crossing.
     struct Leaving {
         locate: bool,
-        lift_off: [f64; 1],
+        penetration: [f64; 1],
     }
 
     const A: f64 = 40.0;
@@ -357,24 +342,23 @@ mod tests {
             2
         }
         fn derivative(&mut self, _t: f64, x: &[f64], dxdt: &mut [f64]) -> Result<(), ModelError> {
-            self.lift_off[0] = x[0];
+            self.penetration[0] = -x[0];
             dxdt[0] = 1.0;
             dxdt[1] = if x[0] < 0.0 { A * (1.0 - x[1]) } else { -x[1] / TAU };
             Ok(())
         }
-        fn lift_off_indicators(&self) -> &[f64] {
-            if self.locate {
-                &self.lift_off
-            } else {
-                &[]
-            }
+        fn switch_indicators(&self) -> &[f64] {
+            &self.penetration
+        }
+        fn lift_offs_jump(&self) -> bool {
+            self.locate
         }
     }
 
     /// The state's error at 0.09 s, and the lift-offs located.
     fn lift_off_error(h: f64, locate: bool) -> (f64, u64) {
         let n = (0.09 / h).round() as usize;
-        let (mut sys, mut rk, mut x) = (Leaving { locate, lift_off: [0.0] }, Rk4::new(), [Z_START, 0.0]);
+        let (mut sys, mut rk, mut x) = (Leaving { locate, penetration: [0.0] }, Rk4::new(), [Z_START, 0.0]);
         for i in 0..n {
             rk.step(&mut sys, i as f64 * h, h, &mut x).unwrap();
         }

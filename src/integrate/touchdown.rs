@@ -2,7 +2,8 @@
 //! at each evaluation (`Indicators`), the bounds of a location and its regula falsi step, shared by RK4
 //! (which splits a step at a touchdown, `rk4.rs`) and IMEX-AB3. The test system of a touchdown (a dropped
 //! mass, `tests::Drop`, with its exact solution) is here for both.
-use super::OdeSystem;
+use super::{commit, eval, OdeSystem};
+use crate::error::ModelError;
 
 /// The most switch indicators a system may have of each kind (one per wheel).
 pub const MAX_SWITCHES: usize = 4;
@@ -17,7 +18,7 @@ pub const MAX_LOCATED_PER_STEP: usize = 2 * MAX_SWITCHES;
 pub(super) const MAX_HOPS: usize = 4;
 
 /// The switch indicators of one evaluation (`OdeSystem::switch_indicators`, and with `record_with_edges`
-/// its `edge_indicators` and `lift_off_indicators` after them).
+/// its `edge_indicators` and, where `lift_offs_jump`, the switch indicators' negatives after them).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Indicators {
     n: usize,
@@ -31,12 +32,19 @@ impl Indicators {
         self.append(sys.switch_indicators());
     }
 
-    /// Take the touchdown, the edge and the lift-off indicators of `sys`'s last evaluation (RK4 locates all
-    /// three).
+    /// Take the touchdown, the edge and the lift-off indicators of `sys`'s last evaluation (RK4 and DOPRI5
+    /// locate all three; a lift-off indicator is a touchdown indicator's negative).
     pub fn record_with_edges(&mut self, sys: &dyn OdeSystem) {
         self.record(sys);
         self.append(sys.edge_indicators());
-        self.append(sys.lift_off_indicators());
+        if sys.lift_offs_jump() {
+            let s = sys.switch_indicators();
+            let k = s.len().min(MAX_SWITCHES);
+            for (g, s) in self.g[self.n..self.n + k].iter_mut().zip(s) {
+                *g = -s;
+            }
+            self.n += k;
+        }
     }
 
     fn append(&mut self, s: &[f64]) {
@@ -49,6 +57,51 @@ impl Indicators {
     /// The largest indicator of `self` among the switches that are off (≤ 0) in `start`; −∞ if none is.
     pub(super) fn largest_of_off(&self, start: &Indicators) -> f64 {
         (0..start.n.min(self.n)).filter(|&i| start.g[i] <= 0.0).map(|i| self.g[i]).fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+/// The end of an explicit Euler hop across a located switch (`euler_hop`).
+pub(super) struct Hop {
+    pub t: f64,
+    pub indicators: Indicators,
+    pub evaluations: u64,
+}
+
+/// An explicit Euler hop across a located switch from (t, x), `f` = f(t, x): a step of `e`, never past
+/// `t_end`, doubled while every switch that is off in `off` stays off, at most `MAX_HOPS` times. Its error is
+/// the jump times the part of the hop before the switch (RK4 and DOPRI5 cross a bracket narrower than their
+/// tolerance with it). Commits the end into `x` (projected and checked as every step's) with f there in
+/// `f_end`, `xs` its scratch.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn euler_hop(
+    sys: &mut dyn OdeSystem,
+    t: f64,
+    mut e: f64,
+    t_end: f64,
+    x: &mut [f64],
+    f: &[f64],
+    off: &Indicators,
+    xs: &mut [f64],
+    f_end: &mut [f64],
+) -> Result<Hop, ModelError> {
+    let mut evaluations = 0;
+    loop {
+        let last = e >= t_end - t || evaluations + 1 == MAX_HOPS as u64;
+        let e_now = e.min(t_end - t);
+        for i in 0..x.len() {
+            xs[i] = x[i] + e_now * f[i];
+        }
+        sys.project(xs);
+        let t_now = if e_now == t_end - t { t_end } else { t + e_now };
+        eval(sys, t_now, xs, f_end)?;
+        evaluations += 1;
+        let mut indicators = Indicators::default();
+        indicators.record_with_edges(sys);
+        if last || indicators.largest_of_off(off) > 0.0 {
+            commit(sys, t_now, xs, x)?;
+            return Ok(Hop { t: t_now, indicators, evaluations });
+        }
+        e *= 2.0;
     }
 }
 

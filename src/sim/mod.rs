@@ -76,7 +76,6 @@ pub struct FirstStage {
     tire_loads: [f64; 4],
     penetration: [f64; 4],
     road_edge: [f64; 4],
-    lift_off: [f64; 4],
     dx: [f64; idx::DIM],
 }
 
@@ -113,7 +112,6 @@ impl OdeSystem for VehicleOde<'_> {
             self.cache.tire_loads = f.tire_loads;
             self.cache.diagnostics.penetration = f.penetration;
             self.cache.diagnostics.road_edge = f.road_edge;
-            self.cache.diagnostics.lift_off = f.lift_off;
             return Ok(());
         }
         self.evaluations += 1;
@@ -152,12 +150,8 @@ impl OdeSystem for VehicleOde<'_> {
         }
     }
 
-    fn lift_off_indicators(&self) -> &[f64] {
-        if self.run.has_lift_off_jumps() {
-            &self.cache.diagnostics.lift_off
-        } else {
-            &[]
-        }
+    fn lift_offs_jump(&self) -> bool {
+        self.run.has_lift_off_jumps()
     }
 }
 
@@ -1000,7 +994,6 @@ impl Simulation {
                 tire_loads: [0.0; 4],
                 penetration: [0.0; 4],
                 road_edge: [0.0; 4],
-                lift_off: [0.0; 4],
                 dx: [0.0; idx::DIM],
             });
             stage.dim = dx.len();
@@ -1010,7 +1003,6 @@ impl Simulation {
             stage.tire_loads = self.cache.tire_loads;
             stage.penetration = d.penetration;
             stage.road_edge = d.road_edge;
-            stage.lift_off = d.lift_off;
         }
         let a0 = quat_to_matrix(&self.run.state[idx::E0..idx::E0 + 4]);
         let a = a0.transpose() * d.chassis_acceleration;

@@ -128,7 +128,6 @@ impl Vehicle {
                 let fz = tire::normal_force(&self.tire, ct.penetration, penetration_rate);
                 diag.contact_indicator[i] = tire::contact_indicator(&self.tire, ct.penetration, penetration_rate);
                 diag.penetration[i] = ct.penetration;
-                diag.lift_off[i] = -ct.penetration;
                 let friction = options.road_friction * road.friction(ct.point.x, ct.point.y);
                 let slip = tire::slip_velocities(&self.tire, &ct, &v_c, spin_rel);
                 // 1 when rolling above the low-speed range (the model of §6.7 exactly), 0 at standstill.
@@ -200,7 +199,6 @@ impl Vehicle {
                 let clearance =
                     centre_abs.z - road.height_and_gradient(centre_abs.x, centre_abs.y).0 - self.tire.unloaded_radius_m;
                 diag.penetration[i] = -clearance.abs();
-                diag.lift_off[i] = clearance.abs();
                 diag.contact_indicator[i] = diag.penetration[i];
                 if options.slip == SlipModel::Relaxation {
                     let lifted = tire::SlipStateContext { in_contact: false, blend: 1.0, sliding_limit: [1.0; 2] };

@@ -257,10 +257,6 @@ pub struct Diagnostics {
     /// `Run::has_road_edges`, the one place that decides it. Its upward zero crossing is where the tire's
     /// forces jump with the road's slope (RK4 locates it: `integrate::touchdown`).
     pub road_edge: [f64; 4],
-    /// Each wheel's −δ (`penetration`'s negative), m. Its upward zero crossing is a lift-off, where the tread's
-    /// relaxation law switches (in the air the slip states decay: `tire::slip::relaxation_rates`), a jump of
-    /// their rates. Read only where `Run::has_lift_off_jumps` (RK4 locates it: `integrate::touchdown`).
-    pub lift_off: [f64; 4],
 }
 
 /// Per-corner force element data (the spring free length is what the ride-height retune changes).
@@ -397,8 +393,9 @@ impl<'a> Run<'a> {
 
     /// Whether a tire's lift-off makes the right-hand side jump: with relaxation slip the tread's law
     /// switches there (in contact L ξ̇ = −V_s − |V_x| ξ, in the air ξ decays with its own time constant:
-    /// `tire::slip::relaxation_rates`). `Diagnostics::lift_off` then locates it. (The normal force itself
-    /// reaches 0 continuously, a kink: with steady slip nothing jumps.)
+    /// `tire::slip::relaxation_rates`): RK4 and DOPRI5 then locate it. (The normal force itself
+    /// reaches 0 continuously, a kink: with steady slip nothing jumps.) A lift-off is the downward crossing
+    /// of `Diagnostics::penetration`.
     pub fn has_lift_off_jumps(&self) -> bool {
         self.options.switches.tires && self.options.slip == SlipModel::Relaxation
     }
