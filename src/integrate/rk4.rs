@@ -91,25 +91,27 @@ impl Rk4 {
     /// Stages 2–4 of a step of size h from (t, x) with `self.k1` = f(t, x): the candidate x_{n+1} in
     /// `self.xs` (not projected), the switch indicators at each stage in `self.g[1..4]`.
     pub(super) fn stages(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &[f64]) -> Result<(), ModelError> {
+        // (Zipped iterators, not indices: the loops compile without bounds checks whatever is inlined around
+        // them; the arithmetic is the same.)
         let h2 = 0.5 * h;
-        for i in 0..x.len() {
-            self.xs[i] = x[i] + h2 * self.k1[i];
-        }
+        let along = |xs: &mut [f64], x: &[f64], a: f64, k: &[f64]| {
+            for ((xs, x), k) in xs.iter_mut().zip(x).zip(k) {
+                *xs = x + a * k;
+            }
+        };
+        along(&mut self.xs, x, h2, &self.k1);
         eval(sys, t + h2, &self.xs, &mut self.k2)?;
         self.g[1].record_with_edges(sys);
-        for i in 0..x.len() {
-            self.xs[i] = x[i] + h2 * self.k2[i];
-        }
+        along(&mut self.xs, x, h2, &self.k2);
         eval(sys, t + h2, &self.xs, &mut self.k3)?;
         self.g[2].record_with_edges(sys);
-        for i in 0..x.len() {
-            self.xs[i] = x[i] + h * self.k3[i];
-        }
+        along(&mut self.xs, x, h, &self.k3);
         eval(sys, t + h, &self.xs, &mut self.k4)?;
         self.g[3].record_with_edges(sys);
         let h6 = h / 6.0;
-        for i in 0..x.len() {
-            self.xs[i] = x[i] + h6 * (self.k1[i] + 2.0 * self.k2[i] + 2.0 * self.k3[i] + self.k4[i]);
+        let ks = self.k1.iter().zip(&self.k2).zip(&self.k3).zip(&self.k4);
+        for ((xs, x), (((k1, k2), k3), k4)) in self.xs.iter_mut().zip(x).zip(ks) {
+            *xs = x + h6 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
         }
         Ok(())
     }
