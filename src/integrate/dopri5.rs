@@ -106,6 +106,16 @@ struct SwitchOn {
     moved_hi: bool,
 }
 
+/// A switch being located (`Dopri5::integrate`): the bracket's upper end, Illinois' weight of the lower
+/// end's indicator, the steps retaken for it (at most `MAX_ITERATIONS`, then the hop crosses the rest), and
+/// the controller's step before the approach, restored after the hop.
+struct Approach {
+    on: SwitchOn,
+    f_lo_scale: f64,
+    tries: usize,
+    h_resume: f64,
+}
+
 /// The error-controlled scheme. Its state is the step the controller proposes next and its memory of the
 /// last error (both saved bit-exactly with an FMU state), and the step counts.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -190,13 +200,7 @@ impl Dopri5 {
         let mut fsal = false;
         let mut just_rejected = false;
         let mut last_failure: Option<ModelError> = None;
-        // The controller's step before the steps that approach a switch (restored after its hop).
-        let mut h_resume: Option<f64> = None;
-        // The earliest time a switch is known on while one is located, and Illinois' weight of the lower end.
-        let mut bracket: Option<SwitchOn> = None;
-        let mut bracket_f_lo_scale = 1.0;
-        // Steps retaken for the switch being located (at most `MAX_ITERATIONS`, then the hop crosses the rest).
-        let mut tries = 0;
+        let mut approach: Option<Approach> = None;
         while t < t1 {
             let remaining = t1 - t;
             h = h.min(control.h_max).min(sys.step_limit());
@@ -259,20 +263,23 @@ impl Dopri5 {
             if err.is_finite() {
                 if let Some(on) = self.first_stage_on(t, step) {
                     self.approaches += 1;
-                    h_resume = Some(h_resume.unwrap_or(h));
-                    if bracket.is_some_and(|b| b.moved_hi) {
-                        bracket_f_lo_scale *= 0.5;
-                    }
-                    bracket = Some(on);
-                    tries += 1;
-                    if on.t - t > width && tries < MAX_ITERATIONS {
-                        h = self.false_position(t, on, bracket_f_lo_scale, width);
+                    let a = match approach.as_mut() {
+                        Some(a) => {
+                            if a.on.moved_hi {
+                                a.f_lo_scale *= 0.5; // Illinois: the lower end retained twice
+                            }
+                            (a.on, a.tries) = (on, a.tries + 1);
+                            a
+                        }
+                        None => approach.insert(Approach { on, f_lo_scale: 1.0, tries: 1, h_resume: h }),
+                    };
+                    if on.t - t > width && a.tries < MAX_ITERATIONS {
+                        h = self.false_position(t, on, a.f_lo_scale, width);
                         continue;
                     }
+                    h = a.h_resume;
+                    approach = None;
                     t = self.hop(sys, t, width.max(on.t - t), t1, x, &mut evaluations, check)?;
-                    self.located += 1;
-                    (bracket, bracket_f_lo_scale, tries) = (None, 1.0, 0);
-                    h = h_resume.take().unwrap_or(h);
                     if t >= t1 {
                         break;
                     }
@@ -307,19 +314,17 @@ impl Dopri5 {
                 h = if last || step < h { h_new.max(h) } else { h_new };
                 // Locating a switch: the lower end moved; the next step is to the false position, or the hop
                 // once the bracket is narrow enough.
-                if let (Some(b), false) = (bracket.as_mut(), last) {
-                    if !b.moved_hi {
-                        b.f *= 0.5; // Illinois: the upper end retained twice
+                if let (Some(a), false) = (approach.as_mut(), last) {
+                    if !a.on.moved_hi {
+                        a.on.f *= 0.5; // Illinois: the upper end retained twice
                     }
-                    b.moved_hi = false;
-                    bracket_f_lo_scale = 1.0;
-                    if b.t - t > width {
-                        h = self.false_position(t, *b, 1.0, width);
+                    (a.on.moved_hi, a.f_lo_scale) = (false, 1.0);
+                    if a.on.t - t > width {
+                        h = self.false_position(t, a.on, a.f_lo_scale, width);
                     } else {
+                        h = a.h_resume;
+                        approach = None;
                         t = self.hop(sys, t, width, t1, x, &mut evaluations, check)?;
-                        self.located += 1;
-                        (bracket, bracket_f_lo_scale, tries) = (None, 1.0, 0);
-                        h = h_resume.take().unwrap_or(h);
                         if t >= t1 {
                             break;
                         }
@@ -359,8 +364,8 @@ impl Dopri5 {
     }
 
     /// The Euler hop across a located switch from (t, x) (`touchdown::euler_hop`), `e` long at first, never
-    /// past t1: f and the indicators at its end become the next step's first stage (`k[0]`, `g[0]`). Returns
-    /// its end's time.
+    /// past t1: f and the indicators at its end become the next step's first stage (`k[0]`, `g[0]`). Counts
+    /// the switch located and returns the hop's end's time.
     #[allow(clippy::too_many_arguments)]
     fn hop(
         &mut self,
@@ -379,6 +384,7 @@ impl Dopri5 {
         check(hop.t, x)?;
         self.k.swap(0, 6);
         self.g[0] = hop.indicators;
+        self.located += 1;
         Ok(hop.t)
     }
 

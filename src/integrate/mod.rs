@@ -276,6 +276,15 @@ pub(crate) fn projected(sys: &mut dyn OdeSystem, t_new: f64, candidate: &mut [f6
     }
 }
 
+/// `out` = x + a·k, element by element: a stage's or an Euler step's state. (Zipped iterators, not indices:
+/// the loop compiles without bounds checks whatever is inlined around it.)
+#[inline(always)]
+pub(crate) fn step_along(out: &mut [f64], x: &[f64], a: f64, k: &[f64]) {
+    for ((out, x), k) in out.iter_mut().zip(x).zip(k) {
+        *out = x + a * k;
+    }
+}
+
 /// Resize a scratch buffer to `n` (allocates only when the dimension changes).
 pub(crate) fn fit(v: &mut Vec<f64>, n: usize) {
     if v.len() != n {

@@ -29,7 +29,7 @@
 //! of the slip states' rates). Each located switch costs about 4 evaluations per bracketing sub-step (3–6
 //! of them) and 2 more.
 use super::touchdown::{euler_hop, false_position, Indicators, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
-use super::{commit, eval, fit, projected, Integrator, OdeSystem};
+use super::{commit, eval, fit, projected, step_along, Integrator, OdeSystem};
 use crate::error::ModelError;
 use serde::{Deserialize, Serialize};
 
@@ -91,21 +91,16 @@ impl Rk4 {
     /// Stages 2–4 of a step of size h from (t, x) with `self.k1` = f(t, x): the candidate x_{n+1} in
     /// `self.xs` (not projected), the switch indicators at each stage in `self.g[1..4]`.
     pub(super) fn stages(&mut self, sys: &mut dyn OdeSystem, t: f64, h: f64, x: &[f64]) -> Result<(), ModelError> {
-        // (Zipped iterators, not indices: the loops compile without bounds checks whatever is inlined around
-        // them; the arithmetic is the same.)
+        // (Zipped iterators, not indices, here and in `step_along`: the loops compile without bounds checks
+        // whatever is inlined around them.)
         let h2 = 0.5 * h;
-        let along = |xs: &mut [f64], x: &[f64], a: f64, k: &[f64]| {
-            for ((xs, x), k) in xs.iter_mut().zip(x).zip(k) {
-                *xs = x + a * k;
-            }
-        };
-        along(&mut self.xs, x, h2, &self.k1);
+        step_along(&mut self.xs, x, h2, &self.k1);
         eval(sys, t + h2, &self.xs, &mut self.k2)?;
         self.g[1].record_with_edges(sys);
-        along(&mut self.xs, x, h2, &self.k2);
+        step_along(&mut self.xs, x, h2, &self.k2);
         eval(sys, t + h2, &self.xs, &mut self.k3)?;
         self.g[2].record_with_edges(sys);
-        along(&mut self.xs, x, h, &self.k3);
+        step_along(&mut self.xs, x, h, &self.k3);
         eval(sys, t + h, &self.xs, &mut self.k4)?;
         self.g[3].record_with_edges(sys);
         let h6 = h / 6.0;

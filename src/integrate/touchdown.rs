@@ -2,7 +2,7 @@
 //! at each evaluation (`Indicators`), the bounds of a location and its regula falsi step, shared by RK4
 //! (which splits a step at a touchdown, `rk4.rs`) and IMEX-AB3. The test system of a touchdown (a dropped
 //! mass, `tests::Drop`, with its exact solution) is here for both.
-use super::{commit, eval, OdeSystem};
+use super::{commit, eval, step_along, OdeSystem};
 use crate::error::ModelError;
 
 /// The most switch indicators a system may have of each kind (one per wheel).
@@ -38,19 +38,21 @@ impl Indicators {
         self.record(sys);
         self.append(sys.edge_indicators());
         if sys.lift_offs_jump() {
-            let s = sys.switch_indicators();
-            let k = s.len().min(MAX_SWITCHES);
-            for (g, s) in self.g[self.n..self.n + k].iter_mut().zip(s) {
-                *g = -s;
-            }
-            self.n += k;
+            self.append_mapped(sys.switch_indicators(), |g| -g);
         }
     }
 
     fn append(&mut self, s: &[f64]) {
+        self.append_mapped(s, |g| g);
+    }
+
+    /// Append `map` of each of `s` (at most `MAX_SWITCHES`).
+    fn append_mapped(&mut self, s: &[f64], map: impl Fn(f64) -> f64) {
         debug_assert!(s.len() <= MAX_SWITCHES);
         let k = s.len().min(MAX_SWITCHES);
-        self.g[self.n..self.n + k].copy_from_slice(&s[..k]);
+        for (g, &v) in self.g[self.n..self.n + k].iter_mut().zip(s) {
+            *g = map(v);
+        }
         self.n += k;
     }
 
@@ -88,9 +90,7 @@ pub(super) fn euler_hop(
     loop {
         let last = e >= t_end - t || evaluations + 1 == MAX_HOPS as u64;
         let e_now = e.min(t_end - t);
-        for i in 0..x.len() {
-            xs[i] = x[i] + e_now * f[i];
-        }
+        step_along(xs, x, e_now, f);
         sys.project(xs);
         let t_now = if e_now == t_end - t { t_end } else { t + e_now };
         eval(sys, t_now, xs, f_end)?;
