@@ -41,10 +41,11 @@
 //! - Touchdowns (docs/integrators.md, "Touchdowns"): while a wheel is in the air at a step's start, the
 //!   candidate's switch indicators are evaluated (one evaluation): the estimate extrapolates f from the past
 //!   points and cannot see the normal force's jump inside the step. A step that lands, and a retaken step
-//!   with a wheel in the air, locate the touchdown as RK4 does (`SubSteps::landing`: trials from the step's
-//!   start bracket it, an Euler hop crosses it) and start afresh from it for the rest of the step.
+//!   with a wheel in the air, locate the touchdown as RK4 does (`SubSteps::landing`: trials from the bracket's
+//!   lower end bracket it until an Euler hop across the bracket errs by no more than the limit, and the
+//!   hop crosses it) and start afresh from it for the rest of the step.
 //! - History and J are plain data (bit-exact serde): an FMU state restores the scheme exactly.
-use super::touchdown::{false_position, Indicators, MAX_HOPS, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
+use super::touchdown::{next_trial, Indicators, MAX_HOPS, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
 use super::{ab3::same_step, commit, eval, fit, projected, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
 use nalgebra::{Const, SMatrix, SVector, LU};
@@ -62,6 +63,9 @@ pub const START_SUBSTEPS: usize = 4;
 /// A retaken step's third-order sub-steps are held to this many times the limit: 1, the same limit (a looser
 /// 8 × let the MacPherson import's tire k_z × 10 J-turn through 1 % off; docs/integrators.md).
 pub const SUBSTEP_LIMIT_FACTOR: f64 = 1.0;
+/// A touchdown's trial over at most this share of the step is one sub-step (`SubSteps::trial`): 1/16, the
+/// sub-steps of a retaken step's deepest level.
+const SHORT_TRIAL: f64 = 1.0 / 16.0;
 
 /// Past states and derivatives at one step size.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -179,7 +183,7 @@ pub struct ImexAb3 {
     /// its f), the second-order candidate, the state's scales and which states the monitor watches; per
     /// level of sub-steps, their state, its start and f.
     #[serde(skip)]
-    scratch: [Vec<f64>; 21],
+    scratch: [Vec<f64>; 22],
     /// The LU factors of a0 I − hJ already formed with the current J (`Factors`).
     #[serde(skip)]
     factors: RefCell<Factors>,
@@ -331,6 +335,31 @@ struct Block<'a> {
 }
 
 impl Block<'_> {
+    /// The first sub-step of a start, from x at t (f = f(x)) into `shared.xn`: implicit–explicit Euler
+    /// extrapolated (2 · two half steps − one step), local error O(h³) like SBDF2's (Euler's O(h²) would
+    /// make the scheme second order overall). One evaluation, at the midpoint.
+    #[allow(clippy::too_many_arguments)]
+    fn extrapolated_euler(
+        &self,
+        hist: &History,
+        t: f64,
+        h: f64,
+        x: &[f64],
+        f: &[f64],
+        shared: &mut Shared,
+        sys: &mut dyn OdeSystem,
+    ) -> Result<(), ModelError> {
+        self.step(hist, 1, h, x, f, Rows::All, shared.xa)?;
+        self.step(hist, 1, 0.5 * h, x, f, Rows::All, shared.xn)?;
+        commit(sys, t + 0.5 * h, shared.xn, shared.xm)?;
+        eval(sys, t + 0.5 * h, shared.xm, shared.fm)?;
+        self.step(hist, 1, 0.5 * h, shared.xm, shared.fm, Rows::All, shared.xn)?;
+        for (o, &a) in shared.xn.iter_mut().zip(shared.xa.iter()) {
+            *o = 2.0 * *o - a;
+        }
+        Ok(())
+    }
+
     /// One SBDF step of `order` and size h from x (f = f(x)) into `out`, `hist` holding the past points.
     #[allow(clippy::too_many_arguments)]
     fn step(
@@ -516,21 +545,40 @@ struct SubSteps<'a> {
 }
 
 /// Scratch of a located touchdown (`SubSteps::landing`): the start of what is left of the step and its f,
-/// the bracket's lower end and its f, a trial's end and its f; and how many were located.
+/// the bracket's lower end and its f, its upper end's f, a trial's end and its f; and how many were located.
 struct Landing<'a> {
     x0: &'a mut Vec<f64>,
     f0: &'a mut Vec<f64>,
     x_lo: &'a mut Vec<f64>,
     f_lo: &'a mut Vec<f64>,
+    f_hi: &'a mut Vec<f64>,
     x_try: &'a mut Vec<f64>,
     f_try: &'a mut Vec<f64>,
     located: u64,
 }
 
 impl SubSteps<'_> {
-    /// From (t, `landing.x0`) (f = `landing.f0`): the state at t + s into `landing.x_try` by four starting
-    /// sub-steps of s/4 (unchecked: in the air the motion is smooth), its f into `landing.f_try`, and its
-    /// switch indicators.
+    /// The largest change of f across the bracket, relative to the state's scales, on the states the
+    /// estimate watches: the Euler hop across a bracket of width w errs by at most w times it (it takes f at
+    /// the lower end for the whole bracket), so a bracket whose width times it is within the limit every
+    /// sub-step is held to is located closely enough.
+    fn jump(&self, shared: &mut Shared, sys: &dyn OdeSystem, landing: &Landing) -> f64 {
+        sys.error_scale(shared.scale);
+        let mut largest = 0.0f64;
+        for (((hi, lo), s), w) in landing.f_hi.iter().zip(landing.f_lo.iter()).zip(shared.scale.iter()).zip(shared.watch.iter()) {
+            if *w != 0.0 {
+                largest = largest.max((hi - lo).abs() / s);
+            }
+        }
+        largest
+    }
+
+    /// From the bracket's lower end (t + lo, `landing.x_lo`, f = `landing.f_lo`): the state at t + s into
+    /// `landing.x_try` (unchecked: in the air the motion is smooth), its f into `landing.f_try`, and its
+    /// switch indicators. Over more than `SHORT_TRIAL` of the step by four starting sub-steps; over less by
+    /// one, the starting sub-steps' first (`Block::extrapolated_euler`): no longer than the sub-steps the
+    /// scheme takes at its deepest level, and 2 evaluations instead of 5 (a location's last trials span
+    /// 1e-4 of the step or less).
     #[allow(clippy::too_many_arguments)]
     fn trial(
         &self,
@@ -538,12 +586,20 @@ impl SubSteps<'_> {
         shared: &mut Shared,
         sys: &mut dyn OdeSystem,
         t: f64,
+        lo: f64,
         s: f64,
         landing: &mut Landing,
     ) -> Result<Indicators, ModelError> {
-        levels[0].hist.count = 0;
-        landing.x_try.copy_from_slice(landing.x0);
-        self.run(levels, shared, sys, t, s / START_SUBSTEPS as f64, landing.x_try, landing.f0, false)?;
+        let span = s - lo;
+        landing.x_try.copy_from_slice(landing.x_lo);
+        if span <= SHORT_TRIAL * self.h {
+            self.block.extrapolated_euler(levels[0].hist, t + lo, span, landing.x_try, landing.f_lo, shared, sys)?;
+            commit(sys, t + s, shared.xn, landing.x_try)?;
+        } else {
+            levels[0].hist.count = 0;
+            let quarter = span / START_SUBSTEPS as f64;
+            self.run(levels, shared, sys, t + lo, quarter, landing.x_try, landing.f_lo, false)?;
+        }
         eval(sys, t + s, landing.x_try, landing.f_try)?;
         let mut g = Indicators::default();
         g.record(sys);
@@ -553,10 +609,11 @@ impl SubSteps<'_> {
     /// A retaken step from (t, x) (f = `f_start`) whose wheels in the air at t (`g_start`) may touch down
     /// within it: the tire's normal force jumps there from 0 to c_z δ̇ (docs/physics.md §6.3), which no sub-step
     /// that straddles it follows (the estimate of the imports' wheel lock at 8.33 ms was 38 × its limit in
-    /// sixteenth steps). As RK4's location does (`rk4`): trials from t (`trial`) bracket the first
-    /// touchdown by Illinois' regula falsi on the largest penetration of the wheels that were in the air, to
-    /// `TIME_TOLERANCE` of the step; an explicit Euler hop from the bracket's lower end crosses it into
-    /// contact; the rest of the step is a fresh start of four checked sub-steps, split again at a later
+    /// sixteenth steps). As RK4's location does (`rk4`): trials from the bracket's lower end
+    /// (`trial`) bracket the first touchdown by Illinois' regula falsi on the largest penetration of the
+    /// wheels that were in the air, safeguarded by the midpoint (`next_trial`), until the bracket is narrower
+    /// than `TIME_TOLERANCE` of the step or than the limit over f's change across it (`jump`); an explicit
+    /// Euler hop from the bracket's lower end crosses it into contact; the rest of the step is a fresh start of four checked sub-steps, split again at a later
     /// touchdown. `Ok(false)`, with `x` as it was, when the step's trial shows no touchdown; `Ok(true)`, with
     /// x at t + h, when the step was taken so.
     #[allow(clippy::too_many_arguments)]
@@ -581,7 +638,9 @@ impl SubSteps<'_> {
             if rest <= tolerance {
                 break;
             }
-            let g_end = self.trial(levels, shared, sys, t + a, rest, landing)?;
+            landing.x_lo.copy_from_slice(landing.x0);
+            landing.f_lo.copy_from_slice(landing.f0);
+            let g_end = self.trial(levels, shared, sys, t + a, 0.0, rest, landing)?;
             let mut phi_hi = g_end.largest_of_off(&g0);
             if phi_hi <= 0.0 {
                 break;
@@ -589,19 +648,22 @@ impl SubSteps<'_> {
             // Bracket [lo, hi] of the touchdown, offsets from t + a.
             let (mut lo, mut hi) = (0.0, rest);
             let mut phi_lo = g0.largest_of_off(&g0);
-            landing.x_lo.copy_from_slice(landing.x0);
-            landing.f_lo.copy_from_slice(landing.f0);
+            landing.f_hi.copy_from_slice(landing.f_try);
             let mut side = 0i8;
+            let mut widths = [f64::INFINITY; 2]; // the bracket's widths one and two trials ago
             for _ in 0..MAX_ITERATIONS {
-                if hi - lo <= tolerance {
+                let width = hi - lo;
+                if width <= tolerance || (self.limit.is_finite() && width * self.jump(shared, sys, landing) <= self.limit) {
                     break;
                 }
                 let margin = 0.5 * tolerance;
-                let s = false_position(lo, phi_lo, hi, phi_hi).clamp(lo + margin, hi - margin);
-                let g = self.trial(levels, shared, sys, t + a, s, landing)?;
+                let s = next_trial(lo, phi_lo, hi, phi_hi, widths[1]).clamp(lo + margin, hi - margin);
+                widths = [width, widths[0]];
+                let g = self.trial(levels, shared, sys, t + a, lo, s, landing)?;
                 let phi = g.largest_of_off(&g0);
                 if phi > 0.0 {
                     (hi, phi_hi) = (s, phi);
+                    landing.f_hi.copy_from_slice(landing.f_try);
                     if side > 0 {
                         phi_lo *= 0.5;
                     }
@@ -685,17 +747,8 @@ impl SubSteps<'_> {
             // The step that goes on: xn, or x2 where a second-order step is taken from the estimate.
             let mut second = false;
             if order == 1 {
-                // The first sub-step: implicit–explicit Euler extrapolated (2 · two half steps − one
-                // step), local error O(h³) like SBDF2's: Euler's O(h²) here would make the scheme
-                // second order overall.
-                block.step(this.hist, 1, hs, this.xs, this.fsub, Rows::All, shared.xa)?;
-                block.step(this.hist, 1, 0.5 * hs, this.xs, this.fsub, Rows::All, shared.xn)?;
-                commit(sys, ts + 0.5 * hs, shared.xn, shared.xm)?;
-                eval(sys, ts + 0.5 * hs, shared.xm, shared.fm)?;
-                block.step(this.hist, 1, 0.5 * hs, shared.xm, shared.fm, Rows::All, shared.xn)?;
-                for (o, &a) in shared.xn.iter_mut().zip(shared.xa.iter()) {
-                    *o = 2.0 * *o - a;
-                }
+                // The first sub-step.
+                block.extrapolated_euler(this.hist, ts, hs, this.xs, this.fsub, shared, sys)?;
             } else if order >= 3 && checked {
                 let (worst, at) = block.estimate(this.hist, hs, this.xs, this.fsub, self.second, shared, sys)?;
                 second = self.cap == 2;
@@ -875,7 +928,7 @@ impl Integrator for ImexAb3 {
         for v in scratch.iter_mut() {
             fit(v, n);
         }
-        let [fnow, xold, xn, x2, xa, xm, fm, scale, watch, xs, xsold, fsub, xi, xiold, fi, x0, f0, x_lo, f_lo, x_try, f_try] =
+        let [fnow, xold, xn, x2, xa, xm, fm, scale, watch, xs, xsold, fsub, xi, xiold, fi, x0, f0, x_lo, f_lo, f_hi, x_try, f_try] =
             &mut scratch;
         // The monitor watches every state at second order: BDF2 damps a fast mode that BDF3 would not, and
         // whether that mode matters (a stiff tire's hop excited by the steer) shows in the fast states' own
@@ -956,7 +1009,7 @@ impl Integrator for ImexAb3 {
                 order = 1;
                 substepped = true;
                 if airborne {
-                    let mut landing = Landing { x0, f0, x_lo, f_lo, x_try, f_try, located: 0 };
+                    let mut landing = Landing { x0, f0, x_lo, f_lo, f_hi, x_try, f_try, located: 0 };
                     if run.landing(&mut levels, &mut shared, sys, t, x, fnow, g_start, &mut landing)? {
                         located += landing.located;
                         return Ok(());
