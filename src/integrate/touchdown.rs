@@ -115,20 +115,6 @@ pub(super) fn false_position(lo: f64, f_lo: f64, hi: f64, f_hi: f64) -> f64 {
     }
 }
 
-/// The next trial in the bracket [lo, hi] (f_lo ≤ 0 < f_hi): the false position, or the midpoint where the
-/// bracket is wider than half its width two trials ago (`width_before`). False position creeps where the
-/// indicator jumps across zero rather than crossing it: an enveloped edge's penetration, or a trial's own
-/// jump where one of its stages crosses a C⁰ edge of the road (measured: 16 trials that moved the bracket's
-/// upper end by 1e-12 s each, on the paper's bump course at 8.33 ms). With the midpoint every other trial
-/// at worst, the bracket at least halves every two.
-pub(super) fn next_trial(lo: f64, f_lo: f64, hi: f64, f_hi: f64, width_before: f64) -> f64 {
-    if hi - lo > 0.5 * width_before {
-        0.5 * (lo + hi)
-    } else {
-        false_position(lo, f_lo, hi, f_hi)
-    }
-}
-
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
