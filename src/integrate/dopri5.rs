@@ -585,7 +585,8 @@ mod tests {
     fn a_touchdown_is_approached_and_hopped_across() {
         use crate::integrate::touchdown::tests::{exact, Drop, Z0};
         let run = |locate: bool| {
-            let (mut d, mut sys, mut x) = (Dopri5::new(), Drop { locate, penetration: [0.0], evaluations: 0 }, [Z0, 0.0]);
+            let (mut d, mut sys, mut x) =
+                (Dopri5::new(), Drop { locate, penetration: [0.0], evaluations: 0 }, [Z0, 0.0]);
             let control = Control { tolerance: 1e-8, h_max: 0.01, max_evaluations: 100_000 };
             d.integrate(&mut sys, 0.0, 0.13, &mut x, control, &mut |_, _| Ok(())).unwrap();
             let e = exact(0.13);

@@ -46,7 +46,7 @@
 //!   hop crosses it) and start afresh from it for the rest of the step.
 //! - History and J are plain data (bit-exact serde): an FMU state restores the scheme exactly.
 use super::touchdown::{false_position, Indicators, MAX_HOPS, MAX_ITERATIONS, MAX_LOCATED_PER_STEP, TIME_TOLERANCE};
-use super::{ab3::same_step, commit, eval, fit, projected, Integrator, OdeSystem};
+use super::{ab3::same_step, commit, eval, fit, projected, step_along, Integrator, OdeSystem};
 use crate::error::{Cause, ModelError};
 use nalgebra::{Const, SMatrix, SVector, LU};
 use serde::{Deserialize, Serialize};
@@ -565,11 +565,13 @@ impl SubSteps<'_> {
     /// The largest change of f across the bracket, relative to the state's scales, on the states the
     /// estimate watches: the Euler hop across a bracket of width w errs by at most w times it (it takes f at
     /// the lower end for the whole bracket), so a bracket whose width times it is within `LOCATION_SHARE` of
-    /// the limit every sub-step is held to is located closely enough.
-    fn jump(&self, shared: &mut Shared, sys: &dyn OdeSystem, landing: &Landing) -> f64 {
-        sys.error_scale(shared.scale);
+    /// the limit every sub-step is held to is located closely enough. `shared.scale` holds the scales
+    /// (`landing` fills it).
+    fn jump(&self, shared: &Shared, landing: &Landing) -> f64 {
         let mut largest = 0.0f64;
-        for (((hi, lo), s), w) in landing.f_hi.iter().zip(landing.f_lo.iter()).zip(shared.scale.iter()).zip(shared.watch.iter()) {
+        for (((hi, lo), s), w) in
+            landing.f_hi.iter().zip(landing.f_lo.iter()).zip(shared.scale.iter()).zip(shared.watch.iter())
+        {
             if *w != 0.0 {
                 largest = largest.max((hi - lo).abs() / s);
             }
@@ -613,12 +615,12 @@ impl SubSteps<'_> {
     /// A retaken step from (t, x) (f = `f_start`) whose wheels in the air at t (`g_start`) may touch down
     /// within it: the tire's normal force jumps there from 0 to c_z δ̇ (docs/physics.md §6.3), which no sub-step
     /// that straddles it follows (the estimate of the imports' wheel lock at 8.33 ms was 38 × its limit in
-    /// sixteenth steps). As RK4's location does (`rk4`): trials from the bracket's lower end
-    /// (`trial`) bracket the first touchdown by Illinois' regula falsi on the largest penetration of the
-    /// wheels that were in the air, until the bracket is narrower
-    /// than `TIME_TOLERANCE` of the step or than the limit over f's change across it (`jump`); an explicit
-    /// Euler hop from the bracket's lower end crosses it into contact; the rest of the step is a fresh start of four checked sub-steps, split again at a later
-    /// touchdown. `Ok(false)`, with `x` as it was, when the step's trial shows no touchdown; `Ok(true)`, with
+    /// sixteenth steps). As RK4's location does (`rk4`): trials from the bracket's lower end (`trial`)
+    /// bracket the first touchdown by Illinois' regula falsi on the largest penetration of the wheels that
+    /// were in the air, until the bracket is narrower than `TIME_TOLERANCE` of the step or than
+    /// `LOCATION_SHARE` of the limit over f's change across it (`jump`); an explicit Euler hop from the
+    /// bracket's lower end crosses it into contact; the rest of the step is a fresh start of four checked
+    /// sub-steps, split again at a later touchdown. `Ok(false)`, with `x` as it was, when the step's trial shows no touchdown; `Ok(true)`, with
     /// x at t + h, when the step was taken so.
     #[allow(clippy::too_many_arguments)]
     fn landing(
@@ -634,6 +636,7 @@ impl SubSteps<'_> {
     ) -> Result<bool, ModelError> {
         let h = self.h;
         let tolerance = TIME_TOLERANCE * h;
+        sys.error_scale(shared.scale);
         landing.x0.copy_from_slice(x);
         landing.f0.copy_from_slice(f_start);
         let (mut a, mut g0) = (0.0, g_start);
@@ -656,7 +659,9 @@ impl SubSteps<'_> {
             let mut side = 0i8;
             for _ in 0..MAX_ITERATIONS {
                 let width = hi - lo;
-                if width <= tolerance || (self.limit.is_finite() && width * self.jump(shared, sys, landing) <= LOCATION_SHARE * self.limit) {
+                if width <= tolerance
+                    || (self.limit.is_finite() && width * self.jump(shared, landing) <= LOCATION_SHARE * self.limit)
+                {
                     break;
                 }
                 let margin = 0.5 * tolerance;
@@ -685,9 +690,7 @@ impl SubSteps<'_> {
             for hop in 0..MAX_HOPS {
                 let last = e >= rest - lo || hop + 1 == MAX_HOPS;
                 let e_now = e.min(rest - lo);
-                for ((y, x), f) in landing.x_try.iter_mut().zip(landing.x_lo.iter()).zip(landing.f_lo.iter()) {
-                    *y = x + e_now * f;
-                }
+                step_along(landing.x_try, landing.x_lo, e_now, landing.f_lo);
                 let t_now = if e_now == rest - lo { t + h } else { t + a + lo + e_now };
                 projected(sys, t_now, landing.x_try)?;
                 eval(sys, t_now, landing.x_try, landing.f_try)?;
