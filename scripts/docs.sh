@@ -19,7 +19,7 @@
 # "machine-dependent"), commit ids; callgrind counts ("instructions" and "(whole process)" columns) to 3e-3.
 # Not checked at all: the PNG figures (drawn from the same runs; matplotlib's bytes vary with its version), and
 # the generators marked "write only" in --list: their figures are times (studies), need the packaged FMUs
-# (ssp, studies) or are figures only (plots, manoeuvres). The four stability suites are written here but not
+# (ssp, studies) or are figures only (plots, manoeuvres). The five stability suites are written here but not
 # checked: each takes 1-2 min on 2 cores, over --check's budget of about 10 min in CI (issue 31).
 # Marked "slow" in --list: checked only when named (`bash scripts/docs.sh --check hil_frame`, which
 # `scripts/test.sh --slow` runs): a benchmark's build and run, which `scripts/test.sh` without --slow does not pay.
@@ -46,7 +46,7 @@ hil_frame|slow|docs/results.md, block \"hil-frame\" (the HIL frames' times and w
 manoeuvres|write|docs/manoeuvres.png|bash scripts/manoeuvres.sh
 ssp|write|docs/ssp_dlc.png|bash scripts/ssp.sh
 studies|write|docs/studies.md, block \"figures\"; docs/studies_dlc.png|bash scripts/studies.sh
-stability|write|docs/stability.md, docs/stability_pac02.md, docs/stability_generic_{macpherson,double_wishbone}.md|cargo run --release --bin rtv -- stability ... (each doc's first line)"
+stability|write|docs/stability.md, docs/stability_pac02.md, docs/stability_{generic_macpherson,generic_double_wishbone,rtv_single_wishbone}.md|cargo run --release --bin rtv -- stability ... (each doc's first line)"
 
 mode=write
 names=()
@@ -103,7 +103,7 @@ run_plots() { bash scripts/plots.sh >/dev/null; }
 run_linear() { bash scripts/linear.sh >/dev/null; echo linear.md; }
 run_kc() {
     bash scripts/kc.sh >/dev/null
-    (cd "$docs" && ls kc/hmmwv.md kc/generic_*.md)
+    (cd "$docs" && ls kc/hmmwv.md kc/generic_*.md kc/rtv_*.md)
 }
 run_chrono_check() {
     .venv/bin/python scripts/chrono_kinematics_check.py --out "$docs/kc/chrono_check.md" \
@@ -140,10 +140,11 @@ run_studies() { bash scripts/studies.sh >/dev/null; }
 run_stability() {
     $rtv stability --out "$docs/stability.md" >/dev/null
     $rtv stability --tire-file resources/tires/HMMWV_Pac02Tire.tir --out "$docs/stability_pac02.md" >/dev/null
-    for v in generic_macpherson generic_double_wishbone; do
+    for v in generic_macpherson generic_double_wishbone rtv_single_wishbone; do
         $rtv stability --vehicle-file "resources/vehicles/$v.json" --out "$docs/stability_$v.md" >/dev/null
     done
-    printf '%s\n' stability.md stability_pac02.md stability_generic_macpherson.md stability_generic_double_wishbone.md
+    printf '%s\n' stability.md stability_pac02.md stability_generic_macpherson.md stability_generic_double_wishbone.md \
+        stability_rtv_single_wishbone.md
 }
 
 failed=()

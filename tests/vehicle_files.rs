@@ -973,3 +973,92 @@ fn of_several_tir_files_the_pac02_one_is_taken_and_else_the_import_asks() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// ---------------------------------------------------------------------------------------------------------
+// The single wishbone: Chrono's `SingleWishbone` on suspension files written for the template
+// (data/single_wishbone, in Chrono's format), with Chrono's generic chassis, wheels and rack.
+
+/// The single-wishbone vehicle file, relative to the Chrono data folder (Chrono's rule for the files it names).
+const SINGLE_WISHBONE: &str = "../single_wishbone/Vehicle_SingleWishbones.json";
+
+fn generic_tir() -> PathBuf {
+    chrono_data().join("generic/tire/Generic_Pac02Tire.tir")
+}
+
+#[test]
+fn the_single_wishbone_imports_to_the_shipped_file() {
+    // The path as the command that wrote the shipped file named it (its provenance quotes it), from the
+    // repository's root, the tests' working folder.
+    let vehicle = Path::new("data/single_wishbone/Vehicle_SingleWishbones.json");
+    let import = import_vehicle(vehicle, &chrono_data(), Some(&generic_tir())).unwrap();
+    let expected = std::fs::read_to_string(repo().join("resources/vehicles/rtv_single_wishbone.json")).unwrap();
+    assert!(
+        import.to_json() == expected,
+        "{SINGLE_WISHBONE} no longer imports to resources/vehicles/rtv_single_wishbone.json"
+    );
+    let front = &import.data.front;
+    assert_eq!(front.template, rt_vehicle::model::formats::params::SuspensionTemplate::SingleWishbone);
+    // One hinge point, the axis along x: LCA_F 0.1 m ahead of LCA_B; the one Shock element at both mounts.
+    let p = |k: &str| front.hardpoints_chassis_frame_m[k];
+    let span: Vec<f64> = (0..3).map(|i| p("LCA_F")[i] - p("LCA_B")[i]).collect();
+    assert!((span[0] - 0.1).abs() < 1e-12 && span[1] == 0.0 && span[2] == 0.0, "{span:?}");
+    assert_eq!((p("SPRING_C"), p("SPRING_A")), (p("SHOCK_C"), p("SHOCK_A")));
+    assert_eq!((front.spring.k1_N_per_m, front.spring.free_length_m), (Some(118000.0), 0.525));
+    assert_eq!(front.damper.midstroke_compression_Ns_per_m, 8400.0);
+    assert!(front.upper_arm.is_none() && front.strut.is_none());
+}
+
+/// A scratch copy of the generic Chrono folders and the single-wishbone files (as `single_wishbone/`, the
+/// vehicle's paths to them edited), the front suspension file edited by `edit`; the import's error text.
+fn single_wishbone_error(name: &str, edit: impl FnOnce(&mut Value)) -> String {
+    let dir = chrono_copy(name);
+    let own = dir.join("single_wishbone");
+    std::fs::create_dir_all(&own).unwrap();
+    for f in std::fs::read_dir(repo().join("data/single_wishbone")).unwrap().flatten() {
+        std::fs::copy(f.path(), own.join(f.file_name())).unwrap();
+    }
+    let vehicle = own.join("Vehicle_SingleWishbones.json");
+    edit_json(&vehicle, |v| {
+        for (i, side) in ["front", "rear"].iter().enumerate() {
+            v["Axles"][i]["Suspension Input File"] = json!(format!("single_wishbone/SingleWishbone_{side}.json"));
+        }
+    });
+    edit_json(&own.join("SingleWishbone_front.json"), edit);
+    let e = import_vehicle(&vehicle, &dir, Some(&generic_tir())).map(|_| ()).unwrap_err().to_string();
+    let _ = std::fs::remove_dir_all(&dir);
+    e
+}
+
+#[test]
+fn the_importer_names_the_file_and_key_of_each_bad_single_wishbone() {
+    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, Vec<&str>)> = vec![
+        (
+            "sw_vertical_arm",
+            Box::new(|v| v["Control Arm"]["Location Upright"] = json!([0.0, 0.2, 0.3])),
+            vec!["SingleWishbone_front.json", "Control Arm.Location Upright", "no direction across"],
+        ),
+        (
+            "sw_two_laws",
+            Box::new(|v| v["Shock"]["Spring Curve Data"] = json!([[0.0, 0.0], [0.1, 1000.0]])),
+            vec!["SingleWishbone_front.json", "Shock.Spring Curve Data", "either"],
+        ),
+        (
+            "sw_map",
+            Box::new(|v| v["Shock"]["Map Data"] = json!([])),
+            vec!["SingleWishbone_front.json", "Shock.Map Data", "not supported"],
+        ),
+        (
+            "sw_unknown",
+            Box::new(|v| v["Control Arm"]["Location Chassis Front"] = json!([0.1, 0.2, -0.1])),
+            vec!["SingleWishbone_front.json", "Control Arm.Location Chassis Front", "unknown key"],
+        ),
+        // The tie rod through the kingpin: it cannot turn the upright, the loop is singular.
+        ("sw_loop", Box::new(|v| v["Tierod"]["Location Upright"] = json!([0.0, 0.9, -0.1])), vec!["cannot close"]),
+    ];
+    for (name, edit, needles) in cases {
+        let e = single_wishbone_error(name, edit);
+        for n in needles {
+            assert!(e.contains(n), "{name}: '{n}' not in: {e}");
+        }
+    }
+}

@@ -715,8 +715,9 @@ impl KcReport {
                + = axis top rearward; kingpin inclination + = top inboard; scrub radius + = steering axis meets \
                the ground inboard of C; mechanical trail + = it meets the ground ahead of C (both in the wheel's \
                heading).\n";
-        md += "- Steering axis: through the ball joints (double wishbone) or the lower ball joint and the strut's \
-               top mount (MacPherson). On an unsteered axle it is the upright's axis all the same.\n";
+        md += "- Steering axis: through the ball joints (double wishbone), the lower ball joint and the strut's top \
+               mount (MacPherson), or the kingpin (single wishbone: the arm-fixed axis through LCA_U that is \
+               vertical at design). On an unsteered axle it is the upright's axis all the same.\n";
         md += "- Slopes (gains, motion ratios, roll centre) are exact rates of the linkage (its velocity analysis), \
                not differences; `tests/kc.rs` checks them against central differences of solved positions.\n";
         md += "- Roll centre (kinematic, front view): the force line of a wheel runs through C perpendicular to the \

@@ -450,7 +450,6 @@ const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("ToeBarPushPipeAxle", "a push-pipe axle with a toe bar"),
     ("RigidSuspension", "a rigid suspension (wheels on the chassis)"),
     ("RigidPinnedAxle", "a rigid pinned axle"),
-    ("SingleWishbone", "a single wishbone"),
     ("MultiLink", "a multi-link suspension"),
     ("SemiTrailingArm", "a semi-trailing arm"),
     ("ThreeLinkIRS", "a three-link independent rear suspension"),
@@ -471,13 +470,18 @@ enum Law {
 /// The law of the spring or damper `o`: `coefficient` (≥ 0, in `unit`) or the curve `curve_key` (or
 /// Chrono's older `Curve Data`), exactly one of them.
 fn force_law(o: &Obj, coefficient: &str, curve_key: &'static str, unit: &str) -> Result<Law, ImportError> {
-    let key = [curve_key, "Curve Data"].into_iter().find(|k| o.has(k));
+    force_law_of(o, coefficient, &[curve_key, "Curve Data"], unit)
+}
+
+/// `force_law` with the curve under the first of `curve_keys` that `o` has.
+fn force_law_of(o: &Obj, coefficient: &str, curve_keys: &[&'static str], unit: &str) -> Result<Law, ImportError> {
+    let key = curve_keys.iter().copied().find(|k| o.has(k));
     match (o.opt_num(coefficient)?, key) {
         (Some(_), Some(k)) => Err(o.err(k, format!("give either {coefficient} or a curve, not both"))),
         (Some(c), None) if c >= 0.0 => Ok(Law::Coefficient(c)),
         (Some(c), None) => Err(o.err(coefficient, format!("must be zero or positive ({unit}), got {c}"))),
         (None, Some(k)) => Ok(Law::Curve(k, curve(o, k)?)),
-        (None, None) => Err(o.err(coefficient, format!("missing (or give {curve_key})"))),
+        (None, None) => Err(o.err(coefficient, format!("missing (or give {})", curve_keys[0]))),
     }
 }
 
@@ -548,13 +552,20 @@ struct Wheel {
     inertia: [f64; 3],
 }
 
+/// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
+const SUSPENSION_TEMPLATES: [&str; 3] = ["DoubleWishbone", "MacPhersonStrut", "SingleWishbone"];
+
+/// Where a single wishbone's LCA_F sits: this far ahead of its one hinge point (`Location Chassis`), on
+/// Chrono's hinge axis, the chassis x axis. The model takes the hinge as two points; any two on the axis
+/// give the same arm.
+const SINGLE_WISHBONE_HINGE_SPAN_M: f64 = 0.1;
+
 /// What the steps of `Importer::suspension` share: the suspension file's object, where the suspension sits
 /// on the chassis, its template, the hardpoints read so far (in the chassis frame) and the import's warnings.
 struct SuspensionReader<'a> {
     o: Obj<'a>,
     location: V3,
-    /// A double wishbone; else a MacPherson strut.
-    wishbone: bool,
+    template: SuspensionTemplate,
     /// Chrono's `Vehicle-Frame Inertia`: the control arms' inertias are given in chassis axes.
     vehicle_frame: bool,
     points: BTreeMap<String, [f64; 3]>,
@@ -563,20 +574,35 @@ struct SuspensionReader<'a> {
 
 impl SuspensionReader<'_> {
     fn lower_arm_key(&self) -> &'static str {
-        if self.wishbone {
-            "Lower Control Arm"
-        } else {
-            "Control Arm"
+        match self.template {
+            SuspensionTemplate::DoubleWishbone => "Lower Control Arm",
+            SuspensionTemplate::MacphersonStrut | SuspensionTemplate::SingleWishbone => "Control Arm",
         }
     }
 
-    /// The key of the spring's and the damper's lower end: on the lower arm of a double wishbone, on the
-    /// upright of a MacPherson strut.
+    /// The key of the spring's and the damper's lower end: on the (lower) arm of a double or single
+    /// wishbone, on the upright of a MacPherson strut.
     fn moving_key(&self) -> &'static str {
-        if self.wishbone {
-            "Location Arm"
-        } else {
-            "Location Upright"
+        match self.template {
+            SuspensionTemplate::MacphersonStrut => "Location Upright",
+            _ => "Location Arm",
+        }
+    }
+
+    /// The model's names of the spring's and the damper's lower ends.
+    fn lower_ends(&self) -> (&'static str, &'static str) {
+        match self.template {
+            SuspensionTemplate::MacphersonStrut => ("SPRING_U", "SHOCK_U"),
+            _ => ("SPRING_A", "SHOCK_A"),
+        }
+    }
+
+    /// The key of the spring's object: a single wishbone has one spring-damper element, `Shock` (Chrono reads
+    /// it with `ReadTSDAFunctorJSON`), the others a `Spring` beside their `Shock`.
+    fn spring_key(&self) -> &'static str {
+        match self.template {
+            SuspensionTemplate::SingleWishbone => "Shock",
+            _ => "Spring",
         }
     }
 
@@ -589,7 +615,23 @@ impl SuspensionReader<'_> {
     /// given.
     fn top_level(&mut self) -> Result<(f64, f64), ImportError> {
         let o = &self.o;
-        let upper = if self.wishbone { "Upper Control Arm" } else { "Strut" };
+        if self.template == SuspensionTemplate::SingleWishbone {
+            // Chrono's `SingleWishbone` reads neither an alignment nor vehicle-frame inertias: nor does the
+            // import (the wheel's axle is the chassis y axis at design, as Chrono's spindle).
+            let not_read = "Chrono's SingleWishbone does not read it";
+            o.keys(
+                &["Name", "Type", "Template", "Spindle", "Upright", "Control Arm", "Tierod", "Shock", "Axle"],
+                &[
+                    ("Output", "Chrono output settings"),
+                    ("Camber Angle (deg)", not_read),
+                    ("Toe Angle (deg)", not_read),
+                    ("Vehicle-Frame Inertia", not_read),
+                ],
+                self.warnings,
+            )?;
+            return Ok((0.0, 0.0));
+        }
+        let upper = if self.template == SuspensionTemplate::DoubleWishbone { "Upper Control Arm" } else { "Strut" };
         let used = [
             "Name",
             "Type",
@@ -673,13 +715,51 @@ impl SuspensionReader<'_> {
         Ok(body_of(arm.mass("Mass")?, &j))
     }
 
-    /// A double wishbone's upper arm, or a MacPherson strut's strut body (its rod; its CM is the model's).
+    /// A single wishbone's control arm: one hinge point on the chassis (`Location Chassis`, the hinge along
+    /// the chassis x axis: LCA_B there, LCA_F `SINGLE_WISHBONE_HINGE_SPAN_M` ahead), the kingpin's point
+    /// (`Location Upright`, LCA_U) and the CM; its inertia, given in Chrono's arm frame, turned into the
+    /// model's (`arm_frame`).
+    fn single_arm(&mut self) -> Result<RigidBody, ImportError> {
+        let arm = self.o.obj("Control Arm")?;
+        arm.keys(
+            &["Mass", "COM", "Moments of Inertia", "Products of Inertia", "Location Chassis", "Location Upright"],
+            &[("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")],
+            self.warnings,
+        )?;
+        let (c, u) = (arm.point("Location Chassis")?, arm.point("Location Upright")?);
+        let f = c + V3::x() * SINGLE_WISHBONE_HINGE_SPAN_M;
+        self.put("LCA_F", f);
+        self.put("LCA_B", c);
+        self.put("LCA_U", u);
+        self.put("LCA_CM", arm.point("COM")?);
+        let j = inertia_of(&arm)?;
+        moments_positive(&arm, &j)?;
+        // Chrono's arm frame (`ChSingleWishbone::InitializeSide`): y along the arm from the hinge to the
+        // kingpin, x = y × up, z = x × y. Chrono leaves x unnormalized; for an arm that is not horizontal its
+        // quaternion of that matrix is near this orthonormal frame, exact for a horizontal arm.
+        let v = u - c;
+        let x = v.cross(&V3::z());
+        if v.norm() < 1e-6 || x.norm() < 1e-6 * v.norm() {
+            return Err(arm.err("Location Upright", "the arm has no direction across the chassis's up axis"));
+        }
+        let v = v.normalize();
+        let x = x.normalize();
+        let chrono = M3::from_columns(&[x, v, x.cross(&v)]);
+        let ours = arm_frame(&arm, f, c, u)?;
+        let in_chassis = chrono * j * chrono.transpose();
+        Ok(body_of(arm.mass("Mass")?, &(ours.transpose() * in_chassis * ours)))
+    }
+
+    /// A double wishbone's upper arm, or a MacPherson strut's strut body (its rod; its CM is the model's); a
+    /// single wishbone has neither.
     fn upper_arm_or_strut(&mut self) -> Result<(Option<RigidBody>, Option<RigidBody>), ImportError> {
-        if self.wishbone {
-            Ok((Some(self.control_arm("Upper Control Arm", "UCA")?), None))
-        } else {
-            let used = ["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"];
-            Ok((None, Some(self.body("Strut", &used, &[("Radius", VISUAL)], None)?)))
+        match self.template {
+            SuspensionTemplate::DoubleWishbone => Ok((Some(self.control_arm("Upper Control Arm", "UCA")?), None)),
+            SuspensionTemplate::MacphersonStrut => {
+                let used = ["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"];
+                Ok((None, Some(self.body("Strut", &used, &[("Radius", VISUAL)], None)?)))
+            }
+            SuspensionTemplate::SingleWishbone => Ok((None, None)),
         }
     }
 
@@ -703,25 +783,32 @@ impl SuspensionReader<'_> {
 
     /// The spring: its ends, free length, law (a rate or a curve), preload and stops.
     fn spring(&mut self) -> Result<Spring, ImportError> {
-        let sp = self.o.obj("Spring")?;
+        let sp = self.o.obj(self.spring_key())?;
+        if self.template == SuspensionTemplate::SingleWishbone {
+            // The element's damper laws the model cannot take, named before any other key of it.
+            Self::unsupported_damper(&sp, &[])?;
+        }
         let moving = self.moving_key();
-        sp.keys(
-            &[
-                "Location Chassis",
-                moving,
-                "Free Length",
-                "Spring Coefficient",
-                "Spring Curve Data",
-                "Curve Data",
-                "Minimum Length",
-                "Maximum Length",
-                "Preload",
-            ],
-            &[],
-            self.warnings,
-        )?;
+        let mut used = vec![
+            "Location Chassis",
+            moving,
+            "Free Length",
+            "Spring Coefficient",
+            "Spring Curve Data",
+            "Minimum Length",
+            "Maximum Length",
+            "Preload",
+        ];
+        if self.template == SuspensionTemplate::SingleWishbone {
+            // One element, spring and damper: the damper's keys are read by `damper`. Chrono's older
+            // `Curve Data` is a damper's curve there.
+            used.extend(["Damping Coefficient", "Damping Curve Data", "Curve Data"]);
+        } else {
+            used.push("Curve Data");
+        }
+        sp.keys(&used, &[], self.warnings)?;
         self.put("SPRING_C", sp.point("Location Chassis")?);
-        let lower_end = if self.wishbone { "SPRING_A" } else { "SPRING_U" };
+        let (lower_end, _) = self.lower_ends();
         self.put(lower_end, sp.point(moving)?);
         let mut free_length = sp.length("Free Length")?;
         let (k1, mut curve) = self.spring_law(&sp)?;
@@ -741,7 +828,12 @@ impl SuspensionReader<'_> {
     /// The spring's rate, or its curve (a straight line through the origin becomes a rate).
     fn spring_law(&mut self, sp: &Obj) -> Result<(f64, Option<SpringCurve>), ImportError> {
         // A curve is kept as Chrono interpolates it, linearly between its points (`forces::curve_force`).
-        match force_law(sp, "Spring Coefficient", "Spring Curve Data", "N/m")? {
+        let law = if self.template == SuspensionTemplate::SingleWishbone {
+            force_law_of(sp, "Spring Coefficient", &["Spring Curve Data"], "N/m")?
+        } else {
+            force_law(sp, "Spring Coefficient", "Spring Curve Data", "N/m")?
+        };
+        match law {
             Law::Coefficient(k) => Ok((k, None)),
             Law::Curve(key, points) => {
                 if points.windows(2).any(|w| w[1].1 < w[0].1) || !(points[points.len() - 1].1 > points[0].1) {
@@ -811,28 +903,31 @@ impl SuspensionReader<'_> {
         Ok((stop_min, stop_max))
     }
 
+    /// Refuses the damper laws the model cannot take (degressive, a map), and the keys `more`, in `o`.
+    fn unsupported_damper(o: &Obj, more: &[&str]) -> Result<(), ImportError> {
+        let laws = ["Degressivity Compression", "Degressivity Expansion", "Map Data"];
+        match laws.iter().chain(more).find(|k| o.has(k)) {
+            Some(k) => Err(o.err(k, "not supported: the model's damper is a linear damper per direction")),
+            None => Ok(()),
+        }
+    }
+
     /// The damper (`Shock`): its ends and its law, a rate or a curve fitted by a rate per direction.
     fn damper(&mut self) -> Result<Damper, ImportError> {
         let sh = self.o.obj("Shock")?;
-        for k in [
-            "Degressivity Compression",
-            "Degressivity Expansion",
-            "Map Data",
-            "Spring Coefficient",
-            "Spring Curve Data",
-        ] {
-            if sh.has(k) {
-                return Err(sh.err(k, "not supported: the model's damper is a linear damper per direction"));
-            }
-        }
+        let combined = self.template == SuspensionTemplate::SingleWishbone;
+        Self::unsupported_damper(&sh, if combined { &[] } else { &["Spring Coefficient", "Spring Curve Data"] })?;
         let moving = self.moving_key();
-        sh.keys(
-            &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
-            &[("Free Length", "a damper has no free length in the model")],
-            self.warnings,
-        )?;
+        if !combined {
+            // A single wishbone's element: its keys were accounted for by `spring`.
+            sh.keys(
+                &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
+                &[("Free Length", "a damper has no free length in the model")],
+                self.warnings,
+            )?;
+        }
         self.put("SHOCK_C", sh.point("Location Chassis")?);
-        let lower_end = if self.wishbone { "SHOCK_A" } else { "SHOCK_U" };
+        let (_, lower_end) = self.lower_ends();
         self.put(lower_end, sh.point(moving)?);
         let (compression, rebound) = match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
             Law::Coefficient(c) => (c, c),
@@ -1124,7 +1219,7 @@ impl Importer {
         }
         for (i, a) in axles.iter().enumerate() {
             let Ok(a) = v.item("Axles", i, a) else { continue };
-            out.extend(check(self, &a, "Suspension Input File", &["DoubleWishbone", "MacPhersonStrut"]));
+            out.extend(check(self, &a, "Suspension Input File", &SUSPENSION_TEMPLATES));
             for k in ["Left Brake Input File", "Right Brake Input File"] {
                 if a.has(k) {
                     out.extend(check(self, &a, k, &["BrakeSimple"]));
@@ -1552,11 +1647,15 @@ impl Importer {
     /// chassis: one step per part of the file, in the file's order (the order of the warnings and errors).
     fn suspension(&mut self, file: &File, location: V3, steered: bool) -> Result<Axle, ImportError> {
         let o = file.obj();
-        let template = Self::template(&o, &["DoubleWishbone", "MacPhersonStrut"])?;
+        let template = match Self::template(&o, &SUSPENSION_TEMPLATES)? {
+            "DoubleWishbone" => SuspensionTemplate::DoubleWishbone,
+            "MacPhersonStrut" => SuspensionTemplate::MacphersonStrut,
+            _ => SuspensionTemplate::SingleWishbone,
+        };
         let mut s = SuspensionReader {
             o,
             location,
-            wishbone: template == "DoubleWishbone",
+            template,
             vehicle_frame: false,
             points: BTreeMap::new(),
             warnings: &mut self.warnings,
@@ -1564,14 +1663,17 @@ impl Importer {
         let (static_camber_deg, static_toe_deg) = s.top_level()?;
         let spindle = s.spindle()?;
         let upright = s.upright()?;
-        let lower_arm = s.control_arm(s.lower_arm_key(), "LCA")?;
+        let lower_arm = match template {
+            SuspensionTemplate::SingleWishbone => s.single_arm()?,
+            _ => s.control_arm(s.lower_arm_key(), "LCA")?,
+        };
         let (upper_arm, strut) = s.upper_arm_or_strut()?;
         s.tie_rod()?;
         let spring = s.spring()?;
         let damper = s.damper()?;
         let axle_shaft_spin_inertia_kg_m2 = s.axle_shaft()?;
         Ok(Axle {
-            template: if s.wishbone { SuspensionTemplate::DoubleWishbone } else { SuspensionTemplate::MacphersonStrut },
+            template,
             steered,
             hardpoints_chassis_frame_m: s.points,
             lower_arm,

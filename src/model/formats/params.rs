@@ -161,6 +161,10 @@ pub enum SuspensionTemplate {
     /// between the upright and a universal joint at the chassis top mount; spring and damper along the
     /// strut, between chassis and upright (Chrono's `MacPhersonStrut`).
     MacphersonStrut,
+    /// One control arm on a revolute joint, the upright on a revolute joint (the kingpin) at its outer end,
+    /// about the arm-fixed axis that is the chassis z axis at design; spring and damper on the arm (Chrono's
+    /// `SingleWishbone`).
+    SingleWishbone,
 }
 
 impl SuspensionTemplate {
@@ -168,6 +172,7 @@ impl SuspensionTemplate {
         match self {
             SuspensionTemplate::DoubleWishbone => "double_wishbone",
             SuspensionTemplate::MacphersonStrut => "macpherson_strut",
+            SuspensionTemplate::SingleWishbone => "single_wishbone",
         }
     }
 
@@ -176,6 +181,7 @@ impl SuspensionTemplate {
         match self {
             SuspensionTemplate::DoubleWishbone => &HARDPOINTS,
             SuspensionTemplate::MacphersonStrut => &MACPHERSON_HARDPOINTS,
+            SuspensionTemplate::SingleWishbone => &SINGLE_WISHBONE_HARDPOINTS,
         }
     }
 }
@@ -351,6 +357,14 @@ pub const MAX_STATIC_ANGLE_DEG: f64 = 10.0;
 /// upright to its top mount SPRING_C on the chassis; the damper acts from SHOCK_U to SHOCK_C).
 pub const MACPHERSON_HARDPOINTS: [&str; 12] = [
     "SPINDLE", "UPRIGHT", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C", "SHOCK_U", "SPRING_C", "SPRING_U",
+    "TIEROD_C", "TIEROD_U",
+];
+
+/// The hardpoints a single-wishbone axle must name: the double wishbone's without the upper arm. LCA_F and
+/// LCA_B are two points of the arm's hinge axis (Chrono's single wishbone hinges along the chassis x axis
+/// through one point, `Location Chassis`), LCA_U the kingpin's point on the arm.
+pub const SINGLE_WISHBONE_HARDPOINTS: [&str; 12] = [
+    "SPINDLE", "UPRIGHT", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A",
     "TIEROD_C", "TIEROD_U",
 ];
 
@@ -665,6 +679,14 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         SuspensionTemplate::MacphersonStrut => {
             if axle.upper_arm.is_some() {
                 return Err(err(format!("{name}.upper_arm"), "a MacPherson strut has no upper arm"));
+            }
+        }
+        SuspensionTemplate::SingleWishbone => {
+            if axle.upper_arm.is_some() {
+                return Err(err(format!("{name}.upper_arm"), "a single wishbone has no upper arm"));
+            }
+            if axle.strut.is_some() {
+                return Err(err(format!("{name}.strut"), "a single wishbone has no strut body"));
             }
         }
     }

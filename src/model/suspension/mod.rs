@@ -11,7 +11,9 @@
 //! (the carrier of the wheel), a massless tie rod from K to the steering (front) or the chassis (rear), and
 //! one more coordinate q[4] with the three equations that close the loop (`Closure`):
 //! - `double_wishbone.rs`: the upper arm on a revolute θ_U, its ball joint on the upright;
-//! - `macpherson.rs`: the strut slide ℓ, the upright's strut line through the chassis top mount.
+//! - `macpherson.rs`: the strut slide ℓ, the upright's strut line through the chassis top mount;
+//! - `single_wishbone.rs`: no fourth body; the upright turns on the arm about one arm-fixed axis (the
+//!   kingpin), so φ1 = φ2 = 0, and q[4] has no body and is held at 0 (three linear rows).
 //!
 //! q = (θ_L, φ1, φ2, φ3, q4); θ_L is the independent coordinate, v = (φ1, φ2, φ3, q4) are solved from
 //! Φ(q, s) = 0 (4 equations). A third template with this tree (a strut with an upper link, a trailing arm
@@ -25,6 +27,7 @@ pub mod antiroll_bar;
 pub mod double_wishbone;
 pub mod forces;
 pub mod macpherson;
+pub mod single_wishbone;
 
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
@@ -103,6 +106,9 @@ impl BodyInertia {
 pub enum Closure {
     UpperArm(UpperArm),
     Strut(Strut),
+    /// The single wishbone's kingpin: the upright's Bryant angles on the arm are a turn about the arm's z
+    /// axis alone (φ1 = φ2 = 0: the sequence x-y-z ends with it), and q[4] = 0. Three rows linear in q.
+    Kingpin,
 }
 
 /// Which moving body a line element (spring, damper) acts on.
@@ -308,6 +314,7 @@ impl Corner {
         match axle.template {
             SuspensionTemplate::DoubleWishbone => double_wishbone::from_data(data, axle, side, drive),
             SuspensionTemplate::MacphersonStrut => macpherson::from_data(data, axle, side, drive),
+            SuspensionTemplate::SingleWishbone => single_wishbone::from_data(data, axle, side, drive),
         }
     }
 
@@ -330,6 +337,7 @@ impl Corner {
         let template = match closure {
             Closure::UpperArm(_) => SuspensionTemplate::DoubleWishbone,
             Closure::Strut(_) => SuspensionTemplate::MacphersonStrut,
+            Closure::Kingpin => SuspensionTemplate::SingleWishbone,
         };
         let mut c = Corner {
             template,
@@ -369,7 +377,7 @@ impl Corner {
     pub fn upper_revolute(&self) -> Option<(V3, V3)> {
         match &self.closure {
             Closure::UpperArm(arm) => Some((arm.p_u, arm.h_u)),
-            Closure::Strut(_) => None,
+            Closure::Strut(_) | Closure::Kingpin => None,
         }
     }
 
@@ -433,6 +441,12 @@ impl Corner {
                 let (rho, along) = strut.point(q[4], &self.b0, &r_k);
                 (strut.top, M3::identity(), rho, along, -along)
             }
+            // A point of the kingpin one metre above b (the steering axis reads it), ρ_u reaching it: the
+            // point-coincidence rows below are then zero and replaced by the kingpin's own.
+            Closure::Kingpin => {
+                let up = r_l.column(2).into_owned();
+                (b + up, M3::identity(), up, V3::zeros(), V3::zeros())
+            }
         };
         let rho_t = r_k * (self.t_k - self.b0);
         let k_u0 = b + rho_u;
@@ -458,11 +472,21 @@ impl Corner {
         // Column q4 (the tie rod does not depend on it).
         phi_q.fixed_view_mut::<3, 1>(0, 4).copy_from(&column_4);
         phi_q[(3, 4)] = 0.0;
+        let closure_residual = if let Closure::Kingpin = self.closure {
+            // Rows φ1, φ2 and q4 (`constraint_values`): unit rows.
+            phi_q.fixed_rows_mut::<3>(0).fill(0.0);
+            phi_q[(0, 1)] = 1.0;
+            phi_q[(1, 2)] = 1.0;
+            phi_q[(2, 4)] = 1.0;
+            q[1].abs().max(q[2].abs()).max(q[4].abs())
+        } else {
+            phi_s3.amax()
+        };
         pos.phi_s = Vector4::zeros();
         if self.steered() {
             pos.phi_s[3] = -d.dot(&tie_rod.d_ds) * inv_l;
         }
-        pos.residual = phi_s3.amax().max(phi_d.abs());
+        pos.residual = closure_residual.max(phi_d.abs());
         pos.lu_v = Lu::new(&pos.phi_q.fixed_columns::<4>(1).into_owned()).ok();
         match &pos.lu_v {
             Some(lu) => {
@@ -492,9 +516,12 @@ impl Corner {
     }
 
     pub fn constraint_values(&self, pos: &CornerPositions) -> Vector4<f64> {
+        let phi_d = 0.5 * (pos.d.dot(&pos.d) - self.tie_length * self.tie_length) / self.tie_length;
+        if let Closure::Kingpin = self.closure {
+            return Vector4::new(pos.q[1], pos.q[2], pos.q[4], phi_d);
+        }
         let k_u0 = pos.b + pos.rho_u;
         let e = pos.upper_joint - k_u0;
-        let phi_d = 0.5 * (pos.d.dot(&pos.d) - self.tie_length * self.tie_length) / self.tie_length;
         Vector4::new(e.x, e.y, e.z, phi_d)
     }
 
@@ -584,6 +611,8 @@ impl Corner {
             }
             // The top mount is fixed; the strut point slides along the upright (Coriolis 2 ω_K × R_K a ℓ̇).
             Closure::Strut(_) => a_k(&pos.rho_u) + w_k.cross(&pos.slide) * (2.0 * qd[4]),
+            // Rows linear in q: no velocity-squared term.
+            Closure::Kingpin => V3::zeros(),
         };
         let steer_rate = if self.steered() { s_dot } else { 0.0 };
         let path = &pos.tie_rod;
@@ -621,8 +650,9 @@ impl Corner {
     }
 
     /// The steering (kingpin) axis at these positions: a point on it (the lower ball joint) and its unit
-    /// direction upward: through the upper ball joint (double wishbone) or along the strut's line through
-    /// the top mount (MacPherson), the axis the upright turns about when steered.
+    /// direction upward: through the upper ball joint (double wishbone), along the strut's line through
+    /// the top mount (MacPherson) or along the kingpin (single wishbone), the axis the upright turns about
+    /// when steered.
     pub fn steering_axis(&self, pos: &CornerPositions) -> (V3, V3) {
         let top = pos.upper_joint;
         (pos.b, (top - pos.b).normalize())
@@ -648,6 +678,8 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
     let closure_length = match &g.closure {
         Closure::UpperArm(arm) => (arm.u0 - g.b0).norm(),
         Closure::Strut(strut) => strut.length,
+        // The kingpin is an axis through LCA_U, not a link: it has no length to lose.
+        Closure::Kingpin => 1.0,
     };
     if g.tie_length < 1e-6 || closure_length < 1e-6 {
         return Err(DataError { field, message: "tie rod, kingpin or strut of zero length".into() });
