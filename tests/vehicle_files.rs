@@ -1062,3 +1062,34 @@ fn the_importer_names_the_file_and_key_of_each_bad_single_wishbone() {
         }
     }
 }
+
+#[test]
+fn a_shafts_brake_imports_its_shaft_on_the_chassis_and_a_bad_one_is_refused() {
+    // Chrono's `BrakeShafts` ties a brake shaft to the suspension's brake body about y, which Chrono's
+    // suspension templates leave to the chassis: each shaft's inertia adds to the chassis's moment about y.
+    let with_shafts = |name: &str, inertia: f64| {
+        let dir = chrono_copy(name);
+        let brake = json!({"Name": "shafts", "Type": "Brake", "Template": "BrakeShafts",
+                           "Maximum Torque": 4000.0, "Shaft Inertia": inertia});
+        std::fs::write(dir.join("generic/brake/BrakeShafts.json"), brake.to_string()).unwrap();
+        edit_json(&dir.join(DOUBLE_WISHBONE), |v| {
+            for axle in v["Axles"].as_array_mut().unwrap() {
+                for side in ["Left", "Right"] {
+                    axle[format!("{side} Brake Input File")] = json!("generic/brake/BrakeShafts.json");
+                }
+            }
+        });
+        let result = import_vehicle(&dir.join(DOUBLE_WISHBONE), &dir, None);
+        let _ = std::fs::remove_dir_all(&dir);
+        result
+    };
+    let plain = import_vehicle(&chrono_data().join(DOUBLE_WISHBONE), &chrono_data(), None).unwrap();
+    let shafts = with_shafts("brake_shafts", 0.25).unwrap();
+    let iyy = |i: &rt_vehicle::model::formats::import_chrono::Import| i.data.chassis.inertia_moments_kg_m2;
+    assert_eq!(iyy(&shafts)[1], iyy(&plain)[1] + 4.0 * 0.25);
+    assert_eq!([iyy(&shafts)[0], iyy(&shafts)[2]], [iyy(&plain)[0], iyy(&plain)[2]]);
+    assert!(shafts.warnings.iter().any(|w| w.contains("BrakeShafts.json: Shaft Inertia: added to the chassis")));
+    assert!(shafts.warnings.iter().any(|w| w.contains("BrakeShafts.json: Maximum Torque: ignored")));
+    let e = with_shafts("brake_shafts_bad", -1.0).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("BrakeShafts.json") && e.contains("Shaft Inertia") && e.contains("zero or positive"), "{e}");
+}

@@ -457,7 +457,6 @@ const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("GenericWheeledSuspension", "a generic suspension of user-defined bodies and joints"),
     ("DoubleWishboneReduced", "a reduced double wishbone (distance constraints)"),
     ("MacPhersonStrutReduced", "a reduced MacPherson strut"),
-    ("BrakeShafts", "a shafts brake"),
     ("RigidChassisRear", "a rear chassis"),
 ];
 
@@ -551,6 +550,9 @@ struct Wheel {
     mass: f64,
     inertia: [f64; 3],
 }
+
+/// The brake templates the import reads (`Importer::brake`).
+const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
 const SUSPENSION_TEMPLATES: [&str; 3] = ["DoubleWishbone", "MacPhersonStrut", "SingleWishbone"];
@@ -1222,7 +1224,7 @@ impl Importer {
             out.extend(check(self, &a, "Suspension Input File", &SUSPENSION_TEMPLATES));
             for k in ["Left Brake Input File", "Right Brake Input File"] {
                 if a.has(k) {
-                    out.extend(check(self, &a, k, &["BrakeSimple"]));
+                    out.extend(check(self, &a, k, &BRAKE_TEMPLATES));
                 }
             }
             if a.has("Antirollbar Input File") {
@@ -1280,7 +1282,7 @@ impl Importer {
         let chassis_ref = v.obj("Chassis")?;
         chassis_ref.keys(&["Input File"], &[], &mut self.warnings)?;
         let chassis_file = self.subsystem(&chassis_ref, "Input File", "Chassis")?;
-        let (chassis, driver) = self.chassis(&chassis_file)?;
+        let (mut chassis, driver) = self.chassis(&chassis_file)?;
 
         // Steering.
         let steerings =
@@ -1305,6 +1307,8 @@ impl Importer {
         }
         let mut imported = Vec::new();
         let mut wheels: Vec<(String, Wheel)> = Vec::new();
+        // The brakes' shafts' inertia, summed over the wheels (`brake`).
+        let mut brake_shafts = 0.0;
         for (i, a) in axles.iter().enumerate() {
             let a = v.item("Axles", i, a)?;
             for k in ["Wheel Separation", "Subchassis Index"] {
@@ -1368,7 +1372,7 @@ impl Importer {
                 let key = format!("{side} Brake Input File");
                 if a.has(&key) {
                     let brake = self.subsystem(&a, &key, "Brake")?;
-                    self.brake(&brake)?;
+                    brake_shafts += self.brake(&brake)?;
                 }
             }
             imported.push((location.x, suspension.shown.clone(), axle, bar_file));
@@ -1425,6 +1429,8 @@ impl Importer {
             ),
         };
         let tir = tir.map(|t| t.0);
+        // The brakes' shafts turn with the chassis about its y axis (`brake`): their inertia is the chassis's.
+        chassis.inertia_moments_kg_m2[1] += brake_shafts;
         let data = VehicleData {
             name,
             provenance: format!(
@@ -1760,14 +1766,30 @@ impl Importer {
         })
     }
 
-    fn brake(&mut self, file: &File) -> Result<(), ImportError> {
+    /// A brake: `BrakeSimple`, or `BrakeShafts` (a clutch between the axle shaft and a brake shaft), whose
+    /// shaft's inertia it returns (kg m²; 0 for a simple brake). Chrono ties that shaft to the suspension's
+    /// brake body about its y axis (`ChBrakeShafts::Initialize`), and its suspension templates name none
+    /// (`ChSuspension::GetBrakeBody`), so the chassis: the shaft turns with the chassis's pitch, and its
+    /// inertia adds to the chassis's about y. The braking torque is an input of the model either way.
+    fn brake(&mut self, file: &File) -> Result<f64, ImportError> {
         let o = file.obj();
-        Self::template(&o, &["BrakeSimple"])?;
-        o.keys(
-            &["Name", "Type", "Template"],
-            &[("Maximum Torque", "brake torques are inputs of the model"), ("Output", "Chrono output settings")],
-            &mut self.warnings,
-        )
+        let template = Self::template(&o, &BRAKE_TEMPLATES)?;
+        let ignored = [("Maximum Torque", "brake torques are inputs of the model"), ("Output", "Chrono output settings")];
+        if template == "BrakeSimple" {
+            o.keys(&["Name", "Type", "Template"], &ignored, &mut self.warnings)?;
+            return Ok(0.0);
+        }
+        o.keys(&["Name", "Type", "Template", "Shaft Inertia"], &ignored, &mut self.warnings)?;
+        let inertia = o.num("Shaft Inertia")?;
+        if !(inertia >= 0.0 && inertia.is_finite()) {
+            return Err(o.err("Shaft Inertia", format!("must be zero or positive (kg m²), got {inertia}")));
+        }
+        self.warnings.push(format!(
+            "{}: Shaft Inertia: added to the chassis's moment about y ({inertia} kg m²): the shaft turns with the \
+             chassis's pitch (Chrono ties it to the suspension's brake body, none, so the chassis)",
+            o.file
+        ));
+        Ok(inertia)
     }
 }
 
