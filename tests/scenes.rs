@@ -243,7 +243,7 @@ fn formulations_agree_on_every_scene_of_the_imported_vehicles() {
             let (syn, conv) = (trace(Formulation::Synthesis, &scene), trace(Formulation::Conventional, &scene));
             let worst = worst_relative_difference(&syn, &conv);
             // The run's own round-off floor: the same formulation with the initial speed one ulp up.
-            let nudged = Scene { speed: scene.speed.next_up(), ..scene.clone() };
+            let nudged = Scene { speed: scene.speed.next_up(), ..scene };
             let floor = worst_relative_difference(&trace(Formulation::Synthesis, &nudged), &syn);
             println!(
                 "{} {}: synthesis vs conventional {:.2e} ({}); one ulp of initial speed {:.2e} ({})",

@@ -76,6 +76,9 @@ fn copy_folders(dir: &Path, car: &str, subs: &[&str]) {
     }
 }
 
+/// An edit of a JSON file's value, one bad-input case's.
+type Edit = Box<dyn FnOnce(&mut Value)>;
+
 fn edit_json(path: &Path, edit: impl FnOnce(&mut Value)) {
     let mut v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     edit(&mut v);
@@ -183,7 +186,7 @@ fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
 fn the_importer_names_the_file_and_key_of_each_bad_input() {
     const MPS: &str = "generic/suspension/MacPhersonStrut.json";
     const PITMAN: &str = "generic/steering/PitmanArm.json";
-    let cases: Vec<(&str, &str, &str, Box<dyn FnOnce(&mut Value)>, Vec<&str>)> = vec![
+    let cases: Vec<(&str, &str, &str, Edit, Vec<&str>)> = vec![
         (
             "template",
             MACPHERSON,
@@ -446,7 +449,7 @@ fn rtv_import_chrono_writes_the_shipped_file_and_lists_what_it_left_out() {
 #[test]
 fn the_loader_names_the_field_of_each_bad_input() {
     let mps = "generic_macpherson.json";
-    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, Vec<&str>)> = vec![
+    let cases: Vec<(&str, Edit, Vec<&str>)> = vec![
         (mps, Box::new(|v| v["front"]["template"] = json!("macpherson")), vec!["front.template", "macpherson_strut"]),
         (
             mps,
@@ -1031,7 +1034,7 @@ fn single_wishbone_error(name: &str, edit: impl FnOnce(&mut Value)) -> String {
 
 #[test]
 fn the_importer_names_the_file_and_key_of_each_bad_single_wishbone() {
-    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, Vec<&str>)> = vec![
+    let cases: Vec<(&str, Edit, Vec<&str>)> = vec![
         (
             "sw_vertical_arm",
             Box::new(|v| v["Control Arm"]["Location Upright"] = json!([0.0, 0.2, 0.3])),

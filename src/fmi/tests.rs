@@ -541,7 +541,7 @@ fn the_point_contact_refusal_on_a_small_obstacle_names_the_contact_parameter() {
         let refused = (0..1600).map(|_| vehicle_step(&inst, 0.01).0).any(|s| s != OK);
         let travelled = if refused { f64::NAN } else { inst.real(vr::X) - x0 };
         let names = rec.contains("`contact` = 2") && !rec.contains("taller than the tire envelops");
-        (refused, travelled, format!("{}", rec.last()), names)
+        (refused, travelled, rec.last().to_string(), names)
     };
     // The default contact (0, auto) is the enveloping one on a road file: it drives over the obstacle
     // (46 m to it, and 20 km/h for 16 s is 89 m: past it unless held up).
@@ -1173,9 +1173,12 @@ fn fuzz_values(rng: &mut XorShift64, seeds: &[String], count: usize) -> Vec<Vec<
     values
 }
 
-/// The instance's model, to put a value where no setter would (as a corrupted master or state could).
-fn model_mut<'a>(inst: &'a Inst<VehicleModel>) -> &'a mut fmi_layer::instance::Core<VehicleModel> {
-    unsafe { &mut (*(inst.c as *mut super::instance::Instance<VehicleModel>)).core }
+/// The model of the instance `c`, to put a value where no setter would (as a corrupted master or state could).
+///
+/// # Safety
+/// `c` is a live instance of this model, and no other reference to it is used while the result lives.
+unsafe fn model_mut<'a>(c: fmi2Component) -> &'a mut fmi_layer::instance::Core<VehicleModel> {
+    unsafe { &mut (*(c as *mut super::instance::Instance<VehicleModel>)).core }
 }
 
 /// The value of String parameter `vr` the model holds (`fmi2GetString` is not allowed before initialization).
@@ -1286,7 +1289,8 @@ fn string_parameters_are_checked_alike_when_set_initialized_and_restored() {
                 .to_string();
             assert_eq!(get_string(&inst, vr), "", "{name} = {short:?}: the old value is kept");
             // Initialization, with the value put into the model as no setter would.
-            let core = model_mut(&inst);
+            // SAFETY: `inst` is live, and nothing else touches it until `field` is written.
+            let core = unsafe { model_mut(inst.c) };
             let field = match vr {
                 vr::VEHICLE_FILE => &mut core.model.vehicle_file,
                 vr::TIRE_FILE => &mut core.model.tire_file,

@@ -536,11 +536,11 @@ fn observed_order_imex_ab3() {
         let mut jac = vec![0.0; rows.len() * cols.len()];
         let n = cols.len();
         jac[NP] = 1.0; // dθ_0/dθ̇_0
-        jac[n + 0] = -1.4; // dθ̇_0/dθ_0
+        jac[n] = -1.4; // dθ̇_0/dθ_0
         jac[n + 1] = 0.7;
         jac[2 * n + NP + 1] = 1.0; // dθ_1/dθ̇_1
         jac[3 * n + 1] = -1.4; // dθ̇_1/dθ_1
-        jac[3 * n + 0] = 0.7;
+        jac[3 * n] = 0.7;
         jac[3 * n + 2] = 0.7; // a column outside the block
         s.set_partial_jacobian(&rows, &cols, &jac, 2);
         AnyIntegrator::ImexAb3(s)

@@ -1774,7 +1774,8 @@ impl Importer {
     fn brake(&mut self, file: &File) -> Result<f64, ImportError> {
         let o = file.obj();
         let template = Self::template(&o, &BRAKE_TEMPLATES)?;
-        let ignored = [("Maximum Torque", "brake torques are inputs of the model"), ("Output", "Chrono output settings")];
+        let ignored =
+            [("Maximum Torque", "brake torques are inputs of the model"), ("Output", "Chrono output settings")];
         if template == "BrakeSimple" {
             o.keys(&["Name", "Type", "Template"], &ignored, &mut self.warnings)?;
             return Ok(0.0);
