@@ -31,7 +31,7 @@ GENERATORS="\
 plots|write|docs/kinematics.png, docs/scene_*.png, docs/tire_curves.png|bash scripts/plots.sh
 linear|check|docs/linear.md, docs/linear_root_locus.png|bash scripts/linear.sh
 kc|check|docs/kc/*.md with their CSVs and PNGs|bash scripts/kc.sh
-chrono_check|check|docs/kc/chrono_check.md, docs/kc/chrono_check_macpherson.png|.venv/bin/python scripts/chrono_kinematics_check.py
+chrono_check|check|docs/kc/chrono_check.md, docs/kc/chrono_check_{macpherson,single_wishbone}.png|.venv/bin/python scripts/chrono_kinematics_check.py
 ride|check|docs/ride.md, docs/ride.png|bash scripts/ride.sh
 tire_comparison|check|docs/tire_magic_formula.md (above its hand-written section), docs/tire_mf_*.png|bash scripts/tire_comparison.sh
 work_precision|check|docs/work_precision.md, docs/work_precision.png|bash scripts/work_precision.sh
