@@ -107,6 +107,8 @@ TIMES = {
     "--out resources/vehicles/generic_macpherson.json": 0.0,
     "rtv import-chrono data/chrono/generic/vehicle/Vehicle_DoubleWishbones.json --data-dir data/chrono "
     "--out resources/vehicles/generic_double_wishbone.json": 0.0,
+    "rtv import-chrono data/single_wishbone/Vehicle_SingleWishbones.json --data-dir data/chrono "
+    "--tire-file data/chrono/generic/tire/Generic_Pac02Tire.tir --out resources/vehicles/rtv_single_wishbone.json": 0.0,
 }
 
 # Documented commands known to fail, each with the message it fails with and what will make it pass: reported
