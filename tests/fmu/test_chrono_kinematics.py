@@ -138,29 +138,19 @@ def test_the_rack_slides_along_y(check):
     assert abs(rack["rack_limit_m"] - 0.1 * np.radians(30.0)) <= 1e-15
 
 
-def test_the_check_sees_a_tenth_of_a_millimetre(check):
-    """The comparison has teeth: Chrono's MacPherson with its tie rod's outer end moved 0.1 mm forward no
-    longer matches rtv."""
-    key, vehicle_json, chrono_file = chk.VEHICLES[0]
+@pytest.mark.parametrize("key, point, shift", [
+    # Chrono's MacPherson with its rear tie rod's outer end 0.1 mm forward.
+    ("macpherson", "TIEROD_U", [1e-4, 0, 0]),
+    # The single wishbone with its rear tie rod's inner end 0.1 mm higher: off the arm's hinge axis (on it, as
+    # designed, the arm's turn keeps the tie rod's length whatever the outer end: no bump steer).
+    ("single_wishbone", "TIEROD_C", [0, 0, 1e-4]),
+])
+def test_the_check_sees_a_tenth_of_a_millimetre(check, key, point, shift):
+    """The comparison has teeth: a Chrono vehicle with one hardpoint moved 0.1 mm no longer matches rtv."""
+    _, vehicle_json, chrono_file = next(v for v in chk.VEHICLES if v[0] == key)
     veh = chk.load_vehicle(chk.DEFAULT_DATA, chrono_file)
     for side in ("L", "R"):
-        veh["axles"][1]["points"][f"TIEROD_U_{side}"] = veh["axles"][1]["points"][f"TIEROD_U_{side}"] + [1e-4, 0, 0]
-    axle = chk.ChronoAxle(veh, 1, "travel")
-    ours = chk.rtv_travel(vehicle_json, "rear", (-0.1, 0.1, 0.05))
-    moved, _ = axle.sweep_travel(ours["travel_m"])
-    diff = np.abs(ours["steer_l_deg"] - np.array([r["steer_l_deg"] for r in moved])).max()
-    assert diff > 1e-3, diff
-
-
-def test_the_check_sees_a_tenth_of_a_millimetre_on_the_single_wishbone(check):
-    """The same for the single wishbone: its rear tie rod's inner end 0.1 mm higher is off the arm's hinge axis
-    (on it, as designed, the arm's turn keeps the tie rod's length whatever the outer end: no bump steer), and
-    the Chrono model no longer matches rtv."""
-    key, vehicle_json, chrono_file = chk.VEHICLES[2]
-    assert key == "single_wishbone"
-    veh = chk.load_vehicle(chk.DEFAULT_DATA, chrono_file)
-    for side in ("L", "R"):
-        veh["axles"][1]["points"][f"TIEROD_C_{side}"] = veh["axles"][1]["points"][f"TIEROD_C_{side}"] + [0, 0, 1e-4]
+        veh["axles"][1]["points"][f"{point}_{side}"] = veh["axles"][1]["points"][f"{point}_{side}"] + shift
     axle = chk.ChronoAxle(veh, 1, "travel")
     ours = chk.rtv_travel(vehicle_json, "rear", (-0.1, 0.1, 0.05))
     moved, _ = axle.sweep_travel(ours["travel_m"])
