@@ -38,7 +38,7 @@ fn solvers() -> [Solver; 5] {
                 // reference only: the same dense system through nalgebra's generic LU
                 let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
                 let mut b = SVector::<f64, NCONV>::zeros();
-                assemble_conventional(c, s, &mut a, &mut b);
+                assemble_conventional(c, s, &[], &mut a, &mut b);
                 a.lu().solve(&b).unwrap()[0]
             })
         }),

@@ -7,9 +7,9 @@
 //! Φ_q has a diagonally dominant Φ_v (hence well conditioned); P's and γ̄ are random with vehicle-like scales.
 //! The chassis is M̂₀ + M̂_R with m₀ = 2000 kg, inertias 1000–3500 kg m², and a 5 kg rack off the CM.
 
-use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3, Vector4, Vector5, Vector6};
+use nalgebra::{Matrix3, Matrix6, SMatrix, SVector, Vector3, Vector4, Vector5, Vector6};
 
-use super::{ChassisTerms, SubsystemTerms};
+use super::{AxleTerms, ChassisTerms, SubsystemTerms};
 
 /// A small deterministic PRNG (xorshift64*), seeded through splitmix64 so that any seed (0 too) works.
 #[derive(Debug, Clone)]
@@ -201,4 +201,66 @@ pub fn random_vehicle<const K: usize>(seed: u64) -> (ChassisTerms, [SubsystemTer
         random_subsystem(&mut rng, sx, sy)
     });
     (chassis, subs)
+}
+
+/// A random solid axle at the front (sx = 1) or rear (−1): the axle body (tube, spindles and wheels lumped,
+/// 250–450 kg) with q = its pose on the chassis, 𝔅 = [heave, roll, x, y, pitch, yaw] twists about its centre
+/// (each a unit translation or a revolute twist through the centre, jittered), and two trailing links
+/// (5–20 kg) that move with heave, roll and pitch; Φ_q = [Φ_u | Φ_v] (4×6) with a diagonally dominant Φ_v,
+/// as `random_subsystem`'s.
+pub fn random_axle(rng: &mut XorShift64, sx: f64) -> AxleTerms {
+    let centre = Vector3::new(1.7 * sx, rng.range(-0.02, 0.02), -0.35);
+    let jitter = |rng: &mut XorShift64, s: f64| Vector3::new(rng.range(-s, s), rng.range(-s, s), rng.range(-s, s));
+    let slide = |a: Vector3<f64>| Vector6::new(a.x, a.y, a.z, 0.0, 0.0, 0.0);
+    let mut b_axle = SMatrix::<f64, 6, 6>::zeros();
+    let axes = [Vector3::z(), Vector3::x(), Vector3::x(), Vector3::y(), Vector3::y(), Vector3::z()];
+    for (c, a) in axes.iter().enumerate() {
+        let a = (a + jitter(rng, 0.05)).normalize();
+        b_axle.set_column(c, &if matches!(c, 0 | 2 | 3) { slide(a) } else { twist(&centre, &a) });
+    }
+    let mut m_qq = SMatrix::<f64, 6, 6>::zeros();
+    let mut m_q0 = SMatrix::<f64, 6, 6>::zeros();
+    let mut m_00 = Matrix6::zeros();
+    let mut add = |m: f64, rho: Vector3<f64>, j: Matrix3<f64>, b: &SMatrix<f64, 6, 6>| {
+        let mh = body_mass(m, &rho, &j);
+        m_qq += b.transpose() * mh * b;
+        m_q0 += b.transpose() * mh;
+        m_00 += mh;
+    };
+    add(rng.range(250.0, 450.0), centre + jitter(rng, 0.03), random_inertia(rng, 20.0, 120.0, 2.0), &b_axle);
+    for side in [1.0, -1.0] {
+        // a link from the chassis to the axle: moves with half the axle's heave, roll and pitch
+        let mut b = SMatrix::<f64, 6, 6>::zeros();
+        for c in [0, 1, 4] {
+            b.set_column(c, &(b_axle.column(c) * rng.range(0.3, 0.7)));
+        }
+        let rho = centre + Vector3::new(0.3 * sx, 0.5 * side, 0.05) + jitter(rng, 0.03);
+        add(rng.range(5.0, 20.0), rho, random_inertia(rng, 0.05, 0.5, 0.02), &b);
+    }
+    let mut phi_q = SMatrix::<f64, 4, 6>::zeros();
+    for r in 0..4 {
+        let scale = rng.range(0.2, 1.0);
+        for c in 0..2 {
+            phi_q[(r, c)] = rng.range(-1.0, 1.0) * scale;
+        }
+        for c in 0..4 {
+            phi_q[(r, c + 2)] = scale * if r == c { rng.signed(1.0, 2.0) } else { rng.range(-0.3, 0.3) };
+        }
+    }
+    let p_q = SVector::<f64, 6>::from_fn(|_, _| rng.range(-2000.0, 2000.0));
+    let p_0 = Vector6::from_fn(|r, _| if r < 3 { rng.range(-6000.0, 6000.0) } else { rng.range(-4000.0, 4000.0) });
+    let gamma_bar = Vector4::from_fn(|_, _| rng.range(-20.0, 20.0));
+    AxleTerms { m_qq, m_q0, m_00, p_q, p_0, phi_q, gamma_bar, phi_v_solved: None }
+}
+
+/// A random vehicle with K corner subsystems at the front (FL, FR, …) and A solid axles behind them (the
+/// first at the rear, the second at the front), from a seed.
+pub fn random_axle_vehicle<const K: usize, const A: usize>(
+    seed: u64,
+) -> (ChassisTerms, [SubsystemTerms; K], [AxleTerms; A]) {
+    let mut rng = XorShift64::new(seed);
+    let chassis = random_chassis(&mut rng);
+    let subs = std::array::from_fn(|i| random_subsystem(&mut rng, 1.0, if i % 2 == 0 { 1.0 } else { -1.0 }));
+    let axles = std::array::from_fn(|j| random_axle(&mut rng, if j == 0 { -1.0 } else { 1.0 }));
+    (chassis, subs, axles)
 }

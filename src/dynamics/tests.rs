@@ -2,7 +2,7 @@
 
 use nalgebra::{SMatrix, SVector, Vector4, Vector5, Vector6};
 
-use super::synthetic::{random_vehicle, XorShift64};
+use super::synthetic::{random_axle_vehicle, random_vehicle, XorShift64};
 use super::*;
 
 const N_CASES: u64 = 200;
@@ -56,7 +56,7 @@ fn eom_residual<const K: usize>(c: &ChassisTerms, subs: &[SubsystemTerms; K], ac
 fn residual_42(c: &ChassisTerms, subs: &[SubsystemTerms; 4], acc: &Accelerations<4>) -> f64 {
     let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
     let mut b = SVector::<f64, NCONV>::zeros();
-    assemble_conventional(c, subs, &mut a, &mut b);
+    assemble_conventional(c, subs, &[], &mut a, &mut b);
     let mut z = SVector::<f64, NCONV>::zeros();
     z.fixed_rows_mut::<6>(0).copy_from(&acc.chassis);
     for i in 0..4 {
@@ -92,7 +92,7 @@ fn lu_matches_nalgebra_and_solves_transpose() {
     let (c, subs) = random_vehicle::<4>(99);
     let mut a = SMatrix::<f64, NCONV, NCONV>::zeros();
     let mut b = SVector::<f64, NCONV>::zeros();
-    assemble_conventional(&c, &subs, &mut a, &mut b);
+    assemble_conventional(&c, &subs, &[], &mut a, &mut b);
     let reference = a.lu().solve(&b).unwrap();
     let ours = solve_conventional(&c, &subs).unwrap();
     assert!((ours.chassis - reference.fixed_rows::<6>(0)).amax() <= 1e-10 * reference.amax());
@@ -413,4 +413,145 @@ fn structured_mass_products_match_the_dense_mass_matrix() {
         }
         assert!((sum.matrix() - dense).amax() <= 1e-12 * dense.amax());
     }
+}
+
+/// One subsystem's equation residual M_qq q̈ + M_q0 Ẏ₀ + Φ_qᵀλ − P_q and constraint residual Φ_q q̈ − γ̄ (max
+/// abs), with their scales (max |P_q|, max |γ̄|); adds its terms to the chassis equation's two sides.
+fn subsystem_residual<const NQ: usize, const NC: usize, const NU: usize>(
+    s: &Terms<NQ, NC, NU>,
+    y0: &Vector6<f64>,
+    q_ddot: &SVector<f64, NQ>,
+    lambda: &SVector<f64, NC>,
+    lhs0: &mut Vector6<f64>,
+    rhs0: &mut Vector6<f64>,
+) -> [f64; 4] {
+    *lhs0 += s.m_00 * y0 + s.m_q0.transpose() * q_ddot;
+    *rhs0 += s.p_0;
+    let r = s.m_qq * q_ddot + s.m_q0 * y0 + s.phi_q.transpose() * lambda - s.p_q;
+    let rc = s.phi_q * q_ddot - s.gamma_bar;
+    [max_abs(r.iter()), max_abs(s.p_q.iter()), max_abs(rc.iter()), max_abs(s.gamma_bar.iter())]
+}
+
+/// `eom_residual` for a vehicle with solid axles: (equations, constraints), each relative to its scale.
+fn axle_eom_residual<const K: usize, const A: usize>(
+    c: &ChassisTerms,
+    subs: &[SubsystemTerms; K],
+    axles: &[AxleTerms; A],
+    acc: &Accelerations<K, A>,
+) -> (f64, f64) {
+    let mut lhs0: Vector6<f64> = c.mass * acc.chassis;
+    let mut rhs0 = c.force;
+    let mut worst = [0.0f64; 4];
+    let mut take = |r: [f64; 4]| {
+        for k in 0..4 {
+            worst[k] = worst[k].max(r[k]);
+        }
+    };
+    for i in 0..K {
+        take(subsystem_residual(&subs[i], &acc.chassis, &acc.q_ddot[i], &acc.lambda[i], &mut lhs0, &mut rhs0));
+    }
+    for j in 0..A {
+        let (q, l) = (&acc.axle_q_ddot[j], &acc.axle_lambda[j]);
+        take(subsystem_residual(&axles[j], &acc.chassis, q, l, &mut lhs0, &mut rhs0));
+    }
+    let res = worst[0].max(max_abs((lhs0 - rhs0).iter()));
+    let scale = worst[1].max(max_abs(rhs0.iter()));
+    (res / scale, worst[2] / worst[3])
+}
+
+/// max|Δ| / max|value| over Ẏ₀ and every q̈, and the same over every λ, of two solutions with solid axles:
+/// the larger.
+fn axle_rel_diff<const K: usize, const A: usize>(a: &Accelerations<K, A>, b: &Accelerations<K, A>) -> f64 {
+    let accelerations = |x: &Accelerations<K, A>| -> Vec<f64> {
+        let q = x.q_ddot.iter().flat_map(|v| v.iter());
+        x.chassis.iter().chain(q).chain(x.axle_q_ddot.iter().flat_map(|v| v.iter())).copied().collect()
+    };
+    let lambdas = |x: &Accelerations<K, A>| -> Vec<f64> {
+        x.lambda.iter().flat_map(|v| v.iter()).chain(x.axle_lambda.iter().flat_map(|v| v.iter())).copied().collect()
+    };
+    let rel = |x: Vec<f64>, y: Vec<f64>| {
+        let d = x.iter().zip(&y).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+        d / max_abs(&y)
+    };
+    rel(accelerations(a), accelerations(b)).max(rel(lambdas(a), lambdas(b)))
+}
+
+/// The three solvers on vehicles with solid axles: two corners and a rear axle, and two axles; each solution
+/// satisfies the equations of motion and the constraints, and the 42×42 (padded) system.
+fn solvers_agree_with_axles<const K: usize, const A: usize>(seed0: u64) -> [f64; 4] {
+    let mut worst = [0.0f64; 4];
+    for seed in seed0..seed0 + N_CASES {
+        let (c, subs, axles) = random_axle_vehicle::<K, A>(seed);
+        let g = solve_synthesis_gcp_axles(&c, &subs, &axles, Multipliers::Compute).unwrap();
+        let a = solve_synthesis_augmented_axles(&c, &subs, &axles).unwrap();
+        let v = solve_conventional_axles(&c, &subs, &axles).unwrap();
+        worst[0] = worst[0].max(axle_rel_diff(&g, &v));
+        worst[1] = worst[1].max(axle_rel_diff(&a, &v));
+        for s in [&g, &a, &v] {
+            let (e, cn) = axle_eom_residual(&c, &subs, &axles, s);
+            worst[2] = worst[2].max(e);
+            worst[3] = worst[3].max(cn);
+        }
+    }
+    worst
+}
+
+#[test]
+fn three_solvers_agree_on_vehicles_with_solid_axles() {
+    for (name, w) in [
+        ("2 corners + 1 axle", solvers_agree_with_axles::<2, 1>(5000)),
+        ("2 axles", solvers_agree_with_axles::<0, 2>(6000)),
+    ] {
+        eprintln!(
+            "{name}: GCP-conv {:.2e}, aug-conv {:.2e}, EOM residual {:.2e}, constraint residual {:.2e}",
+            w[0], w[1], w[2], w[3]
+        );
+        assert!(w.iter().all(|d| *d <= TOL), "{name}: {w:?}");
+    }
+}
+
+#[test]
+fn axle_residual_check_detects_a_wrong_solution() {
+    // negative control: a 1e-7 relative error in an axle's q̈ or λ, or a GCP that dropped the axle's second
+    // independent coordinate, is caught
+    let (c, subs, axles) = random_axle_vehicle::<2, 1>(7);
+    let good = solve_synthesis_gcp_axles(&c, &subs, &axles, Multipliers::Compute).unwrap();
+    let mut bad = good;
+    bad.axle_q_ddot[0][1] += 1e-7 * good.axle_q_ddot[0].amax().max(1.0);
+    assert!(axle_eom_residual(&c, &subs, &axles, &bad).1 > TOL);
+    let mut bad = good;
+    bad.axle_lambda[0][2] *= 1.0 + 1e-6;
+    assert!(axle_eom_residual(&c, &subs, &axles, &bad).0 > TOL);
+    // the axle's roll column treated as dependent: another solution
+    let mut axles2 = axles;
+    axles2[0].phi_q[(0, 1)] *= 1.0 + 1e-6;
+    let other = solve_conventional_axles(&c, &subs, &axles2).unwrap();
+    assert!(axle_rel_diff(&good, &other) > TOL);
+}
+
+#[test]
+fn an_axle_is_named_in_its_errors() {
+    let (c, subs, mut axles) = random_axle_vehicle::<2, 1>(9);
+    // Φ_v singular: two equal rows among the dependent columns
+    let row = axles[0].phi_q.row(0).into_owned();
+    axles[0].phi_q.set_row(1, &row);
+    let e = solve_synthesis_gcp_axles(&c, &subs, &axles, Multipliers::Skip).unwrap_err().to_string();
+    assert!(e.contains("axle 0") && e.contains("Phi_v"), "{e}");
+    let e = solve_synthesis_augmented_axles(&c, &subs, &axles).unwrap_err().to_string();
+    assert!(e.contains("axle 0") && e.contains("10x10"), "{e}");
+    let (c, subs, mut axles) = random_axle_vehicle::<2, 1>(9);
+    axles[0].gamma_bar[3] = f64::NAN;
+    for e in [
+        solve_synthesis_gcp_axles(&c, &subs, &axles, Multipliers::Skip).map(|_| ()),
+        solve_synthesis_augmented_axles(&c, &subs, &axles).map(|_| ()),
+        solve_conventional_axles(&c, &subs, &axles).map(|_| ()),
+    ] {
+        let e = e.unwrap_err().to_string();
+        assert!(e.contains("non-finite input: axle 0 gamma_bar"), "{e}");
+    }
+    // a reduced inertia that is not positive definite: the axle's mass matrix zeroed
+    let (c, subs, mut axles) = random_axle_vehicle::<2, 1>(9);
+    axles[0].m_qq.fill(0.0);
+    let e = solve_synthesis_gcp_axles(&c, &subs, &axles, Multipliers::Skip).unwrap_err().to_string();
+    assert!(e.contains("axle 0: reduced inertia"), "{e}");
 }
