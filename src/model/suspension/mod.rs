@@ -28,6 +28,7 @@ pub mod double_wishbone;
 pub mod forces;
 pub mod macpherson;
 pub mod single_wishbone;
+pub mod solid_axle;
 
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};

@@ -1,0 +1,407 @@
+//! A solid axle located by a triangle and two longitudinal links: the kinematics of Chrono's
+//! `ChSolidThreeLinkAxle` (read from its source: `ChSolidThreeLinkAxle::Initialize` and `InitializeSide`), as
+//! one subsystem of the synthesis with two independent coordinates (docs/physics.md §4.6a).
+//!
+//! Chrono's joints, and what each leaves of the axle's motion:
+//! - the **triangle** turns on a revolute joint to the chassis whose axis is the chassis y axis through
+//!   `TRIANGLE_C` (the mid-point of the two chassis points), and meets the axle at one spherical joint, its
+//!   apex `TRIANGLE_A` (on y = 0). The apex therefore moves on a circle about that axis: its y is held, and
+//!   its distance from the axis (2 rows);
+//! - each **longitudinal link** has a spherical joint on the axle (`LINK_A`) and a universal joint on the
+//!   chassis (`LINK_C`), which stops it spinning about its own line: for the axle, its length between the two
+//!   points is held (1 row each).
+//!
+//! Four rows on the axle's six coordinates leave two: heave and roll. The springs and dampers act between
+//! the chassis and the axle; the spindles turn on the axle about its y axis, so wheel spin stays apart as for
+//! every corner (§4.8).
+//!
+//! Coordinates (chassis frame, the sprung CM as origin, as every subsystem's): the axle's displacement d of
+//! its reference point (its centre of mass at design, c₀) and its rotation R = Rx(φ) Ry(θ) Rz(ψ) from design
+//! (Bryant, as the corners' uprights). An axle-fixed point p (given at design) is at c₀ + d + R (p − c₀).
+//! q = (d_z, φ, d_x, d_y, θ, ψ): the independent pair u = (heave d_z, roll φ) first.
+//!
+//! The triangle and the links are massless here: Chrono's JSON reader (`SolidThreeLinkAxle::Create`) reads
+//! no mass for them. What moves is the axle tube with both spindles.
+
+use super::{MAX_NEWTON_ITERATIONS, POSITION_TOLERANCE};
+use crate::dynamics::lu::Lu;
+use crate::error::{Cause, ModelError};
+use crate::math::{BryantSinCos, M3, V3};
+use nalgebra::{SMatrix, Vector4, Vector6};
+
+/// The axle's coordinates: (heave, roll, x, y, pitch, yaw).
+pub type AxleQ = Vector6<f64>;
+/// Φ_q of the axle's four rows.
+pub type AxlePhiQ = SMatrix<f64, 4, 6>;
+
+/// Indices into q.
+pub const HEAVE: usize = 0;
+pub const ROLL: usize = 1;
+const DX: usize = 2;
+const DY: usize = 3;
+const PITCH: usize = 4;
+const YAW: usize = 5;
+
+/// The linkage of a three-link solid axle, at design (chassis frame, sprung CM origin).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThreeLinkAxle {
+    /// The axle's reference point c₀ (its centre of mass at design).
+    pub centre: V3,
+    /// The triangle's revolute axis point on the chassis (its axis is the chassis y axis).
+    pub triangle_chassis: V3,
+    /// The triangle's apex on the axle (a spherical joint).
+    pub triangle_axle: V3,
+    /// The longitudinal links' chassis and axle points, left and right.
+    pub link_chassis: [V3; 2],
+    pub link_axle: [V3; 2],
+    /// The triangle apex's distance from the revolute axis, and the links' lengths (from design).
+    triangle_radius: f64,
+    link_length: [f64; 2],
+    /// |det Φ_v| at design, the reference for the singularity test.
+    design_det: f64,
+}
+
+/// The axle's solved positions: q, its rotation, Φ_q, the factored Φ_v and ∂v/∂u.
+#[derive(Debug, Clone, Copy)]
+pub struct AxlePositions {
+    pub q: AxleQ,
+    pub sc: BryantSinCos,
+    pub rotation: M3,
+    pub phi_q: AxlePhiQ,
+    pub lu_v: Option<Lu<4>>,
+    /// ∂v/∂u = −Φ_v⁻¹Φ_u (4×2).
+    pub dv_du: SMatrix<f64, 4, 2>,
+    /// ‖Φ‖∞ at the solution, and the Newton iterations taken.
+    pub residual: f64,
+    pub iterations: u32,
+}
+
+impl ThreeLinkAxle {
+    /// The linkage from its design points; `Err` names what cannot be assembled.
+    pub fn new(
+        centre: V3,
+        triangle_chassis: V3,
+        triangle_axle: V3,
+        link_chassis: [V3; 2],
+        link_axle: [V3; 2],
+    ) -> Result<ThreeLinkAxle, String> {
+        let arm = triangle_axle - triangle_chassis;
+        let triangle_radius = (arm.x * arm.x + arm.z * arm.z).sqrt();
+        if triangle_radius < 1e-3 {
+            return Err(format!(
+                "the triangle's apex {triangle_axle:?} lies on its revolute axis (the chassis y axis through \
+                 {triangle_chassis:?}): it cannot locate the axle"
+            ));
+        }
+        let link_length = [0, 1].map(|i| (link_axle[i] - link_chassis[i]).norm());
+        if let Some(i) = (0..2).find(|&i| link_length[i] < 1e-3) {
+            return Err(format!("longitudinal link {} has no length", ["left", "right"][i]));
+        }
+        let mut axle = ThreeLinkAxle {
+            centre,
+            triangle_chassis,
+            triangle_axle,
+            link_chassis,
+            link_axle,
+            triangle_radius,
+            link_length,
+            design_det: 1.0,
+        };
+        let design = axle.evaluate(&AxleQ::zeros());
+        let det = design.lu_v.map_or(0.0, |lu| lu.determinant().abs());
+        if !(det > 0.0 && det.is_finite()) {
+            return Err("the links do not fix the axle's fore-aft, lateral, pitch and yaw motion at design (Φ_v is \
+                 singular): a link or the triangle's apex lies where it cannot hold them"
+                .into());
+        }
+        axle.design_det = det;
+        Ok(axle)
+    }
+
+    /// An axle-fixed point, given at design, at the positions `pos`.
+    #[inline(always)]
+    pub fn point(&self, pos: &AxlePositions, p: &V3) -> V3 {
+        self.centre + V3::new(pos.q[DX], pos.q[DY], pos.q[HEAVE]) + pos.rotation * (p - self.centre)
+    }
+
+    /// ∂r/∂q of an axle-fixed point r (at `r_now`, with `arm` = R (p − c₀)): the translations' unit columns,
+    /// the rotations' g_k × arm (g_k the columns of G, the relative angular velocity per Bryant rate).
+    #[inline(always)]
+    fn point_jacobian(g: &M3, arm: &V3) -> SMatrix<f64, 3, 6> {
+        let mut j = SMatrix::<f64, 3, 6>::zeros();
+        j[(2, HEAVE)] = 1.0;
+        j[(0, DX)] = 1.0;
+        j[(1, DY)] = 1.0;
+        for (col, k) in [(ROLL, 0), (PITCH, 1), (YAW, 2)] {
+            j.set_column(col, &g.column(k).cross(arm));
+        }
+        j
+    }
+
+    /// Φ, Φ_q and the factored Φ_v at q (Φ's rows: the apex's y held, its distance from the axis held (½(ρ² −
+    /// ρ₀²)/ρ₀), the left and right links' lengths held (½(ℓ² − ℓ₀²)/ℓ₀): each in metres near the solution).
+    fn evaluate(&self, q: &AxleQ) -> AxlePositions {
+        let sc = BryantSinCos::new(&V3::new(q[ROLL], q[PITCH], q[YAW]));
+        let rotation = sc.rotation();
+        let g = sc.rate_matrix();
+        let mut pos = AxlePositions {
+            q: *q,
+            sc,
+            rotation,
+            phi_q: AxlePhiQ::zeros(),
+            lu_v: None,
+            dv_du: SMatrix::zeros(),
+            residual: 0.0,
+            iterations: 0,
+        };
+        let mut phi_q = AxlePhiQ::zeros();
+        let phi = self.rows(&pos, &g, Some(&mut phi_q));
+        pos.phi_q = phi_q;
+        pos.residual = phi.amax();
+        pos.lu_v = Lu::new(&phi_q.fixed_columns::<4>(2).into_owned()).ok();
+        if let Some(lu) = &pos.lu_v {
+            let mut a = phi_q.fixed_columns::<2>(0).into_owned();
+            lu.solve(&mut a);
+            pos.dv_du = -a;
+        }
+        pos
+    }
+
+    /// Φ at `pos`, and its Jacobian into `phi_q` when given.
+    fn rows(&self, pos: &AxlePositions, g: &M3, mut phi_q: Option<&mut AxlePhiQ>) -> Vector4<f64> {
+        let mut phi = Vector4::zeros();
+        let apex_arm = pos.rotation * (self.triangle_axle - self.centre);
+        let apex = self.point(pos, &self.triangle_axle);
+        let j_apex = Self::point_jacobian(g, &apex_arm);
+        let rel = apex - self.triangle_chassis;
+        let rho0 = self.triangle_radius;
+        phi[0] = apex.y - self.triangle_axle.y;
+        phi[1] = 0.5 * (rel.x * rel.x + rel.z * rel.z - rho0 * rho0) / rho0;
+        if let Some(p) = phi_q.as_deref_mut() {
+            p.set_row(0, &j_apex.row(1));
+            p.set_row(1, &((j_apex.row(0) * rel.x + j_apex.row(2) * rel.z) / rho0));
+        }
+        for i in 0..2 {
+            let arm = pos.rotation * (self.link_axle[i] - self.centre);
+            let end = self.point(pos, &self.link_axle[i]);
+            let d = end - self.link_chassis[i];
+            let l0 = self.link_length[i];
+            phi[2 + i] = 0.5 * (d.dot(&d) - l0 * l0) / l0;
+            if let Some(p) = phi_q.as_deref_mut() {
+                p.set_row(2 + i, &(d.transpose() * Self::point_jacobian(g, &arm) / l0));
+            }
+        }
+        phi
+    }
+
+    /// The dependent coordinates v = (x, y, pitch, yaw) at u = (heave, roll) by Newton from `v_guess`.
+    pub fn solve_positions(&self, u: [f64; 2], v_guess: &[f64; 4]) -> Result<AxlePositions, ModelError> {
+        let mut q = AxleQ::new(u[0], u[1], v_guess[0], v_guess[1], v_guess[2], v_guess[3]);
+        for it in 0..=MAX_NEWTON_ITERATIONS {
+            let mut pos = self.evaluate(&q);
+            let det = pos.lu_v.map_or(0.0, |lu| lu.determinant().abs());
+            if !(det >= super::MIN_RELATIVE_DET * self.design_det) {
+                return Err(ModelError::new(
+                    Cause::Kinematics,
+                    format!(
+                        "solid axle linkage singular (|det Φ_v| = {det:.3e}) at heave {:.4} m, roll {:.4} rad: \
+                         outside its mechanism range",
+                        u[0], u[1]
+                    ),
+                ));
+            }
+            if pos.residual <= POSITION_TOLERANCE {
+                pos.iterations = it;
+                return Ok(pos);
+            }
+            let g = pos.sc.rate_matrix();
+            let mut dv = -self.rows(&pos, &g, None);
+            pos.lu_v.as_ref().expect("tested above").solve(&mut dv);
+            for i in 0..4 {
+                q[2 + i] += dv[i];
+            }
+            if !q.iter().all(|x| x.is_finite()) {
+                break;
+            }
+        }
+        Err(ModelError::new(
+            Cause::Kinematics,
+            format!(
+                "solid axle position solve did not converge at heave {:.4} m, roll {:.4} rad: outside its mechanism \
+                 range",
+                u[0], u[1]
+            ),
+        ))
+    }
+
+    /// q̇ from u̇ = (heave rate, roll rate): v̇ = ∂v/∂u u̇.
+    pub fn velocities(&self, pos: &AxlePositions, ud: [f64; 2]) -> AxleQ {
+        let vd = pos.dv_du * nalgebra::Vector2::new(ud[0], ud[1]);
+        AxleQ::new(ud[0], ud[1], vd[0], vd[1], vd[2], vd[3])
+    }
+
+    /// The axle's angular velocity relative to the chassis (chassis frame): G (φ̇, θ̇, ψ̇).
+    pub fn angular_velocity(&self, pos: &AxlePositions, qd: &AxleQ) -> V3 {
+        pos.sc.rate_matrix() * V3::new(qd[ROLL], qd[PITCH], qd[YAW])
+    }
+
+    /// An axle-fixed point's velocity relative to the chassis.
+    pub fn point_velocity(&self, pos: &AxlePositions, qd: &AxleQ, p: &V3) -> V3 {
+        let arm = pos.rotation * (p - self.centre);
+        V3::new(qd[DX], qd[DY], qd[HEAVE]) + self.angular_velocity(pos, qd).cross(&arm)
+    }
+
+    /// The velocity-quadratic part of an axle-fixed point's acceleration: (Ġα̇) × arm + ω × (ω × arm).
+    fn point_acceleration_quadratic(&self, pos: &AxlePositions, qd: &AxleQ, p: &V3) -> V3 {
+        let arm = pos.rotation * (p - self.centre);
+        let rates = V3::new(qd[ROLL], qd[PITCH], qd[YAW]);
+        let w = pos.sc.rate_matrix() * rates;
+        pos.sc.rate_quadratic(&rates).cross(&arm) + w.cross(&w.cross(&arm))
+    }
+
+    /// γ̄ with Φ_q q̈ = γ̄: minus the velocity-quadratic part of each row's second derivative. For a row
+    /// φ = g(r) of one point: φ̈ = g_r r̈ + ṙᵀ g_rr ṙ, r̈ = J q̈ + (quadratic part).
+    pub fn gamma_bar(&self, pos: &AxlePositions, qd: &AxleQ) -> Vector4<f64> {
+        let mut gamma = Vector4::zeros();
+        let apex = self.point(pos, &self.triangle_axle);
+        let rel = apex - self.triangle_chassis;
+        let v = self.point_velocity(pos, qd, &self.triangle_axle);
+        let a = self.point_acceleration_quadratic(pos, qd, &self.triangle_axle);
+        gamma[0] = -a.y;
+        gamma[1] = -(rel.x * a.x + rel.z * a.z + v.x * v.x + v.z * v.z) / self.triangle_radius;
+        for i in 0..2 {
+            let d = self.point(pos, &self.link_axle[i]) - self.link_chassis[i];
+            let v = self.point_velocity(pos, qd, &self.link_axle[i]);
+            let a = self.point_acceleration_quadratic(pos, qd, &self.link_axle[i]);
+            gamma[2 + i] = -(d.dot(&a) + v.dot(&v)) / self.link_length[i];
+        }
+        gamma
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A truck's rear axle, with Chrono's MAN 5t rear axle's points (`MAN_5t_RearSolidThreeLinkAxle.json`,
+    /// suspension frame; the axle's centre at the origin here): the triangle's chassis points' mid-point,
+    /// its apex, the links.
+    fn man_rear() -> ThreeLinkAxle {
+        let mirror = |v: V3| V3::new(v.x, -v.y, v.z);
+        let link_c = V3::new(1.139, 0.400, 0.100);
+        let link_a = V3::new(0.115, 0.688, -0.090);
+        ThreeLinkAxle::new(
+            V3::zeros(),
+            V3::new(-0.762, 0.0, 0.100),
+            V3::new(0.0, 0.0, 0.260),
+            [link_c, mirror(link_c)],
+            [link_a, mirror(link_a)],
+        )
+        .unwrap()
+    }
+
+    fn phi(axle: &ThreeLinkAxle, q: &AxleQ) -> Vector4<f64> {
+        let pos = axle.evaluate(q);
+        axle.rows(&pos, &pos.sc.rate_matrix(), None)
+    }
+
+    #[test]
+    fn the_design_position_closes_and_travel_solves_to_the_tolerance() {
+        let axle = man_rear();
+        assert!(phi(&axle, &AxleQ::zeros()).amax() < 1e-15);
+        let mut worst = 0.0f64;
+        for heave in [-0.1, -0.05, 0.0, 0.05, 0.1] {
+            for roll in [-0.08, 0.0, 0.08] {
+                let pos = axle.solve_positions([heave, roll], &[0.0; 4]).unwrap();
+                worst = worst.max(pos.residual);
+                assert!(pos.iterations <= 6, "{} iterations", pos.iterations);
+            }
+        }
+        assert!(worst <= POSITION_TOLERANCE, "{worst:e}");
+    }
+
+    #[test]
+    fn phi_q_matches_central_differences() {
+        let axle = man_rear();
+        let q = AxleQ::new(0.04, -0.03, 0.01, 0.002, 0.02, -0.01);
+        let pos = axle.evaluate(&q);
+        let h = 1e-6;
+        for c in 0..6 {
+            let (mut qp, mut qm) = (q, q);
+            qp[c] += h;
+            qm[c] -= h;
+            let fd = (phi(&axle, &qp) - phi(&axle, &qm)) / (2.0 * h);
+            let err = (fd - pos.phi_q.column(c)).amax();
+            assert!(err < 1e-8, "column {c}: {err:e}");
+        }
+    }
+
+    #[test]
+    fn velocities_and_gamma_bar_match_differences_along_a_motion() {
+        // u(t) a smooth heave and roll; q(t) solved; q̇ against central differences of q, and Φ_q q̈ = γ̄ with
+        // q̈ from second differences
+        let axle = man_rear();
+        let u = |t: f64| [0.06 * (3.0 * t).sin(), 0.05 * (2.0 * t + 0.3).sin()];
+        let ud = |t: f64| [0.18 * (3.0 * t).cos(), 0.10 * (2.0 * t + 0.3).cos()];
+        let solve = |t: f64| axle.solve_positions(u(t), &[0.0; 4]).unwrap();
+        let (t, h) = (0.4, 1e-4);
+        let (pm, p0, pp) = (solve(t - h), solve(t), solve(t + h));
+        let qd = axle.velocities(&p0, ud(t));
+        let qd_fd = (pp.q - pm.q) / (2.0 * h);
+        assert!((qd - qd_fd).amax() < 1e-7, "q̇ {:e}", (qd - qd_fd).amax());
+        let qdd = (pp.q - 2.0 * p0.q + pm.q) / (h * h);
+        let gamma = axle.gamma_bar(&p0, &qd);
+        let err = (p0.phi_q * qdd - gamma).amax();
+        eprintln!("q̇ error {:e}, Φ_q q̈ − γ̄ {err:e}, |γ̄| {:e}", (qd - qd_fd).amax(), gamma.amax());
+        assert!(err < 1e-5 * gamma.amax(), "γ̄ {err:e} (γ̄ {gamma:?})");
+        // negative control: γ̄ without the links' ṙ·ṙ (their rows' g_rr part) fails the same bound
+        let mut partial = gamma;
+        for i in 0..2 {
+            let v = axle.point_velocity(&p0, &qd, &axle.link_axle[i]);
+            partial[2 + i] += v.dot(&v) / axle.link_length[i];
+        }
+        assert!((p0.phi_q * qdd - partial).amax() > 1e-5 * gamma.amax());
+    }
+
+    #[test]
+    fn pure_heave_of_a_symmetric_axle_neither_rolls_nor_yaws() {
+        let axle = man_rear();
+        let pos = axle.solve_positions([0.08, 0.0], &[0.0; 4]).unwrap();
+        assert!(pos.q[DY].abs() < 1e-14 && pos.q[YAW].abs() < 1e-14, "{:?}", pos.q);
+        // the links swing: the axle moves fore-aft and pitches as they do
+        assert!(pos.q[DX].abs() > 1e-4 && pos.q[PITCH].abs() > 1e-4, "{:?}", pos.q);
+        // each link's length and the apex's circle hold
+        for i in 0..2 {
+            let l = (axle.point(&pos, &axle.link_axle[i]) - axle.link_chassis[i]).norm();
+            assert!((l - axle.link_length[i]).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_linkage_that_cannot_locate_the_axle_is_refused_by_its_cause() {
+        let mirror = |v: V3| V3::new(v.x, -v.y, v.z);
+        let link_c = V3::new(1.139, 0.400, 0.100);
+        let link_a = V3::new(0.115, 0.688, -0.090);
+        // the apex on the revolute axis
+        let e = ThreeLinkAxle::new(
+            V3::zeros(),
+            V3::new(-0.762, 0.0, 0.1),
+            V3::new(-0.762, 0.0, 0.1),
+            [link_c, mirror(link_c)],
+            [link_a, mirror(link_a)],
+        )
+        .unwrap_err();
+        assert!(e.contains("revolute axis"), "{e}");
+        // links straight across (along y): they cannot hold the axle fore-aft with the triangle's apex level
+        // with its axis... a zero-length link
+        let e = ThreeLinkAxle::new(
+            V3::zeros(),
+            V3::new(-0.762, 0.0, 0.1),
+            V3::new(0.0, 0.0, 0.26),
+            [link_a, mirror(link_c)],
+            [link_a, mirror(link_a)],
+        )
+        .unwrap_err();
+        assert!(e.contains("left") && e.contains("no length"), "{e}");
+    }
+}
