@@ -144,6 +144,11 @@ fn mass_centre(data: &VehicleData) -> V3 {
     for (_, axle) in data.axles() {
         let p = |n: &str| VehicleData::point(axle, n);
         let wheel = axle.spindle.mass_kg + data.wheel.mass_kg + data.tire.mass_kg;
+        if let Some(tube) = &axle.axle_tube {
+            add(tube.mass_kg, p("AXLE_CM"));
+            add(2.0 * wheel, p("SPINDLE"));
+            continue;
+        }
         // Both sides: the left side's x and z (the right mirrors y, which does not enter the axle loads).
         add(2.0 * axle.lower_arm.mass_kg, p("LCA_CM"));
         add(2.0 * axle.upright.mass_kg, p("UPRIGHT"));

@@ -578,7 +578,7 @@ impl SuspensionReader<'_> {
     fn lower_arm_key(&self) -> &'static str {
         match self.template {
             SuspensionTemplate::DoubleWishbone => "Lower Control Arm",
-            SuspensionTemplate::MacphersonStrut | SuspensionTemplate::SingleWishbone => "Control Arm",
+            _ => "Control Arm",
         }
     }
 
@@ -761,7 +761,7 @@ impl SuspensionReader<'_> {
                 let used = ["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"];
                 Ok((None, Some(self.body("Strut", &used, &[("Radius", VISUAL)], None)?)))
             }
-            SuspensionTemplate::SingleWishbone => Ok((None, None)),
+            SuspensionTemplate::SingleWishbone | SuspensionTemplate::SolidThreeLink => Ok((None, None)),
         }
     }
 
@@ -1686,6 +1686,7 @@ impl Importer {
             upper_arm,
             strut,
             upright,
+            axle_tube: None,
             spindle,
             axle_shaft_spin_inertia_kg_m2,
             spring,

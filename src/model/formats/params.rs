@@ -23,6 +23,17 @@ pub struct RigidBody {
 }
 
 impl RigidBody {
+    /// No body: what a solid axle has for its lower arm and upright (the serde default of those fields).
+    pub const NONE: RigidBody = RigidBody { mass_kg: 0.0, inertia_moments_kg_m2: [0.0; 3], inertia_products_kg_m2: [0.0; 3] };
+
+    fn none() -> RigidBody {
+        RigidBody::NONE
+    }
+
+    fn is_none(&self) -> bool {
+        *self == RigidBody::NONE
+    }
+
     pub fn inertia(&self) -> Matrix3<f64> {
         let [ixx, iyy, izz] = self.inertia_moments_kg_m2;
         let [ixy, ixz, iyz] = self.inertia_products_kg_m2;
@@ -165,6 +176,10 @@ pub enum SuspensionTemplate {
     /// about the arm-fixed axis that is the chassis z axis at design; spring and damper on the arm (Chrono's
     /// `SingleWishbone`).
     SingleWishbone,
+    /// A solid axle carrying both wheels, located by a triangle (a revolute joint to the chassis about the
+    /// chassis y axis, a spherical joint at the axle) and two longitudinal links; spring and damper between
+    /// the chassis and the axle (Chrono's `SolidThreeLinkAxle`; not steerable).
+    SolidThreeLink,
 }
 
 impl SuspensionTemplate {
@@ -173,6 +188,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::DoubleWishbone => "double_wishbone",
             SuspensionTemplate::MacphersonStrut => "macpherson_strut",
             SuspensionTemplate::SingleWishbone => "single_wishbone",
+            SuspensionTemplate::SolidThreeLink => "solid_three_link",
         }
     }
 
@@ -182,7 +198,13 @@ impl SuspensionTemplate {
             SuspensionTemplate::DoubleWishbone => &HARDPOINTS,
             SuspensionTemplate::MacphersonStrut => &MACPHERSON_HARDPOINTS,
             SuspensionTemplate::SingleWishbone => &SINGLE_WISHBONE_HARDPOINTS,
+            SuspensionTemplate::SolidThreeLink => &SOLID_THREE_LINK_HARDPOINTS,
         }
+    }
+
+    /// Whether one body carries both wheels (a solid axle), rather than one subsystem per wheel.
+    pub fn is_solid_axle(self) -> bool {
+        self == SuspensionTemplate::SolidThreeLink
     }
 }
 
@@ -196,7 +218,9 @@ pub struct Axle {
     pub steered: bool,
     /// Left-side hardpoints in the chassis reference frame (the right side mirrors y).
     pub hardpoints_chassis_frame_m: BTreeMap<String, [f64; 3]>,
-    /// Inertia in the arm frame (x = unit(F - B), z normal to the arm plane), rotated at load.
+    /// Inertia in the arm frame (x = unit(F - B), z normal to the arm plane), rotated at load. Independent
+    /// templates only (a solid axle has none: absent).
+    #[serde(default = "RigidBody::none", skip_serializing_if = "RigidBody::is_none")]
     pub lower_arm: RigidBody,
     /// Double wishbone only (same frame convention as the lower arm).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -206,8 +230,13 @@ pub struct Axle {
     /// chassis: the rod swings by a few degrees about its top mount.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strut: Option<RigidBody>,
-    /// Inertia in axes parallel to the chassis.
+    /// Inertia in axes parallel to the chassis. Independent templates only (absent for a solid axle).
+    #[serde(default = "RigidBody::none", skip_serializing_if = "RigidBody::is_none")]
     pub upright: RigidBody,
+    /// Solid axles only: the axle tube (with whatever moves rigidly with it but the spindles, wheels and
+    /// tires), its CM at the hardpoint `AXLE_CM`, inertia in axes parallel to the chassis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axle_tube: Option<RigidBody>,
     /// Inertia [Ixx, Iyy(spin), Izz] parallel to the chassis.
     pub spindle: RigidBody,
     pub axle_shaft_spin_inertia_kg_m2: f64,
@@ -366,6 +395,16 @@ pub const MACPHERSON_HARDPOINTS: [&str; 12] = [
 pub const SINGLE_WISHBONE_HARDPOINTS: [&str; 12] = [
     "SPINDLE", "UPRIGHT", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A",
     "TIEROD_C", "TIEROD_U",
+];
+
+/// The hardpoints a three-link solid axle must name (Chrono's `SolidThreeLinkAxle` points, left side):
+/// `AXLE_CM` the axle tube's CM (on y = 0), `TRIANGLE_C` one of the triangle's two chassis points (its
+/// revolute axis is the chassis y axis through their mid-point), `TRIANGLE_A` its apex on the axle (on
+/// y = 0), `LINK_C` and `LINK_A` the longitudinal link's chassis and axle points, the spring's and the
+/// damper's ends on the chassis (`_C`) and on the axle (`_A`), and the wheel centre `SPINDLE`.
+pub const SOLID_THREE_LINK_HARDPOINTS: [&str; 10] = [
+    "SPINDLE", "AXLE_CM", "TRIANGLE_C", "TRIANGLE_A", "LINK_C", "LINK_A", "SHOCK_C", "SHOCK_A", "SPRING_C",
+    "SPRING_A",
 ];
 
 /// The hardpoints a double-wishbone axle must name.
@@ -667,6 +706,17 @@ fn check_hardpoints(name: &str, axle: &Axle) -> Result<(), DataError> {
 /// The bodies the template has (an upper arm for a double wishbone, none for a MacPherson strut; a strut
 /// body only for the latter), each with a positive mass and a positive definite inertia.
 fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
+    if axle.template.is_solid_axle() {
+        return check_solid_axle_bodies(name, axle);
+    }
+    for (body, b) in [("lower_arm", &axle.lower_arm), ("upright", &axle.upright)] {
+        if b.is_none() {
+            return Err(err(format!("{name}.{body}"), format!("missing: a {} has one", axle.template.name())));
+        }
+    }
+    if axle.axle_tube.is_some() {
+        return Err(err(format!("{name}.axle_tube"), "only a solid axle has an axle tube"));
+    }
     match axle.template {
         SuspensionTemplate::DoubleWishbone => {
             if axle.upper_arm.is_none() {
@@ -689,6 +739,7 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
                 return Err(err(format!("{name}.strut"), "a single wishbone has no strut body"));
             }
         }
+        SuspensionTemplate::SolidThreeLink => unreachable!("checked above"),
     }
     let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
     if let Some(b) = &axle.upper_arm {
@@ -698,6 +749,35 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         bodies.push(("strut", b));
     }
     for (body, b) in bodies {
+        positive(&format!("{name}.{body}.mass_kg"), b.mass_kg)?;
+        pos_def(&format!("{name}.{body}.inertia"), b)?;
+    }
+    Ok(())
+}
+
+/// A solid axle's bodies: the axle tube and the spindle, each with a positive mass and a positive definite
+/// inertia, and none of an independent suspension's; not steered, no anti-roll bar (the bar's arms meet
+/// the lower arms, which a solid axle has not), no static camber or toe (the spindles are on the tube).
+fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
+    let template = axle.template.name();
+    let present = [
+        ("lower_arm", !axle.lower_arm.is_none()),
+        ("upright", !axle.upright.is_none()),
+        ("upper_arm", axle.upper_arm.is_some()),
+        ("strut", axle.strut.is_some()),
+        ("antiroll_bar", axle.antiroll_bar.is_some()),
+    ];
+    if let Some((body, _)) = present.iter().find(|(_, p)| *p) {
+        return Err(err(format!("{name}.{body}"), format!("a {template} has none")));
+    }
+    if axle.steered {
+        return Err(err(format!("{name}.steered"), format!("a {template} is not steerable (Chrono's is not)")));
+    }
+    if axle.static_camber_deg != 0.0 || axle.static_toe_deg != 0.0 {
+        return Err(err(format!("{name}.static_camber_deg"), format!("a {template} takes no static camber or toe")));
+    }
+    let tube = axle.axle_tube.as_ref().ok_or_else(|| err(format!("{name}.axle_tube"), "missing: a solid axle has one"))?;
+    for (body, b) in [("axle_tube", tube), ("spindle", &axle.spindle)] {
         positive(&format!("{name}.{body}.mass_kg"), b.mass_kg)?;
         pos_def(&format!("{name}.{body}.inertia"), b)?;
     }

@@ -100,6 +100,16 @@ impl BodyInertia {
         com: V3::new(0.0, 0.0, 0.0),
         inertia: M3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
     };
+
+    /// Bodies joined rigidly into one: the masses summed, the CM their mean, the inertia about it (each
+    /// part's own plus its parallel-axis term).
+    pub fn combined(parts: &[BodyInertia]) -> BodyInertia {
+        let mass: f64 = parts.iter().map(|b| b.mass).sum();
+        let com = parts.iter().map(|b| b.com * b.mass).sum::<V3>() / mass;
+        let steiner = |m: f64, r: V3| (M3::identity() * r.norm_squared() - r * r.transpose()) * m;
+        let inertia = parts.iter().map(|b| b.inertia + steiner(b.mass, b.com - com)).sum();
+        BodyInertia { mass, com, inertia }
+    }
 }
 
 /// The three equations that close the loop beside the tie rod, and the body of q[4] (see the module doc).
@@ -110,6 +120,9 @@ pub enum Closure {
     /// The single wishbone's kingpin: the upright's Bryant angles on the arm are a turn about the arm's z
     /// axis alone (φ1 = φ2 = 0: the sequence x-y-z ends with it), and q[4] = 0. Three rows linear in q.
     Kingpin,
+    /// A wheel of a solid axle: the carrier is the axle, which the axle's own kinematics place
+    /// (`solid_axle`); the corner has no loop of its own to solve (`solve_positions_into` refuses).
+    SolidAxle,
 }
 
 /// Which moving body a line element (spring, damper) acts on.
@@ -316,6 +329,7 @@ impl Corner {
             SuspensionTemplate::DoubleWishbone => double_wishbone::from_data(data, axle, side, drive),
             SuspensionTemplate::MacphersonStrut => macpherson::from_data(data, axle, side, drive),
             SuspensionTemplate::SingleWishbone => single_wishbone::from_data(data, axle, side, drive),
+            SuspensionTemplate::SolidThreeLink => solid_axle::wheel_corner(data, axle, side),
         }
     }
 
@@ -339,6 +353,7 @@ impl Corner {
             Closure::UpperArm(_) => SuspensionTemplate::DoubleWishbone,
             Closure::Strut(_) => SuspensionTemplate::MacphersonStrut,
             Closure::Kingpin => SuspensionTemplate::SingleWishbone,
+            Closure::SolidAxle => SuspensionTemplate::SolidThreeLink,
         };
         let mut c = Corner {
             template,
@@ -378,7 +393,7 @@ impl Corner {
     pub fn upper_revolute(&self) -> Option<(V3, V3)> {
         match &self.closure {
             Closure::UpperArm(arm) => Some((arm.p_u, arm.h_u)),
-            Closure::Strut(_) | Closure::Kingpin => None,
+            Closure::Strut(_) | Closure::Kingpin | Closure::SolidAxle => None,
         }
     }
 
@@ -444,7 +459,7 @@ impl Corner {
             }
             // A point of the kingpin one metre above b (the steering axis reads it), ρ_u reaching it: the
             // point-coincidence rows below are then zero and replaced by the kingpin's own.
-            Closure::Kingpin => {
+            Closure::Kingpin | Closure::SolidAxle => {
                 let up = r_l.column(2).into_owned();
                 (b + up, M3::identity(), up, V3::zeros(), V3::zeros())
             }
@@ -528,12 +543,19 @@ impl Corner {
 
     /// Dependent coordinates by Newton from the warm start `v_guess` (docs/physics.md §3.2), to ‖Φ‖∞ ≤ 1e-12 m.
     pub fn solve_positions(&self, theta_l: f64, s: f64, v_guess: &[f64; 4]) -> Result<CornerPositions, ModelError> {
+        if let Closure::SolidAxle = self.closure {
+            return Err(ModelError::new(
+                Cause::Kinematics,
+                "a solid axle's wheel has no travel of its own: its positions are its axle's (solid_axle)",
+            ));
+        }
         let mut pos = CornerPositions::default();
         self.solve_positions_into(theta_l, s, v_guess, &mut pos)?;
         Ok(pos)
     }
 
-    /// As `solve_positions`, written in place; on `Err`, `pos` holds the last iterate.
+    /// As `solve_positions`, written in place; on `Err`, `pos` holds the last iterate. Not for a solid axle's
+    /// wheel (the evaluation places those with their axle, `Vehicle::solve_corners`).
     #[inline(always)]
     pub fn solve_positions_into(
         &self,
@@ -613,7 +635,7 @@ impl Corner {
             // The top mount is fixed; the strut point slides along the upright (Coriolis 2 ω_K × R_K a ℓ̇).
             Closure::Strut(_) => a_k(&pos.rho_u) + w_k.cross(&pos.slide) * (2.0 * qd[4]),
             // Rows linear in q: no velocity-squared term.
-            Closure::Kingpin => V3::zeros(),
+            Closure::Kingpin | Closure::SolidAxle => V3::zeros(),
         };
         let steer_rate = if self.steered() { s_dot } else { 0.0 };
         let path = &pos.tie_rod;
@@ -663,6 +685,9 @@ impl Corner {
 /// Validation hook for the data loader: the loop must close at design and move through a small travel
 /// and (front) the steering range without hitting a singular configuration.
 pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<(), DataError> {
+    if axle.template.is_solid_axle() {
+        return solid_axle::check_moves(data, name, axle);
+    }
     let field = format!("{name}.hardpoints_chassis_frame_m");
     let mut hinges = vec![("LCA_F", "LCA_B")];
     if axle.template == SuspensionTemplate::DoubleWishbone {
@@ -680,7 +705,7 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
         Closure::UpperArm(arm) => (arm.u0 - g.b0).norm(),
         Closure::Strut(strut) => strut.length,
         // The kingpin is an axis through LCA_U, not a link: it has no length to lose.
-        Closure::Kingpin => 1.0,
+        Closure::Kingpin | Closure::SolidAxle => 1.0,
     };
     if g.tie_length < 1e-6 || closure_length < 1e-6 {
         return Err(DataError { field, message: "tie rod, kingpin or strut of zero length".into() });

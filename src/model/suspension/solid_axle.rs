@@ -23,11 +23,17 @@
 //! The triangle and the links are massless here: Chrono's JSON reader (`SolidThreeLinkAxle::Create`) reads
 //! no mass for them. What moves is the axle tube with both spindles.
 
-use super::{MAX_NEWTON_ITERATIONS, POSITION_TOLERANCE};
+use super::{
+    carrier_inertia, BodyInertia, Closure, Corner, Hardpoints, LineMount, MountBody, Side, MAX_NEWTON_ITERATIONS,
+    POSITION_TOLERANCE,
+};
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
 use crate::math::{BryantSinCos, M3, V3};
+use crate::model::formats::params::{Axle, DataError, SuspensionTemplate, VehicleData};
+use crate::model::steering::TieRodDrive;
 use nalgebra::{SMatrix, Vector4, Vector6};
+use serde::{Deserialize, Serialize};
 
 /// The axle's coordinates: (heave, roll, x, y, pitch, yaw).
 pub type AxleQ = Vector6<f64>;
@@ -42,8 +48,95 @@ const DY: usize = 3;
 const PITCH: usize = 4;
 const YAW: usize = 5;
 
+/// A solid axle of the vehicle: its linkage and its one moving body.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SolidAxle {
+    pub linkage: ThreeLinkAxle,
+    /// The axle tube with both spindles, wheels and tires (their spin apart, §4.8), at design: CM and
+    /// inertia in chassis axes (the CM relative to the sprung CM).
+    pub body: BodyInertia,
+}
+
+impl SolidAxle {
+    /// The axle `name` (front, rear) of `data`, whose template is a solid axle.
+    pub fn from_data(data: &VehicleData, name: &str, axle: &Axle) -> Result<SolidAxle, DataError> {
+        let field = format!("{name}.hardpoints_chassis_frame_m");
+        let [left, right] = [Side::Left, Side::Right].map(|side| Hardpoints::new(data, axle, side));
+        let mid = |p: &str| (left.point(p) + right.point(p)) / 2.0;
+        // Chrono's: the axle tube's CM as given (one point), the triangle's chassis axis and apex at the
+        // mid-points of the two sides' points.
+        let centre = VehicleData::point(axle, "AXLE_CM") - left.c0;
+        let linkage = ThreeLinkAxle::new(
+            centre,
+            mid("TRIANGLE_C"),
+            mid("TRIANGLE_A"),
+            [left.point("LINK_C"), right.point("LINK_C")],
+            [left.point("LINK_A"), right.point("LINK_A")],
+        )
+        .map_err(|message| DataError { field, message })?;
+        let tube = axle.axle_tube.as_ref().ok_or_else(|| DataError {
+            field: format!("{name}.axle_tube"),
+            message: "missing: a solid axle has one".into(),
+        })?;
+        let mut parts = vec![BodyInertia { mass: tube.mass_kg, com: centre, inertia: tube.inertia() }];
+        for points in [&left, &right] {
+            let w0 = points.point("SPINDLE");
+            parts.push(carrier_inertia(data, axle, points.side, w0, w0).0);
+        }
+        Ok(SolidAxle { linkage, body: BodyInertia::combined(&parts) })
+    }
+}
+
+/// One wheel of a solid axle as a corner, so that the stages every corner shares (springs, dampers, tire,
+/// brake, drive) act on it unchanged: its carrier is the axle (`on_carrier` places a point by the axle's
+/// pose: `CornerPositions::b` the axle's reference point, `r_k` its rotation), and it has no mass of its own
+/// (the axle's body carries the wheel's). Its wheel spins about the axle's y axis.
+pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corner, DataError> {
+    let points = Hardpoints::new(data, axle, side);
+    let pt = |name: &str| points.point(name);
+    let w0 = pt("SPINDLE");
+    let (_, spin_inertia) = carrier_inertia(data, axle, side, w0, w0);
+    let on_axle = |c: &str, a: &str| LineMount { chassis: pt(c), moving: pt(a), body: MountBody::Carrier };
+    Ok(Corner {
+        template: SuspensionTemplate::SolidThreeLink,
+        side,
+        drive: TieRodDrive::Chassis,
+        p_l: V3::zeros(),
+        h_l: V3::x(),
+        b0: VehicleData::point(axle, "AXLE_CM") - points.c0,
+        t_k: V3::zeros(),
+        t_r0: V3::zeros(),
+        w0,
+        tie_length: 0.0,
+        closure: Closure::SolidAxle,
+        spring: on_axle("SPRING_C", "SPRING_A"),
+        shock: on_axle("SHOCK_C", "SHOCK_A"),
+        lower: BodyInertia::NONE,
+        upper: BodyInertia::NONE,
+        carrier: BodyInertia::NONE,
+        spin_inertia,
+        axle: V3::y(),
+        design_det: 1.0,
+    })
+}
+
+/// The loader's check of a solid axle: its linkage assembles, and moves through ±50 mm of heave and ±0.05
+/// rad of roll without locking.
+pub fn check_moves(data: &VehicleData, name: &str, axle: &Axle) -> Result<(), DataError> {
+    let solid = SolidAxle::from_data(data, name, axle)?;
+    for u in [[0.05, 0.0], [-0.05, 0.0], [0.0, 0.05], [0.0, -0.05]] {
+        if let Err(e) = solid.linkage.solve_positions(u, &[0.0; 4]) {
+            return Err(DataError {
+                field: format!("{name}.hardpoints_chassis_frame_m"),
+                message: format!("the solid axle's linkage cannot move: {e}"),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// The linkage of a three-link solid axle, at design (chassis frame, sprung CM origin).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ThreeLinkAxle {
     /// The axle's reference point c₀ (its centre of mass at design).
     pub centre: V3,
@@ -74,6 +167,23 @@ pub struct AxlePositions {
     /// ‖Φ‖∞ at the solution, and the Newton iterations taken.
     pub residual: f64,
     pub iterations: u32,
+}
+
+impl Default for AxlePositions {
+    /// The design position (a slot to be written by a solve).
+    fn default() -> Self {
+        let sc = BryantSinCos::new(&V3::zeros());
+        AxlePositions {
+            q: AxleQ::zeros(),
+            sc,
+            rotation: M3::identity(),
+            phi_q: AxlePhiQ::zeros(),
+            lu_v: None,
+            dv_du: SMatrix::zeros(),
+            residual: 0.0,
+            iterations: 0,
+        }
+    }
 }
 
 impl ThreeLinkAxle {

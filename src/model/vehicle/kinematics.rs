@@ -1,7 +1,8 @@
 //! The kinematics stages (§3.3–§3.4): each corner's dependent coordinates by Newton (positions), then q̇, γ̄
 //! and its bodies' velocity-state kinematics (velocities). Written into `Workspace::{positions, kinematics}`.
 
-use super::{idx, Vehicle, WarmStart, Workspace, CORNERS};
+use super::{idx, AxleWork, Vehicle, WarmStart, Workspace, CORNERS};
+use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::dynamics::body::{ang, lin, wrench};
 use crate::error::{Cause, ModelError};
 use crate::math::{skew, Axes, ChassisAxes, M3, V3};
@@ -13,9 +14,47 @@ impl Vehicle {
     /// starts, and update the warm starts.
     #[inline(always)]
     pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut Workspace) -> Result<(), ModelError> {
-        for i in 0..4 {
-            self.solve_corner(i, x, rack_u, cache)?;
+        for a in 0..2 {
+            if self.solid_axles[a].is_some() {
+                self.solve_axle(a, x, cache)?;
+            } else {
+                self.solve_corner(2 * a, x, rack_u, cache)?;
+                self.solve_corner(2 * a + 1, x, rack_u, cache)?;
+            }
         }
+        Ok(())
+    }
+
+    /// A solid axle's positions from its heave and roll (the left and the right corner's θ_L places), its
+    /// warm start kept in the left corner's (u the heave, s the roll); its wheels' corner positions are the
+    /// axle's pose (`solid_axle::wheel_corner`: the carrier's point b and rotation r_k).
+    #[inline(never)] // not on an independent suspension's path
+    pub(super) fn solve_axle(&self, a: usize, x: &[f64], cache: &mut Workspace) -> Result<(), ModelError> {
+        let Some(solid) = &self.solid_axles[a] else { return Ok(()) };
+        let (l, r) = (2 * a, 2 * a + 1);
+        let u = [x[idx::U + l], x[idx::U + r]];
+        let guess = cache.corners[l].predict(u[0], u[1]);
+        let pos = solid.linkage.solve_positions(u, &guess).map_err(|e| {
+            ModelError::new(Cause::MechanismRange, format!("{} axle: {e}", ["front", "rear"][a]))
+        })?;
+        cache.corners[l] = WarmStart {
+            v: [pos.q[2], pos.q[3], pos.q[4], pos.q[5]],
+            u: u[0],
+            s: u[1],
+            dv_du: pos.dv_du.column(0).into_owned().into(),
+            dv_ds: pos.dv_du.column(1).into_owned().into(),
+        };
+        let centre = solid.linkage.point(&pos, &solid.linkage.centre);
+        for (c, iterations) in [(l, pos.iterations), (r, 0)] {
+            let p = &mut cache.positions[c];
+            p.b = centre;
+            p.r_k = pos.rotation;
+            p.r_l = nalgebra::Matrix3::identity();
+            p.r_u = nalgebra::Matrix3::identity();
+            p.residual = pos.residual;
+            p.iterations = iterations;
+        }
+        cache.axles[a].positions = pos;
         Ok(())
     }
 
@@ -46,8 +85,45 @@ impl Vehicle {
     /// diagnostics of the positions.
     #[inline(always)]
     pub(super) fn velocity_stage(&self, x: &[f64], ws: &mut Workspace) {
-        for i in 0..4 {
-            self.corner_velocity(i, x, ws);
+        for a in 0..2 {
+            if self.solid_axles[a].is_some() {
+                self.axle_velocity(a, x, ws);
+            } else {
+                self.corner_velocity(2 * a, x, ws);
+                self.corner_velocity(2 * a + 1, x, ws);
+            }
+        }
+    }
+
+    /// The velocity stage for solid axle a: q̇ from its heave and roll rates, γ̄ (into its terms), its body's
+    /// kinematics, and its wheels' corner kinematics (their carrier is the axle; they have no mass).
+    #[inline(never)] // not on an independent suspension's path
+    pub(super) fn axle_velocity(&self, a: usize, x: &[f64], ws: &mut Workspace) {
+        let Some(solid) = &self.solid_axles[a] else { return };
+        let Workspace { positions, kinematics, assembly, diagnostics, chassis, axles, .. } = ws;
+        let (l, r) = (2 * a, 2 * a + 1);
+        let work = &mut axles[a];
+        let pos = &work.positions;
+        let qd = solid.linkage.velocities(pos, [x[idx::UD + l], x[idx::UD + r]]);
+        assembly.axle_terms[a].gamma_bar = solid.linkage.gamma_bar(pos, &qd);
+        diagnostics.max_residual = diagnostics.max_residual.max(pos.residual);
+        diagnostics.newton_iterations += pos.iterations;
+        let body = axle_body_kinematics(solid, pos, &qd, &chassis.y0);
+        *work = AxleWork { qd, ..body };
+        for i in [l, r] {
+            let c = &self.corners[i];
+            kinematics[i] = CornerKinematics {
+                b_l: Vector6::zeros(),
+                b_k: SMatrix::zeros(),
+                b_u: Vector6::zeros(),
+                rate: [work.rate; 3],
+                velocity: [work.velocity; 3],
+                mass: [0.0; 3],
+                com: [work.com; 3],
+                inertia: [M3::zeros(); 3],
+                axle: work.positions.rotation * c.axle,
+                wheel_centre: c.on_carrier(&positions[i], &c.w0),
+            };
         }
     }
 
@@ -174,5 +250,43 @@ impl Vehicle {
             axle: rot_k * c.axle,
             wheel_centre: axes.vector(&c.on_carrier(pos, &c.w0)),
         }
+    }
+}
+
+/// A solid axle's body in velocity-state form (chassis axes, origin at the chassis CM; docs/physics.md §4.6a):
+/// with c the axle's reference point and g_k the columns of G (the Bryant rates' axes), 𝔅's columns over
+/// q = (heave, roll, x, y, pitch, yaw) are the chassis axes' translations [e; 0] and the turns [c × g_k; g_k]
+/// about c; Y = Y₀ + 𝔅q̇; 𝔇 = 𝔅̇q̇ with the chassis turning the axes (ė = ω₀ × e), c moving at
+/// ċ = v₀ + ω₀ × c + v_rel, and ġ_k q̇_k summing to ω₀ × ω_rel + Ġα̇:
+/// 𝔇 = [ċ × ω_rel + c × (ω₀ × ω_rel + Ġα̇) + ω₀ × v_rel; ω₀ × ω_rel + Ġα̇]. (q̇ is left for the caller.)
+#[inline(always)]
+fn axle_body_kinematics(solid: &SolidAxle, pos: &AxlePositions, qd: &AxleQ, y0: &Vector6<f64>) -> AxleWork {
+    let (v0, w0) = (lin(y0), ang(y0));
+    let c = solid.linkage.point(pos, &solid.linkage.centre);
+    let g = pos.sc.rate_matrix();
+    let mut b = SMatrix::<f64, 6, 6>::zeros();
+    b[(2, 0)] = 1.0;
+    b[(0, 2)] = 1.0;
+    b[(1, 3)] = 1.0;
+    for (col, k) in [(1, 0), (4, 1), (5, 2)] {
+        let gk = g.column(k).into_owned();
+        b.set_column(col, &wrench(&c.cross(&gk), &gk));
+    }
+    let rates = V3::new(qd[1], qd[4], qd[5]);
+    let w_rel = g * rates;
+    let v_rel = V3::new(qd[2], qd[3], qd[0]);
+    let c_dot = v0 + w0.cross(&c) + v_rel;
+    let w_dot = w0.cross(&w_rel) + pos.sc.rate_quadratic(&rates);
+    let rate = wrench(&(c_dot.cross(&w_rel) + c.cross(&w_dot) + w0.cross(&v_rel)), &w_dot);
+    let rot = pos.rotation;
+    AxleWork {
+        positions: *pos,
+        qd: AxleQ::zeros(),
+        b,
+        rate,
+        velocity: y0 + b * qd,
+        com: solid.linkage.point(pos, &solid.body.com),
+        inertia: rot * solid.body.inertia * rot.transpose(),
+        body_mass: solid.body.mass,
     }
 }

@@ -23,7 +23,7 @@ pub use synthesis::accelerations;
 use synthesis::synthesis_stage;
 
 use crate::dynamics::body::{ang, lin, wrench};
-use crate::dynamics::{ChassisTerms, SubsystemTerms};
+use crate::dynamics::{AxleTerms, ChassisTerms, SubsystemTerms};
 use crate::error::{Cause, ModelError};
 use crate::math::{quat_to_matrix, M3, V3};
 use crate::model::formats::params::{DataError, Spring, VehicleData};
@@ -31,6 +31,7 @@ use crate::model::road::envelope::ContactModel;
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
 use crate::model::steering::{assembly::Steering, tie_rod_drive};
 use crate::model::suspension::antiroll_bar::AxleBar;
+use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::model::suspension::forces::StopCurve;
 use crate::model::suspension::{BodyInertia, Corner, CornerPositions, Side};
 use crate::model::tire::{SlipModel, TireModel, TireParams};
@@ -173,6 +174,8 @@ pub struct Inputs {
 /// which the next Newton solve starts: v ≈ v_last + ∂v/∂u Δu + ∂v/∂s Δs (the tangent of the constraint
 /// manifold), so Newton starts within O(Δ²) of the solution.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+/// A corner's Newton warm start: the last solution v at (u, s) and its tangent. A solid axle keeps its own in
+/// its left wheel's place, with u its heave and s its roll (its v = (x, y, pitch, yaw) has four entries too).
 pub struct WarmStart {
     pub v: [f64; 4],
     pub u: f64,
@@ -220,7 +223,27 @@ pub struct Workspace {
     /// Each corner's wrenches on its bodies and on the chassis (force, tire and brake stages).
     #[serde(skip)]
     pub wrenches: [CornerWrenches; 4],
+    /// Each solid axle's positions and its body's kinematics (positions and velocity stages).
+    #[serde(skip)]
+    pub axles: [AxleWork; 2],
 }
+
+/// A solid axle's part of the workspace: its solved positions, q̇, and its body's velocity-state kinematics
+/// in the evaluation's axes (𝔅, 6×6 over q; 𝔇; Y), CM and inertia.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AxleWork {
+    pub positions: AxlePositions,
+    pub qd: AxleQ,
+    pub b: nalgebra::SMatrix<f64, 6, 6>,
+    pub rate: Vector6<f64>,
+    pub velocity: Vector6<f64>,
+    pub com: V3,
+    pub inertia: M3,
+    /// The axle body's mass (constant; kept here beside its CM and inertia).
+    pub body_mass: f64,
+}
+
+
 
 impl PartialEq for Workspace {
     fn eq(&self, other: &Self) -> bool {
@@ -275,6 +298,11 @@ pub struct Vehicle {
     /// The anti-roll bars of the front and rear axles, where the vehicle file gives one.
     #[serde(default)]
     pub antiroll_bars: [Option<AxleBar>; 2],
+    /// The front and rear axles that are solid axles (`model::suspension::solid_axle`): their two corners
+    /// are the axle's wheels, and the axle is one subsystem of the synthesis with two coordinates, heave and
+    /// roll, in the corners' θ_L places (left: heave, m; right: roll, rad; likewise their rates).
+    #[serde(default)]
+    pub solid_axles: [Option<SolidAxle>; 2],
     pub stops: StopCurve,
     pub chassis: BodyInertia,
     pub steering: Steering,
@@ -467,14 +495,22 @@ impl Vehicle {
         let (sprung_mass, sprung_inertia) = data.sprung_inertia();
         let chassis = BodyInertia { mass: sprung_mass, com: V3::zeros(), inertia: sprung_inertia };
         let steering = Steering::from_data(data);
+        let mut solid_axles = [None, None];
+        for (k, (name, axle)) in [("front", &data.front), ("rear", &data.rear)].into_iter().enumerate() {
+            if axle.template.is_solid_axle() {
+                solid_axles[k] = Some(SolidAxle::from_data(data, name, axle)?);
+            }
+        }
         let total_mass = chassis.mass
             + steering.body.mass
-            + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>();
+            + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>()
+            + solid_axles.iter().flatten().map(|a| a.body.mass).sum::<f64>();
         let antiroll_bars = [&data.front, &data.rear].map(|a| a.antiroll_bar.as_ref().map(|b| AxleBar::new(data, b)));
         let mut v = Vehicle {
             corners,
             corner_forces,
             antiroll_bars,
+            solid_axles,
             stops: StopCurve::new(&data.stop_table),
             chassis,
             steering,
@@ -644,7 +680,12 @@ impl Vehicle {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Assembly {
     pub chassis: ChassisTerms,
+    /// Each corner's terms (a solid axle's wheels' are not used).
     pub terms: [SubsystemTerms; 4],
+    /// Each solid axle's terms, and which axles are solid (the formulations take those as one subsystem in
+    /// place of two corners).
+    pub axle_terms: [AxleTerms; 2],
+    pub solid: [bool; 2],
     /// a·M_W + T_d − T_b per wheel: I_s Ω̇ (§4.8).
     pub spin_torque: [f64; 4],
     pub relaxation_rates: [[f64; 2]; 4],
@@ -693,6 +734,16 @@ impl Vehicle {
         let (rho_r, rdot_r, j_r) = self.steering.state(&a0, &v0, &w0, &s);
         add_body(self.steering.body.mass, &rho_r, &j_r, &rdot_r, &w0);
         let positions = self.corner_positions(x, rack.position, cache)?;
+        // A solid axle's body (its wheels' corners have no mass of their own).
+        for (a, solid) in self.solid_axles.iter().enumerate() {
+            let Some(solid) = solid else { continue };
+            let pos = &cache.axles[a].positions;
+            let qd = solid.linkage.velocities(pos, [x[idx::UD + 2 * a], x[idx::UD + 2 * a + 1]]);
+            let (c, rot) = (solid.linkage.point(pos, &solid.body.com), a0 * pos.rotation);
+            let w = w0 + a0 * solid.linkage.angular_velocity(pos, &qd);
+            let rdot = v0 + w0.cross(&(a0 * c)) + a0 * solid.linkage.point_velocity(pos, &qd, &solid.body.com);
+            add_body(solid.body.mass, &(a0 * c), &(rot * solid.body.inertia * rot.transpose()), &rdot, &w);
+        }
         let mut spin_terms = Vec::new();
         let mut spring_potential = 0.0;
         for i in 0..4 {

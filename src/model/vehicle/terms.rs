@@ -3,9 +3,10 @@
 //! the wrenches the force, tire and brake stages put on its bodies.
 
 use super::kinematics::{CornerKinematics, BODY_K, BODY_L, BODY_U};
-use super::{Vehicle, Workspace};
-use crate::dynamics::body::{mass_hat_times, MassHatSum};
-use crate::dynamics::{PhiVSolved, SubsystemTerms};
+use super::{point_velocity, AxleWork, Vehicle, Workspace};
+use crate::dynamics::body::{ang, body_force, mass_hat, mass_hat_times, MassHatSum};
+use crate::dynamics::{AxleTerms, PhiVSolved, SubsystemTerms};
+use crate::math::V3;
 use crate::model::suspension::CornerPositions;
 use nalgebra::Vector6;
 
@@ -13,11 +14,44 @@ impl Vehicle {
     /// Writes `assembly.terms` (all but γ̄) from the positions, the kinematics and the wrenches.
     #[inline(always)]
     pub(super) fn subsystem_terms_stage(&self, ws: &mut Workspace) {
-        let Workspace { positions, kinematics, wrenches, assembly, .. } = ws;
+        let Workspace { positions, kinematics, wrenches, assembly, axles, chassis, .. } = ws;
+        assembly.solid = self.solid_axles.each_ref().map(Option::is_some);
         for i in 0..4 {
-            subsystem_terms(&positions[i], &kinematics[i], &wrenches[i].bodies, &mut assembly.terms[i]);
+            if !assembly.solid[i / 2] {
+                subsystem_terms(&positions[i], &kinematics[i], &wrenches[i].bodies, &mut assembly.terms[i]);
+            }
+        }
+        for a in 0..2 {
+            if assembly.solid[a] {
+                let on_axle = [&wrenches[2 * a].bodies, &wrenches[2 * a + 1].bodies];
+                axle_terms(&axles[a], on_axle, &chassis.g, &mut assembly.axle_terms[a]);
+            }
         }
     }
+}
+
+/// A solid axle's terms (§4.2 with one body, docs/physics.md §4.6a): M̂ of the axle body, the wrench on it
+/// (its gravity and velocity terms, and what its wheels' corners put on their carrier, which is the axle:
+/// springs, dampers, tires, brakes, the wheels' gyroscopic moments), 𝔅 and 𝔇 from the velocity stage, Φ_q
+/// and the factored Φ_v from the positions.
+#[inline(never)] // not on an independent suspension's path
+fn axle_terms(work: &AxleWork, wheels: [&[Vector6<f64>; 3]; 2], g: &V3, terms: &mut AxleTerms) {
+    let (w, y) = (ang(&work.velocity), work.velocity);
+    let mut q = body_force(work.body_mass, &work.com, &work.inertia, &w, &point_velocity(&y, &work.com), g);
+    for bodies in wheels {
+        q += bodies[0] + bodies[1] + bodies[2];
+    }
+    let mh = mass_hat(work.body_mass, &work.com, &work.inertia);
+    let mh_b = mh * work.b;
+    terms.m_qq = work.b.tr_mul(&mh_b);
+    terms.m_q0 = mh_b.transpose();
+    terms.m_00 = mh;
+    let p = q - mh * work.rate;
+    terms.p_q = work.b.tr_mul(&p);
+    terms.p_0 = p;
+    let pos = &work.positions;
+    terms.phi_q = pos.phi_q;
+    terms.phi_v_solved = pos.lu_v.map(|lu| PhiVSolved { lu, phi_v_inv_phi_u: -pos.dv_du });
 }
 
 /// One corner's effective terms from its positions, kinematics and body wrenches [Q_L, Q_K, Q_U].

@@ -34,6 +34,13 @@ impl Vehicle {
         dxdt: &mut [f64],
     ) -> Result<[f64; 4], ModelError> {
         run.layout().check_lengths(x, dxdt)?;
+        // A solid axle's wheel state moves the axle and so both its wheels: a whole evaluation, on a copy of
+        // the workspace (left as it was).
+        if self.solid_axles[i / 2].is_some() {
+            let mut scratch = ws.clone();
+            self.derivative(run, x, inputs, &mut scratch, dxdt)?;
+            return Ok(scratch.diagnostics.penetration);
+        }
         // A bar on corner i's axle carries its θ_L and θ̇_L to the partner's θ_L: the whole axle again.
         let axle = i / 2;
         let with_bar = self.antiroll_bars[axle].is_some();
