@@ -76,6 +76,28 @@ fn differenced_rates(c: &Corner, u: f64, warm: [f64; 4], material: &V3) -> ([f64
     (std::array::from_fn(|i| (fp[i] - fm[i]) / dz), (mp - mm) / dz)
 }
 
+/// `differenced_rates` for the left wheel of solid axle `a` at `travel`: the rates per unit of parallel travel
+/// from positions with both wheel centres Δz = ±5e-6 m off (`kc::axle_at_travel`), and the left contact
+/// point's material velocity under equal and opposite travel (the motion the roll centre is taken along).
+fn solid_axle_differenced_rates(v: &Vehicle, a: usize, travel: f64, ground: f64) -> ([f64; 4], V3, V3) {
+    let (c, solid) = (&v.corners[2 * a], v.solid_axles[a].as_ref().unwrap());
+    let h = 5e-6;
+    let (_, pos, wheels) = kc::axle_at_travel(v, a, [travel, travel], None).unwrap();
+    // The contact point at this travel (the pose's; the direction given does not move it) as a point of the
+    // axle, followed through the differenced positions.
+    let contact = kc::axle_wheel_pose(c, &wheels[0], solid, &pos, [1.0, 0.0], ground).contact;
+    let material = material_point(c, &wheels[0], &contact);
+    let at = |t: [f64; 2]| {
+        let (_, _, w) = kc::axle_at_travel(v, a, t, None).unwrap();
+        let p = &w[0];
+        let length = |m: &rt_vehicle::model::suspension::LineMount| (c.mount_point(p, m) - m.chassis).norm();
+        ([c.camber(p), c.steer_angle(p), length(&c.spring), length(&c.shock)], c.on_carrier(p, &material))
+    };
+    let ((fp, _), (fm, _)) = (at([travel + h, travel + h]), at([travel - h, travel - h]));
+    let ((_, mp), (_, mm)) = (at([travel + h, travel - h]), at([travel - h, travel + h]));
+    (std::array::from_fn(|i| (fp[i] - fm[i]) / (2.0 * h)), (mp - mm) / (2.0 * h), contact)
+}
+
 /// The carrier's point that is at `x` at these positions, in design coordinates.
 fn material_point(c: &Corner, pos: &CornerPositions, x: &V3) -> V3 {
     c.b0 + pos.r_k.transpose() * (x - pos.b)
@@ -98,11 +120,16 @@ fn report_rates_match_central_differences_of_solved_positions() {
             let y_mid = 0.5 * (v.corners[2 * a].w0.y + v.corners[2 * a + 1].w0.y);
             for travel in [-0.08, -0.04, 0.0, 0.05, 0.1] {
                 let row = axle.travel.iter().find(|row| (row.travel - travel).abs() < 1e-9).unwrap();
-                let pos = kc::wheel_at_travel(c, travel, 0.0, None).unwrap();
                 let ground = c.w0.z - radius + travel;
-                let contact = kc::wheel_pose(c, &pos, ground, kc::Along::LowerArm).contact;
-                let warm = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
-                let (fd, v_contact) = differenced_rates(c, pos.q[0], warm, &material_point(c, &pos, &contact));
+                let (fd, v_contact, contact) = if v.solid_axles[a].is_some() {
+                    solid_axle_differenced_rates(&v, a, travel, ground)
+                } else {
+                    let pos = kc::wheel_at_travel(c, travel, 0.0, None).unwrap();
+                    let contact = kc::wheel_pose(c, &pos, ground, kc::Along::LowerArm).contact;
+                    let warm = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
+                    let (fd, v_contact) = differenced_rates(c, pos.q[0], warm, &material_point(c, &pos, &contact));
+                    (fd, v_contact, contact)
+                };
                 let rates = [row.camber_gain, row.bump_steer, -row.spring_ratio, -row.damper_ratio];
                 for (i, what) in ["camber gain", "bump steer", "spring ratio", "damper ratio"].iter().enumerate() {
                     let err = (fd[i] - rates[i]).abs();
@@ -300,9 +327,14 @@ fn every_shipped_vehicle_has_a_report_over_the_default_sweeps() {
             assert!(axle.travel_notes.is_empty(), "{name} {}: {:?}", axle.name, axle.travel_notes);
             assert_eq!(axle.travel.len(), 81, "{name} {}", axle.name);
             let f = &axle.figures;
-            for x in [f.caster, f.kingpin_inclination, f.scrub_radius, f.trail, f.roll_centre_height] {
-                assert!(x.is_finite(), "{name}");
+            let kingpin = [f.caster, f.kingpin_inclination, f.scrub_radius, f.trail];
+            if axle.template.is_solid_axle() {
+                // A solid axle has no kingpin: its figures are not defined (the report prints –).
+                assert!(kingpin.iter().all(|x| x.is_nan()), "{name} {}: {kingpin:?}", axle.name);
+            } else {
+                assert!(kingpin.iter().all(|x| x.is_finite()), "{name} {}: {kingpin:?}", axle.name);
             }
+            assert!(f.roll_centre_height.is_finite(), "{name}");
         }
         assert_eq!(r.steering.rows.len(), 81);
         println!(

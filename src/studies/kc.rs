@@ -35,8 +35,9 @@
 
 use crate::error::{Cause, ModelError};
 use crate::math::V3;
-use crate::model::formats::params::{ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
+use crate::model::formats::params::{Axle, ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
 use crate::model::suspension::forces::spring_force;
+use crate::model::suspension::solid_axle::{AxlePositions, SolidAxle};
 use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
 use crate::model::vehicle::equilibrium::retune_ride_height;
 use crate::model::vehicle::{Options, Vehicle};
@@ -88,6 +89,14 @@ pub enum Along {
     Steering,
 }
 
+/// How a corner's bodies move along one coordinate, per unit of it (chassis fixed): the lower arm turning at
+/// `w_l` about its hinge, the carrier at `w_k` with its point b moving at `v_b`.
+struct CornerMotion {
+    w_l: V3,
+    w_k: V3,
+    v_b: V3,
+}
+
 /// `c` at `pos`, with the ground plane at height `ground_z`.
 pub fn wheel_pose(c: &Corner, pos: &CornerPositions, ground_z: f64, along: Along) -> WheelPose {
     let (du, ds) = match along {
@@ -97,6 +106,28 @@ pub fn wheel_pose(c: &Corner, pos: &CornerPositions, ground_z: f64, along: Along
     let qd = c.velocities(pos, du, ds);
     let (w_l, _, w_k) = c.relative_angular_velocities(pos, &qd);
     let v_b = w_l.cross(&(pos.b - c.p_l));
+    pose_moving(c, pos, ground_z, &CornerMotion { w_l, w_k, v_b })
+}
+
+/// A wheel of solid axle `solid` at the axle's positions `axle_pos` (its corner positions `pos`), moving
+/// along `direction` in (heave, roll), with the ground plane at height `ground_z`.
+pub fn axle_wheel_pose(
+    c: &Corner,
+    pos: &CornerPositions,
+    solid: &SolidAxle,
+    axle_pos: &AxlePositions,
+    direction: [f64; 2],
+    ground_z: f64,
+) -> WheelPose {
+    let qd = solid.linkage.velocities(axle_pos, direction);
+    let w_k = solid.linkage.angular_velocity(axle_pos, &qd);
+    let v_b = solid.linkage.point_velocity(axle_pos, &qd, &solid.linkage.centre);
+    pose_moving(c, pos, ground_z, &CornerMotion { w_l: V3::zeros(), w_k, v_b })
+}
+
+/// The wheel pose of `c` at `pos` whose bodies move by `m`.
+fn pose_moving(c: &Corner, pos: &CornerPositions, ground_z: f64, m: &CornerMotion) -> WheelPose {
+    let CornerMotion { w_l, w_k, v_b } = *m;
     let on_carrier = |x: &V3| v_b + w_k.cross(&(x - pos.b));
     let centre = c.on_carrier(pos, &c.w0);
     let axle = c.axle_direction(pos);
@@ -139,6 +170,51 @@ pub fn wheel_pose(c: &Corner, pos: &CornerPositions, ground_z: f64, along: Along
         d_spring_length,
         d_damper_length,
     }
+}
+
+/// A solid axle's positions with its left and right wheel centres `travel` = [z_left, z_right] above their
+/// design heights (chassis fixed): Newton on (heave, roll) with the exact 2×2 Jacobian of the two heights,
+/// from `start` (a nearby solution's (heave, roll)) or the design position. Returns (heave, roll), the
+/// axle's positions and its wheels' corner positions.
+pub fn axle_at_travel(
+    v: &Vehicle,
+    axle: usize,
+    travel: [f64; 2],
+    start: Option<[f64; 2]>,
+) -> Result<([f64; 2], AxlePositions, [CornerPositions; 2]), ModelError> {
+    let beyond = |why: String| {
+        ModelError::new(
+            Cause::Kinematics,
+            format!("travel {:+.4} m / {:+.4} m is beyond what the linkage allows{why}", travel[0], travel[1]),
+        )
+    };
+    let solid = v.solid_axles[axle].as_ref().ok_or_else(|| beyond(" (not a solid axle)".into()))?;
+    let corners = [&v.corners[2 * axle], &v.corners[2 * axle + 1]];
+    let mut u = start.unwrap_or([0.0; 2]);
+    let mut warm = [0.0; 4];
+    for _ in 0..30 {
+        let pos = solid.linkage.solve_positions(u, &warm).map_err(|e| beyond(format!(" ({e})")))?;
+        let wheels = [0, 1].map(|_| {
+            let mut w = CornerPositions::default();
+            solid.place_wheel(&pos, &mut w);
+            w
+        });
+        let f = [0, 1].map(|k| corners[k].on_carrier(&wheels[k], &corners[k].w0).z - corners[k].w0.z - travel[k]);
+        if f[0].abs().max(f[1].abs()) <= 1e-12 {
+            return Ok((u, pos, wheels));
+        }
+        let rates = [[1.0, 0.0], [0.0, 1.0]]
+            .map(|d| [0, 1].map(|k| axle_wheel_pose(corners[k], &wheels[k], solid, &pos, d, 0.0).d_centre.z));
+        // J = ∂(z_l, z_r)/∂(heave, roll): columns `rates[0]`, `rates[1]`.
+        let det = rates[0][0] * rates[1][1] - rates[1][0] * rates[0][1];
+        if !(det.abs() > 1e-6) {
+            break;
+        }
+        u[0] -= (rates[1][1] * f[0] - rates[1][0] * f[1]) / det;
+        u[1] -= (-rates[0][1] * f[0] + rates[0][0] * f[1]) / det;
+        warm = [pos.q[2], pos.q[3], pos.q[4], pos.q[5]];
+    }
+    Err(beyond(String::new()))
 }
 
 /// Positions with the wheel centre `travel` above its design height (chassis fixed, steering coordinate
@@ -287,6 +363,9 @@ pub const ROLL_TRAVEL: f64 = 5e-4;
 /// The roll moments [springs, anti-roll bar] (N·m) of axle `axle` (0 front, 1 rear) with the left wheel
 /// centre `z` above design and the right one `z` below, chassis fixed, steering centred.
 pub fn roll_moments(v: &Vehicle, axle: usize, z: f64) -> Result<[f64; 2], ModelError> {
+    if v.solid_axles[axle].is_some() {
+        return Ok([solid_roll_moment(v, axle, z)?, 0.0]);
+    }
     let (l, r) = (2 * axle, 2 * axle + 1);
     let corners = [&v.corners[l], &v.corners[r]];
     let pos = [wheel_at_travel(corners[0], z, 0.0, None)?, wheel_at_travel(corners[1], -z, 0.0, None)?];
@@ -311,6 +390,32 @@ pub fn roll_moments(v: &Vehicle, axle: usize, z: f64) -> Result<[f64; 2], ModelE
     };
     let moment = |q: [f64; 2]| q[0] * lever[0] + q[1] * lever[1];
     Ok([moment(spring), moment(bar)])
+}
+
+/// `roll_moments`' springs for a solid axle: the wheels' vertical forces F that balance the springs along
+/// both of the axle's coordinates (virtual work: Σ_s F_s ∂z_s/∂u_d = −Q_d, Q_d the springs' generalized force
+/// along heave and along roll), and their moment about the axle's centre plane.
+fn solid_roll_moment(v: &Vehicle, axle: usize, z: f64) -> Result<f64, ModelError> {
+    let solid = v.solid_axles[axle].as_ref().expect("called for a solid axle");
+    let (l, r) = (2 * axle, 2 * axle + 1);
+    let corners = [&v.corners[l], &v.corners[r]];
+    let (_, pos, wheels) = axle_at_travel(v, axle, [z, -z], None)?;
+    let y_mid = 0.5 * (corners[0].w0.y + corners[1].w0.y);
+    let (mut q, mut dz, mut arm) = ([0.0; 2], [[0.0; 2]; 2], [0.0; 2]);
+    for (d, direction) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
+        for s in 0..2 {
+            let (c, f) = (corners[s], &v.corner_forces[l + s]);
+            let pose = axle_wheel_pose(c, &wheels[s], solid, &pos, direction, 0.0);
+            let push = spring_force(&f.spring, f.spring_free_length, Some(&v.stops), pose.spring_length);
+            q[d] += push * pose.d_spring_length;
+            dz[d][s] = pose.d_centre.z;
+            arm[s] = pose.centre.y - y_mid;
+        }
+    }
+    let det = dz[0][0] * dz[1][1] - dz[0][1] * dz[1][0];
+    let f_l = (-q[0] * dz[1][1] + q[1] * dz[0][1]) / det;
+    let f_r = (-q[1] * dz[0][0] + q[0] * dz[1][0]) / det;
+    Ok(f_l * arm[0] + f_r * arm[1])
 }
 
 /// `RollStiffness` of axle `axle` by the central difference over ±`ROLL_TRAVEL`.
@@ -401,6 +506,9 @@ pub fn roll_centre_height(contact: &V3, velocity: &V3, y_mid: f64) -> f64 {
 
 fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<AxleKc, ModelError> {
     let index = if name == "front" { 0 } else { 1 };
+    if v.solid_axles[index].is_some() {
+        return solid_axle_kc(name, data, v, options);
+    }
     let corners = [&v.corners[2 * index], &v.corners[2 * index + 1]];
     let axle = [&data.front, &data.rear][index];
     let radius = data.tire.unloaded_radius_m;
@@ -412,49 +520,161 @@ fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOpti
         let ground = left.w0.z - radius + travel;
         let l = wheel_pose(left, pl, ground, Along::LowerArm);
         let r = wheel_pose(right, pr, ground, Along::LowerArm);
-        let per_z = 1.0 / l.d_centre.z;
         let rc_l = roll_centre_height(&l.contact, &l.d_contact, y_mid);
         let rc_r = roll_centre_height(&r.contact, &r.d_contact, y_mid);
-        TravelRow {
-            travel,
-            camber: [l.camber, r.camber],
-            steer: [l.steer, r.steer],
-            track_change: (l.contact.y - r.contact.y) - track0,
-            wheel_dx: l.centre.x - left.w0.x,
-            wheel_dy: l.centre.y - left.w0.y,
-            spring_length: l.spring_length,
-            damper_length: l.damper_length,
-            camber_gain: l.d_camber * per_z,
-            bump_steer: l.d_steer * per_z,
-            spring_ratio: -l.d_spring_length * per_z,
-            damper_ratio: -l.d_damper_length * per_z,
-            contact_lateral_rate: l.d_contact.y / l.d_contact.z,
-            roll_centre_height: 0.5 * (rc_l + rc_r),
-        }
+        travel_row(travel, left, [&l, &r], track0, 0.5 * (rc_l + rc_r))
     };
-    // Outward from design in each direction, each point warm-started from the last; a branch stops where
-    // the linkage cannot reach.
+    let (travel, notes) = sweep(name, options, |travel, last: Option<&[CornerPositions; 2]>| {
+        let pl = wheel_at_travel(left, travel, 0.0, last.map(|p| &p[0]))?;
+        let pr = wheel_at_travel(right, travel, 0.0, last.map(|p| &p[1]))?;
+        Ok((row(travel, &pl, &pr), [pl, pr]))
+    })?;
+    let design = travel.iter().find(|r| r.travel == 0.0).copied().expect("travel 0 is a point");
+    let figures = StaticFigures {
+        caster: design_l.caster,
+        kingpin_inclination: design_l.kingpin_inclination,
+        scrub_radius: design_l.scrub_radius,
+        trail: design_l.trail,
+        camber: design_l.pose.camber,
+        steer: design_l.pose.steer,
+        wheel_dx_rate: design_l.pose.d_centre.x / design_l.pose.d_centre.z,
+        track: track0,
+        tie_rod_length: left.tie_length,
+        ..design_figures(&design, &travel, axle, roll_stiffness(v, index)?)
+    };
+    Ok(AxleKc {
+        name,
+        template: axle.template,
+        steered: axle.steered,
+        figures,
+        travel,
+        travel_notes: notes,
+        reference: axle.reference_kinematics.clone(),
+    })
+}
+
+/// A solid axle's K&C: parallel travel moves both wheel centres up alike, and the rates are taken along
+/// that motion in (heave, roll) (`axle_at_travel`'s Jacobian, solved for equal travel); the roll centre
+/// along the opposite motion (equal and opposite travel: the axle rolls about it). The axle has no
+/// kingpin: caster, kingpin inclination, scrub radius and trail are not defined (shown as –).
+fn solid_axle_kc(
+    name: &'static str,
+    data: &VehicleData,
+    v: &Vehicle,
+    options: &KcOptions,
+) -> Result<AxleKc, ModelError> {
+    let index = if name == "front" { 0 } else { 1 };
+    let solid = v.solid_axles[index].as_ref().expect("called for a solid axle");
+    let [left, right] = [&v.corners[2 * index], &v.corners[2 * index + 1]];
+    let axle = [&data.front, &data.rear][index];
+    let radius = data.tire.unloaded_radius_m;
+    let y_mid = 0.5 * (left.w0.y + right.w0.y);
+    // The directions in (heave, roll) that move the wheel centres by (1, 1) and (1, −1) per unit.
+    let directions = |pos: &AxlePositions, wheels: &[CornerPositions; 2]| {
+        let dz = [[1.0, 0.0], [0.0, 1.0]].map(|d| {
+            [
+                axle_wheel_pose(left, &wheels[0], solid, pos, d, 0.0),
+                axle_wheel_pose(right, &wheels[1], solid, pos, d, 0.0),
+            ]
+            .map(|p| p.d_centre.z)
+        });
+        let det = dz[0][0] * dz[1][1] - dz[1][0] * dz[0][1];
+        let along =
+            |t: [f64; 2]| [(dz[1][1] * t[0] - dz[1][0] * t[1]) / det, (-dz[0][1] * t[0] + dz[0][0] * t[1]) / det];
+        (along([1.0, 1.0]), along([1.0, -1.0]))
+    };
+    let mut track0 = f64::NAN;
+    let mut row = |travel: f64, u: [f64; 2]| -> Result<(TravelRow, [f64; 2]), ModelError> {
+        let (u, pos, wheels) = axle_at_travel(v, index, [travel, travel], Some(u))?;
+        let (parallel, opposite) = directions(&pos, &wheels);
+        let ground = left.w0.z - radius + travel;
+        let pose = |c: &Corner, w: &CornerPositions, d: [f64; 2]| axle_wheel_pose(c, w, solid, &pos, d, ground);
+        let (l, r) = (pose(left, &wheels[0], parallel), pose(right, &wheels[1], parallel));
+        if travel == 0.0 {
+            track0 = l.contact.y - r.contact.y;
+        }
+        let (lr, rr) = (pose(left, &wheels[0], opposite), pose(right, &wheels[1], opposite));
+        let rc = 0.5
+            * (roll_centre_height(&lr.contact, &lr.d_contact, y_mid)
+                + roll_centre_height(&rr.contact, &rr.d_contact, y_mid));
+        Ok((travel_row(travel, left, [&l, &r], track0, rc), u))
+    };
+    // The design point first: the track every row's change is measured from.
+    row(0.0, [0.0; 2])?;
+    let (travel, notes) =
+        sweep(name, options, |travel, last: Option<&[f64; 2]>| row(travel, last.copied().unwrap_or([0.0; 2])))?;
+    let design = travel.iter().find(|r| r.travel == 0.0).copied().expect("travel 0 is a point");
+    let (_, pos, wheels) = axle_at_travel(v, index, [0.0, 0.0], None)?;
+    let (parallel, _) = directions(&pos, &wheels);
+    let at_design = axle_wheel_pose(left, &wheels[0], solid, &pos, parallel, left.w0.z - radius);
+    let figures = StaticFigures {
+        caster: f64::NAN,
+        kingpin_inclination: f64::NAN,
+        scrub_radius: f64::NAN,
+        trail: f64::NAN,
+        camber: at_design.camber,
+        steer: at_design.steer,
+        wheel_dx_rate: at_design.d_centre.x / at_design.d_centre.z,
+        track: track0,
+        tie_rod_length: f64::NAN,
+        ..design_figures(&design, &travel, axle, roll_stiffness(v, index)?)
+    };
+    Ok(AxleKc {
+        name,
+        template: axle.template,
+        steered: axle.steered,
+        figures,
+        travel,
+        travel_notes: notes,
+        reference: axle.reference_kinematics.clone(),
+    })
+}
+
+/// One travel row from the two wheels' poses (rates per unit of the motion swept) and the roll centre.
+fn travel_row(travel: f64, left: &Corner, [l, r]: [&WheelPose; 2], track0: f64, roll_centre_height: f64) -> TravelRow {
+    let per_z = 1.0 / l.d_centre.z;
+    TravelRow {
+        travel,
+        camber: [l.camber, r.camber],
+        steer: [l.steer, r.steer],
+        track_change: (l.contact.y - r.contact.y) - track0,
+        wheel_dx: l.centre.x - left.w0.x,
+        wheel_dy: l.centre.y - left.w0.y,
+        spring_length: l.spring_length,
+        damper_length: l.damper_length,
+        camber_gain: l.d_camber * per_z,
+        bump_steer: l.d_steer * per_z,
+        spring_ratio: -l.d_spring_length * per_z,
+        damper_ratio: -l.d_damper_length * per_z,
+        contact_lateral_rate: l.d_contact.y / l.d_contact.z,
+        roll_centre_height,
+    }
+}
+
+/// The travel sweep: outward from design in each direction, each point from the last one's solution (`W`);
+/// a branch stops where the linkage cannot reach (a note says where and why).
+fn sweep<W>(
+    name: &str,
+    options: &KcOptions,
+    mut point: impl FnMut(f64, Option<&W>) -> Result<(TravelRow, W), ModelError>,
+) -> Result<(Vec<TravelRow>, Vec<String>), ModelError> {
     let inc = options.travel_increment;
     let mut notes = Vec::new();
     let mut branches: [Vec<TravelRow>; 2] = [Vec::new(), Vec::new()];
     for (b, (sign, end)) in [(-1.0, options.travel_from), (1.0, options.travel_to)].into_iter().enumerate() {
-        let mut last: [Option<CornerPositions>; 2] = [None, None];
+        let mut last: Option<W> = None;
         let mut k = if b == 0 { 0 } else { 1 };
         loop {
             let travel = sign * k as f64 * inc;
             if travel.abs() > end.abs() + 1e-9 * inc {
                 break;
             }
-            let solved = (
-                wheel_at_travel(left, travel, 0.0, last[0].as_ref()),
-                wheel_at_travel(right, travel, 0.0, last[1].as_ref()),
-            );
-            match solved {
-                (Ok(pl), Ok(pr)) => {
-                    branches[b].push(row(travel, &pl, &pr));
-                    last = [Some(pl), Some(pr)];
+            match point(travel, last.as_ref()) {
+                Ok((row, solved)) => {
+                    branches[b].push(row);
+                    last = Some(solved);
                 }
-                (Err(e), _) | (_, Err(e)) => {
+                Err(e) => {
                     notes.push(format!("the sweep stops at {:+.4} m: {e}", sign * (k as f64 - 1.0) * inc));
                     break;
                 }
@@ -468,43 +688,44 @@ fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOpti
     }
     travel.reverse();
     travel.extend(up);
-    let design = travel.iter().find(|r| r.travel == 0.0).copied().expect("travel 0 is a point");
+    Ok((travel, notes))
+}
+
+/// The figures read off the sweep at design (the slopes, lengths and stops), with the roll stiffness; the
+/// design geometry's own fields are the caller's.
+fn design_figures(
+    design: &TravelRow,
+    travel: &[TravelRow],
+    axle: &Axle,
+    roll_stiffness: RollStiffness,
+) -> StaticFigures {
     let crossing = |target: f64| {
         travel.windows(2).find_map(|w| {
             let (a, b) = (w[0].spring_length - target, w[1].spring_length - target);
             (a * b <= 0.0 && a != b).then(|| w[0].travel + (w[1].travel - w[0].travel) * a / (a - b))
         })
     };
-    let figures = StaticFigures {
-        caster: design_l.caster,
-        kingpin_inclination: design_l.kingpin_inclination,
-        scrub_radius: design_l.scrub_radius,
-        trail: design_l.trail,
-        camber: design_l.pose.camber,
-        steer: design_l.pose.steer,
+    StaticFigures {
+        caster: 0.0,
+        kingpin_inclination: 0.0,
+        scrub_radius: 0.0,
+        trail: 0.0,
+        camber: 0.0,
+        steer: 0.0,
         camber_gain: design.camber_gain,
         bump_steer: design.bump_steer,
         spring_ratio: design.spring_ratio,
         damper_ratio: design.damper_ratio,
         spring_length: design.spring_length,
         damper_length: design.damper_length,
-        wheel_dx_rate: design_l.pose.d_centre.x / design_l.pose.d_centre.z,
+        wheel_dx_rate: 0.0,
         roll_centre_height: design.roll_centre_height,
-        track: track0,
-        tie_rod_length: left.tie_length,
+        track: 0.0,
+        tie_rod_length: 0.0,
         bump_stop_travel: crossing(axle.spring.stop_min_length_m),
         rebound_stop_travel: crossing(axle.spring.stop_max_length_m),
-        roll_stiffness: roll_stiffness(v, index)?,
-    };
-    Ok(AxleKc {
-        name,
-        template: axle.template,
-        steered: axle.steered,
-        figures,
-        travel,
-        travel_notes: notes,
-        reference: axle.reference_kinematics.clone(),
-    })
+        roll_stiffness,
+    }
 }
 
 fn steering_kc(data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<SteeringKc, ModelError> {
@@ -671,8 +892,9 @@ impl KcReport {
     /// The report in Markdown. `command` is the command that wrote it; `plots` the command that made the
     /// figures, or `Err(note)` where they were not made (the note says how to make them).
     pub fn markdown(&self, files: &ReportFiles, command: &str, plots: Result<&str, &str>) -> String {
-        let deg = |x: f64| format!("{:.3}", x.to_degrees());
-        let mm = |x: f64| format!("{:.1}", x * 1e3);
+        // Not defined (NaN: a solid axle's kingpin figures): –.
+        let deg = |x: f64| if x.is_nan() { "–".into() } else { format!("{:.3}", x.to_degrees()) };
+        let mm = |x: f64| if x.is_nan() { "–".into() } else { format!("{:.1}", x * 1e3) };
         let nm_per_deg = |x: f64| format!("{:.1}", x.to_radians());
         let (_, ratio_unit) = input_column(self.steering.input);
         let mut md = format!("# K&C report: {}\n\n", self.vehicle);
@@ -718,6 +940,14 @@ impl KcReport {
         md += "- Steering axis: through the ball joints (double wishbone), the lower ball joint and the strut's top \
                mount (MacPherson), or the kingpin (single wishbone: the arm-fixed axis through LCA_U that is \
                vertical at design). On an unsteered axle it is the upright's axis all the same.\n";
+        if self.axles.iter().any(|a| a.template.is_solid_axle()) {
+            md += "- A solid axle (solid_three_link) carries both wheels: parallel travel is the motion of its heave and \
+                   roll that lifts both wheel centres alike, and its rates are taken along that motion; its roll \
+                   centre is the front-view instant centre of the axle under equal and opposite travel (the \
+                   formula below, with the contact point's velocity in that motion); its roll stiffness's forces \
+                   balance the springs along both of its coordinates. It has no kingpin: caster, kingpin \
+                   inclination, scrub radius and trail are not defined (–).\n";
+        }
         md += "- Slopes (gains, motion ratios, roll centre) are exact rates of the linkage (its velocity analysis), \
                not differences; `tests/kc.rs` checks them against central differences of solved positions.\n";
         md += "- Roll centre (kinematic, front view): the force line of a wheel runs through C perpendicular to the \

@@ -24,7 +24,8 @@ pub struct RigidBody {
 
 impl RigidBody {
     /// No body: what a solid axle has for its lower arm and upright (the serde default of those fields).
-    pub const NONE: RigidBody = RigidBody { mass_kg: 0.0, inertia_moments_kg_m2: [0.0; 3], inertia_products_kg_m2: [0.0; 3] };
+    pub const NONE: RigidBody =
+        RigidBody { mass_kg: 0.0, inertia_moments_kg_m2: [0.0; 3], inertia_products_kg_m2: [0.0; 3] };
 
     fn none() -> RigidBody {
         RigidBody::NONE
@@ -403,7 +404,15 @@ pub const SINGLE_WISHBONE_HARDPOINTS: [&str; 12] = [
 /// y = 0), `LINK_C` and `LINK_A` the longitudinal link's chassis and axle points, the spring's and the
 /// damper's ends on the chassis (`_C`) and on the axle (`_A`), and the wheel centre `SPINDLE`.
 pub const SOLID_THREE_LINK_HARDPOINTS: [&str; 10] = [
-    "SPINDLE", "AXLE_CM", "TRIANGLE_C", "TRIANGLE_A", "LINK_C", "LINK_A", "SHOCK_C", "SHOCK_A", "SPRING_C",
+    "SPINDLE",
+    "AXLE_CM",
+    "TRIANGLE_C",
+    "TRIANGLE_A",
+    "LINK_C",
+    "LINK_A",
+    "SHOCK_C",
+    "SHOCK_A",
+    "SPRING_C",
     "SPRING_A",
 ];
 
@@ -776,7 +785,8 @@ fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
     if axle.static_camber_deg != 0.0 || axle.static_toe_deg != 0.0 {
         return Err(err(format!("{name}.static_camber_deg"), format!("a {template} takes no static camber or toe")));
     }
-    let tube = axle.axle_tube.as_ref().ok_or_else(|| err(format!("{name}.axle_tube"), "missing: a solid axle has one"))?;
+    let tube =
+        axle.axle_tube.as_ref().ok_or_else(|| err(format!("{name}.axle_tube"), "missing: a solid axle has one"))?;
     for (body, b) in [("axle_tube", tube), ("spindle", &axle.spindle)] {
         positive(&format!("{name}.{body}.mass_kg"), b.mass_kg)?;
         pos_def(&format!("{name}.{body}.inertia"), b)?;

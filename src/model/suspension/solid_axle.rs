@@ -24,8 +24,8 @@
 //! no mass for them. What moves is the axle tube with both spindles.
 
 use super::{
-    carrier_inertia, BodyInertia, Closure, Corner, Hardpoints, LineMount, MountBody, Side, MAX_NEWTON_ITERATIONS,
-    POSITION_TOLERANCE,
+    carrier_inertia, BodyInertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side,
+    MAX_NEWTON_ITERATIONS, POSITION_TOLERANCE,
 };
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
@@ -84,6 +84,18 @@ impl SolidAxle {
             parts.push(carrier_inertia(data, axle, points.side, w0, w0).0);
         }
         Ok(SolidAxle { linkage, body: BodyInertia::combined(&parts) })
+    }
+}
+
+impl SolidAxle {
+    /// A wheel's corner positions at the axle's positions `pos` (its carrier is the axle: the point b is the
+    /// axle's reference point, r_k its rotation; no lower or upper arm turns).
+    pub fn place_wheel(&self, pos: &AxlePositions, out: &mut CornerPositions) {
+        out.b = self.linkage.point(pos, &self.linkage.centre);
+        out.r_k = pos.rotation;
+        out.r_l = M3::identity();
+        out.r_u = M3::identity();
+        out.residual = pos.residual;
     }
 }
 

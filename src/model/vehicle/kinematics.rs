@@ -2,10 +2,10 @@
 //! and its bodies' velocity-state kinematics (velocities). Written into `Workspace::{positions, kinematics}`.
 
 use super::{idx, AxleWork, Vehicle, WarmStart, Workspace, CORNERS};
-use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::dynamics::body::{ang, lin, wrench};
 use crate::error::{Cause, ModelError};
 use crate::math::{skew, Axes, ChassisAxes, M3, V3};
+use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::model::suspension::{CornerPositions, Vector5f};
 use nalgebra::{SMatrix, Vector6};
 
@@ -34,9 +34,10 @@ impl Vehicle {
         let (l, r) = (2 * a, 2 * a + 1);
         let u = [x[idx::U + l], x[idx::U + r]];
         let guess = cache.corners[l].predict(u[0], u[1]);
-        let pos = solid.linkage.solve_positions(u, &guess).map_err(|e| {
-            ModelError::new(Cause::MechanismRange, format!("{} axle: {e}", ["front", "rear"][a]))
-        })?;
+        let pos = solid
+            .linkage
+            .solve_positions(u, &guess)
+            .map_err(|e| ModelError::new(Cause::MechanismRange, format!("{} axle: {e}", ["front", "rear"][a])))?;
         cache.corners[l] = WarmStart {
             v: [pos.q[2], pos.q[3], pos.q[4], pos.q[5]],
             u: u[0],
@@ -44,15 +45,9 @@ impl Vehicle {
             dv_du: pos.dv_du.column(0).into_owned().into(),
             dv_ds: pos.dv_du.column(1).into_owned().into(),
         };
-        let centre = solid.linkage.point(&pos, &solid.linkage.centre);
         for (c, iterations) in [(l, pos.iterations), (r, 0)] {
-            let p = &mut cache.positions[c];
-            p.b = centre;
-            p.r_k = pos.rotation;
-            p.r_l = nalgebra::Matrix3::identity();
-            p.r_u = nalgebra::Matrix3::identity();
-            p.residual = pos.residual;
-            p.iterations = iterations;
+            solid.place_wheel(&pos, &mut cache.positions[c]);
+            cache.positions[c].iterations = iterations;
         }
         cache.axles[a].positions = pos;
         Ok(())

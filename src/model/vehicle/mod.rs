@@ -31,8 +31,8 @@ use crate::model::road::envelope::ContactModel;
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
 use crate::model::steering::{assembly::Steering, tie_rod_drive};
 use crate::model::suspension::antiroll_bar::AxleBar;
-use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::model::suspension::forces::StopCurve;
+use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::model::suspension::{BodyInertia, Corner, CornerPositions, Side};
 use crate::model::tire::{SlipModel, TireModel, TireParams};
 use nalgebra::Vector6;
@@ -242,8 +242,6 @@ pub struct AxleWork {
     /// The axle body's mass (constant; kept here beside its CM and inertia).
     pub body_mass: f64,
 }
-
-
 
 impl PartialEq for Workspace {
     fn eq(&self, other: &Self) -> bool {

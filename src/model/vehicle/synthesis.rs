@@ -116,7 +116,9 @@ pub fn accelerations(
             let corners = [a.terms[2], a.terms[3]];
             solve::<2, 1>(formulation, a, &corners, &[a.axle_terms[0]], multipliers).map(|acc| placed(acc, 2, [0]))
         }
-        [true, true] => solve::<0, 2>(formulation, a, &[], &a.axle_terms, multipliers).map(|acc| placed(acc, 0, [0, 1])),
+        [true, true] => {
+            solve::<0, 2>(formulation, a, &[], &a.axle_terms, multipliers).map(|acc| placed(acc, 0, [0, 1]))
+        }
     }
     .context("acceleration solve failed")
 }
