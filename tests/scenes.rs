@@ -212,9 +212,9 @@ fn paper_integrator_configuration_is_reported_unstable_and_the_default_is_not() 
 
 /// The Chrono imports shipped in resources/vehicles: double wishbones and MacPherson struts, each with a
 /// Pitman arm; single wishbones with a rack (Chrono's generic chassis, wheels and rack on suspension files
-/// written for the template, data/single_wishbone).
+/// written for the template, data/single_wishbone); the HMMWV with a three-link solid rear axle.
 fn imported_vehicles() -> Vec<VehicleData> {
-    ["generic_double_wishbone", "generic_macpherson", "rtv_single_wishbone"]
+    ["generic_double_wishbone", "generic_macpherson", "rtv_single_wishbone", "rtv_hmmwv_solid_rear"]
         .iter()
         .map(|name| {
             let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("resources/vehicles/{name}.json"));

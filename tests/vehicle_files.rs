@@ -1096,3 +1096,61 @@ fn a_shafts_brake_imports_its_shaft_on_the_chassis_and_a_bad_one_is_refused() {
     let e = with_shafts("brake_shafts_bad", -1.0).map(|_| ()).unwrap_err().to_string();
     assert!(e.contains("BrakeShafts.json") && e.contains("Shaft Inertia") && e.contains("zero or positive"), "{e}");
 }
+
+#[test]
+fn a_solid_axle_that_cannot_be_is_refused_by_its_cause() {
+    // Each refusal names the axle's field and why: a linkage that cannot locate the axle (the checks of
+    // `solid_axle::ThreeLinkAxle::new`), and what a solid axle does not have or cannot do (the schema's and
+    // the loader's).
+    let file = "rtv_hmmwv_solid_rear.json";
+    let point = |v: &Value, name: &str| v["rear"]["hardpoints_chassis_frame_m"][name].clone();
+    let cases: Vec<(Edit, Vec<&str>)> = vec![
+        (
+            Box::new(move |v| {
+                // the apex on the revolute axis (the chassis y axis through TRIANGLE_C's mid-point)
+                let c = point(v, "TRIANGLE_C");
+                v["rear"]["hardpoints_chassis_frame_m"]["TRIANGLE_A"] = json!([c[0], 0.0, c[2]]);
+            }),
+            vec!["rear.hardpoints_chassis_frame_m", "revolute axis"],
+        ),
+        (
+            Box::new(move |v| {
+                let c = point(v, "LINK_C");
+                v["rear"]["hardpoints_chassis_frame_m"]["LINK_A"] = c;
+            }),
+            vec!["rear.hardpoints_chassis_frame_m", "longitudinal link left has no length"],
+        ),
+        (Box::new(|v| v["rear"]["steered"] = json!(true)), vec!["rear.steered"]),
+        (
+            Box::new(|v| {
+                v["rear"]["lower_arm"] = v["front"]["lower_arm"].clone();
+            }),
+            vec!["rear.lower_arm"],
+        ),
+        (
+            Box::new(|v| {
+                v["rear"].as_object_mut().unwrap().remove("axle_tube");
+            }),
+            vec!["rear.axle_tube"],
+        ),
+        (
+            Box::new(|v| {
+                v["front"]["axle_tube"] = v["rear"]["axle_tube"].clone();
+            }),
+            vec!["front.axle_tube"],
+        ),
+        (
+            Box::new(|v| {
+                v["rear"]["hardpoints_chassis_frame_m"]["LCA_F"] = json!([0.0, 0.3, 0.0]);
+            }),
+            vec!["rear.hardpoints_chassis_frame_m", "LCA_F"],
+        ),
+        (Box::new(|v| v["rear"]["axle_tube"]["mass_kg"] = json!(-1.0)), vec!["rear.axle_tube.mass_kg"]),
+    ];
+    for (edit, needles) in cases {
+        let e = load_error(file, edit);
+        for n in &needles {
+            assert!(e.contains(n), "'{n}' not in: {e}");
+        }
+    }
+}

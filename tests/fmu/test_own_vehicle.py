@@ -23,19 +23,23 @@ def test_the_imports_are_in_the_fmu_with_chronos_licence(fmu_path):
     import zipfile
 
     names = zipfile.ZipFile(fmu_path).namelist()
-    for file in [*VEHICLES, RACK_VEHICLE[0]]:
+    for file in [*VEHICLES, *(v[0] for v in RACK_VEHICLES)]:
         assert f"resources/{file}" in names
     assert "resources/vehicles/LICENSE-chrono" in names
     assert "resources/vehicles/Generic_Pac02Tire.tir" in names  # their tir_file, beside them
 
 
-# The single-wishbone vehicle, steered by its rack (calibration name as above).
-RACK_VEHICLE = ("vehicles/rtv_single_wishbone.json", "rtv test vehicle - Single Wishbone on Generic_Pac02Tire")
+# The vehicles steered by their rack (calibration names as above): the single wishbones, and the HMMWV with a
+# three-link solid rear axle.
+RACK_VEHICLES = [
+    ("vehicles/rtv_single_wishbone.json", "rtv test vehicle - Single Wishbone on Generic_Pac02Tire"),
+    ("vehicles/rtv_hmmwv_solid_rear.json", "rtv HMMWV, rear three-link solid axle"),
+]
 
 
 @pytest.mark.parametrize(
     "file, name, steering",
-    [(f, n, "pitman_arm_angle") for f, n in sorted(VEHICLES.items())] + [(*RACK_VEHICLE, "rack_displacement")],
+    [(f, n, "pitman_arm_angle") for f, n in sorted(VEHICLES.items())] + [(*v, "rack_displacement") for v in RACK_VEHICLES],
 )
 def test_an_own_vehicle_turns_at_its_calibrated_lateral_acceleration(make, file, name, steering):
     # The J-turn at 100 km/h with the calibrated steering input (Pitman-arm angle, or rack displacement),
