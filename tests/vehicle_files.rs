@@ -1154,3 +1154,89 @@ fn a_solid_axle_that_cannot_be_is_refused_by_its_cause() {
         }
     }
 }
+
+/// A `SolidThreeLinkAxle` suspension file in Chrono's format, written for these tests (Chrono's data here has
+/// none): the keys Chrono's `SolidThreeLinkAxle::Create` reads, points in the proportions of Chrono's MAN 5t
+/// rear axle fitted to the generic vehicle's track.
+fn three_link_axle_file() -> Value {
+    json!({
+        "Name": "rtv test three-link solid axle",
+        "Type": "Suspension",
+        "Template": "SolidThreeLinkAxle",
+        "Spindle": {"Mass": 14.705, "COM": [0.0, 1.1, 0.0], "Inertia": [0.04117, 0.07352, 0.04117], "Radius": 0.1, "Width": 0.06},
+        "Axle Tube": {"Mass": 120.0, "COM": [0.0, 0.0, 0.0], "Inertia": [30.0, 2.0, 30.0], "Radius": 0.05},
+        "Triangular Link": {"Location Chassis": [-0.6, 0.35, 0.3], "Location Axle": [0.0, 0.0, 0.26]},
+        "Longitudinal Link": {"Location Chassis": [0.9, 0.42, 0.02], "Location Axle": [0.1, 0.62, -0.1]},
+        "Spring": {"Location Chassis": [0.0, 0.56, 0.38], "Location Axle": [0.0, 0.6, 0.06], "Free Length": 0.4,
+                   "Spring Coefficient": 60000.0, "Minimum Length": 0.2, "Maximum Length": 0.5},
+        "Shock": {"Location Chassis": [-0.12, 0.5, 0.43], "Location Axle": [-0.12, 0.64, -0.06], "Damping Coefficient": 6000.0},
+        "Axle": {"Inertia": 0.4}
+    })
+}
+
+/// The generic double-wishbone vehicle's copy in `name` with its rear suspension `axle` (a file written
+/// beside Chrono's as `generic/suspension/ThreeLinkAxle.json`).
+fn generic_with_solid_rear(name: &str, axle: Value) -> PathBuf {
+    let dir = chrono_copy(name);
+    std::fs::write(dir.join("generic/suspension/ThreeLinkAxle.json"), serde_json::to_string_pretty(&axle).unwrap())
+        .unwrap();
+    edit_json(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), |v| {
+        v["Axles"][1]["Suspension Input File"] = json!("generic/suspension/ThreeLinkAxle.json");
+    });
+    dir
+}
+
+#[test]
+fn a_three_link_solid_axle_imports_as_chrono_reads_it() {
+    let dir = generic_with_solid_rear("solid_axle_import", three_link_axle_file());
+    let import = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None).unwrap();
+    let rear = &import.data.rear;
+    assert_eq!(rear.template.name(), "solid_three_link");
+    // Chrono's points at the suspension's location (−1.25, 0, −0.21).
+    let p = |k: &str| rear.hardpoints_chassis_frame_m[k];
+    let near = |a: [f64; 3], b: [f64; 3]| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-12);
+    assert!(near(p("TRIANGLE_A"), [-1.25, 0.0, 0.05]), "{:?}", p("TRIANGLE_A"));
+    assert!(near(p("LINK_C"), [-0.35, 0.42, -0.19]), "{:?}", p("LINK_C"));
+    assert!(near(p("SPRING_A"), [-1.25, 0.6, -0.15]), "{:?}", p("SPRING_A"));
+    assert!(near(p("AXLE_CM"), [-1.25, 0.0, -0.21]));
+    assert_eq!(rear.axle_tube.as_ref().unwrap().mass_kg, 120.0);
+    assert_eq!(rear.spring.k1_N_per_m, Some(60000.0));
+    assert!(import.warnings.iter().any(|w| w.contains("Radius")), "{:?}", import.warnings);
+    // The loader takes it (the import ran its checks), and it stands: its static loads are its weight.
+    let summary = rt_vehicle::model::summary::summarize(&import.data).unwrap();
+    assert!(summary.fallback_reason.is_none(), "{:?}", summary.fallback_reason);
+    let weight = summary.total_mass_kg * import.data.gravity_m_s2;
+    let loads: f64 = summary.axle_load_n.iter().sum();
+    assert!(((loads - weight) / weight).abs() < 1e-6, "{loads} N against {weight} N");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_three_link_axle_file_that_cannot_be_is_refused_by_file_and_key() {
+    let cases: Vec<(Edit, Vec<&str>)> = vec![
+        (Box::new(|v| v["Triangular Link"]["Colour"] = json!(1)), vec!["Triangular Link", "Colour", "unknown key"]),
+        (
+            Box::new(|v| v["Longitudinal Link"].as_object_mut().unwrap().remove("Location Axle").map(|_| ()).unwrap()),
+            vec!["Longitudinal Link", "Location Axle"],
+        ),
+        (Box::new(|v| v["Axle Tube"]["Mass"] = json!(-5.0)), vec!["Axle Tube", "Mass"]),
+        (
+            // the apex on the triangle's revolute axis: the loader's check, named with the file
+            Box::new(|v| v["Triangular Link"]["Location Axle"] = json!([-0.6, 0.0, 0.3])),
+            vec!["revolute axis"],
+        ),
+    ];
+    for (k, (edit, needles)) in cases.into_iter().enumerate() {
+        let mut axle = three_link_axle_file();
+        edit(&mut axle);
+        let dir = generic_with_solid_rear(&format!("solid_axle_bad_{k}"), axle);
+        let e = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        for n in &needles {
+            assert!(e.contains(n), "'{n}' not in: {e}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -542,15 +542,7 @@ fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOpti
         tie_rod_length: left.tie_length,
         ..design_figures(&design, &travel, axle, roll_stiffness(v, index)?)
     };
-    Ok(AxleKc {
-        name,
-        template: axle.template,
-        steered: axle.steered,
-        figures,
-        travel,
-        travel_notes: notes,
-        reference: axle.reference_kinematics.clone(),
-    })
+    Ok(AxleKc::of(name, axle, figures, travel, notes))
 }
 
 /// A solid axle's K&C: parallel travel moves both wheel centres up alike, and the rates are taken along
@@ -619,15 +611,21 @@ fn solid_axle_kc(
         tie_rod_length: f64::NAN,
         ..design_figures(&design, &travel, axle, roll_stiffness(v, index)?)
     };
-    Ok(AxleKc {
-        name,
-        template: axle.template,
-        steered: axle.steered,
-        figures,
-        travel,
-        travel_notes: notes,
-        reference: axle.reference_kinematics.clone(),
-    })
+    Ok(AxleKc::of(name, axle, figures, travel, notes))
+}
+
+impl AxleKc {
+    fn of(name: &'static str, axle: &Axle, figures: StaticFigures, travel: Vec<TravelRow>, notes: Vec<String>) -> Self {
+        AxleKc {
+            name,
+            template: axle.template,
+            steered: axle.steered,
+            figures,
+            travel,
+            travel_notes: notes,
+            reference: axle.reference_kinematics.clone(),
+        }
+    }
 }
 
 /// One travel row from the two wheels' poses (rates per unit of the motion swept) and the roll centre.

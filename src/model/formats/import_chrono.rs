@@ -555,7 +555,7 @@ struct Wheel {
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 3] = ["DoubleWishbone", "MacPhersonStrut", "SingleWishbone"];
+const SUSPENSION_TEMPLATES: [&str; 4] = ["DoubleWishbone", "MacPhersonStrut", "SingleWishbone", "SolidThreeLinkAxle"];
 
 /// Where a single wishbone's LCA_F sits: this far ahead of its one hinge point (`Location Chassis`), on
 /// Chrono's hinge axis, the chassis x axis. The model takes the hinge as two points; any two on the axis
@@ -587,6 +587,7 @@ impl SuspensionReader<'_> {
     fn moving_key(&self) -> &'static str {
         match self.template {
             SuspensionTemplate::MacphersonStrut => "Location Upright",
+            SuspensionTemplate::SolidThreeLink => "Location Axle",
             _ => "Location Arm",
         }
     }
@@ -955,6 +956,68 @@ impl SuspensionReader<'_> {
             bumpstop_rebound_Ns_per_m: rebound,
             engagement_min_length_m: DAMPER_ENGAGEMENT_M[0],
             engagement_max_length_m: DAMPER_ENGAGEMENT_M[1],
+        })
+    }
+
+    /// A `SolidThreeLinkAxle` file, as Chrono's `SolidThreeLinkAxle::Create` reads it: the spindle, the axle
+    /// tube (its CM the hardpoint AXLE_CM), the triangle's and the longitudinal link's two points each, the
+    /// spring and the damper between the chassis and the axle, the axle shaft. The triangle and the links are
+    /// massless in the model (Chrono's reader reads no mass for them; a `Mass` given is ignored with a
+    /// warning).
+    fn three_link_axle(&mut self, steered: bool) -> Result<Axle, ImportError> {
+        let not_read = "Chrono's SolidThreeLinkAxle does not read it";
+        self.o.keys(
+            &[
+                "Name",
+                "Type",
+                "Template",
+                "Spindle",
+                "Axle Tube",
+                "Triangular Link",
+                "Longitudinal Link",
+                "Spring",
+                "Shock",
+                "Axle",
+            ],
+            &[("Output", "Chrono output settings"), ("Camber Angle (deg)", not_read), ("Toe Angle (deg)", not_read)],
+            self.warnings,
+        )?;
+        let spindle = self.spindle()?;
+        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
+        let massless =
+            "the model's triangle and links are massless (Chrono's SolidThreeLinkAxle reads no mass for them)";
+        for (key, chassis, axle) in
+            [("Triangular Link", "TRIANGLE_C", "TRIANGLE_A"), ("Longitudinal Link", "LINK_C", "LINK_A")]
+        {
+            let link = self.o.obj(key)?;
+            link.keys(
+                &["Location Chassis", "Location Axle"],
+                &[("Mass", massless), ("Inertia", massless), ("Radius", VISUAL)],
+                self.warnings,
+            )?;
+            self.put(chassis, link.point("Location Chassis")?);
+            self.put(axle, link.point("Location Axle")?);
+        }
+        let spring = self.spring()?;
+        let damper = self.damper()?;
+        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
+        Ok(Axle {
+            template: SuspensionTemplate::SolidThreeLink,
+            steered,
+            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
+            lower_arm: RigidBody::NONE,
+            upper_arm: None,
+            strut: None,
+            upright: RigidBody::NONE,
+            axle_tube: Some(tube),
+            spindle,
+            axle_shaft_spin_inertia_kg_m2,
+            spring,
+            damper,
+            reference_kinematics: None,
+            static_camber_deg: 0.0,
+            static_toe_deg: 0.0,
+            antiroll_bar: None,
         })
     }
 
@@ -1656,7 +1719,8 @@ impl Importer {
         let template = match Self::template(&o, &SUSPENSION_TEMPLATES)? {
             "DoubleWishbone" => SuspensionTemplate::DoubleWishbone,
             "MacPhersonStrut" => SuspensionTemplate::MacphersonStrut,
-            _ => SuspensionTemplate::SingleWishbone,
+            "SingleWishbone" => SuspensionTemplate::SingleWishbone,
+            _ => SuspensionTemplate::SolidThreeLink,
         };
         let mut s = SuspensionReader {
             o,
@@ -1666,6 +1730,9 @@ impl Importer {
             points: BTreeMap::new(),
             warnings: &mut self.warnings,
         };
+        if template == SuspensionTemplate::SolidThreeLink {
+            return s.three_link_axle(steered);
+        }
         let (static_camber_deg, static_toe_deg) = s.top_level()?;
         let spindle = s.spindle()?;
         let upright = s.upright()?;

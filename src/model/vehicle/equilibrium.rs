@@ -78,11 +78,14 @@ pub fn rest_state(layout: &Layout, z: f64, roll: f64, pitch: f64, u: &[f64; 4]) 
 }
 
 /// Chassis CM height at the design position with the tires deflected by a quarter of the weight each:
-/// the first guess of every solve (undeflected tires would start Newton at the lift-off kink).
+/// the first guess of every solve (undeflected tires would start Newton at the lift-off kink). Taken at the
+/// highest wheel centre, so that every tire touches: a wheel in the air at the guess has no stiffness under
+/// it, and Newton's first step from there (measured: a generic car with its rear wheel centres 26 mm above
+/// its front ones) flies off to a chassis 6 m up.
 pub fn design_height_guess(v: &Vehicle) -> f64 {
-    let front = &v.corners[0];
+    let highest = v.corners.iter().map(|c| c.w0.z).fold(f64::NEG_INFINITY, f64::max);
     let deflection = v.total_mass * v.gravity / 4.0 / v.tire.vertical_stiffness_N_per_m;
-    v.tire.unloaded_radius_m - deflection - front.w0.z
+    v.tire.unloaded_radius_m - deflection - highest
 }
 
 /// The options an initial state is solved with: the run's, on the plane road z = 0 with the point contact
