@@ -92,6 +92,11 @@ fn shipped_vehicles() -> Vec<(String, Vehicle)> {
         out.push((f.display().to_string(), Vehicle::new(&data).unwrap()));
     }
     assert!(out.len() >= 3, "the Chrono imports are shipped");
+    // A rigid axle (no shipped car has one): its wheels' mass and wrenches are the chassis's.
+    out.push((
+        "hmmwv with a rigid rear (common::hmmwv_rigid_rear)".to_string(),
+        Vehicle::new(&common::hmmwv_rigid_rear()).unwrap(),
+    ));
     out
 }
 

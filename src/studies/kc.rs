@@ -506,6 +506,12 @@ pub fn roll_centre_height(contact: &V3, velocity: &V3, y_mid: f64) -> f64 {
 
 fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<AxleKc, ModelError> {
     let index = if name == "front" { 0 } else { 1 };
+    if v.axle_kind(index) == crate::model::vehicle::AxleKind::Rigid {
+        return Err(ModelError::new(
+            Cause::Kinematics,
+            format!("{name} axle: a rigid suspension (template rigid) has no travel: it has no K&C to report"),
+        ));
+    }
     if v.solid_axles[index].is_some() {
         return solid_axle_kc(name, data, v, options);
     }

@@ -132,3 +132,26 @@ pub fn chrono_generic_copy(name: &str) -> PathBuf {
     }
     dir
 }
+
+/// The HMMWV with its rear suspension replaced by a rigid one (template `rigid`, Chrono's
+/// `RigidSuspension`): the rear spindles turn on the chassis at the double wishbones' design wheel centres.
+/// A test vehicle, written here: no shipped car has a rigid axle (Chrono's Gator does; its data is not
+/// in the repository).
+#[allow(dead_code)]
+pub fn hmmwv_rigid_rear() -> VehicleData {
+    use rt_vehicle::model::formats::params::{Damper, RigidBody, Spring, SuspensionTemplate};
+    let mut data = VehicleData::default_hmmwv();
+    data.name = "HMMWV, rigid rear (test)".into();
+    let rear = &mut data.rear;
+    let spindle = rear.hardpoints_chassis_frame_m["SPINDLE"];
+    rear.template = SuspensionTemplate::Rigid;
+    rear.hardpoints_chassis_frame_m = [("SPINDLE".to_string(), spindle)].into_iter().collect();
+    rear.lower_arm = RigidBody::NONE;
+    rear.upper_arm = None;
+    rear.upright = RigidBody::NONE;
+    rear.antiroll_bar = None;
+    rear.reference_kinematics = None;
+    rear.spring = Spring::NONE;
+    rear.damper = Damper::NONE;
+    data
+}

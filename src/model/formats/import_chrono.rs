@@ -448,7 +448,6 @@ const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("ToeBarRigidPanhardAxle", "a rigid axle with a Panhard rod and a toe bar"),
     ("PushPipeAxle", "a push-pipe axle"),
     ("ToeBarPushPipeAxle", "a push-pipe axle with a toe bar"),
-    ("RigidSuspension", "a rigid suspension (wheels on the chassis)"),
     ("RigidPinnedAxle", "a rigid pinned axle"),
     ("MultiLink", "a multi-link suspension"),
     ("SemiTrailingArm", "a semi-trailing arm"),
@@ -555,7 +554,8 @@ struct Wheel {
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 4] = ["DoubleWishbone", "MacPhersonStrut", "SingleWishbone", "SolidThreeLinkAxle"];
+const SUSPENSION_TEMPLATES: [&str; 5] =
+    ["DoubleWishbone", "MacPhersonStrut", "SingleWishbone", "SolidThreeLinkAxle", "RigidSuspension"];
 
 /// Where a single wishbone's LCA_F sits: this far ahead of its one hinge point (`Location Chassis`), on
 /// Chrono's hinge axis, the chassis x axis. The model takes the hinge as two points; any two on the axis
@@ -762,7 +762,9 @@ impl SuspensionReader<'_> {
                 let used = ["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"];
                 Ok((None, Some(self.body("Strut", &used, &[("Radius", VISUAL)], None)?)))
             }
-            SuspensionTemplate::SingleWishbone | SuspensionTemplate::SolidThreeLink => Ok((None, None)),
+            SuspensionTemplate::SingleWishbone | SuspensionTemplate::SolidThreeLink | SuspensionTemplate::Rigid => {
+                Ok((None, None))
+            }
         }
     }
 
@@ -1014,6 +1016,36 @@ impl SuspensionReader<'_> {
             axle_shaft_spin_inertia_kg_m2,
             spring,
             damper,
+            reference_kinematics: None,
+            static_camber_deg: 0.0,
+            static_toe_deg: 0.0,
+            antiroll_bar: None,
+        })
+    }
+
+    /// A `RigidSuspension` file, as Chrono's `RigidSuspension::Create` reads it: the spindle (its `COM` the
+    /// wheel centre, on the chassis) and the axle shaft. Nothing else: no spring, damper or arm.
+    fn rigid(&mut self, steered: bool) -> Result<Axle, ImportError> {
+        self.o.keys(
+            &["Name", "Type", "Template", "Spindle", "Axle"],
+            &[("Output", "Chrono output settings")],
+            self.warnings,
+        )?;
+        let spindle = self.spindle()?;
+        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
+        Ok(Axle {
+            template: SuspensionTemplate::Rigid,
+            steered,
+            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
+            lower_arm: RigidBody::NONE,
+            upper_arm: None,
+            strut: None,
+            upright: RigidBody::NONE,
+            axle_tube: None,
+            spindle,
+            axle_shaft_spin_inertia_kg_m2,
+            spring: Spring::NONE,
+            damper: Damper::NONE,
             reference_kinematics: None,
             static_camber_deg: 0.0,
             static_toe_deg: 0.0,
@@ -1720,7 +1752,8 @@ impl Importer {
             "DoubleWishbone" => SuspensionTemplate::DoubleWishbone,
             "MacPhersonStrut" => SuspensionTemplate::MacphersonStrut,
             "SingleWishbone" => SuspensionTemplate::SingleWishbone,
-            _ => SuspensionTemplate::SolidThreeLink,
+            "SolidThreeLinkAxle" => SuspensionTemplate::SolidThreeLink,
+            _ => SuspensionTemplate::Rigid,
         };
         let mut s = SuspensionReader {
             o,
@@ -1730,8 +1763,10 @@ impl Importer {
             points: BTreeMap::new(),
             warnings: &mut self.warnings,
         };
-        if template == SuspensionTemplate::SolidThreeLink {
-            return s.three_link_axle(steered);
+        match template {
+            SuspensionTemplate::SolidThreeLink => return s.three_link_axle(steered),
+            SuspensionTemplate::Rigid => return s.rigid(steered),
+            _ => {}
         }
         let (static_camber_deg, static_toe_deg) = s.top_level()?;
         let spindle = s.spindle()?;

@@ -123,6 +123,46 @@ fn is_zero(v: &f64) -> bool {
     *v == 0.0
 }
 
+impl Spring {
+    /// No spring: a rigid suspension's (free length 0 and no law, which `check_spring` refuses elsewhere).
+    pub const NONE: Spring = Spring {
+        free_length_m: 0.0,
+        k1_N_per_m: None,
+        k3_N_per_m3: None,
+        curve: None,
+        stop_min_length_m: f64::NEG_INFINITY,
+        stop_max_length_m: f64::INFINITY,
+    };
+
+    fn none() -> Spring {
+        Spring::NONE
+    }
+
+    pub fn is_none(&self) -> bool {
+        *self == Spring::NONE
+    }
+}
+
+impl Damper {
+    /// No damper: a rigid suspension's.
+    pub const NONE: Damper = Damper {
+        midstroke_compression_Ns_per_m: 0.0,
+        midstroke_rebound_Ns_per_m: 0.0,
+        bumpstop_compression_Ns_per_m: 0.0,
+        bumpstop_rebound_Ns_per_m: 0.0,
+        engagement_min_length_m: 0.0,
+        engagement_max_length_m: 0.0,
+    };
+
+    fn none() -> Damper {
+        Damper::NONE
+    }
+
+    pub fn is_none(&self) -> bool {
+        *self == Damper::NONE
+    }
+}
+
 fn no_bump_stop() -> f64 {
     f64::NEG_INFINITY
 }
@@ -181,6 +221,9 @@ pub enum SuspensionTemplate {
     /// chassis y axis, a spherical joint at the axle) and two longitudinal links; spring and damper between
     /// the chassis and the axle (Chrono's `SolidThreeLinkAxle`; not steerable).
     SolidThreeLink,
+    /// No suspension: each spindle turns on a revolute joint fixed to the chassis (Chrono's
+    /// `RigidSuspension`: a garden tractor's or a kart's rear axle). No spring, no damper; not steerable.
+    Rigid,
 }
 
 impl SuspensionTemplate {
@@ -190,6 +233,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::MacphersonStrut => "macpherson_strut",
             SuspensionTemplate::SingleWishbone => "single_wishbone",
             SuspensionTemplate::SolidThreeLink => "solid_three_link",
+            SuspensionTemplate::Rigid => "rigid",
         }
     }
 
@@ -200,12 +244,18 @@ impl SuspensionTemplate {
             SuspensionTemplate::MacphersonStrut => &MACPHERSON_HARDPOINTS,
             SuspensionTemplate::SingleWishbone => &SINGLE_WISHBONE_HARDPOINTS,
             SuspensionTemplate::SolidThreeLink => &SOLID_THREE_LINK_HARDPOINTS,
+            SuspensionTemplate::Rigid => &RIGID_HARDPOINTS,
         }
     }
 
     /// Whether one body carries both wheels (a solid axle), rather than one subsystem per wheel.
     pub fn is_solid_axle(self) -> bool {
         self == SuspensionTemplate::SolidThreeLink
+    }
+
+    /// Whether the wheels are on the chassis itself (no suspension: no coordinate, spring or damper).
+    pub fn is_rigid(self) -> bool {
+        self == SuspensionTemplate::Rigid
     }
 }
 
@@ -241,7 +291,10 @@ pub struct Axle {
     /// Inertia [Ixx, Iyy(spin), Izz] parallel to the chassis.
     pub spindle: RigidBody,
     pub axle_shaft_spin_inertia_kg_m2: f64,
+    /// Every template's but the rigid suspension's, which has none (absent).
+    #[serde(default = "Spring::none", skip_serializing_if = "Spring::is_none")]
     pub spring: Spring,
+    #[serde(default = "Damper::none", skip_serializing_if = "Damper::is_none")]
     pub damper: Damper,
     /// Published kinematic figures the model is checked against (the HMMWV's data set; optional).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -416,6 +469,10 @@ pub const SOLID_THREE_LINK_HARDPOINTS: [&str; 10] = [
     "SPRING_A",
 ];
 
+/// The hardpoint a rigid suspension must name: the wheel centre `SPINDLE` (Chrono's `RigidSuspension`
+/// reads its `Spindle.COM` as that point).
+pub const RIGID_HARDPOINTS: [&str; 1] = ["SPINDLE"];
+
 /// The hardpoints a double-wishbone axle must name.
 pub const HARDPOINTS: [&str; 16] = [
     "SPINDLE", "UPRIGHT", "UCA_F", "UCA_B", "UCA_U", "UCA_CM", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C",
@@ -564,6 +621,19 @@ impl VehicleData {
                 }
             }
         }
+        for (_, axle) in self.axles() {
+            if axle.template.is_rigid() {
+                // The spindle, wheel and tire of a rigid suspension turn on the chassis: their mass and their
+                // inertia about the transverse axes are carried (the spin axis's is the wheel's spin state's).
+                let m = axle.spindle.mass_kg + self.wheel.mass_kg + self.tire.mass_kg;
+                let i_t =
+                    axle.spindle.inertia_moments_kg_m2[0] + self.wheel.inertia_kg_m2[0] + self.tire.inertia_kg_m2[0];
+                let j = Matrix3::from_diagonal(&Vector3::new(i_t, 0.0, i_t));
+                let w = Self::point(axle, "SPINDLE");
+                out.push((m, w, j));
+                out.push((m, Vector3::new(w.x, -w.y, w.z), j));
+            }
+        }
         if let Some(p) = &self.pitman_arm {
             out.push((p.arm.mass_kg, Vector3::from(p.arm_com_m), p.arm.inertia()));
             out.push((p.link.mass_kg, Vector3::from(p.link_com_m), p.link.inertia()));
@@ -684,6 +754,17 @@ fn check_axle(name: &str, axle: &Axle) -> Result<(), DataError> {
     check_hardpoints(name, axle)?;
     check_suspension_bodies(name, axle)?;
     nonneg(&format!("{name}.axle_shaft_spin_inertia_kg_m2"), axle.axle_shaft_spin_inertia_kg_m2)?;
+    let template = axle.template.name();
+    for (element, none) in [("spring", axle.spring.is_none()), ("damper", axle.damper.is_none())] {
+        match (axle.template.is_rigid(), none) {
+            (true, false) => return Err(err(format!("{name}.{element}"), format!("a {template} has none"))),
+            (false, true) => return Err(err(format!("{name}.{element}"), format!("missing: a {template} has one"))),
+            _ => {}
+        }
+    }
+    if axle.template.is_rigid() {
+        return check_alignment(name, axle);
+    }
     check_spring(&format!("{name}.spring"), &axle.spring)?;
     check_damper(&format!("{name}.damper"), &axle.damper)?;
     if let Some(bar) = &axle.antiroll_bar {
@@ -715,7 +796,7 @@ fn check_hardpoints(name: &str, axle: &Axle) -> Result<(), DataError> {
 /// The bodies the template has (an upper arm for a double wishbone, none for a MacPherson strut; a strut
 /// body only for the latter), each with a positive mass and a positive definite inertia.
 fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
-    if axle.template.is_solid_axle() {
+    if axle.template.is_solid_axle() || axle.template.is_rigid() {
         return check_solid_axle_bodies(name, axle);
     }
     for (body, b) in [("lower_arm", &axle.lower_arm), ("upright", &axle.upright)] {
@@ -748,7 +829,7 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
                 return Err(err(format!("{name}.strut"), "a single wishbone has no strut body"));
             }
         }
-        SuspensionTemplate::SolidThreeLink => unreachable!("checked above"),
+        SuspensionTemplate::SolidThreeLink | SuspensionTemplate::Rigid => unreachable!("checked above"),
     }
     let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
     if let Some(b) = &axle.upper_arm {
@@ -767,6 +848,8 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
 /// A solid axle's bodies: the axle tube and the spindle, each with a positive mass and a positive definite
 /// inertia, and none of an independent suspension's; not steered, no anti-roll bar (the bar's arms meet
 /// the lower arms, which a solid axle has not), no static camber or toe (the spindles are on the tube).
+/// A rigid suspension's likewise, with no axle tube: its spindles turn on the chassis, parallel to its y
+/// axis (Chrono's `RigidSuspension` sets them so).
 fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
     let template = axle.template.name();
     let present = [
@@ -785,9 +868,14 @@ fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
     if axle.static_camber_deg != 0.0 || axle.static_toe_deg != 0.0 {
         return Err(err(format!("{name}.static_camber_deg"), format!("a {template} takes no static camber or toe")));
     }
-    let tube =
-        axle.axle_tube.as_ref().ok_or_else(|| err(format!("{name}.axle_tube"), "missing: a solid axle has one"))?;
-    for (body, b) in [("axle_tube", tube), ("spindle", &axle.spindle)] {
+    let mut bodies = vec![("spindle", &axle.spindle)];
+    match (&axle.axle_tube, axle.template.is_rigid()) {
+        (Some(_), true) => return Err(err(format!("{name}.axle_tube"), format!("a {template} has none"))),
+        (Some(tube), false) => bodies.push(("axle_tube", tube)),
+        (None, false) => return Err(err(format!("{name}.axle_tube"), "missing: a solid axle has one")),
+        (None, true) => {}
+    }
+    for (body, b) in bodies {
         positive(&format!("{name}.{body}.mass_kg"), b.mass_kg)?;
         pos_def(&format!("{name}.{body}.inertia"), b)?;
     }

@@ -27,6 +27,7 @@ pub mod antiroll_bar;
 pub mod double_wishbone;
 pub mod forces;
 pub mod macpherson;
+pub mod rigid;
 pub mod single_wishbone;
 pub mod solid_axle;
 
@@ -123,6 +124,9 @@ pub enum Closure {
     /// A wheel of a solid axle: the carrier is the axle, which the axle's own kinematics place
     /// (`solid_axle`); the corner has no loop of its own to solve (`solve_positions_into` refuses).
     SolidAxle,
+    /// A wheel of a rigid suspension: the carrier is the chassis (`rigid`); no loop, no travel, no spring or
+    /// damper.
+    Rigid,
 }
 
 /// Which moving body a line element (spring, damper) acts on.
@@ -330,6 +334,7 @@ impl Corner {
             SuspensionTemplate::MacphersonStrut => macpherson::from_data(data, axle, side, drive),
             SuspensionTemplate::SingleWishbone => single_wishbone::from_data(data, axle, side, drive),
             SuspensionTemplate::SolidThreeLink => solid_axle::wheel_corner(data, axle, side),
+            SuspensionTemplate::Rigid => rigid::wheel_corner(data, axle, side),
         }
     }
 
@@ -354,6 +359,7 @@ impl Corner {
             Closure::Strut(_) => SuspensionTemplate::MacphersonStrut,
             Closure::Kingpin => SuspensionTemplate::SingleWishbone,
             Closure::SolidAxle => SuspensionTemplate::SolidThreeLink,
+            Closure::Rigid => SuspensionTemplate::Rigid,
         };
         let mut c = Corner {
             template,
@@ -393,8 +399,20 @@ impl Corner {
     pub fn upper_revolute(&self) -> Option<(V3, V3)> {
         match &self.closure {
             Closure::UpperArm(arm) => Some((arm.p_u, arm.h_u)),
-            Closure::Strut(_) | Closure::Kingpin | Closure::SolidAxle => None,
+            Closure::Strut(_) | Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => None,
         }
+    }
+
+    /// Whether the corner has a spring and a damper (a rigid suspension's wheel has neither).
+    #[inline(always)]
+    pub fn has_line_elements(&self) -> bool {
+        !matches!(self.closure, Closure::Rigid)
+    }
+
+    /// Whether the wheel's carrier is the chassis itself (a rigid suspension).
+    #[inline(always)]
+    pub fn on_chassis(&self) -> bool {
+        matches!(self.closure, Closure::Rigid)
     }
 
     /// Point of the lower arm, given in design chassis coordinates.
@@ -459,7 +477,7 @@ impl Corner {
             }
             // A point of the kingpin one metre above b (the steering axis reads it), ρ_u reaching it: the
             // point-coincidence rows below are then zero and replaced by the kingpin's own.
-            Closure::Kingpin | Closure::SolidAxle => {
+            Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => {
                 let up = r_l.column(2).into_owned();
                 (b + up, M3::identity(), up, V3::zeros(), V3::zeros())
             }
@@ -543,11 +561,20 @@ impl Corner {
 
     /// Dependent coordinates by Newton from the warm start `v_guess` (docs/physics.md §3.2), to ‖Φ‖∞ ≤ 1e-12 m.
     pub fn solve_positions(&self, theta_l: f64, s: f64, v_guess: &[f64; 4]) -> Result<CornerPositions, ModelError> {
-        if let Closure::SolidAxle = self.closure {
-            return Err(ModelError::new(
-                Cause::Kinematics,
-                "a solid axle's wheel has no travel of its own: its positions are its axle's (solid_axle)",
-            ));
+        match self.closure {
+            Closure::SolidAxle => {
+                return Err(ModelError::new(
+                    Cause::Kinematics,
+                    "a solid axle's wheel has no travel of its own: its positions are its axle's (solid_axle)",
+                ))
+            }
+            Closure::Rigid => {
+                return Err(ModelError::new(
+                    Cause::Kinematics,
+                    "a rigid suspension's wheel has no travel: its carrier is the chassis (rigid::place_wheel)",
+                ))
+            }
+            _ => {}
         }
         let mut pos = CornerPositions::default();
         self.solve_positions_into(theta_l, s, v_guess, &mut pos)?;
@@ -635,7 +662,7 @@ impl Corner {
             // The top mount is fixed; the strut point slides along the upright (Coriolis 2 ω_K × R_K a ℓ̇).
             Closure::Strut(_) => a_k(&pos.rho_u) + w_k.cross(&pos.slide) * (2.0 * qd[4]),
             // Rows linear in q: no velocity-squared term.
-            Closure::Kingpin | Closure::SolidAxle => V3::zeros(),
+            Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => V3::zeros(),
         };
         let steer_rate = if self.steered() { s_dot } else { 0.0 };
         let path = &pos.tie_rod;
@@ -688,6 +715,9 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
     if axle.template.is_solid_axle() {
         return solid_axle::check_moves(data, name, axle);
     }
+    if axle.template.is_rigid() {
+        return Ok(()); // nothing moves
+    }
     let field = format!("{name}.hardpoints_chassis_frame_m");
     let mut hinges = vec![("LCA_F", "LCA_B")];
     if axle.template == SuspensionTemplate::DoubleWishbone {
@@ -705,7 +735,7 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
         Closure::UpperArm(arm) => (arm.u0 - g.b0).norm(),
         Closure::Strut(strut) => strut.length,
         // The kingpin is an axis through LCA_U, not a link: it has no length to lose.
-        Closure::Kingpin | Closure::SolidAxle => 1.0,
+        Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => 1.0,
     };
     if g.tie_length < 1e-6 || closure_length < 1e-6 {
         return Err(DataError { field, message: "tie rod, kingpin or strut of zero length".into() });

@@ -10,7 +10,7 @@ use crate::model::road::envelope::ContactModel;
 use crate::model::road::RoadModel;
 use crate::model::steering::RackMotion;
 use crate::model::tire::SlipModel;
-use crate::model::vehicle::{idx, Inputs, Layout, Run, SpeedMode, Vehicle, Workspace};
+use crate::model::vehicle::{idx, AxleKind, Inputs, Layout, Run, SpeedMode, Vehicle, Workspace};
 use nalgebra::{DMatrix, DVector};
 
 /// Residual tolerance of the initialisation solves (accelerations in m/s² and rad/s²).
@@ -64,6 +64,18 @@ where
         Ok(max_iterations)
     } else {
         Err(ModelError::new(Cause::Solve, format!("equilibrium did not converge (residual {norm:.3e})")))
+    }
+}
+
+/// The residuals of the four suspension unknowns (the corners' θ_L places): each one's acceleration, or on
+/// a rigid axle, which has no coordinate there (its acceleration is zero whatever the unknown), the unknown
+/// itself, so that it is held at zero and the Jacobian stays regular.
+fn travel_residuals(v: &Vehicle, dx: &[f64], u: &[f64], r: &mut [f64]) {
+    for i in 0..4 {
+        r[i] = match v.axle_kind(i / 2) {
+            AxleKind::Rigid => u[i],
+            _ => dx[idx::UD + i],
+        };
     }
 }
 
@@ -146,8 +158,13 @@ pub fn retune_ride_height(v: &mut Vehicle, options: &Options) -> Result<(f64, f6
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
-            r[3] = dx[idx::UD] + dx[idx::UD + 1];
-            r[4] = dx[idx::UD + 2] + dx[idx::UD + 3];
+            // A rigid axle has no spring: its offset is held at zero instead.
+            for a in 0..2 {
+                r[3 + a] = match v.axle_kind(a) {
+                    AxleKind::Rigid => p[3 + a],
+                    _ => dx[idx::UD + 2 * a] + dx[idx::UD + 2 * a + 1],
+                };
+            }
             Ok(())
         },
         EQUILIBRIUM_TOLERANCE,
@@ -186,7 +203,7 @@ pub fn static_equilibrium_steered(
             r[0] = dx[idx::V0 + 2];
             r[1] = dx[idx::W0];
             r[2] = dx[idx::W0 + 1];
-            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+            travel_residuals(v, &dx, &p[3..7], &mut r[3..7]);
             Ok(())
         },
         EQUILIBRIUM_TOLERANCE,
@@ -271,7 +288,7 @@ pub fn steady_rolling_steered(
                 r[0] = dx[idx::V0 + 2];
                 r[1] = dx[idx::W0];
                 r[2] = dx[idx::W0 + 1];
-                r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+                travel_residuals(v, &dx, &p[3..7], &mut r[3..7]);
                 r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);
                 let mut k = 11;
                 if let Some(xi) = relaxation {
@@ -436,7 +453,7 @@ fn polish_on_road(
             r[0] = n.dot(&a);
             r[1] = ex.dot(&w);
             r[2] = ey.dot(&w);
-            r[3..7].copy_from_slice(&dx[idx::UD..idx::UD + 4]);
+            travel_residuals(v, &dx, &p[3..7], &mut r[3..7]);
             let mut k = 7;
             if at_speed {
                 r[7..11].copy_from_slice(&dx[idx::SPIN..idx::SPIN + 4]);

@@ -121,10 +121,10 @@ impl Vehicle {
             }
             chassis_wrench += point_force(&(-e * magnitude), &rho_c);
         };
-        if options.switches.springs {
+        if options.switches.springs && c.has_line_elements() {
             line_element(&c.spring, LineElement::Spring);
         }
-        if options.switches.dampers {
+        if options.switches.dampers && c.has_line_elements() {
             line_element(&c.shock, LineElement::Damper);
         }
         // The anti-roll bar's generalized force on θ_L: a torque about the lower arm's hinge, its reaction on

@@ -1,12 +1,12 @@
 //! The kinematics stages (§3.3–§3.4): each corner's dependent coordinates by Newton (positions), then q̇, γ̄
 //! and its bodies' velocity-state kinematics (velocities). Written into `Workspace::{positions, kinematics}`.
 
-use super::{idx, AxleWork, Vehicle, WarmStart, Workspace, CORNERS};
+use super::{idx, AxleKind, AxleWork, Vehicle, WarmStart, Workspace, CORNERS};
 use crate::dynamics::body::{ang, lin, wrench};
 use crate::error::{Cause, ModelError};
 use crate::math::{skew, Axes, ChassisAxes, M3, V3};
 use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
-use crate::model::suspension::{CornerPositions, Vector5f};
+use crate::model::suspension::{rigid, CornerPositions, Vector5f};
 use nalgebra::{SMatrix, Vector6};
 
 impl Vehicle {
@@ -15,11 +15,17 @@ impl Vehicle {
     #[inline(always)]
     pub fn solve_corners(&self, x: &[f64], rack_u: f64, cache: &mut Workspace) -> Result<(), ModelError> {
         for a in 0..2 {
-            if self.solid_axles[a].is_some() {
-                self.solve_axle(a, x, cache)?;
-            } else {
-                self.solve_corner(2 * a, x, rack_u, cache)?;
-                self.solve_corner(2 * a + 1, x, rack_u, cache)?;
+            match self.axle_kind(a) {
+                AxleKind::Independent => {
+                    self.solve_corner(2 * a, x, rack_u, cache)?;
+                    self.solve_corner(2 * a + 1, x, rack_u, cache)?;
+                }
+                AxleKind::Solid => self.solve_axle(a, x, cache)?,
+                AxleKind::Rigid => {
+                    for i in [2 * a, 2 * a + 1] {
+                        rigid::place_wheel(&self.corners[i], &mut cache.positions[i]);
+                    }
+                }
             }
         }
         Ok(())
@@ -81,12 +87,36 @@ impl Vehicle {
     #[inline(always)]
     pub(super) fn velocity_stage(&self, x: &[f64], ws: &mut Workspace) {
         for a in 0..2 {
-            if self.solid_axles[a].is_some() {
-                self.axle_velocity(a, x, ws);
-            } else {
-                self.corner_velocity(2 * a, x, ws);
-                self.corner_velocity(2 * a + 1, x, ws);
+            match self.axle_kind(a) {
+                AxleKind::Independent => {
+                    self.corner_velocity(2 * a, x, ws);
+                    self.corner_velocity(2 * a + 1, x, ws);
+                }
+                AxleKind::Solid => self.axle_velocity(a, x, ws),
+                AxleKind::Rigid => self.rigid_velocity(a, ws),
             }
+        }
+    }
+
+    /// The velocity stage for a rigid axle a: its wheels' corner kinematics are the chassis's (they move with
+    /// it and have no mass of their own: the sprung body carries it).
+    #[inline(never)] // not on an independent suspension's path
+    pub(super) fn rigid_velocity(&self, a: usize, ws: &mut Workspace) {
+        let y0 = ws.chassis.y0;
+        for i in [2 * a, 2 * a + 1] {
+            let c = &self.corners[i];
+            ws.kinematics[i] = CornerKinematics {
+                b_l: Vector6::zeros(),
+                b_k: SMatrix::zeros(),
+                b_u: Vector6::zeros(),
+                rate: [Vector6::zeros(); 3],
+                velocity: [y0; 3],
+                mass: [0.0; 3],
+                com: [c.w0; 3],
+                inertia: [M3::zeros(); 3],
+                axle: c.axle,
+                wheel_centre: c.w0,
+            };
         }
     }
 

@@ -470,6 +470,18 @@ pub fn heading(a0: &M3) -> V3 {
 }
 
 impl Vehicle {
+    /// What axle a (0 front, 1 rear) is in the synthesis.
+    #[inline(always)]
+    pub fn axle_kind(&self, a: usize) -> AxleKind {
+        if self.solid_axles[a].is_some() {
+            AxleKind::Solid
+        } else if self.corners[2 * a].on_chassis() {
+            AxleKind::Rigid
+        } else {
+            AxleKind::Independent
+        }
+    }
+
     pub fn new(data: &VehicleData) -> Result<Vehicle, DataError> {
         data.check()?;
         let axles = [&data.front, &data.front, &data.rear, &data.rear];
@@ -674,16 +686,26 @@ impl Vehicle {
         Ok(())
     }
 }
+/// What an axle is in the synthesis: two corner subsystems, one solid-axle subsystem, or none (a rigid
+/// suspension: the wheels on the chassis).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum AxleKind {
+    #[default]
+    Independent,
+    Solid,
+    Rigid,
+}
+
 /// The terms of one evaluation, before the equation solving.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Assembly {
     pub chassis: ChassisTerms,
     /// Each corner's terms (a solid axle's wheels' are not used).
     pub terms: [SubsystemTerms; 4],
-    /// Each solid axle's terms, and which axles are solid (the formulations take those as one subsystem in
-    /// place of two corners).
+    /// Each solid axle's terms, and what each axle is (the formulations take a solid axle as one subsystem
+    /// in place of two corners, and a rigid one as none: its wheels' wrenches are on the chassis's terms).
     pub axle_terms: [AxleTerms; 2],
-    pub solid: [bool; 2],
+    pub kinds: [AxleKind; 2],
     /// a·M_W + T_d − T_b per wheel: I_s Ω̇ (§4.8).
     pub spin_torque: [f64; 4],
     pub relaxation_rates: [[f64; 2]; 4],
@@ -755,7 +777,7 @@ impl Vehicle {
                 add_body(k.mass[b], &k.com[b], &k.inertia[b], &rdot, &w);
             }
             spin_terms.push((k.axle, x[idx::SPIN + i], c.spin_inertia));
-            if options.switches.springs {
+            if options.switches.springs && c.has_line_elements() {
                 let f = &self.corner_forces[i];
                 let length = (c.mount_point(pos, &c.spring) - c.spring.chassis).norm();
                 let xs = length - f.spring_free_length;

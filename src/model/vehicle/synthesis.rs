@@ -1,18 +1,22 @@
 //! The synthesis and acceleration stages (§4.3, §4.9 steps 3f–7): the corners' reactions summed on the
 //! chassis's terms, the accelerations by the selected formulation, and ẋ.
 
-use super::{idx, vector_at, Assembly, Formulation, Inputs, Run, SpeedMode, Vehicle, Workspace};
+use super::{idx, vector_at, Assembly, AxleKind, Formulation, Inputs, Run, SpeedMode, Vehicle, Workspace};
 use crate::dynamics::body::{ang, lin};
 use crate::dynamics::{self, Accelerations, AxleTerms, Multipliers, SubsystemTerms};
 use crate::error::{Cause, Context, ModelError};
 use crate::math::{quat_rate, quat_to_matrix};
 
 /// The synthesis stage: each corner's reaction added to the chassis's force, in corner order, after the
-/// chassis's and the rack's own (the chassis stage's).
+/// chassis's and the rack's own (the chassis stage's); a rigid axle's wheels' wrenches on their carrier,
+/// which is the chassis, as well (its M̄ = M̂ of no body of its own, its P̄ their wrench: §4.6b).
 #[inline(always)]
 pub(super) fn synthesis_stage(ws: &mut Workspace) {
-    for w in &ws.wrenches {
+    for (i, w) in ws.wrenches.iter().enumerate() {
         ws.assembly.chassis.force += w.chassis;
+        if ws.assembly.kinds[i / 2] == AxleKind::Rigid {
+            ws.assembly.chassis.force += w.bodies[0] + w.bodies[1] + w.bodies[2];
+        }
     }
 }
 
@@ -37,8 +41,8 @@ impl Vehicle {
         // no copy into a common shape on this path.
         let f = run.options.formulation;
         let ud = &mut dxdt[idx::UD..idx::UD + 4];
-        let chassis_acc = match assembly.solid {
-            [false, false] => {
+        let chassis_acc = match assembly.kinds {
+            [AxleKind::Independent, AxleKind::Independent] => {
                 let acc = solve::<4, 0>(f, assembly, &assembly.terms, &[], Multipliers::Skip)
                     .context("acceleration solve failed")?;
                 for i in 0..4 {
@@ -46,14 +50,14 @@ impl Vehicle {
                 }
                 acc.chassis
             }
-            _ => {
+            kinds => {
                 let acc = accelerations(f, assembly, Multipliers::Skip)?;
                 for a in 0..2 {
                     let (l, r) = (2 * a, 2 * a + 1);
-                    [ud[l], ud[r]] = if assembly.solid[a] {
-                        [acc.axle_q_ddot[a][0], acc.axle_q_ddot[a][1]]
-                    } else {
-                        [acc.q_ddot[l][0], acc.q_ddot[r][0]]
+                    [ud[l], ud[r]] = match kinds[a] {
+                        AxleKind::Independent => [acc.q_ddot[l][0], acc.q_ddot[r][0]],
+                        AxleKind::Solid => [acc.axle_q_ddot[a][0], acc.axle_q_ddot[a][1]],
+                        AxleKind::Rigid => [0.0, 0.0],
                     };
                 }
                 acc.chassis
@@ -97,28 +101,38 @@ impl Vehicle {
 }
 
 /// Accelerations from the assembled terms by the selected formulation (§4.9 steps 3f–5, or the 42x42 of
-/// §4.3): what the paper's Table 1 calls the acceleration evaluation. A solid axle (`Assembly::solid`) is one
+/// §4.3): what the paper's Table 1 calls the acceleration evaluation. A solid axle (`Assembly::kinds`) is one
 /// subsystem in place of its two corners: its accelerations are in `axle_q_ddot[axle]`, and its corners'
-/// `q_ddot` are left zero.
+/// `q_ddot` are left zero; a rigid axle is no subsystem (its corners' `q_ddot` are zero).
 #[inline(always)]
 pub fn accelerations(
     formulation: Formulation,
     a: &Assembly,
     multipliers: Multipliers,
 ) -> Result<Accelerations<4, 2>, ModelError> {
-    match a.solid {
-        [false, false] => solve::<4, 0>(formulation, a, &a.terms, &[], multipliers).map(|acc| placed(acc, 0, [])),
-        [false, true] => {
+    use AxleKind::{Independent as I, Rigid as R, Solid as S};
+    match a.kinds {
+        [I, I] => solve::<4, 0>(formulation, a, &a.terms, &[], multipliers).map(|acc| placed(acc, 0, [])),
+        [I, S] => {
             let corners = [a.terms[0], a.terms[1]];
             solve::<2, 1>(formulation, a, &corners, &[a.axle_terms[1]], multipliers).map(|acc| placed(acc, 0, [1]))
         }
-        [true, false] => {
+        [S, I] => {
             let corners = [a.terms[2], a.terms[3]];
             solve::<2, 1>(formulation, a, &corners, &[a.axle_terms[0]], multipliers).map(|acc| placed(acc, 2, [0]))
         }
-        [true, true] => {
-            solve::<0, 2>(formulation, a, &[], &a.axle_terms, multipliers).map(|acc| placed(acc, 0, [0, 1]))
+        [S, S] => solve::<0, 2>(formulation, a, &[], &a.axle_terms, multipliers).map(|acc| placed(acc, 0, [0, 1])),
+        [I, R] => {
+            let corners = [a.terms[0], a.terms[1]];
+            solve::<2, 0>(formulation, a, &corners, &[], multipliers).map(|acc| placed(acc, 0, []))
         }
+        [R, I] => {
+            let corners = [a.terms[2], a.terms[3]];
+            solve::<2, 0>(formulation, a, &corners, &[], multipliers).map(|acc| placed(acc, 2, []))
+        }
+        [S, R] => solve::<0, 1>(formulation, a, &[], &[a.axle_terms[0]], multipliers).map(|acc| placed(acc, 0, [0])),
+        [R, S] => solve::<0, 1>(formulation, a, &[], &[a.axle_terms[1]], multipliers).map(|acc| placed(acc, 0, [1])),
+        [R, R] => solve::<0, 0>(formulation, a, &[], &[], multipliers).map(|acc| placed(acc, 0, [])),
     }
     .context("acceleration solve failed")
 }

@@ -3,7 +3,7 @@
 //! the wrenches the force, tire and brake stages put on its bodies.
 
 use super::kinematics::{CornerKinematics, BODY_K, BODY_L, BODY_U};
-use super::{point_velocity, AxleWork, Vehicle, Workspace};
+use super::{point_velocity, AxleKind, AxleWork, Vehicle, Workspace};
 use crate::dynamics::body::{ang, body_force, mass_hat, mass_hat_times, MassHatSum};
 use crate::dynamics::{AxleTerms, PhiVSolved, SubsystemTerms};
 use crate::math::V3;
@@ -15,16 +15,21 @@ impl Vehicle {
     #[inline(always)]
     pub(super) fn subsystem_terms_stage(&self, ws: &mut Workspace) {
         let Workspace { positions, kinematics, wrenches, assembly, axles, chassis, .. } = ws;
-        assembly.solid = self.solid_axles.each_ref().map(Option::is_some);
-        for i in 0..4 {
-            if !assembly.solid[i / 2] {
-                subsystem_terms(&positions[i], &kinematics[i], &wrenches[i].bodies, &mut assembly.terms[i]);
-            }
-        }
+        assembly.kinds = [self.axle_kind(0), self.axle_kind(1)];
         for a in 0..2 {
-            if assembly.solid[a] {
-                let on_axle = [&wrenches[2 * a].bodies, &wrenches[2 * a + 1].bodies];
-                axle_terms(&axles[a], on_axle, &chassis.g, &mut assembly.axle_terms[a]);
+            match assembly.kinds[a] {
+                AxleKind::Independent => {
+                    for i in [2 * a, 2 * a + 1] {
+                        subsystem_terms(&positions[i], &kinematics[i], &wrenches[i].bodies, &mut assembly.terms[i]);
+                    }
+                }
+                AxleKind::Solid => {
+                    let on_axle = [&wrenches[2 * a].bodies, &wrenches[2 * a + 1].bodies];
+                    axle_terms(&axles[a], on_axle, &chassis.g, &mut assembly.axle_terms[a]);
+                }
+                // A subsystem with no coordinate (docs/physics.md §4.6b): its wheels' wrenches are on the
+                // chassis, which carries their mass (the synthesis stage adds them to its force).
+                AxleKind::Rigid => {}
             }
         }
     }

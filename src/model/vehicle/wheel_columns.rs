@@ -12,7 +12,7 @@
 use super::forces::CornerWrenches;
 use super::kinematics::CornerKinematics;
 use super::terms::subsystem_terms;
-use super::{idx, Diagnostics, Inputs, Run, Vehicle, WarmStart, Workspace};
+use super::{idx, AxleKind, Diagnostics, Inputs, Run, Vehicle, WarmStart, Workspace};
 use crate::dynamics::{ChassisTerms, SubsystemTerms};
 use crate::error::ModelError;
 use crate::model::suspension::CornerPositions;
@@ -34,9 +34,10 @@ impl Vehicle {
         dxdt: &mut [f64],
     ) -> Result<[f64; 4], ModelError> {
         run.layout().check_lengths(x, dxdt)?;
-        // A solid axle's wheel state moves the axle and so both its wheels: a whole evaluation, on a copy of
-        // the workspace (left as it was).
-        if self.solid_axles[i / 2].is_some() {
+        // A solid axle's wheel state moves the axle and so both its wheels, and a rigid axle's wheel has no
+        // corner stages of its own (its wrenches are the chassis's): a whole evaluation, on a copy of the
+        // workspace (left as it was).
+        if self.axle_kind(i / 2) != AxleKind::Independent {
             let mut scratch = ws.clone();
             self.derivative(run, x, inputs, &mut scratch, dxdt)?;
             return Ok(scratch.diagnostics.penetration);

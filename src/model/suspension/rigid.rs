@@ -1,0 +1,57 @@
+//! No suspension: Chrono's `ChRigidSuspension` (read from its source: `ChRigidSuspension::InitializeSide`).
+//! Each spindle turns on a revolute joint fixed to the chassis at `SPINDLE`, its axis the chassis y axis; there
+//! is no spring, damper, arm or coordinate. A garden tractor's rear axle, a kart's.
+//!
+//! In the synthesis (docs/physics.md §4.6b) such an axle is a subsystem with no coordinate: its effective
+//! inertia is its bodies' own M̂ and its effective force their wrench, both on the chassis. The spindles,
+//! wheels and tires move with the chassis, so the sprung body carries their mass and transverse inertia
+//! (`VehicleData::carried_bodies`); the wheels keep their spin (§4.8), and the tire, brake and drive wrenches
+//! on them act on the chassis (`Vehicle`'s synthesis stage). Each wheel is a corner whose carrier is the
+//! chassis, with no mass and no travel, so that the tire, brake and drive stages treat it as every other.
+
+use super::{carrier_inertia, BodyInertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side};
+use crate::math::{M3, V3};
+use crate::model::formats::params::{Axle, DataError, SuspensionTemplate, VehicleData};
+use crate::model::steering::TieRodDrive;
+
+/// One wheel of a rigid suspension as a corner: its carrier is the chassis (`place_wheel`), it has no mass
+/// of its own (the sprung body carries it) and no line elements; its wheel spins about the chassis y axis.
+pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corner, DataError> {
+    let points = Hardpoints::new(data, axle, side);
+    let w0 = points.point("SPINDLE");
+    let (_, spin_inertia) = carrier_inertia(data, axle, side, w0, w0);
+    // No spring or damper: the mounts are never read (`Corner::has_line_elements`).
+    let none = LineMount { chassis: w0, moving: w0, body: MountBody::Carrier };
+    Ok(Corner {
+        template: SuspensionTemplate::Rigid,
+        side,
+        drive: TieRodDrive::Chassis,
+        p_l: V3::zeros(),
+        h_l: V3::x(),
+        b0: w0,
+        t_k: V3::zeros(),
+        t_r0: V3::zeros(),
+        w0,
+        tie_length: 0.0,
+        closure: Closure::Rigid,
+        spring: none,
+        shock: none,
+        lower: BodyInertia::NONE,
+        upper: BodyInertia::NONE,
+        carrier: BodyInertia::NONE,
+        spin_inertia,
+        axle: V3::y(),
+        design_det: 1.0,
+    })
+}
+
+/// The positions of a rigid suspension's wheel: its carrier is the chassis (the design point b₀ where it is,
+/// no rotation); no coordinate, so no residual and no Newton iteration.
+pub fn place_wheel(c: &Corner, out: &mut CornerPositions) {
+    out.b = c.b0;
+    out.r_k = M3::identity();
+    out.r_l = M3::identity();
+    out.r_u = M3::identity();
+    out.residual = 0.0;
+    out.iterations = 0;
+}
