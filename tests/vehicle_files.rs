@@ -1240,3 +1240,85 @@ fn a_three_link_axle_file_that_cannot_be_is_refused_by_file_and_key() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// A `RigidSuspension` suspension file in Chrono's format, as Chrono's generic one (`generic/suspension/
+/// RigidSuspension.json`, not in the repository): the spindle and the axle shaft, nothing else.
+fn rigid_suspension_file() -> Value {
+    json!({
+        "Name": "rtv test rigid suspension",
+        "Type": "Suspension",
+        "Template": "RigidSuspension",
+        "Spindle": {"Mass": 1.103, "COM": [0.0, 1.1, 0.0], "Inertia": [0.000478, 0.000496, 0.000478], "Radius": 0.15, "Width": 0.06},
+        "Axle": {"Inertia": 0.4}
+    })
+}
+
+#[test]
+fn a_rigid_suspension_imports_as_chrono_reads_it() {
+    let dir = generic_with_solid_rear("rigid_import", rigid_suspension_file());
+    let import = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None).unwrap();
+    let rear = &import.data.rear;
+    assert_eq!(rear.template.name(), "rigid");
+    // The spindle's COM at the suspension's location (−1.25, 0, −0.21): the wheel centre.
+    let w = rear.hardpoints_chassis_frame_m["SPINDLE"];
+    assert!((0..3).all(|i| (w[i] - [-1.25, 1.1, -0.21][i]).abs() < 1e-12), "{w:?}");
+    assert_eq!(rear.hardpoints_chassis_frame_m.len(), 1);
+    assert!(rear.spring.is_none() && rear.damper.is_none() && rear.axle_tube.is_none());
+    assert_eq!(rear.axle_shaft_spin_inertia_kg_m2, 0.4);
+    // It stands: its static wheel loads are its weight, the rear wheels' mass on the chassis.
+    let summary = rt_vehicle::model::summary::summarize(&import.data).unwrap();
+    assert!(summary.fallback_reason.is_none(), "{:?}", summary.fallback_reason);
+    let weight = summary.total_mass_kg * import.data.gravity_m_s2;
+    let loads: f64 = summary.axle_load_n.iter().sum();
+    assert!(((loads - weight) / weight).abs() < 1e-6, "{loads} N against {weight} N");
+    // The vehicle file it writes reads back as the same data (no spring or damper written for it).
+    let text = serde_json::to_string_pretty(&import.data).unwrap();
+    assert!(!serde_json::from_str::<Value>(&text).unwrap()["rear"].as_object().unwrap().contains_key("spring"));
+    assert_eq!(VehicleData::from_json(&text).unwrap(), import.data);
+    // A key Chrono's reader does not read is refused by file and key.
+    let mut bad = rigid_suspension_file();
+    bad["Shock"] = json!({"Damping Coefficient": 1000.0});
+    let dir2 = generic_with_solid_rear("rigid_import_bad", bad);
+    let e = import_vehicle(&dir2.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir2, None)
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("ThreeLinkAxle.json") && e.contains("Shock") && e.contains("unknown key"), "{e}");
+    for d in [dir, dir2] {
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}
+
+#[test]
+fn a_rigid_suspension_that_cannot_be_is_refused_by_its_cause() {
+    // What a rigid suspension does not have: the loader's and the schema's refusals name the field.
+    let rigid = serde_json::to_value(common::hmmwv_rigid_rear()).unwrap();
+    let hmmwv: &'static Value = Box::leak(Box::new(serde_json::to_value(VehicleData::default_hmmwv()).unwrap()));
+    let cases: Vec<(Edit, &str)> = vec![
+        (Box::new(|v| v["rear"]["steered"] = json!(true)), "rear.steered"),
+        (Box::new(|v| v["rear"]["spring"] = hmmwv["rear"]["spring"].clone()), "rear.spring"),
+        (Box::new(|v| v["rear"]["damper"] = hmmwv["rear"]["damper"].clone()), "rear.damper"),
+        (Box::new(|v| v["rear"]["lower_arm"] = hmmwv["rear"]["lower_arm"].clone()), "rear.lower_arm"),
+        (Box::new(|v| v["rear"]["axle_tube"] = hmmwv["rear"]["spindle"].clone()), "rear.axle_tube"),
+        (Box::new(|v| v["rear"]["static_camber_deg"] = json!(1.0)), "rear.static_camber_deg"),
+        (Box::new(|v| v["rear"]["hardpoints_chassis_frame_m"]["LCA_F"] = json!([0.0, 0.3, 0.0])), "LCA_F"),
+        (Box::new(|v| v["rear"]["spindle"]["mass_kg"] = json!(-1.0)), "rear.spindle.mass_kg"),
+        // A double wishbone without its spring: now that a rigid axle may leave it out, the others may not.
+        (Box::new(|v| v["front"].as_object_mut().unwrap().remove("spring").map(|_| ()).unwrap()), "front.spring"),
+    ];
+    for (edit, needle) in cases {
+        let mut v = rigid.clone();
+        edit(&mut v);
+        let e = VehicleData::from_json(&v.to_string()).map(|_| ()).unwrap_err().to_string();
+        assert!(e.contains(needle), "'{needle}' not in: {e}");
+    }
+    // K&C has nothing to report of an axle that does not move, and says so.
+    let dir = scratch("rigid_kc");
+    let file = dir.join("rigid.json");
+    std::fs::write(&file, serde_json::to_string_pretty(&rigid).unwrap()).unwrap();
+    let (code, _, err) =
+        rtv(&["kc", "--vehicle-file", file.to_str().unwrap(), "--out", dir.join("kc").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("rear axle") && err.contains("rigid") && err.contains("no K&C"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
