@@ -17,7 +17,7 @@
 //! Project Chrono, BSD-3-Clause: data/chrono/LICENSE), in its suspension frame.
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
-use rt_vehicle::model::suspension::solid_axle::ThreeLinkAxle;
+use rt_vehicle::model::suspension::solid_axle::AxleLinkage;
 
 type V3 = Vector3<f64>;
 type M3 = Matrix3<f64>;
@@ -163,7 +163,7 @@ impl Chrono {
 fn the_reduced_axle_is_chronos_joint_set() {
     let pts = man_5t_rear();
     let tri_chassis = (pts.triangle_c + mirror(pts.triangle_c)) / 2.0;
-    let axle = ThreeLinkAxle::new(
+    let axle = AxleLinkage::three_link(
         V3::zeros(),
         tri_chassis,
         pts.triangle_a,
@@ -208,7 +208,7 @@ fn a_link_moved_a_tenth_of_a_millimetre_is_seen() {
     let pts = man_5t_rear();
     let tri_chassis = (pts.triangle_c + mirror(pts.triangle_c)) / 2.0;
     let moved = pts.link_c + V3::new(1e-4, 0.0, 0.0);
-    let axle = ThreeLinkAxle::new(
+    let axle = AxleLinkage::three_link(
         V3::zeros(),
         tri_chassis,
         pts.triangle_a,
@@ -223,4 +223,177 @@ fn a_link_moved_a_tenth_of_a_millimetre_is_seen() {
     chrono.solve([ours.z, axle.point(&pos, &mirror(s)).z]);
     let d = (chrono.at(AXLE, &s) - ours).amax();
     assert!(d > 1e-6, "a 0.1 mm change moved the spindle by only {d:e} m");
+}
+
+/// Newton on absolute coordinates (each body's position r and rotation A, rotations perturbed on the left by
+/// exp([φ]×)) with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13: the residual rows must make the system
+/// square.
+fn solve_absolute(r: &mut [V3], a: &mut [M3], residual: &dyn Fn(&[V3], &[M3]) -> Vec<f64>) {
+    let n = 6 * r.len();
+    let perturb = |r: &mut [V3], a: &mut [M3], k: usize, h: f64| {
+        let (b, c) = (k / 6, k % 6);
+        if c < 3 {
+            r[b][c] += h;
+        } else {
+            let mut phi = V3::zeros();
+            phi[c - 3] = h;
+            a[b] = exp_so3(&phi) * a[b];
+        }
+    };
+    for _ in 0..50 {
+        let f = DVector::from_vec(residual(r, a));
+        assert_eq!(f.len(), n, "the joint rows and drivers make the system square");
+        if f.amax() <= 1e-13 {
+            return;
+        }
+        let mut j = DMatrix::zeros(n, n);
+        let h = 1e-7;
+        for k in 0..n {
+            let (r0, a0) = (r.to_vec(), a.to_vec());
+            perturb(r, a, k, h);
+            let fp = DVector::from_vec(residual(r, a));
+            r.copy_from_slice(&r0);
+            a.copy_from_slice(&a0);
+            perturb(r, a, k, -h);
+            let fm = DVector::from_vec(residual(r, a));
+            r.copy_from_slice(&r0);
+            a.copy_from_slice(&a0);
+            j.set_column(k, &((fp - fm) / (2.0 * h)));
+        }
+        let dx = j.lu().solve(&(-f)).expect("the joint set is square and regular");
+        for k in 0..n {
+            perturb(r, a, k, dx[k]);
+        }
+    }
+    panic!("the absolute-coordinate solve did not converge");
+}
+
+/// Chrono's `ChLinkLock` rows between a chassis marker (frame `f` at `p`, fixed) and an axle marker (the same
+/// frame at design, moving with the axle body at r, A about its design point c₀): relM = the chassis marker in
+/// the axle marker's frame; its position's components `pos` (0 x, 1 y, 2 z) and the vector part e1, e2 of its
+/// rotation (locked as Chrono locks them: the skew parts of the relative rotation matrix about the frame's x
+/// and y axes).
+fn lock_rows(p: &V3, f: &M3, r: &V3, a: &M3, c0: &V3, pos: &[usize]) -> Vec<f64> {
+    let marker_axle = a * f; // the axle marker's axes, in the chassis
+    let at = r + a * (p - c0); // the axle marker's origin
+    let rel_pos = marker_axle.transpose() * (p - at);
+    let m = marker_axle.transpose() * f; // the chassis marker's rotation in the axle marker's frame
+    let mut out: Vec<f64> = pos.iter().map(|&k| rel_pos[k]).collect();
+    out.push(m[(2, 1)] - m[(1, 2)]); // e1
+    out.push(m[(0, 2)] - m[(2, 0)]); // e2
+    out
+}
+
+/// Chrono's guide frame for both templates: the chassis's rotation times Ry(π/2) (`QuatFromAngleY(CH_PI_2)`).
+fn guide_frame() -> M3 {
+    exp_so3(&V3::new(0.0, std::f64::consts::FRAC_PI_2, 0.0))
+}
+
+/// rtv's axle (`linkage`) against a Chrono joint set solved by `chrono` for the spindles' heights: the worst
+/// spindle-centre distance (m) and rotation (deg) over heave ±80 mm × roll ±0.05 rad.
+fn against_chrono(linkage: &AxleLinkage, spindle: V3, chrono: &dyn Fn([f64; 2]) -> (V3, M3)) -> (f64, f64) {
+    let spindles = [spindle, mirror(spindle)];
+    let (mut worst_point, mut worst_angle) = (0.0f64, 0.0f64);
+    let mut guess = [0.0; 4];
+    for heave in [-0.08, -0.04, 0.0, 0.04, 0.08] {
+        for roll in [-0.05, 0.0, 0.05] {
+            let pos = linkage.solve_positions([heave, roll], &guess).unwrap();
+            guess = [pos.q[2], pos.q[3], pos.q[4], pos.q[5]];
+            let ours = spindles.map(|s| linkage.point(&pos, &s));
+            let (r, a) = chrono([ours[0].z, ours[1].z]);
+            for (s, o) in spindles.iter().zip(&ours) {
+                let theirs = r + a * (s - linkage.centre);
+                worst_point = worst_point.max((theirs - o).amax());
+            }
+            let d = a.transpose() * pos.rotation;
+            let angle =
+                (V3::new(d[(2, 1)] - d[(1, 2)], d[(0, 2)] - d[(2, 0)], d[(1, 0)] - d[(0, 1)]).norm() / 2.0).asin();
+            worst_angle = worst_angle.max(angle.to_degrees());
+        }
+    }
+    (worst_point, worst_angle)
+}
+
+/// Chrono's `ChLeafspringAxle` (`Initialize`): one body, the axle tube, on a `ChLinkLockRevolutePrismatic`
+/// (x and rotation about z free; y, z, e1, e2 locked) at the tube's CM in the guide frame; the spindle
+/// heights drive it. Points of Chrono's UAZ bus rear axle (`uaz/suspension/UAZBUS_RearLeafspringAxle.json`:
+/// the tube's CM at the suspension's origin, spindle at y = 0.7325), placed at (−1.2, 0, −0.3).
+#[test]
+fn the_reduced_leaf_spring_axle_is_chronos_joint_set() {
+    let c0 = V3::new(-1.2, 0.0, -0.3);
+    let spindle = c0 + V3::new(0.0, 0.7325, 0.0);
+    let linkage = AxleLinkage::leafspring(c0).unwrap();
+    let f = guide_frame();
+    let chrono = |z: [f64; 2]| {
+        let (mut r, mut a) = ([c0], [M3::identity()]);
+        solve_absolute(&mut r, &mut a, &|r, a| {
+            let mut rows = lock_rows(&c0, &f, &r[0], &a[0], &c0, &[1, 2]);
+            for (k, s) in [spindle, mirror(spindle)].iter().enumerate() {
+                rows.push((r[0] + a[0] * (s - c0)).z - z[k]);
+            }
+            rows
+        });
+        (r[0], a[0])
+    };
+    let (point, angle) = against_chrono(&linkage, spindle, &chrono);
+    eprintln!(
+        "rtv's leaf-spring axle against Chrono's joint set: spindle centres {point:.1e} m, rotation {angle:.1e} deg"
+    );
+    assert!(point < 1e-9 && angle < 1e-7, "{point:e} m, {angle:e} deg");
+    // Negative control: a guide that slides along the chassis's vertical instead of the axle's own (Chrono's
+    // prismatic then revolute, not revolute then prismatic) is more than 1 mm away over the same travel.
+    let slide_on_chassis = |z: [f64; 2]| {
+        let (mut r, mut a) = ([c0], [M3::identity()]);
+        solve_absolute(&mut r, &mut a, &|r, a| {
+            let mut rows = lock_rows(&c0, &f, &r[0], &a[0], &c0, &[]);
+            rows.push(r[0].x - c0.x);
+            rows.push(r[0].y - c0.y);
+            for (k, s) in [spindle, mirror(spindle)].iter().enumerate() {
+                rows.push((r[0] + a[0] * (s - c0)).z - z[k]);
+            }
+            rows
+        });
+        (r[0], a[0])
+    };
+    let (point, _) = against_chrono(&linkage, spindle, &slide_on_chassis);
+    assert!(point > 1e-3, "the other guide is only {point:e} m away");
+}
+
+/// Chrono's `ChRigidPanhardAxle` (`Initialize`): the axle tube on a `ChLinkLockPlanar` (PLANEPLANE: z, e1, e2
+/// locked) at its CM in the guide frame, and the Panhard rod, a body spherically jointed to the chassis at
+/// `PANHARD_C` and to the tube at `PANHARD_A` (its spin about its own axis, free in Chrono and moving nothing
+/// else, is held here to make the system square). Points of Chrono's G500 rear axle
+/// (`gclass/suspension/G500_RearAxle.json`), placed at (−1.2, 0, −0.3).
+#[test]
+fn the_reduced_panhard_axle_is_chronos_joint_set() {
+    let at = V3::new(-1.2, 0.0, -0.3);
+    let c0 = at;
+    let spindle = at + V3::new(0.0, 0.7325, 0.0);
+    let (rod_c, rod_a) = (at + V3::new(-0.1, 0.5142, 0.0), at + V3::new(-0.1, -0.5142, 0.0));
+    let f = guide_frame();
+    let rod_mid = (rod_c + rod_a) / 2.0;
+    let chrono_with = |rod_chassis: V3| {
+        move |z: [f64; 2]| {
+            let (mut r, mut a) = ([c0, rod_mid], [M3::identity(); 2]);
+            solve_absolute(&mut r, &mut a, &|r, a| {
+                let mut rows = lock_rows(&c0, &f, &r[0], &a[0], &c0, &[2]);
+                let on_rod = |p: &V3| r[1] + a[1] * (p - rod_mid);
+                rows.extend((on_rod(&rod_chassis) - rod_chassis).iter());
+                rows.extend((on_rod(&rod_a) - (r[0] + a[0] * (rod_a - c0))).iter());
+                rows.push((a[1] * V3::z()).dot(&V3::x())); // the rod's spin held
+                for (k, s) in [spindle, mirror(spindle)].iter().enumerate() {
+                    rows.push((r[0] + a[0] * (s - c0)).z - z[k]);
+                }
+                rows
+            });
+            (r[0], a[0])
+        }
+    };
+    let linkage = AxleLinkage::panhard(c0, rod_c, rod_a).unwrap();
+    let (point, angle) = against_chrono(&linkage, spindle, &chrono_with(rod_c));
+    eprintln!("rtv's Panhard axle against Chrono's joint set: spindle centres {point:.1e} m, rotation {angle:.1e} deg");
+    assert!(point < 1e-9 && angle < 1e-7, "{point:e} m, {angle:e} deg");
+    // Negative control: Chrono's rod with its chassis end 0.1 mm lower is seen.
+    let (point, _) = against_chrono(&linkage, spindle, &chrono_with(rod_c - V3::new(0.0, 0.0, 1e-4)));
+    assert!(point > 1e-6, "a 0.1 mm change moved the spindle by only {point:e} m");
 }

@@ -438,13 +438,11 @@ const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("SolidAxle", "a solid axle"),
     ("SolidThreeLinkAxle", "a solid three-link axle"),
     ("SolidBellcrankThreeLinkAxle", "a solid three-link axle steered by a bellcrank"),
-    ("LeafspringAxle", "a leaf-spring solid axle"),
     ("ToeBarLeafspringAxle", "a leaf-spring solid axle with a toe bar"),
     ("SAELeafspringAxle", "an SAE leaf-spring solid axle"),
     ("SAEToeBarLeafspringAxle", "an SAE leaf-spring solid axle with a toe bar"),
     ("DeDionAxle", "a De Dion axle"),
     ("ToeBarDeDionAxle", "a De Dion axle with a toe bar"),
-    ("RigidPanhardAxle", "a rigid axle with a Panhard rod"),
     ("ToeBarRigidPanhardAxle", "a rigid axle with a Panhard rod and a toe bar"),
     ("PushPipeAxle", "a push-pipe axle"),
     ("ToeBarPushPipeAxle", "a push-pipe axle with a toe bar"),
@@ -554,8 +552,15 @@ struct Wheel {
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 5] =
-    ["DoubleWishbone", "MacPhersonStrut", "SingleWishbone", "SolidThreeLinkAxle", "RigidSuspension"];
+const SUSPENSION_TEMPLATES: [&str; 7] = [
+    "DoubleWishbone",
+    "MacPhersonStrut",
+    "SingleWishbone",
+    "SolidThreeLinkAxle",
+    "LeafspringAxle",
+    "RigidPanhardAxle",
+    "RigidSuspension",
+];
 
 /// Where a single wishbone's LCA_F sits: this far ahead of its one hinge point (`Location Chassis`), on
 /// Chrono's hinge axis, the chassis x axis. The model takes the hinge as two points; any two on the axis
@@ -587,7 +592,7 @@ impl SuspensionReader<'_> {
     fn moving_key(&self) -> &'static str {
         match self.template {
             SuspensionTemplate::MacphersonStrut => "Location Upright",
-            SuspensionTemplate::SolidThreeLink => "Location Axle",
+            t if t.is_solid_axle() => "Location Axle",
             _ => "Location Arm",
         }
     }
@@ -762,9 +767,7 @@ impl SuspensionReader<'_> {
                 let used = ["Mass", "Inertia", "Moments of Inertia", "Products of Inertia"];
                 Ok((None, Some(self.body("Strut", &used, &[("Radius", VISUAL)], None)?)))
             }
-            SuspensionTemplate::SingleWishbone | SuspensionTemplate::SolidThreeLink | SuspensionTemplate::Rigid => {
-                Ok((None, None))
-            }
+            _ => Ok((None, None)), // a single wishbone, the solid axles, the rigid suspension
         }
     }
 
@@ -1005,6 +1008,73 @@ impl SuspensionReader<'_> {
         let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
         Ok(Axle {
             template: SuspensionTemplate::SolidThreeLink,
+            steered,
+            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
+            lower_arm: RigidBody::NONE,
+            upper_arm: None,
+            strut: None,
+            upright: RigidBody::NONE,
+            axle_tube: Some(tube),
+            spindle,
+            axle_shaft_spin_inertia_kg_m2,
+            spring,
+            damper,
+            reference_kinematics: None,
+            static_camber_deg: 0.0,
+            static_toe_deg: 0.0,
+            antiroll_bar: None,
+        })
+    }
+
+    /// A `LeafspringAxle` or `RigidPanhardAxle` file, as Chrono's `LeafspringAxle::Create` and
+    /// `RigidPanhardAxle::Create` read it: the spindle, the axle tube (its CM the hardpoint AXLE_CM, the guide's
+    /// point), the Panhard rod's two points (massless in the model: its `Mass` is ignored with a warning), the
+    /// spring and the damper between the chassis and the axle, the axle shaft; a static camber or toe other
+    /// than zero is refused (the model's solid axles take none), and so is the Panhard axle's `Anti Roll Bar`,
+    /// which the model does not have.
+    fn guided_axle(&mut self, steered: bool) -> Result<Axle, ImportError> {
+        let panhard = self.template == SuspensionTemplate::SolidPanhard;
+        let mut used =
+            vec!["Name", "Type", "Template", "Camber Angle (deg)", "Toe Angle (deg)", "Spindle", "Axle Tube"];
+        if panhard {
+            used.extend(["Panhard Rod", "Anti Roll Bar"]);
+        }
+        used.extend(["Spring", "Shock", "Axle"]);
+        self.o.keys(&used, &[("Output", "Chrono output settings")], self.warnings)?;
+        for key in ["Camber Angle (deg)", "Toe Angle (deg)"] {
+            let v = self.o.opt_num(key)?.unwrap_or(0.0);
+            if v != 0.0 {
+                return Err(self.o.err(key, format!("{v}°: the model's solid axles take no static camber or toe")));
+            }
+        }
+        let spindle = self.spindle()?;
+        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
+        if panhard {
+            if self.o.has("Anti Roll Bar") {
+                return Err(self.o.err(
+                    "Anti Roll Bar",
+                    "the rigid Panhard axle's anti-roll bar (two arms on the chassis, each sliding on the axle) is \
+                     not in the model",
+                ));
+            }
+            let rod = self.o.obj("Panhard Rod")?;
+            rod.keys(
+                &["Location Chassis", "Location Axle"],
+                &[
+                    ("Mass", "the model's Panhard rod is massless (a two-force member)"),
+                    ("Inertia", "the model's Panhard rod is massless"),
+                    ("Radius", VISUAL),
+                ],
+                self.warnings,
+            )?;
+            self.put("PANHARD_C", rod.point("Location Chassis")?);
+            self.put("PANHARD_A", rod.point("Location Axle")?);
+        }
+        let spring = self.spring()?;
+        let damper = self.damper()?;
+        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
+        Ok(Axle {
+            template: self.template,
             steered,
             hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
             lower_arm: RigidBody::NONE,
@@ -1753,6 +1823,8 @@ impl Importer {
             "MacPhersonStrut" => SuspensionTemplate::MacphersonStrut,
             "SingleWishbone" => SuspensionTemplate::SingleWishbone,
             "SolidThreeLinkAxle" => SuspensionTemplate::SolidThreeLink,
+            "LeafspringAxle" => SuspensionTemplate::SolidLeafspring,
+            "RigidPanhardAxle" => SuspensionTemplate::SolidPanhard,
             _ => SuspensionTemplate::Rigid,
         };
         let mut s = SuspensionReader {
@@ -1765,6 +1837,7 @@ impl Importer {
         };
         match template {
             SuspensionTemplate::SolidThreeLink => return s.three_link_axle(steered),
+            SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => return s.guided_axle(steered),
             SuspensionTemplate::Rigid => return s.rigid(steered),
             _ => {}
         }

@@ -221,6 +221,13 @@ pub enum SuspensionTemplate {
     /// chassis y axis, a spherical joint at the axle) and two longitudinal links; spring and damper between
     /// the chassis and the axle (Chrono's `SolidThreeLinkAxle`; not steerable).
     SolidThreeLink,
+    /// A solid axle on leaf springs, Chrono's `LeafspringAxle`: the springs' guidance is a joint at the axle's
+    /// CM that lets the axle roll about the chassis x axis and slide along its own vertical; spring and damper
+    /// between the chassis and the axle (not steerable).
+    SolidLeafspring,
+    /// A solid axle located by a planar guide at its CM (it rolls about the chassis x axis, its fore-aft
+    /// position held) and a Panhard rod, Chrono's `RigidPanhardAxle` (not steerable).
+    SolidPanhard,
     /// No suspension: each spindle turns on a revolute joint fixed to the chassis (Chrono's
     /// `RigidSuspension`: a garden tractor's or a kart's rear axle). No spring, no damper; not steerable.
     Rigid,
@@ -233,6 +240,8 @@ impl SuspensionTemplate {
             SuspensionTemplate::MacphersonStrut => "macpherson_strut",
             SuspensionTemplate::SingleWishbone => "single_wishbone",
             SuspensionTemplate::SolidThreeLink => "solid_three_link",
+            SuspensionTemplate::SolidLeafspring => "solid_leafspring",
+            SuspensionTemplate::SolidPanhard => "solid_panhard",
             SuspensionTemplate::Rigid => "rigid",
         }
     }
@@ -244,13 +253,18 @@ impl SuspensionTemplate {
             SuspensionTemplate::MacphersonStrut => &MACPHERSON_HARDPOINTS,
             SuspensionTemplate::SingleWishbone => &SINGLE_WISHBONE_HARDPOINTS,
             SuspensionTemplate::SolidThreeLink => &SOLID_THREE_LINK_HARDPOINTS,
+            SuspensionTemplate::SolidLeafspring => &SOLID_LEAFSPRING_HARDPOINTS,
+            SuspensionTemplate::SolidPanhard => &SOLID_PANHARD_HARDPOINTS,
             SuspensionTemplate::Rigid => &RIGID_HARDPOINTS,
         }
     }
 
     /// Whether one body carries both wheels (a solid axle), rather than one subsystem per wheel.
     pub fn is_solid_axle(self) -> bool {
-        self == SuspensionTemplate::SolidThreeLink
+        matches!(
+            self,
+            SuspensionTemplate::SolidThreeLink | SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard
+        )
     }
 
     /// Whether the wheels are on the chassis itself (no suspension: no coordinate, spring or damper).
@@ -468,6 +482,17 @@ pub const SOLID_THREE_LINK_HARDPOINTS: [&str; 10] = [
     "SPRING_C",
     "SPRING_A",
 ];
+
+/// The hardpoints a leaf-spring solid axle must name (Chrono's `LeafspringAxle` points, left side): the axle
+/// tube's CM `AXLE_CM` (on y = 0: the guide's point), the spring's and the damper's ends on the chassis (`_C`)
+/// and on the axle (`_A`), the wheel centre `SPINDLE`.
+pub const SOLID_LEAFSPRING_HARDPOINTS: [&str; 6] = ["SPINDLE", "AXLE_CM", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A"];
+
+/// The hardpoints a rigid Panhard axle must name (Chrono's `RigidPanhardAxle` points): as the leaf-spring
+/// axle's, and the Panhard rod's chassis and axle ends `PANHARD_C`, `PANHARD_A` (one rod: each point taken as
+/// given, not mirrored, as `AXLE_CM`).
+pub const SOLID_PANHARD_HARDPOINTS: [&str; 8] =
+    ["SPINDLE", "AXLE_CM", "PANHARD_C", "PANHARD_A", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A"];
 
 /// The hardpoint a rigid suspension must name: the wheel centre `SPINDLE` (Chrono's `RigidSuspension`
 /// reads its `Spindle.COM` as that point).
@@ -829,7 +854,10 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
                 return Err(err(format!("{name}.strut"), "a single wishbone has no strut body"));
             }
         }
-        SuspensionTemplate::SolidThreeLink | SuspensionTemplate::Rigid => unreachable!("checked above"),
+        SuspensionTemplate::SolidThreeLink
+        | SuspensionTemplate::SolidLeafspring
+        | SuspensionTemplate::SolidPanhard
+        | SuspensionTemplate::Rigid => unreachable!("checked above"),
     }
     let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
     if let Some(b) = &axle.upper_arm {

@@ -333,7 +333,9 @@ impl Corner {
             SuspensionTemplate::DoubleWishbone => double_wishbone::from_data(data, axle, side, drive),
             SuspensionTemplate::MacphersonStrut => macpherson::from_data(data, axle, side, drive),
             SuspensionTemplate::SingleWishbone => single_wishbone::from_data(data, axle, side, drive),
-            SuspensionTemplate::SolidThreeLink => solid_axle::wheel_corner(data, axle, side),
+            SuspensionTemplate::SolidThreeLink
+            | SuspensionTemplate::SolidLeafspring
+            | SuspensionTemplate::SolidPanhard => solid_axle::wheel_corner(data, axle, side),
             SuspensionTemplate::Rigid => rigid::wheel_corner(data, axle, side),
         }
     }

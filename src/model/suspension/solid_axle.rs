@@ -51,7 +51,7 @@ const YAW: usize = 5;
 /// A solid axle of the vehicle: its linkage and its one moving body.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SolidAxle {
-    pub linkage: ThreeLinkAxle,
+    pub linkage: AxleLinkage,
     /// The axle tube with both spindles, wheels and tires (their spin apart, §4.8), at design: CM and
     /// inertia in chassis axes (the CM relative to the sprung CM).
     pub body: BodyInertia,
@@ -66,13 +66,19 @@ impl SolidAxle {
         // Chrono's: the axle tube's CM as given (one point), the triangle's chassis axis and apex at the
         // mid-points of the two sides' points.
         let centre = VehicleData::point(axle, "AXLE_CM") - left.c0;
-        let linkage = ThreeLinkAxle::new(
-            centre,
-            mid("TRIANGLE_C"),
-            mid("TRIANGLE_A"),
-            [left.point("LINK_C"), right.point("LINK_C")],
-            [left.point("LINK_A"), right.point("LINK_A")],
-        )
+        // One point given (not mirrored) as AXLE_CM is: the Panhard rod's ends.
+        let single = |p: &str| VehicleData::point(axle, p) - left.c0;
+        let linkage = match axle.template {
+            SuspensionTemplate::SolidLeafspring => AxleLinkage::leafspring(centre),
+            SuspensionTemplate::SolidPanhard => AxleLinkage::panhard(centre, single("PANHARD_C"), single("PANHARD_A")),
+            _ => AxleLinkage::three_link(
+                centre,
+                mid("TRIANGLE_C"),
+                mid("TRIANGLE_A"),
+                [left.point("LINK_C"), right.point("LINK_C")],
+                [left.point("LINK_A"), right.point("LINK_A")],
+            ),
+        }
         .map_err(|message| DataError { field, message })?;
         let tube = axle.axle_tube.as_ref().ok_or_else(|| DataError {
             field: format!("{name}.axle_tube"),
@@ -110,7 +116,7 @@ pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corne
     let (_, spin_inertia) = carrier_inertia(data, axle, side, w0, w0);
     let on_axle = |c: &str, a: &str| LineMount { chassis: pt(c), moving: pt(a), body: MountBody::Carrier };
     Ok(Corner {
-        template: SuspensionTemplate::SolidThreeLink,
+        template: axle.template,
         side,
         drive: TieRodDrive::Chassis,
         p_l: V3::zeros(),
@@ -147,21 +153,42 @@ pub fn check_moves(data: &VehicleData, name: &str, axle: &Axle) -> Result<(), Da
     Ok(())
 }
 
-/// The linkage of a three-link solid axle, at design (chassis frame, sprung CM origin).
+/// What locates a solid axle on the chassis (each Chrono template's joints, reduced to four rows on the axle's
+/// pose; module doc).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ThreeLinkAxle {
+pub enum Locator {
+    /// Chrono's `SolidThreeLinkAxle`: a triangle on a revolute joint about the chassis y axis through
+    /// `triangle_chassis`, spherical at its apex `triangle_axle`; two longitudinal links (universal at the
+    /// chassis, spherical at the axle). Rows: the apex's y, its distance from the axis, each link's length.
+    ThreeLink {
+        triangle_chassis: V3,
+        triangle_axle: V3,
+        link_chassis: [V3; 2],
+        link_axle: [V3; 2],
+        /// The apex's distance from the revolute axis, and the links' lengths (from design).
+        triangle_radius: f64,
+        link_length: [f64; 2],
+    },
+    /// Chrono's `LeafspringAxle`: the leaf springs' guidance as one `ChLinkLockRevolutePrismatic` between the
+    /// chassis and the axle at the axle's reference point c₀, its revolute axis the chassis x axis and its
+    /// slide the axle's own vertical: the axle rolls about the chassis x axis and slides along its own z
+    /// axis through c₀ (Chrono locks the chassis point's y and z in the axle's frame, and the relative
+    /// rotation's components about the frame's other two axes). Rows: pitch and yaw zero, the chassis point
+    /// on the axle's z axis through c (two rows).
+    Leafspring,
+    /// Chrono's `RigidPanhardAxle`: a `ChLinkLockPlanar` at c₀ (the axle rolls about the chassis x axis, its
+    /// reference point's fore-aft position held in the axle's frame) and a Panhard rod, spherical at both ends
+    /// (`rod_chassis` on the chassis, `rod_axle` on the axle). Rows: pitch and yaw zero, the fore-aft one,
+    /// the rod's length.
+    Panhard { rod_chassis: V3, rod_axle: V3, rod_length: f64 },
+}
+
+/// The linkage of a solid axle, at design (chassis frame, sprung CM origin).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxleLinkage {
     /// The axle's reference point c₀ (its centre of mass at design).
     pub centre: V3,
-    /// The triangle's revolute axis point on the chassis (its axis is the chassis y axis).
-    pub triangle_chassis: V3,
-    /// The triangle's apex on the axle (a spherical joint).
-    pub triangle_axle: V3,
-    /// The longitudinal links' chassis and axle points, left and right.
-    pub link_chassis: [V3; 2],
-    pub link_axle: [V3; 2],
-    /// The triangle apex's distance from the revolute axis, and the links' lengths (from design).
-    triangle_radius: f64,
-    link_length: [f64; 2],
+    pub locator: Locator,
     /// |det Φ_v| at design, the reference for the singularity test.
     design_det: f64,
 }
@@ -198,15 +225,15 @@ impl Default for AxlePositions {
     }
 }
 
-impl ThreeLinkAxle {
-    /// The linkage from its design points; `Err` names what cannot be assembled.
-    pub fn new(
+impl AxleLinkage {
+    /// A three-link axle from its design points; `Err` names what cannot be assembled.
+    pub fn three_link(
         centre: V3,
         triangle_chassis: V3,
         triangle_axle: V3,
         link_chassis: [V3; 2],
         link_axle: [V3; 2],
-    ) -> Result<ThreeLinkAxle, String> {
+    ) -> Result<AxleLinkage, String> {
         let arm = triangle_axle - triangle_chassis;
         let triangle_radius = (arm.x * arm.x + arm.z * arm.z).sqrt();
         if triangle_radius < 1e-3 {
@@ -219,22 +246,45 @@ impl ThreeLinkAxle {
         if let Some(i) = (0..2).find(|&i| link_length[i] < 1e-3) {
             return Err(format!("longitudinal link {} has no length", ["left", "right"][i]));
         }
-        let mut axle = ThreeLinkAxle {
-            centre,
+        let locator = Locator::ThreeLink {
             triangle_chassis,
             triangle_axle,
             link_chassis,
             link_axle,
             triangle_radius,
             link_length,
-            design_det: 1.0,
         };
+        Self::assembled(centre, locator)
+    }
+
+    /// A leaf-spring axle (Chrono's guide at its reference point `centre`).
+    pub fn leafspring(centre: V3) -> Result<AxleLinkage, String> {
+        Self::assembled(centre, Locator::Leafspring)
+    }
+
+    /// A rigid Panhard axle: the planar guide at `centre`, the Panhard rod from `rod_chassis` to `rod_axle`.
+    pub fn panhard(centre: V3, rod_chassis: V3, rod_axle: V3) -> Result<AxleLinkage, String> {
+        let rod_length = (rod_axle - rod_chassis).norm();
+        if rod_length < 1e-3 {
+            return Err("the Panhard rod has no length".into());
+        }
+        Self::assembled(centre, Locator::Panhard { rod_chassis, rod_axle, rod_length })
+    }
+
+    /// The linkage, if its rows fix the axle's dependent coordinates at design (Φ_v regular).
+    fn assembled(centre: V3, locator: Locator) -> Result<AxleLinkage, String> {
+        let mut axle = AxleLinkage { centre, locator, design_det: 1.0 };
         let design = axle.evaluate(&AxleQ::zeros());
         let det = design.lu_v.map_or(0.0, |lu| lu.determinant().abs());
         if !(det > 0.0 && det.is_finite()) {
-            return Err("the links do not fix the axle's fore-aft, lateral, pitch and yaw motion at design (Φ_v is \
-                 singular): a link or the triangle's apex lies where it cannot hold them"
-                .into());
+            return Err(match axle.locator {
+                Locator::Panhard { .. } => "the Panhard rod does not fix the axle's lateral motion at design (Φ_v is \
+                     singular): it runs fore-aft or vertically, not across"
+                    .into(),
+                _ => "the links do not fix the axle's fore-aft, lateral, pitch and yaw motion at design (Φ_v is \
+                     singular): a link or the triangle's apex lies where it cannot hold them"
+                    .into(),
+            });
         }
         axle.design_det = det;
         Ok(axle)
@@ -292,28 +342,92 @@ impl ThreeLinkAxle {
     /// Φ at `pos`, and its Jacobian into `phi_q` when given.
     fn rows(&self, pos: &AxlePositions, g: &M3, mut phi_q: Option<&mut AxlePhiQ>) -> Vector4<f64> {
         let mut phi = Vector4::zeros();
-        let apex_arm = pos.rotation * (self.triangle_axle - self.centre);
-        let apex = self.point(pos, &self.triangle_axle);
-        let j_apex = Self::point_jacobian(g, &apex_arm);
-        let rel = apex - self.triangle_chassis;
-        let rho0 = self.triangle_radius;
-        phi[0] = apex.y - self.triangle_axle.y;
-        phi[1] = 0.5 * (rel.x * rel.x + rel.z * rel.z - rho0 * rho0) / rho0;
-        if let Some(p) = phi_q.as_deref_mut() {
-            p.set_row(0, &j_apex.row(1));
-            p.set_row(1, &((j_apex.row(0) * rel.x + j_apex.row(2) * rel.z) / rho0));
-        }
-        for i in 0..2 {
-            let arm = pos.rotation * (self.link_axle[i] - self.centre);
-            let end = self.point(pos, &self.link_axle[i]);
-            let d = end - self.link_chassis[i];
-            let l0 = self.link_length[i];
-            phi[2 + i] = 0.5 * (d.dot(&d) - l0 * l0) / l0;
-            if let Some(p) = phi_q.as_deref_mut() {
-                p.set_row(2 + i, &(d.transpose() * Self::point_jacobian(g, &arm) / l0));
+        match &self.locator {
+            Locator::ThreeLink {
+                triangle_chassis,
+                triangle_axle,
+                link_chassis,
+                link_axle,
+                triangle_radius,
+                link_length,
+            } => {
+                let apex_arm = pos.rotation * (triangle_axle - self.centre);
+                let apex = self.point(pos, triangle_axle);
+                let j_apex = Self::point_jacobian(g, &apex_arm);
+                let rel = apex - triangle_chassis;
+                let rho0 = *triangle_radius;
+                phi[0] = apex.y - triangle_axle.y;
+                phi[1] = 0.5 * (rel.x * rel.x + rel.z * rel.z - rho0 * rho0) / rho0;
+                if let Some(p) = phi_q.as_deref_mut() {
+                    p.set_row(0, &j_apex.row(1));
+                    p.set_row(1, &((j_apex.row(0) * rel.x + j_apex.row(2) * rel.z) / rho0));
+                }
+                for i in 0..2 {
+                    phi[2 + i] =
+                        self.distance_row(pos, g, &link_axle[i], &link_chassis[i], link_length[i], 2 + i, &mut phi_q);
+                }
+            }
+            Locator::Leafspring | Locator::Panhard { .. } => {
+                // The axle turns about the chassis x axis only: pitch and yaw zero (Chrono's two locked
+                // quaternion components: the same rotations).
+                phi[0] = pos.q[PITCH];
+                phi[1] = pos.q[YAW];
+                if let Some(p) = phi_q.as_deref_mut() {
+                    p.set_row(0, &SMatrix::<f64, 1, 6>::zeros());
+                    p.set_row(1, &SMatrix::<f64, 1, 6>::zeros());
+                    p[(0, PITCH)] = 1.0;
+                    p[(1, YAW)] = 1.0;
+                }
+                // The chassis point c₀ on the axle's z axis through c (the leaf spring's slide): the axle's y
+                // and x axes perpendicular to d; or (Panhard) its x axis alone, and the rod's length.
+                phi[2] = self.plane_row(pos, g, &V3::x(), 2, &mut phi_q);
+                phi[3] = match &self.locator {
+                    Locator::Panhard { rod_chassis, rod_axle, rod_length } => {
+                        self.distance_row(pos, g, rod_axle, rod_chassis, *rod_length, 3, &mut phi_q)
+                    }
+                    _ => self.plane_row(pos, g, &V3::y(), 3, &mut phi_q),
+                };
             }
         }
         phi
+    }
+
+    /// The row ½(|r − c_p|² − ℓ₀²)/ℓ₀ of a link of length ℓ₀ from the chassis point `chassis` to the axle
+    /// point `on_axle` (metres near the solution), its Jacobian into row `k` of `phi_q` when given.
+    fn distance_row(
+        &self,
+        pos: &AxlePositions,
+        g: &M3,
+        on_axle: &V3,
+        chassis: &V3,
+        l0: f64,
+        k: usize,
+        phi_q: &mut Option<&mut AxlePhiQ>,
+    ) -> f64 {
+        let arm = pos.rotation * (on_axle - self.centre);
+        let d = self.point(pos, on_axle) - chassis;
+        if let Some(p) = phi_q.as_deref_mut() {
+            p.set_row(k, &(d.transpose() * Self::point_jacobian(g, &arm) / l0));
+        }
+        0.5 * (d.dot(&d) - l0 * l0) / l0
+    }
+
+    /// The row (R e)·d: the displacement d = c − c₀ of the axle's reference point from the chassis point c₀
+    /// along the axle-fixed axis e (given at design), its Jacobian into row `k` of `phi_q` when given.
+    fn plane_row(&self, pos: &AxlePositions, g: &M3, e: &V3, k: usize, phi_q: &mut Option<&mut AxlePhiQ>) -> f64 {
+        let a = pos.rotation * e;
+        let d = V3::new(pos.q[DX], pos.q[DY], pos.q[HEAVE]);
+        if let Some(p) = phi_q.as_deref_mut() {
+            let mut row = SMatrix::<f64, 1, 6>::zeros();
+            row[DX] = a.x;
+            row[DY] = a.y;
+            row[HEAVE] = a.z;
+            for (col, j) in [(ROLL, 0), (PITCH, 1), (YAW, 2)] {
+                row[col] = d.dot(&g.column(j).cross(&a));
+            }
+            p.set_row(k, &row);
+        }
+        a.dot(&d)
     }
 
     /// The dependent coordinates v = (x, y, pitch, yaw) at u = (heave, roll) by Newton from `v_guess`.
@@ -385,19 +499,57 @@ impl ThreeLinkAxle {
     /// φ = g(r) of one point: φ̈ = g_r r̈ + ṙᵀ g_rr ṙ, r̈ = J q̈ + (quadratic part).
     pub fn gamma_bar(&self, pos: &AxlePositions, qd: &AxleQ) -> Vector4<f64> {
         let mut gamma = Vector4::zeros();
-        let apex = self.point(pos, &self.triangle_axle);
-        let rel = apex - self.triangle_chassis;
-        let v = self.point_velocity(pos, qd, &self.triangle_axle);
-        let a = self.point_acceleration_quadratic(pos, qd, &self.triangle_axle);
-        gamma[0] = -a.y;
-        gamma[1] = -(rel.x * a.x + rel.z * a.z + v.x * v.x + v.z * v.z) / self.triangle_radius;
-        for i in 0..2 {
-            let d = self.point(pos, &self.link_axle[i]) - self.link_chassis[i];
-            let v = self.point_velocity(pos, qd, &self.link_axle[i]);
-            let a = self.point_acceleration_quadratic(pos, qd, &self.link_axle[i]);
-            gamma[2 + i] = -(d.dot(&a) + v.dot(&v)) / self.link_length[i];
+        match &self.locator {
+            Locator::ThreeLink {
+                triangle_chassis,
+                triangle_axle,
+                link_chassis,
+                link_axle,
+                triangle_radius,
+                link_length,
+            } => {
+                let apex = self.point(pos, triangle_axle);
+                let rel = apex - triangle_chassis;
+                let v = self.point_velocity(pos, qd, triangle_axle);
+                let a = self.point_acceleration_quadratic(pos, qd, triangle_axle);
+                gamma[0] = -a.y;
+                gamma[1] = -(rel.x * a.x + rel.z * a.z + v.x * v.x + v.z * v.z) / triangle_radius;
+                for i in 0..2 {
+                    gamma[2 + i] = self.distance_gamma(pos, qd, &link_axle[i], &link_chassis[i], link_length[i]);
+                }
+            }
+            Locator::Leafspring | Locator::Panhard { .. } => {
+                // Pitch and yaw rows are linear in q: no quadratic part.
+                gamma[2] = self.plane_gamma(pos, qd, &V3::x());
+                gamma[3] = match &self.locator {
+                    Locator::Panhard { rod_chassis, rod_axle, rod_length } => {
+                        self.distance_gamma(pos, qd, rod_axle, rod_chassis, *rod_length)
+                    }
+                    _ => self.plane_gamma(pos, qd, &V3::y()),
+                };
+            }
         }
         gamma
+    }
+
+    /// `distance_row`'s γ̄: −(d·r̈_quadratic + ṙ·ṙ)/ℓ₀.
+    fn distance_gamma(&self, pos: &AxlePositions, qd: &AxleQ, on_axle: &V3, chassis: &V3, l0: f64) -> f64 {
+        let d = self.point(pos, on_axle) - chassis;
+        let v = self.point_velocity(pos, qd, on_axle);
+        let a = self.point_acceleration_quadratic(pos, qd, on_axle);
+        -(d.dot(&a) + v.dot(&v)) / l0
+    }
+
+    /// `plane_row`'s γ̄: with a = R e turning at ω, ä's quadratic part (Ġα̇) × a + ω × (ω × a), and
+    /// (a·d)¨ = ä·d + 2 ȧ·ḋ + a·d̈: −((Ġα̇ × a + ω × (ω × a))·d + 2 (ω × a)·ḋ).
+    fn plane_gamma(&self, pos: &AxlePositions, qd: &AxleQ, e: &V3) -> f64 {
+        let a = pos.rotation * e;
+        let rates = V3::new(qd[ROLL], qd[PITCH], qd[YAW]);
+        let w = pos.sc.rate_matrix() * rates;
+        let d = V3::new(pos.q[DX], pos.q[DY], pos.q[HEAVE]);
+        let d_dot = V3::new(qd[DX], qd[DY], qd[HEAVE]);
+        let a_quadratic = pos.sc.rate_quadratic(&rates).cross(&a) + w.cross(&w.cross(&a));
+        -(a_quadratic.dot(&d) + 2.0 * w.cross(&a).dot(&d_dot))
     }
 }
 
@@ -408,11 +560,11 @@ mod tests {
     /// A truck's rear axle, with Chrono's MAN 5t rear axle's points (`MAN_5t_RearSolidThreeLinkAxle.json`,
     /// suspension frame; the axle's centre at the origin here): the triangle's chassis points' mid-point,
     /// its apex, the links.
-    fn man_rear() -> ThreeLinkAxle {
+    fn man_rear() -> AxleLinkage {
         let mirror = |v: V3| V3::new(v.x, -v.y, v.z);
         let link_c = V3::new(1.139, 0.400, 0.100);
         let link_a = V3::new(0.115, 0.688, -0.090);
-        ThreeLinkAxle::new(
+        AxleLinkage::three_link(
             V3::zeros(),
             V3::new(-0.762, 0.0, 0.100),
             V3::new(0.0, 0.0, 0.260),
@@ -422,7 +574,20 @@ mod tests {
         .unwrap()
     }
 
-    fn phi(axle: &ThreeLinkAxle, q: &AxleQ) -> Vector4<f64> {
+    /// Each locator once: the MAN's three links, a leaf-spring axle, and a Panhard rod as Chrono's G500 rear
+    /// axle's (`G500_RearAxle.json`: across the car at the axle's height, 1.03 m long).
+    fn linkages() -> Vec<(&'static str, AxleLinkage)> {
+        vec![
+            ("three-link", man_rear()),
+            ("leaf spring", AxleLinkage::leafspring(V3::zeros()).unwrap()),
+            (
+                "Panhard",
+                AxleLinkage::panhard(V3::zeros(), V3::new(-0.1, 0.5142, 0.0), V3::new(-0.1, -0.5142, 0.0)).unwrap(),
+            ),
+        ]
+    }
+
+    fn phi(axle: &AxleLinkage, q: &AxleQ) -> Vector4<f64> {
         let pos = axle.evaluate(q);
         axle.rows(&pos, &pos.sc.rate_matrix(), None)
     }
@@ -444,18 +609,54 @@ mod tests {
 
     #[test]
     fn phi_q_matches_central_differences() {
-        let axle = man_rear();
-        let q = AxleQ::new(0.04, -0.03, 0.01, 0.002, 0.02, -0.01);
-        let pos = axle.evaluate(&q);
-        let h = 1e-6;
-        for c in 0..6 {
-            let (mut qp, mut qm) = (q, q);
-            qp[c] += h;
-            qm[c] -= h;
-            let fd = (phi(&axle, &qp) - phi(&axle, &qm)) / (2.0 * h);
-            let err = (fd - pos.phi_q.column(c)).amax();
-            assert!(err < 1e-8, "column {c}: {err:e}");
+        for (name, axle) in linkages() {
+            let q = AxleQ::new(0.04, -0.03, 0.01, 0.002, 0.02, -0.01);
+            let pos = axle.evaluate(&q);
+            let h = 1e-6;
+            for c in 0..6 {
+                let (mut qp, mut qm) = (q, q);
+                qp[c] += h;
+                qm[c] -= h;
+                let fd = (phi(&axle, &qp) - phi(&axle, &qm)) / (2.0 * h);
+                let err = (fd - pos.phi_q.column(c)).amax();
+                assert!(err < 1e-8, "{name}: column {c}: {err:e}");
+            }
         }
+    }
+
+    #[test]
+    fn velocities_and_gamma_bar_match_differences_for_every_locator() {
+        for (name, axle) in linkages() {
+            let u = |t: f64| [0.06 * (3.0 * t).sin(), 0.05 * (2.0 * t + 0.3).sin()];
+            let ud = |t: f64| [0.18 * (3.0 * t).cos(), 0.10 * (2.0 * t + 0.3).cos()];
+            let solve = |t: f64| axle.solve_positions(u(t), &[0.0; 4]).unwrap();
+            let (t, h) = (0.4, 1e-4);
+            let (pm, p0, pp) = (solve(t - h), solve(t), solve(t + h));
+            let qd = axle.velocities(&p0, ud(t));
+            let qd_fd = (pp.q - pm.q) / (2.0 * h);
+            assert!((qd - qd_fd).amax() < 1e-7, "{name}: q̇ {:e}", (qd - qd_fd).amax());
+            let qdd = (pp.q - 2.0 * p0.q + pm.q) / (h * h);
+            let gamma = axle.gamma_bar(&p0, &qd);
+            let err = (p0.phi_q * qdd - gamma).amax();
+            eprintln!("{name}: Φ_q q̈ − γ̄ {err:e}, |γ̄| {:e}", gamma.amax());
+            // The second difference's own error is O(h²) of q's fourth derivative: 4e-6 of |γ̄| on the three
+            // links, 3e-5 on the Panhard rod (whose γ̄ is ten times smaller), 3e-8 on the leaf spring.
+            assert!(err < 1e-4 * gamma.amax(), "{name}: γ̄ {err:e} (γ̄ {gamma:?})");
+        }
+    }
+
+    #[test]
+    fn a_leaf_spring_axle_rolls_about_its_guide_and_slides_along_its_own_vertical() {
+        // Chrono's revolute-prismatic guide: heaved by h and rolled by φ, the axle's centre is at
+        // c₀ + h (0, −sin φ, cos φ): on the axle's own z axis through the fixed chassis point c₀.
+        let axle = AxleLinkage::leafspring(V3::new(-1.2, 0.0, -0.3)).unwrap();
+        let (heave, roll) = (0.05, 0.07);
+        let pos = axle.solve_positions([heave, roll], &[0.0; 4]).unwrap();
+        let c = axle.point(&pos, &axle.centre) - axle.centre;
+        let along = pos.rotation * V3::z();
+        assert!((c - along * (c.dot(&along))).amax() < 1e-13, "{c:?}");
+        assert!(pos.q[PITCH].abs() < 1e-15 && pos.q[YAW].abs() < 1e-15 && pos.q[DX].abs() < 1e-15);
+        assert!((pos.q[DY] + heave * roll.tan()).abs() < 1e-13, "{:?}", pos.q);
     }
 
     #[test]
@@ -478,9 +679,10 @@ mod tests {
         assert!(err < 1e-5 * gamma.amax(), "γ̄ {err:e} (γ̄ {gamma:?})");
         // negative control: γ̄ without the links' ṙ·ṙ (their rows' g_rr part) fails the same bound
         let mut partial = gamma;
+        let Locator::ThreeLink { link_axle, link_length, .. } = &axle.locator else { unreachable!() };
         for i in 0..2 {
-            let v = axle.point_velocity(&p0, &qd, &axle.link_axle[i]);
-            partial[2 + i] += v.dot(&v) / axle.link_length[i];
+            let v = axle.point_velocity(&p0, &qd, &link_axle[i]);
+            partial[2 + i] += v.dot(&v) / link_length[i];
         }
         assert!((p0.phi_q * qdd - partial).amax() > 1e-5 * gamma.amax());
     }
@@ -493,9 +695,10 @@ mod tests {
         // the links swing: the axle moves fore-aft and pitches as they do
         assert!(pos.q[DX].abs() > 1e-4 && pos.q[PITCH].abs() > 1e-4, "{:?}", pos.q);
         // each link's length and the apex's circle hold
+        let Locator::ThreeLink { link_axle, link_chassis, link_length, .. } = &axle.locator else { unreachable!() };
         for i in 0..2 {
-            let l = (axle.point(&pos, &axle.link_axle[i]) - axle.link_chassis[i]).norm();
-            assert!((l - axle.link_length[i]).abs() < 1e-12);
+            let l = (axle.point(&pos, &link_axle[i]) - link_chassis[i]).norm();
+            assert!((l - link_length[i]).abs() < 1e-12);
         }
     }
 
@@ -505,7 +708,7 @@ mod tests {
         let link_c = V3::new(1.139, 0.400, 0.100);
         let link_a = V3::new(0.115, 0.688, -0.090);
         // the apex on the revolute axis
-        let e = ThreeLinkAxle::new(
+        let e = AxleLinkage::three_link(
             V3::zeros(),
             V3::new(-0.762, 0.0, 0.1),
             V3::new(-0.762, 0.0, 0.1),
@@ -516,7 +719,7 @@ mod tests {
         assert!(e.contains("revolute axis"), "{e}");
         // links straight across (along y): they cannot hold the axle fore-aft with the triangle's apex level
         // with its axis... a zero-length link
-        let e = ThreeLinkAxle::new(
+        let e = AxleLinkage::three_link(
             V3::zeros(),
             V3::new(-0.762, 0.0, 0.1),
             V3::new(0.0, 0.0, 0.26),
