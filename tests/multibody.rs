@@ -97,6 +97,11 @@ fn shipped_vehicles() -> Vec<(String, Vehicle)> {
         "hmmwv with a rigid rear (common::hmmwv_rigid_rear)".to_string(),
         Vehicle::new(&common::hmmwv_rigid_rear()).unwrap(),
     ));
+    // The solid axle's other locators (no shipped car has them).
+    for template in ["solid_leafspring", "solid_panhard"] {
+        let data = common::hmmwv_solid_rear_located_by(template);
+        out.push((format!("hmmwv with a {template} rear"), Vehicle::new(&data).unwrap()));
+    }
     out
 }
 

@@ -16,6 +16,7 @@
 //! The points are those of Chrono's MAN 5t rear axle (`MAN_Kat1/suspension/MAN_5t_RearSolidThreeLinkAxle.json`,
 //! Project Chrono, BSD-3-Clause: data/chrono/LICENSE), in its suspension frame.
 
+mod common;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use rt_vehicle::model::suspension::solid_axle::AxleLinkage;
 
@@ -396,4 +397,21 @@ fn the_reduced_panhard_axle_is_chronos_joint_set() {
     // Negative control: Chrono's rod with its chassis end 0.1 mm lower is seen.
     let (point, _) = against_chrono(&linkage, spindle, &chrono_with(rod_c - V3::new(0.0, 0.0, 1e-4)));
     assert!(point > 1e-6, "a 0.1 mm change moved the spindle by only {point:e} m");
+}
+
+#[test]
+fn the_leaf_spring_and_panhard_axles_run_the_j_turn_alike_in_every_formulation() {
+    // The guided axles in a vehicle (the shipped solid-rear HMMWV with its rear axle relocated): the synthesis
+    // and the augmented synthesis against the 42×42, every CSV channel; bound issue 34's 1e-9 of peak. The
+    // static loads sum to the weight.
+    for template in ["solid_leafspring", "solid_panhard"] {
+        let data = common::hmmwv_solid_rear_located_by(template);
+        let s = rt_vehicle::model::summary::summarize(&data).unwrap();
+        let weight = s.total_mass_kg * data.gravity_m_s2;
+        let loads: f64 = s.axle_load_n.iter().sum();
+        assert!(((loads - weight) / weight).abs() < 1e-6, "{template}: {loads} N against {weight} N");
+        let [(w1, c1), (w2, c2)] = common::jturn_formulation_differences(&data, 0.003);
+        eprintln!("{template}: J-turn synthesis vs 42x42 {w1:.2e} ({c1}), augmented vs 42x42 {w2:.2e} ({c2})");
+        assert!(w1 < 1e-9 && w2 < 1e-9, "{template}: {w1:e} {c1}, {w2:e} {c2}");
+    }
 }

@@ -1322,3 +1322,104 @@ fn a_rigid_suspension_that_cannot_be_is_refused_by_its_cause() {
     assert!(err.contains("rear axle") && err.contains("rigid") && err.contains("no K&C"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A `LeafspringAxle` suspension file in Chrono's format, written for these tests with the keys Chrono's
+/// `LeafspringAxle::Create` reads, in the proportions of Chrono's UAZ bus rear axle (its degressive damper
+/// written as a linear one: the model's damper is linear per direction).
+fn leafspring_axle_file() -> Value {
+    json!({
+        "Name": "rtv test leaf-spring axle",
+        "Type": "Suspension",
+        "Template": "LeafspringAxle",
+        "Camber Angle (deg)": 0,
+        "Toe Angle (deg)": 0,
+        "Spindle": {"Mass": 14.705, "COM": [0.0, 1.1, 0.0], "Inertia": [0.04117, 0.07352, 0.04117], "Radius": 0.1, "Width": 0.06},
+        "Axle Tube": {"Mass": 124.0, "COM": [0.0, 0.0, 0.0], "Inertia": [22.21, 0.0775, 22.21], "Radius": 0.0476},
+        "Spring": {"Location Chassis": [0.0, 0.5142, 0.2476], "Location Axle": [0.0, 0.5142, 0.0476],
+                   "Spring Coefficient": 102643.9, "Free Length": 0.2621, "Minimum Length": 0.12, "Maximum Length": 0.28},
+        "Shock": {"Location Chassis": [-0.3648, 0.4193, 0.4298], "Location Axle": [-0.125, 0.441, -0.0507],
+                  "Damping Coefficient": 16336.3},
+        "Axle": {"Inertia": 0.4}
+    })
+}
+
+/// A `RigidPanhardAxle` file: the leaf-spring axle's keys and a Panhard rod as Chrono's G500 rear axle's
+/// (its `Anti Roll Bar`, which Chrono's reader requires, left out: the model has none for this axle).
+fn panhard_axle_file() -> Value {
+    let mut v = leafspring_axle_file();
+    v["Template"] = json!("RigidPanhardAxle");
+    v["Panhard Rod"] = json!({"Mass": 10.0, "Inertia": [1.0, 0.04, 1.0], "Radius": 0.03,
+                              "Location Chassis": [-0.1, 0.5142, 0.0], "Location Axle": [-0.1, -0.5142, 0.0]});
+    v
+}
+
+#[test]
+fn leaf_spring_and_panhard_axles_import_as_chrono_reads_them() {
+    for (k, (file, template)) in
+        [(leafspring_axle_file(), "solid_leafspring"), (panhard_axle_file(), "solid_panhard")].into_iter().enumerate()
+    {
+        let dir = generic_with_solid_rear(&format!("guided_axle_import_{k}"), file);
+        let import = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None).unwrap();
+        let rear = &import.data.rear;
+        assert_eq!(rear.template.name(), template);
+        let p = |k: &str| rear.hardpoints_chassis_frame_m[k];
+        let near = |a: [f64; 3], b: [f64; 3]| (0..3).all(|i| (a[i] - b[i]).abs() < 1e-12);
+        // Chrono's points at the suspension's location (−1.25, 0, −0.21).
+        assert!(near(p("AXLE_CM"), [-1.25, 0.0, -0.21]), "{:?}", p("AXLE_CM"));
+        assert!(near(p("SPRING_A"), [-1.25, 0.5142, -0.1624]), "{:?}", p("SPRING_A"));
+        if template == "solid_panhard" {
+            assert!(near(p("PANHARD_A"), [-1.35, -0.5142, -0.21]), "{:?}", p("PANHARD_A"));
+            assert!(import.warnings.iter().any(|w| w.contains("Panhard Rod.Mass")), "{:?}", import.warnings);
+        }
+        let summary = rt_vehicle::model::summary::summarize(&import.data).unwrap();
+        let weight = summary.total_mass_kg * import.data.gravity_m_s2;
+        let loads: f64 = summary.axle_load_n.iter().sum();
+        assert!(((loads - weight) / weight).abs() < 1e-6, "{template}: {loads} N against {weight} N");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn leaf_spring_and_panhard_axle_files_that_cannot_be_are_refused_by_file_and_key() {
+    let cases: Vec<(Value, Edit, Vec<&str>)> = vec![
+        (
+            leafspring_axle_file(),
+            Box::new(|v| v["Camber Angle (deg)"] = json!(1.5)),
+            vec!["Camber Angle (deg)", "no static camber"],
+        ),
+        (
+            leafspring_axle_file(),
+            Box::new(|v| v["Shock"]["Degressivity Compression"] = json!(3)),
+            vec!["Shock.Degressivity Compression", "linear damper"],
+        ),
+        (leafspring_axle_file(), Box::new(|v| v["Panhard Rod"] = json!({})), vec!["Panhard Rod", "unknown key"]),
+        (
+            panhard_axle_file(),
+            Box::new(|v| v["Anti Roll Bar"] = json!({"Rotational Stiffness": 1000.0})),
+            vec!["Anti Roll Bar", "not in the model"],
+        ),
+        (
+            panhard_axle_file(),
+            Box::new(|v| v["Panhard Rod"]["Location Axle"] = json!([-0.1, 0.5142, 0.0])),
+            vec!["Panhard rod has no length"],
+        ),
+        (
+            // a rod running fore-aft cannot hold the axle sideways
+            panhard_axle_file(),
+            Box::new(|v| v["Panhard Rod"]["Location Axle"] = json!([0.6, 0.5142, 0.0])),
+            vec!["does not fix the axle's lateral motion"],
+        ),
+    ];
+    for (k, (mut axle, edit, needles)) in cases.into_iter().enumerate() {
+        edit(&mut axle);
+        let dir = generic_with_solid_rear(&format!("guided_axle_bad_{k}"), axle);
+        let e = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        for n in &needles {
+            assert!(e.contains(n), "case {k}: '{n}' not in: {e}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -155,3 +155,59 @@ pub fn hmmwv_rigid_rear() -> VehicleData {
     rear.damper = Damper::NONE;
     data
 }
+
+/// The shipped HMMWV with a three-link solid rear axle (`resources/vehicles/rtv_hmmwv_solid_rear.json`)
+/// with its rear axle located instead by `template`: `solid_leafspring` (Chrono's `LeafspringAxle` guide at
+/// the axle's CM) or `solid_panhard` (its planar guide and a Panhard rod across the car at the axle's height,
+/// 0.1 m behind it, as Chrono's G500 rear axle's). Test vehicles, written here.
+#[allow(dead_code)]
+pub fn hmmwv_solid_rear_located_by(template: &str) -> VehicleData {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles/rtv_hmmwv_solid_rear.json");
+    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let rear = &mut v["rear"];
+    rear["template"] = serde_json::json!(template);
+    let points = rear["hardpoints_chassis_frame_m"].as_object_mut().unwrap();
+    for k in ["TRIANGLE_C", "TRIANGLE_A", "LINK_C", "LINK_A"] {
+        points.remove(k);
+    }
+    if template == "solid_panhard" {
+        let c = points["AXLE_CM"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect::<Vec<_>>();
+        points.insert("PANHARD_C".into(), serde_json::json!([c[0] - 0.1, 0.5142, c[2]]));
+        points.insert("PANHARD_A".into(), serde_json::json!([c[0] - 0.1, -0.5142, c[2]]));
+    }
+    v["name"] = serde_json::json!(format!("HMMWV, {template} rear (test)"));
+    VehicleData::from_json(&v.to_string()).unwrap()
+}
+
+/// The J-turn (`rack` m of rack) of `data` by the synthesis, the augmented synthesis and the 42×42 at RK4
+/// 0.5 ms: the worst difference of each synthesis from the 42×42 over every CSV channel, relative to the
+/// channel's peak, and the channel.
+#[allow(dead_code)]
+pub fn jturn_formulation_differences(data: &VehicleData, rack: f64) -> [(f64, &'static str); 2] {
+    use rt_vehicle::sim::{Formulation, Outputs, CSV_COLUMNS, OUTPUT_NAMES};
+    use rt_vehicle::studies::scenes::{run, Amplitude, Scene, SceneKind};
+    let scene = Scene::for_vehicle(SceneKind::JTurn, Amplitude::Value(rack), data).unwrap();
+    let trace = |f| {
+        let config = SimConfig { internal_step: 5e-4, ..SimConfig::default() }.with_options(|o| o.formulation = f);
+        let mut sim = scene.start(data.clone(), &config).unwrap();
+        let mut out: Vec<Outputs> = Vec::new();
+        run(&mut sim, scene.duration, 0.01, |o| out.push(*o)).unwrap();
+        out
+    };
+    let conv = trace(Formulation::Conventional);
+    [Formulation::Synthesis, Formulation::SynthesisAugmented].map(|f| {
+        let run = trace(f);
+        let mut worst = (0.0, "");
+        for (i, name) in OUTPUT_NAMES[..CSV_COLUMNS].iter().enumerate() {
+            let peak = conv.iter().map(|r| r.values[i].abs()).fold(0.0, f64::max);
+            if peak == 0.0 {
+                continue;
+            }
+            let diff = run.iter().zip(&conv).map(|(a, b)| (a.values[i] - b.values[i]).abs()).fold(0.0, f64::max);
+            if diff / peak > worst.0 {
+                worst = (diff / peak, *name);
+            }
+        }
+        worst
+    })
+}
