@@ -1325,7 +1325,7 @@ fn a_rigid_suspension_that_cannot_be_is_refused_by_its_cause() {
 
 /// A `LeafspringAxle` suspension file in Chrono's format, written for these tests with the keys Chrono's
 /// `LeafspringAxle::Create` reads, in the proportions of Chrono's UAZ bus rear axle (its degressive damper
-/// written as a linear one: the model's damper is linear per direction).
+/// too: Chrono's `DegressiveDamperForce`).
 fn leafspring_axle_file() -> Value {
     json!({
         "Name": "rtv test leaf-spring axle",
@@ -1338,7 +1338,7 @@ fn leafspring_axle_file() -> Value {
         "Spring": {"Location Chassis": [0.0, 0.5142, 0.2476], "Location Axle": [0.0, 0.5142, 0.0476],
                    "Spring Coefficient": 102643.9, "Free Length": 0.2621, "Minimum Length": 0.12, "Maximum Length": 0.28},
         "Shock": {"Location Chassis": [-0.3648, 0.4193, 0.4298], "Location Axle": [-0.125, 0.441, -0.0507],
-                  "Damping Coefficient": 16336.3},
+                  "Damping Coefficient": 16336.3, "Degressivity Compression": 3, "Degressivity Expansion": 1},
         "Axle": {"Inertia": 0.4}
     })
 }
@@ -1367,6 +1367,10 @@ fn leaf_spring_and_panhard_axles_import_as_chrono_reads_them() {
         // Chrono's points at the suspension's location (−1.25, 0, −0.21).
         assert!(near(p("AXLE_CM"), [-1.25, 0.0, -0.21]), "{:?}", p("AXLE_CM"));
         assert!(near(p("SPRING_A"), [-1.25, 0.5142, -0.1624]), "{:?}", p("SPRING_A"));
+        assert_eq!(
+            (rear.damper.degressivity_compression_s_per_m, rear.damper.degressivity_rebound_s_per_m),
+            (3.0, 1.0)
+        );
         if template == "solid_panhard" {
             assert!(near(p("PANHARD_A"), [-1.35, -0.5142, -0.21]), "{:?}", p("PANHARD_A"));
             assert!(import.warnings.iter().any(|w| w.contains("Panhard Rod.Mass")), "{:?}", import.warnings);
@@ -1377,6 +1381,14 @@ fn leaf_spring_and_panhard_axles_import_as_chrono_reads_them() {
         assert!(((loads - weight) / weight).abs() < 1e-6, "{template}: {loads} N against {weight} N");
         let _ = std::fs::remove_dir_all(&dir);
     }
+    // One degressivity key alone Chrono does not read: ignored, with a warning, the damper linear.
+    let mut one = leafspring_axle_file();
+    one["Shock"].as_object_mut().unwrap().remove("Degressivity Expansion");
+    let dir = generic_with_solid_rear("guided_axle_one_degressivity", one);
+    let import = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None).unwrap();
+    assert_eq!(import.data.rear.damper.degressivity_compression_s_per_m, 0.0);
+    assert!(import.warnings.iter().any(|w| w.contains("Degressivity Compression: ignored")), "{:?}", import.warnings);
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -1389,8 +1401,11 @@ fn leaf_spring_and_panhard_axle_files_that_cannot_be_are_refused_by_file_and_key
         ),
         (
             leafspring_axle_file(),
-            Box::new(|v| v["Shock"]["Degressivity Compression"] = json!(3)),
-            vec!["Shock.Degressivity Compression", "linear damper"],
+            Box::new(|v| {
+                v["Shock"]["Degressivity Compression"] = json!(-3);
+                v["Shock"]["Degressivity Expansion"] = json!(1);
+            }),
+            vec!["Shock.Degressivity Compression", "zero or positive"],
         ),
         (leafspring_axle_file(), Box::new(|v| v["Panhard Rod"] = json!({})), vec!["Panhard Rod", "unknown key"]),
         (

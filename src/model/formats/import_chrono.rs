@@ -911,9 +911,10 @@ impl SuspensionReader<'_> {
         Ok((stop_min, stop_max))
     }
 
-    /// Refuses the damper laws the model cannot take (degressive, a map), and the keys `more`, in `o`.
+    /// Refuses the damper laws the model cannot take (a map; a degressive law in a combined spring-damper
+    /// element, which Chrono's reader does not read either), and the keys `more`, in `o`.
     fn unsupported_damper(o: &Obj, more: &[&str]) -> Result<(), ImportError> {
-        let laws = ["Degressivity Compression", "Degressivity Expansion", "Map Data"];
+        let laws = ["Map Data"];
         match laws.iter().chain(more).find(|k| o.has(k)) {
             Some(k) => Err(o.err(k, "not supported: the model's damper is a linear damper per direction")),
             None => Ok(()),
@@ -929,7 +930,15 @@ impl SuspensionReader<'_> {
         if !combined {
             // A single wishbone's element: its keys were accounted for by `spring`.
             sh.keys(
-                &["Location Chassis", moving, "Damping Coefficient", "Damping Curve Data", "Curve Data"],
+                &[
+                    "Location Chassis",
+                    moving,
+                    "Damping Coefficient",
+                    "Damping Curve Data",
+                    "Curve Data",
+                    "Degressivity Compression",
+                    "Degressivity Expansion",
+                ],
                 &[("Free Length", "a damper has no free length in the model")],
                 self.warnings,
             )?;
@@ -954,6 +963,7 @@ impl SuspensionReader<'_> {
                 (c, r)
             }
         };
+        let [degressivity_compression_s_per_m, degressivity_rebound_s_per_m] = self.degressivity(&sh)?;
         Ok(Damper {
             midstroke_compression_Ns_per_m: compression,
             midstroke_rebound_Ns_per_m: rebound,
@@ -961,7 +971,38 @@ impl SuspensionReader<'_> {
             bumpstop_rebound_Ns_per_m: rebound,
             engagement_min_length_m: DAMPER_ENGAGEMENT_M[0],
             engagement_max_length_m: DAMPER_ENGAGEMENT_M[1],
+            degressivity_compression_s_per_m,
+            degressivity_rebound_s_per_m,
         })
+    }
+
+    /// A damper's degressivity (compression, expansion), s/m, as Chrono's `ReadTSDAFunctorJSON` reads it:
+    /// only with a `Damping Coefficient` and both keys (a `DegressiveDamperForce`); one key alone, or with a
+    /// curve, Chrono does not read (a warning says so, and the damper stays linear).
+    fn degressivity(&mut self, sh: &Obj) -> Result<[f64; 2], ImportError> {
+        let keys = ["Degressivity Compression", "Degressivity Expansion"];
+        let given = keys.map(|k| sh.has(k));
+        if !given.iter().any(|g| *g) {
+            return Ok([0.0, 0.0]);
+        }
+        if given != [true, true] || !sh.has("Damping Coefficient") || sh.has("Damping Curve Data") {
+            for k in keys.iter().filter(|k| sh.has(k)) {
+                self.warnings.push(format!(
+                    "{}: {}: ignored (Chrono reads a degressivity only with a Damping Coefficient and both keys)",
+                    self.o.file,
+                    sh.key(k)
+                ));
+            }
+            return Ok([0.0, 0.0]);
+        }
+        let mut out = [0.0; 2];
+        for (o, k) in out.iter_mut().zip(keys) {
+            *o = sh.num(k)?;
+            if !(*o >= 0.0 && o.is_finite()) {
+                return Err(sh.err(k, format!("must be zero or positive (s/m), got {o}")));
+            }
+        }
+        Ok(out)
     }
 
     /// A `SolidThreeLinkAxle` file, as Chrono's `SolidThreeLinkAxle::Create` reads it: the spindle, the axle

@@ -152,6 +152,8 @@ impl Damper {
         bumpstop_rebound_Ns_per_m: 0.0,
         engagement_min_length_m: 0.0,
         engagement_max_length_m: 0.0,
+        degressivity_compression_s_per_m: 0.0,
+        degressivity_rebound_s_per_m: 0.0,
     };
 
     fn none() -> Damper {
@@ -185,6 +187,12 @@ pub struct Damper {
     pub bumpstop_rebound_Ns_per_m: f64,
     pub engagement_min_length_m: f64,
     pub engagement_max_length_m: f64,
+    /// Degressive damping (Chrono's `DegressiveDamperForce`), s/m: each direction's rate c becomes
+    /// c/(1 + d·|v|) at the damper's speed v, d the compression's or the rebound's. Absent: 0 (linear).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub degressivity_compression_s_per_m: f64,
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub degressivity_rebound_s_per_m: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -954,6 +962,8 @@ fn check_damper(field: &str, d: &Damper) -> Result<(), DataError> {
         ("midstroke_rebound_Ns_per_m", d.midstroke_rebound_Ns_per_m),
         ("bumpstop_compression_Ns_per_m", d.bumpstop_compression_Ns_per_m),
         ("bumpstop_rebound_Ns_per_m", d.bumpstop_rebound_Ns_per_m),
+        ("degressivity_compression_s_per_m", d.degressivity_compression_s_per_m),
+        ("degressivity_rebound_s_per_m", d.degressivity_rebound_s_per_m),
     ] {
         nonneg(&format!("{field}.{k}"), v)?;
     }

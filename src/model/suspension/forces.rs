@@ -158,6 +158,13 @@ pub fn damper_force(d: &Damper, length: f64, rate: f64) -> f64 {
     let compression = inside * d.midstroke_compression_Ns_per_m + (1.0 - inside) * d.bumpstop_compression_Ns_per_m;
     let rebound = inside * d.midstroke_rebound_Ns_per_m + (1.0 - inside) * d.bumpstop_rebound_Ns_per_m;
     let w = 0.5 * (1.0 + (rate / DAMPER_VELOCITY_BLEND).tanh());
+    if d.degressivity_compression_s_per_m == 0.0 && d.degressivity_rebound_s_per_m == 0.0 {
+        return -((1.0 - w) * compression + w * rebound) * rate;
+    }
+    // Chrono's DegressiveDamperForce: c v / (1 + d |v|) per direction (C¹ through v = 0, where it is c v).
+    let speed = rate.abs();
+    let compression = compression / (1.0 + d.degressivity_compression_s_per_m * speed);
+    let rebound = rebound / (1.0 + d.degressivity_rebound_s_per_m * speed);
     -((1.0 - w) * compression + w * rebound) * rate
 }
 
@@ -165,6 +172,25 @@ pub fn damper_force(d: &Damper, length: f64, rate: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::model::formats::params::VehicleData;
+
+    #[test]
+    fn a_degressive_damper_is_chronos_outside_the_blend() {
+        // Chrono's DegressiveDamperForce::evaluate: −c v/(1 + d_e v) extending, −c v/(1 − d_c v) compressing
+        // (the city bus's: c = 16 336 N s/m, d_c = 3, d_e = 1 s/m). Outside the velocity blend (|v| ≫ 1 mm/s)
+        // and inside the mid-stroke band the model's is the same.
+        let mut d = VehicleData::default_hmmwv().rear.damper;
+        let c = 16336.3;
+        (d.midstroke_compression_Ns_per_m, d.midstroke_rebound_Ns_per_m) = (c, c);
+        (d.degressivity_compression_s_per_m, d.degressivity_rebound_s_per_m) = (3.0, 1.0);
+        let mid = 0.5 * (d.engagement_min_length_m + d.engagement_max_length_m);
+        for v in [-2.0, -0.5, -0.1, 0.1, 0.5, 2.0] {
+            let chrono = if v >= 0.0 { -c * v / (1.0 + 1.0 * v) } else { -c * v / (1.0 - 3.0 * v) };
+            let ours = damper_force(&d, mid, v);
+            assert!((ours - chrono).abs() < 1e-9 * chrono.abs(), "v {v}: {ours} against {chrono}");
+        }
+        // and it is not the linear one
+        assert!((damper_force(&d, mid, 1.0) + c).abs() > 0.4 * c);
+    }
 
     #[test]
     fn stop_curve_is_monotone_c1_and_passes_through_the_table() {
