@@ -87,7 +87,9 @@ def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
     prefix = sys.argv[1]
-    for out in [travel_figure(prefix, "front"), travel_figure(prefix, "rear"), steering_figure(prefix)]:
+    # A rigid axle has no travel CSV (its K&C is left out): plot the axles that have one.
+    axles = [a for a in ["front", "rear"] if os.path.exists(f"{prefix}_{a}_travel.csv")]
+    for out in [travel_figure(prefix, a) for a in axles] + [steering_figure(prefix)]:
         print(f"plot_kc: wrote {out}", file=sys.stderr)
 
 

@@ -463,7 +463,11 @@ pub struct KcReport {
     pub vehicle: String,
     pub tire_radius: f64,
     pub options: KcOptions,
+    /// The axles with a suspension (a rigid axle has no travel and is left out: `rigid`).
     pub axles: Vec<AxleKc>,
+    /// The axles without one (template `rigid`), by name.
+    pub rigid: Vec<&'static str>,
+    pub templates: [SuspensionTemplate; 2],
     pub steering: SteeringKc,
 }
 
@@ -506,12 +510,6 @@ pub fn roll_centre_height(contact: &V3, velocity: &V3, y_mid: f64) -> f64 {
 
 fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<AxleKc, ModelError> {
     let index = if name == "front" { 0 } else { 1 };
-    if v.axle_kind(index) == crate::model::vehicle::AxleKind::Rigid {
-        return Err(ModelError::new(
-            Cause::Kinematics,
-            format!("{name} axle: a rigid suspension (template rigid) has no travel: it has no K&C to report"),
-        ));
-    }
     if v.solid_axles[index].is_some() {
         return solid_axle_kc(name, data, v, options);
     }
@@ -797,12 +795,21 @@ impl KcReport {
         if !v.springs_as_written {
             retune_ride_height(&mut v, &Options::default())?;
         }
-        let axles = vec![axle_kc("front", data, &v, options)?, axle_kc("rear", data, &v, options)?];
+        let (mut axles, mut rigid) = (Vec::new(), Vec::new());
+        for (k, name) in ["front", "rear"].into_iter().enumerate() {
+            if v.axle_kind(k) == crate::model::vehicle::AxleKind::Rigid {
+                rigid.push(name);
+            } else {
+                axles.push(axle_kc(name, data, &v, options)?);
+            }
+        }
         Ok(KcReport {
             vehicle: data.name.clone(),
             tire_radius: data.tire.unloaded_radius_m,
             options: *options,
             axles,
+            rigid,
+            templates: [data.front.template, data.rear.template],
             steering: steering_kc(data, &v, options)?,
         })
     }
@@ -913,8 +920,8 @@ impl KcReport {
                to measure.\n\n";
         md += &format!(
             "- Templates: front {}, rear {}; steering by {} ({}, + = left turn, limit ±{} {}).\n",
-            self.axles[0].template.name(),
-            self.axles[1].template.name(),
+            self.templates[0].name(),
+            self.templates[1].name(),
             self.steering.input.name(),
             self.steering.input.unit(),
             self.steering.limit,
@@ -978,8 +985,15 @@ impl KcReport {
             self.steering.input.name()
         );
 
+        for name in &self.rigid {
+            md += &format!(
+                "The {name} axle is rigid (template rigid: the spindles turn on the chassis): it has no travel, so \
+                 no K&C of its own; its columns and curves are left out.\n\n"
+            );
+        }
         md += "## Static figures at design (left wheel; the right mirrors it)\n\n";
-        md += "| | front | rear |\n|---|---:|---:|\n";
+        let names: Vec<&str> = self.axles.iter().map(|a| a.name).collect();
+        md += &format!("| | {} |\n|---|{}\n", names.join(" | "), "---:|".repeat(names.len()));
         type Cell<'a> = &'a dyn Fn(&StaticFigures) -> String;
         let rows: [(&str, Cell); 20] = [
             ("template", &|_| String::new()),
