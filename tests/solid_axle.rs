@@ -229,7 +229,10 @@ fn a_link_moved_a_tenth_of_a_millimetre_is_seen() {
 /// Newton on absolute coordinates (each body's position r and rotation A, rotations perturbed on the left by
 /// exp([φ]×)) with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13: the residual rows must make the system
 /// square.
-fn solve_absolute(r: &mut [V3], a: &mut [M3], residual: &dyn Fn(&[V3], &[M3]) -> Vec<f64>) {
+/// The joint rows and drivers of a mechanism at the bodies' positions and rotations.
+type Residual<'a> = &'a dyn Fn(&[V3], &[M3]) -> Vec<f64>;
+
+fn solve_absolute(r: &mut [V3], a: &mut [M3], residual: Residual) {
     let n = 6 * r.len();
     let perturb = |r: &mut [V3], a: &mut [M3], k: usize, h: f64| {
         let (b, c) = (k / 6, k % 6);

@@ -394,6 +394,7 @@ impl AxleLinkage {
 
     /// The row ½(|r − c_p|² − ℓ₀²)/ℓ₀ of a link of length ℓ₀ from the chassis point `chassis` to the axle
     /// point `on_axle` (metres near the solution), its Jacobian into row `k` of `phi_q` when given.
+    #[allow(clippy::too_many_arguments)]
     fn distance_row(
         &self,
         pos: &AxlePositions,
