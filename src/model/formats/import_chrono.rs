@@ -1044,27 +1044,7 @@ impl SuspensionReader<'_> {
             self.put(chassis, link.point("Location Chassis")?);
             self.put(axle, link.point("Location Axle")?);
         }
-        let spring = self.spring()?;
-        let damper = self.damper()?;
-        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
-        Ok(Axle {
-            template: SuspensionTemplate::SolidThreeLink,
-            steered,
-            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
-            lower_arm: RigidBody::NONE,
-            upper_arm: None,
-            strut: None,
-            upright: RigidBody::NONE,
-            axle_tube: Some(tube),
-            spindle,
-            axle_shaft_spin_inertia_kg_m2,
-            spring,
-            damper,
-            reference_kinematics: None,
-            static_camber_deg: 0.0,
-            static_toe_deg: 0.0,
-            antiroll_bar: None,
-        })
+        self.solid_axle_rest(steered, spindle, tube)
     }
 
     /// A `LeafspringAxle` or `RigidPanhardAxle` file, as Chrono's `LeafspringAxle::Create` and
@@ -1111,10 +1091,30 @@ impl SuspensionReader<'_> {
             self.put("PANHARD_C", rod.point("Location Chassis")?);
             self.put("PANHARD_A", rod.point("Location Axle")?);
         }
+        self.solid_axle_rest(steered, spindle, tube)
+    }
+
+    /// What every solid axle's file ends with, as Chrono's readers read it: the spring, the damper and the
+    /// axle shaft; the axle of the reader's template from them, its spindle and its tube.
+    fn solid_axle_rest(&mut self, steered: bool, spindle: RigidBody, tube: RigidBody) -> Result<Axle, ImportError> {
         let spring = self.spring()?;
         let damper = self.damper()?;
-        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
-        Ok(Axle {
+        let shaft = self.axle_shaft()?;
+        Ok(self.axle_without_arms(steered, spindle, Some(tube), shaft, spring, damper))
+    }
+
+    /// An axle of the reader's template with no arm or upright (a solid axle's, or a rigid one's), from the
+    /// hardpoints read, no alignment and no anti-roll bar.
+    fn axle_without_arms(
+        &mut self,
+        steered: bool,
+        spindle: RigidBody,
+        axle_tube: Option<RigidBody>,
+        axle_shaft_spin_inertia_kg_m2: f64,
+        spring: Spring,
+        damper: Damper,
+    ) -> Axle {
+        Axle {
             template: self.template,
             steered,
             hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
@@ -1122,7 +1122,7 @@ impl SuspensionReader<'_> {
             upper_arm: None,
             strut: None,
             upright: RigidBody::NONE,
-            axle_tube: Some(tube),
+            axle_tube,
             spindle,
             axle_shaft_spin_inertia_kg_m2,
             spring,
@@ -1131,7 +1131,7 @@ impl SuspensionReader<'_> {
             static_camber_deg: 0.0,
             static_toe_deg: 0.0,
             antiroll_bar: None,
-        })
+        }
     }
 
     /// A `RigidSuspension` file, as Chrono's `RigidSuspension::Create` reads it: the spindle (its `COM` the
@@ -1143,25 +1143,8 @@ impl SuspensionReader<'_> {
             self.warnings,
         )?;
         let spindle = self.spindle()?;
-        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
-        Ok(Axle {
-            template: SuspensionTemplate::Rigid,
-            steered,
-            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
-            lower_arm: RigidBody::NONE,
-            upper_arm: None,
-            strut: None,
-            upright: RigidBody::NONE,
-            axle_tube: None,
-            spindle,
-            axle_shaft_spin_inertia_kg_m2,
-            spring: Spring::NONE,
-            damper: Damper::NONE,
-            reference_kinematics: None,
-            static_camber_deg: 0.0,
-            static_toe_deg: 0.0,
-            antiroll_bar: None,
-        })
+        let shaft = self.axle_shaft()?;
+        Ok(self.axle_without_arms(steered, spindle, None, shaft, Spring::NONE, Damper::NONE))
     }
 
     /// The axle shaft's spin inertia (`Axle`), kg m².

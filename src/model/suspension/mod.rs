@@ -405,6 +405,42 @@ impl Corner {
         }
     }
 
+    /// A wheel whose carrier another subsystem places (a solid axle, or the chassis itself): no arms, no
+    /// tie rod, no mass of its own (its carrier's body carries the wheel's), the carrier's reference point b₀,
+    /// the wheel centre w₀, the spring's and the damper's mounts on the carrier, the wheel's spin inertia
+    /// about the carrier's y axis.
+    pub(crate) fn carried_wheel(
+        template: SuspensionTemplate,
+        side: Side,
+        closure: Closure,
+        b0: V3,
+        w0: V3,
+        [spring, shock]: [LineMount; 2],
+        spin_inertia: f64,
+    ) -> Corner {
+        Corner {
+            template,
+            side,
+            drive: TieRodDrive::Chassis,
+            p_l: V3::zeros(),
+            h_l: V3::x(),
+            b0,
+            t_k: V3::zeros(),
+            t_r0: V3::zeros(),
+            w0,
+            tie_length: 0.0,
+            closure,
+            spring,
+            shock,
+            lower: BodyInertia::NONE,
+            upper: BodyInertia::NONE,
+            carrier: BodyInertia::NONE,
+            spin_inertia,
+            axle: V3::y(),
+            design_det: 1.0,
+        }
+    }
+
     /// Whether the corner has a spring and a damper (a rigid suspension's wheel has neither).
     #[inline(always)]
     pub fn has_line_elements(&self) -> bool {

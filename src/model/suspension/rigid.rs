@@ -9,10 +9,9 @@
 //! on them act on the chassis (`Vehicle`'s synthesis stage). Each wheel is a corner whose carrier is the
 //! chassis, with no mass and no travel, so that the tire, brake and drive stages treat it as every other.
 
-use super::{carrier_inertia, BodyInertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side};
-use crate::math::{M3, V3};
+use super::{carrier_inertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side};
+use crate::math::M3;
 use crate::model::formats::params::{Axle, DataError, SuspensionTemplate, VehicleData};
-use crate::model::steering::TieRodDrive;
 
 /// One wheel of a rigid suspension as a corner: its carrier is the chassis (`place_wheel`), it has no mass
 /// of its own (the sprung body carries it) and no line elements; its wheel spins about the chassis y axis.
@@ -22,27 +21,7 @@ pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corne
     let (_, spin_inertia) = carrier_inertia(data, axle, side, w0, w0);
     // No spring or damper: the mounts are never read (`Corner::has_line_elements`).
     let none = LineMount { chassis: w0, moving: w0, body: MountBody::Carrier };
-    Ok(Corner {
-        template: SuspensionTemplate::Rigid,
-        side,
-        drive: TieRodDrive::Chassis,
-        p_l: V3::zeros(),
-        h_l: V3::x(),
-        b0: w0,
-        t_k: V3::zeros(),
-        t_r0: V3::zeros(),
-        w0,
-        tie_length: 0.0,
-        closure: Closure::Rigid,
-        spring: none,
-        shock: none,
-        lower: BodyInertia::NONE,
-        upper: BodyInertia::NONE,
-        carrier: BodyInertia::NONE,
-        spin_inertia,
-        axle: V3::y(),
-        design_det: 1.0,
-    })
+    Ok(Corner::carried_wheel(SuspensionTemplate::Rigid, side, Closure::Rigid, w0, w0, [none, none], spin_inertia))
 }
 
 /// The positions of a rigid suspension's wheel: its carrier is the chassis (the design point b₀ where it is,

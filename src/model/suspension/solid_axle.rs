@@ -31,7 +31,6 @@ use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
 use crate::math::{BryantSinCos, M3, V3};
 use crate::model::formats::params::{Axle, DataError, SuspensionTemplate, VehicleData};
-use crate::model::steering::TieRodDrive;
 use nalgebra::{SMatrix, Vector4, Vector6};
 use serde::{Deserialize, Serialize};
 
@@ -115,27 +114,9 @@ pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corne
     let w0 = pt("SPINDLE");
     let (_, spin_inertia) = carrier_inertia(data, axle, side, w0, w0);
     let on_axle = |c: &str, a: &str| LineMount { chassis: pt(c), moving: pt(a), body: MountBody::Carrier };
-    Ok(Corner {
-        template: axle.template,
-        side,
-        drive: TieRodDrive::Chassis,
-        p_l: V3::zeros(),
-        h_l: V3::x(),
-        b0: VehicleData::point(axle, "AXLE_CM") - points.c0,
-        t_k: V3::zeros(),
-        t_r0: V3::zeros(),
-        w0,
-        tie_length: 0.0,
-        closure: Closure::SolidAxle,
-        spring: on_axle("SPRING_C", "SPRING_A"),
-        shock: on_axle("SHOCK_C", "SHOCK_A"),
-        lower: BodyInertia::NONE,
-        upper: BodyInertia::NONE,
-        carrier: BodyInertia::NONE,
-        spin_inertia,
-        axle: V3::y(),
-        design_det: 1.0,
-    })
+    let b0 = VehicleData::point(axle, "AXLE_CM") - points.c0;
+    let mounts = [on_axle("SPRING_C", "SPRING_A"), on_axle("SHOCK_C", "SHOCK_A")];
+    Ok(Corner::carried_wheel(axle.template, side, Closure::SolidAxle, b0, w0, mounts, spin_inertia))
 }
 
 /// The loader's check of a solid axle: its linkage assembles, and moves through ±50 mm of heave and ±0.05
@@ -625,19 +606,27 @@ mod tests {
         }
     }
 
+    /// u(t) a smooth heave and roll, q(t) solved; at t = 0.4 s: the positions, q̇ (checked against central
+    /// differences of q), q̈ from second differences, and γ̄.
+    fn motion(axle: &AxleLinkage, name: &str) -> (AxlePositions, AxleQ, AxleQ, Vector4<f64>) {
+        let u = |t: f64| [0.06 * (3.0 * t).sin(), 0.05 * (2.0 * t + 0.3).sin()];
+        let ud = |t: f64| [0.18 * (3.0 * t).cos(), 0.10 * (2.0 * t + 0.3).cos()];
+        let solve = |t: f64| axle.solve_positions(u(t), &[0.0; 4]).unwrap();
+        let (t, h) = (0.4, 1e-4);
+        let (pm, p0, pp) = (solve(t - h), solve(t), solve(t + h));
+        let qd = axle.velocities(&p0, ud(t));
+        let qd_fd = (pp.q - pm.q) / (2.0 * h);
+        assert!((qd - qd_fd).amax() < 1e-7, "{name}: q̇ {:e}", (qd - qd_fd).amax());
+        let qdd = (pp.q - 2.0 * p0.q + pm.q) / (h * h);
+        let gamma = axle.gamma_bar(&p0, &qd);
+        (p0, qd, qdd, gamma)
+    }
+
     #[test]
     fn velocities_and_gamma_bar_match_differences_for_every_locator() {
+        // q̇ against central differences of q, and Φ_q q̈ = γ̄ with q̈ from second differences
         for (name, axle) in linkages() {
-            let u = |t: f64| [0.06 * (3.0 * t).sin(), 0.05 * (2.0 * t + 0.3).sin()];
-            let ud = |t: f64| [0.18 * (3.0 * t).cos(), 0.10 * (2.0 * t + 0.3).cos()];
-            let solve = |t: f64| axle.solve_positions(u(t), &[0.0; 4]).unwrap();
-            let (t, h) = (0.4, 1e-4);
-            let (pm, p0, pp) = (solve(t - h), solve(t), solve(t + h));
-            let qd = axle.velocities(&p0, ud(t));
-            let qd_fd = (pp.q - pm.q) / (2.0 * h);
-            assert!((qd - qd_fd).amax() < 1e-7, "{name}: q̇ {:e}", (qd - qd_fd).amax());
-            let qdd = (pp.q - 2.0 * p0.q + pm.q) / (h * h);
-            let gamma = axle.gamma_bar(&p0, &qd);
+            let (p0, _, qdd, gamma) = motion(&axle, name);
             let err = (p0.phi_q * qdd - gamma).amax();
             eprintln!("{name}: Φ_q q̈ − γ̄ {err:e}, |γ̄| {:e}", gamma.amax());
             // The second difference's own error is O(h²) of q's fourth derivative: 4e-6 of |γ̄| on the three
@@ -661,24 +650,10 @@ mod tests {
     }
 
     #[test]
-    fn velocities_and_gamma_bar_match_differences_along_a_motion() {
-        // u(t) a smooth heave and roll; q(t) solved; q̇ against central differences of q, and Φ_q q̈ = γ̄ with
-        // q̈ from second differences
+    fn the_three_link_gamma_bar_needs_its_links_velocity_term() {
         let axle = man_rear();
-        let u = |t: f64| [0.06 * (3.0 * t).sin(), 0.05 * (2.0 * t + 0.3).sin()];
-        let ud = |t: f64| [0.18 * (3.0 * t).cos(), 0.10 * (2.0 * t + 0.3).cos()];
-        let solve = |t: f64| axle.solve_positions(u(t), &[0.0; 4]).unwrap();
-        let (t, h) = (0.4, 1e-4);
-        let (pm, p0, pp) = (solve(t - h), solve(t), solve(t + h));
-        let qd = axle.velocities(&p0, ud(t));
-        let qd_fd = (pp.q - pm.q) / (2.0 * h);
-        assert!((qd - qd_fd).amax() < 1e-7, "q̇ {:e}", (qd - qd_fd).amax());
-        let qdd = (pp.q - 2.0 * p0.q + pm.q) / (h * h);
-        let gamma = axle.gamma_bar(&p0, &qd);
-        let err = (p0.phi_q * qdd - gamma).amax();
-        eprintln!("q̇ error {:e}, Φ_q q̈ − γ̄ {err:e}, |γ̄| {:e}", (qd - qd_fd).amax(), gamma.amax());
-        assert!(err < 1e-5 * gamma.amax(), "γ̄ {err:e} (γ̄ {gamma:?})");
-        // negative control: γ̄ without the links' ṙ·ṙ (their rows' g_rr part) fails the same bound
+        let (p0, qd, qdd, gamma) = motion(&axle, "three-link");
+        // γ̄ without the links' ṙ·ṙ (their rows' g_rr part) fails the same bound
         let mut partial = gamma;
         let Locator::ThreeLink { link_axle, link_length, .. } = &axle.locator else { unreachable!() };
         for i in 0..2 {
