@@ -473,6 +473,14 @@ pub const SINGLE_WISHBONE_HARDPOINTS: [&str; 12] = [
     "TIEROD_C", "TIEROD_U",
 ];
 
+/// A wheel on its spindle (`VehicleData::wheel_assembly`), kg and kg m².
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WheelAssembly {
+    pub mass: f64,
+    pub transverse_inertia: f64,
+    pub spin_inertia: f64,
+}
+
 /// The hardpoints a three-link solid axle must name (Chrono's `SolidThreeLinkAxle` points, left side):
 /// `AXLE_CM` the axle tube's CM (on y = 0), `TRIANGLE_C` one of the triangle's two chassis points (its
 /// revolute axis is the chassis y axis through their mid-point), `TRIANGLE_A` its apex on the axle (on
@@ -602,6 +610,21 @@ impl VehicleData {
         Ok(())
     }
 
+    /// What turns on one spindle of `axle`: spindle, wheel and tire (their mass and their inertia about a
+    /// transverse axis, Ixx as the spindle's), and the spin inertia about the axle with the half-shaft.
+    pub fn wheel_assembly(&self, axle: &Axle) -> WheelAssembly {
+        WheelAssembly {
+            mass: axle.spindle.mass_kg + self.wheel.mass_kg + self.tire.mass_kg,
+            transverse_inertia: axle.spindle.inertia_moments_kg_m2[0]
+                + self.wheel.inertia_kg_m2[0]
+                + self.tire.inertia_kg_m2[0],
+            spin_inertia: axle.spindle.inertia_moments_kg_m2[1]
+                + self.wheel.inertia_kg_m2[1]
+                + self.tire.inertia_kg_m2[1]
+                + axle.axle_shaft_spin_inertia_kg_m2,
+        }
+    }
+
     /// Non-fatal remarks about the data (printed by the CLI, logged by the FMU).
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
@@ -681,9 +704,7 @@ impl VehicleData {
             if axle.template.is_rigid() {
                 // The spindle, wheel and tire of a rigid suspension turn on the chassis: their mass and their
                 // inertia about the transverse axes are carried (the spin axis's is the wheel's spin state's).
-                let m = axle.spindle.mass_kg + self.wheel.mass_kg + self.tire.mass_kg;
-                let i_t =
-                    axle.spindle.inertia_moments_kg_m2[0] + self.wheel.inertia_kg_m2[0] + self.tire.inertia_kg_m2[0];
+                let WheelAssembly { mass: m, transverse_inertia: i_t, .. } = self.wheel_assembly(axle);
                 let j = Matrix3::from_diagonal(&Vector3::new(i_t, 0.0, i_t));
                 let w = Self::point(axle, "SPINDLE");
                 out.push((m, w, j));

@@ -34,7 +34,7 @@ pub mod solid_axle;
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
 use crate::math::{rotation_about_sc, BryantSinCos, M3, V3};
-use crate::model::formats::params::{Axle, DataError, RigidBody, SuspensionTemplate, VehicleData};
+use crate::model::formats::params::{Axle, DataError, RigidBody, SuspensionTemplate, VehicleData, WheelAssembly};
 use crate::model::steering::{TieRodDrive, TieRodPath};
 use double_wishbone::UpperArm;
 use macpherson::Strut;
@@ -309,12 +309,7 @@ pub fn static_axle(axle: &Axle, side: Side) -> V3 {
 pub(crate) fn carrier_inertia(data: &VehicleData, axle: &Axle, side: Side, c_up: V3, w0: V3) -> (BodyInertia, f64) {
     let a = static_axle(axle, side);
     let m_up = axle.upright.mass_kg;
-    let m_w = axle.spindle.mass_kg + data.wheel.mass_kg + data.tire.mass_kg;
-    let i_t = axle.spindle.inertia_moments_kg_m2[0] + data.wheel.inertia_kg_m2[0] + data.tire.inertia_kg_m2[0];
-    let spin_inertia = axle.spindle.inertia_moments_kg_m2[1]
-        + data.wheel.inertia_kg_m2[1]
-        + data.tire.inertia_kg_m2[1]
-        + axle.axle_shaft_spin_inertia_kg_m2;
+    let WheelAssembly { mass: m_w, transverse_inertia: i_t, spin_inertia } = data.wheel_assembly(axle);
     let m_k = m_up + m_w;
     let c_k = (c_up * m_up + w0 * m_w) / m_k;
     let steiner = |m: f64, r: V3| (M3::identity() * r.norm_squared() - r * r.transpose()) * m;
@@ -323,6 +318,18 @@ pub(crate) fn carrier_inertia(data: &VehicleData, axle: &Axle, side: Side, c_up:
         + (M3::identity() - a * a.transpose()) * i_t
         + steiner(m_w, w0 - c_k);
     (BodyInertia { mass: m_k, com: c_k, inertia: j_k }, spin_inertia)
+}
+
+impl CornerPositions {
+    /// The positions of a wheel whose carrier another subsystem places (a solid axle, or the chassis): the
+    /// carrier's reference point b and rotation r_k; no arm turns.
+    pub(crate) fn carried(&mut self, b: V3, r_k: M3, residual: f64) {
+        self.b = b;
+        self.r_k = r_k;
+        self.r_l = M3::identity();
+        self.r_u = M3::identity();
+        self.residual = residual;
+    }
 }
 
 impl Corner {
@@ -441,10 +448,10 @@ impl Corner {
         }
     }
 
-    /// Whether the corner has a spring and a damper (a rigid suspension's wheel has neither).
+    /// Whether the corner has a spring and a damper (a rigid suspension's wheel, on the chassis, has neither).
     #[inline(always)]
     pub fn has_line_elements(&self) -> bool {
-        !matches!(self.closure, Closure::Rigid)
+        !self.on_chassis()
     }
 
     /// Whether the wheel's carrier is the chassis itself (a rigid suspension).

@@ -9,7 +9,7 @@
 //! on them act on the chassis (`Vehicle`'s synthesis stage). Each wheel is a corner whose carrier is the
 //! chassis, with no mass and no travel, so that the tire, brake and drive stages treat it as every other.
 
-use super::{carrier_inertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side};
+use super::{Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side};
 use crate::math::M3;
 use crate::model::formats::params::{Axle, DataError, SuspensionTemplate, VehicleData};
 
@@ -18,7 +18,7 @@ use crate::model::formats::params::{Axle, DataError, SuspensionTemplate, Vehicle
 pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corner, DataError> {
     let points = Hardpoints::new(data, axle, side);
     let w0 = points.point("SPINDLE");
-    let (_, spin_inertia) = carrier_inertia(data, axle, side, w0, w0);
+    let spin_inertia = data.wheel_assembly(axle).spin_inertia;
     // No spring or damper: the mounts are never read (`Corner::has_line_elements`).
     let none = LineMount { chassis: w0, moving: w0, body: MountBody::Carrier };
     Ok(Corner::carried_wheel(SuspensionTemplate::Rigid, side, Closure::Rigid, w0, w0, [none, none], spin_inertia))
@@ -27,10 +27,6 @@ pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corne
 /// The positions of a rigid suspension's wheel: its carrier is the chassis (the design point b₀ where it is,
 /// no rotation); no coordinate, so no residual and no Newton iteration.
 pub fn place_wheel(c: &Corner, out: &mut CornerPositions) {
-    out.b = c.b0;
-    out.r_k = M3::identity();
-    out.r_l = M3::identity();
-    out.r_u = M3::identity();
-    out.residual = 0.0;
+    out.carried(c.b0, M3::identity(), 0.0);
     out.iterations = 0;
 }

@@ -96,11 +96,7 @@ impl SolidAxle {
     /// A wheel's corner positions at the axle's positions `pos` (its carrier is the axle: the point b is the
     /// axle's reference point, r_k its rotation; no lower or upper arm turns).
     pub fn place_wheel(&self, pos: &AxlePositions, out: &mut CornerPositions) {
-        out.b = self.linkage.point(pos, &self.linkage.centre);
-        out.r_k = pos.rotation;
-        out.r_l = M3::identity();
-        out.r_u = M3::identity();
-        out.residual = pos.residual;
+        out.carried(self.linkage.point(pos, &self.linkage.centre), pos.rotation, pos.residual);
     }
 }
 
@@ -112,7 +108,7 @@ pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corne
     let points = Hardpoints::new(data, axle, side);
     let pt = |name: &str| points.point(name);
     let w0 = pt("SPINDLE");
-    let (_, spin_inertia) = carrier_inertia(data, axle, side, w0, w0);
+    let spin_inertia = data.wheel_assembly(axle).spin_inertia;
     let on_axle = |c: &str, a: &str| LineMount { chassis: pt(c), moving: pt(a), body: MountBody::Carrier };
     let b0 = VehicleData::point(axle, "AXLE_CM") - points.c0;
     let mounts = [on_axle("SPRING_C", "SPRING_A"), on_axle("SHOCK_C", "SHOCK_A")];

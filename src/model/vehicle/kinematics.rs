@@ -105,18 +105,7 @@ impl Vehicle {
         let y0 = ws.chassis.y0;
         for i in [2 * a, 2 * a + 1] {
             let c = &self.corners[i];
-            ws.kinematics[i] = CornerKinematics {
-                b_l: Vector6::zeros(),
-                b_k: SMatrix::zeros(),
-                b_u: Vector6::zeros(),
-                rate: [Vector6::zeros(); 3],
-                velocity: [y0; 3],
-                mass: [0.0; 3],
-                com: [c.w0; 3],
-                inertia: [M3::zeros(); 3],
-                axle: c.axle,
-                wheel_centre: c.w0,
-            };
+            ws.kinematics[i] = CornerKinematics::carried(y0, Vector6::zeros(), c.w0, c.axle, c.w0);
         }
     }
 
@@ -137,18 +126,8 @@ impl Vehicle {
         *work = AxleWork { qd, ..body };
         for i in [l, r] {
             let c = &self.corners[i];
-            kinematics[i] = CornerKinematics {
-                b_l: Vector6::zeros(),
-                b_k: SMatrix::zeros(),
-                b_u: Vector6::zeros(),
-                rate: [work.rate; 3],
-                velocity: [work.velocity; 3],
-                mass: [0.0; 3],
-                com: [work.com; 3],
-                inertia: [M3::zeros(); 3],
-                axle: work.positions.rotation * c.axle,
-                wheel_centre: c.on_carrier(&positions[i], &c.w0),
-            };
+            let (axle, centre) = (work.positions.rotation * c.axle, c.on_carrier(&positions[i], &c.w0));
+            kinematics[i] = CornerKinematics::carried(work.velocity, work.rate, work.com, axle, centre);
         }
     }
 
@@ -191,6 +170,24 @@ pub struct CornerKinematics {
 }
 
 impl CornerKinematics {
+    /// A wheel whose carrier another subsystem moves (a solid axle, or the chassis): no body of its own and
+    /// no coordinate; its three body slots take the carrier's velocity state Y and rate 𝔇 (at `com`), so
+    /// that the force, tire and brake stages read the carrier's motion.
+    pub fn carried(velocity: Vector6<f64>, rate: Vector6<f64>, com: V3, axle: V3, wheel_centre: V3) -> Self {
+        CornerKinematics {
+            b_l: Vector6::zeros(),
+            b_k: SMatrix::zeros(),
+            b_u: Vector6::zeros(),
+            rate: [rate; 3],
+            velocity: [velocity; 3],
+            mass: [0.0; 3],
+            com: [com; 3],
+            inertia: [M3::zeros(); 3],
+            axle,
+            wheel_centre,
+        }
+    }
+
     /// 𝔅_b as a dense 6×5 matrix (for tests and diagnostics; the terms use the columns).
     pub fn jacobian(&self, b: usize) -> SMatrix<f64, 6, 5> {
         let mut m = SMatrix::<f64, 6, 5>::zeros();
@@ -312,6 +309,5 @@ fn axle_body_kinematics(solid: &SolidAxle, pos: &AxlePositions, qd: &AxleQ, y0: 
         velocity: y0 + b * qd,
         com: solid.linkage.point(pos, &solid.body.com),
         inertia: rot * solid.body.inertia * rot.transpose(),
-        body_mass: solid.body.mass,
     }
 }

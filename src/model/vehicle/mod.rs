@@ -239,8 +239,6 @@ pub struct AxleWork {
     pub velocity: Vector6<f64>,
     pub com: V3,
     pub inertia: M3,
-    /// The axle body's mass (constant; kept here beside its CM and inertia).
-    pub body_mass: f64,
 }
 
 impl PartialEq for Workspace {

@@ -25,7 +25,8 @@ impl Vehicle {
                 }
                 AxleKind::Solid => {
                     let on_axle = [&wrenches[2 * a].bodies, &wrenches[2 * a + 1].bodies];
-                    axle_terms(&axles[a], on_axle, &chassis.g, &mut assembly.axle_terms[a]);
+                    let mass = self.solid_axles[a].as_ref().expect("a solid axle has its body").body.mass;
+                    axle_terms(&axles[a], mass, on_axle, &chassis.g, &mut assembly.axle_terms[a]);
                 }
                 // A subsystem with no coordinate (docs/physics.md §4.6b): its wheels' wrenches are on the
                 // chassis, which carries their mass (the synthesis stage adds them to its force).
@@ -35,18 +36,18 @@ impl Vehicle {
     }
 }
 
-/// A solid axle's terms (§4.2 with one body, docs/physics.md §4.6a): M̂ of the axle body, the wrench on it
+/// A solid axle's terms (§4.2 with one body, docs/physics.md §4.6a): M̂ of the axle body (of `mass`), the wrench on it
 /// (its gravity and velocity terms, and what its wheels' corners put on their carrier, which is the axle:
 /// springs, dampers, tires, brakes, the wheels' gyroscopic moments), 𝔅 and 𝔇 from the velocity stage, Φ_q
 /// and the factored Φ_v from the positions.
 #[inline(never)] // not on an independent suspension's path
-fn axle_terms(work: &AxleWork, wheels: [&[Vector6<f64>; 3]; 2], g: &V3, terms: &mut AxleTerms) {
+fn axle_terms(work: &AxleWork, mass: f64, wheels: [&[Vector6<f64>; 3]; 2], g: &V3, terms: &mut AxleTerms) {
     let (w, y) = (ang(&work.velocity), work.velocity);
-    let mut q = body_force(work.body_mass, &work.com, &work.inertia, &w, &point_velocity(&y, &work.com), g);
+    let mut q = body_force(mass, &work.com, &work.inertia, &w, &point_velocity(&y, &work.com), g);
     for bodies in wheels {
         q += bodies[0] + bodies[1] + bodies[2];
     }
-    let mh = mass_hat(work.body_mass, &work.com, &work.inertia);
+    let mh = mass_hat(mass, &work.com, &work.inertia);
     let mh_b = mh * work.b;
     terms.m_qq = work.b.tr_mul(&mh_b);
     terms.m_q0 = mh_b.transpose();
