@@ -95,6 +95,9 @@ struct CornerMotion {
     w_l: V3,
     w_k: V3,
     v_b: V3,
+    /// A steered solid axle's tube: the velocity of its reference point and its angular velocity.
+    v_tube: V3,
+    w_tube: V3,
 }
 
 /// `c` at `pos`, with the ground plane at height `ground_z`.
@@ -106,7 +109,7 @@ pub fn wheel_pose(c: &Corner, pos: &CornerPositions, ground_z: f64, along: Along
     let qd = c.velocities(pos, du, ds);
     let (w_l, _, w_k) = c.relative_angular_velocities(pos, &qd);
     let v_b = w_l.cross(&(pos.b - c.p_l));
-    pose_moving(c, pos, ground_z, &CornerMotion { w_l, w_k, v_b })
+    pose_moving(c, pos, ground_z, &CornerMotion { w_l, w_k, v_b, v_tube: V3::zeros(), w_tube: V3::zeros() })
 }
 
 /// A wheel of solid axle `solid` at the axle's positions `axle_pos` (its corner positions `pos`), moving
@@ -122,12 +125,17 @@ pub fn axle_wheel_pose(
     let qd = solid.linkage.velocities(axle_pos, direction);
     let w_k = solid.linkage.angular_velocity(axle_pos, &qd);
     let v_b = solid.linkage.point_velocity(axle_pos, &qd, &solid.linkage.centre);
-    pose_moving(c, pos, ground_z, &CornerMotion { w_l: V3::zeros(), w_k, v_b })
+    pose_moving(
+        c,
+        pos,
+        ground_z,
+        &CornerMotion { w_l: V3::zeros(), w_k, v_b, v_tube: V3::zeros(), w_tube: V3::zeros() },
+    )
 }
 
 /// The wheel pose of `c` at `pos` whose bodies move by `m`.
 fn pose_moving(c: &Corner, pos: &CornerPositions, ground_z: f64, m: &CornerMotion) -> WheelPose {
-    let CornerMotion { w_l, w_k, v_b } = *m;
+    let CornerMotion { w_l, w_k, v_b, v_tube, w_tube } = *m;
     let on_carrier = |x: &V3| v_b + w_k.cross(&(x - pos.b));
     let centre = c.on_carrier(pos, &c.w0);
     let axle = c.axle_direction(pos);
@@ -145,6 +153,10 @@ fn pose_moving(c: &Corner, pos: &CornerPositions, ground_z: f64, m: &CornerMotio
             MountBody::Carrier => {
                 let x = c.mount_point(pos, m);
                 (x, on_carrier(&x))
+            }
+            MountBody::AxleTube => {
+                let x = c.mount_point(pos, m);
+                (x, v_tube + w_tube.cross(&(x - pos.axle_centre)))
             }
         };
         let r = x - m.chassis;

@@ -26,8 +26,8 @@
 use crate::math::{M3, V3};
 use crate::model::formats::chrono_json::strip_comments;
 use crate::model::formats::params::{
-    AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, Spring, SpringCurve, SuspensionTemplate,
-    VehicleData, WheelBody,
+    AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, RotaryArm, Spring, SpringCurve,
+    SuspensionTemplate, VehicleData, WheelBody,
 };
 use crate::model::formats::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -434,10 +434,8 @@ fn fit_damper(points: &[(f64, f64)]) -> (f64, f64, f64) {
 
 /// Chrono's subsystem templates that rtv does not have, with what each is: a refusal names both.
 const CHRONO_TEMPLATES: &[(&str, &str)] = &[
-    ("RotaryArm", "rotary-arm steering"),
     ("SolidAxle", "a solid axle"),
     ("SolidThreeLinkAxle", "a solid three-link axle"),
-    ("SolidBellcrankThreeLinkAxle", "a solid three-link axle steered by a bellcrank"),
     ("ToeBarLeafspringAxle", "a leaf-spring solid axle with a toe bar"),
     ("SAELeafspringAxle", "an SAE leaf-spring solid axle"),
     ("SAEToeBarLeafspringAxle", "an SAE leaf-spring solid axle with a toe bar"),
@@ -548,15 +546,19 @@ struct Wheel {
     inertia: [f64; 3],
 }
 
+/// The steering templates the import reads (`Importer::steering`).
+const STEERING_TEMPLATES: [&str; 3] = ["PitmanArm", "RackPinion", "RotaryArm"];
+
 /// The brake templates the import reads (`Importer::brake`).
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 7] = [
+const SUSPENSION_TEMPLATES: [&str; 8] = [
     "DoubleWishbone",
     "MacPhersonStrut",
     "SingleWishbone",
     "SolidThreeLinkAxle",
+    "SolidBellcrankThreeLinkAxle",
     "LeafspringAxle",
     "RigidPanhardAxle",
     "RigidSuspension",
@@ -1047,6 +1049,98 @@ impl SuspensionReader<'_> {
         self.solid_axle_rest(steered, spindle, tube)
     }
 
+    /// A `SolidBellcrankThreeLinkAxle` file, as Chrono's `SolidBellcrankThreeLinkAxle::Create` reads it: the
+    /// three-link axle's parts (`three_link_axle`), each knuckle (its kingpin's lower and upper points, its
+    /// tie-rod point, its CM and body), the bellcrank (its pivot on the axle, its tie-rod point, its body; CM at
+    /// the pivot, as Chrono's), the drag link's two ends. The triangle, the links, the tie rods and the drag
+    /// link are massless in the model: their masses, which Chrono gives them, are left out with a warning
+    /// that says how much. A static camber or toe other than zero is refused.
+    fn bellcrank_axle(&mut self, steered: bool) -> Result<Axle, ImportError> {
+        self.o.keys(
+            &[
+                "Name",
+                "Type",
+                "Template",
+                "Camber Angle (deg)",
+                "Toe Angle (deg)",
+                "Spindle",
+                "Axle Tube",
+                "Knuckle",
+                "Bellcrank",
+                "Draglink",
+                "Triangular Link",
+                "Longitudinal Link",
+                "Tierod",
+                "Spring",
+                "Shock",
+                "Axle",
+            ],
+            &[("Output", "Chrono output settings")],
+            self.warnings,
+        )?;
+        for key in ["Camber Angle (deg)", "Toe Angle (deg)"] {
+            let v = self.o.opt_num(key)?.unwrap_or(0.0);
+            if v != 0.0 {
+                return Err(self.o.err(key, format!("{v}°: the model's solid axles take no static camber or toe")));
+            }
+        }
+        if !steered {
+            return Err(self.o.err(
+                "Template",
+                "a SolidBellcrankThreeLinkAxle on an axle with no steering: its drag link would end on the chassis; \
+                 the model's bellcrank axle is steered",
+            ));
+        }
+        let spindle = self.spindle()?;
+        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
+        let knuckle = self.body(
+            "Knuckle",
+            &["Mass", "COM", "Inertia", "Location Lower", "Location Upper", "Location Tierod"],
+            &[("Radius", VISUAL)],
+            Some("KNUCKLE_CM"),
+        )?;
+        let k = self.o.obj("Knuckle")?;
+        for (name, key) in
+            [("KNUCKLE_L", "Location Lower"), ("KNUCKLE_U", "Location Upper"), ("KNUCKLE_T", "Location Tierod")]
+        {
+            self.put(name, k.point(key)?);
+        }
+        let b = self.o.obj("Bellcrank")?;
+        b.keys(&["Mass", "Inertia", "Location Axle", "Location Tierod"], &[("Radius", VISUAL)], self.warnings)?;
+        let j = inertia_of(&b)?;
+        moments_positive(&b, &j)?;
+        let bellcrank = body_of(b.mass("Mass")?, &j);
+        self.put("BELLCRANK_A", b.point("Location Axle")?);
+        self.put("BELLCRANK_T", b.point("Location Tierod")?);
+        let d = self.o.obj("Draglink")?;
+        d.keys(&["Location Steering", "Location Bellcrank", "Mass", "Inertia"], &[("Radius", VISUAL)], self.warnings)?;
+        self.put("DRAGLINK_S", d.point("Location Steering")?);
+        self.put("BELLCRANK_D", d.point("Location Bellcrank")?);
+        for (key, chassis, axle) in
+            [("Triangular Link", "TRIANGLE_C", "TRIANGLE_A"), ("Longitudinal Link", "LINK_C", "LINK_A")]
+        {
+            let link = self.o.obj(key)?;
+            link.keys(&["Location Chassis", "Location Axle", "Mass", "Inertia"], &[("Radius", VISUAL)], self.warnings)?;
+            self.put(chassis, link.point("Location Chassis")?);
+            self.put(axle, link.point("Location Axle")?);
+        }
+        self.o.obj("Tierod")?.keys(&["Mass", "Inertia"], &[("Radius", VISUAL)], self.warnings)?;
+        // The links' masses (Chrono: one triangle and drag link, two longitudinal links and tie rods).
+        let mut left_out = 0.0;
+        for (key, count) in [("Triangular Link", 1.0), ("Longitudinal Link", 2.0), ("Tierod", 2.0), ("Draglink", 1.0)] {
+            left_out += count * self.o.obj(key)?.mass("Mass")?;
+        }
+        self.warnings.push(format!(
+            "{}: Triangular Link, Longitudinal Link, Tierod, Draglink: massless in the model (two-force members): \
+             {left_out:.1} kg of Chrono's bodies left out (their Mass and Inertia)",
+            self.o.file
+        ));
+        let mut axle = self.solid_axle_rest(steered, spindle, tube)?;
+        axle.upright = knuckle;
+        axle.bellcrank = Some(bellcrank);
+        Ok(axle)
+    }
+
     /// A `LeafspringAxle` or `RigidPanhardAxle` file, as Chrono's `LeafspringAxle::Create` and
     /// `RigidPanhardAxle::Create` read it: the spindle, the axle tube (its CM the hardpoint AXLE_CM, the guide's
     /// point), the Panhard rod's two points (massless in the model: its `Mass` is ignored with a warning), the
@@ -1131,6 +1225,7 @@ impl SuspensionReader<'_> {
             static_camber_deg: 0.0,
             static_toe_deg: 0.0,
             antiroll_bar: None,
+            bellcrank: None,
         }
     }
 
@@ -1405,7 +1500,7 @@ impl Importer {
         let (steerings, axles) = (list("Steering Subsystems"), list("Axles"));
         for (i, s) in steerings.iter().enumerate() {
             if let Ok(s) = v.item("Steering Subsystems", i, s) {
-                out.extend(check(self, &s, "Input File", &["PitmanArm", "RackPinion"]));
+                out.extend(check(self, &s, "Input File", &STEERING_TEMPLATES));
             }
         }
         for (i, a) in axles.iter().enumerate() {
@@ -1487,7 +1582,7 @@ impl Importer {
         let place =
             (s.point("Location")?, if s.has("Orientation") { rotation(&s, "Orientation")? } else { M3::identity() });
         let steering_file = self.subsystem(&s, "Input File", "Steering")?;
-        let (rack, pitman_arm) = self.steering(&steering_file, place)?;
+        let (rack, pitman_arm, rotary_arm) = self.steering(&steering_file, place)?;
 
         // Axles.
         let axles = v.get("Axles")?.as_array().ok_or_else(|| v.err("Axles", "must be an array"))?;
@@ -1632,6 +1727,7 @@ impl Importer {
             chassis,
             rack,
             pitman_arm,
+            rotary_arm,
             driver_position_m: driver,
             front: front.2,
             rear: rear.2,
@@ -1712,14 +1808,57 @@ impl Importer {
     }
 
     /// The steering at `place` (location, rotation of its frame in the chassis reference frame).
-    fn steering(&mut self, file: &File, place: (V3, M3)) -> Result<(Option<Rack>, Option<PitmanArm>), ImportError> {
+    fn steering(
+        &mut self,
+        file: &File,
+        place: (V3, M3),
+    ) -> Result<(Option<Rack>, Option<PitmanArm>, Option<RotaryArm>), ImportError> {
         let o = file.obj();
         let (loc, rot) = place;
         let at = |p: V3| loc + rot * p;
-        let template = Self::template(&o, &["PitmanArm", "RackPinion"])?;
+        let template = Self::template(&o, &STEERING_TEMPLATES)?;
         let vehicle_frame = o.flag("Vehicle-Frame Inertia")?;
         // A body's inertia in chassis axes: Chrono gives it in the steering frame unless flagged.
         let turned = |j: M3| if vehicle_frame { j } else { rot * j * rot.transpose() };
+        if template == "RotaryArm" {
+            // Chrono's `RotaryArm::Create`: the arm (its body, its axis and two points, its largest angle).
+            o.keys(
+                &["Name", "Type", "Template", "Pitman Arm", "Vehicle-Frame Inertia"],
+                &[("Output", "Chrono output settings")],
+                &mut self.warnings,
+            )?;
+            let arm = o.obj("Pitman Arm")?;
+            arm.keys(
+                &[
+                    "Mass",
+                    "Inertia",
+                    "Inertia Products",
+                    "Axis of Rotation",
+                    "Point of Rotation",
+                    "Point to Draglink",
+                    "Maximum Angle (deg)",
+                ],
+                &[("Radius", VISUAL)],
+                &mut self.warnings,
+            )?;
+            let [ixx, iyy, izz] = arm.vec3("Inertia")?.into();
+            let [ixy, ixz, iyz] =
+                if arm.has("Inertia Products") { arm.vec3("Inertia Products")?.into() } else { [0.0; 3] };
+            let j = M3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+            moments_positive(&arm, &j)?;
+            let axis = arm.vec3("Axis of Rotation")?;
+            if axis.norm() < 1e-9 {
+                return Err(arm.err("Axis of Rotation", "a direction of zero length"));
+            }
+            let a = RotaryArm {
+                arm_pivot_m: at(arm.point("Point of Rotation")?).into(),
+                arm_axis: (rot * axis.normalize()).into(),
+                arm_draglink_joint_m: at(arm.point("Point to Draglink")?).into(),
+                max_angle_rad: arm.num("Maximum Angle (deg)")?.to_radians(),
+                arm: Some(body_of(arm.mass("Mass")?, &turned(j))),
+            };
+            return Ok((None, None, Some(a)));
+        }
         if template == "RackPinion" {
             o.keys(
                 &["Name", "Type", "Template", "Steering Link", "Pinion", "Vehicle-Frame Inertia"],
@@ -1762,7 +1901,7 @@ impl Importer {
                 travel_limit_m: travel,
                 reference_gain_deg_per_m: 0.0,
             };
-            return Ok((Some(rack), None));
+            return Ok((Some(rack), None, None));
         }
         o.keys(
             &[
@@ -1835,7 +1974,7 @@ impl Importer {
             key: "Revolute-Spherical Joint".into(),
             message: e.message,
         })?;
-        Ok((None, Some(p)))
+        Ok((None, Some(p), None))
     }
 
     /// A `DoubleWishbone` or `MacPhersonStrut` suspension file, its hardpoints placed at `location` on the
@@ -1849,6 +1988,7 @@ impl Importer {
             "SolidThreeLinkAxle" => SuspensionTemplate::SolidThreeLink,
             "LeafspringAxle" => SuspensionTemplate::SolidLeafspring,
             "RigidPanhardAxle" => SuspensionTemplate::SolidPanhard,
+            "SolidBellcrankThreeLinkAxle" => SuspensionTemplate::SolidBellcrankThreeLink,
             _ => SuspensionTemplate::Rigid,
         };
         let mut s = SuspensionReader {
@@ -1861,6 +2001,7 @@ impl Importer {
         };
         match template {
             SuspensionTemplate::SolidThreeLink => return s.three_link_axle(steered),
+            SuspensionTemplate::SolidBellcrankThreeLink => return s.bellcrank_axle(steered),
             SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => return s.guided_axle(steered),
             SuspensionTemplate::Rigid => return s.rigid(steered),
             _ => {}
@@ -1894,6 +2035,7 @@ impl Importer {
             static_camber_deg,
             static_toe_deg,
             antiroll_bar: None,
+            bellcrank: None,
         })
     }
 

@@ -236,6 +236,10 @@ pub enum SuspensionTemplate {
     /// A solid axle located by a planar guide at its CM (it rolls about the chassis x axis, its fore-aft
     /// position held) and a Panhard rod, Chrono's `RigidPanhardAxle` (not steerable).
     SolidPanhard,
+    /// A steered solid axle located as the three-link axle, its knuckles on kingpins in the axle, turned
+    /// through two tie rods by a bellcrank on the axle that a drag link joins to the steering (Chrono's
+    /// `SolidBellcrankThreeLinkAxle`; always steered).
+    SolidBellcrankThreeLink,
     /// No suspension: each spindle turns on a revolute joint fixed to the chassis (Chrono's
     /// `RigidSuspension`: a garden tractor's or a kart's rear axle). No spring, no damper; not steerable.
     Rigid,
@@ -250,6 +254,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidThreeLink => "solid_three_link",
             SuspensionTemplate::SolidLeafspring => "solid_leafspring",
             SuspensionTemplate::SolidPanhard => "solid_panhard",
+            SuspensionTemplate::SolidBellcrankThreeLink => "solid_bellcrank_three_link",
             SuspensionTemplate::Rigid => "rigid",
         }
     }
@@ -263,6 +268,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidThreeLink => &SOLID_THREE_LINK_HARDPOINTS,
             SuspensionTemplate::SolidLeafspring => &SOLID_LEAFSPRING_HARDPOINTS,
             SuspensionTemplate::SolidPanhard => &SOLID_PANHARD_HARDPOINTS,
+            SuspensionTemplate::SolidBellcrankThreeLink => &SOLID_BELLCRANK_THREE_LINK_HARDPOINTS,
             SuspensionTemplate::Rigid => &RIGID_HARDPOINTS,
         }
     }
@@ -271,8 +277,16 @@ impl SuspensionTemplate {
     pub fn is_solid_axle(self) -> bool {
         matches!(
             self,
-            SuspensionTemplate::SolidThreeLink | SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard
+            SuspensionTemplate::SolidThreeLink
+                | SuspensionTemplate::SolidLeafspring
+                | SuspensionTemplate::SolidPanhard
+                | SuspensionTemplate::SolidBellcrankThreeLink
         )
+    }
+
+    /// Whether the template is a solid axle that steers (its knuckles turn on kingpins in the axle).
+    pub fn is_steered_solid_axle(self) -> bool {
+        self == SuspensionTemplate::SolidBellcrankThreeLink
     }
 
     /// Whether the wheels are on the chassis itself (no suspension: no coordinate, spring or damper).
@@ -331,6 +345,10 @@ pub struct Axle {
     /// An anti-roll bar between the axle's two lower arms (optional; `model::suspension::antiroll_bar`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub antiroll_bar: Option<AntirollBar>,
+    /// A steered solid axle's bellcrank (Chrono's `SolidBellcrankThreeLinkAxle`): its CM at `BELLCRANK_A`,
+    /// inertia in axes parallel to the chassis. Its knuckles are the `upright` (CM at `KNUCKLE_CM`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bellcrank: Option<RigidBody>,
 }
 
 /// An anti-roll bar, Chrono's `AntirollBarRSD`: a bar along the chassis y axis, split at the middle by a
@@ -409,6 +427,26 @@ pub struct PitmanArm {
     pub max_angle_rad: f64,
 }
 
+/// Rotary-arm steering (Chrono's `RotaryArm`): one arm turned about a chassis axis by the steering input, a
+/// steered solid axle's drag link jointed to its end. Input `pitman_arm_angle` (rad), as Chrono's arm is the
+/// Pitman arm; driven kinematically.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotaryArm {
+    /// The arm's revolute joint on the chassis: a point of its axis and the axis direction (+ angle about it
+    /// turns the vehicle left once the vehicle has measured its sign).
+    pub arm_pivot_m: [f64; 3],
+    pub arm_axis: [f64; 3],
+    /// The drag link's joint on the arm (the steered axle's `DRAGLINK_S`).
+    pub arm_draglink_joint_m: [f64; 3],
+    /// Largest arm angle (either way) the steering accepts, rad.
+    pub max_angle_rad: f64,
+    /// The arm's body (optional): the chassis carries it, its CM midway between the pivot and the joint
+    /// (Chrono's), inertia in chassis axes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub arm: Option<RigidBody>,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleData {
@@ -416,12 +454,14 @@ pub struct VehicleData {
     pub provenance: String,
     pub gravity_m_s2: f64,
     pub chassis: Chassis,
-    /// Exactly one steering: a rack (input `rack_displacement`, m) or a Pitman arm (input
+    /// Exactly one steering: a rack (input `rack_displacement`, m), a Pitman arm or a rotary arm (input
     /// `pitman_arm_angle`, rad).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rack: Option<Rack>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pitman_arm: Option<PitmanArm>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rotary_arm: Option<RotaryArm>,
     /// The driver's eye point in the chassis reference frame (ride tests read accelerations there).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub driver_position_m: Option<[f64; 3]>,
@@ -497,6 +537,32 @@ pub const SOLID_THREE_LINK_HARDPOINTS: [&str; 10] = [
     "SHOCK_A",
     "SPRING_C",
     "SPRING_A",
+];
+
+/// The hardpoints a steered bellcrank three-link axle must name (Chrono's `SolidBellcrankThreeLinkAxle`
+/// points, left side): the three-link axle's, the kingpin's lower and upper points `KNUCKLE_L`, `KNUCKLE_U`,
+/// the knuckle's tie-rod point `KNUCKLE_T` and CM `KNUCKLE_CM`, the bellcrank's tie-rod point `BELLCRANK_T`;
+/// taken as given (one each, not mirrored): the bellcrank's pivot on the axle `BELLCRANK_A` (it turns about
+/// the axle's z axis), its drag-link point `BELLCRANK_D`, and the drag link's steering end `DRAGLINK_S`.
+pub const SOLID_BELLCRANK_THREE_LINK_HARDPOINTS: [&str; 18] = [
+    "SPINDLE",
+    "AXLE_CM",
+    "TRIANGLE_C",
+    "TRIANGLE_A",
+    "LINK_C",
+    "LINK_A",
+    "SHOCK_C",
+    "SHOCK_A",
+    "SPRING_C",
+    "SPRING_A",
+    "KNUCKLE_L",
+    "KNUCKLE_U",
+    "KNUCKLE_T",
+    "KNUCKLE_CM",
+    "BELLCRANK_A",
+    "BELLCRANK_D",
+    "BELLCRANK_T",
+    "DRAGLINK_S",
 ];
 
 /// The hardpoints a leaf-spring solid axle must name (Chrono's `LeafspringAxle` points, left side): the axle
@@ -595,7 +661,7 @@ impl VehicleData {
     pub fn validate(&self) -> Result<(), DataError> {
         positive("gravity_m_s2", self.gravity_m_s2)?;
         check_chassis(&self.chassis)?;
-        check_steering(self.rack.as_ref(), self.pitman_arm.as_ref())?;
+        check_steering(self)?;
         if let Some(d) = &self.driver_position_m {
             finite3("driver_position_m", d)?;
         }
@@ -711,6 +777,9 @@ impl VehicleData {
                 out.push((m, Vector3::new(w.x, -w.y, w.z), j));
             }
         }
+        if let Some(RotaryArm { arm: Some(arm), arm_pivot_m: p, arm_draglink_joint_m: j, .. }) = &self.rotary_arm {
+            out.push((arm.mass_kg, (Vector3::from(*p) + Vector3::from(*j)) / 2.0, arm.inertia()));
+        }
         if let Some(p) = &self.pitman_arm {
             out.push((p.arm.mass_kg, Vector3::from(p.arm_com_m), p.arm.inertia()));
             out.push((p.link.mass_kg, Vector3::from(p.link_com_m), p.link.inertia()));
@@ -750,16 +819,17 @@ impl VehicleData {
 
     /// The steering input's limit (either way): rack travel, m, or Pitman-arm angle, rad.
     pub fn steering_limit(&self) -> f64 {
-        match (&self.rack, &self.pitman_arm) {
-            (Some(r), _) => r.travel_limit_m,
-            (None, Some(p)) => p.max_angle_rad,
-            (None, None) => 0.0,
+        match (&self.rack, &self.pitman_arm, &self.rotary_arm) {
+            (Some(r), _, _) => r.travel_limit_m,
+            (None, Some(p), _) => p.max_angle_rad,
+            (None, None, Some(a)) => a.max_angle_rad,
+            (None, None, None) => 0.0,
         }
     }
 
     /// The steering input's name and unit: `rack_displacement` (m) or `pitman_arm_angle` (rad).
     pub fn steering_input(&self) -> SteeringInput {
-        if self.pitman_arm.is_some() {
+        if self.pitman_arm.is_some() || self.rotary_arm.is_some() {
             SteeringInput::PitmanArmAngle
         } else {
             SteeringInput::RackDisplacement
@@ -780,15 +850,72 @@ fn check_chassis(c: &Chassis) -> Result<(), DataError> {
 }
 
 /// Exactly one steering, a rack or a Pitman arm, and its data.
-fn check_steering(rack: Option<&Rack>, pitman_arm: Option<&PitmanArm>) -> Result<(), DataError> {
-    match (rack, pitman_arm) {
-        (Some(rack), None) => check_rack(rack),
-        (None, Some(p)) => check_pitman_arm(p),
-        (Some(_), Some(_)) => {
-            Err(err("rack", "a vehicle has one steering: give either `rack` or `pitman_arm`, not both"))
+fn check_steering(data: &VehicleData) -> Result<(), DataError> {
+    match (&data.rack, &data.pitman_arm, &data.rotary_arm) {
+        (Some(rack), None, None) => check_rack(rack)?,
+        (None, Some(p), None) => check_pitman_arm(p)?,
+        (None, None, Some(a)) => check_rotary_arm(a)?,
+        (None, None, None) => {
+            return Err(err("rack", "missing steering: give `rack` (rack and pinion), `pitman_arm` or `rotary_arm`"))
         }
-        (None, None) => Err(err("rack", "missing steering: give `rack` (rack and pinion) or `pitman_arm`")),
+        _ => {
+            return Err(err(
+                "rack",
+                "a vehicle has one steering: give one of `rack`, `pitman_arm` and `rotary_arm`, not more",
+            ))
+        }
     }
+    // A rotary arm drives a drag link; the tie rods of an independent axle need a rack or a Pitman arm's link.
+    for (name, axle) in data.axles() {
+        let steered_axle = axle.template.is_steered_solid_axle();
+        if data.rotary_arm.is_some() && axle.steered && !steered_axle {
+            return Err(err(
+                "rotary_arm",
+                format!(
+                    "a rotary arm steers a solid axle's drag link; the {name} axle ({}) has tie rods, which need a rack \
+                     or a Pitman arm",
+                    axle.template.name()
+                ),
+            ));
+        }
+        if let (Some(a), true) = (&data.rotary_arm, steered_axle) {
+            let (s, j) = (VehicleData::point(axle, "DRAGLINK_S"), Vector3::from(a.arm_draglink_joint_m));
+            if (s - j).norm() > 1e-6 * j.norm().max(1.0) {
+                return Err(err(
+                    format!("{name}.hardpoints_chassis_frame_m.DRAGLINK_S"),
+                    format!(
+                        "the drag link's steering end {s:?} is not the rotary arm's joint {j:?} \
+                         (rotary_arm.arm_draglink_joint_m): the drag link would not meet the arm"
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_rotary_arm(a: &RotaryArm) -> Result<(), DataError> {
+    for (k, v) in [("arm_pivot_m", &a.arm_pivot_m), ("arm_draglink_joint_m", &a.arm_draglink_joint_m)] {
+        finite3(&format!("rotary_arm.{k}"), v)?;
+    }
+    finite3("rotary_arm.arm_axis", &a.arm_axis)?;
+    let axis = Vector3::from(a.arm_axis);
+    if axis.norm() < 1e-9 {
+        return Err(err("rotary_arm.arm_axis", "axis direction of zero length"));
+    }
+    let r = Vector3::from(a.arm_draglink_joint_m) - Vector3::from(a.arm_pivot_m);
+    if (r - axis.normalize() * axis.normalize().dot(&r)).norm() < 1e-6 {
+        return Err(err("rotary_arm.arm_draglink_joint_m", "the joint lies on the arm's axis: the arm has no length"));
+    }
+    positive("rotary_arm.max_angle_rad", a.max_angle_rad)?;
+    if a.max_angle_rad >= std::f64::consts::FRAC_PI_2 {
+        return Err(err("rotary_arm.max_angle_rad", "must be below π/2 (90°)"));
+    }
+    if let Some(b) = &a.arm {
+        positive("rotary_arm.arm.mass_kg", b.mass_kg)?;
+        pos_def("rotary_arm.arm.inertia", b)?;
+    }
+    Ok(())
 }
 
 fn check_rack(rack: &Rack) -> Result<(), DataError> {
@@ -909,6 +1036,7 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         SuspensionTemplate::SolidThreeLink
         | SuspensionTemplate::SolidLeafspring
         | SuspensionTemplate::SolidPanhard
+        | SuspensionTemplate::SolidBellcrankThreeLink
         | SuspensionTemplate::Rigid => unreachable!("checked above"),
     }
     let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
@@ -932,23 +1060,39 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
 /// axis (Chrono's `RigidSuspension` sets them so).
 fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
     let template = axle.template.name();
+    let steered_axle = axle.template.is_steered_solid_axle();
     let present = [
         ("lower_arm", !axle.lower_arm.is_none()),
-        ("upright", !axle.upright.is_none()),
+        ("upright", !steered_axle && !axle.upright.is_none()),
         ("upper_arm", axle.upper_arm.is_some()),
         ("strut", axle.strut.is_some()),
         ("antiroll_bar", axle.antiroll_bar.is_some()),
+        ("bellcrank", !steered_axle && axle.bellcrank.is_some()),
     ];
     if let Some((body, _)) = present.iter().find(|(_, p)| *p) {
         return Err(err(format!("{name}.{body}"), format!("a {template} has none")));
     }
-    if axle.steered {
-        return Err(err(format!("{name}.steered"), format!("a {template} is not steerable (Chrono's is not)")));
+    if axle.steered != steered_axle {
+        return Err(err(
+            format!("{name}.steered"),
+            if steered_axle {
+                format!("a {template} is steered: its drag link ends on the steering (give `steered: true`)")
+            } else {
+                format!("a {template} is not steerable (Chrono's is not)")
+            },
+        ));
     }
     if axle.static_camber_deg != 0.0 || axle.static_toe_deg != 0.0 {
         return Err(err(format!("{name}.static_camber_deg"), format!("a {template} takes no static camber or toe")));
     }
     let mut bodies = vec![("spindle", &axle.spindle)];
+    if steered_axle {
+        bodies.push(("upright", &axle.upright));
+        match &axle.bellcrank {
+            Some(b) => bodies.push(("bellcrank", b)),
+            None => return Err(err(format!("{name}.bellcrank"), format!("missing: a {template} has one"))),
+        }
+    }
     match (&axle.axle_tube, axle.template.is_rigid()) {
         (Some(_), true) => return Err(err(format!("{name}.axle_tube"), format!("a {template} has none"))),
         (Some(tube), false) => bodies.push(("axle_tube", tube)),

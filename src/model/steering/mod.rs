@@ -18,8 +18,9 @@ pub use tie_rod::{TieRodDrive, TieRodPath};
 
 /// What moves the front tie rods' inner ends, from the data.
 pub fn tie_rod_drive(data: &VehicleData) -> Result<TieRodDrive, DataError> {
-    match &data.pitman_arm {
-        Some(p) => pitman_arm::drive(p),
-        None => Ok(TieRodDrive::Rack),
+    match (&data.pitman_arm, &data.rotary_arm) {
+        (Some(p), _) => pitman_arm::drive(p),
+        (None, Some(a)) => Ok(pitman_arm::rotary_arm_drive(a)),
+        (None, None) => Ok(TieRodDrive::Rack),
     }
 }

@@ -10,7 +10,7 @@
 
 use super::tie_rod::TieRodDrive;
 use crate::math::V3;
-use crate::model::formats::params::{DataError, PitmanArm};
+use crate::model::formats::params::{DataError, PitmanArm, RotaryArm};
 
 /// Relative tolerance of the parallelogram check (data are given to about 1e-6 m).
 const PARALLELOGRAM_TOLERANCE: f64 = 1e-6;
@@ -51,6 +51,13 @@ pub fn drive(p: &PitmanArm) -> Result<TieRodDrive, DataError> {
         ));
     }
     Ok(TieRodDrive::PitmanLink { axis, arm: r_arm })
+}
+
+/// The drive of a rotary arm's drag-link joint (Chrono's `RotaryArm`: a Pitman arm with no link): the
+/// joint moves on the circle about the arm's axis, as a parallelogram link's points do.
+pub fn rotary_arm_drive(a: &RotaryArm) -> TieRodDrive {
+    let axis = V3::from(a.arm_axis).normalize();
+    TieRodDrive::PitmanLink { axis, arm: arm(&V3::from(a.arm_pivot_m), &axis, &V3::from(a.arm_draglink_joint_m)) }
 }
 
 #[cfg(test)]

@@ -24,6 +24,7 @@
 //! constraints do not depend on the chassis motion: that is what lets each subsystem be solved on its own.
 
 pub mod antiroll_bar;
+pub mod axle_steering;
 pub mod double_wishbone;
 pub mod forces;
 pub mod macpherson;
@@ -134,6 +135,9 @@ pub enum Closure {
 pub enum MountBody {
     LowerArm,
     Carrier,
+    /// A steered solid axle's tube (its wheel's carrier is the knuckle): placed by the axle's pose
+    /// (`CornerPositions::axle_centre`, `r_l`), the corner's `p_l` its design reference point.
+    AxleTube,
 }
 
 /// A line element's ends: a chassis point and a point of a moving body (design positions).
@@ -204,6 +208,8 @@ pub struct CornerPositions {
     pub slide: V3,
     /// The inner tie-rod point's path at s.
     pub tie_rod: TieRodPath,
+    /// A steered solid axle's wheel: the axle's reference point (its tube turns by `r_l`).
+    pub axle_centre: V3,
     pub residual: f64,
     pub phi_q: PhiQ,
     /// ∂Φ/∂s (only the tie-rod row, front).
@@ -236,6 +242,7 @@ impl Default for CornerPositions {
             d: V3::zeros(),
             slide: V3::zeros(),
             tie_rod: TieRodPath { point: V3::zeros(), d_ds: V3::zeros(), d2_ds2: V3::zeros() },
+            axle_centre: V3::zeros(),
             residual: 0.0,
             phi_q: PhiQ::zeros(),
             phi_s: Vector4::zeros(),
@@ -342,7 +349,8 @@ impl Corner {
             SuspensionTemplate::SingleWishbone => single_wishbone::from_data(data, axle, side, drive),
             SuspensionTemplate::SolidThreeLink
             | SuspensionTemplate::SolidLeafspring
-            | SuspensionTemplate::SolidPanhard => solid_axle::wheel_corner(data, axle, side),
+            | SuspensionTemplate::SolidPanhard
+            | SuspensionTemplate::SolidBellcrankThreeLink => solid_axle::wheel_corner(data, axle, side),
             SuspensionTemplate::Rigid => rigid::wheel_corner(data, axle, side),
         }
     }
@@ -483,6 +491,7 @@ impl Corner {
         match mount.body {
             MountBody::LowerArm => self.on_lower(pos, &mount.moving),
             MountBody::Carrier => self.on_carrier(pos, &mount.moving),
+            MountBody::AxleTube => pos.axle_centre + pos.r_l * (mount.moving - self.p_l),
         }
     }
 

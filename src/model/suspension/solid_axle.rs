@@ -23,6 +23,7 @@
 //! The triangle and the links are massless here: Chrono's JSON reader (`SolidThreeLinkAxle::Create`) reads
 //! no mass for them. What moves is the axle tube with both spindles.
 
+use super::axle_steering::{self, AxleSteering, SteerPositions};
 use super::{
     carrier_inertia, BodyInertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side,
     MAX_NEWTON_ITERATIONS, POSITION_TOLERANCE,
@@ -52,8 +53,11 @@ const YAW: usize = 5;
 pub struct SolidAxle {
     pub linkage: AxleLinkage,
     /// The axle tube with both spindles, wheels and tires (their spin apart, §4.8), at design: CM and
-    /// inertia in chassis axes (the CM relative to the sprung CM).
+    /// inertia in chassis axes (the CM relative to the sprung CM). A steered axle's: the tube alone (its
+    /// knuckles, with the spindles and wheels, and its bellcrank are `steering`'s bodies).
     pub body: BodyInertia,
+    /// A steered axle's knuckles, bellcrank and links (`axle_steering`).
+    pub steering: Option<AxleSteering>,
 }
 
 impl SolidAxle {
@@ -83,12 +87,51 @@ impl SolidAxle {
             field: format!("{name}.axle_tube"),
             message: "missing: a solid axle has one".into(),
         })?;
-        let mut parts = vec![BodyInertia { mass: tube.mass_kg, com: centre, inertia: tube.inertia() }];
+        let tube = BodyInertia { mass: tube.mass_kg, com: centre, inertia: tube.inertia() };
+        if axle.template.is_steered_solid_axle() {
+            let steering = Self::steering(data, name, axle, &linkage, [&left, &right])?;
+            return Ok(SolidAxle { linkage, body: tube, steering: Some(steering) });
+        }
+        let mut parts = vec![tube];
         for points in [&left, &right] {
             let w0 = points.point("SPINDLE");
             parts.push(carrier_inertia(data, axle, points.side, w0, w0).0);
         }
-        Ok(SolidAxle { linkage, body: BodyInertia::combined(&parts) })
+        Ok(SolidAxle { linkage, body: BodyInertia::combined(&parts), steering: None })
+    }
+
+    /// A steered axle's steering linkage and bodies: the bellcrank (CM at its pivot, Chrono's), each knuckle
+    /// with its spindle and wheel (the knuckle's CM at `KNUCKLE_CM`).
+    fn steering(
+        data: &VehicleData,
+        name: &str,
+        axle: &Axle,
+        linkage: &AxleLinkage,
+        sides: [&Hardpoints; 2],
+    ) -> Result<AxleSteering, DataError> {
+        let c0 = sides[0].c0;
+        let single = |p: &str| VehicleData::point(axle, p) - c0;
+        let both = |p: &str| sides.map(|h| h.point(p));
+        let crank = axle.bellcrank.as_ref().ok_or_else(|| DataError {
+            field: format!("{name}.bellcrank"),
+            message: "missing: a steered solid axle has one".into(),
+        })?;
+        let bellcrank = BodyInertia { mass: crank.mass_kg, com: single("BELLCRANK_A"), inertia: crank.inertia() };
+        let knuckles = sides.map(|h| carrier_inertia(data, axle, h.side, h.point("KNUCKLE_CM"), h.point("SPINDLE")).0);
+        let drive = crate::model::steering::tie_rod_drive(data)?;
+        AxleSteering::new(
+            linkage,
+            both("KNUCKLE_L"),
+            both("KNUCKLE_U"),
+            single("BELLCRANK_A"),
+            single("BELLCRANK_D"),
+            both("BELLCRANK_T"),
+            both("KNUCKLE_T"),
+            single("DRAGLINK_S"),
+            drive,
+            [bellcrank, knuckles[0], knuckles[1]],
+        )
+        .map_err(|message| DataError { field: format!("{name}.hardpoints_chassis_frame_m"), message })
     }
 }
 
@@ -97,6 +140,23 @@ impl SolidAxle {
     /// axle's reference point, r_k its rotation; no lower or upper arm turns).
     pub fn place_wheel(&self, pos: &AxlePositions, out: &mut CornerPositions) {
         out.carried(self.linkage.point(pos, &self.linkage.centre), pos.rotation, pos.residual);
+    }
+
+    /// A steered axle's wheel on `side` (0 left, 1 right): its carrier is the knuckle (the point b its
+    /// kingpin's lower point, r_k its rotation); its springs are on the tube (`axle_centre`, `r_l`).
+    pub fn place_steered_wheel(
+        &self,
+        steering: &AxleSteering,
+        pos: &AxlePositions,
+        st: &SteerPositions,
+        side: usize,
+        out: &mut CornerPositions,
+    ) {
+        let j = axle_steering::KNUCKLE[side];
+        let b = self.linkage.point(pos, &steering.pivot[j]);
+        out.carried(b, steering.body_rotation(pos, st, j), pos.residual.max(st.residual));
+        out.r_l = pos.rotation;
+        out.axle_centre = self.linkage.point(pos, &self.linkage.centre);
     }
 }
 
@@ -111,6 +171,15 @@ pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corne
     let spin_inertia = data.wheel_assembly(axle).spin_inertia;
     let on_axle = |c: &str, a: &str| LineMount { chassis: pt(c), moving: pt(a), body: MountBody::Carrier };
     let b0 = VehicleData::point(axle, "AXLE_CM") - points.c0;
+    if axle.template.is_steered_solid_axle() {
+        // The wheel's carrier is the knuckle (b₀ its kingpin's lower point); the springs are on the tube.
+        let on_tube = |c: &str, a: &str| LineMount { chassis: pt(c), moving: pt(a), body: MountBody::AxleTube };
+        let mounts = [on_tube("SPRING_C", "SPRING_A"), on_tube("SHOCK_C", "SHOCK_A")];
+        let mut corner =
+            Corner::carried_wheel(axle.template, side, Closure::SolidAxle, pt("KNUCKLE_L"), w0, mounts, spin_inertia);
+        corner.p_l = b0;
+        return Ok(corner);
+    }
     let mounts = [on_axle("SPRING_C", "SPRING_A"), on_axle("SHOCK_C", "SHOCK_A")];
     Ok(Corner::carried_wheel(axle.template, side, Closure::SolidAxle, b0, w0, mounts, spin_inertia))
 }
@@ -267,6 +336,11 @@ impl AxleLinkage {
         Ok(axle)
     }
 
+    /// The positions at design (q = 0).
+    pub fn design_positions(&self) -> AxlePositions {
+        self.evaluate(&AxleQ::zeros())
+    }
+
     /// An axle-fixed point, given at design, at the positions `pos`.
     #[inline(always)]
     pub fn point(&self, pos: &AxlePositions, p: &V3) -> V3 {
@@ -276,7 +350,7 @@ impl AxleLinkage {
     /// ∂r/∂q of an axle-fixed point r (at `r_now`, with `arm` = R (p − c₀)): the translations' unit columns,
     /// the rotations' g_k × arm (g_k the columns of G, the relative angular velocity per Bryant rate).
     #[inline(always)]
-    fn point_jacobian(g: &M3, arm: &V3) -> SMatrix<f64, 3, 6> {
+    pub(super) fn point_jacobian(g: &M3, arm: &V3) -> SMatrix<f64, 3, 6> {
         let mut j = SMatrix::<f64, 3, 6>::zeros();
         j[(2, HEAVE)] = 1.0;
         j[(0, DX)] = 1.0;
@@ -466,7 +540,7 @@ impl AxleLinkage {
     }
 
     /// The velocity-quadratic part of an axle-fixed point's acceleration: (Ġα̇) × arm + ω × (ω × arm).
-    fn point_acceleration_quadratic(&self, pos: &AxlePositions, qd: &AxleQ, p: &V3) -> V3 {
+    pub(super) fn point_acceleration_quadratic(&self, pos: &AxlePositions, qd: &AxleQ, p: &V3) -> V3 {
         let arm = pos.rotation * (p - self.centre);
         let rates = V3::new(qd[ROLL], qd[PITCH], qd[YAW]);
         let w = pos.sc.rate_matrix() * rates;

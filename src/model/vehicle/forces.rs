@@ -99,7 +99,7 @@ impl Vehicle {
             let rho_c = mount.chassis;
             let rho_a = c.mount_point(pos, mount);
             let y_a = match mount.body {
-                MountBody::LowerArm => &y_l,
+                MountBody::LowerArm | MountBody::AxleTube => &y_l,
                 MountBody::Carrier => &y_k,
             };
             let dvec = rho_a - rho_c;
@@ -116,7 +116,7 @@ impl Vehicle {
                 }
             };
             match mount.body {
-                MountBody::LowerArm => q_l += point_force(&(e * magnitude), &rho_a),
+                MountBody::LowerArm | MountBody::AxleTube => q_l += point_force(&(e * magnitude), &rho_a),
                 MountBody::Carrier => q_k += point_force(&(e * magnitude), &rho_a),
             }
             chassis_wrench += point_force(&(-e * magnitude), &rho_c);

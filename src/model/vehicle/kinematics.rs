@@ -5,7 +5,8 @@ use super::{idx, AxleKind, AxleWork, Vehicle, WarmStart, Workspace, CORNERS};
 use crate::dynamics::body::{ang, lin, wrench};
 use crate::error::{Cause, ModelError};
 use crate::math::{skew, Axes, ChassisAxes, M3, V3};
-use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
+use crate::model::suspension::axle_steering;
+use crate::model::suspension::solid_axle::{AxleQ, SolidAxle};
 use crate::model::suspension::{rigid, CornerPositions, Vector5f};
 use nalgebra::{SMatrix, Vector6};
 
@@ -20,7 +21,7 @@ impl Vehicle {
                     self.solve_corner(2 * a, x, rack_u, cache)?;
                     self.solve_corner(2 * a + 1, x, rack_u, cache)?;
                 }
-                AxleKind::Solid => self.solve_axle(a, x, cache)?,
+                AxleKind::Solid => self.solve_axle(a, x, rack_u, cache)?,
                 AxleKind::Rigid => {
                     for i in [2 * a, 2 * a + 1] {
                         rigid::place_wheel(&self.corners[i], &mut cache.positions[i]);
@@ -35,7 +36,7 @@ impl Vehicle {
     /// warm start kept in the left corner's (u the heave, s the roll); its wheels' corner positions are the
     /// axle's pose (`solid_axle::wheel_corner`: the carrier's point b and rotation r_k).
     #[inline(never)] // not on an independent suspension's path
-    pub(super) fn solve_axle(&self, a: usize, x: &[f64], cache: &mut Workspace) -> Result<(), ModelError> {
+    pub(super) fn solve_axle(&self, a: usize, x: &[f64], rack_u: f64, cache: &mut Workspace) -> Result<(), ModelError> {
         let Some(solid) = &self.solid_axles[a] else { return Ok(()) };
         let (l, r) = (2 * a, 2 * a + 1);
         let u = [x[idx::U + l], x[idx::U + r]];
@@ -51,11 +52,33 @@ impl Vehicle {
             dv_du: pos.dv_du.column(0).into_owned().into(),
             dv_ds: pos.dv_du.column(1).into_owned().into(),
         };
+        cache.axles[a].positions = pos;
+        if let Some(steering) = &solid.steering {
+            // The steering's angles z(q, s), warm-started from the right wheel's place (u = s = the steering
+            // coordinate; v = z).
+            let s = self.steering.sign * rack_u;
+            let g = cache.corners[r].predict(s, s);
+            let st = steering
+                .solve(&solid.linkage, &pos, s, &nalgebra::Vector3::new(g[0], g[1], g[2]))
+                .map_err(|e| ModelError::new(Cause::MechanismRange, format!("{} axle: {e}", ["front", "rear"][a])))?;
+            cache.corners[r] = WarmStart {
+                v: [st.z[0], st.z[1], st.z[2], 0.0],
+                u: s,
+                s,
+                dv_du: [0.0; 4],
+                dv_ds: [st.dz_ds[0], st.dz_ds[1], st.dz_ds[2], 0.0],
+            };
+            for (k, iterations) in [(0, pos.iterations), (1, st.iterations)] {
+                solid.place_steered_wheel(steering, &pos, &st, k, &mut cache.positions[l + k]);
+                cache.positions[l + k].iterations = iterations;
+            }
+            cache.axles[a].steer = st;
+            return Ok(());
+        }
         for (c, iterations) in [(l, pos.iterations), (r, 0)] {
             solid.place_wheel(&pos, &mut cache.positions[c]);
             cache.positions[c].iterations = iterations;
         }
-        cache.axles[a].positions = pos;
         Ok(())
     }
 
@@ -114,7 +137,7 @@ impl Vehicle {
     #[inline(never)] // not on an independent suspension's path
     pub(super) fn axle_velocity(&self, a: usize, x: &[f64], ws: &mut Workspace) {
         let Some(solid) = &self.solid_axles[a] else { return };
-        let Workspace { positions, kinematics, assembly, diagnostics, chassis, axles, .. } = ws;
+        let Workspace { positions, kinematics, assembly, diagnostics, chassis, axles, rack, .. } = ws;
         let (l, r) = (2 * a, 2 * a + 1);
         let work = &mut axles[a];
         let pos = &work.positions;
@@ -122,8 +145,38 @@ impl Vehicle {
         assembly.axle_terms[a].gamma_bar = solid.linkage.gamma_bar(pos, &qd);
         diagnostics.max_residual = diagnostics.max_residual.max(pos.residual);
         diagnostics.newton_iterations += pos.iterations;
-        let body = axle_body_kinematics(solid, pos, &qd, &chassis.y0);
-        *work = AxleWork { qd, ..body };
+        axle_body_kinematics(solid, &qd, &chassis.y0, work);
+        if let Some(steering) = &solid.steering {
+            // The knuckles and the bellcrank turn on the tube (axle_steering.rs): the wheels ride the
+            // knuckles, their springs the tube.
+            let (pos, st) = (&work.positions, &work.steer);
+            diagnostics.newton_iterations += st.iterations;
+            let zd = steering.rates(st, &qd, rack.velocity);
+            let c = steering.quadratic(&solid.linkage, pos, st, &qd, &zd, rack.velocity);
+            work.steer_bodies = steering.bodies_work(
+                &solid.linkage,
+                pos,
+                st,
+                &zd,
+                &c,
+                rack.acceleration,
+                &work.b,
+                &work.rate,
+                &work.velocity,
+            );
+            for (k, i) in [l, r].into_iter().enumerate() {
+                let c = &self.corners[i];
+                let knuckle = &work.steer_bodies[axle_steering::KNUCKLE[k]];
+                let axle = steering.body_rotation(pos, st, axle_steering::KNUCKLE[k]) * c.axle;
+                let centre = c.on_carrier(&positions[i], &c.w0);
+                let mut kin = CornerKinematics::carried(knuckle.velocity, knuckle.rate, knuckle.com, axle, centre);
+                kin.velocity[BODY_L] = work.velocity;
+                kin.rate[BODY_L] = work.rate;
+                kin.com[BODY_L] = work.com;
+                kinematics[i] = kin;
+            }
+            return;
+        }
         for i in [l, r] {
             let c = &self.corners[i];
             let (axle, centre) = (work.positions.rotation * c.axle, c.on_carrier(&positions[i], &c.w0));
@@ -282,7 +335,8 @@ impl Vehicle {
 /// ċ = v₀ + ω₀ × c + v_rel, and ġ_k q̇_k summing to ω₀ × ω_rel + Ġα̇:
 /// 𝔇 = [ċ × ω_rel + c × (ω₀ × ω_rel + Ġα̇) + ω₀ × v_rel; ω₀ × ω_rel + Ġα̇]. (q̇ is left for the caller.)
 #[inline(always)]
-fn axle_body_kinematics(solid: &SolidAxle, pos: &AxlePositions, qd: &AxleQ, y0: &Vector6<f64>) -> AxleWork {
+fn axle_body_kinematics(solid: &SolidAxle, qd: &AxleQ, y0: &Vector6<f64>, work: &mut AxleWork) {
+    let pos = &work.positions;
     let (v0, w0) = (lin(y0), ang(y0));
     let c = solid.linkage.point(pos, &solid.linkage.centre);
     let g = pos.sc.rate_matrix();
@@ -301,13 +355,10 @@ fn axle_body_kinematics(solid: &SolidAxle, pos: &AxlePositions, qd: &AxleQ, y0: 
     let w_dot = w0.cross(&w_rel) + pos.sc.rate_quadratic(&rates);
     let rate = wrench(&(c_dot.cross(&w_rel) + c.cross(&w_dot) + w0.cross(&v_rel)), &w_dot);
     let rot = pos.rotation;
-    AxleWork {
-        positions: *pos,
-        qd: AxleQ::zeros(),
-        b,
-        rate,
-        velocity: y0 + b * qd,
-        com: solid.linkage.point(pos, &solid.body.com),
-        inertia: rot * solid.body.inertia * rot.transpose(),
-    }
+    work.com = solid.linkage.point(pos, &solid.body.com);
+    work.inertia = rot * solid.body.inertia * rot.transpose();
+    work.qd = *qd;
+    work.b = b;
+    work.rate = rate;
+    work.velocity = y0 + b * qd;
 }

@@ -31,6 +31,7 @@ use crate::model::road::envelope::ContactModel;
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
 use crate::model::steering::{assembly::Steering, tie_rod_drive};
 use crate::model::suspension::antiroll_bar::AxleBar;
+use crate::model::suspension::axle_steering::{SteerBodyWork, SteerPositions};
 use crate::model::suspension::forces::StopCurve;
 use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::model::suspension::{BodyInertia, Corner, CornerPositions, Side};
@@ -239,6 +240,9 @@ pub struct AxleWork {
     pub velocity: Vector6<f64>,
     pub com: V3,
     pub inertia: M3,
+    /// A steered axle's steering positions and the motion of its bellcrank and knuckles (`axle_steering`).
+    pub steer: SteerPositions,
+    pub steer_bodies: [SteerBodyWork; 3],
 }
 
 impl PartialEq for Workspace {
@@ -568,6 +572,9 @@ impl Vehicle {
     pub fn steering_gain_per_rack_metre(&self) -> Result<f64, ModelError> {
         let h = 1e-5;
         let mean = |s: f64| -> Result<f64, ModelError> {
+            if let Some(angles) = self.steered_axle_angles(0, s)? {
+                return Ok(0.5 * (angles[0] + angles[1]));
+            }
             let mut sum = 0.0;
             for c in &self.corners[0..2] {
                 let p = c.solve_positions(0.0, s, &[0.0; 4])?;
@@ -576,6 +583,21 @@ impl Vehicle {
             Ok(0.5 * sum)
         };
         Ok((mean(h)? - mean(-h)?) / (2.0 * h))
+    }
+
+    /// A steered solid axle's wheels' steer angles (left, right) at design heave and roll and steering
+    /// coordinate s; `None` when axle a is not one.
+    pub fn steered_axle_angles(&self, a: usize, s: f64) -> Result<Option<[f64; 2]>, ModelError> {
+        let Some(solid) = &self.solid_axles[a] else { return Ok(None) };
+        let Some(steering) = &solid.steering else { return Ok(None) };
+        let pos = solid.linkage.solve_positions([0.0, 0.0], &[0.0; 4])?;
+        let st = steering.solve(&solid.linkage, &pos, s, &nalgebra::Vector3::zeros())?;
+        let angles = [0, 1].map(|k| {
+            let mut w = CornerPositions::default();
+            solid.place_steered_wheel(steering, &pos, &st, k, &mut w);
+            self.corners[2 * a + k].steer_angle(&w)
+        });
+        Ok(Some(angles))
     }
 
     /// Steering coordinate for corner i (rear toe links ignore it).
@@ -761,6 +783,17 @@ impl Vehicle {
             let w = w0 + a0 * solid.linkage.angular_velocity(pos, &qd);
             let rdot = v0 + w0.cross(&(a0 * c)) + a0 * solid.linkage.point_velocity(pos, &qd, &solid.body.com);
             add_body(solid.body.mass, &(a0 * c), &(rot * solid.body.inertia * rot.transpose()), &rdot, &w);
+            if let Some(steering) = &solid.steering {
+                let st = &cache.axles[a].steer;
+                let zd = steering.rates(st, &qd, sd);
+                for (j, body) in steering.bodies.iter().enumerate() {
+                    let c = steering.body_point(&solid.linkage, pos, st, j, &body.com);
+                    let (v_rel, w_rel) = steering.relative_motion(&solid.linkage, pos, st, &qd, &zd, j);
+                    let rot = a0 * steering.body_rotation(pos, st, j);
+                    let rdot = v0 + w0.cross(&(a0 * c)) + a0 * v_rel;
+                    add_body(body.mass, &(a0 * c), &(rot * body.inertia * rot.transpose()), &rdot, &(w0 + a0 * w_rel));
+                }
+            }
         }
         let mut spin_terms = Vec::new();
         let mut spring_potential = 0.0;

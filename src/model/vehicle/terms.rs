@@ -6,9 +6,10 @@ use super::kinematics::{CornerKinematics, BODY_K, BODY_L, BODY_U};
 use super::{point_velocity, AxleKind, AxleWork, Vehicle, Workspace};
 use crate::dynamics::body::{ang, body_force, mass_hat, mass_hat_times, MassHatSum};
 use crate::dynamics::{AxleTerms, PhiVSolved, SubsystemTerms};
-use crate::math::V3;
-use crate::model::suspension::CornerPositions;
-use nalgebra::Vector6;
+use crate::math::{M3, V3};
+use crate::model::suspension::axle_steering::{BELLCRANK, KNUCKLE};
+use crate::model::suspension::{BodyInertia, CornerPositions};
+use nalgebra::{Matrix6, SMatrix, Vector6};
 
 impl Vehicle {
     /// Writes `assembly.terms` (all but γ̄) from the positions, the kinematics and the wrenches.
@@ -25,8 +26,20 @@ impl Vehicle {
                 }
                 AxleKind::Solid => {
                     let on_axle = [&wrenches[2 * a].bodies, &wrenches[2 * a + 1].bodies];
-                    let mass = self.solid_axles[a].as_ref().expect("a solid axle has its body").body.mass;
-                    axle_terms(&axles[a], mass, on_axle, &chassis.g, &mut assembly.axle_terms[a]);
+                    let solid = self.solid_axles[a].as_ref().expect("a solid axle has its body");
+                    match &solid.steering {
+                        None => {
+                            axle_terms(&axles[a], solid.body.mass, on_axle, &chassis.g, &mut assembly.axle_terms[a])
+                        }
+                        Some(steering) => steered_axle_terms(
+                            &axles[a],
+                            solid.body.mass,
+                            &steering.bodies,
+                            on_axle,
+                            &chassis.g,
+                            &mut assembly.axle_terms[a],
+                        ),
+                    }
                 }
                 // A subsystem with no coordinate (docs/physics.md §4.6b): its wheels' wrenches are on the
                 // chassis, which carries their mass (the synthesis stage adds them to its force).
@@ -55,6 +68,57 @@ fn axle_terms(work: &AxleWork, mass: f64, wheels: [&[Vector6<f64>; 3]; 2], g: &V
     let p = q - mh * work.rate;
     terms.p_q = work.b.tr_mul(&p);
     terms.p_0 = p;
+    let pos = &work.positions;
+    terms.phi_q = pos.phi_q;
+    terms.phi_v_solved = pos.lu_v.map(|lu| PhiVSolved { lu, phi_v_inv_phi_u: -pos.dv_du });
+}
+
+/// A steered solid axle's terms (§4.2 over its four bodies, docs/physics.md §4.6c): the tube (its own
+/// wrench, and the springs and dampers its wheels' corners put in their lower slot) and the bellcrank and
+/// knuckles, each with its 𝔅 over the axle's q and its 𝔇 from the velocity stage (`axle_steering`); a
+/// knuckle takes its wheel corner's carrier wrench (tire, brake, drive, the wheel's gyroscopic moment).
+#[inline(never)] // not on an independent suspension's path
+fn steered_axle_terms(
+    work: &AxleWork,
+    tube_mass: f64,
+    bodies: &[BodyInertia; 3],
+    wheels: [&[Vector6<f64>; 3]; 2],
+    g: &V3,
+    terms: &mut AxleTerms,
+) {
+    terms.m_qq = SMatrix::zeros();
+    terms.m_q0 = SMatrix::zeros();
+    terms.m_00 = Matrix6::zeros();
+    terms.p_q = Vector6::zeros();
+    terms.p_0 = Vector6::zeros();
+    let mut add = |mass: f64,
+                   com: &V3,
+                   inertia: &M3,
+                   b: &SMatrix<f64, 6, 6>,
+                   rate: &Vector6<f64>,
+                   y: &Vector6<f64>,
+                   q: Vector6<f64>| {
+        let q = q + body_force(mass, com, inertia, &ang(y), &point_velocity(y, com), g);
+        let mh = mass_hat(mass, com, inertia);
+        let mh_b = mh * b;
+        terms.m_qq += b.tr_mul(&mh_b);
+        terms.m_q0 += mh_b.transpose();
+        terms.m_00 += mh;
+        let p = q - mh * rate;
+        terms.p_q += b.tr_mul(&p);
+        terms.p_0 += p;
+    };
+    add(tube_mass, &work.com, &work.inertia, &work.b, &work.rate, &work.velocity, wheels[0][0] + wheels[1][0]);
+    for (j, body) in work.steer_bodies.iter().enumerate() {
+        let on_it = match j {
+            BELLCRANK => Vector6::zeros(),
+            _ => {
+                let w = wheels[if j == KNUCKLE[0] { 0 } else { 1 }];
+                w[1] + w[2]
+            }
+        };
+        add(bodies[j].mass, &body.com, &body.inertia, &body.b, &body.rate, &body.velocity, on_it);
+    }
     let pos = &work.positions;
     terms.phi_q = pos.phi_q;
     terms.phi_v_solved = pos.lu_v.map(|lu| PhiVSolved { lu, phi_v_inv_phi_u: -pos.dv_du });

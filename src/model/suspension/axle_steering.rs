@@ -1,0 +1,380 @@
+//! The steering of a steered solid axle: knuckles on kingpins in the axle, turned through tie rods by a
+//! bellcrank on the axle that a drag link joins to the steering (Chrono's `ChSolidBellcrankThreeLinkAxle`,
+//! read from its source: `Construct` and `InitializeSide`). docs/physics.md §4.6c.
+//!
+//! Chrono's joints, and what each leaves:
+//! - each **knuckle** turns on a revolute joint in the axle tube, its axis through the kingpin points
+//!   `KNUCKLE_L` and `KNUCKLE_U`; the spindle turns in the knuckle (the wheel's spin, kept apart as for every
+//!   corner, §4.8);
+//! - the **bellcrank** turns on a revolute joint in the axle tube at `BELLCRANK_A`, about the axle's z axis;
+//! - each **tie rod** is a body with spherical joints at the knuckle (`KNUCKLE_T`) and at the bellcrank
+//!   (`BELLCRANK_T`): for the knuckle and the bellcrank, its length is held (one row; its spin about its own
+//!   line moves nothing else);
+//! - the **drag link** has a spherical joint at the steering's end (`DRAGLINK_S`, moved by the steering) and a
+//!   universal joint at the bellcrank (`BELLCRANK_D`): its length is held (one row).
+//!
+//! Three rows on three angles z = (β, ψ_L, ψ_R) (the bellcrank's, the knuckles'): given the axle's pose q and
+//! the steering coordinate s, they fix z. So z is not a coordinate of the synthesis but a function z(q, s),
+//! eliminated inside the axle subsystem by the chain rule (a velocity transformation of the steering loop):
+//! ż = ∂z/∂q q̇ + ∂z/∂s ṡ, z̈ = ∂z/∂q q̈ + ∂z/∂s s̈ + Φ_z⁻¹γ_z. A steered body's velocity Jacobian over the
+//! axle's six coordinates is then 𝔅_tube + j ∂z_j/∂q (j its revolute's twist), and the rest of its motion
+//! (the steering's, and the quadratic terms) goes into its 𝔇: the axle stays a subsystem of six coordinates
+//! and four rows, whose effective inertia and force now include the knuckles, wheels and bellcrank turning
+//! on it.
+//!
+//! Tie rods and drag link are massless here (Chrono gives them bodies; the import says what it leaves out).
+
+use super::solid_axle::{AxleLinkage, AxlePositions, AxleQ};
+use super::{BodyInertia, MIN_RELATIVE_DET, POSITION_TOLERANCE};
+use crate::dynamics::body::{ang, lin, wrench};
+use crate::dynamics::lu::Lu;
+use crate::error::{Cause, ModelError};
+use crate::math::{rotation_about_sc, M3, V3};
+use crate::model::steering::{TieRodDrive, TieRodPath};
+use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
+use serde::{Deserialize, Serialize};
+
+/// Index of the bellcrank's angle in z, then the left and the right knuckle's.
+pub const BELLCRANK: usize = 0;
+pub const KNUCKLE: [usize; 2] = [1, 2];
+const MAX_ITERATIONS: u32 = 16;
+
+/// The steering linkage of a steered solid axle, at design (chassis frame, sprung CM origin; all points
+/// move with the axle).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AxleSteering {
+    /// The revolute joints of z's three bodies: a point of each axis and the axis (unit), in the order of z.
+    pub pivot: [V3; 3],
+    pub axis: [V3; 3],
+    /// The bellcrank's drag-link point and tie-rod points (left, right); the knuckles' tie-rod points.
+    pub bellcrank_draglink: V3,
+    pub bellcrank_tierod: [V3; 2],
+    pub knuckle_tierod: [V3; 2],
+    /// The drag link's steering end at s = 0, and what moves it.
+    pub draglink_steering: V3,
+    pub drive: TieRodDrive,
+    pub draglink_length: f64,
+    pub tierod_length: [f64; 2],
+    /// z's bodies at design: the bellcrank; each knuckle with its spindle and wheel (their spin apart).
+    pub bodies: [BodyInertia; 3],
+    /// |det Φ_z| at design.
+    design_det: f64,
+}
+
+/// The steering's solved positions at an axle pose and steering coordinate.
+#[derive(Debug, Clone, Copy)]
+pub struct SteerPositions {
+    pub z: Vector3<f64>,
+    /// Each z body's rotation in the axle (about its axis by its angle).
+    pub rotation: [M3; 3],
+    /// ∂z/∂q and ∂z/∂s.
+    pub dz_dq: SMatrix<f64, 3, 6>,
+    pub dz_ds: Vector3<f64>,
+    /// Φ_z factored.
+    pub lu: Lu<3>,
+    /// The drag link's steering end and its path derivatives.
+    pub path: TieRodPath,
+    pub residual: f64,
+    pub iterations: u32,
+}
+
+impl Default for SteerPositions {
+    fn default() -> Self {
+        SteerPositions {
+            z: Vector3::zeros(),
+            rotation: [M3::identity(); 3],
+            dz_dq: SMatrix::zeros(),
+            dz_ds: Vector3::zeros(),
+            lu: Lu::identity(),
+            path: TieRodPath { point: V3::zeros(), d_ds: V3::zeros(), d2_ds2: V3::zeros() },
+            residual: 0.0,
+            iterations: 0,
+        }
+    }
+}
+
+/// One z body's motion (chassis axes, chassis-CM origin, as `AxleWork`'s): 𝔅 over the axle's q, 𝔇, Y, its
+/// CM and inertia.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SteerBodyWork {
+    pub b: SMatrix<f64, 6, 6>,
+    pub rate: Vector6<f64>,
+    pub velocity: Vector6<f64>,
+    pub com: V3,
+    pub inertia: M3,
+}
+
+/// Φ, Φ_z, Φ_q and Φ_s of the three rows at an axle pose, z and path.
+struct Rows {
+    phi: Vector3<f64>,
+    phi_z: Matrix3<f64>,
+    phi_q: SMatrix<f64, 3, 6>,
+    phi_s: Vector3<f64>,
+}
+
+impl AxleSteering {
+    /// The linkage from its design points; `Err` says what cannot be assembled.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        linkage: &AxleLinkage,
+        kingpin_lower: [V3; 2],
+        kingpin_upper: [V3; 2],
+        bellcrank_pivot: V3,
+        bellcrank_draglink: V3,
+        bellcrank_tierod: [V3; 2],
+        knuckle_tierod: [V3; 2],
+        draglink_steering: V3,
+        drive: TieRodDrive,
+        bodies: [BodyInertia; 3],
+    ) -> Result<AxleSteering, String> {
+        let mut axis = [V3::z(); 3];
+        for k in 0..2 {
+            let e = kingpin_upper[k] - kingpin_lower[k];
+            if e.norm() < 1e-3 {
+                return Err(format!("the {} kingpin's two points coincide", ["left", "right"][k]));
+            }
+            axis[KNUCKLE[k]] = e.normalize();
+        }
+        let pivot = [bellcrank_pivot, kingpin_lower[0], kingpin_lower[1]];
+        let draglink_length = (bellcrank_draglink - draglink_steering).norm();
+        let tierod_length = [0, 1].map(|k| (knuckle_tierod[k] - bellcrank_tierod[k]).norm());
+        if draglink_length < 1e-3 {
+            return Err("the drag link has no length".into());
+        }
+        if let Some(k) = (0..2).find(|&k| tierod_length[k] < 1e-3) {
+            return Err(format!("the {} tie rod has no length", ["left", "right"][k]));
+        }
+        let mut st = AxleSteering {
+            pivot,
+            axis,
+            bellcrank_draglink,
+            bellcrank_tierod,
+            knuckle_tierod,
+            draglink_steering,
+            drive,
+            draglink_length,
+            tierod_length,
+            bodies,
+            design_det: 1.0,
+        };
+        let design = st.evaluate(linkage, &linkage.design_positions(), &Vector3::zeros(), 0.0);
+        let det = design.phi_z.determinant().abs();
+        if !(det > 1e-9 && det.is_finite()) {
+            return Err(
+                "the drag link and the tie rods do not fix the bellcrank's and the knuckles' angles at design \
+                 (Φ_z is singular): a link runs along the arc its joint moves on"
+                    .into(),
+            );
+        }
+        st.design_det = det;
+        Ok(st)
+    }
+
+    /// A point of z body `j`, given at design, at its angle (in the axle, design coordinates), and its
+    /// rotation's arm h × R (p − pivot).
+    #[inline(always)]
+    fn turned(&self, j: usize, rotation: &M3, p: &V3) -> (V3, V3) {
+        let arm = rotation * (p - self.pivot[j]);
+        (self.pivot[j] + arm, self.axis[j].cross(&arm))
+    }
+
+    fn rotations(&self, z: &Vector3<f64>) -> [M3; 3] {
+        std::array::from_fn(|j| {
+            let (s, c) = z[j].sin_cos();
+            rotation_about_sc(&self.axis[j], s, c)
+        })
+    }
+
+    /// The rows (metres near the solution: ½(ℓ² − ℓ₀²)/ℓ₀ each) and their Jacobians.
+    fn evaluate(&self, linkage: &AxleLinkage, pos: &AxlePositions, z: &Vector3<f64>, s: f64) -> Rows {
+        let rot = self.rotations(z);
+        let path = self.drive.path(&self.draglink_steering, s);
+        self.rows(linkage, pos, &rot, &path)
+    }
+
+    fn rows(&self, linkage: &AxleLinkage, pos: &AxlePositions, rot: &[M3; 3], path: &TieRodPath) -> Rows {
+        let mut r =
+            Rows { phi: Vector3::zeros(), phi_z: Matrix3::zeros(), phi_q: SMatrix::zeros(), phi_s: Vector3::zeros() };
+        // The drag link: the bellcrank's point D (on the axle) to the steering's end S(s).
+        let (d_local, d_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_draglink);
+        let d = linkage.point(pos, &d_local) - path.point;
+        let l = self.draglink_length;
+        r.phi[0] = 0.5 * (d.dot(&d) - l * l) / l;
+        r.phi_z[(0, BELLCRANK)] = d.dot(&(pos.rotation * d_arm)) / l;
+        let arm = pos.rotation * (d_local - linkage.centre);
+        r.phi_q.set_row(0, &(d.transpose() * AxleLinkage::point_jacobian(&pos.sc.rate_matrix(), &arm) / l));
+        r.phi_s[0] = -d.dot(&path.d_ds) / l;
+        // The tie rods, knuckle to bellcrank: both ends on the axle, so the pose does not enter.
+        for k in 0..2 {
+            let (t_local, t_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_tierod[k]);
+            let (n_local, n_arm) = self.turned(KNUCKLE[k], &rot[KNUCKLE[k]], &self.knuckle_tierod[k]);
+            let e = n_local - t_local;
+            let l = self.tierod_length[k];
+            r.phi[1 + k] = 0.5 * (e.dot(&e) - l * l) / l;
+            r.phi_z[(1 + k, KNUCKLE[k])] = e.dot(&n_arm) / l;
+            r.phi_z[(1 + k, BELLCRANK)] = -e.dot(&t_arm) / l;
+        }
+        r
+    }
+
+    /// z at the axle's positions `pos` and steering coordinate s, by Newton from `guess`, with ∂z/∂q and
+    /// ∂z/∂s.
+    pub fn solve(
+        &self,
+        linkage: &AxleLinkage,
+        pos: &AxlePositions,
+        s: f64,
+        guess: &Vector3<f64>,
+    ) -> Result<SteerPositions, ModelError> {
+        let path = self.drive.path(&self.draglink_steering, s);
+        let mut z = *guess;
+        for it in 0..=MAX_ITERATIONS {
+            let rotation = self.rotations(&z);
+            let r = self.rows(linkage, pos, &rotation, &path);
+            let det = r.phi_z.determinant().abs();
+            let lu = match Lu::new(&r.phi_z) {
+                Ok(lu) if det >= MIN_RELATIVE_DET * self.design_det => lu,
+                _ => {
+                    return Err(ModelError::new(
+                        Cause::Kinematics,
+                        format!(
+                            "the axle's steering linkage is singular (|det Φ_z| = {det:.3e}) at steering {s:.4}: \
+                             outside its range"
+                        ),
+                    ))
+                }
+            };
+            let residual = r.phi.amax();
+            if residual <= POSITION_TOLERANCE {
+                let mut dz_dq = -r.phi_q;
+                lu.solve(&mut dz_dq);
+                let mut dz_ds = -r.phi_s;
+                lu.solve(&mut dz_ds);
+                return Ok(SteerPositions { z, rotation, dz_dq, dz_ds, lu, path, residual, iterations: it });
+            }
+            let mut dz = -r.phi;
+            lu.solve(&mut dz);
+            z += dz;
+            if !z.iter().all(|v| v.is_finite()) {
+                break;
+            }
+        }
+        Err(ModelError::new(
+            Cause::Kinematics,
+            format!("the axle's steering position solve did not converge at steering {s:.4}: outside its range"),
+        ))
+    }
+
+    /// ż from the axle's q̇ and the steering's ṡ.
+    #[inline(always)]
+    pub fn rates(&self, st: &SteerPositions, qd: &AxleQ, s_dot: f64) -> Vector3<f64> {
+        st.dz_dq * qd + st.dz_ds * s_dot
+    }
+
+    /// Φ_z⁻¹γ_z: the part of z̈ the accelerations q̈, s̈ do not give (z̈ = ∂z/∂q q̈ + ∂z/∂s s̈ + this), from
+    /// the rows' velocity-quadratic terms. Each row is ½(|e|² − ℓ₀²)/ℓ₀: its second derivative is
+    /// (e·ë + ė·ė)/ℓ₀, and γ_z = −(e·ë_quadratic + ė·ė)/ℓ₀.
+    pub fn quadratic(
+        &self,
+        linkage: &AxleLinkage,
+        pos: &AxlePositions,
+        st: &SteerPositions,
+        qd: &AxleQ,
+        zd: &Vector3<f64>,
+        s_dot: f64,
+    ) -> Vector3<f64> {
+        let mut gamma = Vector3::zeros();
+        let rot = &st.rotation;
+        let w_tube = linkage.angular_velocity(pos, qd);
+        // The drag link: D = c + R_t ρ(β), ρ turning about h_b at β̇ in the axle.
+        let (d_local, d_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_draglink);
+        let d = linkage.point(pos, &d_local) - st.path.point;
+        let turn = pos.rotation * d_arm * zd[BELLCRANK];
+        let d_dot = linkage.point_velocity(pos, qd, &d_local) + turn - st.path.d_ds * s_dot;
+        let d_quadratic = linkage.point_acceleration_quadratic(pos, qd, &d_local)
+            + 2.0 * w_tube.cross(&turn)
+            + pos.rotation * self.axis[BELLCRANK].cross(&d_arm) * (zd[BELLCRANK] * zd[BELLCRANK])
+            - st.path.d2_ds2 * (s_dot * s_dot);
+        gamma[0] = -(d.dot(&d_quadratic) + d_dot.dot(&d_dot)) / self.draglink_length;
+        for k in 0..2 {
+            let (t_local, t_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_tierod[k]);
+            let (n_local, n_arm) = self.turned(KNUCKLE[k], &rot[KNUCKLE[k]], &self.knuckle_tierod[k]);
+            let (zb, zk) = (zd[BELLCRANK], zd[KNUCKLE[k]]);
+            let e = n_local - t_local;
+            let e_dot = n_arm * zk - t_arm * zb;
+            let e_quadratic =
+                self.axis[KNUCKLE[k]].cross(&n_arm) * (zk * zk) - self.axis[BELLCRANK].cross(&t_arm) * (zb * zb);
+            gamma[1 + k] = -(e.dot(&e_quadratic) + e_dot.dot(&e_dot)) / self.tierod_length[k];
+        }
+        let mut c = gamma;
+        st.lu.solve(&mut c);
+        c
+    }
+
+    /// A point of z body `j`, given at design, at the positions (chassis frame).
+    #[inline(always)]
+    pub fn body_point(&self, linkage: &AxleLinkage, pos: &AxlePositions, st: &SteerPositions, j: usize, p: &V3) -> V3 {
+        linkage.point(pos, &(self.pivot[j] + st.rotation[j] * (p - self.pivot[j])))
+    }
+
+    /// Body j's rotation relative to the chassis.
+    #[inline(always)]
+    pub fn body_rotation(&self, pos: &AxlePositions, st: &SteerPositions, j: usize) -> M3 {
+        pos.rotation * st.rotation[j]
+    }
+
+    /// The motion of z's three bodies from the tube's (its 𝔅, 𝔇 and Y, chassis axes and chassis-CM origin:
+    /// `tube_b`, `tube_rate`, `tube_velocity`), with s̈ the steering's acceleration (module doc).
+    #[allow(clippy::too_many_arguments)]
+    pub fn bodies_work(
+        &self,
+        linkage: &AxleLinkage,
+        pos: &AxlePositions,
+        st: &SteerPositions,
+        zd: &Vector3<f64>,
+        c: &Vector3<f64>,
+        s_ddot: f64,
+        tube_b: &SMatrix<f64, 6, 6>,
+        tube_rate: &Vector6<f64>,
+        tube_velocity: &Vector6<f64>,
+    ) -> [SteerBodyWork; 3] {
+        let (v_t, w_t) = (lin(tube_velocity), ang(tube_velocity));
+        std::array::from_fn(|j| {
+            let p = linkage.point(pos, &self.pivot[j]);
+            let h = pos.rotation * self.axis[j];
+            let twist = wrench(&p.cross(&h), &h);
+            let b = tube_b + twist * st.dz_dq.row(j);
+            let p_dot = v_t + w_t.cross(&p);
+            let h_dot = w_t.cross(&h);
+            let rate = tube_rate
+                + twist * (st.dz_ds[j] * s_ddot + c[j])
+                + wrench(&((p_dot.cross(&h) + p.cross(&h_dot)) * zd[j]), &(h_dot * zd[j]));
+            let rot = self.body_rotation(pos, st, j);
+            SteerBodyWork {
+                b,
+                rate,
+                velocity: tube_velocity + twist * zd[j],
+                com: self.body_point(linkage, pos, st, j, &self.bodies[j].com),
+                inertia: rot * self.bodies[j].inertia * rot.transpose(),
+            }
+        })
+    }
+
+    /// Body j's CM velocity and angular velocity relative to the chassis (chassis frame; for the mechanical
+    /// summary).
+    pub fn relative_motion(
+        &self,
+        linkage: &AxleLinkage,
+        pos: &AxlePositions,
+        st: &SteerPositions,
+        qd: &AxleQ,
+        zd: &Vector3<f64>,
+        j: usize,
+    ) -> (V3, V3) {
+        let local = self.pivot[j] + st.rotation[j] * (self.bodies[j].com - self.pivot[j]);
+        let turn = pos.rotation * self.axis[j] * zd[j];
+        let arm = linkage.point(pos, &local) - linkage.point(pos, &self.pivot[j]);
+        let v = linkage.point_velocity(pos, qd, &local) + turn.cross(&arm);
+        (v, linkage.angular_velocity(pos, qd) + turn)
+    }
+}
