@@ -79,17 +79,17 @@ fn differenced_rates(c: &Corner, u: f64, warm: [f64; 4], material: &V3) -> ([f64
 /// `differenced_rates` for the left wheel of solid axle `a` at `travel`: the rates per unit of parallel travel
 /// from positions with both wheel centres Δz = ±5e-6 m off (`kc::axle_at_travel`), and the left contact
 /// point's material velocity under equal and opposite travel (the motion the roll centre is taken along).
-fn solid_axle_differenced_rates(v: &Vehicle, a: usize, travel: f64, ground: f64) -> ([f64; 4], V3, V3) {
-    let (c, solid) = (&v.corners[2 * a], v.solid_axles[a].as_ref().unwrap());
+fn solid_axle_differenced_rates(v: &Vehicle, a: usize, k: usize, travel: f64, ground: f64) -> ([f64; 4], V3, V3) {
+    let (c, solid) = (&v.corners[2 * a + k], v.solid_axles[a].as_ref().unwrap());
     let h = 5e-6;
-    let (_, pos, wheels) = kc::axle_at_travel(v, a, [travel, travel], None).unwrap();
+    let (_, state) = kc::axle_at_travel(v, a, [travel, travel], None).unwrap();
     // The contact point at this travel (the pose's; the direction given does not move it) as a point of the
-    // axle, followed through the differenced positions.
-    let contact = kc::axle_wheel_pose(c, &wheels[0], solid, &pos, [1.0, 0.0], ground).contact;
-    let material = material_point(c, &wheels[0], &contact);
+    // wheel's carrier, followed through the differenced positions.
+    let contact = kc::axle_wheel_pose(c, k, solid, &state, [1.0, 0.0], 0.0, ground).contact;
+    let material = material_point(c, &state.wheels[k], &contact);
     let at = |t: [f64; 2]| {
-        let (_, _, w) = kc::axle_at_travel(v, a, t, None).unwrap();
-        let p = &w[0];
+        let (_, s) = kc::axle_at_travel(v, a, t, None).unwrap();
+        let p = &s.wheels[k];
         let length = |m: &rt_vehicle::model::suspension::LineMount| (c.mount_point(p, m) - m.chassis).norm();
         ([c.camber(p), c.steer_angle(p), length(&c.spring), length(&c.shock)], c.on_carrier(p, &material))
     };
@@ -122,7 +122,7 @@ fn report_rates_match_central_differences_of_solved_positions() {
                 let row = axle.travel.iter().find(|row| (row.travel - travel).abs() < 1e-9).unwrap();
                 let ground = c.w0.z - radius + travel;
                 let (fd, v_contact, contact) = if v.solid_axles[a].is_some() {
-                    solid_axle_differenced_rates(&v, a, travel, ground)
+                    solid_axle_differenced_rates(&v, a, 0, travel, ground)
                 } else {
                     let pos = kc::wheel_at_travel(c, travel, 0.0, None).unwrap();
                     let contact = kc::wheel_pose(c, &pos, ground, kc::Along::LowerArm).contact;
@@ -136,7 +136,13 @@ fn report_rates_match_central_differences_of_solved_positions() {
                     worst[0] = worst[0].max(err);
                     assert!(err < 1e-5, "{name} {} {what} at {travel}: report {} vs {}", axle.name, rates[i], fd[i]);
                 }
-                let rc = kc::roll_centre_height(&contact, &v_contact, y_mid);
+                let mut rc = kc::roll_centre_height(&contact, &v_contact, y_mid);
+                if v.solid_axles[a].is_some() {
+                    // The report's is the mean of both wheels' (they differ where the axle's steering linkage
+                    // is not symmetric: a drag link on one side).
+                    let (_, v_right, right) = solid_axle_differenced_rates(&v, a, 1, travel, ground);
+                    rc = 0.5 * (rc + kc::roll_centre_height(&right, &v_right, y_mid));
+                }
                 let err = (rc - row.roll_centre_height).abs();
                 worst[1] = worst[1].max(err);
                 assert!(err < 5e-5, "{name} {} roll centre at {travel}: {} vs {rc}", axle.name, row.roll_centre_height);
@@ -328,7 +334,10 @@ fn every_shipped_vehicle_has_a_report_over_the_default_sweeps() {
             assert_eq!(axle.travel.len(), 81, "{name} {}", axle.name);
             let f = &axle.figures;
             let kingpin = [f.caster, f.kingpin_inclination, f.scrub_radius, f.trail];
-            if axle.template.is_solid_axle() {
+            if axle.template.is_steered_solid_axle() {
+                // A steered solid axle's knuckles turn on kingpins in the axle.
+                assert!(kingpin.iter().all(|x| x.is_finite()), "{name} {}: {kingpin:?}", axle.name);
+            } else if axle.template.is_solid_axle() {
                 // A solid axle has no kingpin: its figures are not defined (the report prints –).
                 assert!(kingpin.iter().all(|x| x.is_nan()), "{name} {}: {kingpin:?}", axle.name);
             } else {

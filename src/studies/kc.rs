@@ -36,6 +36,7 @@
 use crate::error::{Cause, ModelError};
 use crate::math::V3;
 use crate::model::formats::params::{Axle, ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
+use crate::model::suspension::axle_steering::{SteerPositions, KNUCKLE};
 use crate::model::suspension::forces::spring_force;
 use crate::model::suspension::solid_axle::{AxlePositions, SolidAxle};
 use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
@@ -112,25 +113,53 @@ pub fn wheel_pose(c: &Corner, pos: &CornerPositions, ground_z: f64, along: Along
     pose_moving(c, pos, ground_z, &CornerMotion { w_l, w_k, v_b, v_tube: V3::zeros(), w_tube: V3::zeros() })
 }
 
-/// A wheel of solid axle `solid` at the axle's positions `axle_pos` (its corner positions `pos`), moving
-/// along `direction` in (heave, roll), with the ground plane at height `ground_z`.
+/// A solid axle's solved positions: its pose, a steered axle's steering at the steering coordinate, and its
+/// wheels' corner positions.
+#[derive(Debug, Clone)]
+pub struct AxleState {
+    pub pos: AxlePositions,
+    pub steer: Option<SteerPositions>,
+    pub wheels: [CornerPositions; 2],
+}
+
+impl AxleState {
+    /// At (heave, roll) `u` from the warm start `warm` (x, y, pitch, yaw), steering coordinate s.
+    pub fn solve(solid: &SolidAxle, u: [f64; 2], warm: &[f64; 4], s: f64) -> Result<AxleState, ModelError> {
+        let pos = solid.linkage.solve_positions(u, warm)?;
+        let steer = solid.steer_at(&pos, s)?;
+        Ok(AxleState { pos, steer, wheels: solid.wheels(&pos, steer.as_ref()) })
+    }
+}
+
+/// Wheel `k` (0 left, 1 right) of solid axle `solid` (its corner `c`) at `state`, moving along `direction` in
+/// (heave, roll) and at `ds` per unit in the steering coordinate, with the ground plane at height `ground_z`.
+/// A steered axle's wheel turns with its knuckle (bump steer, steering); its springs move with the tube.
 pub fn axle_wheel_pose(
     c: &Corner,
-    pos: &CornerPositions,
+    k: usize,
     solid: &SolidAxle,
-    axle_pos: &AxlePositions,
+    state: &AxleState,
     direction: [f64; 2],
+    ds: f64,
     ground_z: f64,
 ) -> WheelPose {
-    let qd = solid.linkage.velocities(axle_pos, direction);
-    let w_k = solid.linkage.angular_velocity(axle_pos, &qd);
-    let v_b = solid.linkage.point_velocity(axle_pos, &qd, &solid.linkage.centre);
-    pose_moving(
-        c,
-        pos,
-        ground_z,
-        &CornerMotion { w_l: V3::zeros(), w_k, v_b, v_tube: V3::zeros(), w_tube: V3::zeros() },
-    )
+    let pos = &state.pos;
+    let qd = solid.linkage.velocities(pos, direction);
+    let w_tube = solid.linkage.angular_velocity(pos, &qd);
+    let v_tube = solid.linkage.point_velocity(pos, &qd, &solid.linkage.centre);
+    let (w_k, v_b) = match (&solid.steering, &state.steer) {
+        (Some(steering), Some(st)) => {
+            let j = KNUCKLE[k];
+            let zd = steering.rates(st, &qd, ds);
+            // The knuckle turns about its kingpin, on which its reference point b lies.
+            (
+                w_tube + pos.rotation * steering.axis[j] * zd[j],
+                solid.linkage.point_velocity(pos, &qd, &steering.pivot[j]),
+            )
+        }
+        _ => (w_tube, v_tube),
+    };
+    pose_moving(c, &state.wheels[k], ground_z, &CornerMotion { w_l: V3::zeros(), w_k, v_b, v_tube, w_tube })
 }
 
 /// The wheel pose of `c` at `pos` whose bodies move by `m`.
@@ -193,7 +222,7 @@ pub fn axle_at_travel(
     axle: usize,
     travel: [f64; 2],
     start: Option<[f64; 2]>,
-) -> Result<([f64; 2], AxlePositions, [CornerPositions; 2]), ModelError> {
+) -> Result<([f64; 2], AxleState), ModelError> {
     let beyond = |why: String| {
         ModelError::new(
             Cause::Kinematics,
@@ -205,18 +234,14 @@ pub fn axle_at_travel(
     let mut u = start.unwrap_or([0.0; 2]);
     let mut warm = [0.0; 4];
     for _ in 0..30 {
-        let pos = solid.linkage.solve_positions(u, &warm).map_err(|e| beyond(format!(" ({e})")))?;
-        let wheels = [0, 1].map(|_| {
-            let mut w = CornerPositions::default();
-            solid.place_wheel(&pos, &mut w);
-            w
-        });
+        let state = AxleState::solve(solid, u, &warm, 0.0).map_err(|e| beyond(format!(" ({e})")))?;
+        let wheels = &state.wheels;
         let f = [0, 1].map(|k| corners[k].on_carrier(&wheels[k], &corners[k].w0).z - corners[k].w0.z - travel[k]);
         if f[0].abs().max(f[1].abs()) <= 1e-12 {
-            return Ok((u, pos, wheels));
+            return Ok((u, state));
         }
         let rates = [[1.0, 0.0], [0.0, 1.0]]
-            .map(|d| [0, 1].map(|k| axle_wheel_pose(corners[k], &wheels[k], solid, &pos, d, 0.0).d_centre.z));
+            .map(|d| [0, 1].map(|k| axle_wheel_pose(corners[k], k, solid, &state, d, 0.0, 0.0).d_centre.z));
         // J = ∂(z_l, z_r)/∂(heave, roll): columns `rates[0]`, `rates[1]`.
         let det = rates[0][0] * rates[1][1] - rates[1][0] * rates[0][1];
         if !(det.abs() > 1e-6) {
@@ -224,7 +249,8 @@ pub fn axle_at_travel(
         }
         u[0] -= (rates[1][1] * f[0] - rates[1][0] * f[1]) / det;
         u[1] -= (-rates[0][1] * f[0] + rates[0][0] * f[1]) / det;
-        warm = [pos.q[2], pos.q[3], pos.q[4], pos.q[5]];
+        let q = state.pos.q;
+        warm = [q[2], q[3], q[4], q[5]];
     }
     Err(beyond(String::new()))
 }
@@ -411,13 +437,13 @@ fn solid_roll_moment(v: &Vehicle, axle: usize, z: f64) -> Result<f64, ModelError
     let solid = v.solid_axles[axle].as_ref().expect("called for a solid axle");
     let (l, r) = (2 * axle, 2 * axle + 1);
     let corners = [&v.corners[l], &v.corners[r]];
-    let (_, pos, wheels) = axle_at_travel(v, axle, [z, -z], None)?;
+    let (_, state) = axle_at_travel(v, axle, [z, -z], None)?;
     let y_mid = 0.5 * (corners[0].w0.y + corners[1].w0.y);
     let (mut q, mut dz, mut arm) = ([0.0; 2], [[0.0; 2]; 2], [0.0; 2]);
     for (d, direction) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
         for s in 0..2 {
             let (c, f) = (corners[s], &v.corner_forces[l + s]);
-            let pose = axle_wheel_pose(c, &wheels[s], solid, &pos, direction, 0.0);
+            let pose = axle_wheel_pose(c, s, solid, &state, direction, 0.0, 0.0);
             let push = spring_force(&f.spring, f.spring_free_length, Some(&v.stops), pose.spring_length);
             q[d] += push * pose.d_spring_length;
             dz[d][s] = pose.d_centre.z;
@@ -500,17 +526,33 @@ impl DesignGeometry {
         let ground = c.w0.z - radius;
         let pose = wheel_pose(c, &pos, ground, Along::LowerArm);
         let (p, e) = c.steering_axis(&pos);
-        let outward = if c.side == Side::Left { 1.0 } else { -1.0 };
+        let KingpinFigures { caster, kingpin_inclination, scrub_radius, trail } =
+            KingpinFigures::of(&pose, &p, &e, c.side, ground);
+        Ok(DesignGeometry { pose, caster, kingpin_inclination, scrub_radius, trail })
+    }
+}
+
+/// A steering axis's figures for a wheel at `pose`: the axis through `p` along `e` (upward), on `side`, with the
+/// ground at `ground`.
+pub struct KingpinFigures {
+    pub caster: f64,
+    pub kingpin_inclination: f64,
+    pub scrub_radius: f64,
+    pub trail: f64,
+}
+
+impl KingpinFigures {
+    pub fn of(pose: &WheelPose, p: &V3, e: &V3, side: Side, ground: f64) -> KingpinFigures {
+        let outward = if side == Side::Left { 1.0 } else { -1.0 };
         let axis_ground = p + e * ((ground - p.z) / e.z);
         let heading = pose.axle.cross(&V3::z()).normalize();
         let out = V3::z().cross(&heading) * outward;
-        Ok(DesignGeometry {
-            pose,
+        KingpinFigures {
             caster: (-e.x).atan2(e.z),
             kingpin_inclination: (-outward * e.y).atan2(e.z),
             scrub_radius: (pose.contact - axis_ground).dot(&out),
             trail: (axis_ground - pose.contact).dot(&heading),
-        })
+        }
     }
 }
 
@@ -578,13 +620,10 @@ fn solid_axle_kc(
     let radius = data.tire.unloaded_radius_m;
     let y_mid = 0.5 * (left.w0.y + right.w0.y);
     // The directions in (heave, roll) that move the wheel centres by (1, 1) and (1, −1) per unit.
-    let directions = |pos: &AxlePositions, wheels: &[CornerPositions; 2]| {
+    let directions = |state: &AxleState| {
         let dz = [[1.0, 0.0], [0.0, 1.0]].map(|d| {
-            [
-                axle_wheel_pose(left, &wheels[0], solid, pos, d, 0.0),
-                axle_wheel_pose(right, &wheels[1], solid, pos, d, 0.0),
-            ]
-            .map(|p| p.d_centre.z)
+            [axle_wheel_pose(left, 0, solid, state, d, 0.0, 0.0), axle_wheel_pose(right, 1, solid, state, d, 0.0, 0.0)]
+                .map(|p| p.d_centre.z)
         });
         let det = dz[0][0] * dz[1][1] - dz[1][0] * dz[0][1];
         let along =
@@ -593,15 +632,15 @@ fn solid_axle_kc(
     };
     let mut track0 = f64::NAN;
     let mut row = |travel: f64, u: [f64; 2]| -> Result<(TravelRow, [f64; 2]), ModelError> {
-        let (u, pos, wheels) = axle_at_travel(v, index, [travel, travel], Some(u))?;
-        let (parallel, opposite) = directions(&pos, &wheels);
+        let (u, state) = axle_at_travel(v, index, [travel, travel], Some(u))?;
+        let (parallel, opposite) = directions(&state);
         let ground = left.w0.z - radius + travel;
-        let pose = |c: &Corner, w: &CornerPositions, d: [f64; 2]| axle_wheel_pose(c, w, solid, &pos, d, ground);
-        let (l, r) = (pose(left, &wheels[0], parallel), pose(right, &wheels[1], parallel));
+        let pose = |c: &Corner, k: usize, d: [f64; 2]| axle_wheel_pose(c, k, solid, &state, d, 0.0, ground);
+        let (l, r) = (pose(left, 0, parallel), pose(right, 1, parallel));
         if travel == 0.0 {
             track0 = l.contact.y - r.contact.y;
         }
-        let (lr, rr) = (pose(left, &wheels[0], opposite), pose(right, &wheels[1], opposite));
+        let (lr, rr) = (pose(left, 0, opposite), pose(right, 1, opposite));
         let rc = 0.5
             * (roll_centre_height(&lr.contact, &lr.d_contact, y_mid)
                 + roll_centre_height(&rr.contact, &rr.d_contact, y_mid));
@@ -612,14 +651,28 @@ fn solid_axle_kc(
     let (travel, notes) =
         sweep(name, options, |travel, last: Option<&[f64; 2]>| row(travel, last.copied().unwrap_or([0.0; 2])))?;
     let design = travel.iter().find(|r| r.travel == 0.0).copied().expect("travel 0 is a point");
-    let (_, pos, wheels) = axle_at_travel(v, index, [0.0, 0.0], None)?;
-    let (parallel, _) = directions(&pos, &wheels);
-    let at_design = axle_wheel_pose(left, &wheels[0], solid, &pos, parallel, left.w0.z - radius);
+    let (_, state) = axle_at_travel(v, index, [0.0, 0.0], None)?;
+    let (parallel, _) = directions(&state);
+    let ground = left.w0.z - radius;
+    let at_design = axle_wheel_pose(left, 0, solid, &state, parallel, 0.0, ground);
+    // A steered axle's kingpin (its axis turns with the tube); an axle that does not steer has none (–).
+    let kingpin = match &solid.steering {
+        Some(steering) => {
+            let (p, e) = (
+                solid.linkage.point(&state.pos, &steering.pivot[KNUCKLE[0]]),
+                state.pos.rotation * steering.axis[KNUCKLE[0]],
+            );
+            KingpinFigures::of(&at_design, &p, &e, Side::Left, ground)
+        }
+        None => {
+            KingpinFigures { caster: f64::NAN, kingpin_inclination: f64::NAN, scrub_radius: f64::NAN, trail: f64::NAN }
+        }
+    };
     let figures = StaticFigures {
-        caster: f64::NAN,
-        kingpin_inclination: f64::NAN,
-        scrub_radius: f64::NAN,
-        trail: f64::NAN,
+        caster: kingpin.caster,
+        kingpin_inclination: kingpin.kingpin_inclination,
+        scrub_radius: kingpin.scrub_radius,
+        trail: kingpin.trail,
         camber: at_design.camber,
         steer: at_design.steer,
         wheel_dx_rate: at_design.d_centre.x / at_design.d_centre.z,
@@ -747,7 +800,20 @@ fn steering_kc(data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<S
     let limit = v.steering.travel_limit;
     let radius = data.tire.unloaded_radius_m;
     let wheelbase = fl.w0.x - rl.w0.x;
-    let track = DesignGeometry::of(fl, radius)?.pose.contact.y - DesignGeometry::of(fr, radius)?.pose.contact.y;
+    // A steered solid axle: its wheels at design heave and roll, the steering coordinate s.
+    let steered_axle = v.solid_axles[0].as_ref().filter(|s| s.steering.is_some());
+    let axle_poses = |s: f64| -> Result<[WheelPose; 2], ModelError> {
+        let solid = steered_axle.expect("a steered solid axle");
+        let state = AxleState::solve(solid, [0.0; 2], &[0.0; 4], s)?;
+        Ok([0, 1].map(|k| axle_wheel_pose([fl, fr][k], k, solid, &state, [0.0; 2], 1.0, [fl, fr][k].w0.z - radius)))
+    };
+    let track = match steered_axle {
+        Some(_) => {
+            let [l, r] = axle_poses(0.0)?;
+            l.contact.y - r.contact.y
+        }
+        None => DesignGeometry::of(fl, radius)?.pose.contact.y - DesignGeometry::of(fr, radius)?.pose.contact.y,
+    };
     let n = options.steering_points.max(3) | 1;
     let mut rows = Vec::with_capacity(n);
     // From centre outward each way, so that every solve starts from its neighbour.
@@ -757,13 +823,18 @@ fn steering_kc(data: &VehicleData, v: &Vehicle, options: &KcOptions) -> Result<S
         let mut last = [[0.0; 4]; 2];
         for k in (if b == 0 { 0 } else { 1 })..=half {
             let input = sign * limit * k as f64 / half as f64;
-            let mut pose = [None; 2];
-            for (i, c) in [fl, fr].into_iter().enumerate() {
-                let pos = c.solve_positions(0.0, v.steering.sign * input, &last[i])?;
-                last[i] = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
-                pose[i] = Some(wheel_pose(c, &pos, c.w0.z - radius, Along::Steering));
-            }
-            let [l, r] = pose.map(|p| p.expect("both wheels solved"));
+            let [l, r] = match steered_axle {
+                Some(_) => axle_poses(v.steering.sign * input)?,
+                None => {
+                    let mut pose = [None; 2];
+                    for (i, c) in [fl, fr].into_iter().enumerate() {
+                        let pos = c.solve_positions(0.0, v.steering.sign * input, &last[i])?;
+                        last[i] = [pos.q[1], pos.q[2], pos.q[3], pos.q[4]];
+                        pose[i] = Some(wheel_pose(c, &pos, c.w0.z - radius, Along::Steering));
+                    }
+                    pose.map(|p| p.expect("both wheels solved"))
+                }
+            };
             let ackermann = if input >= 0.0 {
                 ackermann_error(r.steer, l.steer, wheelbase, track)
             } else {
@@ -970,6 +1041,13 @@ impl KcReport {
                    formula below, with the contact point's velocity in that motion); its roll stiffness's forces \
                    balance the springs along both of its coordinates. It has no kingpin: caster, kingpin \
                    inclination, scrub radius and trail are not defined (–).\n";
+        }
+        if self.axles.iter().any(|a| a.template.is_steered_solid_axle()) {
+            md += "- A steered solid axle (solid_bellcrank_three_link): its knuckles turn on kingpins in the axle, \
+                   steered through the drag link and tie rods, so its wheels steer as the axle moves (bump steer, \
+                   roll steer); its kingpin figures are the left knuckle's. Its linkage is not mirror-symmetric (one \
+                   drag link): the right wheel does not mirror the left, and its roll centre is the mean of both \
+                   wheels'. The steering sweep holds the axle at design heave and roll.\n";
         }
         md += "- Slopes (gains, motion ratios, roll centre) are exact rates of the linkage (its velocity analysis), \
                not differences; `tests/kc.rs` checks them against central differences of solved positions.\n";

@@ -142,6 +142,25 @@ impl SolidAxle {
         out.carried(self.linkage.point(pos, &self.linkage.centre), pos.rotation, pos.residual);
     }
 
+    /// Both wheels' corner positions at the axle's positions: a steered axle's at its steering's solution
+    /// `steer` (which it needs: without one its wheels are placed as if it did not steer).
+    pub fn wheels(&self, pos: &AxlePositions, steer: Option<&SteerPositions>) -> [CornerPositions; 2] {
+        [0, 1].map(|k| {
+            let mut w = CornerPositions::default();
+            match (&self.steering, steer) {
+                (Some(steering), Some(st)) => self.place_steered_wheel(steering, pos, st, k, &mut w),
+                _ => self.place_wheel(pos, &mut w),
+            }
+            w
+        })
+    }
+
+    /// The steering's solution at the axle's positions and steering coordinate s (`None`: the axle does not
+    /// steer).
+    pub fn steer_at(&self, pos: &AxlePositions, s: f64) -> Result<Option<SteerPositions>, ModelError> {
+        self.steering.as_ref().map(|st| st.solve(&self.linkage, pos, s, &nalgebra::Vector3::zeros())).transpose()
+    }
+
     /// A steered axle's wheel on `side` (0 left, 1 right): its carrier is the knuckle (the point b its
     /// kingpin's lower point, r_k its rotation); its springs are on the tube (`axle_centre`, `r_l`).
     pub fn place_steered_wheel(
