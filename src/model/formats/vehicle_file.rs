@@ -55,11 +55,11 @@ pub fn check_schema(value: &serde_json::Value) -> Result<(), DataError> {
         }
         Kind::FalseSchema => (field, "not part of this axle's template".to_string()),
         Kind::OneOfNotValid { .. } | Kind::OneOfMultipleValid { .. } if field.is_empty() => {
-            let both = value.get("rack").is_some() && value.get("pitman_arm").is_some();
-            let why = if both {
-                "give either `rack` or `pitman_arm`, not both"
+            let given = ["rack", "pitman_arm", "rotary_arm"].iter().filter(|k| value.get(**k).is_some()).count();
+            let why = if given > 1 {
+                "give one of `rack`, `pitman_arm` and `rotary_arm`, not more"
             } else {
-                "missing: give `rack` (rack and pinion) or `pitman_arm`"
+                "missing: give `rack` (rack and pinion), `pitman_arm` or `rotary_arm`"
             };
             ("rack".to_string(), format!("a vehicle has exactly one steering: {why}"))
         }

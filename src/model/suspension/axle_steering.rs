@@ -162,7 +162,7 @@ impl AxleSteering {
         if !(det > 1e-9 && det.is_finite()) {
             return Err(
                 "the drag link and the tie rods do not fix the bellcrank's and the knuckles' angles at design \
-                 (Φ_z is singular): a link runs along the arc its joint moves on"
+                 (Φ_z is singular): a link points at the axis its joint turns about, square to the joint's arc"
                     .into(),
             );
         }
@@ -376,5 +376,101 @@ impl AxleSteering {
         let arm = linkage.point(pos, &local) - linkage.point(pos, &self.pivot[j]);
         let v = linkage.point_velocity(pos, qd, &local) + turn.cross(&arm);
         (v, linkage.angular_velocity(pos, qd) + turn)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::steering::TieRodDrive;
+
+    /// Chrono's MAN 5t front axle and rotary arm (`MAN_Kat1/suspension/MAN_5t_FrontSolidThreeLinkAxle.json`,
+    /// `MAN_Kat1/steering/MAN_5t_RotaryArm.json`; Project Chrono, BSD-3-Clause: data/chrono/LICENSE), suspension
+    /// frame: its linkage and steering.
+    fn man_front() -> (AxleLinkage, AxleSteering) {
+        let m = |v: V3| V3::new(v.x, -v.y, v.z);
+        let both = |v: V3| [v, m(v)];
+        let (link_c, link_a) = (V3::new(-1.138, 0.270, 0.115), V3::new(-0.115, 0.490, -0.090));
+        let linkage = AxleLinkage::three_link(
+            V3::zeros(),
+            V3::new(0.871, 0.0, 0.165),
+            V3::new(0.125, 0.0, 0.260),
+            both(link_c),
+            both(link_a),
+        )
+        .unwrap();
+        let (pivot, joint, axis) = (V3::new(0.850, -0.028, 0.166), V3::new(0.741, -0.217, 0.089), V3::z());
+        let arm = (joint - pivot) - axis * axis.dot(&(joint - pivot));
+        let body = |com: V3| BodyInertia { mass: 1.0, com, inertia: M3::identity() };
+        let steering = AxleSteering::new(
+            &linkage,
+            both(V3::new(0.0, 0.853748866, -0.10)),
+            both(V3::new(0.0, 0.836251134, 0.10)),
+            V3::new(-0.023, 0.0, 0.250),
+            V3::new(0.045, 0.256, 0.153),
+            both(V3::new(-0.273, 0.042, 0.153)),
+            both(V3::new(-0.236, 0.800, 0.153)),
+            joint,
+            TieRodDrive::PitmanLink { axis, arm },
+            [body(V3::new(-0.023, 0.0, 0.25)), body(V3::new(0.0, 0.937, 0.0)), body(V3::new(0.0, -0.937, 0.0))],
+        )
+        .unwrap();
+        (linkage, steering)
+    }
+
+    #[test]
+    fn steering_rates_and_accelerations_match_differences_along_a_motion() {
+        // Any pose (the locator's rows need not hold: the steering's rows do not read them), moving with
+        // constant q̈, and the steering coordinate with constant s̈. ż and z̈ from the chain rule against
+        // central differences of solved z(t): truncation O(h²) ≈ 1e-8 of z⃛, round-off 1e-12/h² ≈ 1e-4 for
+        // the second difference at h = 1e-4, so 1e-7 and 1e-3 relative to the rates' scale.
+        let (linkage, steering) = man_front();
+        let q0 = AxleQ::new(0.03, -0.04, 0.004, -0.003, 0.01, -0.008);
+        let q1 = AxleQ::new(0.8, -0.6, 0.05, 0.04, 0.3, -0.2);
+        let q2 = AxleQ::new(-3.0, 5.0, 0.5, -0.4, 2.0, 1.5);
+        let (s0, s1, s2) = (0.2, 0.7, -4.0);
+        let at = |t: f64| {
+            let q = q0 + q1 * t + q2 * (0.5 * t * t);
+            let pos = linkage.evaluate(&q);
+            let st = steering.solve(&linkage, &pos, s0 + s1 * t + 0.5 * s2 * t * t, &Vector3::zeros()).unwrap();
+            (pos, st)
+        };
+        let h = 1e-4;
+        let (pos, st) = at(0.0);
+        let zd = steering.rates(&st, &q1, s1);
+        let zdd = st.dz_dq * q2 + st.dz_ds * s2 + steering.quadratic(&linkage, &pos, &st, &q1, &zd, s1);
+        let (zp, zm) = (at(h).1.z, at(-h).1.z);
+        let fd1 = (zp - zm) / (2.0 * h);
+        let fd2 = (zp - 2.0 * st.z + zm) / (h * h);
+        let scale = zd.amax().max(1.0);
+        assert!((fd1 - zd).amax() < 1e-7 * scale, "ż {zd:?} vs differences {fd1:?}");
+        assert!((fd2 - zdd).amax() < 1e-3 * zdd.amax().max(1.0), "z̈ {zdd:?} vs differences {fd2:?}");
+        // The quadratic term matters here: without it z̈ is off by far more than the tolerance.
+        let without = st.dz_dq * q2 + st.dz_ds * s2;
+        assert!((fd2 - without).amax() > 1e-2 * zdd.amax().max(1.0));
+    }
+
+    #[test]
+    fn a_drag_link_square_to_its_arc_is_refused() {
+        // The drag link's steering end placed on the bellcrank point's radius (the link points at the
+        // bellcrank's axis): it cannot turn the bellcrank, Φ_z is singular.
+        let (linkage, st) = man_front();
+        let d = st.bellcrank_draglink - st.pivot[BELLCRANK];
+        let radial = V3::new(d.x, d.y, 0.0).normalize();
+        let steering_end = st.bellcrank_draglink + radial * 0.4;
+        let body = BodyInertia { mass: 1.0, com: V3::zeros(), inertia: M3::identity() };
+        let e = AxleSteering::new(
+            &linkage,
+            [st.pivot[1], st.pivot[2]],
+            [st.pivot[1] + st.axis[1], st.pivot[2] + st.axis[2]],
+            st.pivot[BELLCRANK],
+            st.bellcrank_draglink,
+            st.bellcrank_tierod,
+            st.knuckle_tierod,
+            steering_end,
+            TieRodDrive::Chassis,
+            [body; 3],
+        );
+        assert!(e.is_err_and(|m| m.contains("singular")));
     }
 }

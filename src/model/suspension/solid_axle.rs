@@ -142,6 +142,12 @@ impl SolidAxle {
         out.carried(self.linkage.point(pos, &self.linkage.centre), pos.rotation, pos.residual);
     }
 
+    /// The mass that moves with the axle: its body's, and a steered axle's knuckles (with their spindles and
+    /// wheels) and bellcrank.
+    pub fn mass(&self) -> f64 {
+        self.body.mass + self.steering.as_ref().map_or(0.0, |s| s.bodies.iter().map(|b| b.mass).sum())
+    }
+
     /// Both wheels' corner positions at the axle's positions: a steered axle's at its steering's solution
     /// `steer` (which it needs: without one its wheels are placed as if it did not steer).
     pub fn wheels(&self, pos: &AxlePositions, steer: Option<&SteerPositions>) -> [CornerPositions; 2] {
@@ -207,12 +213,24 @@ pub fn wheel_corner(data: &VehicleData, axle: &Axle, side: Side) -> Result<Corne
 /// rad of roll without locking.
 pub fn check_moves(data: &VehicleData, name: &str, axle: &Axle) -> Result<(), DataError> {
     let solid = SolidAxle::from_data(data, name, axle)?;
-    for u in [[0.05, 0.0], [-0.05, 0.0], [0.0, 0.05], [0.0, -0.05]] {
-        if let Err(e) = solid.linkage.solve_positions(u, &[0.0; 4]) {
-            return Err(DataError {
-                field: format!("{name}.hardpoints_chassis_frame_m"),
-                message: format!("the solid axle's linkage cannot move: {e}"),
-            });
+    let field = format!("{name}.hardpoints_chassis_frame_m");
+    let limit = data.steering_limit();
+    for u in [[0.0, 0.0], [0.05, 0.0], [-0.05, 0.0], [0.0, 0.05], [0.0, -0.05]] {
+        let pos = solid.linkage.solve_positions(u, &[0.0; 4]).map_err(|e| DataError {
+            field: field.clone(),
+            message: format!("the solid axle's linkage cannot move: {e}"),
+        })?;
+        // A steered axle's steering reaches both locks at each of these positions.
+        if solid.steering.is_some() {
+            for s in [-limit, limit] {
+                solid.steer_at(&pos, s).map_err(|e| DataError {
+                    field: field.clone(),
+                    message: format!(
+                        "the axle's steering does not reach its lock ({s:+.4}) at heave {:+.3} m, roll {:+.3} rad: {e}",
+                        u[0], u[1]
+                    ),
+                })?;
+            }
         }
     }
     Ok(())
@@ -382,7 +400,7 @@ impl AxleLinkage {
 
     /// Φ, Φ_q and the factored Φ_v at q (Φ's rows: the apex's y held, its distance from the axis held (½(ρ² −
     /// ρ₀²)/ρ₀), the left and right links' lengths held (½(ℓ² − ℓ₀²)/ℓ₀): each in metres near the solution).
-    fn evaluate(&self, q: &AxleQ) -> AxlePositions {
+    pub(crate) fn evaluate(&self, q: &AxleQ) -> AxlePositions {
         let sc = BryantSinCos::new(&V3::new(q[ROLL], q[PITCH], q[YAW]));
         let rotation = sc.rotation();
         let g = sc.rate_matrix();

@@ -516,7 +516,7 @@ impl Vehicle {
         let total_mass = chassis.mass
             + steering.body.mass
             + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>()
-            + solid_axles.iter().flatten().map(|a| a.body.mass).sum::<f64>();
+            + solid_axles.iter().flatten().map(SolidAxle::mass).sum::<f64>();
         let antiroll_bars = [&data.front, &data.rear].map(|a| a.antiroll_bar.as_ref().map(|b| AxleBar::new(data, b)));
         let mut v = Vehicle {
             corners,
