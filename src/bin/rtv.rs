@@ -1004,11 +1004,7 @@ fn cmd_check_vehicle(args: &[String]) -> Result<(), Failure> {
     let s = rt_vehicle::model::summary::summarize(&data).map_err(|e| failed(format!("{file}: {e}")))?;
     let weight: f64 = s.axle_load_n.iter().sum();
     let input = data.steering_input();
-    let steering = match (&data.pitman_arm, &data.rotary_arm) {
-        (Some(_), _) => "Pitman arm",
-        (None, Some(_)) => "rotary arm",
-        (None, None) => "rack and pinion",
-    };
+    let steering = data.steering_name();
     let axle = |i: usize| {
         let bar = data.axles()[i].1.antiroll_bar.as_ref().map_or(String::new(), |b| {
             format!(" with an anti-roll bar ({} N·m/rad)", b.torsional_stiffness_Nm_per_rad)

@@ -232,7 +232,7 @@ pub fn catalogue_markdown(dir: &Path, catalogue: &Catalogue) -> String {
         let result = match &e.result {
             Ok(i) => {
                 let d = &i.data;
-                let steering = if d.rack.is_some() { "rack and pinion" } else { "Pitman arm" };
+                let steering = d.steering_name();
                 let mut keys = std::collections::BTreeSet::new();
                 for w in &i.warnings {
                     if let Some(k) = ignored_key(w) {
@@ -1369,6 +1369,30 @@ impl Importer {
             |p: &PathBuf| p.file_name().is_some_and(|n| n.to_string_lossy().to_lowercase().contains("pac02"));
         if found.len() > 1 && found.iter().filter(|p| is_pac02(p)).count() == 1 {
             found.retain(is_pac02);
+        }
+        if found.is_empty() {
+            // No .tir: the one TMeasy tire file (Chrono's `TMeasyTire` JSON) of the folders, if there is one
+            // (MAN_Kat1/tire holds MAN_5t_TMeasyTire.json); of several (a front and a rear tire), none: the
+            // model takes one tire for every wheel.
+            let mut tmeasy: Vec<PathBuf> = folders
+                .iter()
+                .flatten()
+                .filter_map(|f| std::fs::read_dir(f).ok())
+                .flat_map(|entries| entries.filter_map(|e| e.ok().map(|e| e.path())))
+                .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("json")))
+                .filter(|p| {
+                    std::fs::read_to_string(p)
+                        .ok()
+                        .and_then(|t| serde_json::from_str::<Value>(&strip_comments(&t)).ok())
+                        .is_some_and(|v| v.get("Template").and_then(Value::as_str) == Some("TMeasyTire"))
+                })
+                .collect();
+            tmeasy.sort();
+            tmeasy.dedup();
+            if tmeasy.len() == 1 {
+                let t = tmeasy.pop().expect("one");
+                return Ok(Some((t, "the TMeasy tire file of the vehicle's data folder".to_string())));
+            }
         }
         match found.len() {
             0 => Ok(None),

@@ -827,6 +827,15 @@ impl VehicleData {
         }
     }
 
+    /// What steers the vehicle, in words: rack and pinion, Pitman arm or rotary arm.
+    pub fn steering_name(&self) -> &'static str {
+        match (&self.pitman_arm, &self.rotary_arm) {
+            (Some(_), _) => "Pitman arm",
+            (None, Some(_)) => "rotary arm",
+            (None, None) => "rack and pinion",
+        }
+    }
+
     /// The steering input's name and unit: `rack_displacement` (m) or `pitman_arm_angle` (rad).
     pub fn steering_input(&self) -> SteeringInput {
         if self.pitman_arm.is_some() || self.rotary_arm.is_some() {
