@@ -16,6 +16,8 @@ VEHICLES = {
     # The calibration's names: the vehicle's, on the tire of its data folder (issue 32).
     "vehicles/generic_macpherson.json": "Test vehicle - MacPherson Strut on Generic_Pac02Tire",
     "vehicles/generic_double_wishbone.json": "Test vehicle - Double Wishbone on Generic_Pac02Tire",
+    # The steered solid front axle on a rotary arm (its input is the arm's angle, pitman_arm_angle).
+    "vehicles/rtv_hmmwv_solid_axles.json": "rtv HMMWV, solid axles (steered bellcrank front)",
 }
 
 
