@@ -32,6 +32,7 @@ macpherson=$(count 2000 $ex/evaluation_instructions 2000 resources/vehicles/gene
 wishbone=$(count 2000 $ex/evaluation_instructions 2000 resources/vehicles/generic_double_wishbone.json)
 single=$(count 2000 $ex/evaluation_instructions 2000 resources/vehicles/rtv_single_wishbone.json)
 solid=$(count 2000 $ex/evaluation_instructions 2000 resources/vehicles/rtv_hmmwv_solid_rear.json)
+solid_axles=$(count 2000 $ex/evaluation_instructions 2000 resources/vehicles/rtv_hmmwv_solid_axles.json)
 on_pac02=$(count 2000 $ex/evaluation_instructions 2000 - $pac02)
 sti=$(count 20000 $ex/tire_instructions sti 20000)
 tire_pac02=$(count 20000 $ex/tire_instructions $pac02 20000)
@@ -48,6 +49,7 @@ echo "| the same, Chrono's MacPherson import (\`... 2000 resources/vehicles/gene
 echo "| the same, Chrono's double-wishbone import (\`... 2000 resources/vehicles/generic_double_wishbone.json\`) | $(group <<<"$wishbone") | $(ratio "$wishbone" "$hmmwv") × the HMMWV's |"
 echo "| the same, the single-wishbone vehicle (\`... 2000 resources/vehicles/rtv_single_wishbone.json\`) | $(group <<<"$single") | $(ratio "$single" "$hmmwv") × the HMMWV's |"
 echo "| the same, the HMMWV with a three-link solid rear axle (\`... 2000 resources/vehicles/rtv_hmmwv_solid_rear.json\`) | $(group <<<"$solid") | $(ratio "$solid" "$hmmwv") × the HMMWV's |"
+echo "| the same, the HMMWV on solid axles, the front one steered (\`... 2000 resources/vehicles/rtv_hmmwv_solid_axles.json\`) | $(group <<<"$solid_axles") | $(ratio "$solid_axles" "$hmmwv") × the HMMWV's |"
 echo "| the same, the HMMWV on its Magic Formula tire (\`... 2000 - $pac02\`) | $(group <<<"$on_pac02") | $(ratio "$on_pac02" "$hmmwv") × the HMMWV's on STI |"
 echo "| one tire force evaluation (forces, moments, rolling resistance), STI (\`tire_instructions sti 20000\`) | $(group <<<"$sti") | |"
 echo "| the same, the Magic Formula of PAC2002 \`$pac02\` | $(group <<<"$tire_pac02") | $(ratio "$tire_pac02" "$sti") × STI |"

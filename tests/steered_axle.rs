@@ -1,4 +1,4 @@
-//! The steered solid axle's reduced kinematics (`model::suspension::axle_steering`: three angles z = (bellcrank,
+//! The steered solid axle's reduced kinematics (`model::suspension::solid_axle::steering`: three angles z = (bellcrank,
 //! left knuckle, right knuckle) fixed by three length rows, on the axle pose of `solid_axle::AxleLinkage`)
 //! against Chrono's own joint set for `ChSolidBellcrankThreeLinkAxle` driven by a `ChRotaryArm`, re-implemented
 //! here in absolute coordinates: ten bodies, each with a position and a rotation matrix, and Chrono's joints as
@@ -38,7 +38,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use rt_vehicle::model::steering::TieRodDrive;
-use rt_vehicle::model::suspension::axle_steering::{AxleSteering, BELLCRANK, KNUCKLE};
+use rt_vehicle::model::suspension::solid_axle::steering::{AxleSteering, BELLCRANK, KNUCKLE};
 use rt_vehicle::model::suspension::solid_axle::AxleLinkage;
 use rt_vehicle::model::suspension::BodyInertia;
 

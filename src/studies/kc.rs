@@ -36,8 +36,8 @@
 use crate::error::{Cause, ModelError};
 use crate::math::V3;
 use crate::model::formats::params::{Axle, ReferenceKinematics, SteeringInput, SuspensionTemplate, VehicleData};
-use crate::model::suspension::axle_steering::{SteerPositions, KNUCKLE};
 use crate::model::suspension::forces::spring_force;
+use crate::model::suspension::solid_axle::steering::{SteerPositions, KNUCKLE};
 use crate::model::suspension::solid_axle::{AxlePositions, SolidAxle};
 use crate::model::suspension::{Corner, CornerPositions, LineMount, MountBody, Side};
 use crate::model::vehicle::equilibrium::retune_ride_height;

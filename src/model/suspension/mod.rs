@@ -24,7 +24,6 @@
 //! constraints do not depend on the chassis motion: that is what lets each subsystem be solved on its own.
 
 pub mod antiroll_bar;
-pub mod axle_steering;
 pub mod double_wishbone;
 pub mod forces;
 pub mod macpherson;

@@ -5,7 +5,7 @@ use super::{idx, AxleKind, AxleWork, Vehicle, WarmStart, Workspace, CORNERS};
 use crate::dynamics::body::{ang, lin, wrench};
 use crate::error::{Cause, ModelError};
 use crate::math::{skew, Axes, ChassisAxes, M3, V3};
-use crate::model::suspension::axle_steering;
+use crate::model::suspension::solid_axle;
 use crate::model::suspension::solid_axle::{AxleQ, SolidAxle};
 use crate::model::suspension::{rigid, CornerPositions, Vector5f};
 use nalgebra::{SMatrix, Vector6};
@@ -147,7 +147,7 @@ impl Vehicle {
         diagnostics.newton_iterations += pos.iterations;
         axle_body_kinematics(solid, &qd, &chassis.y0, work);
         if let Some(steering) = &solid.steering {
-            // The knuckles and the bellcrank turn on the tube (axle_steering.rs): the wheels ride the
+            // The knuckles and the bellcrank turn on the tube (solid_axle/steering.rs): the wheels ride the
             // knuckles, their springs the tube.
             let (pos, st) = (&work.positions, &work.steer);
             diagnostics.newton_iterations += st.iterations;
@@ -166,8 +166,8 @@ impl Vehicle {
             );
             for (k, i) in [l, r].into_iter().enumerate() {
                 let c = &self.corners[i];
-                let knuckle = &work.steer_bodies[axle_steering::KNUCKLE[k]];
-                let axle = steering.body_rotation(pos, st, axle_steering::KNUCKLE[k]) * c.axle;
+                let knuckle = &work.steer_bodies[solid_axle::steering::KNUCKLE[k]];
+                let axle = steering.body_rotation(pos, st, solid_axle::steering::KNUCKLE[k]) * c.axle;
                 let centre = c.on_carrier(&positions[i], &c.w0);
                 let mut kin = CornerKinematics::carried(knuckle.velocity, knuckle.rate, knuckle.com, axle, centre);
                 kin.velocity[BODY_L] = work.velocity;

@@ -31,8 +31,8 @@ use crate::model::road::envelope::ContactModel;
 use crate::model::road::{EdgeAveraged, Road, RoadModel};
 use crate::model::steering::{assembly::Steering, tie_rod_drive};
 use crate::model::suspension::antiroll_bar::AxleBar;
-use crate::model::suspension::axle_steering::{SteerBodyWork, SteerPositions};
 use crate::model::suspension::forces::StopCurve;
+use crate::model::suspension::solid_axle::steering::{SteerBodyWork, SteerPositions};
 use crate::model::suspension::solid_axle::{AxlePositions, AxleQ, SolidAxle};
 use crate::model::suspension::{BodyInertia, Corner, CornerPositions, Side};
 use crate::model::tire::{SlipModel, TireModel, TireParams};
@@ -240,7 +240,7 @@ pub struct AxleWork {
     pub velocity: Vector6<f64>,
     pub com: V3,
     pub inertia: M3,
-    /// A steered axle's steering positions and the motion of its bellcrank and knuckles (`axle_steering`).
+    /// A steered axle's steering positions and the motion of its bellcrank and knuckles (`solid_axle::steering`).
     pub steer: SteerPositions,
     pub steer_bodies: [SteerBodyWork; 3],
 }

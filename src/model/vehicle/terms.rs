@@ -7,7 +7,7 @@ use super::{point_velocity, AxleKind, AxleWork, Vehicle, Workspace};
 use crate::dynamics::body::{ang, body_force, mass_hat, mass_hat_times, MassHatSum};
 use crate::dynamics::{AxleTerms, PhiVSolved, SubsystemTerms};
 use crate::math::{M3, V3};
-use crate::model::suspension::axle_steering::{BELLCRANK, KNUCKLE};
+use crate::model::suspension::solid_axle::steering::{BELLCRANK, KNUCKLE};
 use crate::model::suspension::{BodyInertia, CornerPositions};
 use nalgebra::{Matrix6, SMatrix, Vector6};
 
@@ -75,7 +75,7 @@ fn axle_terms(work: &AxleWork, mass: f64, wheels: [&[Vector6<f64>; 3]; 2], g: &V
 
 /// A steered solid axle's terms (§4.2 over its four bodies, docs/physics.md §4.6c): the tube (its own
 /// wrench, and the springs and dampers its wheels' corners put in their lower slot) and the bellcrank and
-/// knuckles, each with its 𝔅 over the axle's q and its 𝔇 from the velocity stage (`axle_steering`); a
+/// knuckles, each with its 𝔅 over the axle's q and its 𝔇 from the velocity stage (`solid_axle::steering`); a
 /// knuckle takes its wheel corner's carrier wrench (tire, brake, drive, the wheel's gyroscopic moment).
 #[inline(never)] // not on an independent suspension's path
 fn steered_axle_terms(

@@ -23,7 +23,9 @@
 //! The triangle and the links are massless here: Chrono's JSON reader (`SolidThreeLinkAxle::Create`) reads
 //! no mass for them. What moves is the axle tube with both spindles.
 
-use super::axle_steering::{self, AxleSteering, SteerPositions};
+pub mod steering;
+
+use self::steering::{AxleSteering, SteerPositions};
 use super::{
     carrier_inertia, BodyInertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side,
     MAX_NEWTON_ITERATIONS, POSITION_TOLERANCE,
@@ -56,7 +58,7 @@ pub struct SolidAxle {
     /// inertia in chassis axes (the CM relative to the sprung CM). A steered axle's: the tube alone (its
     /// knuckles, with the spindles and wheels, and its bellcrank are `steering`'s bodies).
     pub body: BodyInertia,
-    /// A steered axle's knuckles, bellcrank and links (`axle_steering`).
+    /// A steered axle's knuckles, bellcrank and links (`solid_axle::steering`).
     pub steering: Option<AxleSteering>,
 }
 
@@ -177,7 +179,7 @@ impl SolidAxle {
         side: usize,
         out: &mut CornerPositions,
     ) {
-        let j = axle_steering::KNUCKLE[side];
+        let j = steering::KNUCKLE[side];
         let b = self.linkage.point(pos, &steering.pivot[j]);
         out.carried(b, steering.body_rotation(pos, st, j), pos.residual.max(st.residual));
         out.r_l = pos.rotation;

@@ -24,13 +24,13 @@
 //!
 //! Tie rods and drag link are massless here (Chrono gives them bodies; the import says what it leaves out).
 
-use super::solid_axle::{AxleLinkage, AxlePositions, AxleQ};
-use super::{BodyInertia, MIN_RELATIVE_DET, POSITION_TOLERANCE};
+use super::{AxleLinkage, AxlePositions, AxleQ};
 use crate::dynamics::body::{ang, lin, wrench};
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
 use crate::math::{rotation_about_sc, M3, V3};
 use crate::model::steering::{TieRodDrive, TieRodPath};
+use crate::model::suspension::{BodyInertia, MIN_RELATIVE_DET, POSITION_TOLERANCE};
 use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
 use serde::{Deserialize, Serialize};
 
