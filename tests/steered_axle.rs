@@ -322,7 +322,7 @@ fn model(pts: &Points) -> (AxleLinkage, AxleSteering) {
     let d = pts.arm_point - pts.arm_pivot;
     let arm = d - axis * axis.dot(&d);
     let body = |com: V3| BodyInertia { mass: 1.0, com, inertia: M3::identity() };
-    let steering = AxleSteering::new(
+    let steering = AxleSteering::bellcrank(
         &linkage,
         both(pts.knuckle_l),
         both(pts.knuckle_u),

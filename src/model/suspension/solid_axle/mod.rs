@@ -121,7 +121,7 @@ impl SolidAxle {
         let bellcrank = BodyInertia { mass: crank.mass_kg, com: single("BELLCRANK_A"), inertia: crank.inertia() };
         let knuckles = sides.map(|h| carrier_inertia(data, axle, h.side, h.point("KNUCKLE_CM"), h.point("SPINDLE")).0);
         let drive = crate::model::steering::tie_rod_drive(data)?;
-        AxleSteering::new(
+        AxleSteering::bellcrank(
             linkage,
             both("KNUCKLE_L"),
             both("KNUCKLE_U"),

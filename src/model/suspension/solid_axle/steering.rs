@@ -32,12 +32,30 @@ use crate::math::{rotation_about_sc, M3, V3};
 use crate::model::steering::{TieRodDrive, TieRodPath};
 use crate::model::suspension::{BodyInertia, MIN_RELATIVE_DET, POSITION_TOLERANCE};
 use nalgebra::{Matrix3, SMatrix, Vector3, Vector6};
+
 use serde::{Deserialize, Serialize};
 
 /// Index of the bellcrank's angle in z, then the left and the right knuckle's.
 pub const BELLCRANK: usize = 0;
 pub const KNUCKLE: [usize; 2] = [1, 2];
 const MAX_ITERATIONS: u32 = 16;
+
+/// A length the steering linkage holds between two of z's bodies (a tie rod: both ends on the axle, so the
+/// axle's pose does not enter), at design.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Link {
+    pub body: [usize; 2],
+    pub point: [V3; 2],
+    pub length: f64,
+}
+
+/// The linkage's rows beside the drag link's: two tie rods (the bellcrank axle's), or the toe bar and the
+/// bellcrank's angle held at zero (a toe-bar axle has no bellcrank).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Rows {
+    TieRods([Link; 2]),
+    ToeBar(Link),
+}
 
 /// The steering linkage of a steered solid axle, at design (chassis frame, sprung CM origin; all points
 /// move with the axle).
@@ -46,16 +64,16 @@ pub struct AxleSteering {
     /// The revolute joints of z's three bodies: a point of each axis and the axis (unit), in the order of z.
     pub pivot: [V3; 3],
     pub axis: [V3; 3],
-    /// The bellcrank's drag-link point and tie-rod points (left, right); the knuckles' tie-rod points.
-    pub bellcrank_draglink: V3,
-    pub bellcrank_tierod: [V3; 2],
-    pub knuckle_tierod: [V3; 2],
-    /// The drag link's steering end at s = 0, and what moves it.
+    /// The drag link: the z body it is jointed to (the bellcrank, or a toe-bar axle's steering knuckle) and
+    /// its point there, its steering end at s = 0 and what moves that, its length.
+    pub draglink_body: usize,
+    pub draglink_end: V3,
     pub draglink_steering: V3,
     pub drive: TieRodDrive,
     pub draglink_length: f64,
-    pub tierod_length: [f64; 2],
-    /// z's bodies at design: the bellcrank; each knuckle with its spindle and wheel (their spin apart).
+    pub rows: Rows,
+    /// z's bodies at design: the bellcrank (none on a toe-bar axle); each knuckle with its spindle and wheel
+    /// (their spin apart).
     pub bodies: [BodyInertia; 3],
     /// |det Φ_z| at design.
     design_det: f64,
@@ -105,7 +123,7 @@ pub struct SteerBodyWork {
 }
 
 /// Φ, Φ_z, Φ_q and Φ_s of the three rows at an axle pose, z and path.
-struct Rows {
+struct RowValues {
     phi: Vector3<f64>,
     phi_z: Matrix3<f64>,
     phi_q: SMatrix<f64, 3, 6>,
@@ -113,9 +131,11 @@ struct Rows {
 }
 
 impl AxleSteering {
-    /// The linkage from its design points; `Err` says what cannot be assembled.
+    /// Chrono's `SolidBellcrankThreeLinkAxle` steering from its design points (the kingpins' lower and upper
+    /// points, the bellcrank's pivot, drag-link and tie-rod points, the knuckles' tie-rod points, the drag
+    /// link's steering end); `Err` says what cannot be assembled.
     #[allow(clippy::too_many_arguments)]
-    pub fn new(
+    pub fn bellcrank(
         linkage: &AxleLinkage,
         kingpin_lower: [V3; 2],
         kingpin_upper: [V3; 2],
@@ -123,6 +143,70 @@ impl AxleSteering {
         bellcrank_draglink: V3,
         bellcrank_tierod: [V3; 2],
         knuckle_tierod: [V3; 2],
+        draglink_steering: V3,
+        drive: TieRodDrive,
+        bodies: [BodyInertia; 3],
+    ) -> Result<AxleSteering, String> {
+        let rod = |k: usize| Link {
+            body: [KNUCKLE[k], BELLCRANK],
+            point: [knuckle_tierod[k], bellcrank_tierod[k]],
+            length: (knuckle_tierod[k] - bellcrank_tierod[k]).norm(),
+        };
+        let rows = Rows::TieRods([rod(0), rod(1)]);
+        let draglink = (BELLCRANK, bellcrank_draglink);
+        Self::assembled(
+            linkage,
+            kingpin_lower,
+            kingpin_upper,
+            bellcrank_pivot,
+            draglink,
+            rows,
+            draglink_steering,
+            drive,
+            bodies,
+        )
+    }
+
+    /// Chrono's `ToeBarLeafspringAxle` (and `ToeBarRigidPanhardAxle`) steering: the drag link from the steering
+    /// end to knuckle `side`'s point `draglink_end`, the toe bar between the knuckles' points `tierod`; no
+    /// bellcrank (its angle held at zero, its body none).
+    #[allow(clippy::too_many_arguments)]
+    pub fn toe_bar(
+        linkage: &AxleLinkage,
+        kingpin_lower: [V3; 2],
+        kingpin_upper: [V3; 2],
+        side: usize,
+        draglink_end: V3,
+        tierod: [V3; 2],
+        draglink_steering: V3,
+        drive: TieRodDrive,
+        knuckles: [BodyInertia; 2],
+    ) -> Result<AxleSteering, String> {
+        let bar = Link { body: KNUCKLE, point: tierod, length: (tierod[0] - tierod[1]).norm() };
+        let bodies = [BodyInertia::NONE, knuckles[0], knuckles[1]];
+        let centre = linkage.centre;
+        let draglink = (KNUCKLE[side], draglink_end);
+        Self::assembled(
+            linkage,
+            kingpin_lower,
+            kingpin_upper,
+            centre,
+            draglink,
+            Rows::ToeBar(bar),
+            draglink_steering,
+            drive,
+            bodies,
+        )
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn assembled(
+        linkage: &AxleLinkage,
+        kingpin_lower: [V3; 2],
+        kingpin_upper: [V3; 2],
+        bellcrank_pivot: V3,
+        (draglink_body, draglink_end): (usize, V3),
+        rows: Rows,
         draglink_steering: V3,
         drive: TieRodDrive,
         bodies: [BodyInertia; 3],
@@ -136,24 +220,29 @@ impl AxleSteering {
             axis[KNUCKLE[k]] = e.normalize();
         }
         let pivot = [bellcrank_pivot, kingpin_lower[0], kingpin_lower[1]];
-        let draglink_length = (bellcrank_draglink - draglink_steering).norm();
-        let tierod_length = [0, 1].map(|k| (knuckle_tierod[k] - bellcrank_tierod[k]).norm());
+        let draglink_length = (draglink_end - draglink_steering).norm();
         if draglink_length < 1e-3 {
             return Err("the drag link has no length".into());
         }
-        if let Some(k) = (0..2).find(|&k| tierod_length[k] < 1e-3) {
-            return Err(format!("the {} tie rod has no length", ["left", "right"][k]));
+        let links: &[Link] = match &rows {
+            Rows::TieRods(rods) => rods,
+            Rows::ToeBar(bar) => std::slice::from_ref(bar),
+        };
+        if let Some(k) = links.iter().position(|l| l.length < 1e-3) {
+            return Err(match rows {
+                Rows::TieRods(_) => format!("the {} tie rod has no length", ["left", "right"][k]),
+                Rows::ToeBar(_) => "the toe bar has no length".into(),
+            });
         }
         let mut st = AxleSteering {
             pivot,
             axis,
-            bellcrank_draglink,
-            bellcrank_tierod,
-            knuckle_tierod,
+            draglink_body,
+            draglink_end,
             draglink_steering,
             drive,
             draglink_length,
-            tierod_length,
+            rows,
             bodies,
             design_det: 1.0,
         };
@@ -161,8 +250,8 @@ impl AxleSteering {
         let det = design.phi_z.determinant().abs();
         if !(det > 1e-9 && det.is_finite()) {
             return Err(
-                "the drag link and the tie rods do not fix the bellcrank's and the knuckles' angles at design \
-                 (Φ_z is singular): a link points at the axis its joint turns about, square to the joint's arc"
+                "the drag link and the tie rods do not fix the knuckles' angles at design (Φ_z is singular): a \
+                 link points at the axis its joint turns about, square to the joint's arc"
                     .into(),
             );
         }
@@ -186,33 +275,57 @@ impl AxleSteering {
     }
 
     /// The rows (metres near the solution: ½(ℓ² − ℓ₀²)/ℓ₀ each) and their Jacobians.
-    fn evaluate(&self, linkage: &AxleLinkage, pos: &AxlePositions, z: &Vector3<f64>, s: f64) -> Rows {
+    fn evaluate(&self, linkage: &AxleLinkage, pos: &AxlePositions, z: &Vector3<f64>, s: f64) -> RowValues {
         let rot = self.rotations(z);
         let path = self.drive.path(&self.draglink_steering, s);
-        self.rows(linkage, pos, &rot, &path)
+        self.rows(linkage, pos, z, &rot, &path)
     }
 
-    fn rows(&self, linkage: &AxleLinkage, pos: &AxlePositions, rot: &[M3; 3], path: &TieRodPath) -> Rows {
-        let mut r =
-            Rows { phi: Vector3::zeros(), phi_z: Matrix3::zeros(), phi_q: SMatrix::zeros(), phi_s: Vector3::zeros() };
-        // The drag link: the bellcrank's point D (on the axle) to the steering's end S(s).
-        let (d_local, d_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_draglink);
+    fn rows(
+        &self,
+        linkage: &AxleLinkage,
+        pos: &AxlePositions,
+        z: &Vector3<f64>,
+        rot: &[M3; 3],
+        path: &TieRodPath,
+    ) -> RowValues {
+        let mut r = RowValues {
+            phi: Vector3::zeros(),
+            phi_z: Matrix3::zeros(),
+            phi_q: SMatrix::zeros(),
+            phi_s: Vector3::zeros(),
+        };
+        // The drag link: its point D on a z body (on the axle) to the steering's end S(s).
+        let j = self.draglink_body;
+        let (d_local, d_arm) = self.turned(j, &rot[j], &self.draglink_end);
         let d = linkage.point(pos, &d_local) - path.point;
         let l = self.draglink_length;
         r.phi[0] = 0.5 * (d.dot(&d) - l * l) / l;
-        r.phi_z[(0, BELLCRANK)] = d.dot(&(pos.rotation * d_arm)) / l;
+        r.phi_z[(0, j)] = d.dot(&(pos.rotation * d_arm)) / l;
         let arm = pos.rotation * (d_local - linkage.centre);
         r.phi_q.set_row(0, &(d.transpose() * AxleLinkage::point_jacobian(&pos.sc.rate_matrix(), &arm) / l));
         r.phi_s[0] = -d.dot(&path.d_ds) / l;
-        // The tie rods, knuckle to bellcrank: both ends on the axle, so the pose does not enter.
-        for k in 0..2 {
-            let (t_local, t_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_tierod[k]);
-            let (n_local, n_arm) = self.turned(KNUCKLE[k], &rot[KNUCKLE[k]], &self.knuckle_tierod[k]);
-            let e = n_local - t_local;
-            let l = self.tierod_length[k];
-            r.phi[1 + k] = 0.5 * (e.dot(&e) - l * l) / l;
-            r.phi_z[(1 + k, KNUCKLE[k])] = e.dot(&n_arm) / l;
-            r.phi_z[(1 + k, BELLCRANK)] = -e.dot(&t_arm) / l;
+        // The tie rods or the toe bar: both ends on the axle, so the pose does not enter.
+        let mut link_row = |k: usize, link: &Link| {
+            let [a, b] = link.body;
+            let (pa, arm_a) = self.turned(a, &rot[a], &link.point[0]);
+            let (pb, arm_b) = self.turned(b, &rot[b], &link.point[1]);
+            let e = pa - pb;
+            r.phi[k] = 0.5 * (e.dot(&e) - link.length * link.length) / link.length;
+            r.phi_z[(k, a)] = e.dot(&arm_a) / link.length;
+            r.phi_z[(k, b)] = -e.dot(&arm_b) / link.length;
+        };
+        match &self.rows {
+            Rows::TieRods(rods) => {
+                link_row(1, &rods[0]);
+                link_row(2, &rods[1]);
+            }
+            Rows::ToeBar(bar) => {
+                link_row(1, bar);
+                // No bellcrank: its angle held at zero (a linear row).
+                r.phi[2] = z[BELLCRANK];
+                r.phi_z[(2, BELLCRANK)] = 1.0;
+            }
         }
         r
     }
@@ -230,7 +343,7 @@ impl AxleSteering {
         let mut z = *guess;
         for it in 0..=MAX_ITERATIONS {
             let rotation = self.rotations(&z);
-            let r = self.rows(linkage, pos, &rotation, &path);
+            let r = self.rows(linkage, pos, &z, &rotation, &path);
             let det = r.phi_z.determinant().abs();
             let lu = match Lu::new(&r.phi_z) {
                 Ok(lu) if det >= MIN_RELATIVE_DET * self.design_det => lu,
@@ -286,25 +399,34 @@ impl AxleSteering {
         let mut gamma = Vector3::zeros();
         let rot = &st.rotation;
         let w_tube = linkage.angular_velocity(pos, qd);
-        // The drag link: D = c + R_t ρ(β), ρ turning about h_b at β̇ in the axle.
-        let (d_local, d_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_draglink);
+        // The drag link: D = c + R_t ρ(z_j), ρ turning about h_j at ż_j in the axle.
+        let j = self.draglink_body;
+        let (d_local, d_arm) = self.turned(j, &rot[j], &self.draglink_end);
         let d = linkage.point(pos, &d_local) - st.path.point;
-        let turn = pos.rotation * d_arm * zd[BELLCRANK];
+        let turn = pos.rotation * d_arm * zd[j];
         let d_dot = linkage.point_velocity(pos, qd, &d_local) + turn - st.path.d_ds * s_dot;
         let d_quadratic = linkage.point_acceleration_quadratic(pos, qd, &d_local)
             + 2.0 * w_tube.cross(&turn)
-            + pos.rotation * self.axis[BELLCRANK].cross(&d_arm) * (zd[BELLCRANK] * zd[BELLCRANK])
+            + pos.rotation * self.axis[j].cross(&d_arm) * (zd[j] * zd[j])
             - st.path.d2_ds2 * (s_dot * s_dot);
         gamma[0] = -(d.dot(&d_quadratic) + d_dot.dot(&d_dot)) / self.draglink_length;
-        for k in 0..2 {
-            let (t_local, t_arm) = self.turned(BELLCRANK, &rot[BELLCRANK], &self.bellcrank_tierod[k]);
-            let (n_local, n_arm) = self.turned(KNUCKLE[k], &rot[KNUCKLE[k]], &self.knuckle_tierod[k]);
-            let (zb, zk) = (zd[BELLCRANK], zd[KNUCKLE[k]]);
-            let e = n_local - t_local;
-            let e_dot = n_arm * zk - t_arm * zb;
+        let link_gamma = |link: &Link| {
+            let [a, b] = link.body;
+            let (pa, arm_a) = self.turned(a, &rot[a], &link.point[0]);
+            let (pb, arm_b) = self.turned(b, &rot[b], &link.point[1]);
+            let e = pa - pb;
+            let e_dot = arm_a * zd[a] - arm_b * zd[b];
             let e_quadratic =
-                self.axis[KNUCKLE[k]].cross(&n_arm) * (zk * zk) - self.axis[BELLCRANK].cross(&t_arm) * (zb * zb);
-            gamma[1 + k] = -(e.dot(&e_quadratic) + e_dot.dot(&e_dot)) / self.tierod_length[k];
+                self.axis[a].cross(&arm_a) * (zd[a] * zd[a]) - self.axis[b].cross(&arm_b) * (zd[b] * zd[b]);
+            -(e.dot(&e_quadratic) + e_dot.dot(&e_dot)) / link.length
+        };
+        match &self.rows {
+            Rows::TieRods(rods) => {
+                gamma[1] = link_gamma(&rods[0]);
+                gamma[2] = link_gamma(&rods[1]);
+            }
+            // The held angle's row is linear: no quadratic part.
+            Rows::ToeBar(bar) => gamma[1] = link_gamma(bar),
         }
         let mut c = gamma;
         st.lu.solve(&mut c);
@@ -402,7 +524,7 @@ mod tests {
         let (pivot, joint, axis) = (V3::new(0.850, -0.028, 0.166), V3::new(0.741, -0.217, 0.089), V3::z());
         let arm = (joint - pivot) - axis * axis.dot(&(joint - pivot));
         let body = |com: V3| BodyInertia { mass: 1.0, com, inertia: M3::identity() };
-        let steering = AxleSteering::new(
+        let steering = AxleSteering::bellcrank(
             &linkage,
             both(V3::new(0.0, 0.853748866, -0.10)),
             both(V3::new(0.0, 0.836251134, 0.10)),
@@ -455,18 +577,19 @@ mod tests {
         // The drag link's steering end placed on the bellcrank point's radius (the link points at the
         // bellcrank's axis): it cannot turn the bellcrank, Φ_z is singular.
         let (linkage, st) = man_front();
-        let d = st.bellcrank_draglink - st.pivot[BELLCRANK];
+        let d = st.draglink_end - st.pivot[BELLCRANK];
         let radial = V3::new(d.x, d.y, 0.0).normalize();
-        let steering_end = st.bellcrank_draglink + radial * 0.4;
+        let steering_end = st.draglink_end + radial * 0.4;
+        let Rows::TieRods(rods) = st.rows else { panic!("the MAN's axle has tie rods") };
         let body = BodyInertia { mass: 1.0, com: V3::zeros(), inertia: M3::identity() };
-        let e = AxleSteering::new(
+        let e = AxleSteering::bellcrank(
             &linkage,
             [st.pivot[1], st.pivot[2]],
             [st.pivot[1] + st.axis[1], st.pivot[2] + st.axis[2]],
             st.pivot[BELLCRANK],
-            st.bellcrank_draglink,
-            st.bellcrank_tierod,
-            st.knuckle_tierod,
+            st.draglink_end,
+            [rods[0].point[1], rods[1].point[1]],
+            [rods[0].point[0], rods[1].point[0]],
             steering_end,
             TieRodDrive::Chassis,
             [body; 3],
