@@ -436,7 +436,6 @@ fn fit_damper(points: &[(f64, f64)]) -> (f64, f64, f64) {
 const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("SolidAxle", "a solid axle"),
     ("SolidThreeLinkAxle", "a solid three-link axle"),
-    ("ToeBarLeafspringAxle", "a leaf-spring solid axle with a toe bar"),
     ("SAELeafspringAxle", "an SAE leaf-spring solid axle"),
     ("SAEToeBarLeafspringAxle", "an SAE leaf-spring solid axle with a toe bar"),
     ("DeDionAxle", "a De Dion axle"),
@@ -553,13 +552,14 @@ const STEERING_TEMPLATES: [&str; 3] = ["PitmanArm", "RackPinion", "RotaryArm"];
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 8] = [
+const SUSPENSION_TEMPLATES: [&str; 9] = [
     "DoubleWishbone",
     "MacPhersonStrut",
     "SingleWishbone",
     "SolidThreeLinkAxle",
     "SolidBellcrankThreeLinkAxle",
     "LeafspringAxle",
+    "ToeBarLeafspringAxle",
     "RigidPanhardAxle",
     "RigidSuspension",
 ];
@@ -903,6 +903,18 @@ impl SuspensionReader<'_> {
             }
         };
         let (stop_min, stop_max) = (stop("Minimum Length")?, stop("Maximum Length")?);
+        if let (Some(min), Some(max)) = (stop_min, stop_max) {
+            if min >= max {
+                // Chrono's `SpringForce::evaluate_stops` then pushes below the one and pulls above the other
+                // over the whole stroke between them (the UAZ's files: 0.28 and 0.12 m), which no stop means.
+                self.warnings.push(format!(
+                    "{}: {}: Minimum Length {min} m is not below Maximum Length {max} m (Chrono would apply both \
+                     stops at once between them): imported without stops",
+                    self.o.file, sp.path
+                ));
+                return Ok((None, None));
+            }
+        }
         if stop_min.is_some() || stop_max.is_some() {
             self.warnings.push(format!(
                 "{}: {}: the stops act at these lengths with the HMMWV's stop table (Chrono's own stop law is not \
@@ -1138,6 +1150,76 @@ impl SuspensionReader<'_> {
         let mut axle = self.solid_axle_rest(steered, spindle, tube)?;
         axle.upright = knuckle;
         axle.bellcrank = Some(bellcrank);
+        Ok(axle)
+    }
+
+    /// A `ToeBarLeafspringAxle` file, as Chrono's `ToeBarLeafspringAxle::Create` reads it: the leaf-spring
+    /// axle's parts (`guided_axle`), each knuckle (its kingpin's lower and upper points, its CM and body, the
+    /// drag link's point on it: `KNUCKLE_D`, as given, on the left knuckle where its y is positive, else on the
+    /// right one, as Chrono's `m_left_knuckle_steers`), the toe bar's knuckle point and the drag link's
+    /// steering end. The toe bar and the drag link are massless in the model (their masses left out with a
+    /// warning that says how much).
+    fn toe_bar_axle(&mut self, steered: bool) -> Result<Axle, ImportError> {
+        self.o.keys(
+            &[
+                "Name",
+                "Type",
+                "Template",
+                "Camber Angle (deg)",
+                "Toe Angle (deg)",
+                "Spindle",
+                "Knuckle",
+                "Axle Tube",
+                "Tierod",
+                "Draglink",
+                "Spring",
+                "Shock",
+                "Axle",
+            ],
+            &[("Output", "Chrono output settings")],
+            self.warnings,
+        )?;
+        for key in ["Camber Angle (deg)", "Toe Angle (deg)"] {
+            let v = self.o.opt_num(key)?.unwrap_or(0.0);
+            if v != 0.0 {
+                return Err(self.o.err(key, format!("{v}°: the model's solid axles take no static camber or toe")));
+            }
+        }
+        if !steered {
+            return Err(self.o.err(
+                "Template",
+                "a ToeBarLeafspringAxle on an axle with no steering: its drag link would end on the chassis; the \
+                 model's toe-bar axle is steered",
+            ));
+        }
+        let spindle = self.spindle()?;
+        let knuckle = self.body(
+            "Knuckle",
+            &["Mass", "COM", "Inertia", "Location Lower", "Location Upper", "Location Draglink"],
+            &[("Radius", VISUAL)],
+            Some("KNUCKLE_CM"),
+        )?;
+        let k = self.o.obj("Knuckle")?;
+        for (name, key) in
+            [("KNUCKLE_L", "Location Lower"), ("KNUCKLE_U", "Location Upper"), ("KNUCKLE_D", "Location Draglink")]
+        {
+            self.put(name, k.point(key)?);
+        }
+        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
+        let t = self.o.obj("Tierod")?;
+        t.keys(&["Mass", "Inertia", "Location Knuckle"], &[("Radius", VISUAL)], self.warnings)?;
+        self.put("TIEROD_K", t.point("Location Knuckle")?);
+        let d = self.o.obj("Draglink")?;
+        d.keys(&["Mass", "Inertia", "Location Chassis"], &[("Radius", VISUAL)], self.warnings)?;
+        self.put("DRAGLINK_S", d.point("Location Chassis")?);
+        let left_out = t.mass("Mass")? + d.mass("Mass")?;
+        self.warnings.push(format!(
+            "{}: Tierod, Draglink: massless in the model (two-force members): {left_out:.1} kg of Chrono's bodies \
+             left out (their Mass and Inertia)",
+            self.o.file
+        ));
+        let mut axle = self.solid_axle_rest(steered, spindle, tube)?;
+        axle.upright = knuckle;
         Ok(axle)
     }
 
@@ -2013,6 +2095,7 @@ impl Importer {
             "LeafspringAxle" => SuspensionTemplate::SolidLeafspring,
             "RigidPanhardAxle" => SuspensionTemplate::SolidPanhard,
             "SolidBellcrankThreeLinkAxle" => SuspensionTemplate::SolidBellcrankThreeLink,
+            "ToeBarLeafspringAxle" => SuspensionTemplate::SolidToebarLeafspring,
             _ => SuspensionTemplate::Rigid,
         };
         let mut s = SuspensionReader {
@@ -2026,6 +2109,7 @@ impl Importer {
         match template {
             SuspensionTemplate::SolidThreeLink => return s.three_link_axle(steered),
             SuspensionTemplate::SolidBellcrankThreeLink => return s.bellcrank_axle(steered),
+            SuspensionTemplate::SolidToebarLeafspring => return s.toe_bar_axle(steered),
             SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => return s.guided_axle(steered),
             SuspensionTemplate::Rigid => return s.rigid(steered),
             _ => {}

@@ -240,6 +240,10 @@ pub enum SuspensionTemplate {
     /// through two tie rods by a bellcrank on the axle that a drag link joins to the steering (Chrono's
     /// `SolidBellcrankThreeLinkAxle`; always steered).
     SolidBellcrankThreeLink,
+    /// A steered leaf-spring solid axle (Chrono's `ToeBarLeafspringAxle`): the leaf-spring axle's guide, its
+    /// knuckles on kingpins in the axle, a toe bar between them and a drag link from the steering to one
+    /// knuckle. Always steered.
+    SolidToebarLeafspring,
     /// No suspension: each spindle turns on a revolute joint fixed to the chassis (Chrono's
     /// `RigidSuspension`: a garden tractor's or a kart's rear axle). No spring, no damper; not steerable.
     Rigid,
@@ -255,6 +259,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidLeafspring => "solid_leafspring",
             SuspensionTemplate::SolidPanhard => "solid_panhard",
             SuspensionTemplate::SolidBellcrankThreeLink => "solid_bellcrank_three_link",
+            SuspensionTemplate::SolidToebarLeafspring => "solid_toebar_leafspring",
             SuspensionTemplate::Rigid => "rigid",
         }
     }
@@ -269,6 +274,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidLeafspring => &SOLID_LEAFSPRING_HARDPOINTS,
             SuspensionTemplate::SolidPanhard => &SOLID_PANHARD_HARDPOINTS,
             SuspensionTemplate::SolidBellcrankThreeLink => &SOLID_BELLCRANK_THREE_LINK_HARDPOINTS,
+            SuspensionTemplate::SolidToebarLeafspring => &SOLID_TOEBAR_LEAFSPRING_HARDPOINTS,
             SuspensionTemplate::Rigid => &RIGID_HARDPOINTS,
         }
     }
@@ -281,12 +287,13 @@ impl SuspensionTemplate {
                 | SuspensionTemplate::SolidLeafspring
                 | SuspensionTemplate::SolidPanhard
                 | SuspensionTemplate::SolidBellcrankThreeLink
+                | SuspensionTemplate::SolidToebarLeafspring
         )
     }
 
     /// Whether the template is a solid axle that steers (its knuckles turn on kingpins in the axle).
     pub fn is_steered_solid_axle(self) -> bool {
-        self == SuspensionTemplate::SolidBellcrankThreeLink
+        matches!(self, SuspensionTemplate::SolidBellcrankThreeLink | SuspensionTemplate::SolidToebarLeafspring)
     }
 
     /// Whether the wheels are on the chassis itself (no suspension: no coordinate, spring or damper).
@@ -565,6 +572,26 @@ pub const SOLID_BELLCRANK_THREE_LINK_HARDPOINTS: [&str; 18] = [
     "DRAGLINK_S",
 ];
 
+/// The hardpoints a steered toe-bar leaf-spring axle must name (Chrono's `ToeBarLeafspringAxle` points, left
+/// side): the leaf-spring axle's, the kingpin's lower and upper points `KNUCKLE_L`, `KNUCKLE_U`, the knuckle's CM
+/// `KNUCKLE_CM`, the toe bar's knuckle point `TIEROD_K`; taken as given (one each, not mirrored): the drag link's
+/// knuckle point `KNUCKLE_D` (on the left knuckle where its y is positive, else the right's) and its steering end
+/// `DRAGLINK_S`.
+pub const SOLID_TOEBAR_LEAFSPRING_HARDPOINTS: [&str; 12] = [
+    "SPINDLE",
+    "AXLE_CM",
+    "SHOCK_C",
+    "SHOCK_A",
+    "SPRING_C",
+    "SPRING_A",
+    "KNUCKLE_L",
+    "KNUCKLE_U",
+    "KNUCKLE_CM",
+    "KNUCKLE_D",
+    "TIEROD_K",
+    "DRAGLINK_S",
+];
+
 /// The hardpoints a leaf-spring solid axle must name (Chrono's `LeafspringAxle` points, left side): the axle
 /// tube's CM `AXLE_CM` (on y = 0: the guide's point), the spring's and the damper's ends on the chassis (`_C`)
 /// and on the axle (`_A`), the wheel centre `SPINDLE`.
@@ -719,7 +746,9 @@ impl VehicleData {
                      coordinate there): the stability suite of a HMMWV with a rigid rear has runs more than 1 % off \
                      without a word at RK4 8.33 ms, AB3 2.08 ms and IMEX-AB3 8.33 and 2.08 ms",
                 ),
-                SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => Some(
+                SuspensionTemplate::SolidLeafspring
+                | SuspensionTemplate::SolidPanhard
+                | SuspensionTemplate::SolidToebarLeafspring => Some(
                     "the stability suite of a HMMWV with this rear axle has runs more than 1 % off without a word \
                      at IMEX-AB3 on its full-lock lift-off case",
                 ),
@@ -1052,6 +1081,7 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         | SuspensionTemplate::SolidLeafspring
         | SuspensionTemplate::SolidPanhard
         | SuspensionTemplate::SolidBellcrankThreeLink
+        | SuspensionTemplate::SolidToebarLeafspring
         | SuspensionTemplate::Rigid => unreachable!("checked above"),
     }
     let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
@@ -1082,7 +1112,7 @@ fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         ("upper_arm", axle.upper_arm.is_some()),
         ("strut", axle.strut.is_some()),
         ("antiroll_bar", axle.antiroll_bar.is_some()),
-        ("bellcrank", !steered_axle && axle.bellcrank.is_some()),
+        ("bellcrank", axle.template != SuspensionTemplate::SolidBellcrankThreeLink && axle.bellcrank.is_some()),
     ];
     if let Some((body, _)) = present.iter().find(|(_, p)| *p) {
         return Err(err(format!("{name}.{body}"), format!("a {template} has none")));
@@ -1103,6 +1133,8 @@ fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
     let mut bodies = vec![("spindle", &axle.spindle)];
     if steered_axle {
         bodies.push(("upright", &axle.upright));
+    }
+    if axle.template == SuspensionTemplate::SolidBellcrankThreeLink {
         match &axle.bellcrank {
             Some(b) => bodies.push(("bellcrank", b)),
             None => return Err(err(format!("{name}.bellcrank"), format!("missing: a {template} has one"))),

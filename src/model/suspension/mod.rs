@@ -349,7 +349,8 @@ impl Corner {
             SuspensionTemplate::SolidThreeLink
             | SuspensionTemplate::SolidLeafspring
             | SuspensionTemplate::SolidPanhard
-            | SuspensionTemplate::SolidBellcrankThreeLink => solid_axle::wheel_corner(data, axle, side),
+            | SuspensionTemplate::SolidBellcrankThreeLink
+            | SuspensionTemplate::SolidToebarLeafspring => solid_axle::wheel_corner(data, axle, side),
             SuspensionTemplate::Rigid => rigid::wheel_corner(data, axle, side),
         }
     }

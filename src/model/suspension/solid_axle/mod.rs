@@ -74,7 +74,9 @@ impl SolidAxle {
         // One point given (not mirrored) as AXLE_CM is: the Panhard rod's ends.
         let single = |p: &str| VehicleData::point(axle, p) - left.c0;
         let linkage = match axle.template {
-            SuspensionTemplate::SolidLeafspring => AxleLinkage::leafspring(centre),
+            SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidToebarLeafspring => {
+                AxleLinkage::leafspring(centre)
+            }
             SuspensionTemplate::SolidPanhard => AxleLinkage::panhard(centre, single("PANHARD_C"), single("PANHARD_A")),
             _ => AxleLinkage::three_link(
                 centre,
@@ -114,13 +116,31 @@ impl SolidAxle {
         let c0 = sides[0].c0;
         let single = |p: &str| VehicleData::point(axle, p) - c0;
         let both = |p: &str| sides.map(|h| h.point(p));
+        let knuckles = sides.map(|h| carrier_inertia(data, axle, h.side, h.point("KNUCKLE_CM"), h.point("SPINDLE")).0);
+        let drive = crate::model::steering::tie_rod_drive(data)?;
+        let field = format!("{name}.hardpoints_chassis_frame_m");
+        if axle.template == SuspensionTemplate::SolidToebarLeafspring {
+            // The drag link on the knuckle of its point's side (Chrono's `m_left_knuckle_steers`: y > 0).
+            let end = single("KNUCKLE_D");
+            let side = if VehicleData::point(axle, "KNUCKLE_D")[1] >= 0.0 { 0 } else { 1 };
+            return AxleSteering::toe_bar(
+                linkage,
+                both("KNUCKLE_L"),
+                both("KNUCKLE_U"),
+                side,
+                end,
+                both("TIEROD_K"),
+                single("DRAGLINK_S"),
+                drive,
+                knuckles,
+            )
+            .map_err(|message| DataError { field, message });
+        }
         let crank = axle.bellcrank.as_ref().ok_or_else(|| DataError {
             field: format!("{name}.bellcrank"),
             message: "missing: a steered solid axle has one".into(),
         })?;
         let bellcrank = BodyInertia { mass: crank.mass_kg, com: single("BELLCRANK_A"), inertia: crank.inertia() };
-        let knuckles = sides.map(|h| carrier_inertia(data, axle, h.side, h.point("KNUCKLE_CM"), h.point("SPINDLE")).0);
-        let drive = crate::model::steering::tie_rod_drive(data)?;
         AxleSteering::bellcrank(
             linkage,
             both("KNUCKLE_L"),
@@ -133,7 +153,7 @@ impl SolidAxle {
             drive,
             [bellcrank, knuckles[0], knuckles[1]],
         )
-        .map_err(|message| DataError { field: format!("{name}.hardpoints_chassis_frame_m"), message })
+        .map_err(|message| DataError { field, message })
     }
 }
 
