@@ -97,6 +97,11 @@ fn shipped_vehicles() -> Vec<(String, Vehicle)> {
         "hmmwv with a rigid rear (common::hmmwv_rigid_rear)".to_string(),
         Vehicle::new(&common::hmmwv_rigid_rear()).unwrap(),
     ));
+    // A toe-bar steered axle on leaf springs (no shipped car has one).
+    out.push((
+        "hmmwv with a toe-bar leaf-spring front (common::hmmwv_toebar_front)".to_string(),
+        Vehicle::new(&common::hmmwv_toebar_front()).unwrap(),
+    ));
     // The solid axle's other locators (no shipped car has them).
     for template in ["solid_leafspring", "solid_panhard"] {
         let data = common::hmmwv_solid_rear_located_by(template);

@@ -211,3 +211,41 @@ pub fn jturn_formulation_differences(data: &VehicleData, rack: f64) -> [(f64, &'
         worst
     })
 }
+
+/// The solid-axles test vehicle (`resources/vehicles/rtv_hmmwv_solid_axles.json`) with its front axle a toe-bar
+/// leaf-spring axle (`solid_toebar_leafspring`, Chrono's `ToeBarLeafspringAxle`) on a rotary arm, points in the
+/// proportions of Chrono's UAZ469 front axle and steering (`uaz/suspension/UAZ469_FrontLeafspringAxle.json`,
+/// `uaz/steering/UAZ469_RotaryArm.json`; Project Chrono, BSD-3-Clause) placed at the HMMWV's front wheel centres,
+/// lateral offsets scaled by the track: the drag link runs across the car to the right knuckle. A test vehicle,
+/// written here.
+#[allow(dead_code)]
+pub fn hmmwv_toebar_front() -> VehicleData {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles/rtv_hmmwv_solid_axles.json");
+    let mut v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let front = &mut v["front"];
+    let points = front["hardpoints_chassis_frame_m"].as_object_mut().unwrap();
+    let spindle: Vec<f64> = points["SPINDLE"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+    let (x, k, z) = (spindle[0], spindle[1] / 0.7325, spindle[2]);
+    let at = |p: [f64; 3]| serde_json::json!([x + p[0], k * p[1], z + p[2]]);
+    for key in
+        ["TRIANGLE_C", "TRIANGLE_A", "LINK_C", "LINK_A", "BELLCRANK_A", "BELLCRANK_D", "BELLCRANK_T", "KNUCKLE_T"]
+    {
+        points.remove(key);
+    }
+    points.insert("KNUCKLE_L".into(), at([0.0, 0.672305806756909, -0.1]));
+    points.insert("KNUCKLE_U".into(), at([0.0, 0.652694193243091, 0.1]));
+    points.insert("KNUCKLE_CM".into(), at([0.0, 0.6625, 0.0]));
+    points.insert("KNUCKLE_D".into(), at([0.2, -0.5325, 0.2]));
+    points.insert("TIEROD_K".into(), at([-0.190568826619798, 0.601807971522173, 0.1]));
+    points.insert("DRAGLINK_S".into(), at([0.2, 0.5325, 0.2]));
+    front["template"] = serde_json::json!("solid_toebar_leafspring");
+    front.as_object_mut().unwrap().remove("bellcrank");
+    v["rotary_arm"] = serde_json::json!({
+        "arm_pivot_m": at([0.2, 0.5325, 0.4]),
+        "arm_axis": [-1.0, 0.0, 0.0],
+        "arm_draglink_joint_m": at([0.2, 0.5325, 0.2]),
+        "max_angle_rad": 0.2182
+    });
+    v["name"] = serde_json::json!("HMMWV, toe-bar leaf-spring front (test)");
+    VehicleData::from_json(&v.to_string()).unwrap()
+}

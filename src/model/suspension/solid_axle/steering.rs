@@ -540,24 +540,56 @@ mod tests {
         (linkage, steering)
     }
 
+    /// Chrono's UAZ469 front toe-bar axle and rotary arm (`uaz/suspension/UAZ469_FrontLeafspringAxle.json`,
+    /// `uaz/steering/UAZ469_RotaryArm.json`; Project Chrono, BSD-3-Clause), suspension frame: the drag link on
+    /// the right knuckle.
+    fn uaz_front() -> (AxleLinkage, AxleSteering) {
+        let m = |v: V3| V3::new(v.x, -v.y, v.z);
+        let both = |v: V3| [v, m(v)];
+        let linkage = AxleLinkage::leafspring(V3::zeros()).unwrap();
+        let (pivot, joint, axis) = (V3::new(0.2, 0.5325, 0.4), V3::new(0.2, 0.5325, 0.2), -V3::x());
+        let arm = (joint - pivot) - axis * axis.dot(&(joint - pivot));
+        let knuckle = |y: f64| BodyInertia { mass: 1.0, com: V3::new(0.0, y, 0.0), inertia: M3::identity() };
+        let steering = AxleSteering::toe_bar(
+            &linkage,
+            both(V3::new(0.0, 0.672305806756909, -0.1)),
+            both(V3::new(0.0, 0.652694193243091, 0.1)),
+            1,
+            V3::new(0.2, -0.5325, 0.2),
+            both(V3::new(-0.190568826619798, 0.601807971522173, 0.1)),
+            joint,
+            TieRodDrive::PitmanLink { axis, arm },
+            [knuckle(0.6625), knuckle(-0.6625)],
+        )
+        .unwrap();
+        (linkage, steering)
+    }
+
     #[test]
     fn steering_rates_and_accelerations_match_differences_along_a_motion() {
+        for (name, (linkage, steering)) in [("bellcrank", man_front()), ("toe bar", uaz_front())] {
+            println!("{name}");
+            rates_and_accelerations_match(&linkage, &steering);
+        }
+    }
+
+    fn rates_and_accelerations_match(linkage: &AxleLinkage, steering: &AxleSteering) {
         // Any pose (the locator's rows need not hold: the steering's rows do not read them), moving with
         // constant q̈, and the steering coordinate with constant s̈. ż and z̈ from the chain rule against
-        // central differences of solved z(t): truncation O(h²) ≈ 1e-8 of z⃛, round-off 1e-12/h² ≈ 1e-4 for
-        // the second difference at h = 1e-4, so 1e-7 and 1e-3 relative to the rates' scale.
-        let (linkage, steering) = man_front();
+        // central differences of solved z(t) at h = 3e-5: truncation h²/6 z⃛ ≈ 1.5e-10 z⃛ (the toe bar's z⃛ is
+        // about 100: at h = 1e-4 its ż was off by 1.7e-7, at 3e-5 by 1.5e-8, as h²), round-off of the
+        // second difference 1e-12/h² ≈ 1e-3; so 1e-7 and 1e-3 relative to the rates' scale.
         let q0 = AxleQ::new(0.03, -0.04, 0.004, -0.003, 0.01, -0.008);
         let q1 = AxleQ::new(0.8, -0.6, 0.05, 0.04, 0.3, -0.2);
         let q2 = AxleQ::new(-3.0, 5.0, 0.5, -0.4, 2.0, 1.5);
-        let (s0, s1, s2) = (0.2, 0.7, -4.0);
+        let (s0, s1, s2) = (0.1, 0.7, -4.0);
         let at = |t: f64| {
             let q = q0 + q1 * t + q2 * (0.5 * t * t);
             let pos = linkage.evaluate(&q);
             let st = steering.solve(&linkage, &pos, s0 + s1 * t + 0.5 * s2 * t * t, &Vector3::zeros()).unwrap();
             (pos, st)
         };
-        let h = 1e-4;
+        let h = 3e-5;
         let (pos, st) = at(0.0);
         let zd = steering.rates(&st, &q1, s1);
         let zdd = st.dz_dq * q2 + st.dz_ds * s2 + steering.quadratic(&linkage, &pos, &st, &q1, &zd, s1);
