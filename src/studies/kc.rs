@@ -1043,8 +1043,9 @@ impl KcReport {
                    inclination, scrub radius and trail are not defined (–).\n";
         }
         if self.axles.iter().any(|a| a.template.is_steered_solid_axle()) {
-            md += "- A steered solid axle (solid_bellcrank_three_link): its knuckles turn on kingpins in the axle, \
-                   steered through the drag link and tie rods, so its wheels steer as the axle moves (bump steer, \
+            md += "- A steered solid axle (solid_bellcrank_three_link, solid_toebar_leafspring): its knuckles turn on \
+                   kingpins in the axle, steered through the drag link and tie rods or toe bar, so its wheels steer \
+                   as the axle moves (bump steer, \
                    roll steer); its kingpin figures are the left knuckle's. Its linkage is not mirror-symmetric (one \
                    drag link): the right wheel does not mirror the left, and its roll centre is the mean of both \
                    wheels'. The steering sweep holds the axle at design heave and roll.\n";
