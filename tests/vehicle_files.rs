@@ -1505,3 +1505,132 @@ fn leaf_spring_and_panhard_axle_files_that_cannot_be_are_refused_by_file_and_key
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// A `SolidBellcrankThreeLinkAxle` file in Chrono's format with the keys Chrono's reader reads, the points of
+/// Chrono's MAN 5t front axle (`MAN_Kat1/suspension/MAN_5t_FrontSolidThreeLinkAxle.json`, Project Chrono,
+/// BSD-3-Clause), its spring linear: written for these tests.
+fn bellcrank_axle_file() -> Value {
+    json!({
+        "Name": "rtv test bellcrank axle", "Type": "Suspension", "Template": "SolidBellcrankThreeLinkAxle",
+        "Spindle": {"Mass": 60.2, "COM": [0, 1.035, 0], "Inertia": [0.27, 0.48, 0.27], "Radius": 0.1, "Width": 0.06},
+        "Axle Tube": {"Mass": 405, "COM": [0, 0, 0], "Inertia": [21.23, 8.12, 21.31], "Radius": 0.0476},
+        "Knuckle": {"Mass": 145.6, "COM": [0, 0.937, 0], "Inertia": [2.40, 3.97, 2.45],
+                    "Location Lower": [0, 0.853748866, -0.1], "Location Upper": [0, 0.836251134, 0.1],
+                    "Location Tierod": [-0.236, 0.8, 0.153]},
+        "Bellcrank": {"Mass": 24.4, "Inertia": [0.05, 0.29, 0.30], "Location Axle": [-0.023, 0, 0.25],
+                      "Location Tierod": [-0.273, 0.042, 0.153]},
+        "Draglink": {"Mass": 10.3, "Inertia": [0.29, 0.67, 0.95], "Location Steering": [0.741, -0.217, 0.089],
+                     "Location Bellcrank": [0.045, 0.256, 0.153]},
+        "Triangular Link": {"Mass": 50, "Inertia": [0.2, 0.2, 0.2], "Location Chassis": [0.871, 0.42, 0.165],
+                            "Location Axle": [0.125, 0, 0.26]},
+        "Longitudinal Link": {"Mass": 25, "Inertia": [0.05, 0.1, 0.1], "Location Chassis": [-1.138, 0.27, 0.115],
+                              "Location Axle": [-0.115, 0.49, -0.09]},
+        "Tierod": {"Mass": 10, "Inertia": [0.05, 0.1, 0.105]},
+        "Spring": {"Location Chassis": [0.01, 0.552, 0.588], "Location Axle": [0, 0.59, 0.09], "Free Length": 0.6,
+                   "Spring Coefficient": 150000.0},
+        "Shock": {"Location Chassis": [0.235, 0.562, 0.57], "Location Axle": [0.246, 0.523, -0.125],
+                  "Damping Coefficient": 15000.0},
+        "Axle": {"Inertia": 0.4}
+    })
+}
+
+/// A `ToeBarLeafspringAxle` file: Chrono's UAZ469 front axle's points (`uaz/suspension/UAZ469_FrontLeafspringAxle.json`)
+/// with stops in order, its drag link on the right knuckle.
+fn toe_bar_axle_file() -> Value {
+    json!({
+        "Name": "rtv test toe-bar axle", "Type": "Suspension", "Template": "ToeBarLeafspringAxle",
+        "Camber Angle (deg)": 0, "Toe Angle (deg)": 0,
+        "Spindle": {"Mass": 14.705, "COM": [0, 0.7325, 0], "Inertia": [0.04117, 0.07352, 0.04117], "Radius": 0.1, "Width": 0.06},
+        "Knuckle": {"Mass": 10.0, "COM": [0, 0.6625, 0], "Inertia": [0.1, 0.1, 0.1], "Radius": 0.05,
+                    "Location Lower": [0, 0.672305806756909, -0.1], "Location Upper": [0, 0.652694193243091, 0.1],
+                    "Location Draglink": [0.2, -0.5325, 0.2]},
+        "Axle Tube": {"Mass": 124.0, "COM": [0, 0, 0], "Inertia": [22.21, 0.0775, 22.21], "Radius": 0.0476},
+        "Tierod": {"Mass": 5.0, "Inertia": [1.0, 0.1, 1.0], "Location Knuckle": [-0.190568826619798, 0.601807971522173, 0.1], "Radius": 0.02},
+        "Draglink": {"Mass": 5.0, "Inertia": [0.1, 1.0, 0.1], "Location Chassis": [0.2, 0.5325, 0.2], "Radius": 0.02},
+        "Spring": {"Location Chassis": [0.0, 0.5142, 0.2476], "Location Axle": [0.0, 0.5142, 0.0476],
+                   "Spring Coefficient": 102643.9, "Free Length": 0.2621, "Minimum Length": 0.28, "Maximum Length": 0.12},
+        "Shock": {"Location Chassis": [-0.3648, 0.4193, 0.4298], "Location Axle": [-0.125, 0.441, -0.0507],
+                  "Damping Coefficient": 16336.3, "Degressivity Compression": 3, "Degressivity Expansion": 1},
+        "Axle": {"Inertia": 0.4}
+    })
+}
+
+/// The generic double-wishbone vehicle's copy in `name` with its front suspension `axle` steered by a rotary arm
+/// (Chrono's `RotaryArm` format) whose drag-link point is the axle's `steering end` (suspension frame), its
+/// pivot `pivot` (suspension frame) and its axis `axis`.
+fn generic_with_steered_front(
+    name: &str,
+    axle: Value,
+    steering_end: [f64; 3],
+    pivot: [f64; 3],
+    axis: [f64; 3],
+) -> PathBuf {
+    let dir = chrono_copy(name);
+    std::fs::write(dir.join("generic/suspension/SteeredAxle.json"), serde_json::to_string_pretty(&axle).unwrap())
+        .unwrap();
+    // The steering sits at (1.1, 0, −0.4), the front suspension at (1.25, 0, −0.21): the arm's points in its
+    // frame are the axle's plus (0.15, 0, 0.19).
+    let shift = |p: [f64; 3]| json!([p[0] + 0.15, p[1], p[2] + 0.19]);
+    let arm = json!({"Name": "rtv test rotary arm", "Type": "Steering", "Template": "RotaryArm",
+        "Pitman Arm": {"Mass": 1.605, "Inertia": [0.00638, 0.00756, 0.0015], "Inertia Products": [0, 0, 0], "Radius": 0.02,
+                       "Axis of Rotation": axis, "Point of Rotation": shift(pivot), "Point to Draglink": shift(steering_end),
+                       "Maximum Angle (deg)": 12.5}});
+    std::fs::write(dir.join("generic/steering/RotaryArm.json"), serde_json::to_string_pretty(&arm).unwrap()).unwrap();
+    edit_json(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), |v| {
+        v["Axles"][0]["Suspension Input File"] = json!("generic/suspension/SteeredAxle.json");
+        v["Steering Subsystems"][0]["Input File"] = json!("generic/steering/RotaryArm.json");
+        // Chrono's generic steering frame is pitched; this arm's is the chassis's.
+        v["Steering Subsystems"][0]["Orientation"] = json!([1, 0, 0, 0]);
+    });
+    dir
+}
+
+#[test]
+fn steered_solid_axles_and_a_rotary_arm_import_as_chrono_reads_them() {
+    let cases = [
+        ("bellcrank", bellcrank_axle_file(), [0.741, -0.217, 0.089], [0.850, -0.028, 0.166], [0.0, 0.0, 1.0]),
+        ("toe_bar", toe_bar_axle_file(), [0.2, 0.5325, 0.2], [0.2, 0.5325, 0.4], [-1.0, 0.0, 0.0]),
+    ];
+    for (name, file, end, pivot, axis) in cases {
+        let dir = generic_with_steered_front(&format!("steered_{name}"), file, end, pivot, axis);
+        let import = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let front = &import.data.front;
+        let template = if name == "bellcrank" { "solid_bellcrank_three_link" } else { "solid_toebar_leafspring" };
+        assert_eq!(front.template.name(), template);
+        assert!(front.steered);
+        // The drag link's steering end at the suspension's location (1.25, 0, −0.21), and the arm's joint there.
+        let s = front.hardpoints_chassis_frame_m["DRAGLINK_S"];
+        let want = [end[0] + 1.25, end[1], end[2] - 0.21];
+        assert!((0..3).all(|i| (s[i] - want[i]).abs() < 1e-12), "{name}: {s:?}");
+        let arm = import.data.rotary_arm.as_ref().expect("a rotary arm");
+        assert!((0..3).all(|i| (arm.arm_draglink_joint_m[i] - want[i]).abs() < 1e-12), "{name}: {arm:?}");
+        assert!((arm.max_angle_rad - 12.5f64.to_radians()).abs() < 1e-15);
+        // The links' masses are left out, and said.
+        let kg = if name == "bellcrank" { "130.3 kg" } else { "10.0 kg" };
+        assert!(
+            import.warnings.iter().any(|w| w.contains("massless") && w.contains(kg)),
+            "{name}: {:?}",
+            import.warnings
+        );
+        if name == "toe_bar" {
+            // Chrono's UAZ stops (Minimum above Maximum) are left out, and said.
+            assert!(front.spring.stop_min_length_m.is_infinite() && front.spring.stop_max_length_m.is_infinite());
+            assert!(import.warnings.iter().any(|w| w.contains("imported without stops")), "{:?}", import.warnings);
+            assert_eq!(front.hardpoints_chassis_frame_m["KNUCKLE_D"][1], -0.5325);
+        }
+        let summary = rt_vehicle::model::summary::summarize(&import.data).unwrap();
+        let weight = summary.total_mass_kg * import.data.gravity_m_s2;
+        let loads: f64 = summary.axle_load_n.iter().sum();
+        assert!(((loads - weight) / weight).abs() < 1e-6, "{name}: {loads} N against {weight} N");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // A steered solid axle where no steering reaches it (the rear) is refused by its file and key.
+    let dir = generic_with_solid_rear("steered_rear", bellcrank_axle_file());
+    let e = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None)
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("ThreeLinkAxle.json") && e.contains("no steering"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
