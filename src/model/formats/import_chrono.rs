@@ -1061,6 +1061,31 @@ impl SuspensionReader<'_> {
         self.solid_axle_rest(steered, spindle, tube)
     }
 
+    /// Refuses a static camber or toe other than zero: the model's solid axles take none.
+    fn no_alignment(&self) -> Result<(), ImportError> {
+        for key in ["Camber Angle (deg)", "Toe Angle (deg)"] {
+            let v = self.o.opt_num(key)?.unwrap_or(0.0);
+            if v != 0.0 {
+                return Err(self.o.err(key, format!("{v}°: the model's solid axles take no static camber or toe")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Refuses a steered solid axle (`template`, Chrono's name) on an axle no steering reaches.
+    fn steered_by_drag_link(&self, steered: bool, template: &str) -> Result<(), ImportError> {
+        if steered {
+            return Ok(());
+        }
+        Err(self.o.err(
+            "Template",
+            format!(
+                "a {template} on an axle with no steering: its drag link would end on the chassis; the model's \
+                 steered solid axles are steered"
+            ),
+        ))
+    }
+
     /// A `SolidBellcrankThreeLinkAxle` file, as Chrono's `SolidBellcrankThreeLinkAxle::Create` reads it: the
     /// three-link axle's parts (`three_link_axle`), each knuckle (its kingpin's lower and upper points, its
     /// tie-rod point, its CM and body), the bellcrank (its pivot on the axle, its tie-rod point, its body; CM at
@@ -1090,19 +1115,8 @@ impl SuspensionReader<'_> {
             &[("Output", "Chrono output settings")],
             self.warnings,
         )?;
-        for key in ["Camber Angle (deg)", "Toe Angle (deg)"] {
-            let v = self.o.opt_num(key)?.unwrap_or(0.0);
-            if v != 0.0 {
-                return Err(self.o.err(key, format!("{v}°: the model's solid axles take no static camber or toe")));
-            }
-        }
-        if !steered {
-            return Err(self.o.err(
-                "Template",
-                "a SolidBellcrankThreeLinkAxle on an axle with no steering: its drag link would end on the chassis; \
-                 the model's bellcrank axle is steered",
-            ));
-        }
+        self.no_alignment()?;
+        self.steered_by_drag_link(steered, "SolidBellcrankThreeLinkAxle")?;
         let spindle = self.spindle()?;
         let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
         let knuckle = self.body(
@@ -1179,19 +1193,8 @@ impl SuspensionReader<'_> {
             &[("Output", "Chrono output settings")],
             self.warnings,
         )?;
-        for key in ["Camber Angle (deg)", "Toe Angle (deg)"] {
-            let v = self.o.opt_num(key)?.unwrap_or(0.0);
-            if v != 0.0 {
-                return Err(self.o.err(key, format!("{v}°: the model's solid axles take no static camber or toe")));
-            }
-        }
-        if !steered {
-            return Err(self.o.err(
-                "Template",
-                "a ToeBarLeafspringAxle on an axle with no steering: its drag link would end on the chassis; the \
-                 model's toe-bar axle is steered",
-            ));
-        }
+        self.no_alignment()?;
+        self.steered_by_drag_link(steered, "ToeBarLeafspringAxle")?;
         let spindle = self.spindle()?;
         let knuckle = self.body(
             "Knuckle",
@@ -1238,12 +1241,7 @@ impl SuspensionReader<'_> {
         }
         used.extend(["Spring", "Shock", "Axle"]);
         self.o.keys(&used, &[("Output", "Chrono output settings")], self.warnings)?;
-        for key in ["Camber Angle (deg)", "Toe Angle (deg)"] {
-            let v = self.o.opt_num(key)?.unwrap_or(0.0);
-            if v != 0.0 {
-                return Err(self.o.err(key, format!("{v}°: the model's solid axles take no static camber or toe")));
-            }
-        }
+        self.no_alignment()?;
         let spindle = self.spindle()?;
         let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
         if panhard {
