@@ -448,3 +448,351 @@ fn a_drag_link_point_moved_a_millimetre_is_seen() {
     );
     assert!(w.toe > 0.02, "a 1 mm change moved the toe by only {:e} deg", w.toe);
 }
+
+// ---------------------------------------------------------------------------------------------------------------
+// The toe-bar axle (`AxleSteering::toe_bar` on `AxleLinkage::leafspring`) against Chrono's joint set for
+// `ChToeBarLeafspringAxle` driven by a `ChRotaryArm`, re-implemented in absolute coordinates as Chrono writes
+// it (`ToeBarLeafspringAxle::Create`, `ChToeBarLeafspringAxle::Initialize` and `InitializeSide`, read from
+// Chrono's source):
+// - the reader: `Knuckle.Location Draglink` with y < 0 has its y flipped to positive and
+//   `m_use_left_knuckle = false`; the points are mirrored for the right side, so the right knuckle's drag-link
+//   point is the point as given (y < 0); `DRAGLINK_C` is taken from the left points (as given);
+// - the axle tube: a `ChLinkLockRevolutePrismatic` chassis–tube at the tube's CM in the frame chassis·Ry(π/2)
+//   (marker 1 on the chassis in marker 2's frame on the tube: its y and z, and the rotation's skew parts e1, e2
+//   locked), as tests/solid_axle.rs re-implements Chrono's `LeafspringAxle` guide. The tube is solved by
+//   Chrono's joints here, not taken from the model: its two drivers are the heights of the tube-fixed points
+//   (0, ±0.7325, 0) that the model's pose gives;
+// - each knuckle: `ChLinkLockRevolute` tube–knuckle at (`KNUCKLE_U` + `KNUCKLE_L`)/2, frame (u, v, w) with
+//   w = (L − U)/|L − U|, u = (U − S) × (L − S) normalized, v = w × u;
+// - the toe bar (Chrono's tie rod): a body, `ChLinkLockSpherical` to the left knuckle at `TIEROD_K` and
+//   `ChLinkUniversal` (tie rod, knuckle) to the right knuckle at the mirrored `TIEROD_K` in the frame
+//   chassis·Rx(π/2) (u = x, v = z: the row (A_bar x)·(A_knuckle z) = 0 fixes the bar's spin);
+// - the drag link: a body, `ChLinkLockSpherical` to the steering link (the rotary arm) at `DRAGLINK_C` and
+//   `ChLinkUniversal` (drag link, knuckle) to the steering knuckle at its `KNUCKLE_DRL`, frame
+//   v = D × C normalized (Chrono crosses the two points' absolute positions; here the suspension frame's, the
+//   UAZ469 places the front suspension at (0, 0, 0): the row only fixes the drag link's spin whatever v is),
+//   w = (C − D)/|C − D|, u = v × w; the row (A_drag u)·(A_knuckle v) = 0;
+// - the rotary arm turned by θ about the Axis of Rotation through the Point of Rotation: the drag link's
+//   steering end is P + R(axis, θ)(`DRAGLINK_C` − P). θ is the model's steering coordinate s.
+//
+// 30 coordinates (tube, two knuckles, toe bar, drag link), 28 joint rows and two drivers.
+
+/// Chrono's UAZ469 front toe-bar axle and rotary arm (`uaz/suspension/UAZ469_FrontLeafspringAxle.json`,
+/// `uaz/steering/UAZ469_RotaryArm.json`, both at location (0, 0, 0) in `uaz/vehicle/UAZ469_Vehicle.json`;
+/// Project Chrono, BSD-3-Clause: data/chrono/LICENSE), suspension frame (axle tube's CM at the origin): left
+/// side points, the single points as given.
+#[derive(Clone, Copy)]
+struct ToeBarPoints {
+    spindle: V3,
+    tube_com: V3,
+    knuckle_cm: V3,
+    knuckle_l: V3,
+    knuckle_u: V3,
+    /// `Knuckle.Location Draglink` as given: y < 0 puts the drag link on the right knuckle.
+    knuckle_drl: V3,
+    tierod_k: V3,
+    draglink_c: V3,
+    arm_axis: V3,
+    arm_pivot: V3,
+    arm_point: V3,
+}
+
+fn uaz469_front() -> ToeBarPoints {
+    ToeBarPoints {
+        spindle: V3::new(0.0, 0.7325, 0.0),
+        tube_com: V3::zeros(),
+        knuckle_cm: V3::new(0.0, 0.6625, 0.0),
+        knuckle_l: V3::new(0.0, 0.672305806756909, -0.1),
+        knuckle_u: V3::new(0.0, 0.652694193243091, 0.1),
+        knuckle_drl: V3::new(0.2, -0.5325, 0.2),
+        tierod_k: V3::new(-0.190568826619798, 0.601807971522173, 0.1),
+        draglink_c: V3::new(0.2, 0.5325, 0.2),
+        arm_axis: V3::new(-1.0, 0.0, 0.0),
+        arm_pivot: V3::new(0.2, 0.5325, 0.4),
+        arm_point: V3::new(0.2, 0.5325, 0.2),
+    }
+}
+
+const TB_TUBE: usize = 0;
+const TB_KNUCKLE: [usize; 2] = [1, 2];
+const TB_BAR: usize = 3;
+const TB_DRAG: usize = 4;
+const TB_BODIES: usize = 5;
+const TB_N: usize = 6 * TB_BODIES;
+
+/// The toe-bar axle's absolute-coordinate mechanism (as `Chrono`: body b at r[b], rotation a[b], all bodies
+/// starting with the chassis's orientation).
+#[derive(Clone)]
+struct ToeBarChrono {
+    pts: ToeBarPoints,
+    /// The knuckle the drag link is jointed to (0 left, 1 right) and its drag-link point, as Chrono's reader
+    /// and `Initialize` leave them.
+    steers: usize,
+    drl: V3,
+    design: [V3; TB_BODIES],
+    r: [V3; TB_BODIES],
+    a: [M3; TB_BODIES],
+    /// The guide's frame, chassis·Ry(π/2).
+    guide: M3,
+    /// The kingpins' joint frames (u, v, w), left and right.
+    kingpin: [M3; 2],
+    /// The drag link's universal frame (u, v) at the knuckle.
+    drag_universal: (V3, V3),
+}
+
+impl ToeBarChrono {
+    fn new(pts: ToeBarPoints) -> ToeBarChrono {
+        // The reader: a negative y is flipped and the right knuckle steers; `InitializeSide(RIGHT)` mirrors it
+        // back.
+        let (steers, drl) = if pts.knuckle_drl.y < 0.0 {
+            let flipped = mirror(pts.knuckle_drl);
+            (1, mirror(flipped))
+        } else {
+            (0, pts.knuckle_drl)
+        };
+        let kingpin = [0, 1].map(|k| {
+            let (l, u, s) = (side(k, pts.knuckle_l), side(k, pts.knuckle_u), side(k, pts.spindle));
+            let w = (l - u).normalize();
+            let x = (u - s).cross(&(l - s)).normalize();
+            M3::from_columns(&[x, w.cross(&x), w])
+        });
+        let drag_universal = {
+            let v = drl.cross(&pts.draglink_c).normalize();
+            let w = (pts.draglink_c - drl).normalize();
+            (v.cross(&w), v)
+        };
+        let design = [
+            pts.tube_com,
+            pts.knuckle_cm,
+            mirror(pts.knuckle_cm),
+            (pts.tierod_k + mirror(pts.tierod_k)) / 2.0,
+            (pts.draglink_c + drl) / 2.0,
+        ];
+        ToeBarChrono {
+            pts,
+            steers,
+            drl,
+            design,
+            r: design,
+            a: [M3::identity(); TB_BODIES],
+            guide: exp_so3(&V3::new(0.0, std::f64::consts::FRAC_PI_2, 0.0)),
+            kingpin,
+            drag_universal,
+        }
+    }
+
+    fn at(&self, b: usize, p: &V3) -> V3 {
+        self.r[b] + self.a[b] * (p - self.design[b])
+    }
+
+    fn marker(&self, b: Option<usize>, p: &V3, f: &M3) -> (V3, M3) {
+        match b {
+            Some(b) => (self.at(b, p), self.a[b] * f),
+            None => (*p, *f),
+        }
+    }
+
+    /// `ChLinkLock` rows between body 1 and body 2 at p in frame f: marker 1 in marker 2's frame, the position
+    /// components `locked` (0 x, 1 y, 2 z) and the rotation's skew parts about the frame's x and y axes.
+    fn lock(&self, b1: Option<usize>, b2: Option<usize>, p: &V3, f: &M3, locked: &[usize], out: &mut Vec<f64>) {
+        let (o1, m1) = self.marker(b1, p, f);
+        let (o2, m2) = self.marker(b2, p, f);
+        let rel = m2.transpose() * (o1 - o2);
+        out.extend(locked.iter().map(|&k| rel[k]));
+        let m = m2.transpose() * m1;
+        out.push(m[(2, 1)] - m[(1, 2)]);
+        out.push(m[(0, 2)] - m[(2, 0)]);
+    }
+
+    /// The rotary arm's drag-link point (`DRAGLINK_C` on the arm) at the arm angle θ.
+    fn arm_point(&self, theta: f64) -> V3 {
+        let p = self.pts.arm_pivot;
+        p + exp_so3(&(self.pts.arm_axis.normalize() * theta)) * (self.pts.draglink_c - p)
+    }
+
+    /// The 28 joint rows and the two drivers (the heights `z` of the tube points (0, ±0.7325, 0)).
+    fn residual(&self, theta: f64, z: [f64; 2]) -> Vec<f64> {
+        let pts = &self.pts;
+        let mut f = Vec::with_capacity(TB_N);
+        // the guide: revolute-prismatic chassis–tube at the tube's CM
+        self.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[1, 2], &mut f);
+        for (k, (&knuckle, frame)) in TB_KNUCKLE.iter().zip(&self.kingpin).enumerate() {
+            // kingpin: revolute tube–knuckle at the kingpin's mid-point
+            let mid = (side(k, pts.knuckle_u) + side(k, pts.knuckle_l)) / 2.0;
+            self.lock(Some(TB_TUBE), Some(knuckle), &mid, frame, &[0, 1, 2], &mut f);
+        }
+        // the toe bar: spherical to the left knuckle, universal to the right one
+        let (tl, tr) = (pts.tierod_k, mirror(pts.tierod_k));
+        f.extend((self.at(TB_BAR, &tl) - self.at(TB_KNUCKLE[0], &tl)).iter());
+        f.extend((self.at(TB_BAR, &tr) - self.at(TB_KNUCKLE[1], &tr)).iter());
+        f.push((self.a[TB_BAR] * V3::x()).dot(&(self.a[TB_KNUCKLE[1]] * V3::z())));
+        // the drag link: spherical to the rotary arm, universal to the steering knuckle
+        let kn = TB_KNUCKLE[self.steers];
+        f.extend((self.at(TB_DRAG, &pts.draglink_c) - self.arm_point(theta)).iter());
+        f.extend((self.at(TB_DRAG, &self.drl) - self.at(kn, &self.drl)).iter());
+        let (u, v) = self.drag_universal;
+        f.push((self.a[TB_DRAG] * u).dot(&(self.a[kn] * v)));
+        for (k, zk) in z.iter().enumerate() {
+            f.push(self.at(TB_TUBE, &side(k, pts.spindle)).z - zk);
+        }
+        f
+    }
+
+    fn perturb(&mut self, k: usize, h: f64) {
+        let (b, c) = (k / 6, k % 6);
+        if c < 3 {
+            self.r[b][c] += h;
+        } else {
+            let mut phi = V3::zeros();
+            phi[c - 3] = h;
+            self.a[b] = exp_so3(&phi) * self.a[b];
+        }
+    }
+
+    /// Newton with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13, from the current state.
+    fn solve(&mut self, theta: f64, z: [f64; 2]) {
+        for _ in 0..50 {
+            let f = DVector::from_vec(self.residual(theta, z));
+            assert_eq!(f.len(), TB_N, "the joint rows and drivers make the system square");
+            if f.amax() <= 1e-13 {
+                return;
+            }
+            let mut j = DMatrix::zeros(TB_N, TB_N);
+            let h = 1e-7;
+            for k in 0..TB_N {
+                let saved = (self.r, self.a);
+                self.perturb(k, h);
+                let fp = DVector::from_vec(self.residual(theta, z));
+                (self.r, self.a) = saved;
+                self.perturb(k, -h);
+                let fm = DVector::from_vec(self.residual(theta, z));
+                (self.r, self.a) = saved;
+                j.set_column(k, &((fp - fm) / (2.0 * h)));
+            }
+            let dx = j.lu().solve(&(-f)).expect("Chrono's joint set is square and regular");
+            for k in 0..TB_N {
+                self.perturb(k, dx[k]);
+            }
+        }
+        panic!(
+            "the absolute-coordinate solve did not converge at θ = {theta}: {:e}",
+            DVector::from_vec(self.residual(theta, z)).amax()
+        );
+    }
+}
+
+/// The model's leaf-spring linkage and toe-bar steering from the same points, built as `SolidAxle::steering`
+/// builds them: the drag link on the knuckle of its point's side (y ≥ 0 left), its point as given; the toe
+/// bar's points `TIEROD_K` and its mirror.
+fn toe_bar_model(pts: &ToeBarPoints) -> (AxleLinkage, AxleSteering) {
+    let both = |v: V3| [v, mirror(v)];
+    let linkage = AxleLinkage::leafspring(pts.tube_com).unwrap();
+    let axis = pts.arm_axis.normalize();
+    let d = pts.arm_point - pts.arm_pivot;
+    let arm = d - axis * axis.dot(&d);
+    let body = |com: V3| BodyInertia { mass: 1.0, com, inertia: M3::identity() };
+    let side = if pts.knuckle_drl.y >= 0.0 { 0 } else { 1 };
+    let steering = AxleSteering::toe_bar(
+        &linkage,
+        both(pts.knuckle_l),
+        both(pts.knuckle_u),
+        side,
+        pts.knuckle_drl,
+        both(pts.tierod_k),
+        pts.draglink_c,
+        TieRodDrive::PitmanLink { axis, arm },
+        [body(pts.knuckle_cm), body(mirror(pts.knuckle_cm))],
+    )
+    .unwrap();
+    (linkage, steering)
+}
+
+/// The model (`pts_model`) against the Chrono joint set built on `pts_chrono`, over heave ±80 mm × roll
+/// ±0.05 rad × arm angle ±0.2 rad (the UAZ469's arm stops at 12.5° = 0.218 rad). `bellcrank` is the model's
+/// held angle (none on a toe-bar axle), `bellcrank_range` unused.
+fn toe_bar_against_chrono(pts_model: &ToeBarPoints, pts_chrono: &ToeBarPoints) -> Worst {
+    let (linkage, steering) = toe_bar_model(pts_model);
+    let mut chrono = ToeBarChrono::new(*pts_chrono);
+    let spindle = [pts_model.spindle, mirror(pts_model.spindle)];
+    let mut w = Worst::default();
+    let mut guess = [0.0; 4];
+    let mut z_centre = Vector3::zeros();
+    for heave in [-0.08, -0.04, 0.0, 0.04, 0.08] {
+        for roll in [-0.05, 0.0, 0.05] {
+            let pos = linkage.solve_positions([heave, roll], &guess).unwrap();
+            guess = [pos.q[2], pos.q[3], pos.q[4], pos.q[5]];
+            let drivers = spindle.map(|s| linkage.point(&pos, &s).z);
+            // θ = 0 first, then out to either side by continuation from it (both solves)
+            chrono.solve(0.0, drivers);
+            let centre_state = chrono.clone();
+            for sweep in [&[0.0, 0.1, 0.2][..], &[-0.1, -0.2][..]] {
+                chrono = centre_state.clone();
+                let mut z = z_centre;
+                for &theta in sweep {
+                    let st = steering.solve(&linkage, &pos, theta, &z).unwrap();
+                    z = st.z;
+                    if theta == 0.0 {
+                        z_centre = st.z;
+                    }
+                    chrono.solve(theta, drivers);
+                    for k in 0..2 {
+                        let b = TB_KNUCKLE[k];
+                        let ours = steering.body_rotation(&pos, &st, KNUCKLE[k]);
+                        let (c_m, t_m) = camber_toe(&(ours * V3::y()));
+                        let (c_c, t_c) = camber_toe(&(chrono.a[b] * V3::y()));
+                        w.camber = w.camber.max((c_m - c_c).abs());
+                        w.toe_range = w.toe_range.max(t_m.abs());
+                        if (t_m - t_c).abs() > w.toe {
+                            w.toe = (t_m - t_c).abs();
+                            w.toe_at = (heave, roll, theta);
+                        }
+                        w.knuckle = w.knuckle.max(angle_between(&chrono.a[b], &ours).to_degrees());
+                        let centre = steering.body_point(&linkage, &pos, &st, KNUCKLE[k], &spindle[k]);
+                        w.centre = w.centre.max((chrono.at(b, &spindle[k]) - centre).amax());
+                        w.tube =
+                            w.tube.max((chrono.at(TB_TUBE, &spindle[k]) - linkage.point(&pos, &spindle[k])).amax());
+                    }
+                    w.bellcrank = w.bellcrank.max(st.z[BELLCRANK].abs().to_degrees());
+                }
+            }
+            chrono = centre_state;
+        }
+    }
+    w
+}
+
+#[test]
+fn the_toe_bar_axle_is_chronos_joint_set() {
+    let pts = uaz469_front();
+    let w = toe_bar_against_chrono(&pts, &pts);
+    println!(
+        "rtv's toe-bar axle against Chrono's joint set (UAZ469 front, 75 poses): camber {:.1e} deg, toe {:.1e} deg \
+         (at heave, roll, θ = {:?}), knuckle rotation {:.1e} deg, wheel centre {:.1e} m, tube {:.1e} m (toe up \
+         to {:.1} deg; the model's held bellcrank angle {:.0e} deg)",
+        w.camber, w.toe, w.toe_at, w.knuckle, w.centre, w.tube, w.toe_range, w.bellcrank
+    );
+    assert!(w.toe_range > 5.0, "the grid steered the wheels by only {} deg", w.toe_range);
+    // Issue's tolerances: 0.02° on camber and toe, 0.5 mm on the wheel centre.
+    assert!(w.camber < 0.02, "camber {:e} deg", w.camber);
+    assert!(w.toe < 0.02, "toe {:e} deg at {:?}", w.toe, w.toe_at);
+    assert!(w.knuckle < 0.02, "knuckle rotation {:e} deg", w.knuckle);
+    assert!(w.centre < 5e-4, "wheel centre {:e} m", w.centre);
+    assert!(w.tube < 5e-4, "tube {:e} m", w.tube);
+    assert!(w.bellcrank == 0.0, "the toe-bar axle's bellcrank angle moved: {:e} deg", w.bellcrank);
+}
+
+#[test]
+fn a_toe_bar_drag_link_point_moved_a_millimetre_is_seen() {
+    // Negative control: Chrono's knuckle drag-link point 1 mm forward (a longer steering arm on the knuckle),
+    // the model's as designed.
+    let pts = uaz469_front();
+    let mut moved = pts;
+    moved.knuckle_drl += V3::new(1e-3, 0.0, 0.0);
+    let w = toe_bar_against_chrono(&pts, &moved);
+    println!(
+        "with Chrono's KNUCKLE_DRL 1 mm forward: toe {:.3} deg (at heave, roll, θ = {:?}), camber {:.1e} deg, \
+         wheel centre {:.1e} m",
+        w.toe, w.toe_at, w.camber, w.centre
+    );
+    assert!(w.toe > 0.02, "a 1 mm change moved the toe by only {:e} deg", w.toe);
+}
