@@ -1043,7 +1043,7 @@ impl SuspensionReader<'_> {
             self.warnings,
         )?;
         let spindle = self.spindle()?;
-        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
+        let tube = self.axle_tube()?;
         let massless =
             "the model's triangle and links are massless (Chrono's SolidThreeLinkAxle reads no mass for them)";
         for (key, chassis, axle) in
@@ -1059,6 +1059,44 @@ impl SuspensionReader<'_> {
             self.put(axle, link.point("Location Axle")?);
         }
         self.solid_axle_rest(steered, spindle, tube)
+    }
+
+    /// The axle tube (`Axle Tube`): its body, its CM the hardpoint AXLE_CM.
+    fn axle_tube(&mut self) -> Result<RigidBody, ImportError> {
+        self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))
+    }
+
+    /// A steered solid axle's knuckle (`Knuckle`): its body (CM the hardpoint KNUCKLE_CM), its kingpin's lower
+    /// and upper points (KNUCKLE_L, KNUCKLE_U) and its link point `link` (the hardpoint and the key).
+    fn knuckle(&mut self, link: (&str, &str)) -> Result<RigidBody, ImportError> {
+        let knuckle = self.body(
+            "Knuckle",
+            &["Mass", "COM", "Inertia", "Location Lower", "Location Upper", link.1],
+            &[("Radius", VISUAL)],
+            Some("KNUCKLE_CM"),
+        )?;
+        let k = self.o.obj("Knuckle")?;
+        for (name, key) in [("KNUCKLE_L", "Location Lower"), ("KNUCKLE_U", "Location Upper"), link] {
+            self.put(name, k.point(key)?);
+        }
+        Ok(knuckle)
+    }
+
+    /// Says that the links `links` (each key with how many of it the axle has) are massless in the model and
+    /// how much of Chrono's mass that leaves out.
+    fn massless_links(&mut self, links: &[(&str, u32)]) -> Result<(), ImportError> {
+        let mut left_out = 0.0;
+        for (key, count) in links {
+            left_out += f64::from(*count) * self.o.obj(key)?.mass("Mass")?;
+        }
+        let names: Vec<&str> = links.iter().map(|l| l.0).collect();
+        self.warnings.push(format!(
+            "{}: {}: massless in the model (two-force members): {left_out:.1} kg of Chrono's bodies left out (their \
+             Mass and Inertia)",
+            self.o.file,
+            names.join(", ")
+        ));
+        Ok(())
     }
 
     /// Refuses a static camber or toe other than zero: the model's solid axles take none.
@@ -1118,19 +1156,8 @@ impl SuspensionReader<'_> {
         self.no_alignment()?;
         self.steered_by_drag_link(steered, "SolidBellcrankThreeLinkAxle")?;
         let spindle = self.spindle()?;
-        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
-        let knuckle = self.body(
-            "Knuckle",
-            &["Mass", "COM", "Inertia", "Location Lower", "Location Upper", "Location Tierod"],
-            &[("Radius", VISUAL)],
-            Some("KNUCKLE_CM"),
-        )?;
-        let k = self.o.obj("Knuckle")?;
-        for (name, key) in
-            [("KNUCKLE_L", "Location Lower"), ("KNUCKLE_U", "Location Upper"), ("KNUCKLE_T", "Location Tierod")]
-        {
-            self.put(name, k.point(key)?);
-        }
+        let tube = self.axle_tube()?;
+        let knuckle = self.knuckle(("KNUCKLE_T", "Location Tierod"))?;
         let b = self.o.obj("Bellcrank")?;
         b.keys(&["Mass", "Inertia", "Location Axle", "Location Tierod"], &[("Radius", VISUAL)], self.warnings)?;
         let j = inertia_of(&b)?;
@@ -1152,15 +1179,7 @@ impl SuspensionReader<'_> {
         }
         self.o.obj("Tierod")?.keys(&["Mass", "Inertia"], &[("Radius", VISUAL)], self.warnings)?;
         // The links' masses (Chrono: one triangle and drag link, two longitudinal links and tie rods).
-        let mut left_out = 0.0;
-        for (key, count) in [("Triangular Link", 1.0), ("Longitudinal Link", 2.0), ("Tierod", 2.0), ("Draglink", 1.0)] {
-            left_out += count * self.o.obj(key)?.mass("Mass")?;
-        }
-        self.warnings.push(format!(
-            "{}: Triangular Link, Longitudinal Link, Tierod, Draglink: massless in the model (two-force members): \
-             {left_out:.1} kg of Chrono's bodies left out (their Mass and Inertia)",
-            self.o.file
-        ));
+        self.massless_links(&[("Triangular Link", 1), ("Longitudinal Link", 2), ("Tierod", 2), ("Draglink", 1)])?;
         let mut axle = self.solid_axle_rest(steered, spindle, tube)?;
         axle.upright = knuckle;
         axle.bellcrank = Some(bellcrank);
@@ -1196,31 +1215,15 @@ impl SuspensionReader<'_> {
         self.no_alignment()?;
         self.steered_by_drag_link(steered, "ToeBarLeafspringAxle")?;
         let spindle = self.spindle()?;
-        let knuckle = self.body(
-            "Knuckle",
-            &["Mass", "COM", "Inertia", "Location Lower", "Location Upper", "Location Draglink"],
-            &[("Radius", VISUAL)],
-            Some("KNUCKLE_CM"),
-        )?;
-        let k = self.o.obj("Knuckle")?;
-        for (name, key) in
-            [("KNUCKLE_L", "Location Lower"), ("KNUCKLE_U", "Location Upper"), ("KNUCKLE_D", "Location Draglink")]
-        {
-            self.put(name, k.point(key)?);
-        }
-        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
+        let knuckle = self.knuckle(("KNUCKLE_D", "Location Draglink"))?;
+        let tube = self.axle_tube()?;
         let t = self.o.obj("Tierod")?;
         t.keys(&["Mass", "Inertia", "Location Knuckle"], &[("Radius", VISUAL)], self.warnings)?;
         self.put("TIEROD_K", t.point("Location Knuckle")?);
         let d = self.o.obj("Draglink")?;
         d.keys(&["Mass", "Inertia", "Location Chassis"], &[("Radius", VISUAL)], self.warnings)?;
         self.put("DRAGLINK_S", d.point("Location Chassis")?);
-        let left_out = t.mass("Mass")? + d.mass("Mass")?;
-        self.warnings.push(format!(
-            "{}: Tierod, Draglink: massless in the model (two-force members): {left_out:.1} kg of Chrono's bodies \
-             left out (their Mass and Inertia)",
-            self.o.file
-        ));
+        self.massless_links(&[("Tierod", 1), ("Draglink", 1)])?;
         let mut axle = self.solid_axle_rest(steered, spindle, tube)?;
         axle.upright = knuckle;
         Ok(axle)
@@ -1243,7 +1246,7 @@ impl SuspensionReader<'_> {
         self.o.keys(&used, &[("Output", "Chrono output settings")], self.warnings)?;
         self.no_alignment()?;
         let spindle = self.spindle()?;
-        let tube = self.body("Axle Tube", &["Mass", "COM", "Inertia"], &[("Radius", VISUAL)], Some("AXLE_CM"))?;
+        let tube = self.axle_tube()?;
         if panhard {
             if self.o.has("Anti Roll Bar") {
                 return Err(self.o.err(
