@@ -119,6 +119,102 @@ fn angle_between(a: &M3, b: &M3) -> f64 {
     (V3::new(d[(2, 1)] - d[(1, 2)], d[(0, 2)] - d[(2, 0)], d[(1, 0)] - d[(0, 1)]).norm() / 2.0).asin()
 }
 
+/// Bodies in absolute coordinates: body b's point given at design p is at r[b] + a[b] (p − design[b]).
+#[derive(Clone, Copy)]
+struct Bodies<const B: usize> {
+    design: [V3; B],
+    r: [V3; B],
+    a: [M3; B],
+}
+
+impl<const B: usize> Bodies<B> {
+    /// At design: every body at its design position, unturned.
+    fn new(design: [V3; B]) -> Self {
+        Bodies { design, r: design, a: [M3::identity(); B] }
+    }
+
+    fn at(&self, b: usize, p: &V3) -> V3 {
+        self.r[b] + self.a[b] * (p - self.design[b])
+    }
+
+    /// A marker at design point p with design axes f on body b (`None`: the chassis): its origin and axes.
+    fn marker(&self, b: Option<usize>, p: &V3, f: &M3) -> (V3, M3) {
+        match b {
+            Some(b) => (self.at(b, p), self.a[b] * f),
+            None => (*p, *f),
+        }
+    }
+
+    /// `ChLinkLock` rows between body 1 and body 2 at p in frame f: marker 1 in marker 2's frame, the position
+    /// components `locked` (0 x, 1 y, 2 z; all three for a revolute) and the rotation's skew parts about the
+    /// frame's x and y axes.
+    fn lock(&self, b1: Option<usize>, b2: Option<usize>, p: &V3, f: &M3, locked: &[usize], out: &mut Vec<f64>) {
+        let (o1, m1) = self.marker(b1, p, f);
+        let (o2, m2) = self.marker(b2, p, f);
+        let rel = m2.transpose() * (o1 - o2);
+        out.extend(locked.iter().map(|&k| rel[k]));
+        let m = m2.transpose() * m1;
+        out.push(m[(2, 1)] - m[(1, 2)]);
+        out.push(m[(0, 2)] - m[(2, 0)]);
+    }
+
+    /// Coordinate k moved by h: body k / 6's position, or its rotation on the left by exp([φ]×).
+    fn perturb(&mut self, k: usize, h: f64) {
+        let (b, c) = (k / 6, k % 6);
+        if c < 3 {
+            self.r[b][c] += h;
+        } else {
+            let mut phi = V3::zeros();
+            phi[c - 3] = h;
+            self.a[b] = exp_so3(&phi) * self.a[b];
+        }
+    }
+}
+
+/// A mechanism of B bodies in absolute coordinates whose joint rows and drivers `residual` gives at the arm
+/// angle θ and tube heights z.
+trait Absolute<const B: usize> {
+    fn bodies(&mut self) -> &mut Bodies<B>;
+    fn residual(&self, theta: f64, z: [f64; 2]) -> Vec<f64>;
+
+    /// Newton with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13, from the current state.
+    fn solve(&mut self, theta: f64, z: [f64; 2]) {
+        let n = 6 * B;
+        for _ in 0..50 {
+            let f = DVector::from_vec(self.residual(theta, z));
+            assert_eq!(f.len(), n, "the joint rows and drivers make the system square");
+            if f.amax() <= 1e-13 {
+                return;
+            }
+            let mut j = DMatrix::zeros(n, n);
+            let h = 1e-7;
+            for k in 0..n {
+                let saved = *self.bodies();
+                self.bodies().perturb(k, h);
+                let fp = DVector::from_vec(self.residual(theta, z));
+                *self.bodies() = saved;
+                self.bodies().perturb(k, -h);
+                let fm = DVector::from_vec(self.residual(theta, z));
+                *self.bodies() = saved;
+                j.set_column(k, &((fp - fm) / (2.0 * h)));
+            }
+            let dx = j.lu().solve(&(-f)).expect("Chrono's joint set is square and regular");
+            for k in 0..n {
+                self.bodies().perturb(k, dx[k]);
+            }
+        }
+        panic!(
+            "the absolute-coordinate solve did not converge at θ = {theta}: {:e}",
+            DVector::from_vec(self.residual(theta, z)).amax()
+        );
+    }
+}
+
+/// A rotary arm's drag-link point `joint` turned by θ about `axis` through `pivot`.
+fn arm_point(pivot: &V3, axis: &V3, joint: &V3, theta: f64) -> V3 {
+    pivot + exp_so3(&(axis.normalize() * theta)) * (joint - pivot)
+}
+
 const TUBE: usize = 0;
 const TRIANGLE: usize = 1;
 const LINK: [usize; 2] = [2, 3];
@@ -127,16 +223,13 @@ const BELL: usize = 6;
 const DRAG: usize = 7;
 const TIEROD: [usize; 2] = [8, 9];
 const BODIES: usize = 10;
-const N: usize = 6 * BODIES;
 
 /// The absolute-coordinate mechanism: body b has position r[b] and rotation a[b]; a body point given at design
 /// p is at r + A (p − r_design). All bodies start with the chassis's orientation (Chrono's `SetRot`).
 #[derive(Clone)]
 struct Chrono {
     pts: Points,
-    design: [V3; BODIES],
-    r: [V3; BODIES],
-    a: [M3; BODIES],
+    b: Bodies<BODIES>,
     tri_chassis: V3,
     tri_axle: V3,
     /// The kingpins' joint frames (u, v, w), left and right.
@@ -186,9 +279,7 @@ impl Chrono {
         ];
         Chrono {
             pts,
-            design,
-            r: design,
-            a: [M3::identity(); BODIES],
+            b: Bodies::new(design),
             tri_chassis,
             tri_axle,
             kingpin,
@@ -197,113 +288,51 @@ impl Chrono {
             tierod_normal,
         }
     }
+}
 
-    fn at(&self, b: usize, p: &V3) -> V3 {
-        self.r[b] + self.a[b] * (p - self.design[b])
-    }
-
-    /// A marker at design point p with design axes f on body b (`None`: the chassis): its origin and axes.
-    fn marker(&self, b: Option<usize>, p: &V3, f: &M3) -> (V3, M3) {
-        match b {
-            Some(b) => (self.at(b, p), self.a[b] * f),
-            None => (*p, *f),
-        }
-    }
-
-    /// `ChLinkLockRevolute` rows between body 1 and body 2 at p in frame f: marker 1 in marker 2's frame, its
-    /// position (3 rows) and its rotation's skew parts about the frame's x and y axes (2 rows).
-    fn revolute(&self, b1: Option<usize>, b2: Option<usize>, p: &V3, f: &M3, out: &mut Vec<f64>) {
-        let (o1, m1) = self.marker(b1, p, f);
-        let (o2, m2) = self.marker(b2, p, f);
-        out.extend((m2.transpose() * (o1 - o2)).iter());
-        let m = m2.transpose() * m1;
-        out.push(m[(2, 1)] - m[(1, 2)]);
-        out.push(m[(0, 2)] - m[(2, 0)]);
-    }
-
-    /// The rotary arm's drag-link point at the motor angle θ.
-    fn arm_point(&self, theta: f64) -> V3 {
-        let p = self.pts.arm_pivot;
-        p + exp_so3(&(self.pts.arm_axis.normalize() * theta)) * (self.pts.draglink_s - p)
+impl Absolute<BODIES> for Chrono {
+    fn bodies(&mut self) -> &mut Bodies<BODIES> {
+        &mut self.b
     }
 
     /// The 58 joint rows and the two drivers (the heights `z` of the tube points (0, ±1.035, 0)).
     fn residual(&self, theta: f64, z: [f64; 2]) -> Vec<f64> {
         let pts = &self.pts;
-        let mut f = Vec::with_capacity(N);
+        let mut f = Vec::with_capacity(6 * BODIES);
         // triangle: revolute to the chassis (frame chassis·Rx(π/2): its z the chassis's y), spherical to the tube
         let rx = exp_so3(&V3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0));
-        self.revolute(Some(TRIANGLE), None, &self.tri_chassis, &rx, &mut f);
-        f.extend((self.at(TRIANGLE, &self.tri_axle) - self.at(TUBE, &self.tri_axle)).iter());
+        self.b.lock(Some(TRIANGLE), None, &self.tri_chassis, &rx, &[0, 1, 2], &mut f);
+        f.extend((self.b.at(TRIANGLE, &self.tri_axle) - self.b.at(TUBE, &self.tri_axle)).iter());
         for k in 0..2 {
             // longitudinal link: spherical to the tube, universal to the chassis
             let (la, lc) = (side(k, pts.link_a), side(k, pts.link_c));
-            f.extend((self.at(LINK[k], &la) - self.at(TUBE, &la)).iter());
-            f.extend((self.at(LINK[k], &lc) - lc).iter());
+            f.extend((self.b.at(LINK[k], &la) - self.b.at(TUBE, &la)).iter());
+            f.extend((self.b.at(LINK[k], &lc) - lc).iter());
             let (u, v) = self.link_universal[k];
-            f.push((self.a[LINK[k]] * u).dot(&v));
+            f.push((self.b.a[LINK[k]] * u).dot(&v));
             // kingpin: revolute tube–knuckle at the kingpin's mid-point
             let mid = (side(k, pts.knuckle_u) + side(k, pts.knuckle_l)) / 2.0;
-            self.revolute(Some(TUBE), Some(KNUCKLE_BODY[k]), &mid, &self.kingpin[k], &mut f);
+            self.b.lock(Some(TUBE), Some(KNUCKLE_BODY[k]), &mid, &self.kingpin[k], &[0, 1, 2], &mut f);
             // tie rod: spherical to the knuckle and to the bellcrank, its spin held
             let (kt, bt) = (side(k, pts.knuckle_t), side(k, pts.bellcrank_t));
-            f.extend((self.at(TIEROD[k], &kt) - self.at(KNUCKLE_BODY[k], &kt)).iter());
-            f.extend((self.at(TIEROD[k], &bt) - self.at(BELL, &bt)).iter());
-            f.push((self.a[TIEROD[k]] * self.tierod_normal[k]).z);
+            f.extend((self.b.at(TIEROD[k], &kt) - self.b.at(KNUCKLE_BODY[k], &kt)).iter());
+            f.extend((self.b.at(TIEROD[k], &bt) - self.b.at(BELL, &bt)).iter());
+            f.push((self.b.a[TIEROD[k]] * self.tierod_normal[k]).z);
         }
         // bellcrank: revolute on the tube, frame the chassis's
-        self.revolute(Some(TUBE), Some(BELL), &pts.bellcrank_a, &M3::identity(), &mut f);
+        self.b.lock(Some(TUBE), Some(BELL), &pts.bellcrank_a, &M3::identity(), &[0, 1, 2], &mut f);
         // drag link: spherical to the rotary arm, universal to the bellcrank
-        f.extend((self.at(DRAG, &pts.draglink_s) - self.arm_point(theta)).iter());
-        f.extend((self.at(DRAG, &pts.bellcrank_d) - self.at(BELL, &pts.bellcrank_d)).iter());
+        f.extend(
+            (self.b.at(DRAG, &pts.draglink_s) - arm_point(&pts.arm_pivot, &pts.arm_axis, &pts.draglink_s, theta))
+                .iter(),
+        );
+        f.extend((self.b.at(DRAG, &pts.bellcrank_d) - self.b.at(BELL, &pts.bellcrank_d)).iter());
         let (u, v) = self.drag_universal;
-        f.push((self.a[DRAG] * u).dot(&(self.a[BELL] * v)));
+        f.push((self.b.a[DRAG] * u).dot(&(self.b.a[BELL] * v)));
         for (k, zk) in z.iter().enumerate() {
-            f.push(self.at(TUBE, &side(k, pts.spindle)).z - zk);
+            f.push(self.b.at(TUBE, &side(k, pts.spindle)).z - zk);
         }
         f
-    }
-
-    fn perturb(&mut self, k: usize, h: f64) {
-        let (b, c) = (k / 6, k % 6);
-        if c < 3 {
-            self.r[b][c] += h;
-        } else {
-            let mut phi = V3::zeros();
-            phi[c - 3] = h;
-            self.a[b] = exp_so3(&phi) * self.a[b];
-        }
-    }
-
-    /// Newton with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13, from the current state.
-    fn solve(&mut self, theta: f64, z: [f64; 2]) {
-        for _ in 0..50 {
-            let f = DVector::from_vec(self.residual(theta, z));
-            assert_eq!(f.len(), N, "the joint rows and drivers make the system square");
-            if f.amax() <= 1e-13 {
-                return;
-            }
-            let mut j = DMatrix::zeros(N, N);
-            let h = 1e-7;
-            for k in 0..N {
-                let saved = (self.r, self.a);
-                self.perturb(k, h);
-                let fp = DVector::from_vec(self.residual(theta, z));
-                (self.r, self.a) = saved;
-                self.perturb(k, -h);
-                let fm = DVector::from_vec(self.residual(theta, z));
-                (self.r, self.a) = saved;
-                j.set_column(k, &((fp - fm) / (2.0 * h)));
-            }
-            let dx = j.lu().solve(&(-f)).expect("Chrono's joint set is square and regular");
-            for k in 0..N {
-                self.perturb(k, dx[k]);
-            }
-        }
-        panic!(
-            "the absolute-coordinate solve did not converge at θ = {theta}: {:e}",
-            DVector::from_vec(self.residual(theta, z)).amax()
-        );
     }
 }
 
@@ -391,20 +420,20 @@ fn against_chrono(pts_model: &Points, pts_chrono: &Points) -> Worst {
                         let b = KNUCKLE_BODY[k];
                         let ours = steering.body_rotation(&pos, &st, KNUCKLE[k]);
                         let (c_m, t_m) = camber_toe(&(ours * V3::y()));
-                        let (c_c, t_c) = camber_toe(&(chrono.a[b] * V3::y()));
+                        let (c_c, t_c) = camber_toe(&(chrono.b.a[b] * V3::y()));
                         w.camber = w.camber.max((c_m - c_c).abs());
                         w.toe_range = w.toe_range.max(t_m.abs());
                         if (t_m - t_c).abs() > w.toe {
                             w.toe = (t_m - t_c).abs();
                             w.toe_at = (heave, roll, theta);
                         }
-                        w.knuckle = w.knuckle.max(angle_between(&chrono.a[b], &ours).to_degrees());
+                        w.knuckle = w.knuckle.max(angle_between(&chrono.b.a[b], &ours).to_degrees());
                         let centre = steering.body_point(&linkage, &pos, &st, KNUCKLE[k], &spindle[k]);
-                        w.centre = w.centre.max((chrono.at(b, &spindle[k]) - centre).amax());
-                        w.tube = w.tube.max((chrono.at(TUBE, &spindle[k]) - linkage.point(&pos, &spindle[k])).amax());
+                        w.centre = w.centre.max((chrono.b.at(b, &spindle[k]) - centre).amax());
+                        w.tube = w.tube.max((chrono.b.at(TUBE, &spindle[k]) - linkage.point(&pos, &spindle[k])).amax());
                     }
                     let ours = steering.body_rotation(&pos, &st, BELLCRANK);
-                    w.bellcrank = w.bellcrank.max(angle_between(&chrono.a[BELL], &ours).to_degrees());
+                    w.bellcrank = w.bellcrank.max(angle_between(&chrono.b.a[BELL], &ours).to_degrees());
                     w.bellcrank_range = w.bellcrank_range.max(st.z[BELLCRANK].abs().to_degrees());
                 }
             }
@@ -518,7 +547,6 @@ const TB_KNUCKLE: [usize; 2] = [1, 2];
 const TB_BAR: usize = 3;
 const TB_DRAG: usize = 4;
 const TB_BODIES: usize = 5;
-const TB_N: usize = 6 * TB_BODIES;
 
 /// The toe-bar axle's absolute-coordinate mechanism (as `Chrono`: body b at r[b], rotation a[b], all bodies
 /// starting with the chassis's orientation).
@@ -529,9 +557,7 @@ struct ToeBarChrono {
     /// and `Initialize` leave them.
     steers: usize,
     drl: V3,
-    design: [V3; TB_BODIES],
-    r: [V3; TB_BODIES],
-    a: [M3; TB_BODIES],
+    b: Bodies<TB_BODIES>,
     /// The guide's frame, chassis·Ry(π/2).
     guide: M3,
     /// The kingpins' joint frames (u, v, w), left and right.
@@ -572,112 +598,48 @@ impl ToeBarChrono {
             pts,
             steers,
             drl,
-            design,
-            r: design,
-            a: [M3::identity(); TB_BODIES],
+            b: Bodies::new(design),
             guide: exp_so3(&V3::new(0.0, std::f64::consts::FRAC_PI_2, 0.0)),
             kingpin,
             drag_universal,
         }
     }
+}
 
-    fn at(&self, b: usize, p: &V3) -> V3 {
-        self.r[b] + self.a[b] * (p - self.design[b])
-    }
-
-    fn marker(&self, b: Option<usize>, p: &V3, f: &M3) -> (V3, M3) {
-        match b {
-            Some(b) => (self.at(b, p), self.a[b] * f),
-            None => (*p, *f),
-        }
-    }
-
-    /// `ChLinkLock` rows between body 1 and body 2 at p in frame f: marker 1 in marker 2's frame, the position
-    /// components `locked` (0 x, 1 y, 2 z) and the rotation's skew parts about the frame's x and y axes.
-    fn lock(&self, b1: Option<usize>, b2: Option<usize>, p: &V3, f: &M3, locked: &[usize], out: &mut Vec<f64>) {
-        let (o1, m1) = self.marker(b1, p, f);
-        let (o2, m2) = self.marker(b2, p, f);
-        let rel = m2.transpose() * (o1 - o2);
-        out.extend(locked.iter().map(|&k| rel[k]));
-        let m = m2.transpose() * m1;
-        out.push(m[(2, 1)] - m[(1, 2)]);
-        out.push(m[(0, 2)] - m[(2, 0)]);
-    }
-
-    /// The rotary arm's drag-link point (`DRAGLINK_C` on the arm) at the arm angle θ.
-    fn arm_point(&self, theta: f64) -> V3 {
-        let p = self.pts.arm_pivot;
-        p + exp_so3(&(self.pts.arm_axis.normalize() * theta)) * (self.pts.draglink_c - p)
+impl Absolute<TB_BODIES> for ToeBarChrono {
+    fn bodies(&mut self) -> &mut Bodies<TB_BODIES> {
+        &mut self.b
     }
 
     /// The 28 joint rows and the two drivers (the heights `z` of the tube points (0, ±0.7325, 0)).
     fn residual(&self, theta: f64, z: [f64; 2]) -> Vec<f64> {
         let pts = &self.pts;
-        let mut f = Vec::with_capacity(TB_N);
+        let mut f = Vec::with_capacity(6 * TB_BODIES);
         // the guide: revolute-prismatic chassis–tube at the tube's CM
-        self.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[1, 2], &mut f);
+        self.b.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[1, 2], &mut f);
         for (k, (&knuckle, frame)) in TB_KNUCKLE.iter().zip(&self.kingpin).enumerate() {
             // kingpin: revolute tube–knuckle at the kingpin's mid-point
             let mid = (side(k, pts.knuckle_u) + side(k, pts.knuckle_l)) / 2.0;
-            self.lock(Some(TB_TUBE), Some(knuckle), &mid, frame, &[0, 1, 2], &mut f);
+            self.b.lock(Some(TB_TUBE), Some(knuckle), &mid, frame, &[0, 1, 2], &mut f);
         }
         // the toe bar: spherical to the left knuckle, universal to the right one
         let (tl, tr) = (pts.tierod_k, mirror(pts.tierod_k));
-        f.extend((self.at(TB_BAR, &tl) - self.at(TB_KNUCKLE[0], &tl)).iter());
-        f.extend((self.at(TB_BAR, &tr) - self.at(TB_KNUCKLE[1], &tr)).iter());
-        f.push((self.a[TB_BAR] * V3::x()).dot(&(self.a[TB_KNUCKLE[1]] * V3::z())));
+        f.extend((self.b.at(TB_BAR, &tl) - self.b.at(TB_KNUCKLE[0], &tl)).iter());
+        f.extend((self.b.at(TB_BAR, &tr) - self.b.at(TB_KNUCKLE[1], &tr)).iter());
+        f.push((self.b.a[TB_BAR] * V3::x()).dot(&(self.b.a[TB_KNUCKLE[1]] * V3::z())));
         // the drag link: spherical to the rotary arm, universal to the steering knuckle
         let kn = TB_KNUCKLE[self.steers];
-        f.extend((self.at(TB_DRAG, &pts.draglink_c) - self.arm_point(theta)).iter());
-        f.extend((self.at(TB_DRAG, &self.drl) - self.at(kn, &self.drl)).iter());
+        f.extend(
+            (self.b.at(TB_DRAG, &pts.draglink_c) - arm_point(&pts.arm_pivot, &pts.arm_axis, &pts.draglink_c, theta))
+                .iter(),
+        );
+        f.extend((self.b.at(TB_DRAG, &self.drl) - self.b.at(kn, &self.drl)).iter());
         let (u, v) = self.drag_universal;
-        f.push((self.a[TB_DRAG] * u).dot(&(self.a[kn] * v)));
+        f.push((self.b.a[TB_DRAG] * u).dot(&(self.b.a[kn] * v)));
         for (k, zk) in z.iter().enumerate() {
-            f.push(self.at(TB_TUBE, &side(k, pts.spindle)).z - zk);
+            f.push(self.b.at(TB_TUBE, &side(k, pts.spindle)).z - zk);
         }
         f
-    }
-
-    fn perturb(&mut self, k: usize, h: f64) {
-        let (b, c) = (k / 6, k % 6);
-        if c < 3 {
-            self.r[b][c] += h;
-        } else {
-            let mut phi = V3::zeros();
-            phi[c - 3] = h;
-            self.a[b] = exp_so3(&phi) * self.a[b];
-        }
-    }
-
-    /// Newton with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13, from the current state.
-    fn solve(&mut self, theta: f64, z: [f64; 2]) {
-        for _ in 0..50 {
-            let f = DVector::from_vec(self.residual(theta, z));
-            assert_eq!(f.len(), TB_N, "the joint rows and drivers make the system square");
-            if f.amax() <= 1e-13 {
-                return;
-            }
-            let mut j = DMatrix::zeros(TB_N, TB_N);
-            let h = 1e-7;
-            for k in 0..TB_N {
-                let saved = (self.r, self.a);
-                self.perturb(k, h);
-                let fp = DVector::from_vec(self.residual(theta, z));
-                (self.r, self.a) = saved;
-                self.perturb(k, -h);
-                let fm = DVector::from_vec(self.residual(theta, z));
-                (self.r, self.a) = saved;
-                j.set_column(k, &((fp - fm) / (2.0 * h)));
-            }
-            let dx = j.lu().solve(&(-f)).expect("Chrono's joint set is square and regular");
-            for k in 0..TB_N {
-                self.perturb(k, dx[k]);
-            }
-        }
-        panic!(
-            "the absolute-coordinate solve did not converge at θ = {theta}: {:e}",
-            DVector::from_vec(self.residual(theta, z)).amax()
-        );
     }
 }
 
@@ -739,18 +701,18 @@ fn toe_bar_against_chrono(pts_model: &ToeBarPoints, pts_chrono: &ToeBarPoints) -
                         let b = TB_KNUCKLE[k];
                         let ours = steering.body_rotation(&pos, &st, KNUCKLE[k]);
                         let (c_m, t_m) = camber_toe(&(ours * V3::y()));
-                        let (c_c, t_c) = camber_toe(&(chrono.a[b] * V3::y()));
+                        let (c_c, t_c) = camber_toe(&(chrono.b.a[b] * V3::y()));
                         w.camber = w.camber.max((c_m - c_c).abs());
                         w.toe_range = w.toe_range.max(t_m.abs());
                         if (t_m - t_c).abs() > w.toe {
                             w.toe = (t_m - t_c).abs();
                             w.toe_at = (heave, roll, theta);
                         }
-                        w.knuckle = w.knuckle.max(angle_between(&chrono.a[b], &ours).to_degrees());
+                        w.knuckle = w.knuckle.max(angle_between(&chrono.b.a[b], &ours).to_degrees());
                         let centre = steering.body_point(&linkage, &pos, &st, KNUCKLE[k], &spindle[k]);
-                        w.centre = w.centre.max((chrono.at(b, &spindle[k]) - centre).amax());
+                        w.centre = w.centre.max((chrono.b.at(b, &spindle[k]) - centre).amax());
                         w.tube =
-                            w.tube.max((chrono.at(TB_TUBE, &spindle[k]) - linkage.point(&pos, &spindle[k])).amax());
+                            w.tube.max((chrono.b.at(TB_TUBE, &spindle[k]) - linkage.point(&pos, &spindle[k])).amax());
                     }
                     w.bellcrank = w.bellcrank.max(st.z[BELLCRANK].abs().to_degrees());
                 }
