@@ -23,9 +23,17 @@ fn main() {
     };
     let run = stability::run_case(&case, kind, h);
     println!("{}: run {:?}", case.name, run.result.as_ref().err().map(|e| e.to_string()));
-    if std::env::var("TRACE").is_ok() {
-        let c = case.channels.iter().position(|c| c.output == rt_vehicle::sim::Channel::YawRate).unwrap_or(0);
-        for k in (0..run.samples.len().min(reference.samples.len())).step_by(6) {
+    // TRACE=1 prints the yaw rate every 0.05 s; TRACE=CHANNEL (a case's channel name) that channel, and
+    // TRACE_EVERY=N every N samples.
+    if let Ok(trace) = std::env::var("TRACE") {
+        let c = case
+            .channels
+            .iter()
+            .position(|c| c.output.name() == trace)
+            .or_else(|| case.channels.iter().position(|c| c.output == rt_vehicle::sim::Channel::YawRate))
+            .unwrap_or(0);
+        let every = std::env::var("TRACE_EVERY").ok().and_then(|s| s.parse().ok()).unwrap_or(6);
+        for k in (0..run.samples.len().min(reference.samples.len())).step_by(every) {
             println!(
                 "  t {:.3}  run {:+.4e}  reference {:+.4e}",
                 k as f64 * stability::SAMPLE,

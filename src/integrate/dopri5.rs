@@ -459,8 +459,8 @@ impl Integrator for Dopri5 {
     fn restart(&mut self) {}
 
     /// Its error control resolves what the road excites.
-    fn hop_resolution(&self) -> f64 {
-        f64::INFINITY
+    fn hop_resolution(&self) -> Option<f64> {
+        Some(f64::INFINITY)
     }
 
     fn step_counts(&self) -> Option<(u64, u64)> {

@@ -1054,8 +1054,8 @@ impl Integrator for ImexAb3 {
     /// (the MacPherson import's half-round at 1.04 ms, 3.8 ×): 0.25 keeps 20 % below it. (0.015 before
     /// IMEX-AB3 located landings.) Its lift-offs, which it does not locate, are refused on such a road by the step
     /// check (`check_imex_on_bumps`): its error there is first order in h, not a matter of resolving the hop.
-    fn hop_resolution(&self) -> f64 {
-        0.25
+    fn hop_resolution(&self) -> Option<f64> {
+        Some(0.25)
     }
 
     fn implicit_block(&mut self) -> Option<&mut ImexAb3> {

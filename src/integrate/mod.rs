@@ -121,8 +121,9 @@ pub trait Integrator {
     fn restart(&mut self);
     /// The largest |hλ| of the fastest wheel-hop mode at which the scheme resolves what a road with bumps
     /// excites: the step check's hop-resolution bound (docs/integrators.md; each scheme's value says where it
-    /// was measured). Infinite for a scheme whose error control resolves it.
-    fn hop_resolution(&self) -> f64;
+    /// was measured). Infinite for a scheme whose error control resolves it; `None` for one that locates no
+    /// switch (touchdown, lift-off, edge of the road) inside its step, which no step makes accurate there.
+    fn hop_resolution(&self) -> Option<f64>;
     /// Its Jacobian needs: a scheme that integrates part of the state implicitly takes the step check's
     /// partial Jacobian (and its error limit and order) through this; `None` for the explicit schemes.
     fn implicit_block(&mut self) -> Option<&mut ImexAb3> {
@@ -207,7 +208,7 @@ impl Integrator for AnyIntegrator {
     fn restart(&mut self) {
         self.scheme_mut().restart()
     }
-    fn hop_resolution(&self) -> f64 {
+    fn hop_resolution(&self) -> Option<f64> {
         self.scheme().hop_resolution()
     }
     fn implicit_block(&mut self) -> Option<&mut ImexAb3> {

@@ -128,8 +128,8 @@ impl Integrator for Rk4 {
     /// off in yaw rate from those within the tolerance: the HMMWV's tire k_z × 10 bump course at 1.04 ms,
     /// |hλ| = 0.22, was 1.2e-2 off before lift-offs were located, while the paper's bump course at the default
     /// 2 ms reaches |hλ| = 0.19 at t = 3.6 s within it.)
-    fn hop_resolution(&self) -> f64 {
-        0.25
+    fn hop_resolution(&self) -> Option<f64> {
+        Some(0.25)
     }
 }
 

@@ -754,9 +754,9 @@ impl VehicleData {
                 ),
                 SuspensionTemplate::SolidBellcrankThreeLink => Some(
                     "the stability suite of the test vehicle with this front axle (docs/stability_rtv_hmmwv_solid_axles.md) \
-                     has runs more than 1 % off without a word at RK4 8.33 ms, AB3 from 4.17 ms down to 1.04 ms and \
-                     IMEX-AB3 at 8.33 and 1.04 ms: the axle's bump steer carries small errors of the wheels' motion \
-                     into the yaw",
+                     has runs a few per cent off without a word: RK4 at 8.33 ms on the full-lock cases, whose inner \
+                     front wheel leaves the road and lands, RK4 at 2.08 ms on the 8 in half-round obstacle, and \
+                     IMEX-AB3 on the full-lock cases and the obstacle before its refusal",
                 ),
                 _ => None,
             };
