@@ -414,6 +414,14 @@ pub fn largest_stable_step(
         })
     };
     let mut lo = steps(true).fold(0.0, f64::max);
+    if lo == 0.0 && !refusals {
+        // Every step of the ladder failed, refusals of the check among them (AB3 on a road with bumps, which
+        // it is refused on whatever its step): without them the smallest may run through.
+        lo = steps(false).fold(f64::INFINITY, f64::min);
+        if !(lo.is_finite() && stable_at(lo)) {
+            return None;
+        }
+    }
     let mut hi = steps(false).filter(|&h| h > lo).fold(f64::INFINITY, f64::min);
     if lo == 0.0 {
         return None;
