@@ -98,6 +98,11 @@ fn shipped_value(file: &str) -> Value {
     serde_json::from_str(&std::fs::read_to_string(repo().join("resources/vehicles").join(file)).unwrap()).unwrap()
 }
 
+/// A damper curve the loader takes: Chrono's MAN 5t shape, degressive and harder in rebound.
+fn damper_curve() -> Value {
+    json!({"velocity_m_per_s": [-1.0, -0.1, 0.0, 0.1, 1.0], "force_N": [-13131.6, -4040.51, 0.0, 6680.04, 26000.0]})
+}
+
 /// The loader's error on the shipped file `file` after `edit`.
 fn load_error(file: &str, edit: impl FnOnce(&mut Value)) -> String {
     let mut v = shipped_value(file);
@@ -167,19 +172,63 @@ fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
             assert!(w.contains(needle), "{vehicle}: no warning about {needle}:\n{w}");
         }
     }
-    // The curves: the damper's fit reports its largest error in % of the peak force; the spring's curve is a
-    // straight line through the origin, taken as its rate.
+    // The curves: the spring's and the damper's are straight lines through the origin, each taken as its
+    // rate, and said so.
     let import = import_vehicle(&chrono_data().join(DOUBLE_WISHBONE), &chrono_data(), None).unwrap();
-    let fits: Vec<&String> = import.warnings.iter().filter(|w| w.contains("largest error")).collect();
-    assert_eq!(fits.len(), 1, "{fits:?}");
-    assert!(fits.iter().all(|w| w.contains("Shock.Damping Curve Data") && w.contains("% of the curve's peak force")));
-    assert!(import.warnings.iter().any(|w| w.contains("Spring.Spring Curve Data: a straight line through the origin")));
-    assert!(import.data.front.spring.curve.is_none());
+    for key in ["Spring.Spring Curve Data", "Shock.Damping Curve Data"] {
+        let said = format!("{key}: a straight line through the origin");
+        assert!(import.warnings.iter().any(|w| w.contains(&said)), "{key}: {:?}", import.warnings);
+    }
+    assert!(import.data.front.spring.curve.is_none() && import.data.front.damper.curve.is_none());
+    assert_eq!(import.data.front.damper.midstroke_compression_Ns_per_m, Some(22500.0));
     // The linear damper: one rate everywhere.
     let d = &import.data.rear.damper;
-    assert_eq!(d.midstroke_compression_Ns_per_m, 22459.0);
-    assert_eq!([d.engagement_min_length_m, d.engagement_max_length_m], [0.0, 10.0]);
+    assert_eq!(d.midstroke_compression_Ns_per_m, Some(22459.0));
+    assert_eq!([d.engagement_min_length_m, d.engagement_max_length_m], [Some(0.0), Some(10.0)]);
     assert_eq!(import.data.front.spring.k1_N_per_m, Some(369150.0));
+}
+
+/// A damper curve that is not a straight line (the MAN trucks' shape: degressive, harder in rebound) is
+/// imported as Chrono's table itself, and the model's damper gives its forces: Chrono's `NonlinearDamperForce`
+/// is −curve(v), linear between the points and held past the ends (`ChFunctionInterp` without
+/// extrapolation). Off the knots' rounded corners (at most 0.01 m/s wide) and the compression–rebound blend
+/// at rest (docs/physics.md §5.3) the two agree to rounding.
+#[test]
+fn a_damper_curve_is_imported_as_its_table() {
+    let table = [
+        (-1.0, -13131.6),
+        (-0.5, -10505.3),
+        (-0.1, -4040.51),
+        (0.0, 0.0),
+        (0.1, 6680.04),
+        (0.5, 18000.0),
+        (1.0, 26000.0),
+    ];
+    let dir = chrono_copy("damper_curve_table");
+    edit_json(&dir.join("generic/suspension/DoubleWishboneCurve.json"), |v| {
+        v["Shock"]["Damping Curve Data"] = json!(table.iter().map(|p| [p.0, p.1]).collect::<Vec<_>>())
+    });
+    let import = import_vehicle(&dir.join(DOUBLE_WISHBONE), &dir, None).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let d = &import.data.front.damper;
+    let curve = d.curve.as_ref().expect("the table");
+    assert_eq!(curve.velocity_m_per_s, table.map(|p| p.0).to_vec());
+    assert_eq!(curve.force_N, table.map(|p| p.1).to_vec());
+    assert!(d.midstroke_compression_Ns_per_m.is_none() && d.engagement_min_length_m.is_none());
+    // Chrono's law, off the corners; the element pushes with −F.
+    let chrono = |v: f64| {
+        let v = v.clamp(table[0].0, table[table.len() - 1].0);
+        let i = table.windows(2).position(|w| v <= w[1].0).unwrap();
+        let (a, b) = (table[i], table[i + 1]);
+        a.1 + (b.1 - a.1) * (v - a.0) / (b.0 - a.0)
+    };
+    for v in [-3.0, -1.2, -0.75, -0.3, 0.3, 0.75, 1.5] {
+        let ours = rt_vehicle::model::suspension::forces::damper_force(d, 0.3, v);
+        assert!((ours + chrono(v)).abs() < 1e-9 * 26000.0, "v = {v}: {ours} against −{}", chrono(v));
+    }
+    // The saved file loads again, the table in it.
+    let again = VehicleData::from_json(&import.to_json()).unwrap();
+    assert_eq!(again.front.damper, *d);
 }
 
 #[test]
@@ -341,6 +390,22 @@ fn the_importer_names_the_file_and_key_of_each_bad_input() {
             "generic/suspension/DoubleWishboneCurve.json",
             Box::new(|v| v["Shock"]["Damping Curve Data"] = json!([[0.0, 0.0]])),
             vec!["DoubleWishboneCurve.json", "Shock.Damping Curve Data", "at least 2"],
+        ),
+        (
+            "falling_damper_curve",
+            DOUBLE_WISHBONE,
+            "generic/suspension/DoubleWishboneCurve.json",
+            Box::new(|v| {
+                v["Shock"]["Damping Curve Data"] = json!([[-1.0, -9000.0], [0.0, 0.0], [0.5, 6000.0], [1.0, 5000.0]])
+            }),
+            vec!["DoubleWishboneCurve.json", "Shock.Damping Curve Data", "must rise with speed"],
+        ),
+        (
+            "damper_curve_off_zero",
+            DOUBLE_WISHBONE,
+            "generic/suspension/DoubleWishboneCurve.json",
+            Box::new(|v| v["Shock"]["Damping Curve Data"] = json!([[-1.0, -9000.0], [0.0, 50.0], [1.0, 6000.0]])),
+            vec!["DoubleWishboneCurve.json", "Shock.Damping Curve Data", "must be 0 at v = 0", "50 N"],
         ),
     ];
     for (name, vehicle, file, edit, needles) in cases {
@@ -568,6 +633,45 @@ fn the_loader_names_the_field_of_each_bad_input() {
                 v["rear"]["spring"]["curve"] = json!({"deflection_m": [0.0], "force_N": [0.0]});
             }),
             vec!["rear.spring.curve.deflection_m", "less than 2 items"],
+        ),
+        // A damper takes its banded rates or a curve: one, not both, not neither, and a curve that rises
+        // with the speed through no force at rest, with no degressivity.
+        (mps, Box::new(|v| v["rear"]["damper"]["curve"] = damper_curve()), vec!["rear.damper.", "not both"]),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["damper"].as_object_mut().unwrap().remove("bumpstop_rebound_Ns_per_m");
+            }),
+            vec!["rear.damper.bumpstop_rebound_Ns_per_m", "missing (or give a curve"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["damper"] = json!({"curve": damper_curve(), "degressivity_rebound_s_per_m": 1.0});
+            }),
+            vec!["rear.damper.degressivity", "a curve has no degressivity"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["damper"] =
+                    json!({"curve": {"velocity_m_per_s": [-1.0, 0.0, 1.0], "force_N": [-1e4, 0.0, -5e3]}});
+            }),
+            vec!["rear.damper.curve.force_N", "rise with speed"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["damper"] = json!({"curve": {"velocity_m_per_s": [-1.0, 1.0], "force_N": [-1e4, 2e4]}});
+            }),
+            vec!["rear.damper.curve.force_N", "must be 0 at v = 0", "5000 N"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["damper"] = json!({"curve": {"velocity_m_per_s": [0.0, 0.0], "force_N": [0.0, 1e3]}});
+            }),
+            vec!["rear.damper.curve.velocity_m_per_s", "increase strictly"],
         ),
     ];
     for (file, edit, needles) in cases {
@@ -1070,7 +1174,7 @@ fn the_single_wishbone_imports_to_the_shipped_file() {
     assert!((span[0] - 0.1).abs() < 1e-12 && span[1] == 0.0 && span[2] == 0.0, "{span:?}");
     assert_eq!((p("SPRING_C"), p("SPRING_A")), (p("SHOCK_C"), p("SHOCK_A")));
     assert_eq!((front.spring.k1_N_per_m, front.spring.free_length_m), (Some(118000.0), 0.525));
-    assert_eq!(front.damper.midstroke_compression_Ns_per_m, 8400.0);
+    assert_eq!(front.damper.midstroke_compression_Ns_per_m, Some(8400.0));
     assert!(front.upper_arm.is_none() && front.strut.is_none());
 }
 

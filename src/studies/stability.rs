@@ -157,10 +157,17 @@ fn high_friction(d: &mut VehicleData) {
 fn stiff_dampers(d: &mut VehicleData) {
     for axle in [&mut d.front, &mut d.rear] {
         let c = &mut axle.damper;
-        c.midstroke_compression_Ns_per_m *= 10.0;
-        c.midstroke_rebound_Ns_per_m *= 10.0;
-        c.bumpstop_compression_Ns_per_m *= 10.0;
-        c.bumpstop_rebound_Ns_per_m *= 10.0;
+        for rate in [
+            &mut c.midstroke_compression_Ns_per_m,
+            &mut c.midstroke_rebound_Ns_per_m,
+            &mut c.bumpstop_compression_Ns_per_m,
+            &mut c.bumpstop_rebound_Ns_per_m,
+        ] {
+            *rate = rate.map(|r| 10.0 * r);
+        }
+        if let Some(curve) = &mut c.curve {
+            curve.force_N.iter_mut().for_each(|f| *f *= 10.0);
+        }
     }
 }
 

@@ -26,8 +26,8 @@
 use crate::math::{M3, V3};
 use crate::model::formats::chrono_json::strip_comments;
 use crate::model::formats::params::{
-    AntirollBar, Axle, Chassis, Damper, DataError, PitmanArm, Rack, RigidBody, RotaryArm, Spring, SpringCurve,
-    SuspensionTemplate, VehicleData, WheelBody,
+    check_damper_curve, AntirollBar, Axle, Chassis, Damper, DamperCurve, DataError, PitmanArm, Rack, RigidBody,
+    RotaryArm, Spring, SpringCurve, SuspensionTemplate, VehicleData, WheelBody,
 };
 use crate::model::formats::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -401,35 +401,15 @@ fn arm_frame(o: &Obj, f: V3, b: V3, u: V3) -> Result<M3, ImportError> {
     Ok(M3::from_columns(&[x, z.cross(&x), z]))
 }
 
-/// The rate of a spring curve [[x, F], …] that is a straight line through the origin (every point within
-/// 1e-9 of the peak force of k x, k by least squares through the origin), else `None`: such a curve is a
-/// linear spring, whose law needs no table.
+/// The rate of a spring or damper curve [[x, F], …] that is a straight line through the origin (every point
+/// within 1e-9 of the peak force of k x, k by least squares through the origin), else `None`: such a curve
+/// is a linear spring or damper, whose law needs no table.
 fn straight_line_rate(points: &[(f64, f64)]) -> Option<f64> {
     let scale = points.iter().fold(0.0f64, |m, p| m.max(p.0.abs()));
     let (sxx, sxf) = points.iter().fold((0.0, 0.0), |(a, b), &(x, f)| (a + (x / scale).powi(2), b + x / scale * f));
     let k = sxf / sxx / scale;
     let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
     points.iter().all(|&(x, f)| (k * x - f).abs() <= 1e-9 * peak).then_some(k)
-}
-
-/// Compression and rebound rates of a damper curve [[v, F], …] (v = length rate, m/s, > 0 extending; F,
-/// N, positive resisting extension): least squares through the origin on each side (a side without points
-/// takes the other's). Returns (compression, rebound, largest error in % of the peak |F|).
-fn fit_damper(points: &[(f64, f64)]) -> (f64, f64, f64) {
-    let rate = |side: f64| {
-        let (num, den) =
-            points.iter().filter(|p| p.0 * side > 0.0).fold((0.0, 0.0), |(n, d), &(v, f)| (n + v * f, d + v * v));
-        (den > 0.0).then(|| num / den)
-    };
-    let (c, r) = match (rate(-1.0), rate(1.0)) {
-        (Some(c), Some(r)) => (c, r),
-        (Some(c), None) => (c, c),
-        (None, Some(r)) => (r, r),
-        (None, None) => (0.0, 0.0),
-    };
-    let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
-    let error = points.iter().fold(0.0f64, |m, &(v, f)| m.max(((if v < 0.0 { c } else { r }) * v - f).abs()));
-    (c, r, 100.0 * error / peak)
 }
 
 /// Chrono's subsystem templates that rtv does not have, with what each is: a refusal names both.
@@ -476,16 +456,6 @@ fn force_law_of(o: &Obj, coefficient: &str, curve_keys: &[&'static str], unit: &
         (None, Some(k)) => Ok(Law::Curve(k, curve(o, k)?)),
         (None, None) => Err(o.err(coefficient, format!("missing (or give {})", curve_keys[0]))),
     }
-}
-
-/// The warning that reports a curve's fit: what it became and the largest error in % of its peak force.
-fn fit_warning(o: &Obj, key: &str, points: &[(f64, f64)], fitted: String, error_percent: f64) -> String {
-    let peak = points.iter().fold(0.0f64, |m, p| m.max(p.1.abs()));
-    format!(
-        "{}: {}: fitted by {fitted}: largest error {error_percent:.3} % of the curve's peak force {peak} N",
-        o.file,
-        o.key(key)
-    )
 }
 
 /// A curve [[x, y], …] of at least two points with increasing x.
@@ -930,12 +900,16 @@ impl SuspensionReader<'_> {
     fn unsupported_damper(o: &Obj, more: &[&str]) -> Result<(), ImportError> {
         let laws = ["Map Data"];
         match laws.iter().chain(more).find(|k| o.has(k)) {
-            Some(k) => Err(o.err(k, "not supported: the model's damper is a linear damper per direction")),
+            Some(k) => Err(o.err(
+                k,
+                "not supported: the model's damper is a rate per direction and stroke band, or a curve of the speed \
+                 alone (this map is of the length too)",
+            )),
             None => Ok(()),
         }
     }
 
-    /// The damper (`Shock`): its ends and its law, a rate or a curve fitted by a rate per direction.
+    /// The damper (`Shock`): its ends and its law, a rate or a curve of the speed.
     fn damper(&mut self) -> Result<Damper, ImportError> {
         let sh = self.o.obj("Shock")?;
         let combined = self.template == SuspensionTemplate::SingleWishbone;
@@ -960,34 +934,50 @@ impl SuspensionReader<'_> {
         self.put("SHOCK_C", sh.point("Location Chassis")?);
         let (_, lower_end) = self.lower_ends();
         self.put(lower_end, sh.point(moving)?);
-        let (compression, rebound) = match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
-            Law::Coefficient(c) => (c, c),
-            Law::Curve(key, points) => {
-                let (c, r, error) = fit_damper(&points);
-                if !(c >= 0.0 && r >= 0.0) {
-                    return Err(sh.err(key, "the curve does not resist motion: no damper the model can take"));
-                }
-                self.warnings.push(fit_warning(
-                    &sh,
-                    key,
-                    &points,
-                    format!("a compression rate {c:.6e} N s/m and a rebound rate {r:.6e} N s/m"),
-                    error,
-                ));
-                (c, r)
-            }
-        };
         let [degressivity_compression_s_per_m, degressivity_rebound_s_per_m] = self.degressivity(&sh)?;
-        Ok(Damper {
-            midstroke_compression_Ns_per_m: compression,
-            midstroke_rebound_Ns_per_m: rebound,
-            bumpstop_compression_Ns_per_m: compression,
-            bumpstop_rebound_Ns_per_m: rebound,
-            engagement_min_length_m: DAMPER_ENGAGEMENT_M[0],
-            engagement_max_length_m: DAMPER_ENGAGEMENT_M[1],
+        let rates = |c: f64, r: f64| Damper {
+            midstroke_compression_Ns_per_m: Some(c),
+            midstroke_rebound_Ns_per_m: Some(r),
+            bumpstop_compression_Ns_per_m: Some(c),
+            bumpstop_rebound_Ns_per_m: Some(r),
+            engagement_min_length_m: Some(DAMPER_ENGAGEMENT_M[0]),
+            engagement_max_length_m: Some(DAMPER_ENGAGEMENT_M[1]),
             degressivity_compression_s_per_m,
             degressivity_rebound_s_per_m,
-        })
+            curve: None,
+        };
+        match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
+            Law::Coefficient(c) => Ok(rates(c, c)),
+            // A straight line through the origin is a rate, as a spring's is (Chrono holds the force past the
+            // table's ends; the rate goes on).
+            Law::Curve(key, points) if straight_line_rate(&points).is_some_and(|c| c > 0.0) => {
+                let c = straight_line_rate(&points).unwrap_or(0.0);
+                self.warnings.push(format!(
+                    "{}: {}: a straight line through the origin: the rate {c:.6e} N s/m",
+                    self.o.file,
+                    sh.key(key)
+                ));
+                Ok(rates(c, c))
+            }
+            // Chrono's `NonlinearDamperForce`: the table itself, F = −curve(v).
+            Law::Curve(key, points) => {
+                let curve = DamperCurve {
+                    velocity_m_per_s: points.iter().map(|p| p.0).collect(),
+                    force_N: points.iter().map(|p| p.1).collect(),
+                };
+                check_damper_curve(key, &curve).map_err(|e| sh.err(key, e.message))?;
+                Ok(Damper {
+                    midstroke_compression_Ns_per_m: None,
+                    midstroke_rebound_Ns_per_m: None,
+                    bumpstop_compression_Ns_per_m: None,
+                    bumpstop_rebound_Ns_per_m: None,
+                    engagement_min_length_m: None,
+                    engagement_max_length_m: None,
+                    curve: Some(curve),
+                    ..rates(0.0, 0.0)
+                })
+            }
+        }
     }
 
     /// A damper's degressivity (compression, expansion), s/m, as Chrono's `ReadTSDAFunctorJSON` reads it:
@@ -1826,8 +1816,7 @@ impl Importer {
             name,
             provenance: format!(
                 "Imported by `rtv import-chrono` from Project Chrono's vehicle data ({shown}; BSD-3-Clause, see \
-                 resources/vehicles/LICENSE-chrono). Spring and damper curves fitted by least squares (odd cubic \
-                 spring, two-rate damper). The springs ride as written (ride_height: data), as in Chrono. \
+                 resources/vehicles/LICENSE-chrono). Spring and damper curves are Chrono's tables (a straight line through the origin: its rate). The springs ride as written (ride_height: data), as in Chrono. \
                  {tire_said} The stop table, gravity and the speed hold are the HMMWV's (resources/hmmwv.json)."
             ),
             gravity_m_s2: hmmwv.gravity_m_s2,
@@ -2265,13 +2254,6 @@ fn loader_error(e: DataError, vehicle: &str, axles: [(&str, Option<&str>); 2]) -
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_damper_fit_takes_each_direction_on_its_own() {
-        let pts = [(-1.0, -1000.0), (-0.5, -500.0), (0.5, 1500.0), (1.0, 3000.0)];
-        let (c, r, err) = fit_damper(&pts);
-        assert!((c - 1000.0).abs() < 1e-9 && (r - 3000.0).abs() < 1e-9 && err < 1e-9);
-    }
 
     #[test]
     fn comments_are_stripped_outside_strings() {

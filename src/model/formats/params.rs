@@ -146,14 +146,15 @@ impl Spring {
 impl Damper {
     /// No damper: a rigid suspension's.
     pub const NONE: Damper = Damper {
-        midstroke_compression_Ns_per_m: 0.0,
-        midstroke_rebound_Ns_per_m: 0.0,
-        bumpstop_compression_Ns_per_m: 0.0,
-        bumpstop_rebound_Ns_per_m: 0.0,
-        engagement_min_length_m: 0.0,
-        engagement_max_length_m: 0.0,
+        midstroke_compression_Ns_per_m: Some(0.0),
+        midstroke_rebound_Ns_per_m: Some(0.0),
+        bumpstop_compression_Ns_per_m: Some(0.0),
+        bumpstop_rebound_Ns_per_m: Some(0.0),
+        engagement_min_length_m: Some(0.0),
+        engagement_max_length_m: Some(0.0),
         degressivity_compression_s_per_m: 0.0,
         degressivity_rebound_s_per_m: 0.0,
+        curve: None,
     };
 
     fn none() -> Damper {
@@ -162,6 +163,31 @@ impl Damper {
 
     pub fn is_none(&self) -> bool {
         *self == Damper::NONE
+    }
+
+    /// The banded law (its absent values 0, which `check_damper` refuses unless a curve replaces them).
+    pub fn bands(&self) -> DamperBands {
+        let v = |x: Option<f64>| x.unwrap_or(0.0);
+        DamperBands {
+            midstroke_compression: v(self.midstroke_compression_Ns_per_m),
+            midstroke_rebound: v(self.midstroke_rebound_Ns_per_m),
+            bumpstop_compression: v(self.bumpstop_compression_Ns_per_m),
+            bumpstop_rebound: v(self.bumpstop_rebound_Ns_per_m),
+            engagement_min_length: v(self.engagement_min_length_m),
+            engagement_max_length: v(self.engagement_max_length_m),
+        }
+    }
+
+    /// The banded law's six fields, by name.
+    fn band_fields(&self) -> [(&'static str, Option<f64>); 6] {
+        [
+            ("midstroke_compression_Ns_per_m", self.midstroke_compression_Ns_per_m),
+            ("midstroke_rebound_Ns_per_m", self.midstroke_rebound_Ns_per_m),
+            ("bumpstop_compression_Ns_per_m", self.bumpstop_compression_Ns_per_m),
+            ("bumpstop_rebound_Ns_per_m", self.bumpstop_rebound_Ns_per_m),
+            ("engagement_min_length_m", self.engagement_min_length_m),
+            ("engagement_max_length_m", self.engagement_max_length_m),
+        ]
     }
 }
 
@@ -181,18 +207,50 @@ fn is_no_rebound_stop(v: &f64) -> bool {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Damper {
-    pub midstroke_compression_Ns_per_m: f64,
-    pub midstroke_rebound_Ns_per_m: f64,
-    pub bumpstop_compression_Ns_per_m: f64,
-    pub bumpstop_rebound_Ns_per_m: f64,
-    pub engagement_min_length_m: f64,
-    pub engagement_max_length_m: f64,
+    /// The banded law's rates, N s/m, and its mid-stroke band of lengths, m: all six, or none with a `curve`
+    /// (`check_damper`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub midstroke_compression_Ns_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub midstroke_rebound_Ns_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bumpstop_compression_Ns_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bumpstop_rebound_Ns_per_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub engagement_min_length_m: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub engagement_max_length_m: Option<f64>,
     /// Degressive damping (Chrono's `DegressiveDamperForce`), s/m: each direction's rate c becomes
     /// c/(1 + d·|v|) at the damper's speed v, d the compression's or the rebound's. Absent: 0 (linear).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub degressivity_compression_s_per_m: f64,
     #[serde(default, skip_serializing_if = "is_zero")]
     pub degressivity_rebound_s_per_m: f64,
+    /// A tabulated law instead of the bands (Chrono's `Damping Curve Data`, its `NonlinearDamperForce`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curve: Option<DamperCurve>,
+}
+
+/// A damper's resisting force against its speed v (m/s, positive extending), F with the sign of v (the
+/// element pushes with −F), as Chrono's `Damping Curve Data` gives it: linear between the points and held
+/// at the end values past them, as Chrono's interpolation holds them (docs/physics.md §5.3).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DamperCurve {
+    pub velocity_m_per_s: Vec<f64>,
+    pub force_N: Vec<f64>,
+}
+
+/// The banded damper law's values, read where `check_damper` has made them present (no curve).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DamperBands {
+    pub midstroke_compression: f64,
+    pub midstroke_rebound: f64,
+    pub bumpstop_compression: f64,
+    pub bumpstop_rebound: f64,
+    pub engagement_min_length: f64,
+    pub engagement_max_length: f64,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -1190,19 +1248,34 @@ fn check_spring(field: &str, s: &Spring) -> Result<(), DataError> {
     Ok(())
 }
 
-/// The damper (`field`, e.g. `front.damper`): its rates and its engagement lengths.
+/// The damper (`field`, e.g. `front.damper`): the banded law's six values, each given and the rates not
+/// negative, with the band's ends in order; or a curve (`check_curve`, through v = 0 with no force) and
+/// none of them, and no degressivity (Chrono reads a degressivity only with a coefficient).
 fn check_damper(field: &str, d: &Damper) -> Result<(), DataError> {
     for (k, v) in [
-        ("midstroke_compression_Ns_per_m", d.midstroke_compression_Ns_per_m),
-        ("midstroke_rebound_Ns_per_m", d.midstroke_rebound_Ns_per_m),
-        ("bumpstop_compression_Ns_per_m", d.bumpstop_compression_Ns_per_m),
-        ("bumpstop_rebound_Ns_per_m", d.bumpstop_rebound_Ns_per_m),
         ("degressivity_compression_s_per_m", d.degressivity_compression_s_per_m),
         ("degressivity_rebound_s_per_m", d.degressivity_rebound_s_per_m),
     ] {
         nonneg(&format!("{field}.{k}"), v)?;
     }
-    if !(d.engagement_min_length_m < d.engagement_max_length_m) {
+    if let Some(curve) = &d.curve {
+        if let Some((k, _)) = d.band_fields().into_iter().find(|(_, v)| v.is_some()) {
+            return Err(err(format!("{field}.{k}"), "give either the rates and their band or a curve, not both"));
+        }
+        if d.degressivity_compression_s_per_m != 0.0 || d.degressivity_rebound_s_per_m != 0.0 {
+            return Err(err(format!("{field}.degressivity_compression_s_per_m"), "a curve has no degressivity"));
+        }
+        return check_damper_curve(&format!("{field}.curve"), curve);
+    }
+    for (k, v) in d.band_fields() {
+        match v {
+            Some(v) if k.starts_with("engagement") => finite(&format!("{field}.{k}"), v)?,
+            Some(v) => nonneg(&format!("{field}.{k}"), v)?,
+            None => return Err(err(format!("{field}.{k}"), "missing (or give a curve instead of the rates)")),
+        }
+    }
+    let b = d.bands();
+    if !(b.engagement_min_length < b.engagement_max_length) {
         return Err(err(format!("{field}.engagement_min_length_m"), "must be below engagement_max_length_m"));
     }
     Ok(())
@@ -1356,21 +1429,45 @@ fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
     Ok(())
 }
 
+/// A damper curve (`field`): a force table against the speed (`check_curve`) that gives no force at rest
+/// (within 1e-9 of its peak force: a damper at rest pushes nothing).
+pub(crate) fn check_damper_curve(field: &str, curve: &DamperCurve) -> Result<(), DataError> {
+    check_curve(field, ("velocity_m_per_s", "speed"), &curve.velocity_m_per_s, &curve.force_N)?;
+    let at_rest = crate::model::suspension::forces::damper_curve_force(curve, 0.0);
+    let peak = curve.force_N.iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    if !(at_rest.abs() <= 1e-9 * peak) {
+        return Err(err(
+            format!("{field}.force_N"),
+            format!("must be 0 at v = 0 (a damper at rest pushes nothing); it gives {at_rest} N there"),
+        ));
+    }
+    Ok(())
+}
+
 /// A spring curve: at least two points, deflections strictly increasing, forces finite and never falling
 /// with extension, the last above the first (a curve that does not rise is no spring).
 fn check_spring_curve(field: &str, c: &SpringCurve) -> Result<(), DataError> {
-    let (x, f) = (&c.deflection_m, &c.force_N);
+    check_curve(field, ("deflection_m", "extension"), &c.deflection_m, &c.force_N)
+}
+
+/// A force table against `x_name` (a spring's deflection, a damper's speed): at least two points, x strictly
+/// increasing, every value finite, the forces never falling as x grows and the last above the first (a
+/// falling stretch would be a negative stiffness or damping).
+fn check_curve(field: &str, (x_name, rising_with): (&str, &str), x: &[f64], f: &[f64]) -> Result<(), DataError> {
     if x.len() != f.len() || x.len() < 2 {
-        return Err(err(field, "deflection_m and force_N must have the same length, at least 2"));
+        return Err(err(field, format!("{x_name} and force_N must have the same length, at least 2")));
     }
     if x.iter().chain(f).any(|v| !v.is_finite()) {
         return Err(err(field, "every point must be a finite number"));
     }
     if x.windows(2).any(|w| !(w[1] > w[0])) {
-        return Err(err(format!("{field}.deflection_m"), "must increase strictly"));
+        return Err(err(format!("{field}.{x_name}"), "must increase strictly"));
     }
     if f.windows(2).any(|w| w[1] < w[0]) || !(f[f.len() - 1] > f[0]) {
-        return Err(err(format!("{field}.force_N"), "must rise with extension (never fall, last above first)"));
+        return Err(err(
+            format!("{field}.force_N"),
+            format!("must rise with {rising_with} (never fall, last above first)"),
+        ));
     }
     Ok(())
 }

@@ -3,7 +3,7 @@
 //! the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
 
 use crate::math::smoothstep;
-use crate::model::formats::params::{Damper, Spring, SpringCurve, StopTable};
+use crate::model::formats::params::{Damper, DamperCurve, Spring, SpringCurve, StopTable};
 use serde::{Deserialize, Serialize};
 
 /// Width of the C¹ blend at a stop's engagement, m.
@@ -90,35 +90,73 @@ pub fn spring_force(spring: &Spring, free_length: f64, stops: Option<&StopCurve>
 /// or over half the shorter neighbouring interval where the knots are closer.
 const CURVE_CORNER: f64 = 0.002;
 
-/// The rounded corner at interior knot k: its width ε and slope jump Δs.
-fn corner(c: &SpringCurve, k: usize) -> (f64, f64) {
-    let (x, f) = (&c.deflection_m, &c.force_N);
-    let (h0, h1) = (x[k] - x[k - 1], x[k + 1] - x[k]);
-    let jump = (f[k + 1] - f[k]) / h1 - (f[k] - f[k - 1]) / h0;
-    (CURVE_CORNER.min(0.5 * h0.min(h1)), jump)
+/// The rounded corner at knot k of the table (xs, fs): its width ε (at most `widest`, and half the shorter
+/// neighbouring interval) and slope jump Δs; `None` at an end the table is continued linearly past (there
+/// is no kink). Where the table holds its end value (`hold`: [low end, high end]), an end knot's kink is
+/// the segment's slope to 0.
+fn corner(xs: &[f64], fs: &[f64], widest: f64, hold: [bool; 2], k: usize) -> Option<(f64, f64)> {
+    let n = xs.len();
+    let slope = |i: usize| (fs[i + 1] - fs[i]) / (xs[i + 1] - xs[i]);
+    let (h, jump) = match k {
+        0 if hold[0] => (xs[1] - xs[0], slope(0)),
+        _ if k == n - 1 && hold[1] => (xs[n - 1] - xs[n - 2], -slope(n - 2)),
+        _ if k == 0 || k == n - 1 => return None,
+        _ => ((xs[k] - xs[k - 1]).min(xs[k + 1] - xs[k]), slope(k) - slope(k - 1)),
+    };
+    Some((widest.min(0.5 * h), jump))
 }
 
-/// A tabulated spring's F(x) (positive in tension): linear between the points, as Chrono interpolates its
-/// `Spring Curve Data`, and continued linearly past the ends (Chrono holds the end value there; both tables
-/// it ships reach ±0.2 m, beyond the stops). The kink at each interior knot is rounded by a parabola over
-/// its corner width ε, which keeps the law C¹ (module doc) and equals the straight lines outside ±ε/2:
-/// F = PL(x) + Δs (|u| − ε/2)²/(2ε) for |u| = |x − x_k| < ε/2.
-pub fn curve_force(c: &SpringCurve, x: f64) -> f64 {
-    let (xs, fs) = (&c.deflection_m, &c.force_N);
+/// A force table's F(x): linear between the points (as Chrono interpolates its curves), past each end
+/// continued linearly or held at the end value (`hold`: [low end, high end]), with the kink at each knot
+/// rounded by a parabola over its corner width ε (`corner`), which keeps the law C¹ (module doc), never
+/// falling where the table does not, and equals the straight lines outside ±ε/2:
+/// F = PL(x) + Δs (|u| − ε/2)²/(2ε) for |u| = |x − x_k| < ε/2 (at the knot itself Δs ε/8 off its value).
+fn rounded_table(xs: &[f64], fs: &[f64], widest: f64, hold: [bool; 2], x: f64) -> f64 {
     let n = xs.len();
     let i = xs.partition_point(|xi| *xi <= x).saturating_sub(1).min(n - 2);
-    let line = fs[i] + (fs[i + 1] - fs[i]) / (xs[i + 1] - xs[i]) * (x - xs[i]);
+    let line = match () {
+        _ if hold[0] && x <= xs[0] => fs[0],
+        _ if hold[1] && x >= xs[n - 1] => fs[n - 1],
+        _ => fs[i] + (fs[i + 1] - fs[i]) / (xs[i + 1] - xs[i]) * (x - xs[i]),
+    };
     // The nearer end of the segment is the only knot whose corner can reach x.
     let k = if x - xs[i] <= xs[i + 1] - x { i } else { i + 1 };
-    if k == 0 || k == n - 1 {
-        return line;
+    match corner(xs, fs, widest, hold, k) {
+        Some((width, jump)) if (x - xs[k]).abs() < 0.5 * width => {
+            line + jump * ((x - xs[k]).abs() - 0.5 * width).powi(2) / (2.0 * width)
+        }
+        _ => line,
     }
-    let (width, jump) = corner(c, k);
-    let u = (x - xs[k]).abs();
-    if u < 0.5 * width {
-        line + jump * (u - 0.5 * width).powi(2) / (2.0 * width)
-    } else {
-        line
+}
+
+/// A tabulated spring's F(x) (positive in tension): `rounded_table` on Chrono's `Spring Curve Data`,
+/// continued linearly past the ends (Chrono holds the end value there; both tables it ships reach ±0.2 m,
+/// beyond the stops), its corners `CURVE_CORNER` wide.
+pub fn curve_force(c: &SpringCurve, x: f64) -> f64 {
+    rounded_table(&c.deflection_m, &c.force_N, CURVE_CORNER, [false, false], x)
+}
+
+/// Widest rounding of a damper curve's knot, m/s: the banded law's compression–rebound blend scale.
+const DAMPER_CURVE_CORNER: f64 = DAMPER_VELOCITY_BLEND;
+
+/// A tabulated damper's resisting force at speed v (> 0 extending): `rounded_table` on Chrono's `Damping
+/// Curve Data`, held at the end values past the ends as Chrono's interpolation holds them, its corners at
+/// most `DAMPER_CURVE_CORNER` wide. A knot at v = 0 (the kink between compression and rebound) is not
+/// rounded, which would move the force at rest off 0: the compression half and the rebound half, each
+/// continued linearly through 0, are blended there as the banded law blends its two rates (`damper_force`),
+/// by ½(1 + tanh(v/`DAMPER_VELOCITY_BLEND`)): 0 at rest, C¹, and within |Δs v| e^(−2|v|/0.01 m/s) of the
+/// table's lines away from the corners.
+pub fn damper_curve_force(c: &DamperCurve, v: f64) -> f64 {
+    let (xs, fs) = (&c.velocity_m_per_s, &c.force_N);
+    let rounded = |xs: &[f64], fs: &[f64], hold| rounded_table(xs, fs, DAMPER_CURVE_CORNER, hold, v);
+    match xs.iter().position(|x| *x == 0.0) {
+        Some(k) if k > 0 && k + 1 < xs.len() => {
+            let compression = rounded(&xs[..=k], &fs[..=k], [true, false]);
+            let rebound = rounded(&xs[k..], &fs[k..], [false, true]);
+            let w = 0.5 * (1.0 + (v / DAMPER_VELOCITY_BLEND).tanh());
+            (1.0 - w) * compression + w * rebound
+        }
+        _ => rounded(xs, fs, [true, true]),
     }
 }
 
@@ -130,8 +168,7 @@ pub fn curve_energy(c: &SpringCurve, x: f64) -> f64 {
     let mut cuts: Vec<f64> = vec![lo, hi];
     for k in 0..xs.len() {
         cuts.push(xs[k]);
-        if k > 0 && k + 1 < xs.len() {
-            let (width, _) = corner(c, k);
+        if let Some((width, _)) = corner(xs, &c.force_N, CURVE_CORNER, [false, false], k) {
             cuts.extend([xs[k] - 0.5 * width, xs[k] + 0.5 * width]);
         }
     }
@@ -153,10 +190,14 @@ pub fn curve_energy(c: &SpringCurve, x: f64) -> f64 {
 
 /// Damper force along the element, positive pushing apart, for length L and rate L̇ (> 0 extending).
 pub fn damper_force(d: &Damper, length: f64, rate: f64) -> f64 {
-    let inside = smoothstep((length - d.engagement_min_length_m) / DAMPER_BAND_BLEND + 0.5)
-        * smoothstep((d.engagement_max_length_m - length) / DAMPER_BAND_BLEND + 0.5);
-    let compression = inside * d.midstroke_compression_Ns_per_m + (1.0 - inside) * d.bumpstop_compression_Ns_per_m;
-    let rebound = inside * d.midstroke_rebound_Ns_per_m + (1.0 - inside) * d.bumpstop_rebound_Ns_per_m;
+    if let Some(curve) = &d.curve {
+        return -damper_curve_force(curve, rate);
+    }
+    let b = d.bands();
+    let inside = smoothstep((length - b.engagement_min_length) / DAMPER_BAND_BLEND + 0.5)
+        * smoothstep((b.engagement_max_length - length) / DAMPER_BAND_BLEND + 0.5);
+    let compression = inside * b.midstroke_compression + (1.0 - inside) * b.bumpstop_compression;
+    let rebound = inside * b.midstroke_rebound + (1.0 - inside) * b.bumpstop_rebound;
     let w = 0.5 * (1.0 + (rate / DAMPER_VELOCITY_BLEND).tanh());
     if d.degressivity_compression_s_per_m == 0.0 && d.degressivity_rebound_s_per_m == 0.0 {
         return -((1.0 - w) * compression + w * rebound) * rate;
@@ -180,9 +221,10 @@ mod tests {
         // and inside the mid-stroke band the model's is the same.
         let mut d = VehicleData::default_hmmwv().rear.damper;
         let c = 16336.3;
-        (d.midstroke_compression_Ns_per_m, d.midstroke_rebound_Ns_per_m) = (c, c);
+        (d.midstroke_compression_Ns_per_m, d.midstroke_rebound_Ns_per_m) = (Some(c), Some(c));
         (d.degressivity_compression_s_per_m, d.degressivity_rebound_s_per_m) = (3.0, 1.0);
-        let mid = 0.5 * (d.engagement_min_length_m + d.engagement_max_length_m);
+        let b = d.bands();
+        let mid = 0.5 * (b.engagement_min_length + b.engagement_max_length);
         for v in [-2.0, -0.5, -0.1, 0.1, 0.5, 2.0] {
             let chrono = if v >= 0.0 { -c * v / (1.0 + 1.0 * v) } else { -c * v / (1.0 - 3.0 * v) };
             let ours = damper_force(&d, mid, v);
@@ -283,12 +325,57 @@ mod tests {
     #[test]
     fn damper_resists_motion_with_the_right_band_rates() {
         let d = VehicleData::default_hmmwv().front.damper;
-        let mid = 0.5 * (d.engagement_min_length_m + d.engagement_max_length_m);
+        let b = d.bands();
+        let mid = 0.5 * (b.engagement_min_length + b.engagement_max_length);
         let f = damper_force(&d, mid, -1.0);
-        assert!((f - d.midstroke_compression_Ns_per_m).abs() < 1e-6 * f);
+        assert!((f - b.midstroke_compression).abs() < 1e-6 * f);
         let f = damper_force(&d, mid, 1.0);
-        assert!((f + d.midstroke_rebound_Ns_per_m).abs() < 1e-6 * f.abs());
-        let f = damper_force(&d, d.engagement_max_length_m + 0.05, 1.0);
-        assert!((f + d.bumpstop_rebound_Ns_per_m).abs() < 1e-6 * f.abs());
+        assert!((f + b.midstroke_rebound).abs() < 1e-6 * f.abs());
+        let f = damper_force(&d, b.engagement_max_length + 0.05, 1.0);
+        assert!((f + b.bumpstop_rebound).abs() < 1e-6 * f.abs());
+    }
+
+    /// A damper curve (the MAN 5t front's shape, softer in compression): its straight lines outside the
+    /// knots' rounded corners and the blend at v = 0 (where the tanh tail, |Δs v| e^(−2|v|/0.01), is below
+    /// 1e-20 of the force from 0.25 m/s), the end values held past the ends (as Chrono's interpolation holds
+    /// them), C¹ everywhere (the second difference over a step h is O(h²) of the slope's change, not a
+    /// jump), and no force at rest; the band rates are not read.
+    #[test]
+    fn a_damper_curve_is_its_table_rounded_at_the_knots_and_held_past_the_ends() {
+        let c = DamperCurve {
+            velocity_m_per_s: vec![-1.0, -0.1, 0.0, 0.1, 1.0],
+            force_N: vec![-13131.6, -4040.51, 0.0, 6680.04, 26000.0],
+        };
+        let line = |v: f64| {
+            let (x, f) = (&c.velocity_m_per_s, &c.force_N);
+            let v = v.clamp(x[0], x[4]);
+            let i = (0..4).find(|&i| v <= x[i + 1]).unwrap();
+            f[i] + (f[i + 1] - f[i]) * (v - x[i]) / (x[i + 1] - x[i])
+        };
+        for v in [-2.0, -1.01, -0.9, -0.5, -0.25, 0.25, 0.5, 0.985, 1.01, 3.0] {
+            assert!((damper_curve_force(&c, v) - line(v)).abs() < 1e-9 * 26000.0, "v = {v}");
+        }
+        assert_eq!(damper_curve_force(&c, 0.0).abs(), 0.0);
+        let h = 1e-5;
+        for v in [-1.0, -0.1, 0.0, 0.1, 1.0, -0.5, 0.5] {
+            let second =
+                damper_curve_force(&c, v + h) - 2.0 * damper_curve_force(&c, v) + damper_curve_force(&c, v - h);
+            // The sharpest bend (the blend at v = 0: 66 800 − 40 405 N s/m over 0.01 m/s) is ≈ Δs h²/δ = 2.6e-4 N.
+            assert!(second.abs() < 1e-3, "v = {v}: second difference {second}");
+        }
+        let d = Damper {
+            midstroke_compression_Ns_per_m: None,
+            midstroke_rebound_Ns_per_m: None,
+            bumpstop_compression_Ns_per_m: None,
+            bumpstop_rebound_Ns_per_m: None,
+            engagement_min_length_m: None,
+            engagement_max_length_m: None,
+            degressivity_compression_s_per_m: 0.0,
+            degressivity_rebound_s_per_m: 0.0,
+            curve: Some(c.clone()),
+        };
+        for v in [-0.7, 0.3] {
+            assert_eq!(damper_force(&d, 0.4, v), -damper_curve_force(&c, v));
+        }
     }
 }
