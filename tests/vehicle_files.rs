@@ -664,7 +664,15 @@ fn the_loader_names_the_field_of_each_bad_input() {
             Box::new(|v| {
                 v["rear"]["damper"] = json!({"curve": {"velocity_m_per_s": [-1.0, 1.0], "force_N": [-1e4, 2e4]}});
             }),
-            vec!["rear.damper.curve.force_N", "must be 0 at v = 0", "5000 N"],
+            vec!["rear.damper.curve.velocity_m_per_s", "must have the point v = 0", "both signs"],
+        ),
+        (
+            mps,
+            Box::new(|v| {
+                v["rear"]["damper"] =
+                    json!({"curve": {"velocity_m_per_s": [-1.0, 0.0, 1.0], "force_N": [-1e4, 50.0, 2e4]}});
+            }),
+            vec!["rear.damper.curve.force_N", "must be 0 at v = 0", "50 N"],
         ),
         (
             mps,

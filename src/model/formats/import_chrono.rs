@@ -966,16 +966,7 @@ impl SuspensionReader<'_> {
                     force_N: points.iter().map(|p| p.1).collect(),
                 };
                 check_damper_curve(key, &curve).map_err(|e| sh.err(key, e.message))?;
-                Ok(Damper {
-                    midstroke_compression_Ns_per_m: None,
-                    midstroke_rebound_Ns_per_m: None,
-                    bumpstop_compression_Ns_per_m: None,
-                    bumpstop_rebound_Ns_per_m: None,
-                    engagement_min_length_m: None,
-                    engagement_max_length_m: None,
-                    curve: Some(curve),
-                    ..rates(0.0, 0.0)
-                })
+                Ok(Damper::of_curve(curve))
             }
         }
     }

@@ -165,6 +165,21 @@ impl Damper {
         *self == Damper::NONE
     }
 
+    /// A damper whose law is `curve` (no rates, no band, no degressivity).
+    pub fn of_curve(curve: DamperCurve) -> Damper {
+        Damper {
+            midstroke_compression_Ns_per_m: None,
+            midstroke_rebound_Ns_per_m: None,
+            bumpstop_compression_Ns_per_m: None,
+            bumpstop_rebound_Ns_per_m: None,
+            engagement_min_length_m: None,
+            engagement_max_length_m: None,
+            degressivity_compression_s_per_m: 0.0,
+            degressivity_rebound_s_per_m: 0.0,
+            curve: Some(curve),
+        }
+    }
+
     /// The banded law (its absent values 0, which `check_damper` refuses unless a curve replaces them).
     pub fn bands(&self) -> DamperBands {
         let v = |x: Option<f64>| x.unwrap_or(0.0);
@@ -1429,19 +1444,23 @@ fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
     Ok(())
 }
 
-/// A damper curve (`field`): a force table against the speed (`check_curve`) that gives no force at rest
-/// (within 1e-9 of its peak force: a damper at rest pushes nothing).
+/// A damper curve (`field`): a force table against the speed (`check_curve`) with the point (0, 0) between
+/// speeds of both signs: a damper at rest pushes nothing, and the law's blend of its compression and
+/// rebound halves there (`forces::damper_curve_force`) keeps that exactly.
 pub(crate) fn check_damper_curve(field: &str, curve: &DamperCurve) -> Result<(), DataError> {
     check_curve(field, ("velocity_m_per_s", "speed"), &curve.velocity_m_per_s, &curve.force_N)?;
-    let at_rest = crate::model::suspension::forces::damper_curve_force(curve, 0.0);
-    let peak = curve.force_N.iter().fold(0.0f64, |m, f| m.max(f.abs()));
-    if !(at_rest.abs() <= 1e-9 * peak) {
-        return Err(err(
+    let (v, f) = (&curve.velocity_m_per_s, &curve.force_N);
+    match v.iter().position(|x| *x == 0.0) {
+        Some(k) if k > 0 && k + 1 < v.len() && f[k] == 0.0 => Ok(()),
+        Some(k) if k > 0 && k + 1 < v.len() => Err(err(
             format!("{field}.force_N"),
-            format!("must be 0 at v = 0 (a damper at rest pushes nothing); it gives {at_rest} N there"),
-        ));
+            format!("must be 0 at v = 0 (a damper at rest pushes nothing); it is {} N there", f[k]),
+        )),
+        _ => Err(err(
+            format!("{field}.velocity_m_per_s"),
+            "must have the point v = 0 (force 0) between speeds of both signs: compression and rebound",
+        )),
     }
-    Ok(())
 }
 
 /// A spring curve: at least two points, deflections strictly increasing, forces finite and never falling

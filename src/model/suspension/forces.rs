@@ -141,23 +141,21 @@ const DAMPER_CURVE_CORNER: f64 = DAMPER_VELOCITY_BLEND;
 
 /// A tabulated damper's resisting force at speed v (> 0 extending): `rounded_table` on Chrono's `Damping
 /// Curve Data`, held at the end values past the ends as Chrono's interpolation holds them, its corners at
-/// most `DAMPER_CURVE_CORNER` wide. A knot at v = 0 (the kink between compression and rebound) is not
-/// rounded, which would move the force at rest off 0: the compression half and the rebound half, each
+/// most `DAMPER_CURVE_CORNER` wide. The knot at v = 0 (the kink between compression and rebound, a point
+/// every curve has: `params::check_damper_curve`) is not rounded, which would move the force at rest off 0:
+/// the compression half and the rebound half, each
 /// continued linearly through 0, are blended there as the banded law blends its two rates (`damper_force`),
 /// by ½(1 + tanh(v/`DAMPER_VELOCITY_BLEND`)): 0 at rest, C¹, and within |Δs v| e^(−2|v|/0.01 m/s) of the
 /// table's lines away from the corners.
 pub fn damper_curve_force(c: &DamperCurve, v: f64) -> f64 {
     let (xs, fs) = (&c.velocity_m_per_s, &c.force_N);
     let rounded = |xs: &[f64], fs: &[f64], hold| rounded_table(xs, fs, DAMPER_CURVE_CORNER, hold, v);
-    match xs.iter().position(|x| *x == 0.0) {
-        Some(k) if k > 0 && k + 1 < xs.len() => {
-            let compression = rounded(&xs[..=k], &fs[..=k], [true, false]);
-            let rebound = rounded(&xs[k..], &fs[k..], [false, true]);
-            let w = 0.5 * (1.0 + (v / DAMPER_VELOCITY_BLEND).tanh());
-            (1.0 - w) * compression + w * rebound
-        }
-        _ => rounded(xs, fs, [true, true]),
-    }
+    // The loader makes the knot at rest an inner one (`params::check_damper_curve`).
+    let k = xs.iter().position(|x| *x == 0.0).unwrap_or(0).clamp(1, xs.len() - 2);
+    let compression = rounded(&xs[..=k], &fs[..=k], [true, false]);
+    let rebound = rounded(&xs[k..], &fs[k..], [false, true]);
+    let w = 0.5 * (1.0 + (v / DAMPER_VELOCITY_BLEND).tanh());
+    (1.0 - w) * compression + w * rebound
 }
 
 /// The energy stored in a tabulated spring deflected from 0 to x, ∫₀ˣ F: exact, by Simpson's rule on the
@@ -363,17 +361,7 @@ mod tests {
             // The sharpest bend (the blend at v = 0: 66 800 − 40 405 N s/m over 0.01 m/s) is ≈ Δs h²/δ = 2.6e-4 N.
             assert!(second.abs() < 1e-3, "v = {v}: second difference {second}");
         }
-        let d = Damper {
-            midstroke_compression_Ns_per_m: None,
-            midstroke_rebound_Ns_per_m: None,
-            bumpstop_compression_Ns_per_m: None,
-            bumpstop_rebound_Ns_per_m: None,
-            engagement_min_length_m: None,
-            engagement_max_length_m: None,
-            degressivity_compression_s_per_m: 0.0,
-            degressivity_rebound_s_per_m: 0.0,
-            curve: Some(c.clone()),
-        };
+        let d = Damper::of_curve(c.clone());
         for v in [-0.7, 0.3] {
             assert_eq!(damper_force(&d, 0.4, v), -damper_curve_force(&c, v));
         }
