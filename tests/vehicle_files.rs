@@ -11,9 +11,15 @@ use rt_vehicle::model::formats::vehicle_file::{check_schema, MAX_FILE_BYTES};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-const VEHICLES: [(&str, &str); 2] = [
-    ("generic/vehicle/Vehicle_MacPhersonStruts.json", "generic_macpherson.json"),
-    ("generic/vehicle/Vehicle_DoubleWishbones.json", "generic_double_wishbone.json"),
+/// The shipped imports: Chrono's vehicle file, the shipped file, and the tire file of its data folder.
+const VEHICLES: [(&str, &str, &str); 3] = [
+    ("generic/vehicle/Vehicle_MacPhersonStruts.json", "generic_macpherson.json", "generic/tire/Generic_Pac02Tire.tir"),
+    (
+        "generic/vehicle/Vehicle_DoubleWishbones.json",
+        "generic_double_wishbone.json",
+        "generic/tire/Generic_Pac02Tire.tir",
+    ),
+    ("uaz/vehicle/UAZ469_Vehicle.json", "uaz469.json", "uaz/tire/UAZBUS_Pac02Tire.tir"),
 ];
 const MACPHERSON: &str = "generic/vehicle/Vehicle_MacPhersonStruts.json";
 const DOUBLE_WISHBONE: &str = "generic/vehicle/Vehicle_DoubleWishbones.json";
@@ -159,16 +165,22 @@ fn the_schema_is_a_valid_draft_2020_12_schema_naming_every_field() {
 
 #[test]
 fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
-    for (vehicle, shipped) in VEHICLES {
+    for (vehicle, shipped, tire) in VEHICLES {
         let import = import_vehicle(&chrono_data().join(vehicle), &chrono_data(), None).unwrap();
         let expected = std::fs::read_to_string(repo().join("resources/vehicles").join(shipped)).unwrap();
         assert!(import.to_json() == expected, "{vehicle} no longer imports to resources/vehicles/{shipped}");
-        // Chrono's defaults: the springs as written, the tire of the vehicle's data folder (generic/tire/).
+        // Chrono's defaults: the springs as written, the tire of the vehicle's data folder, copied beside it.
         assert_eq!(import.data.ride_height, rt_vehicle::model::formats::params::RideHeight::Data);
-        assert_eq!(import.data.tire.tir_file.as_deref(), Some("Generic_Pac02Tire.tir"));
-        assert!(import.tire.as_ref().unwrap().ends_with("generic/tire/Generic_Pac02Tire.tir"), "{:?}", import.tire);
+        let tir = Path::new(tire).file_name().unwrap().to_str().unwrap();
+        assert_eq!(import.data.tire.tir_file.as_deref(), Some(tir));
+        assert!(import.tire.as_ref().unwrap().ends_with(tire), "{:?}", import.tire);
+        assert!(repo().join("resources/vehicles").join(tir).is_file(), "{tir} is not shipped beside {shipped}");
         let w = import.warnings.join("\n");
-        for needle in ["Driveline", "Tierod Locations", "Maximum Torque", "Maximum Steering Angle", "Spindle.Radius"] {
+        // (Chrono's Pitman arm, the generic vehicles' steering, has tie-rod points for its visualization.)
+        let pitman = import.data.pitman_arm.is_some().then_some("Tierod Locations");
+        for needle in
+            ["Driveline", "Maximum Torque", "Maximum Steering Angle", "Spindle.Radius"].into_iter().chain(pitman)
+        {
             assert!(w.contains(needle), "{vehicle}: no warning about {needle}:\n{w}");
         }
     }

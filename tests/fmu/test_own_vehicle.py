@@ -18,6 +18,8 @@ VEHICLES = {
     "vehicles/generic_double_wishbone.json": "Test vehicle - Double Wishbone on Generic_Pac02Tire",
     # The steered solid front axle on a rotary arm (its input is the arm's angle, pitman_arm_angle).
     "vehicles/rtv_hmmwv_solid_axles.json": "rtv HMMWV, solid axles (steered bellcrank front)",
+    # Chrono's UAZ469: leaf-spring solid axles, the front steered by a toe bar from a rotary arm.
+    "vehicles/uaz469.json": "UAZ469 on UAZBUS_Pac02Tire",
 }
 
 
@@ -29,6 +31,7 @@ def test_the_imports_are_in_the_fmu_with_chronos_licence(fmu_path):
         assert f"resources/{file}" in names
     assert "resources/vehicles/LICENSE-chrono" in names
     assert "resources/vehicles/Generic_Pac02Tire.tir" in names  # their tir_file, beside them
+    assert "resources/vehicles/UAZBUS_Pac02Tire.tir" in names
 
 
 # The vehicles steered by their rack (calibration names as above): the single wishbones, and the HMMWV with a
