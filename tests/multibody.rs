@@ -37,7 +37,16 @@ fn admissible_case(rng: &mut Rng, base: &[f64], v: &rt_vehicle::model::vehicle::
         let inputs = random_inputs(rng);
         let mut dx = vec![0.0; idx::DIM];
         match v.derivative(&Run::flat(v, &options), &x, &inputs, &mut Workspace::default(), &mut dx) {
-            Err(e) if e.cause() == rt_vehicle::error::Cause::ModelValidity => continue,
+            // A state outside the model's validity, or outside the linkage's range (the UAZ469's toe-bar
+            // steering cannot reach every random roll of its axle with every steering position), is no case.
+            Err(e)
+                if matches!(
+                    e.cause(),
+                    rt_vehicle::error::Cause::ModelValidity | rt_vehicle::error::Cause::MechanismRange
+                ) =>
+            {
+                continue
+            }
             _ => return (x, inputs),
         }
     }
