@@ -31,9 +31,14 @@ pub struct HalfSineBump {
 
 impl HalfSineBump {
     /// Whether (x, y) lies on the bump's footprint. A bump of non-positive length has no footprint (this
-    /// also keeps the division by `length` below safe for hand-written road files).
+    /// also keeps the division by `length` below safe for hand-written road files). The footprint is
+    /// (x_start, x_start + length]: at each edge itself the road is the side the edge's indicator
+    /// (`RoadModel::edge_offset`, x minus the edge) calls not yet crossed, offset ≤ 0, as every switch
+    /// indicator's zero is. Closed at the start, a location trial that landed exactly on it (Illinois' false
+    /// position on a linear indicator can) took the bump's slope as the step's lower end: a first-order
+    /// error, 5.5e-3 of F_x's peak on the solid-axles vehicle's bump course (tests/scenes.rs).
     fn covers(&self, x: f64, y: f64) -> bool {
-        self.on_its_side(y) && x >= self.x_start && x <= self.x_start + self.length
+        self.on_its_side(y) && x > self.x_start && x <= self.x_start + self.length
     }
 
     /// Whether a point at lateral position y runs over the bump (its side of the centre line; a bump of
@@ -208,6 +213,23 @@ mod tests {
 
     fn height(road: &RoadModel, x: f64, y: f64) -> f64 {
         road.height_and_gradient(x, y).0
+    }
+
+    /// At each edge of a bump itself the road is the side its indicator calls not yet crossed (offset 0 ≤ 0):
+    /// at the start the level road's slope, at the end the bump's; just past either, the other side's.
+    #[test]
+    fn an_edge_itself_is_on_the_side_its_indicator_has_not_crossed() {
+        let road = RoadModel::paper_bump_course(0.0);
+        let RoadModel::Bumps(bumps) = &road else { panic!("bumps") };
+        let b = bumps.iter().find(|b| b.on_its_side(TRACK_HALF)).expect("a bump on this side");
+        let (start, end) = (b.x_start, b.x_start + b.length);
+        let slope = |x: f64| road.height_and_gradient(x, TRACK_HALF).1[0];
+        assert_eq!(road.edge_offset(start, TRACK_HALF), Some(0.0));
+        assert_eq!(slope(start), 0.0);
+        assert!(slope(start.next_up()) > 0.0);
+        assert_eq!(road.edge_offset(end, TRACK_HALF), Some(0.0));
+        assert!(slope(end) < 0.0);
+        assert_eq!(slope(end.next_up()), 0.0);
     }
 
     #[test]
