@@ -1,5 +1,5 @@
-//! Scalar force laws of the suspension force elements (docs/physics.md §5): the cubic spring with bump and
-//! rebound stops, and the length-banded, direction-dependent damper. All are C¹ on purpose: kinks in
+//! Scalar force laws of the suspension force elements (docs/physics.md §5): the cubic or tabulated spring with
+//! bump and rebound stops, and the length-banded, direction-dependent or tabulated damper. All are C¹ on purpose: kinks in
 //! the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
 
 use crate::math::smoothstep;
@@ -143,8 +143,8 @@ const DAMPER_CURVE_CORNER: f64 = DAMPER_VELOCITY_BLEND;
 /// Curve Data`, held at the end values past the ends as Chrono's interpolation holds them, its corners at
 /// most `DAMPER_CURVE_CORNER` wide. The knot at v = 0 (the kink between compression and rebound, a point
 /// every curve has: `params::check_damper_curve`) is not rounded, which would move the force at rest off 0:
-/// the compression half and the rebound half, each
-/// continued linearly through 0, are blended there as the banded law blends its two rates (`damper_force`),
+/// the compression half and the rebound half, each continued linearly through 0, are blended there as the
+/// banded law blends its two rates (`damper_force`),
 /// by ½(1 + tanh(v/`DAMPER_VELOCITY_BLEND`)): 0 at rest, C¹, and within |Δs v| e^(−2|v|/0.01 m/s) of the
 /// table's lines away from the corners.
 pub fn damper_curve_force(c: &DamperCurve, v: f64) -> f64 {
