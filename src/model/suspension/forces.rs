@@ -1,6 +1,6 @@
 //! Scalar force laws of the suspension force elements (docs/physics.md §5): the cubic or tabulated spring with
-//! bump and rebound stops, and the length-banded, direction-dependent or tabulated damper. All are C¹ on purpose: kinks in
-//! the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
+//! bump and rebound stops, and the length-banded, direction-dependent or tabulated damper. All are C¹ on
+//! purpose: kinks in the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
 
 use crate::math::smoothstep;
 use crate::model::formats::params::{Damper, DamperCurve, Spring, SpringCurve, StopTable};
