@@ -314,8 +314,9 @@ mod tests {
             assert!((hx - fd).abs() < 1e-8, "x = {x}: analytic {hx}, fd {fd}");
             assert_eq!(hy, 0.0);
         }
-        // Steepest at the leading edge: H pi / W = 0.1 pi.
-        let (_, [hx, _]) = road.height_and_gradient(10.0, TRACK_HALF);
+        // Steepest just past the leading edge: H pi / W = 0.1 pi (at the edge itself the road is still level:
+        // `an_edge_itself_is_on_the_side_its_indicator_has_not_crossed`).
+        let (_, [hx, _]) = road.height_and_gradient(10.0f64.next_up(), TRACK_HALF);
         assert!((hx - 0.1 * PI).abs() < 1e-12);
     }
 
