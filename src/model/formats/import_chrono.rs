@@ -948,26 +948,27 @@ impl SuspensionReader<'_> {
         };
         match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
             Law::Coefficient(c) => Ok(rates(c, c)),
-            // A straight line through the origin is a rate, as a spring's is (Chrono holds the force past the
-            // table's ends; the rate goes on).
-            Law::Curve(key, points) if straight_line_rate(&points).is_some_and(|c| c > 0.0) => {
-                let c = straight_line_rate(&points).unwrap_or(0.0);
-                self.warnings.push(format!(
-                    "{}: {}: a straight line through the origin: the rate {c:.6e} N s/m",
-                    self.o.file,
-                    sh.key(key)
-                ));
-                Ok(rates(c, c))
-            }
-            // Chrono's `NonlinearDamperForce`: the table itself, F = −curve(v).
-            Law::Curve(key, points) => {
-                let curve = DamperCurve {
-                    velocity_m_per_s: points.iter().map(|p| p.0).collect(),
-                    force_N: points.iter().map(|p| p.1).collect(),
-                };
-                check_damper_curve(key, &curve).map_err(|e| sh.err(key, e.message))?;
-                Ok(Damper::of_curve(curve))
-            }
+            Law::Curve(key, points) => match straight_line_rate(&points) {
+                // A straight line through the origin is a rate, as a spring's is (Chrono holds the force past
+                // the table's ends; the rate goes on).
+                Some(c) if c > 0.0 => {
+                    self.warnings.push(format!(
+                        "{}: {}: a straight line through the origin: the rate {c:.6e} N s/m",
+                        self.o.file,
+                        sh.key(key)
+                    ));
+                    Ok(rates(c, c))
+                }
+                // Chrono's `NonlinearDamperForce`: the table itself, F = −curve(v).
+                _ => {
+                    let curve = DamperCurve {
+                        velocity_m_per_s: points.iter().map(|p| p.0).collect(),
+                        force_N: points.iter().map(|p| p.1).collect(),
+                    };
+                    check_damper_curve(key, &curve).map_err(|e| sh.err(key, e.message))?;
+                    Ok(Damper::of_curve(curve))
+                }
+            },
         }
     }
 
