@@ -64,7 +64,7 @@ TIMES = {
     ".venv/bin/rtv-study run examples/studies/dlc_speed_damper.toml": 211.8,
     ".venv/bin/rtv-study describe double-lane-change": 1.3,
     "cargo run --release --bin rtv -- scene jturn --out jturn.csv": 0.4,
-    "cargo run --release --bin rtv -- scene bump --integrator ab3 --slip steady --out bump.csv": 0.7,
+    "cargo run --release --bin rtv -- scene jturn --integrator ab3 --slip steady --out jturn_ab3.csv": 0.4,
     "cargo run --release --bin rtv -- kinematics --axle front --out front.csv": 0.0,
     "cargo run --release --bin rtv -- steering --out steering.csv": 0.0,
     "cargo run --release --bin rtv -- kc --vehicle-file resources/vehicles/generic_macpherson.json": 4.5,
