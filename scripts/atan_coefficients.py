@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The coefficients of `src/model/tire/elementary.rs`'s atan: atan u = u + u z P(z)/Q(z), z = u², on
+"""The coefficients of `src/math/elementary.rs`'s atan: atan u = u + u z P(z)/Q(z), z = u², on
 |u| <= tan(pi/8), P of degree 3, Q of degree 4 with Q(0) = 1, minimax in atan's relative error.
 
 Remez' exchange for rational functions in 50-digit decimal arithmetic (the standard library only): at m + n + 2

@@ -3,6 +3,7 @@
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 pub mod eigen;
+pub mod elementary;
 
 pub type V3 = Vector3<f64>;
 pub type M3 = Matrix3<f64>;
@@ -16,7 +17,7 @@ pub fn skew(a: &V3) -> M3 {
 /// Rodrigues rotation about the unit axis `h` by `theta`: I + sin θ h̃ + (1 − cos θ) h̃².
 #[inline]
 pub fn rotation_about(h: &V3, theta: f64) -> M3 {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = elementary::sin_cos(theta);
     rotation_about_sc(h, s, c)
 }
 
@@ -55,9 +56,9 @@ pub struct BryantSinCos {
 impl BryantSinCos {
     #[inline]
     pub fn new(phi: &V3) -> BryantSinCos {
-        let (s1, c1) = phi.x.sin_cos();
-        let (s2, c2) = phi.y.sin_cos();
-        let (s3, c3) = phi.z.sin_cos();
+        let (s1, c1) = elementary::sin_cos(phi.x);
+        let (s2, c2) = elementary::sin_cos(phi.y);
+        let (s3, c3) = elementary::sin_cos(phi.z);
         BryantSinCos { s1, c1, s2, c2, s3, c3 }
     }
 

@@ -36,7 +36,7 @@ impl TieRodDrive {
                 TieRodPath { point: design + V3::new(0.0, s, 0.0), d_ds: V3::y(), d2_ds2: V3::zeros() }
             }
             TieRodDrive::PitmanLink { axis, arm } => {
-                let (sn, cs) = s.sin_cos();
+                let (sn, cs) = crate::math::elementary::sin_cos(s);
                 let turned = rotation_about_sc(&axis, sn, cs) * arm;
                 let d_ds = axis.cross(&turned);
                 TieRodPath { point: design + turned - arm, d_ds, d2_ds2: axis.cross(&d_ds) }

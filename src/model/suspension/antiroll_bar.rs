@@ -94,7 +94,7 @@ impl BarArm {
             ));
         }
         let alpha = b.atan2(a) + self.branch * ratio.clamp(-1.0, 1.0).acos();
-        let (sn, cs) = alpha.sin_cos();
+        let (sn, cs) = crate::math::elementary::sin_cos(alpha);
         // The arm end's path direction t = −sin α u + cos α v; d·t = 0 is the toggle.
         let drive = b * cs - a * sn;
         if !(drive.abs() >= MIN_DRIVE_COSINE * h) {

@@ -21,7 +21,7 @@ impl UpperArm {
     /// The ball joint on the upper arm at θ_U, the arm's rotation, and ∂(joint)/∂θ_U.
     #[inline(always)]
     pub fn joint(&self, theta_u: f64) -> (V3, M3, V3) {
-        let (su, cu) = theta_u.sin_cos();
+        let (su, cu) = crate::math::elementary::sin_cos(theta_u);
         let r_u = rotation_about_sc(&self.h_u, su, cu);
         let joint = self.p_u + r_u * (self.u0 - self.p_u);
         (joint, r_u, self.h_u.cross(&(joint - self.p_u)))

@@ -512,7 +512,7 @@ impl Corner {
     #[inline(always)]
     pub fn evaluate_into(&self, q: &Vector5f, s: f64, pos: &mut CornerPositions) {
         // The angles' sines and cosines, once (A, G and, later, Ġφ̇ share the Bryant ones).
-        let (sl, cl) = q[0].sin_cos();
+        let (sl, cl) = crate::math::elementary::sin_cos(q[0]);
         let bryant = BryantSinCos::new(&V3::new(q[1], q[2], q[3]));
         let r_l = rotation_about_sc(&self.h_l, sl, cl);
         let r_k = r_l * bryant.rotation();

@@ -36,7 +36,7 @@
 //!
 //! Ranges: the file's `KPUMIN/KPUMAX`, `ALPMIN/ALPMAX`, `CAMMIN/CAMMAX` and `FZMAX` bound the inputs, as
 //! MF-Tyre does: beyond them the fit is an extrapolation, and the Magic Formula's sines turn back.
-use super::elementary::{atan, atan_pair, cos, sin, tan};
+use crate::math::elementary::{atan, atan_pair, cos, sin, tan};
 use crate::model::formats::tir::{TirFile, TirFormat, UnitKind};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::FRAC_2_PI;

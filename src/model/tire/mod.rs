@@ -13,7 +13,6 @@
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
-mod elementary;
 mod fallback;
 mod geometry;
 pub mod magic_formula;

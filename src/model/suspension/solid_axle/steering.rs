@@ -269,7 +269,7 @@ impl AxleSteering {
 
     fn rotations(&self, z: &Vector3<f64>) -> [M3; 3] {
         std::array::from_fn(|j| {
-            let (s, c) = z[j].sin_cos();
+            let (s, c) = crate::math::elementary::sin_cos(z[j]);
             rotation_about_sc(&self.axis[j], s, c)
         })
     }

@@ -1,4 +1,6 @@
-//! atan, sin, cos and tan for the Magic Formula (`magic_formula.rs`): libm's accuracy in fewer instructions.
+//! atan, sin, cos and tan for the Magic Formula (`model/tire/magic_formula.rs`), and sin and cos together for
+//! the suspension's angles (`model/suspension`, `math::rotation_about`, `BryantSinCos`): libm's accuracy in
+//! fewer instructions.
 //!
 //! The Magic Formula tire calls atan 18 times per evaluation and sin or cos 8 times (two atans and a sine per
 //! Magic Formula shape); glibc's atan costs about 56 instructions, its sin and cos 55–65 (callgrind, issue 36),
@@ -195,6 +197,31 @@ pub fn cos(x: f64) -> f64 {
     sin_quarter_turns(n + 1, r)
 }
 
+/// (sin x, cos x): the same bits as `sin` and `cos` (the same operations, one reduction and both kernels).
+/// The suspension's position solve takes five per corner and evaluation (the lower arm's angle, the
+/// upright's three Bryant angles, the closure's arm); glibc's `sincos` costs about 150 instructions each there
+/// (callgrind, issue 36), these about 40 for the small angles they are.
+#[inline(always)]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    let a = x.abs();
+    if a <= FRAC_PI_4 {
+        return (sin_kernel(x), cos_kernel(a));
+    }
+    if !(a < REDUCTION_LIMIT) {
+        return x.sin_cos();
+    }
+    let (n, r) = quarter_turns(a);
+    let (s, c) = (sin_kernel(r), cos_kernel(r));
+    // sin(nπ/2 + r) and cos(nπ/2 + r) = sin((n + 1)π/2 + r), as `sin_quarter_turns` picks them.
+    let (sin_a, cos_a) = match n & 3 {
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
+    };
+    (times_sign_of(sin_a, x), cos_a)
+}
+
 /// Below this |x| (rad), tan is a continued fraction (`tan`).
 const SMALL_ANGLE: f64 = 0.25;
 
@@ -251,6 +278,16 @@ mod tests {
     const BOUND: f64 = 4.0 * f64::EPSILON;
     // Issue 36's bound on a faster atan or sin/cos (1e-12 relative): the tests' bound is within it.
     const _: () = assert!(BOUND < 1e-12);
+
+    #[test]
+    fn sin_cos_is_sin_and_cos_to_the_bit() {
+        let edges = [FRAC_PI_4, FRAC_PI_2, REDUCTION_LIMIT, 0.0, 1e-300];
+        let points = dense().chain(edges.iter().flat_map(|&e| around(e, 64).chain(around(-e, 64))));
+        for x in points {
+            let (s, c) = sin_cos(x);
+            assert_eq!((s.to_bits(), c.to_bits()), (sin(x).to_bits(), cos(x).to_bits()), "{x}");
+        }
+    }
 
     #[test]
     fn atan_is_libms_to_a_few_ulp_over_every_range() {
