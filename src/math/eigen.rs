@@ -1,5 +1,6 @@
-//! Eigenvalues of a small real square matrix without its Schur vectors (the step check's 20×20 wheel-state
-//! Jacobian, `Simulation::wheel_modes`): a Householder reduction to upper Hessenberg form, then Francis
+//! Eigenvalues of a small real square matrix without its Schur vectors (the step check's 26×26 Jacobian of
+//! the wheel states and chassis velocities, `Simulation::wheel_modes`): a Householder reduction to upper
+//! Hessenberg form, then Francis
 //! implicit double-shift QR sweeps on the window that has not yet split off (the scheme of EISPACK's `hqr`;
 //! Golub & Van Loan, Matrix Computations, Alg. 7.4.2, 7.5.1, 7.5.2). Nothing is accumulated for the
 //! orthogonal factor, and rows and columns outside the active window are left alone: they change the Schur

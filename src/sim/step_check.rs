@@ -161,8 +161,8 @@ pub struct StepCheck {
     pub(super) step_ceiling: Option<(f64, f64)>,
 }
 
-/// The step check judges hλ·`MODE_MARGIN`: the wheel-state Jacobian leaves out the chassis states, whose
-/// coupling moves the largest eigenvalue by up to 0.2 % on the shipped vehicles, and its forward
+/// The step check judges hλ·`MODE_MARGIN`: its Jacobian leaves out the chassis' position and orientation,
+/// whose coupling moves the largest eigenvalue by up to 0.2 % on the shipped vehicles, and its forward
 /// differences are accurate to about 1e-4 relative: 2 % covers both with room.
 pub const MODE_MARGIN: f64 = 1.02;
 /// The QR iteration of the step check (`math::eigen::eigenvalues`): converged when the subdiagonal is below
@@ -174,9 +174,26 @@ pub(super) const EIGEN_MAX_ITERATIONS: usize = 2000;
 
 /// The forward-difference step of each wheel state in the step check's columns: [θ_L, θ̇_L, Ω, ξ_x, ξ_y].
 pub(super) const WHEEL_DELTA: [f64; 5] = [1e-6, 1e-5, 1e-5, 1e-7, 1e-7];
+/// An eigenvalue of the check's Jacobian is named by the wheel's own mode nearest to it when that mode is
+/// within this fraction of its modulus (coupling moves a wheel's mode by a few per cent), and a wheel–chassis
+/// mode otherwise.
+const WHEEL_MODE_NEAR: f64 = 0.25;
+/// The forward-difference step of a chassis velocity, relative to 1 + |its value| (m/s, rad/s): IMEX-AB3's
+/// for its other columns.
+const CHASSIS_VELOCITY_DELTA: f64 = 1e-7;
 
-/// The most rows of IMEX-AB3's partial Jacobian: the 20 wheel states and the 6 chassis velocities.
-pub const MAX_IMEX: usize = 26;
+/// The states of the step check's Jacobian: the 20 wheel states (12 without relaxation slip) and the 6
+/// chassis velocities. The chassis velocities are in because at low speed the tires couple them to the road
+/// stiffly: on a 20 % grade, held by the brakes, Chrono's Sedan on its TMeasy tire has a mode of its chassis
+/// velocities with the wheels at −659 1/s (the tires' slip stiffness over the low-speed slip's denominator),
+/// which the wheel states alone do not have (their fastest mode: −107+87i); RK4 at 8.33 ms (hλ = −5.5) then
+/// finished 46 % off in the chassis' speed without a word (`examples/case_modes.rs` measures both).
+pub const CHECK_STATES: usize = 26;
+/// The chassis velocities among them: ṙ₀ and ω₀.
+const CHASSIS_VELOCITIES: [usize; 6] = [idx::V0, idx::V0 + 1, idx::V0 + 2, idx::W0, idx::W0 + 1, idx::W0 + 2];
+
+/// The most rows of IMEX-AB3's partial Jacobian: the step check's states, which it integrates implicitly.
+pub const MAX_IMEX: usize = CHECK_STATES;
 
 /// IMEX-AB3's partial Jacobian (`Simulation::imex_partial_jacobian`): `rows[..m]` × `cols[..nc]`, row-major.
 pub struct PartialJacobian {
@@ -215,18 +232,22 @@ pub(super) fn difference_column(
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WheelModes {
     pub per_wheel: [FastMode; 12],
-    /// The eigenvalues of the 20×20 wheel-state Jacobian (zero-padded without relaxation slip), once computed
-    /// (`WheelModes::coupled`: the step check computes them only where `spectral_bound` does not settle it).
-    pub coupled: Option<[Complex<f64>; 20]>,
+    /// The eigenvalues of the 26×26 Jacobian of the wheel states and the chassis velocities (zero-padded
+    /// without relaxation slip), once computed (`WheelModes::coupled`: the step check computes them only where
+    /// `spectral_bound` does not settle it).
+    pub coupled: Option<[Complex<f64>; CHECK_STATES]>,
     /// A bound on their moduli (`math::eigen::spectral_radius_bound`).
     pub spectral_bound: f64,
     /// The states of that Jacobian (`states[..len]`) and the Jacobian, row-major (`len`² values).
-    pub states: [usize; 20],
+    pub states: [usize; CHECK_STATES],
     pub len: usize,
-    pub jacobian: [f64; 400],
-    /// All rows of the wheel-state columns: ∂f/∂x_states[c] in `columns[c][..dim]` (IMEX-AB3's partial
-    /// Jacobian takes the chassis-velocity rows from them).
-    pub columns: [[f64; idx::DIM]; 20],
+    /// The wheel states among them, which come first (the chassis velocities follow): IMEX-AB3's error
+    /// monitor leaves these out and watches the chassis velocities.
+    pub wheel_len: usize,
+    pub jacobian: [f64; CHECK_STATES * CHECK_STATES],
+    /// All rows of the columns: ∂f/∂x_states[c] in `columns[c][..dim]` (IMEX-AB3's partial Jacobian takes its
+    /// columns of these states from them).
+    pub columns: [[f64; idx::DIM]; CHECK_STATES],
     /// f at the state (`[..dim]`) and which wheels touch the road there: the base of the differences.
     pub derivative: [f64; idx::DIM],
     pub contact: [bool; 4],
@@ -240,13 +261,16 @@ impl WheelModes {
     /// at a loose one (eigenvalues to 1e-7 relative are plenty here). Their order matters in `judge_step` only
     /// where two give exactly the same largest stable step (the first is named); a conjugate pair comes with
     /// its positive imaginary part first, as from nalgebra. `time` names the check in the error.
-    pub fn coupled(&mut self, time: f64) -> Result<&[Complex<f64>; 20], ModelError> {
+    pub fn coupled(&mut self, time: f64) -> Result<&[Complex<f64>; CHECK_STATES], ModelError> {
         if self.coupled.is_none() {
             let len = self.len;
-            let jac =
-                SMatrix::<f64, 20, 20>::from_fn(
-                    |r, c| if r < len && c < len { self.jacobian[r * len + c] } else { 0.0 },
-                );
+            let jac = SMatrix::<f64, CHECK_STATES, CHECK_STATES>::from_fn(|r, c| {
+                if r < len && c < len {
+                    self.jacobian[r * len + c]
+                } else {
+                    0.0
+                }
+            });
             let coupled = eigenvalues(&jac, EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS)
                 .or_else(|| eigenvalues(&jac, 1e3 * EIGEN_TOLERANCE, EIGEN_MAX_ITERATIONS));
             self.coupled = Some(coupled.ok_or_else(|| {
@@ -254,7 +278,8 @@ impl WheelModes {
                     Cause::StepSizeInstability,
                     format!(
                         "the step check's eigenvalue iteration did not converge in {EIGEN_MAX_ITERATIONS} sweeps at t = \
-                         {time:.3} s (wheel-state Jacobian {:e} in magnitude): the fast modes cannot be judged",
+                         {time:.3} s (Jacobian of the wheel states and chassis velocities {:e} in magnitude): the fast \
+                         modes cannot be judged",
                         jac.amax()
                     ),
                 )
@@ -271,6 +296,9 @@ pub enum ModeKind {
     WheelHop,
     SpinTread,
     LateralTread,
+    /// A mode of the wheel states with the chassis velocities that no wheel's own mode is near (at low
+    /// speed, the chassis' velocities on the tires' slip stiffness): named by the wheel whose mode is nearest.
+    WheelChassis,
 }
 
 impl ModeKind {
@@ -279,6 +307,7 @@ impl ModeKind {
             ModeKind::WheelHop => "wheel-hop",
             ModeKind::SpinTread => "spin-tread",
             ModeKind::LateralTread => "lateral tread",
+            ModeKind::WheelChassis => "wheel–chassis",
         }
     }
 }
@@ -440,15 +469,16 @@ impl Simulation {
     }
 
     /// The Jacobian of f in the wheels' fast states, each corner's θ_L, θ̇_L, Ω, ξ_x, ξ_y (20 states; 12
-    /// without relaxation slip), by forward differences, one corner-local evaluation per column
-    /// (`Vehicle::wheel_derivative`: the column's corner's stages only, on the base's workspace), and its eigenvalues:
-    /// the modes the step must hold, with their couplings (the hop of a corner with its spin–tread mode,
-    /// which are close on a light unsprung mass, and the corners with each other through the chassis).
-    /// The per-corner 2×2 blocks name them (wheel hop: θ_L, θ̇_L; spin–tread: ξ_x, Ω; lateral tread: ξ_y).
-    /// The chassis states are left out: they are slow, and their coupling moves the largest eigenvalue by
-    /// 0.2 % on the shipped vehicles (`cargo run --release --example jacobian_modes`, which compares with
-    /// the full Jacobian): `MODE_MARGIN` covers it. The Newton warm starts are left as they were. No heap
-    /// allocation.
+    /// without relaxation slip), and the chassis velocities ṙ₀, ω₀ (6), by forward differences: one
+    /// corner-local evaluation per wheel column (`Vehicle::wheel_derivative`: the column's corner's stages
+    /// only, on the base's workspace), one evaluation per chassis column; and its eigenvalues: the modes the
+    /// step must hold, with their couplings (the hop of a corner with its spin–tread mode, which are close on
+    /// a light unsprung mass, the corners with each other through the chassis, and at low speed the chassis'
+    /// velocities on the tires' slip: `CHECK_STATES`). The per-corner 2×2 blocks name them (wheel hop: θ_L,
+    /// θ̇_L; spin–tread: ξ_x, Ω; lateral tread: ξ_y). The chassis positions and orientation are left out: they
+    /// are slow, and their coupling moves the largest eigenvalue by 0.2 % on the shipped vehicles (`cargo run
+    /// --release --example jacobian_modes`, which compares with the full Jacobian): `MODE_MARGIN` covers it.
+    /// The Newton warm starts are left as they were. No heap allocation.
     pub fn wheel_modes(&mut self) -> Result<WheelModes, ModelError> {
         let mut modes = self.wheel_jacobian()?;
         modes.coupled(self.run.time)?;
@@ -490,10 +520,21 @@ impl Simulation {
             evaluations += 1;
             // Each column moves one corner's wheel state: f there by the corner-local evaluation
             // (`Vehicle::wheel_derivative`) on the base's workspace, about a third of an evaluation.
-            let mut jac = SMatrix::<f64, 20, 20>::zeros();
-            let mut columns = [[0.0; idx::DIM]; 20];
+            let wheel_len = 4 * per_corner;
+            let len = wheel_len + CHASSIS_VELOCITIES.len();
+            let states: [usize; CHECK_STATES] = std::array::from_fn(|k| {
+                if k < wheel_len {
+                    state_of(k / per_corner, k % per_corner)
+                } else if k < len {
+                    CHASSIS_VELOCITIES[k - wheel_len]
+                } else {
+                    0
+                }
+            });
+            let mut jac = SMatrix::<f64, CHECK_STATES, CHECK_STATES>::zeros();
+            let mut columns = [[0.0; idx::DIM]; CHECK_STATES];
             let mut out = [0.0; idx::DIM];
-            for col in 0..4 * per_corner {
+            for col in 0..wheel_len {
                 let (ci, cs) = (col / per_corner, col % per_corner);
                 let mut corner_local = |x: &[f64], out: &mut [f64]| {
                     let penetration = vehicle.wheel_derivative(&run, x, &inputs, &mut self.cache, ci, out)?;
@@ -512,8 +553,24 @@ impl Simulation {
                 for k in 0..n {
                     columns[col][k] = (out[k] - f0[k]) / delta;
                 }
-                for row in 0..4 * per_corner {
-                    jac[(row, col)] = columns[col][state_of(row / per_corner, row % per_corner)];
+            }
+            // The chassis velocities move every corner: a whole evaluation each (after the corner-local
+            // columns, which need the base's workspace).
+            for (col, &c) in (wheel_len..len).zip(&CHASSIS_VELOCITIES) {
+                let mut evaluate = |x: &[f64], out: &mut [f64]| {
+                    vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
+                    Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
+                };
+                let step = CHASSIS_VELOCITY_DELTA * (1.0 + x[c].abs());
+                let (delta, made) = difference_column(&mut evaluate, &x, n, c, step, in_contact, &mut out)?;
+                evaluations += made;
+                for k in 0..n {
+                    columns[col][k] = (out[k] - f0[k]) / delta;
+                }
+            }
+            for col in 0..len {
+                for row in 0..len {
+                    jac[(row, col)] = columns[col][states[row]];
                 }
             }
             let at = |i: usize, r: usize, c: usize| jac[(i * per_corner + r, i * per_corner + c)];
@@ -532,9 +589,7 @@ impl Simulation {
                 let lateral = if slip_states.is_some() { at(i, 4, 4) } else { 0.0 };
                 modes[8 + i] = FastMode { kind: ModeKind::LateralTread, corner: i, lambda: Complex::new(lateral, 0.0) };
             }
-            let len = 4 * per_corner;
-            let states = std::array::from_fn(|k| if k < len { state_of(k / per_corner, k % per_corner) } else { 0 });
-            let mut jacobian = [0.0; 400];
+            let mut jacobian = [0.0; CHECK_STATES * CHECK_STATES];
             for r in 0..len {
                 for c in 0..len {
                     jacobian[r * len + c] = jac[(r, c)];
@@ -546,6 +601,7 @@ impl Simulation {
                 spectral_bound: spectral_radius_bound(&jac),
                 states,
                 len,
+                wheel_len,
                 jacobian,
                 columns,
                 derivative: f0,
@@ -577,7 +633,7 @@ impl Simulation {
         // On the stack: no heap allocation per check.
         let mut p =
             PartialJacobian { rows: [0; MAX_IMEX], m: 0, cols: [0; idx::DIM], nc: 0, jac: [0.0; MAX_IMEX * idx::DIM] };
-        for &w in wheel.iter().chain(&[idx::V0, idx::V0 + 1, idx::V0 + 2, idx::W0, idx::W0 + 1, idx::W0 + 2]) {
+        for &w in wheel {
             p.rows[p.m] = w;
             p.m += 1;
         }
@@ -598,7 +654,7 @@ impl Simulation {
                 let column: [f64; idx::DIM] = match wheel.iter().position(|&w| w == c) {
                     Some(k) => columns[k],
                     None => {
-                        let step = 1e-7 * (1.0 + x[c].abs());
+                        let step = CHASSIS_VELOCITY_DELTA * (1.0 + x[c].abs());
                         let (delta, made) = difference_column(&mut evaluate, &x, n, c, step, in_contact, &mut out)?;
                         evaluations += made;
                         std::array::from_fn(|k| if k < n { (out[k] - f0[k]) / delta } else { 0.0 })
@@ -638,7 +694,12 @@ impl Simulation {
         if self.run.integrator.implicit_block().is_some() {
             let p = self.imex_partial_jacobian(&wheel_modes)?;
             if let Some(scheme) = self.run.integrator.implicit_block() {
-                scheme.set_partial_jacobian(&p.rows[..p.m], &p.cols[..p.nc], &p.jac[..p.m * p.nc], wheel_modes.len);
+                scheme.set_partial_jacobian(
+                    &p.rows[..p.m],
+                    &p.cols[..p.nc],
+                    &p.jac[..p.m * p.nc],
+                    wheel_modes.wheel_len,
+                );
                 scheme.set_error_limit(IMEX_ERROR_PER_TOLERANCE * self.config.tolerance);
                 scheme.set_run_on(self.config.accuracy == AccuracyPolicy::Warn);
             }
@@ -661,7 +722,8 @@ impl Simulation {
             Some((m, l, _, h_max)) => Err(ModelError::step_refused(
                 h_max,
                 format!(
-                    "the {} mode of wheel {} (coupled with the other wheel modes) has eigenvalue {:.0}{:+.0}i 1/s \
+                    "the {} mode of wheel {} (coupled with the other wheels' modes and the chassis velocities) has \
+                 eigenvalue {:.0}{:+.0}i 1/s \
                  at t = {:.3} s; {:?} at h = {:.3e} s puts hλ, with a {:.0} % margin, outside its stability region \
                  or where it decays by less than the mode does (growth per step above max({DAMPED_GROWTH_MAX}, \
                  e^(Re hλ/2))) (stable up to h = {:.3e} s): use a smaller internal step{}",
@@ -708,7 +770,7 @@ impl Simulation {
         // undamped at some smaller step): there a weakly damped fast mode is damped numerically, not followed
         // (tire k_z × 100 on the J-turn at 4.17 ms was 1 % off so). Where BDF3 fails a mode and A-stable BDF2
         // damps every one, the scheme steps at second order until the next check (`ImexAb3::set_order`).
-        let mut fails = [false; 20];
+        let mut fails = [false; CHECK_STATES];
         for (f, l) in fails.iter_mut().zip(coupled.iter()) {
             *f = match kind {
                 IntegratorKind::ImexAb3 => !damped_up_to(kind, judged(l), h),
@@ -719,7 +781,7 @@ impl Simulation {
             let second = fails.iter().any(|f| *f) && coupled.iter().all(|l| bdf2_damped_up_to(judged(l), h));
             scheme.set_order(if second { 2 } else { 3 });
             if second {
-                fails = [false; 20];
+                fails = [false; CHECK_STATES];
             }
         }
         Ok(coupled
@@ -732,7 +794,13 @@ impl Simulation {
                         .iter()
                         .min_by(|a, b| (a.lambda - l).norm().total_cmp(&(b.lambda - l).norm()))
                         .expect("twelve modes");
-                    (*m, *l, lambda, largest_stable_step(kind, lambda, h))
+                    // No wheel's own mode near it: a mode the chassis velocities make (`CHECK_STATES`).
+                    let m = if (m.lambda - l).norm() > WHEEL_MODE_NEAR * l.norm() {
+                        FastMode { kind: ModeKind::WheelChassis, ..*m }
+                    } else {
+                        *m
+                    };
+                    (m, *l, lambda, largest_stable_step(kind, lambda, h))
                 })
             })
             .min_by(|a, b| a.3.total_cmp(&b.3)))
@@ -906,6 +974,32 @@ mod tests {
         Simulation::new(VehicleData::default_hmmwv(), config).expect("the simulation starts")
     }
 
+    /// The check's fastest mode is the full Jacobian's (nalgebra's eigenvalues of ∂f/∂x in every state, an
+    /// independent computation), within the margin `MODE_MARGIN` judges with: at rest, where the tires tie
+    /// the chassis velocities to the road (the wheel states alone come 6 % short there: `CHECK_STATES`), and
+    /// rolling at 100 km/h, slipping and yawing.
+    #[test]
+    fn the_checks_fastest_mode_is_the_full_jacobians() {
+        for speed in [0.0, 27.8] {
+            let mut sim = simulation(SimConfig { initial_speed: speed, ..SimConfig::default() });
+            if speed > 0.0 {
+                let mut x = sim.run.state.clone();
+                x[idx::W0 + 2] = 0.2; // yawing
+                x[idx::V0 + 1] = 0.8; // side-slipping
+                sim.set_continuous_states(&x).unwrap();
+            }
+            let full = sim.state_jacobian().unwrap().complex_eigenvalues().iter().map(|l| l.norm()).fold(0.0, f64::max);
+            let mut modes = sim.wheel_modes().unwrap();
+            let checked = modes.coupled(0.0).unwrap().iter().map(|l| l.norm()).fold(0.0, f64::max);
+            assert!(
+                checked * super::MODE_MARGIN >= full && checked <= full * super::MODE_MARGIN,
+                "at {speed} m/s: the check's fastest mode {checked:.1} 1/s, the full Jacobian's {full:.1} 1/s"
+            );
+            let wheels = modes.per_wheel.iter().map(|m| m.lambda.norm()).fold(0.0, f64::max);
+            println!("{speed} m/s: full {full:.1}, checked {checked:.1}, per wheel {wheels:.1} 1/s");
+        }
+    }
+
     /// A refusal of the step check carries the largest stable step as a field, the step its message names:
     /// following it, the check takes a step (after at most one refusal per bound: stability, the hop's and
     /// the bump's resolution).
@@ -942,7 +1036,7 @@ mod tests {
     /// summed in order, the other corners' Newton solves run again in the full one): a few ε of f's largest
     /// rows (~1e3 here) over the step (1e-6 for θ_L, whose column is the largest, ~5e3), about 1e-11 of a
     /// column's largest entry (measured: 2e-13 on the θ_L columns); the bound is 1e-9 of it (a column taken from the wrong corner
-    /// or state is off by order 1).
+    /// or state is off by order 1). The chassis-velocity columns are whole evaluations' differences themselves.
     #[test]
     fn the_corner_local_wheel_columns_are_the_full_evaluations_differences() {
         use super::super::attached;
@@ -964,8 +1058,14 @@ mod tests {
         let run = Run::new(vehicle, &sim.config.options, &sim.road).on_rounded_road();
         let inputs = sim.inputs_at(sim.run.time);
         let n = x.len();
+        // The 20 wheel columns, then the 6 chassis-velocity columns (whole evaluations: the same to rounding).
+        assert_eq!(modes.len, 26);
         for (col, &state) in modes.states[..modes.len].iter().enumerate() {
-            let delta = super::WHEEL_DELTA[col % 5];
+            let delta = if col < 20 {
+                super::WHEEL_DELTA[col % 5]
+            } else {
+                super::CHASSIS_VELOCITY_DELTA * (1.0 + x[state].abs())
+            };
             let (mut xp, mut f0, mut fp) = (x.clone(), vec![0.0; n], vec![0.0; n]);
             let mut cache = sim.cache.clone();
             vehicle.derivative(&run, &x, &inputs, &mut cache, &mut f0).unwrap();
