@@ -158,49 +158,22 @@ fn times_sign_of(y: f64, x: f64) -> f64 {
     f64::from_bits(y.to_bits() ^ (x.to_bits() & SIGN_BIT))
 }
 
-/// sin(n π/2 + r) for |r| ≤ π/4: sin r, cos r, −sin r or −cos r as n mod 4 is 0, 1, 2 or 3.
-#[inline(always)]
-fn sin_quarter_turns(n: u64, r: f64) -> f64 {
-    match n & 3 {
-        0 => sin_kernel(r),
-        1 => cos_kernel(r),
-        2 => -sin_kernel(r),
-        _ => -cos_kernel(r),
-    }
-}
-
-/// sin x (libm's beyond |x| = 1e5).
+/// sin x (libm's beyond |x| = 1e5): `sin_cos`'s first half (inlined, the cosine's work is dropped).
 #[inline(always)]
 pub fn sin(x: f64) -> f64 {
-    let a = x.abs();
-    if a <= FRAC_PI_4 {
-        return sin_kernel(x);
-    }
-    if !(a < REDUCTION_LIMIT) {
-        return x.sin();
-    }
-    let (n, r) = quarter_turns(a);
-    times_sign_of(sin_quarter_turns(n, r), x)
+    sin_cos(x).0
 }
 
-/// cos x = sin(|x| + π/2) (libm's beyond |x| = 1e5).
+/// cos x = sin(|x| + π/2) (libm's beyond |x| = 1e5): `sin_cos`'s second half.
 #[inline(always)]
 pub fn cos(x: f64) -> f64 {
-    let a = x.abs();
-    if a <= FRAC_PI_4 {
-        return cos_kernel(a);
-    }
-    if !(a < REDUCTION_LIMIT) {
-        return x.cos();
-    }
-    let (n, r) = quarter_turns(a);
-    sin_quarter_turns(n + 1, r)
+    sin_cos(x).1
 }
 
-/// (sin x, cos x): the same bits as `sin` and `cos` (the same operations, one reduction and both kernels).
-/// The suspension's position solve takes five per corner and evaluation (the lower arm's angle, the
-/// upright's three Bryant angles, the closure's arm); glibc's `sincos` costs about 150 instructions each there
-/// (callgrind, issue 36), these about 40 for the small angles they are.
+/// (sin x, cos x) from one reduction: |x| = nπ/2 + r, |r| ≤ π/4, then both kernels at r. The suspension's
+/// position solve takes five per corner and evaluation (the lower arm's angle, the upright's three Bryant
+/// angles, the closure's arm); glibc's `sincos` cost about 100 instructions each there (callgrind, issue 36),
+/// this about a third of that for the small angles they are.
 #[inline(always)]
 pub fn sin_cos(x: f64) -> (f64, f64) {
     let a = x.abs();
@@ -212,7 +185,7 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     }
     let (n, r) = quarter_turns(a);
     let (s, c) = (sin_kernel(r), cos_kernel(r));
-    // sin(nπ/2 + r) and cos(nπ/2 + r) = sin((n + 1)π/2 + r), as `sin_quarter_turns` picks them.
+    // sin(nπ/2 + r) is s, c, −s or −c as n mod 4 is 0, 1, 2 or 3, and cos(nπ/2 + r) = sin((n + 1)π/2 + r).
     let (sin_a, cos_a) = match n & 3 {
         0 => (s, c),
         1 => (c, -s),
@@ -278,16 +251,6 @@ mod tests {
     const BOUND: f64 = 4.0 * f64::EPSILON;
     // Issue 36's bound on a faster atan or sin/cos (1e-12 relative): the tests' bound is within it.
     const _: () = assert!(BOUND < 1e-12);
-
-    #[test]
-    fn sin_cos_is_sin_and_cos_to_the_bit() {
-        let edges = [FRAC_PI_4, FRAC_PI_2, REDUCTION_LIMIT, 0.0, 1e-300];
-        let points = dense().chain(edges.iter().flat_map(|&e| around(e, 64).chain(around(-e, 64))));
-        for x in points {
-            let (s, c) = sin_cos(x);
-            assert_eq!((s.to_bits(), c.to_bits()), (sin(x).to_bits(), cos(x).to_bits()), "{x}");
-        }
-    }
 
     #[test]
     fn atan_is_libms_to_a_few_ulp_over_every_range() {
