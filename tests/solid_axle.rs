@@ -17,15 +17,8 @@
 //! Project Chrono, BSD-3-Clause: data/chrono/LICENSE), in its suspension frame.
 
 mod common;
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use common::absolute::{angle_between, exp_so3, mirror, Bodies, M3, V3};
 use rt_vehicle::model::suspension::solid_axle::AxleLinkage;
-
-type V3 = Vector3<f64>;
-type M3 = Matrix3<f64>;
-
-fn mirror(v: V3) -> V3 {
-    V3::new(v.x, -v.y, v.z)
-}
 
 struct Points {
     triangle_c: V3,
@@ -45,23 +38,10 @@ fn man_5t_rear() -> Points {
     }
 }
 
-/// Rodrigues: exp([φ]×).
-fn exp_so3(phi: &V3) -> M3 {
-    let t = phi.norm();
-    if t < 1e-300 {
-        return M3::identity();
-    }
-    let k = phi / t;
-    let kx = k.cross_matrix();
-    M3::identity() + kx * t.sin() + kx * kx * (1.0 - t.cos())
-}
-
 /// The absolute-coordinate mechanism: body b has position r[b] and rotation a[b]; a body point given at
 /// design p is at r + A (p − r_design).
 struct Chrono {
-    design: [V3; 4],
-    r: [V3; 4],
-    a: [M3; 4],
+    b: Bodies<4>,
     pts: Points,
     /// The universal joints' frames (u, v) at design, left and right.
     universal: [(V3, V3); 2],
@@ -87,76 +67,41 @@ impl Chrono {
             (links[0].0 + links[0].1) / 2.0,
             (links[1].0 + links[1].1) / 2.0,
         ];
-        Chrono { design, r: design, a: [M3::identity(); 4], pts, universal }
+        Chrono { b: Bodies::new(design), pts, universal }
     }
 
-    fn at(&self, b: usize, p: &V3) -> V3 {
-        self.r[b] + self.a[b] * (p - self.design[b])
-    }
-
-    /// The 22 joint rows and the two drivers (spindle heights `z`).
-    fn residual(&self, z: [f64; 2]) -> DVector<f64> {
+    /// The 22 joint rows and the two drivers (spindle heights `z`), the bodies at `b`.
+    fn residual(&self, b: &Bodies<4>, z: [f64; 2]) -> Vec<f64> {
         let mut f = Vec::with_capacity(24);
         let tri_chassis = (self.pts.triangle_c + mirror(self.pts.triangle_c)) / 2.0;
         // revolute triangle–chassis
-        f.extend((self.at(TRIANGLE, &tri_chassis) - tri_chassis).iter());
-        let y_tri = self.a[TRIANGLE] * V3::y();
+        f.extend((b.at(TRIANGLE, &tri_chassis) - tri_chassis).iter());
+        let y_tri = b.a[TRIANGLE] * V3::y();
         f.push(y_tri.x);
         f.push(y_tri.z);
         // spherical triangle–axle
-        f.extend((self.at(TRIANGLE, &self.pts.triangle_a) - self.at(AXLE, &self.pts.triangle_a)).iter());
+        f.extend((b.at(TRIANGLE, &self.pts.triangle_a) - b.at(AXLE, &self.pts.triangle_a)).iter());
         for side in 0..2 {
             let s = |v: V3| if side == 0 { v } else { mirror(v) };
             let (la, lc) = (s(self.pts.link_a), s(self.pts.link_c));
-            let b = LINK[side];
-            f.extend((self.at(b, &la) - self.at(AXLE, &la)).iter());
-            f.extend((self.at(b, &lc) - lc).iter());
+            let link = LINK[side];
+            f.extend((b.at(link, &la) - b.at(AXLE, &la)).iter());
+            f.extend((b.at(link, &lc) - lc).iter());
             let (u, v) = self.universal[side];
-            f.push((self.a[b] * u).dot(&v));
+            f.push((b.a[link] * u).dot(&v));
         }
         for side in 0..2 {
             let sp = if side == 0 { self.pts.spindle } else { mirror(self.pts.spindle) };
-            f.push(self.at(AXLE, &sp).z - z[side]);
+            f.push(b.at(AXLE, &sp).z - z[side]);
         }
-        DVector::from_vec(f)
+        f
     }
 
-    fn perturb(&mut self, k: usize, h: f64) {
-        let (b, c) = (k / 6, k % 6);
-        if c < 3 {
-            self.r[b][c] += h;
-        } else {
-            let mut phi = V3::zeros();
-            phi[c - 3] = h;
-            self.a[b] = exp_so3(&phi) * self.a[b];
-        }
-    }
-
-    /// Newton with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13.
+    /// Newton from the current place (`Bodies::solve`).
     fn solve(&mut self, z: [f64; 2]) {
-        for _ in 0..50 {
-            let f = self.residual(z);
-            if f.amax() <= 1e-13 {
-                return;
-            }
-            let mut j = DMatrix::zeros(24, 24);
-            let h = 1e-7;
-            for k in 0..24 {
-                let saved = (self.r, self.a);
-                self.perturb(k, h);
-                let fp = self.residual(z);
-                (self.r, self.a) = saved;
-                self.perturb(k, -h);
-                let fm = self.residual(z);
-                (self.r, self.a) = saved;
-                j.set_column(k, &((fp - fm) / (2.0 * h)));
-            }
-            let dx = j.lu().solve(&(-f)).expect("Chrono's joint set is square and regular");
-            for k in 0..24 {
-                self.perturb(k, dx[k]);
-            }
-        }
-        panic!("the absolute-coordinate solve did not converge: {:e}", self.residual(z).amax());
+        let mut b = self.b;
+        b.solve(|b| self.residual(b, z));
+        self.b = b;
     }
 }
 
@@ -183,14 +128,10 @@ fn the_reduced_axle_is_chronos_joint_set() {
             let ours = spindles.map(|s| axle.point(&pos, &s));
             chrono.solve([ours[0].z, ours[1].z]);
             for (s, o) in spindles.iter().zip(&ours) {
-                worst_point = worst_point.max((chrono.at(AXLE, s) - o).amax());
+                worst_point = worst_point.max((chrono.b.at(AXLE, s) - o).amax());
             }
             // the axle's rotation: every angle between the two (camber and toe among them)
-            // (the skew part of Aᵀ R: sin of the angle between them, exact near zero where acos is not)
-            let d = chrono.a[AXLE].transpose() * pos.rotation;
-            let angle =
-                (V3::new(d[(2, 1)] - d[(1, 2)], d[(0, 2)] - d[(2, 0)], d[(1, 0)] - d[(0, 1)]).norm() / 2.0).asin();
-            worst_angle = worst_angle.max(angle);
+            worst_angle = worst_angle.max(angle_between(&chrono.b.a[AXLE], &pos.rotation));
         }
     }
     eprintln!(
@@ -222,70 +163,8 @@ fn a_link_moved_a_tenth_of_a_millimetre_is_seen() {
     let s = pts.spindle;
     let ours = axle.point(&pos, &s);
     chrono.solve([ours.z, axle.point(&pos, &mirror(s)).z]);
-    let d = (chrono.at(AXLE, &s) - ours).amax();
+    let d = (chrono.b.at(AXLE, &s) - ours).amax();
     assert!(d > 1e-6, "a 0.1 mm change moved the spindle by only {d:e} m");
-}
-
-/// Newton on absolute coordinates (each body's position r and rotation A, rotations perturbed on the left by
-/// exp([φ]×)) with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13: the residual rows must make the system
-/// square.
-/// The joint rows and drivers of a mechanism at the bodies' positions and rotations.
-type Residual<'a> = &'a dyn Fn(&[V3], &[M3]) -> Vec<f64>;
-
-fn solve_absolute(r: &mut [V3], a: &mut [M3], residual: Residual) {
-    let n = 6 * r.len();
-    let perturb = |r: &mut [V3], a: &mut [M3], k: usize, h: f64| {
-        let (b, c) = (k / 6, k % 6);
-        if c < 3 {
-            r[b][c] += h;
-        } else {
-            let mut phi = V3::zeros();
-            phi[c - 3] = h;
-            a[b] = exp_so3(&phi) * a[b];
-        }
-    };
-    for _ in 0..50 {
-        let f = DVector::from_vec(residual(r, a));
-        assert_eq!(f.len(), n, "the joint rows and drivers make the system square");
-        if f.amax() <= 1e-13 {
-            return;
-        }
-        let mut j = DMatrix::zeros(n, n);
-        let h = 1e-7;
-        for k in 0..n {
-            let (r0, a0) = (r.to_vec(), a.to_vec());
-            perturb(r, a, k, h);
-            let fp = DVector::from_vec(residual(r, a));
-            r.copy_from_slice(&r0);
-            a.copy_from_slice(&a0);
-            perturb(r, a, k, -h);
-            let fm = DVector::from_vec(residual(r, a));
-            r.copy_from_slice(&r0);
-            a.copy_from_slice(&a0);
-            j.set_column(k, &((fp - fm) / (2.0 * h)));
-        }
-        let dx = j.lu().solve(&(-f)).expect("the joint set is square and regular");
-        for k in 0..n {
-            perturb(r, a, k, dx[k]);
-        }
-    }
-    panic!("the absolute-coordinate solve did not converge");
-}
-
-/// Chrono's `ChLinkLock` rows between a chassis marker (frame `f` at `p`, fixed) and an axle marker (the same
-/// frame at design, moving with the axle body at r, A about its design point c₀): relM = the chassis marker in
-/// the axle marker's frame; its position's components `pos` (0 x, 1 y, 2 z) and the vector part e1, e2 of its
-/// rotation (locked as Chrono locks them: the skew parts of the relative rotation matrix about the frame's x
-/// and y axes).
-fn lock_rows(p: &V3, f: &M3, r: &V3, a: &M3, c0: &V3, pos: &[usize]) -> Vec<f64> {
-    let marker_axle = a * f; // the axle marker's axes, in the chassis
-    let at = r + a * (p - c0); // the axle marker's origin
-    let rel_pos = marker_axle.transpose() * (p - at);
-    let m = marker_axle.transpose() * f; // the chassis marker's rotation in the axle marker's frame
-    let mut out: Vec<f64> = pos.iter().map(|&k| rel_pos[k]).collect();
-    out.push(m[(2, 1)] - m[(1, 2)]); // e1
-    out.push(m[(0, 2)] - m[(2, 0)]); // e2
-    out
 }
 
 /// Chrono's guide frame for both templates: the chassis's rotation times Ry(π/2) (`QuatFromAngleY(CH_PI_2)`).
@@ -309,10 +188,7 @@ fn against_chrono(linkage: &AxleLinkage, spindle: V3, chrono: &dyn Fn([f64; 2]) 
                 let theirs = r + a * (s - linkage.centre);
                 worst_point = worst_point.max((theirs - o).amax());
             }
-            let d = a.transpose() * pos.rotation;
-            let angle =
-                (V3::new(d[(2, 1)] - d[(1, 2)], d[(0, 2)] - d[(2, 0)], d[(1, 0)] - d[(0, 1)]).norm() / 2.0).asin();
-            worst_angle = worst_angle.max(angle.to_degrees());
+            worst_angle = worst_angle.max(angle_between(&a, &pos.rotation).to_degrees());
         }
     }
     (worst_point, worst_angle)
@@ -329,15 +205,16 @@ fn the_reduced_leaf_spring_axle_is_chronos_joint_set() {
     let linkage = AxleLinkage::leafspring(c0).unwrap();
     let f = guide_frame();
     let chrono = |z: [f64; 2]| {
-        let (mut r, mut a) = ([c0], [M3::identity()]);
-        solve_absolute(&mut r, &mut a, &|r, a| {
-            let mut rows = lock_rows(&c0, &f, &r[0], &a[0], &c0, &[1, 2]);
+        let mut tube = Bodies::new([c0]);
+        tube.solve(|b| {
+            let mut rows = Vec::new();
+            b.lock(None, Some(0), &c0, &f, &[1, 2], &mut rows);
             for (k, s) in [spindle, mirror(spindle)].iter().enumerate() {
-                rows.push((r[0] + a[0] * (s - c0)).z - z[k]);
+                rows.push(b.at(0, s).z - z[k]);
             }
             rows
         });
-        (r[0], a[0])
+        (tube.r[0], tube.a[0])
     };
     let (point, angle) = against_chrono(&linkage, spindle, &chrono);
     eprintln!(
@@ -347,17 +224,18 @@ fn the_reduced_leaf_spring_axle_is_chronos_joint_set() {
     // Negative control: a guide that slides along the chassis's vertical instead of the axle's own (Chrono's
     // prismatic then revolute, not revolute then prismatic) is more than 1 mm away over the same travel.
     let slide_on_chassis = |z: [f64; 2]| {
-        let (mut r, mut a) = ([c0], [M3::identity()]);
-        solve_absolute(&mut r, &mut a, &|r, a| {
-            let mut rows = lock_rows(&c0, &f, &r[0], &a[0], &c0, &[]);
-            rows.push(r[0].x - c0.x);
-            rows.push(r[0].y - c0.y);
+        let mut tube = Bodies::new([c0]);
+        tube.solve(|b| {
+            let mut rows = Vec::new();
+            b.lock(None, Some(0), &c0, &f, &[], &mut rows);
+            rows.push(b.r[0].x - c0.x);
+            rows.push(b.r[0].y - c0.y);
             for (k, s) in [spindle, mirror(spindle)].iter().enumerate() {
-                rows.push((r[0] + a[0] * (s - c0)).z - z[k]);
+                rows.push(b.at(0, s).z - z[k]);
             }
             rows
         });
-        (r[0], a[0])
+        (tube.r[0], tube.a[0])
     };
     let (point, _) = against_chrono(&linkage, spindle, &slide_on_chassis);
     assert!(point > 1e-3, "the other guide is only {point:e} m away");
@@ -378,19 +256,19 @@ fn the_reduced_panhard_axle_is_chronos_joint_set() {
     let rod_mid = (rod_c + rod_a) / 2.0;
     let chrono_with = |rod_chassis: V3| {
         move |z: [f64; 2]| {
-            let (mut r, mut a) = ([c0, rod_mid], [M3::identity(); 2]);
-            solve_absolute(&mut r, &mut a, &|r, a| {
-                let mut rows = lock_rows(&c0, &f, &r[0], &a[0], &c0, &[2]);
-                let on_rod = |p: &V3| r[1] + a[1] * (p - rod_mid);
-                rows.extend((on_rod(&rod_chassis) - rod_chassis).iter());
-                rows.extend((on_rod(&rod_a) - (r[0] + a[0] * (rod_a - c0))).iter());
-                rows.push((a[1] * V3::z()).dot(&V3::x())); // the rod's spin held
+            let mut tube_and_rod = Bodies::new([c0, rod_mid]);
+            tube_and_rod.solve(|b| {
+                let mut rows = Vec::new();
+                b.lock(None, Some(0), &c0, &f, &[2], &mut rows);
+                rows.extend((b.at(1, &rod_chassis) - rod_chassis).iter());
+                rows.extend((b.at(1, &rod_a) - b.at(0, &rod_a)).iter());
+                rows.push((b.a[1] * V3::z()).dot(&V3::x())); // the rod's spin held
                 for (k, s) in [spindle, mirror(spindle)].iter().enumerate() {
-                    rows.push((r[0] + a[0] * (s - c0)).z - z[k]);
+                    rows.push(b.at(0, s).z - z[k]);
                 }
                 rows
             });
-            (r[0], a[0])
+            (tube_and_rod.r[0], tube_and_rod.a[0])
         }
     };
     let linkage = AxleLinkage::panhard(c0, rod_c, rod_a).unwrap();

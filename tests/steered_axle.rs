@@ -36,18 +36,13 @@
 //! at location (0, 0, 0) in `MAN_Kat1/vehicle/MAN_5t_Vehicle_4WD.json`; Project Chrono, BSD-3-Clause:
 //! data/chrono/LICENSE), in the suspension frame (axle tube's CM at the origin).
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+mod common;
+use common::absolute::{angle_between, exp_so3, mirror, Bodies, M3, V3};
+use nalgebra::Vector3;
 use rt_vehicle::model::steering::TieRodDrive;
 use rt_vehicle::model::suspension::solid_axle::steering::{AxleSteering, BELLCRANK, KNUCKLE};
 use rt_vehicle::model::suspension::solid_axle::AxleLinkage;
 use rt_vehicle::model::suspension::BodyInertia;
-
-type V3 = Vector3<f64>;
-type M3 = Matrix3<f64>;
-
-fn mirror(v: V3) -> V3 {
-    V3::new(v.x, -v.y, v.z)
-}
 
 /// A left-side point on side k (0 left, 1 right: mirrored in y).
 fn side(k: usize, v: V3) -> V3 {
@@ -102,111 +97,17 @@ fn man_5t_front() -> Points {
     }
 }
 
-/// Rodrigues: exp([φ]×).
-fn exp_so3(phi: &V3) -> M3 {
-    let t = phi.norm();
-    if t < 1e-300 {
-        return M3::identity();
-    }
-    let k = phi / t;
-    let kx = k.cross_matrix();
-    M3::identity() + kx * t.sin() + kx * kx * (1.0 - t.cos())
-}
-
-/// The angle between two rotations (from the skew part of aᵀ b: exact near zero, where acos is not).
-fn angle_between(a: &M3, b: &M3) -> f64 {
-    let d = a.transpose() * b;
-    (V3::new(d[(2, 1)] - d[(1, 2)], d[(0, 2)] - d[(2, 0)], d[(1, 0)] - d[(0, 1)]).norm() / 2.0).asin()
-}
-
-/// Bodies in absolute coordinates: body b's point given at design p is at r[b] + a[b] (p − design[b]).
-#[derive(Clone, Copy)]
-struct Bodies<const B: usize> {
-    design: [V3; B],
-    r: [V3; B],
-    a: [M3; B],
-}
-
-impl<const B: usize> Bodies<B> {
-    /// At design: every body at its design position, unturned.
-    fn new(design: [V3; B]) -> Self {
-        Bodies { design, r: design, a: [M3::identity(); B] }
-    }
-
-    fn at(&self, b: usize, p: &V3) -> V3 {
-        self.r[b] + self.a[b] * (p - self.design[b])
-    }
-
-    /// A marker at design point p with design axes f on body b (`None`: the chassis): its origin and axes.
-    fn marker(&self, b: Option<usize>, p: &V3, f: &M3) -> (V3, M3) {
-        match b {
-            Some(b) => (self.at(b, p), self.a[b] * f),
-            None => (*p, *f),
-        }
-    }
-
-    /// `ChLinkLock` rows between body 1 and body 2 at p in frame f: marker 1 in marker 2's frame, the position
-    /// components `locked` (0 x, 1 y, 2 z; all three for a revolute) and the rotation's skew parts about the
-    /// frame's x and y axes.
-    fn lock(&self, b1: Option<usize>, b2: Option<usize>, p: &V3, f: &M3, locked: &[usize], out: &mut Vec<f64>) {
-        let (o1, m1) = self.marker(b1, p, f);
-        let (o2, m2) = self.marker(b2, p, f);
-        let rel = m2.transpose() * (o1 - o2);
-        out.extend(locked.iter().map(|&k| rel[k]));
-        let m = m2.transpose() * m1;
-        out.push(m[(2, 1)] - m[(1, 2)]);
-        out.push(m[(0, 2)] - m[(2, 0)]);
-    }
-
-    /// Coordinate k moved by h: body k / 6's position, or its rotation on the left by exp([φ]×).
-    fn perturb(&mut self, k: usize, h: f64) {
-        let (b, c) = (k / 6, k % 6);
-        if c < 3 {
-            self.r[b][c] += h;
-        } else {
-            let mut phi = V3::zeros();
-            phi[c - 3] = h;
-            self.a[b] = exp_so3(&phi) * self.a[b];
-        }
-    }
-}
-
 /// A mechanism of B bodies in absolute coordinates whose joint rows and drivers `residual` gives at the arm
 /// angle θ and tube heights z.
 trait Absolute<const B: usize> {
     fn bodies(&mut self) -> &mut Bodies<B>;
-    fn residual(&self, theta: f64, z: [f64; 2]) -> Vec<f64>;
+    fn residual(&self, b: &Bodies<B>, theta: f64, z: [f64; 2]) -> Vec<f64>;
 
-    /// Newton with a central-difference Jacobian, to ‖Φ‖∞ ≤ 1e-13, from the current state.
+    /// Newton from the current place (`Bodies::solve`).
     fn solve(&mut self, theta: f64, z: [f64; 2]) {
-        let n = 6 * B;
-        for _ in 0..50 {
-            let f = DVector::from_vec(self.residual(theta, z));
-            assert_eq!(f.len(), n, "the joint rows and drivers make the system square");
-            if f.amax() <= 1e-13 {
-                return;
-            }
-            let mut j = DMatrix::zeros(n, n);
-            let h = 1e-7;
-            for k in 0..n {
-                let saved = *self.bodies();
-                self.bodies().perturb(k, h);
-                let fp = DVector::from_vec(self.residual(theta, z));
-                *self.bodies() = saved;
-                self.bodies().perturb(k, -h);
-                let fm = DVector::from_vec(self.residual(theta, z));
-                *self.bodies() = saved;
-                j.set_column(k, &((fp - fm) / (2.0 * h)));
-            }
-            let dx = j.lu().solve(&(-f)).expect("Chrono's joint set is square and regular");
-            for k in 0..n {
-                self.bodies().perturb(k, dx[k]);
-            }
-        }
-        panic!(
-            "the absolute-coordinate solve did not converge at θ = {theta}: {:e}",
-            DVector::from_vec(self.residual(theta, z)).amax()
-        );
+        let mut b = *self.bodies();
+        b.solve(|b| self.residual(b, theta, z));
+        *self.bodies() = b;
     }
 }
 
@@ -296,41 +197,40 @@ impl Absolute<BODIES> for Chrono {
     }
 
     /// The 58 joint rows and the two drivers (the heights `z` of the tube points (0, ±1.035, 0)).
-    fn residual(&self, theta: f64, z: [f64; 2]) -> Vec<f64> {
+    fn residual(&self, b: &Bodies<BODIES>, theta: f64, z: [f64; 2]) -> Vec<f64> {
         let pts = &self.pts;
         let mut f = Vec::with_capacity(6 * BODIES);
         // triangle: revolute to the chassis (frame chassis·Rx(π/2): its z the chassis's y), spherical to the tube
         let rx = exp_so3(&V3::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0));
-        self.b.lock(Some(TRIANGLE), None, &self.tri_chassis, &rx, &[0, 1, 2], &mut f);
-        f.extend((self.b.at(TRIANGLE, &self.tri_axle) - self.b.at(TUBE, &self.tri_axle)).iter());
+        b.lock(Some(TRIANGLE), None, &self.tri_chassis, &rx, &[0, 1, 2], &mut f);
+        f.extend((b.at(TRIANGLE, &self.tri_axle) - b.at(TUBE, &self.tri_axle)).iter());
         for k in 0..2 {
             // longitudinal link: spherical to the tube, universal to the chassis
             let (la, lc) = (side(k, pts.link_a), side(k, pts.link_c));
-            f.extend((self.b.at(LINK[k], &la) - self.b.at(TUBE, &la)).iter());
-            f.extend((self.b.at(LINK[k], &lc) - lc).iter());
+            f.extend((b.at(LINK[k], &la) - b.at(TUBE, &la)).iter());
+            f.extend((b.at(LINK[k], &lc) - lc).iter());
             let (u, v) = self.link_universal[k];
-            f.push((self.b.a[LINK[k]] * u).dot(&v));
+            f.push((b.a[LINK[k]] * u).dot(&v));
             // kingpin: revolute tube–knuckle at the kingpin's mid-point
             let mid = (side(k, pts.knuckle_u) + side(k, pts.knuckle_l)) / 2.0;
-            self.b.lock(Some(TUBE), Some(KNUCKLE_BODY[k]), &mid, &self.kingpin[k], &[0, 1, 2], &mut f);
+            b.lock(Some(TUBE), Some(KNUCKLE_BODY[k]), &mid, &self.kingpin[k], &[0, 1, 2], &mut f);
             // tie rod: spherical to the knuckle and to the bellcrank, its spin held
             let (kt, bt) = (side(k, pts.knuckle_t), side(k, pts.bellcrank_t));
-            f.extend((self.b.at(TIEROD[k], &kt) - self.b.at(KNUCKLE_BODY[k], &kt)).iter());
-            f.extend((self.b.at(TIEROD[k], &bt) - self.b.at(BELL, &bt)).iter());
-            f.push((self.b.a[TIEROD[k]] * self.tierod_normal[k]).z);
+            f.extend((b.at(TIEROD[k], &kt) - b.at(KNUCKLE_BODY[k], &kt)).iter());
+            f.extend((b.at(TIEROD[k], &bt) - b.at(BELL, &bt)).iter());
+            f.push((b.a[TIEROD[k]] * self.tierod_normal[k]).z);
         }
         // bellcrank: revolute on the tube, frame the chassis's
-        self.b.lock(Some(TUBE), Some(BELL), &pts.bellcrank_a, &M3::identity(), &[0, 1, 2], &mut f);
+        b.lock(Some(TUBE), Some(BELL), &pts.bellcrank_a, &M3::identity(), &[0, 1, 2], &mut f);
         // drag link: spherical to the rotary arm, universal to the bellcrank
         f.extend(
-            (self.b.at(DRAG, &pts.draglink_s) - arm_point(&pts.arm_pivot, &pts.arm_axis, &pts.draglink_s, theta))
-                .iter(),
+            (b.at(DRAG, &pts.draglink_s) - arm_point(&pts.arm_pivot, &pts.arm_axis, &pts.draglink_s, theta)).iter(),
         );
-        f.extend((self.b.at(DRAG, &pts.bellcrank_d) - self.b.at(BELL, &pts.bellcrank_d)).iter());
+        f.extend((b.at(DRAG, &pts.bellcrank_d) - b.at(BELL, &pts.bellcrank_d)).iter());
         let (u, v) = self.drag_universal;
-        f.push((self.b.a[DRAG] * u).dot(&(self.b.a[BELL] * v)));
+        f.push((b.a[DRAG] * u).dot(&(b.a[BELL] * v)));
         for (k, zk) in z.iter().enumerate() {
-            f.push(self.b.at(TUBE, &side(k, pts.spindle)).z - zk);
+            f.push(b.at(TUBE, &side(k, pts.spindle)).z - zk);
         }
         f
     }
@@ -612,32 +512,31 @@ impl Absolute<TB_BODIES> for ToeBarChrono {
     }
 
     /// The 28 joint rows and the two drivers (the heights `z` of the tube points (0, ±0.7325, 0)).
-    fn residual(&self, theta: f64, z: [f64; 2]) -> Vec<f64> {
+    fn residual(&self, b: &Bodies<TB_BODIES>, theta: f64, z: [f64; 2]) -> Vec<f64> {
         let pts = &self.pts;
         let mut f = Vec::with_capacity(6 * TB_BODIES);
         // the guide: revolute-prismatic chassis–tube at the tube's CM
-        self.b.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[1, 2], &mut f);
+        b.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[1, 2], &mut f);
         for (k, (&knuckle, frame)) in TB_KNUCKLE.iter().zip(&self.kingpin).enumerate() {
             // kingpin: revolute tube–knuckle at the kingpin's mid-point
             let mid = (side(k, pts.knuckle_u) + side(k, pts.knuckle_l)) / 2.0;
-            self.b.lock(Some(TB_TUBE), Some(knuckle), &mid, frame, &[0, 1, 2], &mut f);
+            b.lock(Some(TB_TUBE), Some(knuckle), &mid, frame, &[0, 1, 2], &mut f);
         }
         // the toe bar: spherical to the left knuckle, universal to the right one
         let (tl, tr) = (pts.tierod_k, mirror(pts.tierod_k));
-        f.extend((self.b.at(TB_BAR, &tl) - self.b.at(TB_KNUCKLE[0], &tl)).iter());
-        f.extend((self.b.at(TB_BAR, &tr) - self.b.at(TB_KNUCKLE[1], &tr)).iter());
-        f.push((self.b.a[TB_BAR] * V3::x()).dot(&(self.b.a[TB_KNUCKLE[1]] * V3::z())));
+        f.extend((b.at(TB_BAR, &tl) - b.at(TB_KNUCKLE[0], &tl)).iter());
+        f.extend((b.at(TB_BAR, &tr) - b.at(TB_KNUCKLE[1], &tr)).iter());
+        f.push((b.a[TB_BAR] * V3::x()).dot(&(b.a[TB_KNUCKLE[1]] * V3::z())));
         // the drag link: spherical to the rotary arm, universal to the steering knuckle
         let kn = TB_KNUCKLE[self.steers];
         f.extend(
-            (self.b.at(TB_DRAG, &pts.draglink_c) - arm_point(&pts.arm_pivot, &pts.arm_axis, &pts.draglink_c, theta))
-                .iter(),
+            (b.at(TB_DRAG, &pts.draglink_c) - arm_point(&pts.arm_pivot, &pts.arm_axis, &pts.draglink_c, theta)).iter(),
         );
-        f.extend((self.b.at(TB_DRAG, &self.drl) - self.b.at(kn, &self.drl)).iter());
+        f.extend((b.at(TB_DRAG, &self.drl) - b.at(kn, &self.drl)).iter());
         let (u, v) = self.drag_universal;
-        f.push((self.b.a[TB_DRAG] * u).dot(&(self.b.a[kn] * v)));
+        f.push((b.a[TB_DRAG] * u).dot(&(b.a[kn] * v)));
         for (k, zk) in z.iter().enumerate() {
-            f.push(self.b.at(TB_TUBE, &side(k, pts.spindle)).z - zk);
+            f.push(b.at(TB_TUBE, &side(k, pts.spindle)).z - zk);
         }
         f
     }

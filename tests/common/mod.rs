@@ -2,6 +2,8 @@
 //! tire files, a braked run's trace, and the `rtv` command line run. Each test crate uses some of them.
 #![allow(dead_code)]
 
+pub mod absolute;
+
 use rt_vehicle::integrate::{Integrator, Rk4};
 use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::{idx, Layout, Options, Run, Vehicle, Workspace};
