@@ -1,7 +1,8 @@
 //! The largest eigenvalues of the full Jacobian ∂f/∂x (central differences) and the step check's wheel modes
 //! along one case of the stability suite, run with RK4 at the suite's reference step: `cargo run --release
 //! --example case_modes -- VEHICLE.json "CASE NAME" T1 [T2 ...]`. A diagnostic for WRONG cells that the step
-//! check accepts: it shows which modes a step meets, including the chassis' that the check leaves out.
+//! check accepts: it shows which modes a step meets (the full Jacobian's, the wheel states' alone and with the
+//! chassis velocities, as the check forms them), and the speed and slips the check's refresh rule watches.
 
 use rt_vehicle::model::formats::params::VehicleData;
 use rt_vehicle::model::vehicle::idx;
@@ -65,6 +66,14 @@ fn main() {
         let mut with_vx = ks.clone();
         with_vx.push(idx::V0);
         println!("  with the chassis' first velocity alone: {}", block(&with_vx));
+        // What the refresh rule of the step check watches (`CheckedState`), here the slip and the speed.
+        let o = sim.outputs().unwrap();
+        let kappa = rt_vehicle::sim::Channel::KAPPA.map(|c| o.values[c.index()]);
+        println!(
+            "  vx {:.3e} m/s, κ {:?}",
+            o.values[rt_vehicle::sim::Channel::Vx.index()],
+            kappa.map(|k| format!("{k:.3e}"))
+        );
         let modes = sim.wheel_modes().unwrap();
         let mut per: Vec<_> = modes.per_wheel.iter().map(|m| (m.kind.name(), m.corner, m.lambda)).collect();
         per.sort_by(|a, b| b.2.norm().total_cmp(&a.2.norm()));
