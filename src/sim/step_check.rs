@@ -1,5 +1,5 @@
 //! The step check: the fast modes of the wheels (hop, spin–tread, lateral tread) measured at the current state
-//! from the Jacobian of the wheels' fast states, judged against the integrator's stability region and, on roads
+//! from the Jacobian of the wheels' fast states and the chassis velocities (`CHECK_STATES`), judged against the integrator's stability region and, on roads
 //! with bumps, against what the step resolves (docs/integrators.md, "The step check"); when it runs
 //! (`mode_check_due`), the automatic step's choice (`choose_step`), and IMEX-AB3's partial Jacobian, made from
 //! the same differences.
