@@ -43,29 +43,18 @@ fn main() {
                 e.im / 120.0
             );
         }
-        // The wheel states' block, and the same with the chassis velocities (ṙ₀, ω₀) added.
-        let run = rt_vehicle::model::vehicle::Run::new(sim.vehicle(), &sim.config().options, sim.road());
-        let layout = run.layout();
-        let mut ks = Vec::new();
-        for i in 0..4 {
-            ks.extend([idx::U + i, idx::UD + i, idx::SPIN + i]);
-            if let Some(k) = layout.xi {
-                ks.extend([k + 2 * i, k + 2 * i + 1]);
-            }
-        }
+        // The wheel states' block, and the same with the chassis velocities (ṙ₀, ω₀) added: the check's states.
+        let modes = sim.wheel_modes().unwrap();
         let block = |ks: &[usize]| {
             let m = nalgebra::DMatrix::from_fn(ks.len(), ks.len(), |a, b| j[(ks[a], ks[b])]);
             let mut e: Vec<_> = m.complex_eigenvalues().iter().cloned().collect();
             e.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
             e.iter().take(4).map(|z| format!("{:.1}{:+.1}i", z.re, z.im)).collect::<Vec<_>>().join(", ")
         };
-        println!("  wheel states' block: {}", block(&ks));
-        let mut with_v = ks.clone();
-        with_v.extend(idx::V0..idx::V0 + 6);
-        println!("  with the chassis velocities: {}", block(&with_v));
-        let mut with_vx = ks.clone();
-        with_vx.push(idx::V0);
-        println!("  with the chassis' first velocity alone: {}", block(&with_vx));
+        let wheels = &modes.states[..modes.wheel_len];
+        println!("  wheel states' block: {}", block(wheels));
+        println!("  with the chassis velocities: {}", block(&modes.states[..modes.len]));
+        println!("  with the chassis' first velocity alone: {}", block(&[wheels, &[idx::V0]].concat()));
         // What the refresh rule of the step check watches (`CheckedState`), here the slip and the speed.
         let o = sim.outputs().unwrap();
         let kappa = rt_vehicle::sim::Channel::KAPPA.map(|c| o.values[c.index()]);
@@ -74,7 +63,6 @@ fn main() {
             o.values[rt_vehicle::sim::Channel::Vx.index()],
             kappa.map(|k| format!("{k:.3e}"))
         );
-        let modes = sim.wheel_modes().unwrap();
         let mut per: Vec<_> = modes.per_wheel.iter().map(|m| (m.kind.name(), m.corner, m.lambda)).collect();
         per.sort_by(|a, b| b.2.norm().total_cmp(&a.2.norm()));
         println!(

@@ -17,7 +17,7 @@ use crate::math::eigen::{eigenvalues, spectral_radius_bound};
 use crate::math::V3;
 use crate::model::road::RoadModel;
 use crate::model::tire::SlipModel;
-use crate::model::vehicle::{idx, Run};
+use crate::model::vehicle::{idx, Inputs, Run, Vehicle, Workspace};
 use nalgebra::{Complex, SMatrix};
 use serde::{Deserialize, Serialize};
 
@@ -178,9 +178,9 @@ pub(super) const WHEEL_DELTA: [f64; 5] = [1e-6, 1e-5, 1e-5, 1e-7, 1e-7];
 /// within this fraction of its modulus (coupling moves a wheel's mode by a few per cent), and a wheel–chassis
 /// mode otherwise.
 const WHEEL_MODE_NEAR: f64 = 0.25;
-/// The forward-difference step of a chassis velocity, relative to 1 + |its value| (m/s, rad/s): IMEX-AB3's
-/// for its other columns.
-const CHASSIS_VELOCITY_DELTA: f64 = 1e-7;
+/// The forward-difference step of a column differenced by whole evaluations (`evaluated_column`: the check's
+/// chassis velocities, IMEX-AB3's other columns), relative to 1 + |the state's value|.
+const EVALUATED_COLUMN_DELTA: f64 = 1e-7;
 
 /// The states of the step check's Jacobian: the 20 wheel states (12 without relaxation slip) and the 6
 /// chassis velocities. The chassis velocities are in because at low speed the tires couple them to the road
@@ -226,6 +226,31 @@ pub(super) fn difference_column(
     xp[c] = x[c] - delta;
     evaluate(&xp[..n], &mut out[..n])?;
     Ok((-delta, 2))
+}
+
+/// One column of f differenced by whole evaluations (`Vehicle::derivative`, `difference_column`) at the
+/// relative step `EVALUATED_COLUMN_DELTA`, against the base f0: ∂f/∂x_c in `column[..n]`. Returns the
+/// evaluations made.
+fn evaluated_column(
+    vehicle: &Vehicle,
+    run: &Run,
+    inputs: &Inputs,
+    cache: &mut Workspace,
+    (x, n, f0, in_contact): (&[f64; idx::DIM], usize, &[f64; idx::DIM], [bool; 4]),
+    c: usize,
+    column: &mut [f64; idx::DIM],
+) -> Result<u64, ModelError> {
+    let mut evaluate = |x: &[f64], out: &mut [f64]| {
+        vehicle.derivative(run, x, inputs, cache, out)?;
+        Ok::<_, ModelError>(cache.diagnostics.penetration.map(|d| d > 0.0))
+    };
+    let mut out = [0.0; idx::DIM];
+    let step = EVALUATED_COLUMN_DELTA * (1.0 + x[c].abs());
+    let (delta, made) = difference_column(&mut evaluate, x, n, c, step, in_contact, &mut out)?;
+    for k in 0..n {
+        column[k] = (out[k] - f0[k]) / delta;
+    }
+    Ok(made)
 }
 
 /// The fast modes at a state: per wheel (named) and of the wheels' fast states together.
@@ -557,16 +582,8 @@ impl Simulation {
             // The chassis velocities move every corner: a whole evaluation each (after the corner-local
             // columns, which need the base's workspace).
             for (col, &c) in (wheel_len..len).zip(&CHASSIS_VELOCITIES) {
-                let mut evaluate = |x: &[f64], out: &mut [f64]| {
-                    vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
-                    Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
-                };
-                let step = CHASSIS_VELOCITY_DELTA * (1.0 + x[c].abs());
-                let (delta, made) = difference_column(&mut evaluate, &x, n, c, step, in_contact, &mut out)?;
-                evaluations += made;
-                for k in 0..n {
-                    columns[col][k] = (out[k] - f0[k]) / delta;
-                }
+                let base = (&x, n, &f0, in_contact);
+                evaluations += evaluated_column(vehicle, &run, &inputs, &mut self.cache, base, c, &mut columns[col])?;
             }
             for col in 0..len {
                 for row in 0..len {
@@ -614,10 +631,10 @@ impl Simulation {
     }
 
     /// IMEX-AB3's partial Jacobian: rows of the wheels' fast states and the chassis velocities (v, ω), columns
-    /// of every state, by forward differences from the step check's base: the wheel columns are the check's
-    /// (`WheelModes::columns`), the others one evaluation each here.
+    /// of every state, by forward differences from the step check's base: the columns of the check's states
+    /// are the check's (`WheelModes::columns`), the others one evaluation each here (`evaluated_column`).
     pub fn imex_partial_jacobian(&mut self, modes: &WheelModes) -> Result<PartialJacobian, ModelError> {
-        let (wheel, columns, f0, in_contact) =
+        let (checked, columns, f0, in_contact) =
             (&modes.states[..modes.len], &modes.columns, &modes.derivative, modes.contact);
         let vehicle = attached(&self.vehicle)?;
         let run = Run::new(vehicle, &self.config.options, &self.road).on_rounded_road();
@@ -626,14 +643,10 @@ impl Simulation {
         let warm_starts = self.cache.corners;
         let mut x = [0.0; idx::DIM];
         x[..n].copy_from_slice(&self.run.state);
-        let mut evaluate = |x: &[f64], out: &mut [f64]| {
-            vehicle.derivative(&run, x, &inputs, &mut self.cache, out)?;
-            Ok::<_, ModelError>(self.cache.diagnostics.penetration.map(|d| d > 0.0))
-        };
         // On the stack: no heap allocation per check.
         let mut p =
             PartialJacobian { rows: [0; MAX_IMEX], m: 0, cols: [0; idx::DIM], nc: 0, jac: [0.0; MAX_IMEX * idx::DIM] };
-        for &w in wheel {
+        for &w in checked {
             p.rows[p.m] = w;
             p.m += 1;
         }
@@ -649,15 +662,14 @@ impl Simulation {
         let jac = &mut p.jac;
         let mut evaluations = 0;
         let result = (|| {
-            let mut out = [0.0; idx::DIM];
             for (j, &c) in cols.iter().enumerate() {
-                let column: [f64; idx::DIM] = match wheel.iter().position(|&w| w == c) {
+                let column: [f64; idx::DIM] = match checked.iter().position(|&w| w == c) {
                     Some(k) => columns[k],
                     None => {
-                        let step = CHASSIS_VELOCITY_DELTA * (1.0 + x[c].abs());
-                        let (delta, made) = difference_column(&mut evaluate, &x, n, c, step, in_contact, &mut out)?;
-                        evaluations += made;
-                        std::array::from_fn(|k| if k < n { (out[k] - f0[k]) / delta } else { 0.0 })
+                        let mut column = [0.0; idx::DIM];
+                        let base = (&x, n, f0, in_contact);
+                        evaluations += evaluated_column(vehicle, &run, &inputs, &mut self.cache, base, c, &mut column)?;
+                        column
                     }
                 };
                 for (r, &i) in rows.iter().enumerate() {
@@ -1064,7 +1076,7 @@ mod tests {
             let delta = if col < 20 {
                 super::WHEEL_DELTA[col % 5]
             } else {
-                super::CHASSIS_VELOCITY_DELTA * (1.0 + x[state].abs())
+                super::EVALUATED_COLUMN_DELTA * (1.0 + x[state].abs())
             };
             let (mut xp, mut f0, mut fp) = (x.clone(), vec![0.0; n], vec![0.0; n]);
             let mut cache = sim.cache.clone();
