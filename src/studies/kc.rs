@@ -588,16 +588,19 @@ fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOpti
         Ok((row(travel, &pl, &pr), [pl, pr]))
     })?;
     let design = travel.iter().find(|r| r.travel == 0.0).copied().expect("travel 0 is a point");
+    // A spindle on its arm (the semi-trailing arm) has no kingpin and no tie rod: those figures are not
+    // defined (shown as –, as a solid axle's).
+    let kingpin = |figure: f64| if left.has_kingpin() { figure } else { f64::NAN };
     let figures = StaticFigures {
-        caster: design_l.caster,
-        kingpin_inclination: design_l.kingpin_inclination,
-        scrub_radius: design_l.scrub_radius,
-        trail: design_l.trail,
+        caster: kingpin(design_l.caster),
+        kingpin_inclination: kingpin(design_l.kingpin_inclination),
+        scrub_radius: kingpin(design_l.scrub_radius),
+        trail: kingpin(design_l.trail),
         camber: design_l.pose.camber,
         steer: design_l.pose.steer,
         wheel_dx_rate: design_l.pose.d_centre.x / design_l.pose.d_centre.z,
         track: track0,
-        tie_rod_length: left.tie_length,
+        tie_rod_length: kingpin(left.tie_length),
         ..design_figures(&design, &travel, axle, roll_stiffness(v, index)?)
     };
     Ok(AxleKc::of(name, axle, figures, travel, notes))

@@ -425,7 +425,6 @@ const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("ToeBarPushPipeAxle", "a push-pipe axle with a toe bar"),
     ("RigidPinnedAxle", "a rigid pinned axle"),
     ("MultiLink", "a multi-link suspension"),
-    ("SemiTrailingArm", "a semi-trailing arm"),
     ("ThreeLinkIRS", "a three-link independent rear suspension"),
     ("HendricksonPRIMAXX", "a Hendrickson PRIMAXX walking-beam suspension"),
     ("GenericWheeledSuspension", "a generic suspension of user-defined bodies and joints"),
@@ -522,7 +521,7 @@ const STEERING_TEMPLATES: [&str; 3] = ["PitmanArm", "RackPinion", "RotaryArm"];
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 9] = [
+const SUSPENSION_TEMPLATES: [&str; 10] = [
     "DoubleWishbone",
     "MacPhersonStrut",
     "SingleWishbone",
@@ -532,6 +531,7 @@ const SUSPENSION_TEMPLATES: [&str; 9] = [
     "ToeBarLeafspringAxle",
     "RigidPanhardAxle",
     "RigidSuspension",
+    "SemiTrailingArm",
 ];
 
 /// Where a single wishbone's LCA_F sits: this far ahead of its one hinge point (`Location Chassis`), on
@@ -1307,6 +1307,96 @@ impl SuspensionReader<'_> {
         Ok(self.axle_without_arms(steered, spindle, None, shaft, Spring::NONE, Damper::NONE))
     }
 
+    /// A `SemiTrailingArm` file, as Chrono's `SemiTrailingArm::Create` reads it: the static camber and toe,
+    /// the spindle (its `COM` the wheel centre), the trailing arm (its hinge from `Location Chassis Inner` to
+    /// `Location Chassis Outer`, LCA_B to LCA_F; its point at the spindle, LCA_U; its CM and inertia, which
+    /// Chrono gives in its arm frame), the spring and the damper between the chassis and the arm, the axle
+    /// shaft. An axle no steering reaches: Chrono's template has no tie rod.
+    fn semi_trailing_arm(&mut self, steered: bool) -> Result<Axle, ImportError> {
+        let o = &self.o;
+        o.keys(
+            &[
+                "Name",
+                "Type",
+                "Template",
+                "Camber Angle (deg)",
+                "Toe Angle (deg)",
+                "Spindle",
+                "Trailing Arm",
+                "Spring",
+                "Shock",
+                "Axle",
+            ],
+            &[("Output", "Chrono output settings")],
+            self.warnings,
+        )?;
+        if steered {
+            return Err(o.err("Template", "a semi-trailing arm has no tie rod: a steering cannot turn its wheels"));
+        }
+        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
+        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
+        let spindle = self.spindle()?;
+        let arm = self.o.obj("Trailing Arm")?;
+        arm.keys(
+            &[
+                "Mass",
+                "COM",
+                "Inertia",
+                "Moments of Inertia",
+                "Products of Inertia",
+                "Location Chassis Outer",
+                "Location Chassis Inner",
+                "Location Spindle",
+            ],
+            &[("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")],
+            self.warnings,
+        )?;
+        let (outer, inner, at_spindle) = (
+            arm.point("Location Chassis Outer")?,
+            arm.point("Location Chassis Inner")?,
+            arm.point("Location Spindle")?,
+        );
+        if (outer - inner).norm() < 1e-6 {
+            return Err(arm.err("Location Chassis Outer", "coincides with Location Chassis Inner: no hinge axis"));
+        }
+        if (outer - at_spindle).cross(&(inner - at_spindle)).norm() < 1e-9 {
+            return Err(arm.err("Location Spindle", "lies on the arm's hinge axis: the arm has no plane"));
+        }
+        self.put("LCA_F", outer);
+        self.put("LCA_B", inner);
+        self.put("LCA_U", at_spindle);
+        self.put("LCA_CM", arm.point("COM")?);
+        let j = inertia_of(&arm)?;
+        moments_positive(&arm, &j)?;
+        // Chrono's arm frame (`ChSemiTrailingArm::InitializeSide`): x from the inner to the outer hinge point,
+        // z = (O − S) × (I − S), y = z × x; the model's (`arm_frame`) has the same x and the opposite z.
+        let ours = arm_frame(&arm, outer, inner, at_spindle)?;
+        let chrono = M3::from_columns(&[ours.column(0).into_owned(), -ours.column(1), -ours.column(2)]);
+        let lower_arm = body_of(arm.mass("Mass")?, &(ours.transpose() * chrono * j * chrono.transpose() * ours));
+        let spring = self.spring()?;
+        let damper = self.damper()?;
+        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
+        Ok(Axle {
+            template: self.template,
+            steered,
+            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
+            lower_arm,
+            upper_arm: None,
+            strut: None,
+            upright: RigidBody::NONE,
+            axle_tube: None,
+            spindle,
+            axle_shaft_spin_inertia_kg_m2,
+            spring,
+            damper,
+            reference_kinematics: None,
+            static_camber_deg,
+            static_toe_deg,
+            antiroll_bar: None,
+            bellcrank: None,
+        })
+    }
+
     /// The axle shaft's spin inertia (`Axle`), kg m².
     fn axle_shaft(&mut self) -> Result<f64, ImportError> {
         let axle = self.o.obj("Axle")?;
@@ -2078,6 +2168,7 @@ impl Importer {
             "RigidPanhardAxle" => SuspensionTemplate::SolidPanhard,
             "SolidBellcrankThreeLinkAxle" => SuspensionTemplate::SolidBellcrankThreeLink,
             "ToeBarLeafspringAxle" => SuspensionTemplate::SolidToebarLeafspring,
+            "SemiTrailingArm" => SuspensionTemplate::SemiTrailingArm,
             _ => SuspensionTemplate::Rigid,
         };
         let mut s = SuspensionReader {
@@ -2094,6 +2185,7 @@ impl Importer {
             SuspensionTemplate::SolidToebarLeafspring => return s.toe_bar_axle(steered),
             SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => return s.guided_axle(steered),
             SuspensionTemplate::Rigid => return s.rigid(steered),
+            SuspensionTemplate::SemiTrailingArm => return s.semi_trailing_arm(steered),
             _ => {}
         }
         let (static_camber_deg, static_toe_deg) = s.top_level()?;

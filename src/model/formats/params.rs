@@ -320,6 +320,11 @@ pub enum SuspensionTemplate {
     /// No suspension: each spindle turns on a revolute joint fixed to the chassis (Chrono's
     /// `RigidSuspension`: a garden tractor's or a kart's rear axle). No spring, no damper; not steerable.
     Rigid,
+    /// One trailing arm per wheel on a revolute joint to the chassis whose axis is swept in plan (between the
+    /// pure trailing arm's lateral axis and the swing axle's longitudinal one), the spindle turning on the
+    /// arm itself; spring and damper between the chassis and the arm (Chrono's `SemiTrailingArm`: the VW T2's
+    /// rear, BMW's). Not steerable.
+    SemiTrailingArm,
 }
 
 impl SuspensionTemplate {
@@ -334,6 +339,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidBellcrankThreeLink => "solid_bellcrank_three_link",
             SuspensionTemplate::SolidToebarLeafspring => "solid_toebar_leafspring",
             SuspensionTemplate::Rigid => "rigid",
+            SuspensionTemplate::SemiTrailingArm => "semi_trailing_arm",
         }
     }
 
@@ -349,6 +355,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidBellcrankThreeLink => &SOLID_BELLCRANK_THREE_LINK_HARDPOINTS,
             SuspensionTemplate::SolidToebarLeafspring => &SOLID_TOEBAR_LEAFSPRING_HARDPOINTS,
             SuspensionTemplate::Rigid => &RIGID_HARDPOINTS,
+            SuspensionTemplate::SemiTrailingArm => &SEMI_TRAILING_ARM_HARDPOINTS,
         }
     }
 
@@ -592,6 +599,13 @@ pub const SINGLE_WISHBONE_HARDPOINTS: [&str; 12] = [
     "SPINDLE", "UPRIGHT", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A",
     "TIEROD_C", "TIEROD_U",
 ];
+
+/// The hardpoints a semi-trailing-arm axle must name: LCA_F and LCA_B the arm's hinge on the chassis (Chrono's
+/// `Location Chassis Outer` and `Inner`: the hinge axis runs from LCA_B to LCA_F), LCA_U the arm's point at
+/// the spindle (`Location Spindle`), LCA_CM its CM; the spring and the damper from the chassis to the arm.
+/// No upright and no tie rod: the spindle turns on the arm.
+pub const SEMI_TRAILING_ARM_HARDPOINTS: [&str; 9] =
+    ["SPINDLE", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A"];
 
 /// A wheel on its spindle (`VehicleData::wheel_assembly`), kg and kg m².
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -1124,9 +1138,17 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
     if axle.template.is_solid_axle() || axle.template.is_rigid() {
         return check_solid_axle_bodies(name, axle);
     }
-    for (body, b) in [("lower_arm", &axle.lower_arm), ("upright", &axle.upright)] {
-        if b.is_none() {
-            return Err(err(format!("{name}.{body}"), format!("missing: a {} has one", axle.template.name())));
+    // A semi-trailing arm's spindle turns on the arm: it has no upright.
+    let has_upright = axle.template != SuspensionTemplate::SemiTrailingArm;
+    for (body, b, has) in [("lower_arm", &axle.lower_arm, true), ("upright", &axle.upright, has_upright)] {
+        match (has, b.is_none()) {
+            (true, true) => {
+                return Err(err(format!("{name}.{body}"), format!("missing: a {} has one", axle.template.name())))
+            }
+            (false, false) => {
+                return Err(err(format!("{name}.{body}"), format!("a {} has none", axle.template.name())))
+            }
+            _ => {}
         }
     }
     if axle.axle_tube.is_some() {
@@ -1146,12 +1168,16 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
                 return Err(err(format!("{name}.upper_arm"), "a MacPherson strut has no upper arm"));
             }
         }
-        SuspensionTemplate::SingleWishbone => {
+        SuspensionTemplate::SingleWishbone | SuspensionTemplate::SemiTrailingArm => {
+            let template = axle.template.name();
             if axle.upper_arm.is_some() {
-                return Err(err(format!("{name}.upper_arm"), "a single wishbone has no upper arm"));
+                return Err(err(format!("{name}.upper_arm"), format!("a {template} has no upper arm")));
             }
             if axle.strut.is_some() {
-                return Err(err(format!("{name}.strut"), "a single wishbone has no strut body"));
+                return Err(err(format!("{name}.strut"), format!("a {template} has no strut body")));
+            }
+            if axle.template == SuspensionTemplate::SemiTrailingArm && axle.steered {
+                return Err(err(format!("{name}.steered"), "a semi_trailing_arm is not steerable"));
             }
         }
         SuspensionTemplate::SolidThreeLink
@@ -1161,7 +1187,10 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         | SuspensionTemplate::SolidToebarLeafspring
         | SuspensionTemplate::Rigid => unreachable!("checked above"),
     }
-    let mut bodies = vec![("lower_arm", &axle.lower_arm), ("upright", &axle.upright), ("spindle", &axle.spindle)];
+    let mut bodies = vec![("lower_arm", &axle.lower_arm), ("spindle", &axle.spindle)];
+    if has_upright {
+        bodies.push(("upright", &axle.upright));
+    }
     if let Some(b) = &axle.upper_arm {
         bodies.push(("upper_arm", b));
     }

@@ -28,6 +28,7 @@ pub mod double_wishbone;
 pub mod forces;
 pub mod macpherson;
 pub mod rigid;
+pub mod semi_trailing_arm;
 pub mod single_wishbone;
 pub mod solid_axle;
 
@@ -121,6 +122,9 @@ pub enum Closure {
     /// The single wishbone's kingpin: the upright's Bryant angles on the arm are a turn about the arm's z
     /// axis alone (φ1 = φ2 = 0: the sequence x-y-z ends with it), and q[4] = 0. Three rows linear in q.
     Kingpin,
+    /// The semi-trailing arm's spindle, on the arm itself: the carrier's Bryant angles on the arm are zero
+    /// and q[4] = 0. Four unit rows (no tie rod: the fourth is φ3 = 0).
+    OnArm,
     /// A wheel of a solid axle: the carrier is the axle, which the axle's own kinematics place
     /// (`solid_axle`); the corner has no loop of its own to solve (`solve_positions_into` refuses).
     SolidAxle,
@@ -352,6 +356,7 @@ impl Corner {
             | SuspensionTemplate::SolidBellcrankThreeLink
             | SuspensionTemplate::SolidToebarLeafspring => solid_axle::wheel_corner(data, axle, side),
             SuspensionTemplate::Rigid => rigid::wheel_corner(data, axle, side),
+            SuspensionTemplate::SemiTrailingArm => semi_trailing_arm::from_data(data, axle, side),
         }
     }
 
@@ -368,13 +373,20 @@ impl Corner {
         let (side, pt) = (points.side, |name: &str| points.point(name));
         let lower =
             arm_inertia(points.axle, side, points.c0, &points.axle.lower_arm, ["LCA_F", "LCA_B", "LCA_U", "LCA_CM"]);
-        let (carrier, spin_inertia) = carrier_inertia(points.data, points.axle, side, pt("UPRIGHT"), pt("SPINDLE"));
+        // A spindle on the arm (`Closure::OnArm`) has no upright (its carrier is the spindle's and the wheel's
+        // mass, `carrier_inertia` with no upright) and no tie rod (the rows of `evaluate_into` that would read
+        // it are φ3's).
+        let on_arm = matches!(closure, Closure::OnArm);
         let (p_l, h_l, b0) = (pt("LCA_B"), points.axis("LCA_F", "LCA_B"), pt("LCA_U"));
-        let (t_k, t_r0, w0) = (pt("TIEROD_U"), pt("TIEROD_C"), pt("SPINDLE"));
+        let w0 = pt("SPINDLE");
+        let (carrier, spin_inertia) =
+            carrier_inertia(points.data, points.axle, side, if on_arm { w0 } else { pt("UPRIGHT") }, w0);
+        let (t_k, t_r0) = if on_arm { (b0, b0) } else { (pt("TIEROD_U"), pt("TIEROD_C")) };
         let template = match closure {
             Closure::UpperArm(_) => SuspensionTemplate::DoubleWishbone,
             Closure::Strut(_) => SuspensionTemplate::MacphersonStrut,
             Closure::Kingpin => SuspensionTemplate::SingleWishbone,
+            Closure::OnArm => SuspensionTemplate::SemiTrailingArm,
             Closure::SolidAxle => SuspensionTemplate::SolidThreeLink,
             Closure::Rigid => SuspensionTemplate::Rigid,
         };
@@ -416,7 +428,7 @@ impl Corner {
     pub fn upper_revolute(&self) -> Option<(V3, V3)> {
         match &self.closure {
             Closure::UpperArm(arm) => Some((arm.p_u, arm.h_u)),
-            Closure::Strut(_) | Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => None,
+            Closure::Strut(_) | Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => None,
         }
     }
 
@@ -454,6 +466,13 @@ impl Corner {
             axle: V3::y(),
             design_det: 1.0,
         }
+    }
+
+    /// Whether the carrier turns on a kingpin (steering axis) and has a tie rod: not a spindle on its arm
+    /// (`Closure::OnArm`).
+    #[inline(always)]
+    pub fn has_kingpin(&self) -> bool {
+        !matches!(self.closure, Closure::OnArm)
     }
 
     /// Whether the corner has a spring and a damper (a rigid suspension's wheel, on the chassis, has neither).
@@ -531,7 +550,7 @@ impl Corner {
             }
             // A point of the kingpin one metre above b (the steering axis reads it), ρ_u reaching it: the
             // point-coincidence rows below are then zero and replaced by the kingpin's own.
-            Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => {
+            Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => {
                 let up = r_l.column(2).into_owned();
                 (b + up, M3::identity(), up, V3::zeros(), V3::zeros())
             }
@@ -560,7 +579,7 @@ impl Corner {
         // Column q4 (the tie rod does not depend on it).
         phi_q.fixed_view_mut::<3, 1>(0, 4).copy_from(&column_4);
         phi_q[(3, 4)] = 0.0;
-        let closure_residual = if let Closure::Kingpin = self.closure {
+        let closure_residual = if let Closure::Kingpin | Closure::OnArm = self.closure {
             // Rows φ1, φ2 and q4 (`constraint_values`): unit rows.
             phi_q.fixed_rows_mut::<3>(0).fill(0.0);
             phi_q[(0, 1)] = 1.0;
@@ -569,6 +588,14 @@ impl Corner {
             q[1].abs().max(q[2].abs()).max(q[4].abs())
         } else {
             phi_s3.amax()
+        };
+        // On the arm, the fourth row is φ3 = 0 in the tie rod's place (the corner has none).
+        let phi_d = if let Closure::OnArm = self.closure {
+            phi_q.fixed_rows_mut::<1>(3).fill(0.0);
+            phi_q[(3, 3)] = 1.0;
+            q[3]
+        } else {
+            phi_d
         };
         pos.phi_s = Vector4::zeros();
         if self.steered() {
@@ -604,6 +631,9 @@ impl Corner {
     }
 
     pub fn constraint_values(&self, pos: &CornerPositions) -> Vector4<f64> {
+        if let Closure::OnArm = self.closure {
+            return Vector4::new(pos.q[1], pos.q[2], pos.q[4], pos.q[3]);
+        }
         let phi_d = 0.5 * (pos.d.dot(&pos.d) - self.tie_length * self.tie_length) / self.tie_length;
         if let Closure::Kingpin = self.closure {
             return Vector4::new(pos.q[1], pos.q[2], pos.q[4], phi_d);
@@ -716,8 +746,11 @@ impl Corner {
             // The top mount is fixed; the strut point slides along the upright (Coriolis 2 ω_K × R_K a ℓ̇).
             Closure::Strut(_) => a_k(&pos.rho_u) + w_k.cross(&pos.slide) * (2.0 * qd[4]),
             // Rows linear in q: no velocity-squared term.
-            Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => V3::zeros(),
+            Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => V3::zeros(),
         };
+        if let Closure::OnArm = self.closure {
+            return Vector4::zeros(); // every row linear in q
+        }
         let steer_rate = if self.steered() { s_dot } else { 0.0 };
         let path = &pos.tie_rod;
         let d_dot = w_l.cross(&b_rel) + w_k.cross(&pos.rho_t) - path.d_ds * steer_rate;
@@ -789,9 +822,9 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
         Closure::UpperArm(arm) => (arm.u0 - g.b0).norm(),
         Closure::Strut(strut) => strut.length,
         // The kingpin is an axis through LCA_U, not a link: it has no length to lose.
-        Closure::Kingpin | Closure::SolidAxle | Closure::Rigid => 1.0,
+        Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => 1.0,
     };
-    if g.tie_length < 1e-6 || closure_length < 1e-6 {
+    if (g.has_kingpin() && g.tie_length < 1e-6) || closure_length < 1e-6 {
         return Err(DataError { field, message: "tie rod, kingpin or strut of zero length".into() });
     }
     if !(g.design_det > 1e-12) {
