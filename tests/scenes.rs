@@ -225,6 +225,7 @@ fn imported_vehicles() -> Vec<VehicleData> {
         "rtv_hmmwv_solid_rear",
         "rtv_hmmwv_solid_axles",
         "uaz469",
+        "vw_microbus",
     ]
     .iter()
     .map(|name| {

@@ -12,14 +12,24 @@ use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
 /// The shipped imports: Chrono's vehicle file, the shipped file, and the tire file of its data folder.
-const VEHICLES: [(&str, &str, &str); 3] = [
-    ("generic/vehicle/Vehicle_MacPhersonStruts.json", "generic_macpherson.json", "generic/tire/Generic_Pac02Tire.tir"),
+/// The shipped imports: Chrono's vehicle file, the shipped file, the tire file, and whether that tire was chosen
+/// (`--tire-file`: the VW microbus's model file names its TMeasy tire; its Pac02 `.tir` is shipped) rather than
+/// the importer's own choice.
+const VEHICLES: [(&str, &str, &str, bool); 4] = [
+    (
+        "generic/vehicle/Vehicle_MacPhersonStruts.json",
+        "generic_macpherson.json",
+        "generic/tire/Generic_Pac02Tire.tir",
+        false,
+    ),
     (
         "generic/vehicle/Vehicle_DoubleWishbones.json",
         "generic_double_wishbone.json",
         "generic/tire/Generic_Pac02Tire.tir",
+        false,
     ),
-    ("uaz/vehicle/UAZ469_Vehicle.json", "uaz469.json", "uaz/tire/UAZBUS_Pac02Tire.tir"),
+    ("uaz/vehicle/UAZ469_Vehicle.json", "uaz469.json", "uaz/tire/UAZBUS_Pac02Tire.tir", false),
+    ("VW_microbus/json/van.json", "vw_microbus.json", "VW_microbus/json/mf_185_80R14.tir", true),
 ];
 const MACPHERSON: &str = "generic/vehicle/Vehicle_MacPhersonStruts.json";
 const DOUBLE_WISHBONE: &str = "generic/vehicle/Vehicle_DoubleWishbones.json";
@@ -165,11 +175,13 @@ fn the_schema_is_a_valid_draft_2020_12_schema_naming_every_field() {
 
 #[test]
 fn importing_the_chrono_vehicles_reproduces_the_shipped_files() {
-    for (vehicle, shipped, tire) in VEHICLES {
-        let import = import_vehicle(&chrono_data().join(vehicle), &chrono_data(), None).unwrap();
+    for (vehicle, shipped, tire, chosen) in VEHICLES {
+        let chosen = chosen.then(|| chrono_data().join(tire));
+        let import = import_vehicle(&chrono_data().join(vehicle), &chrono_data(), chosen.as_deref()).unwrap();
         let expected = std::fs::read_to_string(repo().join("resources/vehicles").join(shipped)).unwrap();
         assert!(import.to_json() == expected, "{vehicle} no longer imports to resources/vehicles/{shipped}");
-        // Chrono's defaults: the springs as written, the tire of the vehicle's data folder, copied beside it.
+        // Chrono's defaults: the springs as written, the tire of the vehicle's data folder (or the one chosen),
+        // copied beside it.
         assert_eq!(import.data.ride_height, rt_vehicle::model::formats::params::RideHeight::Data);
         let tir = Path::new(tire).file_name().unwrap().to_str().unwrap();
         assert_eq!(import.data.tire.tir_file.as_deref(), Some(tir));

@@ -20,6 +20,8 @@ VEHICLES = {
     "vehicles/rtv_hmmwv_solid_axles.json": "rtv HMMWV, solid axles (steered bellcrank front)",
     # Chrono's UAZ469: leaf-spring solid axles, the front steered by a toe bar from a rotary arm.
     "vehicles/uaz469.json": "UAZ469 on UAZBUS_Pac02Tire",
+    # Chrono's VW T2 microbus: double wishbones with an anti-roll bar, semi-trailing arms, on its own Pac02 tire.
+    "vehicles/vw_microbus.json": "VW Bus on mf_185_80R14",
 }
 
 

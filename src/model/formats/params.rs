@@ -865,6 +865,16 @@ impl VehicleData {
         }
         if let Some(tm) = &self.tire.tmeasy {
             out.extend(tm.warnings.iter().cloned());
+            // Measured (`rtv stability` on Chrono's VW microbus as `rtv import-chrono` writes it from its model
+            // file, on its TMeasy tire; the Sedan's likewise): at low speed the tire ties the
+            // chassis velocities to the road stiffly, a mode the step check's refresh rule can miss.
+            out.push(
+                "tire: TMeasy: the stability suites of Chrono's VW microbus and Sedan on their TMeasy tires \
+                 have runs off without a word: RK4 at 8.33 to 2.08 ms on the wheel lock at 100 km/h (3 to 5 % at the \
+                 stop), RK4 held on a 20 % grade before its refusal (2 %); check this vehicle with `rtv \
+                 stability --vehicle-file` before trusting a scheme and step, or run RK4 at 1 ms or DOPRI5"
+                    .to_string(),
+            );
         }
         out
     }
