@@ -20,8 +20,6 @@ VEHICLES = {
     "vehicles/rtv_hmmwv_solid_axles.json": "rtv HMMWV, solid axles (steered bellcrank front)",
     # Chrono's UAZ469: leaf-spring solid axles, the front steered by a toe bar from a rotary arm.
     "vehicles/uaz469.json": "UAZ469 on UAZBUS_Pac02Tire",
-    # Chrono's VW T2 microbus: double wishbones with an anti-roll bar, semi-trailing arms, on its own Pac02 tire.
-    "vehicles/vw_microbus.json": "VW Bus on mf_185_80R14",
 }
 
 
@@ -34,13 +32,16 @@ def test_the_imports_are_in_the_fmu_with_chronos_licence(fmu_path):
     assert "resources/vehicles/LICENSE-chrono" in names
     assert "resources/vehicles/Generic_Pac02Tire.tir" in names  # their tir_file, beside them
     assert "resources/vehicles/UAZBUS_Pac02Tire.tir" in names
+    assert "resources/vehicles/mf_185_80R14.tir" in names
 
 
-# The vehicles steered by their rack (calibration names as above): the single wishbones, and the HMMWV with a
-# three-link solid rear axle.
+# The vehicles steered by their rack (calibration names as above): the single wishbones, the HMMWV with a
+# three-link solid rear axle, and Chrono's VW T2 microbus (double wishbones with an anti-roll bar, semi-trailing
+# arms, on its own Pac02 tire).
 RACK_VEHICLES = [
     ("vehicles/rtv_single_wishbone.json", "rtv test vehicle - Single Wishbone on Generic_Pac02Tire"),
     ("vehicles/rtv_hmmwv_solid_rear.json", "rtv HMMWV, rear three-link solid axle"),
+    ("vehicles/vw_microbus.json", "VW Bus on mf_185_80R14"),
 ]
 
 
