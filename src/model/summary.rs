@@ -150,8 +150,12 @@ fn mass_centre(data: &VehicleData) -> V3 {
             continue;
         }
         // Both sides: the left side's x and z (the right mirrors y, which does not enter the axle loads).
-        add(2.0 * axle.lower_arm.mass_kg, p("LCA_CM"));
-        add(2.0 * axle.upright.mass_kg, p("UPRIGHT"));
+        // A three-link IRS's arm is its trailing arm (TA_CM); a semi-trailing arm's and its has no upright.
+        let arm_cm = if axle.template == SuspensionTemplate::ThreeLinkIrs { "TA_CM" } else { "LCA_CM" };
+        add(2.0 * axle.lower_arm.mass_kg, p(arm_cm));
+        if axle.upright.mass_kg > 0.0 {
+            add(2.0 * axle.upright.mass_kg, p("UPRIGHT"));
+        }
         add(2.0 * wheel, p("SPINDLE"));
         if let Some(u) = &axle.upper_arm {
             add(2.0 * u.mass_kg, p("UCA_CM"));

@@ -425,7 +425,6 @@ const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("ToeBarPushPipeAxle", "a push-pipe axle with a toe bar"),
     ("RigidPinnedAxle", "a rigid pinned axle"),
     ("MultiLink", "a multi-link suspension"),
-    ("ThreeLinkIRS", "a three-link independent rear suspension"),
     ("HendricksonPRIMAXX", "a Hendrickson PRIMAXX walking-beam suspension"),
     ("GenericWheeledSuspension", "a generic suspension of user-defined bodies and joints"),
     ("DoubleWishboneReduced", "a reduced double wishbone (distance constraints)"),
@@ -521,7 +520,7 @@ const STEERING_TEMPLATES: [&str; 3] = ["PitmanArm", "RackPinion", "RotaryArm"];
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 10] = [
+const SUSPENSION_TEMPLATES: [&str; 11] = [
     "DoubleWishbone",
     "MacPhersonStrut",
     "SingleWishbone",
@@ -532,6 +531,7 @@ const SUSPENSION_TEMPLATES: [&str; 10] = [
     "RigidPanhardAxle",
     "RigidSuspension",
     "SemiTrailingArm",
+    "ThreeLinkIRS",
 ];
 
 /// Where a single wishbone's LCA_F sits: this far ahead of its one hinge point (`Location Chassis`), on
@@ -1397,6 +1397,109 @@ impl SuspensionReader<'_> {
         })
     }
 
+    /// A `ThreeLinkIRS` file, as Chrono's `ThreeLinkIRS::Create` reads it: the static camber and toe, the
+    /// spindle, the trailing arm (its spherical joint `Location Chassis` → TA_C, `Location Spindle` → TA_S, its
+    /// CM and its inertia, which Chrono gives in the arm frame x = unit(C − S), y = unit(z × x), z = x × y:
+    /// written in chassis axes), the upper and lower links' ends (massless in the model, two-force members:
+    /// their `Mass` and `Inertia` said once), the spring and the damper between the chassis and the arm, the
+    /// axle shaft. An axle no steering reaches.
+    fn three_link_irs(&mut self, steered: bool) -> Result<Axle, ImportError> {
+        let o = &self.o;
+        o.keys(
+            &[
+                "Name",
+                "Type",
+                "Template",
+                "Camber Angle (deg)",
+                "Toe Angle (deg)",
+                "Spindle",
+                "Trailing Arm",
+                "Upper Link",
+                "Lower Link",
+                "Spring",
+                "Shock",
+                "Axle",
+            ],
+            &[("Output", "Chrono output settings")],
+            self.warnings,
+        )?;
+        if steered {
+            return Err(o.err("Template", "a three-link IRS has no tie rod: a steering cannot turn its wheels"));
+        }
+        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
+        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
+        let spindle = self.spindle()?;
+        let arm = self.o.obj("Trailing Arm")?;
+        arm.keys(
+            &[
+                "Mass",
+                "COM",
+                "Inertia",
+                "Moments of Inertia",
+                "Products of Inertia",
+                "Location Chassis",
+                "Location Spindle",
+            ],
+            &[("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")],
+            self.warnings,
+        )?;
+        let (c, s) = (arm.point("Location Chassis")?, arm.point("Location Spindle")?);
+        let x = c - s;
+        let y = V3::z().cross(&x);
+        if x.norm() < 1e-6 || y.norm() < 1e-6 * x.norm() {
+            return Err(arm.err("Location Spindle", "the arm has no direction across the chassis's up axis"));
+        }
+        self.put("TA_C", c);
+        self.put("TA_S", s);
+        self.put("TA_CM", arm.point("COM")?);
+        let j = inertia_of(&arm)?;
+        moments_positive(&arm, &j)?;
+        let (x, y) = (x.normalize(), y.normalize());
+        let frame = M3::from_columns(&[x, y, x.cross(&y)]);
+        let lower_arm = body_of(arm.mass("Mass")?, &(frame * j * frame.transpose()));
+        let massless = "the model's links are massless (two-force members)";
+        for (key, chassis, on_arm) in [("Upper Link", "UL_C", "UL_A"), ("Lower Link", "LL_C", "LL_A")] {
+            let link = self.o.obj(key)?;
+            link.keys(
+                &["Location Chassis", "Location Arm"],
+                &[
+                    ("Mass", massless),
+                    ("Inertia", massless),
+                    ("COM", massless),
+                    ("Radius", VISUAL),
+                    ("Universal Joint Axis", "the link's universal joint leaves it a rod of fixed length"),
+                    ("Bushing Data", "the model's joints are rigid"),
+                ],
+                self.warnings,
+            )?;
+            self.put(chassis, link.point("Location Chassis")?);
+            self.put(on_arm, link.point("Location Arm")?);
+        }
+        self.massless_links(&[("Upper Link", 2), ("Lower Link", 2)])?;
+        let spring = self.spring()?;
+        let damper = self.damper()?;
+        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
+        Ok(Axle {
+            template: self.template,
+            steered,
+            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
+            lower_arm,
+            upper_arm: None,
+            strut: None,
+            upright: RigidBody::NONE,
+            axle_tube: None,
+            spindle,
+            axle_shaft_spin_inertia_kg_m2,
+            spring,
+            damper,
+            reference_kinematics: None,
+            static_camber_deg,
+            static_toe_deg,
+            antiroll_bar: None,
+            bellcrank: None,
+        })
+    }
+
     /// The axle shaft's spin inertia (`Axle`), kg m².
     fn axle_shaft(&mut self) -> Result<f64, ImportError> {
         let axle = self.o.obj("Axle")?;
@@ -2169,6 +2272,7 @@ impl Importer {
             "SolidBellcrankThreeLinkAxle" => SuspensionTemplate::SolidBellcrankThreeLink,
             "ToeBarLeafspringAxle" => SuspensionTemplate::SolidToebarLeafspring,
             "SemiTrailingArm" => SuspensionTemplate::SemiTrailingArm,
+            "ThreeLinkIRS" => SuspensionTemplate::ThreeLinkIrs,
             _ => SuspensionTemplate::Rigid,
         };
         let mut s = SuspensionReader {
@@ -2186,6 +2290,7 @@ impl Importer {
             SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => return s.guided_axle(steered),
             SuspensionTemplate::Rigid => return s.rigid(steered),
             SuspensionTemplate::SemiTrailingArm => return s.semi_trailing_arm(steered),
+            SuspensionTemplate::ThreeLinkIrs => return s.three_link_irs(steered),
             _ => {}
         }
         let (static_camber_deg, static_toe_deg) = s.top_level()?;

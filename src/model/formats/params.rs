@@ -325,6 +325,10 @@ pub enum SuspensionTemplate {
     /// arm itself; spring and damper between the chassis and the arm (Chrono's `SemiTrailingArm`: the VW T2's
     /// rear, BMW's). Not steerable.
     SemiTrailingArm,
+    /// A trailing arm on a spherical joint to the chassis, held by an upper and a lower link, the spindle
+    /// turning on the arm; spring and damper between the chassis and the arm (Chrono's `ThreeLinkIRS`). Not
+    /// steerable.
+    ThreeLinkIrs,
 }
 
 impl SuspensionTemplate {
@@ -340,6 +344,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidToebarLeafspring => "solid_toebar_leafspring",
             SuspensionTemplate::Rigid => "rigid",
             SuspensionTemplate::SemiTrailingArm => "semi_trailing_arm",
+            SuspensionTemplate::ThreeLinkIrs => "three_link_irs",
         }
     }
 
@@ -356,6 +361,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidToebarLeafspring => &SOLID_TOEBAR_LEAFSPRING_HARDPOINTS,
             SuspensionTemplate::Rigid => &RIGID_HARDPOINTS,
             SuspensionTemplate::SemiTrailingArm => &SEMI_TRAILING_ARM_HARDPOINTS,
+            SuspensionTemplate::ThreeLinkIrs => &THREE_LINK_IRS_HARDPOINTS,
         }
     }
 
@@ -606,6 +612,12 @@ pub const SINGLE_WISHBONE_HARDPOINTS: [&str; 12] = [
 /// No upright and no tie rod: the spindle turns on the arm.
 pub const SEMI_TRAILING_ARM_HARDPOINTS: [&str; 9] =
     ["SPINDLE", "LCA_F", "LCA_B", "LCA_U", "LCA_CM", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A"];
+
+/// The hardpoints a three-link IRS axle must name: TA_C the arm's spherical joint on the chassis, TA_S its point
+/// at the spindle, TA_CM its CM; the upper and lower links' chassis (UL_C, LL_C) and arm (UL_A, LL_A) ends; the
+/// spring and the damper from the chassis to the arm.
+pub const THREE_LINK_IRS_HARDPOINTS: [&str; 12] =
+    ["SPINDLE", "TA_C", "TA_S", "TA_CM", "UL_C", "UL_A", "LL_C", "LL_A", "SHOCK_C", "SHOCK_A", "SPRING_C", "SPRING_A"];
 
 /// A wheel on its spindle (`VehicleData::wheel_assembly`), kg and kg m².
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -1149,7 +1161,7 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         return check_solid_axle_bodies(name, axle);
     }
     // A semi-trailing arm's spindle turns on the arm: it has no upright.
-    let has_upright = axle.template != SuspensionTemplate::SemiTrailingArm;
+    let has_upright = !matches!(axle.template, SuspensionTemplate::SemiTrailingArm | SuspensionTemplate::ThreeLinkIrs);
     for (body, b, has) in [("lower_arm", &axle.lower_arm, true), ("upright", &axle.upright, has_upright)] {
         match (has, b.is_none()) {
             (true, true) => {
@@ -1178,7 +1190,7 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
                 return Err(err(format!("{name}.upper_arm"), "a MacPherson strut has no upper arm"));
             }
         }
-        SuspensionTemplate::SingleWishbone | SuspensionTemplate::SemiTrailingArm => {
+        SuspensionTemplate::SingleWishbone | SuspensionTemplate::SemiTrailingArm | SuspensionTemplate::ThreeLinkIrs => {
             let template = axle.template.name();
             if axle.upper_arm.is_some() {
                 return Err(err(format!("{name}.upper_arm"), format!("a {template} has no upper arm")));
@@ -1186,8 +1198,13 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
             if axle.strut.is_some() {
                 return Err(err(format!("{name}.strut"), format!("a {template} has no strut body")));
             }
-            if axle.template == SuspensionTemplate::SemiTrailingArm && axle.steered {
-                return Err(err(format!("{name}.steered"), "a semi_trailing_arm is not steerable"));
+            let arm_only =
+                matches!(axle.template, SuspensionTemplate::SemiTrailingArm | SuspensionTemplate::ThreeLinkIrs);
+            if arm_only && axle.steered {
+                return Err(err(format!("{name}.steered"), format!("a {template} is not steerable")));
+            }
+            if axle.template == SuspensionTemplate::ThreeLinkIrs && axle.antiroll_bar.is_some() {
+                return Err(err(format!("{name}.antiroll_bar"), "a three_link_irs takes none (its arm has no hinge)"));
             }
         }
         SuspensionTemplate::SolidThreeLink

@@ -31,6 +31,7 @@ pub mod rigid;
 pub mod semi_trailing_arm;
 pub mod single_wishbone;
 pub mod solid_axle;
+pub mod three_link_irs;
 
 use crate::dynamics::lu::Lu;
 use crate::error::{Cause, ModelError};
@@ -125,12 +126,27 @@ pub enum Closure {
     /// The semi-trailing arm's spindle, on the arm itself: the carrier's Bryant angles on the arm are zero
     /// and q[4] = 0. Four unit rows (no tie rod: the fourth is φ3 = 0).
     OnArm,
+    /// The three-link IRS's trailing arm (the carrier) on a spherical joint at b, with two links to the
+    /// chassis: the upper link's length (one row, as the tie rod's), one Bryant angle held at 0 (the hinge
+    /// θ_L turns about the arm's instantaneous axis at design, so the other two take the rest) and q[4] = 0;
+    /// the lower link is the corner's tie rod (`three_link_irs.rs`).
+    Links(Links),
     /// A wheel of a solid axle: the carrier is the axle, which the axle's own kinematics place
     /// (`solid_axle`); the corner has no loop of its own to solve (`solve_positions_into` refuses).
     SolidAxle,
     /// A wheel of a rigid suspension: the carrier is the chassis (`rigid`); no loop, no travel, no spring or
     /// damper.
     Rigid,
+}
+
+/// The three-link IRS's upper link (`Closure::Links`): its chassis end, its end on the arm (design position)
+/// and its length; the Bryant angle held at zero (0, 1 or 2).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Links {
+    pub chassis: V3,
+    pub arm0: V3,
+    pub length: f64,
+    pub held: usize,
 }
 
 /// Which moving body a line element (spring, damper) acts on.
@@ -357,6 +373,7 @@ impl Corner {
             | SuspensionTemplate::SolidToebarLeafspring => solid_axle::wheel_corner(data, axle, side),
             SuspensionTemplate::Rigid => rigid::wheel_corner(data, axle, side),
             SuspensionTemplate::SemiTrailingArm => semi_trailing_arm::from_data(data, axle, side),
+            SuspensionTemplate::ThreeLinkIrs => three_link_irs::from_data(data, axle, side),
         }
     }
 
@@ -387,10 +404,11 @@ impl Corner {
             Closure::Strut(_) => SuspensionTemplate::MacphersonStrut,
             Closure::Kingpin => SuspensionTemplate::SingleWishbone,
             Closure::OnArm => SuspensionTemplate::SemiTrailingArm,
+            Closure::Links(_) => SuspensionTemplate::ThreeLinkIrs,
             Closure::SolidAxle => SuspensionTemplate::SolidThreeLink,
             Closure::Rigid => SuspensionTemplate::Rigid,
         };
-        let mut c = Corner {
+        let c = Corner {
             template,
             side,
             drive,
@@ -411,9 +429,15 @@ impl Corner {
             axle: static_axle(points.axle, side),
             design_det: 1.0,
         };
-        let design = c.evaluate(&Vector5f::zeros(), 0.0);
-        c.design_det = design.phi_q.fixed_columns::<4>(1).into_owned().determinant().abs();
-        Ok(c)
+        Ok(c.measured_at_design())
+    }
+
+    /// The corner with |det Φ_v| at its design position measured (`design_det`, the singularity guard's
+    /// reference).
+    pub(crate) fn measured_at_design(mut self) -> Corner {
+        let design = self.evaluate(&Vector5f::zeros(), 0.0);
+        self.design_det = design.phi_q.fixed_columns::<4>(1).into_owned().determinant().abs();
+        self
     }
 
     /// Front: the tie rod ends on the steering and moves with s; rear: on the chassis.
@@ -428,7 +452,12 @@ impl Corner {
     pub fn upper_revolute(&self) -> Option<(V3, V3)> {
         match &self.closure {
             Closure::UpperArm(arm) => Some((arm.p_u, arm.h_u)),
-            Closure::Strut(_) | Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => None,
+            Closure::Strut(_)
+            | Closure::Kingpin
+            | Closure::OnArm
+            | Closure::Links(_)
+            | Closure::SolidAxle
+            | Closure::Rigid => None,
         }
     }
 
@@ -472,7 +501,7 @@ impl Corner {
     /// (`Closure::OnArm`).
     #[inline(always)]
     pub fn has_kingpin(&self) -> bool {
-        !matches!(self.closure, Closure::OnArm)
+        !matches!(self.closure, Closure::OnArm | Closure::Links(_))
     }
 
     /// Whether the corner has a spring and a damper (a rigid suspension's wheel, on the chassis, has neither).
@@ -548,6 +577,11 @@ impl Corner {
                 let (rho, along) = strut.point(q[4], &self.b0, &r_k);
                 (strut.top, M3::identity(), rho, along, -along)
             }
+            // The upper link's chassis end and its end on the arm (from b): their rows are replaced below by
+            // the link's length.
+            Closure::Links(links) => {
+                (links.chassis, M3::identity(), r_k * (links.arm0 - self.b0), V3::zeros(), V3::zeros())
+            }
             // A point of the kingpin one metre above b (the steering axis reads it), ρ_u reaching it: the
             // point-coincidence rows below are then zero and replaced by the kingpin's own.
             Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => {
@@ -588,6 +622,23 @@ impl Corner {
             q[1].abs().max(q[2].abs()).max(q[4].abs())
         } else {
             phi_s3.amax()
+        };
+        // The three-link IRS: row 0 the upper link's length (as the tie rod's row), row 1 the held Bryant angle,
+        // row 2 q4.
+        let closure_residual = if let Closure::Links(links) = &self.closure {
+            let d_u = k_u0 - upper_joint;
+            let inv_u = 1.0 / links.length;
+            let row_u = 0.5 * (d_u.dot(&d_u) - links.length * links.length) * inv_u;
+            phi_q.fixed_rows_mut::<3>(0).fill(0.0);
+            phi_q[(0, 0)] = d_u.dot(&self.h_l.cross(&(k_u0 - self.p_l))) * inv_u;
+            for j in 0..3 {
+                phi_q[(0, 1 + j)] = d_u.dot(&rl_g.column(j).into_owned().cross(&rho_u)) * inv_u;
+            }
+            phi_q[(1, 1 + links.held)] = 1.0;
+            phi_q[(2, 4)] = 1.0;
+            row_u.abs().max(q[1 + links.held].abs()).max(q[4].abs())
+        } else {
+            closure_residual
         };
         // On the arm, the fourth row is φ3 = 0 in the tie rod's place (the corner has none).
         let phi_d = if let Closure::OnArm = self.closure {
@@ -637,6 +688,11 @@ impl Corner {
         let phi_d = 0.5 * (pos.d.dot(&pos.d) - self.tie_length * self.tie_length) / self.tie_length;
         if let Closure::Kingpin = self.closure {
             return Vector4::new(pos.q[1], pos.q[2], pos.q[4], phi_d);
+        }
+        if let Closure::Links(links) = &self.closure {
+            let d_u = pos.b + pos.rho_u - pos.upper_joint;
+            let row_u = 0.5 * (d_u.dot(&d_u) - links.length * links.length) / links.length;
+            return Vector4::new(row_u, pos.q[1 + links.held], pos.q[4], phi_d);
         }
         let k_u0 = pos.b + pos.rho_u;
         let e = pos.upper_joint - k_u0;
@@ -747,6 +803,13 @@ impl Corner {
             Closure::Strut(_) => a_k(&pos.rho_u) + w_k.cross(&pos.slide) * (2.0 * qd[4]),
             // Rows linear in q: no velocity-squared term.
             Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => V3::zeros(),
+            // The upper link's length, as the tie rod's below (its chassis end fixed): in row 0; rows 1 and 2
+            // are linear in q.
+            Closure::Links(links) => {
+                let d_u = pos.b + pos.rho_u - pos.upper_joint;
+                let d_u_dot = w_l.cross(&b_rel) + w_k.cross(&pos.rho_u);
+                V3::new((-d_u_dot.dot(&d_u_dot) - d_u.dot(&a_k(&pos.rho_u))) / links.length, 0.0, 0.0)
+            }
         };
         if let Closure::OnArm = self.closure {
             return Vector4::zeros(); // every row linear in q
@@ -807,6 +870,9 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
     }
     let field = format!("{name}.hardpoints_chassis_frame_m");
     let mut hinges = vec![("LCA_F", "LCA_B")];
+    if axle.template == SuspensionTemplate::ThreeLinkIrs {
+        hinges.clear(); // a spherical joint and two links (`three_link_irs::from_data` checks them)
+    }
     if axle.template == SuspensionTemplate::DoubleWishbone {
         hinges.push(("UCA_F", "UCA_B"));
     }
@@ -823,6 +889,7 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
         Closure::Strut(strut) => strut.length,
         // The kingpin is an axis through LCA_U, not a link: it has no length to lose.
         Closure::Kingpin | Closure::OnArm | Closure::SolidAxle | Closure::Rigid => 1.0,
+        Closure::Links(links) => links.length,
     };
     if (g.has_kingpin() && g.tie_length < 1e-6) || closure_length < 1e-6 {
         return Err(DataError { field, message: "tie rod, kingpin or strut of zero length".into() });

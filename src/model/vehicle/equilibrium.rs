@@ -89,15 +89,25 @@ pub fn rest_state(layout: &Layout, z: f64, roll: f64, pitch: f64, u: &[f64; 4]) 
     x
 }
 
-/// Chassis CM height at the design position with the tires deflected by a quarter of the weight each:
-/// the first guess of every solve (undeflected tires would start Newton at the lift-off kink). Taken at the
-/// highest wheel centre, so that every tire touches: a wheel in the air at the guess has no stiffness under
-/// it, and Newton's first step from there (measured: a generic car with its rear wheel centres 26 mm above
-/// its front ones) flies off to a chassis 6 m up.
-pub fn design_height_guess(v: &Vehicle) -> f64 {
-    let highest = v.corners.iter().map(|c| c.w0.z).fold(f64::NEG_INFINITY, f64::max);
+/// The first guess of every static solve, [height, roll, pitch] of the chassis: the design position with the
+/// tires deflected by a quarter of the weight each (undeflected tires would start Newton at the lift-off
+/// kink), the chassis turned so that the wheel centres' front-rear and left-right mean heights are level
+/// (Chrono's generic three-link IRS test vehicle has its front wheel centres 0.21 m below its rear ones: level,
+/// its front tires were deflected beyond their validity at the guess), and the height taken at the highest
+/// wheel centre, so that every tire touches: a wheel in the air at the guess has no stiffness under it, and
+/// Newton's first step from there (measured: a generic car with its rear wheel centres 26 mm above its front
+/// ones, before the turn) flies off to a chassis 6 m up.
+pub fn design_pose_guess(v: &Vehicle) -> [f64; 3] {
+    let w: [V3; 4] = std::array::from_fn(|i| v.corners[i].w0);
+    let mean = |a: usize, b: usize| (w[a] + w[b]) * 0.5;
+    let (front, rear, left, right) = (mean(0, 1), mean(2, 3), mean(0, 2), mean(1, 3));
+    // Ry(θ) puts a point's height at z cos θ − x sin θ, Rx(φ) at z cos φ + y sin φ: level where those agree.
+    let pitch = ((front.z - rear.z) / (front.x - rear.x)).atan();
+    let roll = ((right.z - left.z) / (left.y - right.y)).atan();
+    let a = quat_to_matrix(&quat_from_euler(roll, pitch, 0.0));
+    let highest = w.iter().map(|p| (a * p).z).fold(f64::NEG_INFINITY, f64::max);
     let deflection = v.total_mass * v.gravity / 4.0 / v.tire.vertical_stiffness_N_per_m;
-    v.tire.unloaded_radius_m - deflection - highest
+    [v.tire.unloaded_radius_m - deflection - highest, roll, pitch]
 }
 
 /// The options an initial state is solved with: the run's, on the plane road z = 0 with the point contact
@@ -140,7 +150,8 @@ fn evaluate(
 /// leaves them applied to `v`.
 pub fn retune_ride_height(v: &mut Vehicle, options: &Options) -> Result<(f64, f64), ModelError> {
     let base: Vec<f64> = v.corner_forces.iter().map(|f| f.spring_free_length).collect();
-    let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0];
+    let [z, roll, pitch] = design_pose_guess(v);
+    let mut p = vec![z, roll, pitch, 0.0, 0.0];
     let mut ws = Workspace::default();
     let mut statics = v.clone();
     // A property of the vehicle: its design position on level ground, whatever road the run is on.
@@ -193,7 +204,8 @@ pub fn static_equilibrium_steered(
     let rest = at_rest(options);
     let inputs = held(steering, 0.0);
     let layout = Layout::of(&rest);
-    let mut p = vec![design_height_guess(v), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let [z, roll, pitch] = design_pose_guess(v);
+    let mut p = vec![z, roll, pitch, 0.0, 0.0, 0.0, 0.0];
     let mut dx = vec![0.0; layout.dim];
     let state = |p: &[f64]| rest_state(&layout, p[0], p[1], p[2], &[p[3], p[4], p[5], p[6]]);
     newton(
