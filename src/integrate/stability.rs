@@ -84,6 +84,28 @@ pub fn damped_half_disc(kind: IntegratorKind) -> Option<f64> {
     }
 }
 
+/// The tangent of the half-angle of the sector {|arg(−z)| ≤ α} in which IMEX-AB3's implicit part (BDF3) damps
+/// every z (`is_damped`), whatever its modulus: BDF3 is A(α)-stable with α = 86.0°, and the damping bound
+/// narrows that; scanned on rays from 30° in steps of 1°, radii from 1e-6 to 1e6 (3 000, logarithmic), every
+/// ray up to 76° is damped and 77° is not (at |z| = 0.88). A ray from 0 stays in a sector, so a judged hλ in
+/// it is damped at every step up to h (`damped_up_to`'s verdict, without its 33 tests):
+/// `the_damped_sector_is_damped` checks a finer grid inside 70° and finds a ray beyond 78° that is not.
+/// `None` for the other schemes (their regions are bounded: `damped_half_disc`).
+pub fn damped_sector(kind: IntegratorKind) -> Option<f64> {
+    match kind {
+        IntegratorKind::ImexAb3 => Some(DAMPED_SECTOR_DEG.to_radians().tan()),
+        _ => None,
+    }
+}
+
+/// IMEX-AB3's damped sector's half-angle, deg (`damped_sector`): 6° inside the scan's 76°.
+const DAMPED_SECTOR_DEG: f64 = 70.0;
+
+/// Whether `z` lies in the scheme's damped sector (`damped_sector`): Re z < 0 and |Im z| ≤ tan α · (−Re z).
+pub fn in_damped_sector(kind: IntegratorKind, z: C) -> bool {
+    damped_sector(kind).is_some_and(|t| z.re < 0.0 && z.im.abs() <= t * -z.re)
+}
+
 /// For the multistep schemes the test needs no roots: every root of the cubic must lie within the radius
 /// `damps` allows, which the Schur–Cohn test decides (`cubic_roots_within`) in a fixed dozen complex
 /// operations where the roots took an iteration (the step check of IMEX-AB3 judges 20 eigenvalues at 32
@@ -242,6 +264,30 @@ mod tests {
             }
             assert!(beyond_fails, "{kind:?}: the half-disc of radius {} is damped too", 1.02 * r);
         }
+    }
+
+    /// Every z of IMEX-AB3's damped sector is damped: 141 rays up to its half-angle (both signs of Im z), radii
+    /// 1e-8 to 1e8 (4 000, logarithmic); and some z on a ray at 78° is not (the angle is not needlessly small).
+    #[test]
+    fn the_damped_sector_is_damped() {
+        let kind = IntegratorKind::ImexAb3;
+        let t = damped_sector(kind).unwrap();
+        let half_angle = t.atan();
+        let radius = |k: i32| 10f64.powf(-8.0 + 16.0 * f64::from(k) / 4000.0);
+        for a in -70..=70 {
+            let theta = half_angle * f64::from(a) / 70.0;
+            let ray = -C::new(theta.cos(), theta.sin());
+            for k in 0..=4000 {
+                let z = ray * radius(k);
+                assert!(in_damped_sector(kind, z), "z = {z} is in the sector");
+                assert!(is_damped(kind, z), "z = {z} in the damped sector is not damped");
+            }
+        }
+        let beyond = -C::new(78f64.to_radians().cos(), 78f64.to_radians().sin());
+        assert!((0..=4000).any(|k| !is_damped(kind, beyond * radius(k))), "the ray at 78° is damped too");
+        assert!(
+            damped_sector(IntegratorKind::Rk4).is_none() && !in_damped_sector(IntegratorKind::Ab3, C::new(-1.0, 0.0))
+        );
     }
 
     #[test]

@@ -10,7 +10,8 @@ use super::{
 };
 use crate::error::{Cause, ModelError};
 use crate::integrate::stability::{
-    bdf2_damped_up_to, damped_half_disc, damped_up_to, is_damped, largest_stable_step, DAMPED_GROWTH_MAX,
+    bdf2_damped_up_to, damped_half_disc, damped_up_to, in_damped_sector, is_damped, largest_stable_step,
+    DAMPED_GROWTH_MAX,
 };
 use crate::integrate::{Integrator, IntegratorKind};
 use crate::math::eigen::{eigenvalues, spectral_radius_bound};
@@ -785,7 +786,8 @@ impl Simulation {
         let mut fails = [false; CHECK_STATES];
         for (f, l) in fails.iter_mut().zip(coupled.iter()) {
             *f = match kind {
-                IntegratorKind::ImexAb3 => !damped_up_to(kind, judged(l), h),
+                // In the damped sector every step damps it: `damped_up_to`'s verdict without its tests.
+                IntegratorKind::ImexAb3 => !(in_damped_sector(kind, judged(l)) || damped_up_to(kind, judged(l), h)),
                 _ => !is_damped(kind, judged(l) * h),
             };
         }
