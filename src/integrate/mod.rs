@@ -26,6 +26,11 @@ pub trait OdeSystem {
     fn error_scale(&self, scale: &mut [f64]) {
         scale.fill(1.0);
     }
+    /// Which components a fixed-step scheme's accuracy monitor watches (1) or leaves out (0): AB3's (`ab3`)
+    /// leaves out the fast states it damps rather than follows. Default: every component.
+    fn accuracy_watch(&self, watch: &mut [f64]) {
+        watch.fill(1.0);
+    }
     /// The longest step an error-controlled scheme should take from the state of the last evaluation: a
     /// system that knows of brief events a long step could pass between its stages (a wheel about to leave
     /// the road) says so here. Default: no limit.

@@ -13,7 +13,7 @@ use crate::integrate::stability::{
     bdf2_damped_up_to, damped_half_disc, damped_up_to, in_damped_sector, is_damped, largest_stable_step,
     DAMPED_GROWTH_MAX,
 };
-use crate::integrate::{Integrator, IntegratorKind};
+use crate::integrate::{AnyIntegrator, Integrator, IntegratorKind};
 use crate::math::eigen::{eigenvalues, spectral_radius_bound};
 use crate::math::V3;
 use crate::model::road::RoadModel;
@@ -39,6 +39,12 @@ pub const MODE_CHECK_CHUNK: f64 = 0.025;
 /// k_z × 10 J-turn, roll rate 1 % off), 5 × none. At the default tolerance 1e-3 the limit is 5e-3 of the
 /// rate states' scale (5e-6 rad/s per step).
 pub const IMEX_ERROR_PER_TOLERANCE: f64 = 5.0;
+
+/// AB3's limit on its accuracy monitor's estimate (`integrate::ab3`: AB2's local error from the same history,
+/// relative to `stepping::error_scale`, on the chassis' states), per unit of the run's `tolerance`: above it
+/// the step is taken as RK4. The same estimate's order and limit as IMEX-AB3's (`IMEX_ERROR_PER_TOLERANCE`);
+/// measured on the stability suites (docs/integrators.md, "AB3").
+pub const AB3_ERROR_PER_TOLERANCE: f64 = 5.0;
 
 /// Fixed steps a bump must take to pass under a wheel. Measured on the 20 cm bump at 60 km/h (0.5 m in
 /// 30 ms, the wheels leave the road): the Chrono double-wishbone import is off by 6e-2 in a_z at 14 steps
@@ -702,6 +708,9 @@ impl Simulation {
         self.check.landed_since_check = self.imex_landings() != self.check.landings_at_mode_check;
         self.check.landings_at_mode_check = self.imex_landings();
         let wheel_modes = self.wheel_jacobian()?;
+        if let AnyIntegrator::Ab3(scheme) = &mut self.run.integrator {
+            scheme.set_error_limit(AB3_ERROR_PER_TOLERANCE * self.config.tolerance);
+        }
         // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
         // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.
         if self.run.integrator.implicit_block().is_some() {

@@ -846,10 +846,9 @@ impl VehicleData {
                      without a word at RK4 8.33 ms, AB3 2.08 ms and IMEX-AB3 8.33 and 2.08 ms",
                 ),
                 SuspensionTemplate::SolidToebarLeafspring => Some(
-                    "the stability suite of Chrono's UAZ469 with this front axle (docs/stability_uaz469.md) has runs \
+                    "the stability suite of Chrono's UAZ469 with this front axle (docs/stability_uaz469.md) has a run \
                      off without a word: IMEX-AB3 at 4.17 ms on the wheel lock (a yaw seeded by the axle's \
-                     one-sided drag link, which the locked wheels amplify) and AB3 at 4.17 ms on the spin-up before \
-                     its refusal",
+                     one-sided drag link, which the locked wheels amplify)",
                 ),
                 SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => Some(
                     "the stability suite of a HMMWV with this rear axle has runs more than 1 % off without a word \
