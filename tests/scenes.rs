@@ -226,6 +226,7 @@ fn imported_vehicles() -> Vec<VehicleData> {
         "rtv_hmmwv_solid_axles",
         "uaz469",
         "vw_microbus",
+        "audi",
     ]
     .iter()
     .map(|name| {

@@ -13,9 +13,10 @@ use std::path::{Path, PathBuf};
 
 /// The shipped imports: Chrono's vehicle file, the shipped file, and the tire file of its data folder.
 /// The shipped imports: Chrono's vehicle file, the shipped file, the tire file, and whether that tire was chosen
-/// (`--tire-file`: the VW microbus's model file names its TMeasy tire; its Pac02 `.tir` is shipped) rather than
+/// (`--tire-file`: the VW microbus's and the Audi's model files name their TMeasy tires; their Pac02 `.tir` files are
+/// shipped) rather than
 /// the importer's own choice.
-const VEHICLES: [(&str, &str, &str, bool); 4] = [
+const VEHICLES: [(&str, &str, &str, bool); 5] = [
     (
         "generic/vehicle/Vehicle_MacPhersonStruts.json",
         "generic_macpherson.json",
@@ -30,6 +31,7 @@ const VEHICLES: [(&str, &str, &str, bool); 4] = [
     ),
     ("uaz/vehicle/UAZ469_Vehicle.json", "uaz469.json", "uaz/tire/UAZBUS_Pac02Tire.tir", false),
     ("VW_microbus/json/van.json", "vw_microbus.json", "VW_microbus/json/mf_185_80R14.tir", true),
+    ("audi/json/audi.json", "audi.json", "audi/json/audi_Pac02Tire.tir", true),
 ];
 const MACPHERSON: &str = "generic/vehicle/Vehicle_MacPhersonStruts.json";
 const DOUBLE_WISHBONE: &str = "generic/vehicle/Vehicle_DoubleWishbones.json";

@@ -9,7 +9,9 @@
 //!   |h − h_hist| > 1e-9·max(|h|, |h_hist|) (masters' step sizes carry rounding noise; fmi.md).
 //! - Stable for hλ ∈ [−0.545, 0] on the real axis and |hλ| ≤ 0.724 on the imaginary axis (§7.4).
 //! - An accuracy monitor, free of evaluations: where the history's second difference says the step does not
-//!   follow a transient, the step is taken as RK4 instead (`set_error_limit`, below).
+//!   follow a transient, the step is taken as RK4 instead (`set_error_limit`, below). It would also stabilise a
+//!   step outside AB3's region (a growing parasitic mode shows in the second difference), so it is off where the
+//!   bare scheme's stability is measured (`Simulation::set_step_refusals(false)`).
 //!
 //! ## The accuracy monitor
 //! AB2 from the same history differs from AB3 by (5h/12)(f_n − 2 f_{n−1} + f_{n−2}): AB2's local error, one

@@ -708,8 +708,11 @@ impl Simulation {
         self.check.landed_since_check = self.imex_landings() != self.check.landings_at_mode_check;
         self.check.landings_at_mode_check = self.imex_landings();
         let wheel_modes = self.wheel_jacobian()?;
+        // With refusals off (measuring the bare scheme's stability, `set_step_refusals`) AB3 runs without its
+        // monitor too: its RK4 steps would stabilise a step the check refuses.
         if let AnyIntegrator::Ab3(scheme) = &mut self.run.integrator {
-            scheme.set_error_limit(AB3_ERROR_PER_TOLERANCE * self.config.tolerance);
+            let on = !self.check.step_refusals_off;
+            scheme.set_error_limit(if on { AB3_ERROR_PER_TOLERANCE * self.config.tolerance } else { 0.0 });
         }
         // IMEX-AB3 integrates the wheel states and the chassis velocities implicitly with this Jacobian until
         // the next check, and refuses a step whose local error estimate on the other states exceeds its limit.

@@ -33,6 +33,7 @@ def test_the_imports_are_in_the_fmu_with_chronos_licence(fmu_path):
     assert "resources/vehicles/Generic_Pac02Tire.tir" in names  # their tir_file, beside them
     assert "resources/vehicles/UAZBUS_Pac02Tire.tir" in names
     assert "resources/vehicles/mf_185_80R14.tir" in names
+    assert "resources/vehicles/audi_Pac02Tire.tir" in names
 
 
 # The vehicles steered by their rack (calibration names as above): the single wishbones, the HMMWV with a
@@ -42,6 +43,8 @@ RACK_VEHICLES = [
     ("vehicles/rtv_single_wishbone.json", "rtv test vehicle - Single Wishbone on Generic_Pac02Tire"),
     ("vehicles/rtv_hmmwv_solid_rear.json", "rtv HMMWV, rear three-link solid axle"),
     ("vehicles/vw_microbus.json", "VW Bus on mf_185_80R14"),
+    # Chrono's Audi: double wishbones front and rear, rack and pinion, on its own Pac02 tire.
+    ("vehicles/audi.json", "audi Vehicle on audi_Pac02Tire"),
 ]
 
 
