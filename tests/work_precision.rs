@@ -117,7 +117,10 @@ fn rk4_keeps_order_four_through_the_sines_flip_at_the_steps_it_takes_there() {
 
 #[test]
 fn ab3_keeps_order_three_through_the_jturn() {
-    let p = order("jturn", &case("jturn", 4.0), IntegratorKind::Ab3, &[0.003, 0.002, 0.0015, 0.001, 0.0005]);
+    // From 2 ms down: at 3 ms AB3's accuracy monitor takes RK4 steps on the ramp (`integrate::ab3`; its error
+    // there 2.0e-4 against the bare scheme's 3.2e-4), which is not the scheme's order; at 2 ms and below it
+    // takes none (2 ms: 1.11e-4 with and without it).
+    let p = order("jturn", &case("jturn", 4.0), IntegratorKind::Ab3, &[0.002, 0.0015, 0.001, 0.0005]);
     assert!(p >= 2.8, "AB3 order {p} on the J-turn");
 }
 
