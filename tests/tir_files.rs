@@ -10,7 +10,7 @@ use common::chrono_tir_files;
 #[test]
 fn every_shipped_tir_file_reads() {
     let files = chrono_tir_files();
-    assert_eq!(files.len(), 6, "the six PAC2002 files of data/chrono: {files:?}");
+    assert_eq!(files.len(), 7, "the seven PAC2002 files of data/chrono: {files:?}");
     for path in files {
         let f = TirFile::read(&path).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(f.format().unwrap(), TirFormat::Pac2002, "{}", path.display());
