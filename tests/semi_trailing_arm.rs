@@ -28,19 +28,7 @@ const VAN: &str = "VW_microbus/json/van.json";
 
 /// The van as `rtv import-chrono` writes it (the vehicle file with its TMeasy tire file beside it), read back.
 fn van() -> VehicleData {
-    use std::sync::OnceLock;
-    static FILE: OnceLock<std::path::PathBuf> = OnceLock::new();
-    let path = FILE.get_or_init(|| {
-        let import = import_vehicle(&chrono_data().join(VAN), &chrono_data(), None).unwrap();
-        let dir = std::env::temp_dir().join(format!("rtv-sta-van-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let tire = import.tire.as_ref().expect("the van names its TMeasy tire");
-        std::fs::copy(tire, dir.join(tire.file_name().unwrap())).unwrap();
-        let path = dir.join("van.json");
-        std::fs::write(&path, import.to_json()).unwrap();
-        path
-    });
-    VehicleData::from_file(path).unwrap()
+    common::imported(VAN, "sta-van")
 }
 
 /// The Newton tolerance of the position solve is 1e-12 m on the constraints (here unit rows: the carrier's

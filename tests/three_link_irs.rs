@@ -26,19 +26,7 @@ const VEHICLE: &str = "generic/vehicle/Vehicle_ThreeLinkIRS.json";
 
 /// The vehicle as `rtv import-chrono` writes it (its Pac02 tire beside it), read back.
 fn vehicle() -> VehicleData {
-    use std::sync::OnceLock;
-    static FILE: OnceLock<std::path::PathBuf> = OnceLock::new();
-    let path = FILE.get_or_init(|| {
-        let import = import_vehicle(&chrono_data().join(VEHICLE), &chrono_data(), None).unwrap();
-        let dir = std::env::temp_dir().join(format!("rtv-irs-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let tire = import.tire.as_ref().expect("the generic data folder's .tir");
-        std::fs::copy(tire, dir.join(tire.file_name().unwrap())).unwrap();
-        let path = dir.join("irs.json");
-        std::fs::write(&path, import.to_json()).unwrap();
-        path
-    });
-    VehicleData::from_file(path).unwrap()
+    common::imported(VEHICLE, "irs")
 }
 
 #[test]

@@ -119,6 +119,25 @@ pub fn integrate(v: &Vehicle, o: &Options, target_speed: f64, x: &mut [f64], h: 
     }
 }
 
+/// Chrono's `vehicle` (a path in the Chrono data folder) as `rtv import-chrono` writes it, its tire file beside
+/// it, in a scratch folder `rtv-NAME-PID-N`, read back: the vehicle a user gets from the import.
+pub fn imported(vehicle: &str, name: &str) -> VehicleData {
+    let import =
+        rt_vehicle::model::formats::import_chrono::import_vehicle(&chrono_data().join(vehicle), &chrono_data(), None)
+            .unwrap_or_else(|e| panic!("{vehicle}: {e}"));
+    // A folder of its own per call: a test crate's tests run in parallel threads.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("rtv-{name}-{}-{call}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    if let Some(tire) = &import.tire {
+        std::fs::copy(tire, dir.join(tire.file_name().unwrap())).unwrap();
+    }
+    let path = dir.join(format!("{name}.json"));
+    std::fs::write(&path, import.to_json()).unwrap();
+    VehicleData::from_file(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 /// A scratch folder `rtv-NAME-PID` (removed first if a previous run left it) holding a copy of the Chrono data
 /// folder's `generic/` vehicle files (vehicle, chassis, suspension, steering, wheel, brake, driveline, tire), to
 /// be edited and imported.

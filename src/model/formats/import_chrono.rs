@@ -539,6 +539,15 @@ const SUSPENSION_TEMPLATES: [&str; 11] = [
 /// give the same arm.
 const SINGLE_WISHBONE_HINGE_SPAN_M: f64 = 0.1;
 
+/// The bodies of an independent suspension's axle (`SuspensionReader::independent_axle_rest`).
+struct ArmBodies {
+    spindle: RigidBody,
+    lower_arm: RigidBody,
+    upper_arm: Option<RigidBody>,
+    strut: Option<RigidBody>,
+    upright: RigidBody,
+}
+
 /// What the steps of `Importer::suspension` share: the suspension file's object, where the suspension sits
 /// on the chassis, its template, the hardpoints read so far (in the chassis frame) and the import's warnings.
 struct SuspensionReader<'a> {
@@ -551,7 +560,7 @@ struct SuspensionReader<'a> {
     warnings: &'a mut Vec<String>,
 }
 
-impl SuspensionReader<'_> {
+impl<'a> SuspensionReader<'a> {
     fn lower_arm_key(&self) -> &'static str {
         match self.template {
             SuspensionTemplate::DoubleWishbone => "Lower Control Arm",
@@ -1313,44 +1322,8 @@ impl SuspensionReader<'_> {
     /// Chrono gives in its arm frame), the spring and the damper between the chassis and the arm, the axle
     /// shaft. An axle no steering reaches: Chrono's template has no tie rod.
     fn semi_trailing_arm(&mut self, steered: bool) -> Result<Axle, ImportError> {
-        let o = &self.o;
-        o.keys(
-            &[
-                "Name",
-                "Type",
-                "Template",
-                "Camber Angle (deg)",
-                "Toe Angle (deg)",
-                "Spindle",
-                "Trailing Arm",
-                "Spring",
-                "Shock",
-                "Axle",
-            ],
-            &[("Output", "Chrono output settings")],
-            self.warnings,
-        )?;
-        if steered {
-            return Err(o.err("Template", "a semi-trailing arm has no tie rod: a steering cannot turn its wheels"));
-        }
-        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
-        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
-        let spindle = self.spindle()?;
-        let arm = self.o.obj("Trailing Arm")?;
-        arm.keys(
-            &[
-                "Mass",
-                "COM",
-                "Inertia",
-                "Moments of Inertia",
-                "Products of Inertia",
-                "Location Chassis Outer",
-                "Location Chassis Inner",
-                "Location Spindle",
-            ],
-            &[("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")],
-            self.warnings,
-        )?;
+        let (alignment, spindle) = self.arm_axle_start(steered, &["Trailing Arm"], "a semi-trailing arm")?;
+        let arm = self.trailing_arm(&["Location Chassis Outer", "Location Chassis Inner", "Location Spindle"])?;
         let (outer, inner, at_spindle) = (
             arm.point("Location Chassis Outer")?,
             arm.point("Location Chassis Inner")?,
@@ -1373,28 +1346,8 @@ impl SuspensionReader<'_> {
         let ours = arm_frame(&arm, outer, inner, at_spindle)?;
         let chrono = M3::from_columns(&[ours.column(0).into_owned(), -ours.column(1), -ours.column(2)]);
         let lower_arm = body_of(arm.mass("Mass")?, &(ours.transpose() * chrono * j * chrono.transpose() * ours));
-        let spring = self.spring()?;
-        let damper = self.damper()?;
-        let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
-        Ok(Axle {
-            template: self.template,
-            steered,
-            hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
-            lower_arm,
-            upper_arm: None,
-            strut: None,
-            upright: RigidBody::NONE,
-            axle_tube: None,
-            spindle,
-            axle_shaft_spin_inertia_kg_m2,
-            spring,
-            damper,
-            reference_kinematics: None,
-            static_camber_deg,
-            static_toe_deg,
-            antiroll_bar: None,
-            bellcrank: None,
-        })
+        let bodies = ArmBodies { spindle, lower_arm, upper_arm: None, strut: None, upright: RigidBody::NONE };
+        self.independent_axle_rest(steered, bodies, alignment)
     }
 
     /// A `ThreeLinkIRS` file, as Chrono's `ThreeLinkIRS::Create` reads it: the static camber and toe, the
@@ -1404,45 +1357,9 @@ impl SuspensionReader<'_> {
     /// their `Mass` and `Inertia` said once), the spring and the damper between the chassis and the arm, the
     /// axle shaft. An axle no steering reaches.
     fn three_link_irs(&mut self, steered: bool) -> Result<Axle, ImportError> {
-        let o = &self.o;
-        o.keys(
-            &[
-                "Name",
-                "Type",
-                "Template",
-                "Camber Angle (deg)",
-                "Toe Angle (deg)",
-                "Spindle",
-                "Trailing Arm",
-                "Upper Link",
-                "Lower Link",
-                "Spring",
-                "Shock",
-                "Axle",
-            ],
-            &[("Output", "Chrono output settings")],
-            self.warnings,
-        )?;
-        if steered {
-            return Err(o.err("Template", "a three-link IRS has no tie rod: a steering cannot turn its wheels"));
-        }
-        let static_camber_deg = o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
-        let static_toe_deg = o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
-        let spindle = self.spindle()?;
-        let arm = self.o.obj("Trailing Arm")?;
-        arm.keys(
-            &[
-                "Mass",
-                "COM",
-                "Inertia",
-                "Moments of Inertia",
-                "Products of Inertia",
-                "Location Chassis",
-                "Location Spindle",
-            ],
-            &[("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")],
-            self.warnings,
-        )?;
+        let parts = ["Trailing Arm", "Upper Link", "Lower Link"];
+        let (alignment, spindle) = self.arm_axle_start(steered, &parts, "a three-link IRS")?;
+        let arm = self.trailing_arm(&["Location Chassis", "Location Spindle"])?;
         let (c, s) = (arm.point("Location Chassis")?, arm.point("Location Spindle")?);
         let x = c - s;
         let y = V3::z().cross(&x);
@@ -1476,17 +1393,61 @@ impl SuspensionReader<'_> {
             self.put(on_arm, link.point("Location Arm")?);
         }
         self.massless_links(&[("Upper Link", 2), ("Lower Link", 2)])?;
+        let bodies = ArmBodies { spindle, lower_arm, upper_arm: None, strut: None, upright: RigidBody::NONE };
+        self.independent_axle_rest(steered, bodies, alignment)
+    }
+
+    /// The `Trailing Arm` object of such a file, its keys read: its body's and the points `locations`.
+    fn trailing_arm(&mut self, locations: &[&str]) -> Result<Obj<'a>, ImportError> {
+        let arm = self.o.obj("Trailing Arm")?;
+        let mut used = vec!["Mass", "COM", "Inertia", "Moments of Inertia", "Products of Inertia"];
+        used.extend_from_slice(locations);
+        arm.keys(&used, &[("Radius", VISUAL), ("Bushing Data", "the model's joints are rigid")], self.warnings)?;
+        Ok(arm)
+    }
+
+    /// What a file of a suspension whose spindle turns on its arm begins with (`SemiTrailingArm`,
+    /// `ThreeLinkIRS`, named `what`): its keys (`parts`: the arm and its links), the refusal of a steering
+    /// (such an axle has no tie rod), the static camber and toe (deg), the spindle.
+    fn arm_axle_start(
+        &mut self,
+        steered: bool,
+        parts: &[&str],
+        what: &str,
+    ) -> Result<((f64, f64), RigidBody), ImportError> {
+        let mut used = vec!["Name", "Type", "Template", "Camber Angle (deg)", "Toe Angle (deg)", "Spindle"];
+        used.extend_from_slice(parts);
+        used.extend(["Spring", "Shock", "Axle"]);
+        self.o.keys(&used, &[("Output", "Chrono output settings")], self.warnings)?;
+        if steered {
+            return Err(self.o.err("Template", format!("{what} has no tie rod: a steering cannot turn its wheels")));
+        }
+        let camber = self.o.opt_num("Camber Angle (deg)")?.unwrap_or(0.0);
+        let toe = self.o.opt_num("Toe Angle (deg)")?.unwrap_or(0.0);
+        Ok(((camber, toe), self.spindle()?))
+    }
+
+    /// What every independent suspension's file ends with (after its bodies and, if it has one, its tie rod):
+    /// the spring and the damper, the axle shaft; and the axle of the reader's template from its bodies and its
+    /// static camber and toe (deg).
+    fn independent_axle_rest(
+        &mut self,
+        steered: bool,
+        bodies: ArmBodies,
+        (static_camber_deg, static_toe_deg): (f64, f64),
+    ) -> Result<Axle, ImportError> {
         let spring = self.spring()?;
         let damper = self.damper()?;
         let axle_shaft_spin_inertia_kg_m2 = self.axle_shaft()?;
+        let ArmBodies { spindle, lower_arm, upper_arm, strut, upright } = bodies;
         Ok(Axle {
             template: self.template,
             steered,
             hardpoints_chassis_frame_m: std::mem::take(&mut self.points),
             lower_arm,
-            upper_arm: None,
-            strut: None,
-            upright: RigidBody::NONE,
+            upper_arm,
+            strut,
+            upright,
             axle_tube: None,
             spindle,
             axle_shaft_spin_inertia_kg_m2,
@@ -2302,28 +2263,11 @@ impl Importer {
         };
         let (upper_arm, strut) = s.upper_arm_or_strut()?;
         s.tie_rod()?;
-        let spring = s.spring()?;
-        let damper = s.damper()?;
-        let axle_shaft_spin_inertia_kg_m2 = s.axle_shaft()?;
-        Ok(Axle {
-            template,
+        s.independent_axle_rest(
             steered,
-            hardpoints_chassis_frame_m: s.points,
-            lower_arm,
-            upper_arm,
-            strut,
-            upright,
-            axle_tube: None,
-            spindle,
-            axle_shaft_spin_inertia_kg_m2,
-            spring,
-            damper,
-            reference_kinematics: None,
-            static_camber_deg,
-            static_toe_deg,
-            antiroll_bar: None,
-            bellcrank: None,
-        })
+            ArmBodies { spindle, lower_arm, upper_arm, strut, upright },
+            (static_camber_deg, static_toe_deg),
+        )
     }
 
     fn wheel(&mut self, file: &File) -> Result<Wheel, ImportError> {
