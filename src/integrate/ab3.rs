@@ -58,9 +58,6 @@ pub struct Ab3 {
     scale: Vec<f64>,
     #[serde(skip)]
     watch: Vec<f64>,
-    /// Steps the monitor took as RK4 (for reports and tests).
-    #[serde(skip)]
-    pub rk4_steps: u64,
 }
 
 /// Whether two step sizes are the same up to the master's rounding noise.
@@ -163,9 +160,6 @@ impl Integrator for Ab3 {
 
         eval(sys, t, x, &mut self.fnow)?;
         let transient = count >= 2 && self.error_limit > 0.0 && self.estimate(sys, h) > self.error_limit;
-        if transient {
-            self.rk4_steps += 1;
-        }
         if count >= 2 && !transient {
             let c = h / 12.0;
             for i in 0..n {

@@ -588,8 +588,8 @@ fn axle_kc(name: &'static str, data: &VehicleData, v: &Vehicle, options: &KcOpti
         Ok((row(travel, &pl, &pr), [pl, pr]))
     })?;
     let design = travel.iter().find(|r| r.travel == 0.0).copied().expect("travel 0 is a point");
-    // A spindle on its arm (the semi-trailing arm) has no kingpin and no tie rod: those figures are not
-    // defined (shown as –, as a solid axle's).
+    // A spindle on its arm (the semi-trailing arm, the three-link IRS) has no kingpin and no tie rod: those
+    // figures are not defined (shown as –, as a solid axle's).
     let kingpin = |figure: f64| if left.has_kingpin() { figure } else { f64::NAN };
     let figures = StaticFigures {
         caster: kingpin(design_l.caster),

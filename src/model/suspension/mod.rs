@@ -498,7 +498,7 @@ impl Corner {
     }
 
     /// Whether the carrier turns on a kingpin (steering axis) and has a tie rod: not a spindle on its arm
-    /// (`Closure::OnArm`).
+    /// (`Closure::OnArm`, `Closure::Links`: the three-link IRS's "tie rod" is its lower link).
     #[inline(always)]
     pub fn has_kingpin(&self) -> bool {
         !matches!(self.closure, Closure::OnArm | Closure::Links(_))
@@ -869,10 +869,8 @@ pub fn check_loop_closes(data: &VehicleData, name: &str, axle: &Axle) -> Result<
         return Ok(()); // nothing moves
     }
     let field = format!("{name}.hardpoints_chassis_frame_m");
-    let mut hinges = vec![("LCA_F", "LCA_B")];
-    if axle.template == SuspensionTemplate::ThreeLinkIrs {
-        hinges.clear(); // a spherical joint and two links (`three_link_irs::from_data` checks them)
-    }
+    // A three-link IRS has a spherical joint and two links, not a hinge (`three_link_irs::from_data` checks them).
+    let mut hinges = if axle.template == SuspensionTemplate::ThreeLinkIrs { vec![] } else { vec![("LCA_F", "LCA_B")] };
     if axle.template == SuspensionTemplate::DoubleWishbone {
         hinges.push(("UCA_F", "UCA_B"));
     }
