@@ -81,8 +81,17 @@ pub const MODE_CHECK_INTERVAL_QUIET: f64 = 1.0;
 /// The relative change of a tire's load or of the speed that counts as a move.
 pub const STATE_CHANGE_FOR_CHECK: f64 = 0.02;
 /// The speed below which a change is measured against this instead (m/s): near a stop the tread's low-speed
-/// damping makes the spin–tread mode faster as the speed falls.
+/// damping makes the spin–tread mode faster as the speed falls. A tire whose slips divide by |v_x| plus a
+/// smaller speed (`tire::slip_speed_floor`: TMeasy's 0.01 m/s) is measured against that one
+/// (`speed_floor_for_check`): creeping down a grade at 13 to 7 mm/s, Chrono's MAN 5t on its TMeasy tire has
+/// a wheel–chassis mode that goes from −258 to −373 1/s in 0.5 s with no other quantity of the rule moving
+/// by its constant, and RK4 at 8.33 ms, last checked at −258, ran on past its region to 4 % off.
 pub const SPEED_FLOOR_FOR_CHECK: f64 = 0.5;
+
+/// The speed floor of the refresh rule for a vehicle on this tire (`SPEED_FLOOR_FOR_CHECK`).
+pub fn speed_floor_for_check(tire: &crate::model::tire::TireParams) -> f64 {
+    crate::model::tire::slip_speed_floor(tire).map_or(SPEED_FLOOR_FOR_CHECK, |v| v.min(SPEED_FLOOR_FOR_CHECK))
+}
 /// The change of a wheel's κ or tan α that counts as a move.
 pub const SLIP_CHANGE_FOR_CHECK: f64 = 0.005;
 /// The change of a corner's θ_L (rad) that counts as a move.
@@ -104,10 +113,11 @@ pub(super) struct CheckedState {
 
 impl CheckedState {
     /// Whether `now` has moved from `self` by one of the changes that refresh the check on a flat road.
-    pub(super) fn moved(&self, now: &CheckedState) -> bool {
+    /// A change of speed is measured against `speed_floor` near a stop (`speed_floor_for_check`).
+    pub(super) fn moved(&self, now: &CheckedState, speed_floor: f64) -> bool {
         let relative =
             |a: f64, b: f64, floor: f64| (a - b).abs() > STATE_CHANGE_FOR_CHECK * a.abs().max(b.abs()).max(floor);
-        relative(self.speed, now.speed, SPEED_FLOOR_FOR_CHECK)
+        relative(self.speed, now.speed, speed_floor)
             || (0..4).any(|i| {
                 relative(self.loads[i].max(0.0), now.loads[i].max(0.0), 0.0)
                     || (self.kappa[i] - now.kappa[i]).abs() > SLIP_CHANGE_FOR_CHECK
@@ -444,7 +454,9 @@ impl Simulation {
             && ((elapsed(MODE_CHECK_INTERVAL)
                 && (!flat
                     || elapsed(MODE_CHECK_INTERVAL_QUIET)
-                    || self.check.state_at_mode_check.moved(&self.checked_state())))
+                    || self.check
+                        .state_at_mode_check
+                        .moved(&self.checked_state(), speed_floor_for_check(&self.vehicle().tire))))
                 || loads_changed(&self.check.state_at_mode_check.loads, &self.cache.tire_loads)
                 || self.imex_landings() != self.check.landings_at_mode_check)
     }
@@ -988,7 +1000,7 @@ impl Simulation {
 mod tests {
     use super::super::{Options, RoadChoice, SimConfig, Simulation};
     use super::{
-        CheckedState, SLIP_CHANGE_FOR_CHECK, SPEED_FLOOR_FOR_CHECK, STATE_CHANGE_FOR_CHECK, TRAVEL_CHANGE_FOR_CHECK,
+        speed_floor_for_check, CheckedState, SLIP_CHANGE_FOR_CHECK, SPEED_FLOOR_FOR_CHECK, STATE_CHANGE_FOR_CHECK, TRAVEL_CHANGE_FOR_CHECK,
         TRAVEL_RATE_CHANGE_FOR_CHECK,
     };
     use crate::error::Cause;
@@ -1184,7 +1196,7 @@ mod tests {
             travel: [0.1; 4],
             travel_rate: [0.0; 4],
         };
-        assert!(!at.moved(&at));
+        assert!(!at.moved(&at, SPEED_FLOOR_FOR_CHECK));
         // Each quantity changed by k times its constant (a relative change by the larger of the two values).
         let cases: [(&str, fn(&mut CheckedState, f64)); 6] = [
             ("load", |s, k| s.loads[2] /= 1.0 - k * STATE_CHANGE_FOR_CHECK),
@@ -1198,18 +1210,27 @@ mod tests {
             for (k, moves) in [(0.9, false), (1.1, true)] {
                 let mut now = at;
                 change(&mut now, k);
-                assert_eq!(at.moved(&now), moves, "{name} changed by {k} of its constant");
+                assert_eq!(at.moved(&now, SPEED_FLOOR_FOR_CHECK), moves, "{name} changed by {k} of its constant");
             }
         }
         // Near a stop the speed's change is measured against the floor: 0.1 to 0.105 m/s is no move, 0.1 to
         // 0.1 + 1.1 × floor × constant is.
         let slow = CheckedState { speed: 0.1, ..at };
         let floor = SPEED_FLOOR_FOR_CHECK * STATE_CHANGE_FOR_CHECK;
-        assert!(!slow.moved(&CheckedState { speed: 0.1 + 0.9 * floor, ..at }));
-        assert!(slow.moved(&CheckedState { speed: 0.1 + 1.1 * floor, ..at }));
+        assert!(!slow.moved(&CheckedState { speed: 0.1 + 0.9 * floor, ..at }, SPEED_FLOOR_FOR_CHECK));
+        assert!(slow.moved(&CheckedState { speed: 0.1 + 1.1 * floor, ..at }, SPEED_FLOOR_FOR_CHECK));
+        // A TMeasy tire divides its slips by |v_x| + 0.01 m/s: creeping at 10 mm/s, a change of 0.3 mm/s is a
+        // move on it (the floor is the tire's), and none on the STI (floored at 0.5 m/s).
+        let sti = crate::model::tire::hmmwv_tire();
+        let tmeasy_floor = crate::model::tire::tmeasy::SLIP_SPEED_M_S;
+        assert_eq!(speed_floor_for_check(&sti), SPEED_FLOOR_FOR_CHECK);
+        let creeping = CheckedState { speed: 0.01, ..at };
+        let crept = CheckedState { speed: 0.0103, ..at };
+        assert!(creeping.moved(&crept, tmeasy_floor));
+        assert!(!creeping.moved(&crept, SPEED_FLOOR_FOR_CHECK));
         // A wheel that leaves the road (its load to zero) moves the state.
         let mut lifted = at;
         lifted.loads[0] = 0.0;
-        assert!(at.moved(&lifted));
+        assert!(at.moved(&lifted, SPEED_FLOOR_FOR_CHECK));
     }
 }

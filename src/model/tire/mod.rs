@@ -155,6 +155,21 @@ fn chrono(p: &TireParams, part: ChronoPart) -> bool {
 /// −V_sx/(|v_x| + 0.1), α = atan2(−v_y, |v_x| + 0.1)), which makes its slips 0.6 % smaller at 60 km/h.
 pub const CHRONO_SLIP_SPEED_M_S: f64 = 0.1;
 
+/// The speed the force law adds to the wheel's transport speed in its slips' denominator, m/s, where it
+/// divides by |v_x| + this near a stop (TMeasy's v_N, Chrono's Pac02 slip speed): there the slip stiffness
+/// seen by the velocities, and so the fastest low-speed mode, grows as 1/(|v_x| + this) while the car creeps
+/// (the step check's refresh rule measures a change of speed against it: `step_check::speed_floor_for_check`).
+/// `None` for the laws whose slips divide by the model's V_ref (floored at V_min, §6.4).
+pub fn slip_speed_floor(p: &TireParams) -> Option<f64> {
+    if p.tmeasy.is_some() {
+        Some(tmeasy::SLIP_SPEED_M_S)
+    } else if p.magic_formula.is_some() && chrono(p, ChronoPart::SlipSpeed) {
+        Some(CHRONO_SLIP_SPEED_M_S)
+    } else {
+        None
+    }
+}
+
 /// The force law a vehicle's tire data selects: the TMeasy or Magic Formula file's, else the STI.
 pub fn model_for(p: &TireParams) -> TireModel {
     if p.tmeasy.is_some() {
