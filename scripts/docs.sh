@@ -46,7 +46,7 @@ hil_frame|slow|docs/results.md, block \"hil-frame\" (the HIL frames' times and w
 manoeuvres|write|docs/manoeuvres.png|bash scripts/manoeuvres.sh
 ssp|write|docs/ssp_dlc.png|bash scripts/ssp.sh
 studies|write|docs/studies.md, block \"figures\"; docs/studies_dlc.png|bash scripts/studies.sh
-stability|write|docs/stability.md, docs/stability_pac02.md, docs/stability_{generic_macpherson,generic_double_wishbone,rtv_single_wishbone,rtv_hmmwv_solid_rear,rtv_hmmwv_solid_axles,uaz469,vw_microbus,audi}.md|cargo run --release --bin rtv -- stability ... (each doc's first line)"
+stability|write|docs/stability.md, docs/stability_pac02.md, docs/stability_{generic_macpherson,generic_double_wishbone,rtv_single_wishbone,rtv_hmmwv_solid_rear,rtv_hmmwv_solid_axles,uaz469,vw_microbus,audi,man_5t}.md|cargo run --release --bin rtv -- stability ... (each doc's first line)"
 
 mode=write
 names=()
@@ -104,7 +104,9 @@ run_linear() { bash scripts/linear.sh >/dev/null; echo linear.md; }
 run_kc() {
     bash scripts/kc.sh >/dev/null
     echo kc/hmmwv.md
-    for f in resources/vehicles/*.json; do echo "kc/$(basename "$f" .json).md"; done
+    for f in resources/vehicles/*.json; do
+        grep -q '"Type": *"Tire"' "$f" || echo "kc/$(basename "$f" .json).md" # not a TMeasy tire file
+    done
 }
 run_chrono_check() {
     .venv/bin/python scripts/chrono_kinematics_check.py --out "$docs/kc/chrono_check.md" \
@@ -141,12 +143,12 @@ run_studies() { bash scripts/studies.sh >/dev/null; }
 run_stability() {
     $rtv stability --out "$docs/stability.md" >/dev/null
     $rtv stability --tire-file resources/tires/HMMWV_Pac02Tire.tir --out "$docs/stability_pac02.md" >/dev/null
-    for v in generic_macpherson generic_double_wishbone rtv_single_wishbone rtv_hmmwv_solid_rear rtv_hmmwv_solid_axles uaz469 vw_microbus audi; do
+    for v in generic_macpherson generic_double_wishbone rtv_single_wishbone rtv_hmmwv_solid_rear rtv_hmmwv_solid_axles uaz469 vw_microbus audi man_5t; do
         $rtv stability --vehicle-file "resources/vehicles/$v.json" --out "$docs/stability_$v.md" >/dev/null
     done
     printf '%s\n' stability.md stability_pac02.md stability_generic_macpherson.md stability_generic_double_wishbone.md \
         stability_rtv_single_wishbone.md stability_rtv_hmmwv_solid_rear.md stability_rtv_hmmwv_solid_axles.md \
-        stability_uaz469.md stability_vw_microbus.md stability_audi.md
+        stability_uaz469.md stability_vw_microbus.md stability_audi.md stability_man_5t.md
 }
 
 failed=()

@@ -6,11 +6,14 @@ cd "$(dirname "$0")/.."
 [ -x .venv/bin/python ] || bash scripts/setup.sh
 cargo build --release --bin rtv
 rtv=./target/release/rtv
+# Chrono's TMeasy tire files are JSON too ("Type": "Tire"); they ship beside the vehicles that name them.
+is_tire_file() { grep -q '"Type": *"Tire"' "$1"; }
 docs=${RTV_DOCS:-docs} # scripts/docs.sh --check writes into a scratch folder
 mkdir -p $docs/kc
 $rtv kc --out $docs/kc/hmmwv.md 2> >(grep -v 'triangle inequality' >&2)
 for f in resources/vehicles/*.json; do
     [ -e "$f" ] || continue
+    is_tire_file "$f" && continue # a TMeasy tire shipped beside its vehicle (the MAN 5t's)
     name=$(basename "$f" .json)
     $rtv kc --vehicle-file "$f" --out "$docs/kc/$name.md" 2> >(grep -v 'triangle inequality' >&2)
 done

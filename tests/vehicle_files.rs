@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 /// (`--tire-file`: the VW microbus's and the Audi's model files name their TMeasy tires; their Pac02 `.tir` files are
 /// shipped) rather than
 /// the importer's own choice.
-const VEHICLES: [(&str, &str, &str, bool); 5] = [
+const VEHICLES: [(&str, &str, &str, bool); 6] = [
     (
         "generic/vehicle/Vehicle_MacPhersonStruts.json",
         "generic_macpherson.json",
@@ -32,6 +32,7 @@ const VEHICLES: [(&str, &str, &str, bool); 5] = [
     ("uaz/vehicle/UAZ469_Vehicle.json", "uaz469.json", "uaz/tire/UAZBUS_Pac02Tire.tir", false),
     ("VW_microbus/json/van.json", "vw_microbus.json", "VW_microbus/json/mf_185_80R14.tir", true),
     ("audi/json/audi.json", "audi.json", "audi/json/audi_Pac02Tire.tir", true),
+    ("MAN_Kat1/vehicle/MAN_5t_Vehicle_4WD.json", "man_5t.json", "MAN_Kat1/tire/MAN_5t_TMeasyTire.json", false),
 ];
 const MACPHERSON: &str = "generic/vehicle/Vehicle_MacPhersonStruts.json";
 const DOUBLE_WISHBONE: &str = "generic/vehicle/Vehicle_DoubleWishbones.json";
@@ -46,14 +47,21 @@ fn chrono_data() -> PathBuf {
     dir
 }
 
-/// Every vehicle file shipped: the HMMWV and resources/vehicles/*.json.
+/// Whether a JSON file is Chrono's TMeasy tire (`"Type": "Tire"`), shipped beside the vehicle that names it.
+fn is_tire_file(path: &Path) -> bool {
+    // (Chrono's JSON may carry comments, so the text is searched rather than parsed.)
+    let text: String = std::fs::read_to_string(path).unwrap().chars().filter(|c| !c.is_whitespace()).collect();
+    text.contains(r#""Type":"Tire""#)
+}
+
+/// Every vehicle file shipped: the HMMWV and resources/vehicles/*.json (not the TMeasy tires beside them).
 fn shipped() -> Vec<PathBuf> {
     let mut out = vec![repo().join("resources/hmmwv.json")];
     let mut more: Vec<PathBuf> = std::fs::read_dir(repo().join("resources/vehicles"))
         .unwrap()
         .flatten()
         .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .filter(|p| p.extension().is_some_and(|e| e == "json") && !is_tire_file(p))
         .collect();
     more.sort();
     out.extend(more);

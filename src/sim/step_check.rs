@@ -38,7 +38,7 @@ pub const MODE_CHECK_CHUNK: f64 = 0.025;
 /// runs 1–3 % off (the dampers × 10 and tire k_z × 10 J-turns at 8.33 ms), 10 × one (the MacPherson import's
 /// k_z × 10 J-turn, roll rate 1 % off), 5 × none. At the default tolerance 1e-3 the limit is 5e-3 of the
 /// rate states' scale (5e-6 rad/s per step).
-pub const IMEX_ERROR_PER_TOLERANCE: f64 = 5.0;
+pub const IMEX_ERROR_PER_TOLERANCE: f64 = 4.0;
 
 /// AB3's limit on its accuracy monitor's estimate (`integrate::ab3`: AB2's local error from the same history,
 /// relative to `stepping::error_scale`, on the chassis' states), per unit of the run's `tolerance`: above it
@@ -454,7 +454,8 @@ impl Simulation {
             && ((elapsed(MODE_CHECK_INTERVAL)
                 && (!flat
                     || elapsed(MODE_CHECK_INTERVAL_QUIET)
-                    || self.check
+                    || self
+                        .check
                         .state_at_mode_check
                         .moved(&self.checked_state(), speed_floor_for_check(&self.vehicle().tire))))
                 || loads_changed(&self.check.state_at_mode_check.loads, &self.cache.tire_loads)
@@ -1000,8 +1001,8 @@ impl Simulation {
 mod tests {
     use super::super::{Options, RoadChoice, SimConfig, Simulation};
     use super::{
-        speed_floor_for_check, CheckedState, SLIP_CHANGE_FOR_CHECK, SPEED_FLOOR_FOR_CHECK, STATE_CHANGE_FOR_CHECK, TRAVEL_CHANGE_FOR_CHECK,
-        TRAVEL_RATE_CHANGE_FOR_CHECK,
+        speed_floor_for_check, CheckedState, SLIP_CHANGE_FOR_CHECK, SPEED_FLOOR_FOR_CHECK, STATE_CHANGE_FOR_CHECK,
+        TRAVEL_CHANGE_FOR_CHECK, TRAVEL_RATE_CHANGE_FOR_CHECK,
     };
     use crate::error::Cause;
     use crate::integrate::IntegratorKind;

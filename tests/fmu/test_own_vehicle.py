@@ -20,6 +20,8 @@ VEHICLES = {
     "vehicles/rtv_hmmwv_solid_axles.json": "rtv HMMWV, solid axles (steered bellcrank front)",
     # Chrono's UAZ469: leaf-spring solid axles, the front steered by a toe bar from a rotary arm.
     "vehicles/uaz469.json": "UAZ469 on UAZBUS_Pac02Tire",
+    # Chrono's MAN 5t: a steered bellcrank three-link front axle on a rotary arm, on its own TMeasy tire.
+    "vehicles/man_5t.json": "MAN 5t 4x4 Offroad Truck on MAN_5t_TMeasyTire",
 }
 
 
@@ -34,6 +36,7 @@ def test_the_imports_are_in_the_fmu_with_chronos_licence(fmu_path):
     assert "resources/vehicles/UAZBUS_Pac02Tire.tir" in names
     assert "resources/vehicles/mf_185_80R14.tir" in names
     assert "resources/vehicles/audi_Pac02Tire.tir" in names
+    assert "resources/vehicles/MAN_5t_TMeasyTire.json" in names
 
 
 # The vehicles steered by their rack (calibration names as above): the single wishbones, the HMMWV with a
