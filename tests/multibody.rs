@@ -93,10 +93,7 @@ fn random_inputs(rng: &mut Rng) -> Inputs {
 /// MacPherson struts with a Pitman arm).
 fn shipped_vehicles() -> Vec<(String, Vehicle)> {
     let mut out = vec![("hmmwv".to_string(), vehicle())];
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles");
-    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.path()).collect();
-    files.sort();
-    for f in files.into_iter().filter(|f| f.extension().is_some_and(|e| e == "json")) {
+    for f in common::shipped_vehicle_files() {
         let data = VehicleData::from_file(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         out.push((f.display().to_string(), Vehicle::new(&data).unwrap()));
     }

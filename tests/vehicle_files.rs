@@ -47,24 +47,10 @@ fn chrono_data() -> PathBuf {
     dir
 }
 
-/// Whether a JSON file is Chrono's TMeasy tire (`"Type": "Tire"`), shipped beside the vehicle that names it.
-fn is_tire_file(path: &Path) -> bool {
-    // (Chrono's JSON may carry comments, so the text is searched rather than parsed.)
-    let text: String = std::fs::read_to_string(path).unwrap().chars().filter(|c| !c.is_whitespace()).collect();
-    text.contains(r#""Type":"Tire""#)
-}
-
 /// Every vehicle file shipped: the HMMWV and resources/vehicles/*.json (not the TMeasy tires beside them).
 fn shipped() -> Vec<PathBuf> {
     let mut out = vec![repo().join("resources/hmmwv.json")];
-    let mut more: Vec<PathBuf> = std::fs::read_dir(repo().join("resources/vehicles"))
-        .unwrap()
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "json") && !is_tire_file(p))
-        .collect();
-    more.sort();
-    out.extend(more);
+    out.extend(common::shipped_vehicle_files());
     out
 }
 

@@ -53,14 +53,30 @@ pub fn braked_trace(data: VehicleData, config: SimConfig, brake: [f64; 4], end: 
     rows
 }
 
+/// Whether a JSON file is Chrono's TMeasy tire (`"Type": "Tire"`), shipped beside the vehicle that names it
+/// (the MAN 5t's), not a vehicle file. (Chrono's JSON may carry comments: the text is searched, not parsed.)
+pub fn is_tire_file(path: &std::path::Path) -> bool {
+    let text: String = std::fs::read_to_string(path).unwrap().chars().filter(|c| !c.is_whitespace()).collect();
+    text.contains(r#""Type":"Tire""#)
+}
+
+/// The vehicle files shipped in resources/vehicles, sorted (not the TMeasy tire files beside them).
+pub fn shipped_vehicle_files() -> Vec<PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .flatten()
+        .map(|e| e.path())
+        .filter(|f| f.extension().is_some_and(|e| e == "json") && !is_tire_file(f))
+        .collect();
+    files.sort();
+    files
+}
+
 /// The HMMWV and every vehicle file shipped in resources/vehicles.
 pub fn vehicles() -> Vec<(String, VehicleData)> {
     let mut out = vec![("hmmwv".to_string(), VehicleData::default_hmmwv())];
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("resources/vehicles");
-    let mut files: Vec<_> =
-        std::fs::read_dir(&dir).map(|d| d.flatten().map(|e| e.path()).collect()).unwrap_or_default();
-    files.sort();
-    for f in files.into_iter().filter(|f| f.extension().is_some_and(|e| e == "json")) {
+    for f in shipped_vehicle_files() {
         let data = VehicleData::from_file(&f).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         out.push((f.file_stem().unwrap().to_string_lossy().into_owned(), data));
     }

@@ -139,6 +139,21 @@ pub enum Closure {
     Rigid,
 }
 
+/// A rod of length ℓ between its ends, d = one end − the other: its constraint ½(|d|² − ℓ²)/ℓ, zero at
+/// |d| = ℓ and scaled by 1/ℓ to read as a length (the tie rod's row, the three-link IRS's upper link's;
+/// docs/physics.md §3.2). Its rows of Φ_q: `Corner::put_rod_row`.
+#[inline(always)]
+fn rod_residual(d: &V3, length: f64) -> f64 {
+    0.5 * (d.dot(d) - length * length) / length
+}
+
+/// The rod's γ before its 1/ℓ and any motion of its far end: −ḋ·ḋ − d·a, with a the acceleration of its
+/// near end from the velocity-squared terms (docs/physics.md §3.3).
+#[inline(always)]
+fn rod_gamma(d: &V3, d_dot: &V3, a: &V3) -> f64 {
+    -d_dot.dot(d_dot) - d.dot(a)
+}
+
 /// The three-link IRS's upper link (`Closure::Links`): its chassis end, its end on the arm (design position)
 /// and its length; the Bryant angle held at zero (0, 1 or 2).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -556,6 +571,19 @@ impl Corner {
         pos
     }
 
+    /// A rod's row of Φ_q (`rod_residual`) in row `r`, over θ_L and φ_j: a rod from the point x = b + ρ of the
+    /// upright to a point the corner's coordinates do not move (the tie rod's inner end moves with the steering
+    /// alone), d = x − end: ∂/∂θ_L = d·(h_L × (x − p_L))/ℓ, ∂/∂φ_j = d·(k_j × ρ)/ℓ, k_j = R_L g_j; 0 over q4.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn put_rod_row(&self, phi_q: &mut SMatrix<f64, 4, 5>, r: usize, d: &V3, x: &V3, rho: &V3, rl_g: &M3, inv_l: f64) {
+        phi_q[(r, 0)] = d.dot(&self.h_l.cross(&(x - self.p_l))) * inv_l;
+        for j in 0..3 {
+            phi_q[(r, 1 + j)] = d.dot(&rl_g.column(j).into_owned().cross(rho)) * inv_l;
+        }
+        phi_q[(r, 4)] = 0.0;
+    }
+
     /// As `evaluate`, written in place (the evaluation pipeline keeps one `CornerPositions` per corner).
     #[inline(always)]
     pub fn evaluate_into(&self, q: &Vector5f, s: f64, pos: &mut CornerPositions) {
@@ -597,22 +625,21 @@ impl Corner {
         let inv_l = 1.0 / self.tie_length;
 
         let phi_s3 = upper_joint - k_u0;
-        let phi_d = 0.5 * (d.dot(&d) - self.tie_length * self.tie_length) * inv_l;
+        let phi_d = rod_residual(&d, self.tie_length);
 
         let phi_q = &mut pos.phi_q;
         // Column θ_L.
         let c = -self.h_l.cross(&(k_u0 - self.p_l));
         phi_q.fixed_view_mut::<3, 1>(0, 0).copy_from(&c);
-        phi_q[(3, 0)] = d.dot(&self.h_l.cross(&(k_tk - self.p_l))) * inv_l;
         // Columns φ_j: ∂x_K/∂φ_j = k_j × (x − b), k_j = R_L g_j.
         for j in 0..3 {
             let k = rl_g.column(j).into_owned();
             phi_q.fixed_view_mut::<3, 1>(0, 1 + j).copy_from(&(-k.cross(&rho_u)));
-            phi_q[(3, 1 + j)] = d.dot(&k.cross(&rho_t)) * inv_l;
         }
-        // Column q4 (the tie rod does not depend on it).
+        // Row 3, the tie rod (it does not depend on q4).
+        self.put_rod_row(phi_q, 3, &d, &k_tk, &rho_t, &rl_g, inv_l);
+        // Column q4.
         phi_q.fixed_view_mut::<3, 1>(0, 4).copy_from(&column_4);
-        phi_q[(3, 4)] = 0.0;
         let closure_residual = if let Closure::Kingpin | Closure::OnArm = self.closure {
             // Rows φ1, φ2 and q4 (`constraint_values`): unit rows.
             phi_q.fixed_rows_mut::<3>(0).fill(0.0);
@@ -627,13 +654,9 @@ impl Corner {
         // row 2 q4.
         let closure_residual = if let Closure::Links(links) = &self.closure {
             let d_u = k_u0 - upper_joint;
-            let inv_u = 1.0 / links.length;
-            let row_u = 0.5 * (d_u.dot(&d_u) - links.length * links.length) * inv_u;
+            let row_u = rod_residual(&d_u, links.length);
             phi_q.fixed_rows_mut::<3>(0).fill(0.0);
-            phi_q[(0, 0)] = d_u.dot(&self.h_l.cross(&(k_u0 - self.p_l))) * inv_u;
-            for j in 0..3 {
-                phi_q[(0, 1 + j)] = d_u.dot(&rl_g.column(j).into_owned().cross(&rho_u)) * inv_u;
-            }
+            self.put_rod_row(phi_q, 0, &d_u, &k_u0, &rho_u, &rl_g, 1.0 / links.length);
             phi_q[(1, 1 + links.held)] = 1.0;
             phi_q[(2, 4)] = 1.0;
             row_u.abs().max(q[1 + links.held].abs()).max(q[4].abs())
@@ -685,13 +708,12 @@ impl Corner {
         if let Closure::OnArm = self.closure {
             return Vector4::new(pos.q[1], pos.q[2], pos.q[4], pos.q[3]);
         }
-        let phi_d = 0.5 * (pos.d.dot(&pos.d) - self.tie_length * self.tie_length) / self.tie_length;
+        let phi_d = rod_residual(&pos.d, self.tie_length);
         if let Closure::Kingpin = self.closure {
             return Vector4::new(pos.q[1], pos.q[2], pos.q[4], phi_d);
         }
         if let Closure::Links(links) = &self.closure {
-            let d_u = pos.b + pos.rho_u - pos.upper_joint;
-            let row_u = 0.5 * (d_u.dot(&d_u) - links.length * links.length) / links.length;
+            let row_u = rod_residual(&(pos.b + pos.rho_u - pos.upper_joint), links.length);
             return Vector4::new(row_u, pos.q[1 + links.held], pos.q[4], phi_d);
         }
         let k_u0 = pos.b + pos.rho_u;
@@ -808,7 +830,7 @@ impl Corner {
             Closure::Links(links) => {
                 let d_u = pos.b + pos.rho_u - pos.upper_joint;
                 let d_u_dot = w_l.cross(&b_rel) + w_k.cross(&pos.rho_u);
-                V3::new((-d_u_dot.dot(&d_u_dot) - d_u.dot(&a_k(&pos.rho_u))) / links.length, 0.0, 0.0)
+                V3::new(rod_gamma(&d_u, &d_u_dot, &a_k(&pos.rho_u)) / links.length, 0.0, 0.0)
             }
         };
         if let Closure::OnArm = self.closure {
@@ -819,8 +841,7 @@ impl Corner {
         let d_dot = w_l.cross(&b_rel) + w_k.cross(&pos.rho_t) - path.d_ds * steer_rate;
         let inv_l = 1.0 / self.tie_length;
         let path_curvature = pos.d.dot(&path.d2_ds2) * steer_rate * steer_rate;
-        let gamma_d =
-            (-d_dot.dot(&d_dot) - pos.d.dot(&a_k(&pos.rho_t)) + path_curvature) * inv_l - pos.phi_s[3] * s_ddot;
+        let gamma_d = (rod_gamma(&pos.d, &d_dot, &a_k(&pos.rho_t)) + path_curvature) * inv_l - pos.phi_s[3] * s_ddot;
         Vector4::new(gamma_s.x, gamma_s.y, gamma_s.z, gamma_d)
     }
 
