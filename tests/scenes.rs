@@ -213,8 +213,9 @@ fn paper_integrator_configuration_is_reported_unstable_and_the_default_is_not() 
 /// The Chrono imports shipped in resources/vehicles: double wishbones and MacPherson struts, each with a
 /// Pitman arm; single wishbones with a rack (Chrono's generic chassis, wheels and rack on suspension files
 /// written for the template, data/single_wishbone); the HMMWV with a three-link solid rear axle, and on solid
-/// axles with a steered front; Chrono's UAZ469 (leaf-spring axles, a toe-bar front on a rotary arm); Chrono's VW T2 microbus and Audi; Chrono's
-/// MAN 5t (a steered bellcrank three-link front axle on a rotary arm, a three-link rear, on its TMeasy tire). (The
+/// axles with a steered front; Chrono's UAZ469 (leaf-spring axles, a toe-bar front on a rotary arm); Chrono's
+/// VW T2 microbus and Audi; Chrono's MAN 5t (a steered bellcrank three-link front axle on a rotary arm, a
+/// three-link rear, on its TMeasy tire). (The
 /// solid-axles vehicle's bump course at 0.5 ms parted its formulations by 5.5e-3 of F_x's peak while the
 /// bump's start edge belonged to the bump: a location trial that landed exactly on it took the bump's slope
 /// as its lower end, in one formulation and not the other, `road::HalfSineBump::covers`.)

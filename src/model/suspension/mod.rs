@@ -571,9 +571,10 @@ impl Corner {
         pos
     }
 
-    /// A rod's row of Φ_q (`rod_residual`) in row `r`, over θ_L and φ_j: a rod from the point x = b + ρ of the
-    /// upright to a point the corner's coordinates do not move (the tie rod's inner end moves with the steering
-    /// alone), d = x − end: ∂/∂θ_L = d·(h_L × (x − p_L))/ℓ, ∂/∂φ_j = d·(k_j × ρ)/ℓ, k_j = R_L g_j; 0 over q4.
+    /// A rod's row of Φ_q (`rod_residual`) in row `r`, over θ_L and φ_j: a rod from the point x = b + ρ of
+    /// the upright to a point the corner's coordinates do not move (the tie rod's inner end moves with the
+    /// steering alone), d = x − end: ∂/∂θ_L = d·(h_L × (x − p_L))/ℓ, ∂/∂φ_j = d·(k_j × ρ)/ℓ, k_j = R_L g_j;
+    /// 0 over q4.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn put_rod_row(&self, phi_q: &mut SMatrix<f64, 4, 5>, r: usize, d: &V3, x: &V3, rho: &V3, rl_g: &M3, inv_l: f64) {
