@@ -80,16 +80,7 @@ fn arm_angle(centre: V3, end: V3, length: f64, p: V3) -> f64 {
         .find(|k| [1.0, -1.0].iter().any(|s| f(s * (*k - 1) as f64 * 1e-3) * f(s * *k as f64 * 1e-3) <= 0.0))
         .expect("the droplink closes within ±0.5 rad");
     let s = if f((k - 1) as f64 * 1e-3) * f(k as f64 * 1e-3) <= 0.0 { 1.0 } else { -1.0 };
-    let (mut lo, mut hi) = (s * (k - 1) as f64 * 1e-3, s * k as f64 * 1e-3);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if f(lo) * f(mid) <= 0.0 {
-            hi = mid
-        } else {
-            lo = mid
-        }
-    }
-    0.5 * (lo + hi)
+    common::bisect(f, s * (k - 1) as f64 * 1e-3, s * k as f64 * 1e-3)
 }
 
 #[test]
@@ -107,7 +98,7 @@ fn the_kc_roll_stiffness_rises_by_the_bars_hand_computed_k_mr2_t2() {
     let h = &data.front.hardpoints_chassis_frame_m;
     let (f, b) = (V3::from(h["LCA_F"]), V3::from(h["LCA_B"]));
     let axis = (f - b).normalize();
-    let (end, low, c) = (V3::from(bar.arm_end_m), V3::from(bar.droplink_end_m), V3::from(bar.axis_point_m));
+    let (end, low, c) = (V3::from(bar.arm_end_m), V3::from(bar.droplink_end_m.unwrap()), V3::from(bar.axis_point_m));
     let centre = V3::new(c.x, end.y, c.z);
     let length = (low - end).norm();
     let step = 1e-5; // rad: central differences of bisected angles (2e-16 rad) err by ~(step)² ≈ 1e-10

@@ -113,6 +113,15 @@ fn shipped_vehicles() -> Vec<(String, Vehicle)> {
         let data = common::hmmwv_solid_rear_located_by(template);
         out.push((format!("hmmwv with a {template} rear"), Vehicle::new(&data).unwrap()));
     }
+    // Chrono's G500, imported from data/chrono (not shipped): the toe-bar Panhard front and both axles' bars
+    // whose arms slide on the tubes (docs/physics.md §5.4a). Its tire is left out: nothing here reads it.
+    let chrono = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/chrono");
+    let g500 = chrono.join("gclass/vehicle/G500_Vehicle.json");
+    let mut data = rt_vehicle::model::formats::import_chrono::import_vehicle(&g500, &chrono, None).unwrap().data;
+    data.tire.tir_file = None;
+    let v = Vehicle::new(&data).unwrap();
+    assert!(v.solid_axles.iter().all(|a| a.as_ref().is_some_and(|a| a.bar.is_some())), "the G500 has both bars");
+    out.push(("Chrono's G500 (data/chrono/gclass, imported)".to_string(), v));
     out
 }
 

@@ -424,6 +424,29 @@ struct ToeBarPoints {
     arm_axis: V3,
     arm_pivot: V3,
     arm_point: V3,
+    /// The Panhard rod's chassis and axle ends (`ToeBarRigidPanhardAxle`); `None`: the leaf-spring guide
+    /// (`ToeBarLeafspringAxle`).
+    panhard: Option<(V3, V3)>,
+}
+
+/// Chrono's G500 front axle (`gclass/suspension/G500_FrontAxle.json`, a `ToeBarRigidPanhardAxle`) and rotary
+/// arm (`gclass/steering/G500_RotaryArm.json`: its axis along y, the drag link fore and aft), both at (0, 0, 0)
+/// in `gclass/vehicle/G500_Vehicle.json` (Project Chrono, BSD-3-Clause: data/chrono/LICENSE).
+fn g500_front() -> ToeBarPoints {
+    ToeBarPoints {
+        spindle: V3::new(0.0, 0.7325, 0.0),
+        tube_com: V3::zeros(),
+        knuckle_cm: V3::new(0.0, 0.6625, 0.0),
+        knuckle_l: V3::new(0.0, 0.672305806756909, -0.1),
+        knuckle_u: V3::new(0.0, 0.652694193243091, 0.1),
+        knuckle_drl: V3::new(0.0, 0.5325, 0.2),
+        tierod_k: V3::new(-0.190568826619798, 0.601807971522173, 0.1),
+        draglink_c: V3::new(0.6, 0.5325, 0.2),
+        arm_axis: V3::new(0.0, 1.0, 0.0),
+        arm_pivot: V3::new(0.6, 0.5325, 0.4),
+        arm_point: V3::new(0.6, 0.5325, 0.2),
+        panhard: Some((V3::new(0.1, 0.44, 0.0), V3::new(0.1, -0.44, 0.0))),
+    }
 }
 
 fn uaz469_front() -> ToeBarPoints {
@@ -439,6 +462,7 @@ fn uaz469_front() -> ToeBarPoints {
         arm_axis: V3::new(-1.0, 0.0, 0.0),
         arm_pivot: V3::new(0.2, 0.5325, 0.4),
         arm_point: V3::new(0.2, 0.5325, 0.2),
+        panhard: None,
     }
 }
 
@@ -446,7 +470,9 @@ const TB_TUBE: usize = 0;
 const TB_KNUCKLE: [usize; 2] = [1, 2];
 const TB_BAR: usize = 3;
 const TB_DRAG: usize = 4;
-const TB_BODIES: usize = 5;
+/// The Panhard rod (held at design where the guide is the leaf-spring axle's).
+const TB_ROD: usize = 5;
+const TB_BODIES: usize = 6;
 
 /// The toe-bar axle's absolute-coordinate mechanism (as `Chrono`: body b at r[b], rotation a[b], all bodies
 /// starting with the chassis's orientation).
@@ -493,6 +519,7 @@ impl ToeBarChrono {
             mirror(pts.knuckle_cm),
             (pts.tierod_k + mirror(pts.tierod_k)) / 2.0,
             (pts.draglink_c + drl) / 2.0,
+            pts.panhard.map_or(V3::zeros(), |(c, a)| (c + a) / 2.0),
         ];
         ToeBarChrono {
             pts,
@@ -515,8 +542,23 @@ impl Absolute<TB_BODIES> for ToeBarChrono {
     fn residual(&self, b: &Bodies<TB_BODIES>, theta: f64, z: [f64; 2]) -> Vec<f64> {
         let pts = &self.pts;
         let mut f = Vec::with_capacity(6 * TB_BODIES);
-        // the guide: revolute-prismatic chassis–tube at the tube's CM
-        b.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[1, 2], &mut f);
+        match pts.panhard {
+            // the guide: revolute-prismatic chassis–tube at the tube's CM; the rod body held at design
+            None => {
+                b.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[1, 2], &mut f);
+                b.lock(None, Some(TB_ROD), &V3::zeros(), &M3::identity(), &[0, 1, 2], &mut f);
+                f.push(b.a[TB_ROD][(1, 0)] - b.a[TB_ROD][(0, 1)]);
+            }
+            // `ChToeBarRigidPanhardAxle::Construct`: a `ChLinkLockPlanar` chassis–tube at the tube's CM (z, e1,
+            // e2 locked in the guide frame) and the Panhard rod, spherical to the chassis at `PANHARD_C` and to
+            // the tube at `PANHARD_A` (its spin about its own line, free in Chrono and moving nothing else, held)
+            Some((rod_c, rod_a)) => {
+                b.lock(None, Some(TB_TUBE), &pts.tube_com, &self.guide, &[2], &mut f);
+                f.extend((b.at(TB_ROD, &rod_c) - rod_c).iter());
+                f.extend((b.at(TB_ROD, &rod_a) - b.at(TB_TUBE, &rod_a)).iter());
+                f.push((b.a[TB_ROD] * V3::z()).dot(&V3::x()));
+            }
+        }
         for (k, (&knuckle, frame)) in TB_KNUCKLE.iter().zip(&self.kingpin).enumerate() {
             // kingpin: revolute tube–knuckle at the kingpin's mid-point
             let mid = (side(k, pts.knuckle_u) + side(k, pts.knuckle_l)) / 2.0;
@@ -547,7 +589,10 @@ impl Absolute<TB_BODIES> for ToeBarChrono {
 /// bar's points `TIEROD_K` and its mirror.
 fn toe_bar_model(pts: &ToeBarPoints) -> (AxleLinkage, AxleSteering) {
     let both = |v: V3| [v, mirror(v)];
-    let linkage = AxleLinkage::leafspring(pts.tube_com).unwrap();
+    let linkage = match pts.panhard {
+        None => AxleLinkage::leafspring(pts.tube_com).unwrap(),
+        Some((rod_c, rod_a)) => AxleLinkage::panhard(pts.tube_com, rod_c, rod_a).unwrap(),
+    };
     let axis = pts.arm_axis.normalize();
     let d = pts.arm_point - pts.arm_pivot;
     let arm = d - axis * axis.dot(&d);
@@ -640,6 +685,31 @@ fn the_toe_bar_axle_is_chronos_joint_set() {
     assert!(w.centre < 5e-4, "wheel centre {:e} m", w.centre);
     assert!(w.tube < 5e-4, "tube {:e} m", w.tube);
     assert!(w.bellcrank == 0.0, "the toe-bar axle's bellcrank angle moved: {:e} deg", w.bellcrank);
+}
+
+#[test]
+fn the_toe_bar_panhard_axle_is_chronos_joint_set() {
+    let pts = g500_front();
+    let w = toe_bar_against_chrono(&pts, &pts);
+    println!(
+        "rtv's toe-bar Panhard axle against Chrono's joint set (G500 front, 75 poses): camber {:.1e} deg, toe {:.1e} \
+         deg (at heave, roll, θ = {:?}), knuckle rotation {:.1e} deg, wheel centre {:.1e} m, tube {:.1e} m (toe up \
+         to {:.1} deg)",
+        w.camber, w.toe, w.toe_at, w.knuckle, w.centre, w.tube, w.toe_range
+    );
+    assert!(w.toe_range > 5.0, "the grid steered the wheels by only {} deg", w.toe_range);
+    // Issue's tolerances: 0.02° on camber and toe, 0.5 mm on the wheel centre.
+    assert!(w.camber < 0.02, "camber {:e} deg", w.camber);
+    assert!(w.toe < 0.02, "toe {:e} deg at {:?}", w.toe, w.toe_at);
+    assert!(w.knuckle < 0.02, "knuckle rotation {:e} deg", w.knuckle);
+    assert!(w.centre < 5e-4, "wheel centre {:e} m", w.centre);
+    assert!(w.tube < 5e-4, "tube {:e} m", w.tube);
+    // Negative control: Chrono's Panhard rod with its chassis end 1 mm lower moves the tube sideways as it
+    // heaves, and the wheels with it.
+    let mut moved = pts;
+    moved.panhard = pts.panhard.map(|(c, a)| (c - V3::new(0.0, 0.0, 1e-3), a));
+    let w = toe_bar_against_chrono(&pts, &moved);
+    assert!(w.centre > 1e-5, "a 1 mm change moved the wheel centre by only {:e} m", w.centre);
 }
 
 #[test]

@@ -1552,6 +1552,35 @@ fn panhard_axle_file() -> Value {
     v
 }
 
+/// The G500 rear axle's bar (`gclass/suspension/G500_RearAxle.json`).
+fn g500_rear_bar() -> Value {
+    json!({"Mass": 5.0, "Inertia": [0.5, 0.02, 0.5], "Radius": 0.025, "Location Chassis": [0.4, 0.4, -0.05],
+           "Location Axle": [0.0, 0.4, -0.05], "Rotational Stiffness": 1000.0, "Rotational Damping": 10.0})
+}
+
+#[test]
+fn a_panhard_axles_anti_roll_bar_imports_as_arms_sliding_on_the_tube() {
+    let mut file = panhard_axle_file();
+    file["Anti Roll Bar"] = g500_rear_bar();
+    let dir = generic_with_solid_rear("panhard_bar_import", file);
+    let import = import_vehicle(&dir.join("generic/vehicle/Vehicle_DoubleWishbones.json"), &dir, None).unwrap();
+    let bar = import.data.rear.antiroll_bar.clone().expect("the bar is imported");
+    // Chrono's points at the suspension's location (−1.25, 0, −0.21): the axis through the pivots' mid-point.
+    assert_eq!(bar.axis_point_m, [-0.85, 0.0, -0.26]);
+    assert_eq!(bar.arm_end_m, [-1.25, 0.4, -0.26]);
+    assert_eq!(bar.droplink_end_m, None);
+    assert_eq!((bar.torsional_stiffness_Nm_per_rad, bar.torsional_damping_Nms_per_rad), (1000.0, 10.0));
+    assert_eq!(bar.arm.as_ref().map(|a| a.mass_kg), Some(5.0));
+    // The vehicle loads with it, and a droplink given to a solid axle's bar is refused by name.
+    let v = rt_vehicle::model::vehicle::Vehicle::new(&import.data).unwrap();
+    assert!(v.solid_axles[1].as_ref().unwrap().bar.is_some());
+    let mut text: Value = serde_json::from_str(&import.to_json()).unwrap();
+    text["rear"]["antiroll_bar"]["droplink_end_m"] = json!([-1.25, 0.4, -0.3]);
+    let e = VehicleData::from_json(&text.to_string()).unwrap_err().to_string();
+    assert!(e.contains("rear.antiroll_bar.droplink_end_m"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn leaf_spring_and_panhard_axles_import_as_chrono_reads_them() {
     for (k, (file, template)) in
@@ -1610,7 +1639,32 @@ fn leaf_spring_and_panhard_axle_files_that_cannot_be_are_refused_by_file_and_key
         (
             panhard_axle_file(),
             Box::new(|v| v["Anti Roll Bar"] = json!({"Rotational Stiffness": 1000.0})),
-            vec!["Anti Roll Bar", "not in the model"],
+            vec!["Anti Roll Bar.Location Chassis", "missing"],
+        ),
+        (
+            // the arm straight below its pivot: its end slides in the tube's plane without turning it
+            panhard_axle_file(),
+            Box::new(|v| {
+                v["Anti Roll Bar"] = g500_rear_bar();
+                v["Anti Roll Bar"]["Location Chassis"] = json!([0.0, 0.4, 0.3]);
+            }),
+            vec!["antiroll_bar", "the arm lies in the axle tube's plane"],
+        ),
+        (
+            panhard_axle_file(),
+            Box::new(|v| {
+                v["Anti Roll Bar"] = g500_rear_bar();
+                v["Anti Roll Bar"]["Location Chassis"] = json!([0.4, 0.3, -0.05]);
+            }),
+            vec!["Anti Roll Bar.Location Chassis", "turns in the plane"],
+        ),
+        (
+            panhard_axle_file(),
+            Box::new(|v| {
+                v["Anti Roll Bar"] = g500_rear_bar();
+                v["Anti Roll Bar"]["Rotational Stiffness"] = json!(-1.0);
+            }),
+            vec!["Anti Roll Bar.Rotational Stiffness", "zero or positive"],
         ),
         (
             panhard_axle_file(),

@@ -402,7 +402,7 @@ pub const ROLL_TRAVEL: f64 = 5e-4;
 /// centre `z` above design and the right one `z` below, chassis fixed, steering centred.
 pub fn roll_moments(v: &Vehicle, axle: usize, z: f64) -> Result<[f64; 2], ModelError> {
     if v.solid_axles[axle].is_some() {
-        return Ok([solid_roll_moment(v, axle, z)?, 0.0]);
+        return solid_roll_moments(v, axle, z);
     }
     let (l, r) = (2 * axle, 2 * axle + 1);
     let corners = [&v.corners[l], &v.corners[r]];
@@ -430,16 +430,21 @@ pub fn roll_moments(v: &Vehicle, axle: usize, z: f64) -> Result<[f64; 2], ModelE
     Ok([moment(spring), moment(bar)])
 }
 
-/// `roll_moments`' springs for a solid axle: the wheels' vertical forces F that balance the springs along
-/// both of the axle's coordinates (virtual work: Σ_s F_s ∂z_s/∂u_d = −Q_d, Q_d the springs' generalized force
-/// along heave and along roll), and their moment about the axle's centre plane.
-fn solid_roll_moment(v: &Vehicle, axle: usize, z: f64) -> Result<f64, ModelError> {
+/// `roll_moments` for a solid axle, [springs, anti-roll bar]: for each, the wheels' vertical forces F that
+/// balance it along both of the axle's coordinates (virtual work: Σ_s F_s ∂z_s/∂u_d = −Q_d, Q_d its
+/// generalized force along heave and along roll), and their moment about the axle's centre plane. The bar's
+/// Q_d is its forces' (`SlidingBar::forces`, on the tube at the arms' ends) work along the tube's motion.
+fn solid_roll_moments(v: &Vehicle, axle: usize, z: f64) -> Result<[f64; 2], ModelError> {
     let solid = v.solid_axles[axle].as_ref().expect("called for a solid axle");
     let (l, r) = (2 * axle, 2 * axle + 1);
     let corners = [&v.corners[l], &v.corners[r]];
     let (_, state) = axle_at_travel(v, axle, [z, -z], None)?;
     let y_mid = 0.5 * (corners[0].w0.y + corners[1].w0.y);
-    let (mut q, mut dz, mut arm) = ([0.0; 2], [[0.0; 2]; 2], [0.0; 2]);
+    let (mut q, mut q_bar, mut dz, mut arm) = ([0.0; 2], [0.0; 2], [[0.0; 2]; 2], [0.0; 2]);
+    let bar = match (&solid.bar, solid.bar_arms(&state.pos)?) {
+        (Some(bar), Some(arms)) => Some((arms, bar.forces(&arms, [0.0; 2], true, false))),
+        _ => None,
+    };
     for (d, direction) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
         for s in 0..2 {
             let (c, f) = (corners[s], &v.corner_forces[l + s]);
@@ -449,11 +454,21 @@ fn solid_roll_moment(v: &Vehicle, axle: usize, z: f64) -> Result<f64, ModelError
             dz[d][s] = pose.d_centre.z;
             arm[s] = pose.centre.y - y_mid;
         }
+        if let Some((arms, forces)) = &bar {
+            let qd = solid.linkage.velocities(&state.pos, direction);
+            for s in 0..2 {
+                let p = solid.linkage.design_point(&state.pos, &arms[s].end);
+                q_bar[d] += forces[s].dot(&solid.linkage.point_velocity(&state.pos, &qd, &p));
+            }
+        }
     }
     let det = dz[0][0] * dz[1][1] - dz[0][1] * dz[1][0];
-    let f_l = (-q[0] * dz[1][1] + q[1] * dz[0][1]) / det;
-    let f_r = (-q[1] * dz[0][0] + q[0] * dz[1][0]) / det;
-    Ok(f_l * arm[0] + f_r * arm[1])
+    let moment = |q: [f64; 2]| {
+        let f_l = (-q[0] * dz[1][1] + q[1] * dz[0][1]) / det;
+        let f_r = (-q[1] * dz[0][0] + q[0] * dz[1][0]) / det;
+        f_l * arm[0] + f_r * arm[1]
+    };
+    Ok([moment(q), moment(q_bar)])
 }
 
 /// `RollStiffness` of axle `axle` by the central difference over ±`ROLL_TRAVEL`.
@@ -1038,15 +1053,19 @@ impl KcReport {
                mount (MacPherson), or the kingpin (single wishbone: the arm-fixed axis through LCA_U that is \
                vertical at design). On an unsteered axle it is the upright's axis all the same.\n";
         if self.axles.iter().any(|a| a.template.is_solid_axle()) {
-            md += "- A solid axle (solid_three_link) carries both wheels: parallel travel is the motion of its heave and \
+            md += "- A solid axle (solid_three_link, solid_leafspring, solid_panhard and their steered variants) carries \
+                   both wheels: parallel travel is the motion of its heave and \
                    roll that lifts both wheel centres alike, and its rates are taken along that motion; its roll \
                    centre is the front-view instant centre of the axle under equal and opposite travel (the \
                    formula below, with the contact point's velocity in that motion); its roll stiffness's forces \
-                   balance the springs along both of its coordinates. It has no kingpin: caster, kingpin \
+                   balance the springs (and its anti-roll bar, whose arms slide on the tube) along both of its \
+                   coordinates. It has no kingpin: caster, kingpin \
                    inclination, scrub radius and trail are not defined (–).\n";
         }
         if self.axles.iter().any(|a| a.template.is_steered_solid_axle()) {
-            md += "- A steered solid axle (solid_bellcrank_three_link, solid_toebar_leafspring): its knuckles turn on \
+            md +=
+                "- A steered solid axle (solid_bellcrank_three_link, solid_toebar_leafspring, solid_toebar_panhard): \
+                   its knuckles turn on \
                    kingpins in the axle, steered through the drag link and tie rods or toe bar, so its wheels steer \
                    as the axle moves (bump steer, \
                    roll steer); its kingpin figures are the left knuckle's. Its linkage is not mirror-symmetric (one \

@@ -286,3 +286,18 @@ pub fn hmmwv_toebar_front() -> VehicleData {
     v["name"] = serde_json::json!("HMMWV, toe-bar leaf-spring front (test)");
     VehicleData::from_json(&v.to_string()).unwrap()
 }
+
+/// The root of `f` between `lo` and `hi` (a sign change there), by bisection to the last bit: a reference that
+/// shares nothing with a closed form under test.
+pub fn bisect(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> f64 {
+    let (mut lo, mut hi) = (lo, hi);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(lo) * f(mid) <= 0.0 {
+            hi = mid
+        } else {
+            lo = mid
+        }
+    }
+    0.5 * (lo + hi)
+}

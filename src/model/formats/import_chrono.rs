@@ -420,7 +420,6 @@ const CHRONO_TEMPLATES: &[(&str, &str)] = &[
     ("SAEToeBarLeafspringAxle", "an SAE leaf-spring solid axle with a toe bar"),
     ("DeDionAxle", "a De Dion axle"),
     ("ToeBarDeDionAxle", "a De Dion axle with a toe bar"),
-    ("ToeBarRigidPanhardAxle", "a rigid axle with a Panhard rod and a toe bar"),
     ("PushPipeAxle", "a push-pipe axle"),
     ("ToeBarPushPipeAxle", "a push-pipe axle with a toe bar"),
     ("RigidPinnedAxle", "a rigid pinned axle"),
@@ -520,7 +519,7 @@ const STEERING_TEMPLATES: [&str; 3] = ["PitmanArm", "RackPinion", "RotaryArm"];
 const BRAKE_TEMPLATES: [&str; 2] = ["BrakeSimple", "BrakeShafts"];
 
 /// The suspension templates the import reads (Chrono's names: `Importer::suspension`).
-const SUSPENSION_TEMPLATES: [&str; 11] = [
+const SUSPENSION_TEMPLATES: [&str; 12] = [
     "DoubleWishbone",
     "MacPhersonStrut",
     "SingleWishbone",
@@ -529,6 +528,7 @@ const SUSPENSION_TEMPLATES: [&str; 11] = [
     "LeafspringAxle",
     "ToeBarLeafspringAxle",
     "RigidPanhardAxle",
+    "ToeBarRigidPanhardAxle",
     "RigidSuspension",
     "SemiTrailingArm",
     "ThreeLinkIRS",
@@ -1184,30 +1184,21 @@ impl<'a> SuspensionReader<'a> {
     /// steering end. The toe bar and the drag link are massless in the model (their masses left out with a
     /// warning that says how much).
     fn toe_bar_axle(&mut self, steered: bool) -> Result<Axle, ImportError> {
-        self.o.keys(
-            &[
-                "Name",
-                "Type",
-                "Template",
-                "Camber Angle (deg)",
-                "Toe Angle (deg)",
-                "Spindle",
-                "Knuckle",
-                "Axle Tube",
-                "Tierod",
-                "Draglink",
-                "Spring",
-                "Shock",
-                "Axle",
-            ],
-            &[("Output", "Chrono output settings")],
-            self.warnings,
-        )?;
+        let panhard = self.template.is_panhard();
+        let mut used = vec!["Name", "Type", "Template", "Camber Angle (deg)", "Toe Angle (deg)", "Spindle", "Knuckle"];
+        used.extend(["Axle Tube", "Tierod", "Draglink"]);
+        if panhard {
+            used.extend(["Panhard Rod", "Anti Roll Bar"]);
+        }
+        used.extend(["Spring", "Shock", "Axle"]);
+        self.o.keys(&used, &[("Output", "Chrono output settings")], self.warnings)?;
         self.no_alignment()?;
-        self.steered_by_drag_link(steered, "ToeBarLeafspringAxle")?;
+        let chrono = if panhard { "ToeBarRigidPanhardAxle" } else { "ToeBarLeafspringAxle" };
+        self.steered_by_drag_link(steered, chrono)?;
         let spindle = self.spindle()?;
         let knuckle = self.knuckle(("KNUCKLE_D", "Location Draglink"))?;
         let tube = self.axle_tube()?;
+        let bar = if panhard { self.panhard_rod_and_bar()? } else { None };
         let t = self.o.obj("Tierod")?;
         t.keys(&["Mass", "Inertia", "Location Knuckle"], &[("Radius", VISUAL)], self.warnings)?;
         self.put("TIEROD_K", t.point("Location Knuckle")?);
@@ -1217,6 +1208,7 @@ impl<'a> SuspensionReader<'a> {
         self.massless_links(&[("Tierod", 1), ("Draglink", 1)])?;
         let mut axle = self.solid_axle_rest(steered, spindle, tube)?;
         axle.upright = knuckle;
+        axle.antiroll_bar = bar;
         Ok(axle)
     }
 
@@ -1238,28 +1230,60 @@ impl<'a> SuspensionReader<'a> {
         self.no_alignment()?;
         let spindle = self.spindle()?;
         let tube = self.axle_tube()?;
-        if panhard {
-            if self.o.has("Anti Roll Bar") {
-                return Err(self.o.err(
-                    "Anti Roll Bar",
-                    "the rigid Panhard axle's anti-roll bar (two arms on the chassis, each sliding on the axle) is \
-                     not in the model",
-                ));
-            }
-            let rod = self.o.obj("Panhard Rod")?;
-            rod.keys(
-                &["Location Chassis", "Location Axle"],
-                &[
-                    ("Mass", "the model's Panhard rod is massless (a two-force member)"),
-                    ("Inertia", "the model's Panhard rod is massless"),
-                    ("Radius", VISUAL),
-                ],
-                self.warnings,
-            )?;
-            self.put("PANHARD_C", rod.point("Location Chassis")?);
-            self.put("PANHARD_A", rod.point("Location Axle")?);
+        let bar = if panhard { self.panhard_rod_and_bar()? } else { None };
+        let mut axle = self.solid_axle_rest(steered, spindle, tube)?;
+        axle.antiroll_bar = bar;
+        Ok(axle)
+    }
+
+    /// A Panhard axle's rod (its two points; massless in the model: its `Mass` is ignored with a warning) and its
+    /// `Anti Roll Bar` where the file gives one (Chrono's reader requires it), as `RigidPanhardAxle::Create` and
+    /// `ToeBarRigidPanhardAxle::Create` read them: the arm's pivot `Location Chassis` (the bar's axis through the
+    /// mid-point of the two sides' pivots, along y), its end `Location Axle`, which slides on the axle tube (no
+    /// droplink), each arm's mass and inertia (carried by the chassis: its CM is on the axis), the torsion
+    /// spring's stiffness and damping.
+    fn panhard_rod_and_bar(&mut self) -> Result<Option<AntirollBar>, ImportError> {
+        let rod = self.o.obj("Panhard Rod")?;
+        rod.keys(
+            &["Location Chassis", "Location Axle"],
+            &[
+                ("Mass", "the model's Panhard rod is massless (a two-force member)"),
+                ("Inertia", "the model's Panhard rod is massless"),
+                ("Radius", VISUAL),
+            ],
+            self.warnings,
+        )?;
+        self.put("PANHARD_C", rod.point("Location Chassis")?);
+        self.put("PANHARD_A", rod.point("Location Axle")?);
+        if !self.o.has("Anti Roll Bar") {
+            return Ok(None);
         }
-        self.solid_axle_rest(steered, spindle, tube)
+        let b = self.o.obj("Anti Roll Bar")?;
+        b.keys(
+            &["Mass", "Inertia", "Location Chassis", "Location Axle", "Rotational Stiffness", "Rotational Damping"],
+            &[("Radius", VISUAL)],
+            self.warnings,
+        )?;
+        let (pivot, end) = (b.point("Location Chassis")? + self.location, b.point("Location Axle")? + self.location);
+        if !(pivot.y > 0.0) || pivot.y != end.y {
+            return Err(b.err(
+                "Location Chassis",
+                format!(
+                    "y = {} m and the end's {} m: the model's arm turns in the plane y = its pivot's, on the left \
+                     (y > 0)",
+                    pivot.y, end.y
+                ),
+            ));
+        }
+        let (arm, [k, c]) = bar_arm_and_rates(&b, &b, ["Rotational Stiffness", "Rotational Damping"])?;
+        Ok(Some(AntirollBar {
+            axis_point_m: [pivot.x, 0.0, pivot.z],
+            arm_end_m: end.into(),
+            droplink_end_m: None,
+            torsional_stiffness_Nm_per_rad: k,
+            torsional_damping_Nms_per_rad: c,
+            arm: Some(arm),
+        }))
     }
 
     /// What every solid axle's file ends with, as Chrono's readers read it: the spring, the damper and the
@@ -1880,6 +1904,12 @@ impl Importer {
                             format!("y = {} m: the model's bar is centred on the plane of symmetry (y = 0)", at.y),
                         ));
                     }
+                    if axle.antiroll_bar.is_some() {
+                        return Err(a.err(
+                            "Antirollbar Input File",
+                            "the axle's suspension file has an anti-roll bar of its own: one bar per axle",
+                        ));
+                    }
                     axle.antiroll_bar = Some(self.antiroll_bar(&bar, at)?);
                     bar_file = Some(bar.shown.clone());
                 }
@@ -2232,6 +2262,7 @@ impl Importer {
             "RigidPanhardAxle" => SuspensionTemplate::SolidPanhard,
             "SolidBellcrankThreeLinkAxle" => SuspensionTemplate::SolidBellcrankThreeLink,
             "ToeBarLeafspringAxle" => SuspensionTemplate::SolidToebarLeafspring,
+            "ToeBarRigidPanhardAxle" => SuspensionTemplate::SolidToebarPanhard,
             "SemiTrailingArm" => SuspensionTemplate::SemiTrailingArm,
             "ThreeLinkIRS" => SuspensionTemplate::ThreeLinkIrs,
             _ => SuspensionTemplate::Rigid,
@@ -2247,7 +2278,9 @@ impl Importer {
         match template {
             SuspensionTemplate::SolidThreeLink => return s.three_link_axle(steered),
             SuspensionTemplate::SolidBellcrankThreeLink => return s.bellcrank_axle(steered),
-            SuspensionTemplate::SolidToebarLeafspring => return s.toe_bar_axle(steered),
+            SuspensionTemplate::SolidToebarLeafspring | SuspensionTemplate::SolidToebarPanhard => {
+                return s.toe_bar_axle(steered)
+            }
             SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => return s.guided_axle(steered),
             SuspensionTemplate::Rigid => return s.rigid(steered),
             SuspensionTemplate::SemiTrailingArm => return s.semi_trailing_arm(steered),
@@ -2314,28 +2347,15 @@ impl Importer {
         let rsd = o.obj("RSD")?;
         rsd.keys(&["Spring Coefficient", "Damping Coefficient"], &[], &mut self.warnings)?;
         let (length, width, height) = (arm.length("Length")?, arm.num("Width")?, droplink.num("Height")?);
-        let moments = arm.vec3("Inertia")?;
-        if !moments.iter().all(|x| *x > 0.0) {
-            return Err(arm.err("Inertia", "moments of inertia must be positive (kg m²)"));
-        }
-        let (k, c) = (rsd.num("Spring Coefficient")?, rsd.num("Damping Coefficient")?);
-        for (key, v) in [("Spring Coefficient", k), ("Damping Coefficient", c)] {
-            if !(v >= 0.0) {
-                return Err(rsd.err(key, format!("must be zero or positive (N m/rad, N m s/rad), got {v}")));
-            }
-        }
+        let (arm, [k, c]) = bar_arm_and_rates(&arm, &rsd, ["Spring Coefficient", "Damping Coefficient"])?;
         let end = location + V3::new(width, length, 0.0);
         Ok(AntirollBar {
             axis_point_m: location.into(),
             arm_end_m: end.into(),
-            droplink_end_m: (end + V3::new(0.0, 0.0, height)).into(),
+            droplink_end_m: Some((end + V3::new(0.0, 0.0, height)).into()),
             torsional_stiffness_Nm_per_rad: k,
             torsional_damping_Nms_per_rad: c,
-            arm: Some(RigidBody {
-                mass_kg: arm.mass("Mass")?,
-                inertia_moments_kg_m2: moments.into(),
-                inertia_products_kg_m2: [0.0; 3],
-            }),
+            arm: Some(arm),
         })
     }
 
@@ -2365,6 +2385,28 @@ impl Importer {
         ));
         Ok(inertia)
     }
+}
+
+/// An anti-roll bar's arm body (`Mass`, `Inertia` of `arm`: its moments, positive) and its torsion spring's
+/// stiffness and damping (the keys `rates` of `of`: zero or positive).
+fn bar_arm_and_rates(arm: &Obj, of: &Obj, rates: [&str; 2]) -> Result<(RigidBody, [f64; 2]), ImportError> {
+    let moments = arm.vec3("Inertia")?;
+    if !moments.iter().all(|x| *x > 0.0) {
+        return Err(arm.err("Inertia", "moments of inertia must be positive (kg m²)"));
+    }
+    let mut out = [0.0; 2];
+    for (v, key) in out.iter_mut().zip(rates) {
+        *v = of.num(key)?;
+        if !(*v >= 0.0) {
+            return Err(of.err(key, format!("must be zero or positive (N m/rad, N m s/rad), got {v}")));
+        }
+    }
+    let body = RigidBody {
+        mass_kg: arm.mass("Mass")?,
+        inertia_moments_kg_m2: moments.into(),
+        inertia_products_kg_m2: [0.0; 3],
+    };
+    Ok((body, out))
 }
 
 /// A loader error on the imported data, told with the Chrono file it came from: an axle's suspension file,

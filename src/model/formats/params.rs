@@ -317,6 +317,9 @@ pub enum SuspensionTemplate {
     /// knuckles on kingpins in the axle, a toe bar between them and a drag link from the steering to one
     /// knuckle. Always steered.
     SolidToebarLeafspring,
+    /// A steered rigid Panhard axle (Chrono's `ToeBarRigidPanhardAxle`: the G500's front): the Panhard axle's
+    /// guide and rod, its knuckles, toe bar and drag link as the toe-bar leaf-spring axle's. Always steered.
+    SolidToebarPanhard,
     /// No suspension: each spindle turns on a revolute joint fixed to the chassis (Chrono's
     /// `RigidSuspension`: a garden tractor's or a kart's rear axle). No spring, no damper; not steerable.
     Rigid,
@@ -342,6 +345,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidPanhard => "solid_panhard",
             SuspensionTemplate::SolidBellcrankThreeLink => "solid_bellcrank_three_link",
             SuspensionTemplate::SolidToebarLeafspring => "solid_toebar_leafspring",
+            SuspensionTemplate::SolidToebarPanhard => "solid_toebar_panhard",
             SuspensionTemplate::Rigid => "rigid",
             SuspensionTemplate::SemiTrailingArm => "semi_trailing_arm",
             SuspensionTemplate::ThreeLinkIrs => "three_link_irs",
@@ -359,6 +363,7 @@ impl SuspensionTemplate {
             SuspensionTemplate::SolidPanhard => &SOLID_PANHARD_HARDPOINTS,
             SuspensionTemplate::SolidBellcrankThreeLink => &SOLID_BELLCRANK_THREE_LINK_HARDPOINTS,
             SuspensionTemplate::SolidToebarLeafspring => &SOLID_TOEBAR_LEAFSPRING_HARDPOINTS,
+            SuspensionTemplate::SolidToebarPanhard => &SOLID_TOEBAR_PANHARD_HARDPOINTS,
             SuspensionTemplate::Rigid => &RIGID_HARDPOINTS,
             SuspensionTemplate::SemiTrailingArm => &SEMI_TRAILING_ARM_HARDPOINTS,
             SuspensionTemplate::ThreeLinkIrs => &THREE_LINK_IRS_HARDPOINTS,
@@ -374,12 +379,28 @@ impl SuspensionTemplate {
                 | SuspensionTemplate::SolidPanhard
                 | SuspensionTemplate::SolidBellcrankThreeLink
                 | SuspensionTemplate::SolidToebarLeafspring
+                | SuspensionTemplate::SolidToebarPanhard
         )
     }
 
     /// Whether the template is a solid axle that steers (its knuckles turn on kingpins in the axle).
     pub fn is_steered_solid_axle(self) -> bool {
-        matches!(self, SuspensionTemplate::SolidBellcrankThreeLink | SuspensionTemplate::SolidToebarLeafspring)
+        matches!(
+            self,
+            SuspensionTemplate::SolidBellcrankThreeLink
+                | SuspensionTemplate::SolidToebarLeafspring
+                | SuspensionTemplate::SolidToebarPanhard
+        )
+    }
+
+    /// Whether the template is a solid axle whose knuckles a toe bar joins (the drag link on one knuckle).
+    pub fn has_toe_bar(self) -> bool {
+        matches!(self, SuspensionTemplate::SolidToebarLeafspring | SuspensionTemplate::SolidToebarPanhard)
+    }
+
+    /// Whether the template is a solid axle located by the Panhard axle's guide and rod.
+    pub fn is_panhard(self) -> bool {
+        matches!(self, SuspensionTemplate::SolidPanhard | SuspensionTemplate::SolidToebarPanhard)
     }
 
     /// Whether the wheels are on the chassis itself (no suspension: no coordinate, spring or damper).
@@ -447,6 +468,8 @@ pub struct Axle {
 /// An anti-roll bar, Chrono's `AntirollBarRSD`: a bar along the chassis y axis, split at the middle by a
 /// torsion spring-damper, with an arm on each half; each arm's end is joined by a droplink (a massless
 /// distance constraint) to the lower control arm of its side (Chrono's `GetAntirollBody` of both templates).
+/// On a solid axle, Chrono's rigid Panhard axle's bar: the same bar and arms, each arm's end sliding on the
+/// axle tube (no droplink; `model::suspension::antiroll_bar::SlidingBar`).
 /// Points in the chassis reference frame, left side (the right mirrors it).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -456,8 +479,11 @@ pub struct AntirollBar {
     /// The left arm's end, where the droplink is jointed to it (Chrono: location + (Width, Length, 0)).
     pub arm_end_m: [f64; 3],
     /// The droplink's other end, a point of the left lower control arm (Chrono: location + (Width, Length,
-    /// Height)). The droplink's length is its distance from `arm_end_m`.
-    pub droplink_end_m: [f64; 3],
+    /// Height)). The droplink's length is its distance from `arm_end_m`. On a solid axle there is none: the
+    /// arm's end slides on the axle tube instead (Chrono's `RigidPanhardAxle` bar: a point-on-plane joint, the
+    /// end held in the tube's plane through `arm_end_m` normal to the tube's z axis).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub droplink_end_m: Option<[f64; 3]>,
     /// Torsion spring between the two halves: torque per radian of twist (left arm's angle minus the
     /// right's), N·m/rad.
     pub torsional_stiffness_Nm_per_rad: f64,
@@ -691,6 +717,26 @@ pub const SOLID_TOEBAR_LEAFSPRING_HARDPOINTS: [&str; 12] = [
     "DRAGLINK_S",
 ];
 
+/// The hardpoints a steered toe-bar Panhard axle must name (Chrono's `ToeBarRigidPanhardAxle` points): the
+/// Panhard axle's and the toe-bar axle's steering points (`KNUCKLE_L`, `KNUCKLE_U`, `KNUCKLE_CM`, `KNUCKLE_D`,
+/// `TIEROD_K`, `DRAGLINK_S`, as the toe-bar leaf-spring axle's).
+pub const SOLID_TOEBAR_PANHARD_HARDPOINTS: [&str; 14] = [
+    "SPINDLE",
+    "AXLE_CM",
+    "PANHARD_C",
+    "PANHARD_A",
+    "SHOCK_C",
+    "SHOCK_A",
+    "SPRING_C",
+    "SPRING_A",
+    "KNUCKLE_L",
+    "KNUCKLE_U",
+    "KNUCKLE_CM",
+    "KNUCKLE_D",
+    "TIEROD_K",
+    "DRAGLINK_S",
+];
+
 /// The hardpoints a leaf-spring solid axle must name (Chrono's `LeafspringAxle` points, left side): the axle
 /// tube's CM `AXLE_CM` (on y = 0: the guide's point), the spring's and the damper's ends on the chassis (`_C`)
 /// and on the axle (`_A`), the wheel centre `SPINDLE`.
@@ -845,7 +891,9 @@ impl VehicleData {
                      coordinate there): the stability suite of a HMMWV with a rigid rear has runs more than 1 % off \
                      without a word at RK4 8.33 ms, AB3 2.08 ms and IMEX-AB3 8.33 and 2.08 ms",
                 ),
-                SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidPanhard => Some(
+                SuspensionTemplate::SolidLeafspring
+                | SuspensionTemplate::SolidPanhard
+                | SuspensionTemplate::SolidToebarPanhard => Some(
                     "the stability suite of a HMMWV with this rear axle has runs more than 1 % off without a word \
                      at IMEX-AB3 on its full-lock lift-off case",
                 ),
@@ -1126,6 +1174,12 @@ fn check_axle(name: &str, axle: &Axle) -> Result<(), DataError> {
     check_damper(&format!("{name}.damper"), &axle.damper)?;
     if let Some(bar) = &axle.antiroll_bar {
         check_antiroll_bar(&format!("{name}.antiroll_bar"), bar)?;
+        if bar.droplink_end_m.is_none() && !axle.template.is_solid_axle() {
+            return Err(err(
+                format!("{name}.antiroll_bar.droplink_end_m"),
+                "missing: the bar's droplink meets the lower arm (only a solid axle's bar slides on its axle instead)",
+            ));
+        }
     }
     check_alignment(name, axle)
 }
@@ -1208,6 +1262,7 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         | SuspensionTemplate::SolidPanhard
         | SuspensionTemplate::SolidBellcrankThreeLink
         | SuspensionTemplate::SolidToebarLeafspring
+        | SuspensionTemplate::SolidToebarPanhard
         | SuspensionTemplate::Rigid => unreachable!("checked above"),
     }
     let mut bodies = vec![("lower_arm", &axle.lower_arm), ("spindle", &axle.spindle)];
@@ -1228,8 +1283,9 @@ fn check_suspension_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
 }
 
 /// A solid axle's bodies: the axle tube and the spindle, each with a positive mass and a positive definite
-/// inertia, and none of an independent suspension's; not steered, no anti-roll bar (the bar's arms meet
-/// the lower arms, which a solid axle has not), no static camber or toe (the spindles are on the tube).
+/// inertia, and none of an independent suspension's; an anti-roll bar only as Chrono's rigid Panhard axle has
+/// one (its arms' ends slide on the tube: no droplink, which would need a lower arm), no static camber or toe
+/// (the spindles are on the tube).
 /// A rigid suspension's likewise, with no axle tube: its spindles turn on the chassis, parallel to its y
 /// axis (Chrono's `RigidSuspension` sets them so).
 fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
@@ -1240,11 +1296,20 @@ fn check_solid_axle_bodies(name: &str, axle: &Axle) -> Result<(), DataError> {
         ("upright", !steered_axle && !axle.upright.is_none()),
         ("upper_arm", axle.upper_arm.is_some()),
         ("strut", axle.strut.is_some()),
-        ("antiroll_bar", axle.antiroll_bar.is_some()),
+        ("antiroll_bar", axle.template.is_rigid() && axle.antiroll_bar.is_some()),
         ("bellcrank", axle.template != SuspensionTemplate::SolidBellcrankThreeLink && axle.bellcrank.is_some()),
     ];
     if let Some((body, _)) = present.iter().find(|(_, p)| *p) {
         return Err(err(format!("{name}.{body}"), format!("a {template} has none")));
+    }
+    if axle.antiroll_bar.as_ref().is_some_and(|b| b.droplink_end_m.is_some()) {
+        return Err(err(
+            format!("{name}.antiroll_bar.droplink_end_m"),
+            format!(
+                "a {template}'s bar has no droplink: its arms' ends slide on the axle tube (Chrono's rigid Panhard \
+                 axle's bar); leave droplink_end_m out"
+            ),
+        ));
     }
     if axle.steered != steered_axle {
         return Err(err(
@@ -1461,10 +1526,11 @@ fn nonneg(field: &str, v: f64) -> Result<(), DataError> {
 /// The anti-roll bar's data alone (that the droplink closes over the travel is checked with the suspension,
 /// `model::suspension::antiroll_bar::check_closes`).
 fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
-    for (k, p) in
-        [("axis_point_m", &bar.axis_point_m), ("arm_end_m", &bar.arm_end_m), ("droplink_end_m", &bar.droplink_end_m)]
-    {
+    for (k, p) in [("axis_point_m", &bar.axis_point_m), ("arm_end_m", &bar.arm_end_m)] {
         finite3(&format!("{field}.{k}"), p)?;
+    }
+    if let Some(p) = &bar.droplink_end_m {
+        finite3(&format!("{field}.droplink_end_m"), p)?;
     }
     if bar.axis_point_m[1] != 0.0 {
         return Err(err(
@@ -1488,8 +1554,10 @@ fn check_antiroll_bar(field: &str, bar: &AntirollBar) -> Result<(), DataError> {
             "lies on the bar's axis: the arm has no length, so the droplink cannot turn the bar",
         ));
     }
-    if (Vector3::from(bar.droplink_end_m) - Vector3::from(bar.arm_end_m)).norm() < 1e-6 {
-        return Err(err(format!("{field}.droplink_end_m"), "coincides with arm_end_m: the droplink has no length"));
+    if let Some(low) = bar.droplink_end_m {
+        if (Vector3::from(low) - Vector3::from(bar.arm_end_m)).norm() < 1e-6 {
+            return Err(err(format!("{field}.droplink_end_m"), "coincides with arm_end_m: the droplink has no length"));
+        }
     }
     nonneg(&format!("{field}.torsional_stiffness_Nm_per_rad"), bar.torsional_stiffness_Nm_per_rad)?;
     nonneg(&format!("{field}.torsional_damping_Nms_per_rad"), bar.torsional_damping_Nms_per_rad)?;

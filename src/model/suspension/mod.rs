@@ -385,7 +385,8 @@ impl Corner {
             | SuspensionTemplate::SolidLeafspring
             | SuspensionTemplate::SolidPanhard
             | SuspensionTemplate::SolidBellcrankThreeLink
-            | SuspensionTemplate::SolidToebarLeafspring => solid_axle::wheel_corner(data, axle, side),
+            | SuspensionTemplate::SolidToebarLeafspring
+            | SuspensionTemplate::SolidToebarPanhard => solid_axle::wheel_corner(data, axle, side),
             SuspensionTemplate::Rigid => rigid::wheel_corner(data, axle, side),
             SuspensionTemplate::SemiTrailingArm => semi_trailing_arm::from_data(data, axle, side),
             SuspensionTemplate::ThreeLinkIrs => three_link_irs::from_data(data, axle, side),

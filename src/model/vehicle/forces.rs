@@ -41,6 +41,33 @@ impl Vehicle {
             wrenches[i] =
                 self.corner_wrenches(run.options, i, &positions[i], &kinematics[i], chassis, bar_forces[i], wheel);
         }
+        if self.solid_axles.iter().flatten().any(|s| s.bar.is_some()) {
+            self.solid_axle_bar_forces(run.options, ws)?;
+        }
+        Ok(())
+    }
+
+    /// The anti-roll bars of the solid axles (§5.4a, `SlidingBar`): at each arm's end, a force on the axle
+    /// tube (into its left or right wheel corner's tube slot, `BODY_L`) and its opposite on the chassis.
+    #[inline(never)]
+    fn solid_axle_bar_forces(&self, options: &Options, ws: &mut Workspace) -> Result<(), ModelError> {
+        let (v0, w0) = (lin(&ws.chassis.y0), ang(&ws.chassis.y0));
+        for (a, solid) in self.solid_axles.iter().enumerate() {
+            let Some((solid, bar)) = solid.as_ref().and_then(|s| Some((s, s.bar.as_ref()?))) else { continue };
+            let work = &ws.axles[a];
+            let Some(arms) = solid.bar_arms(&work.positions)? else { continue };
+            // The tube's point at each arm's end, its velocity relative to the chassis, along the plane's normal.
+            let speed = arms.map(|arm| {
+                let relative = point_velocity(&work.velocity, &arm.end) - (v0 + w0.cross(&arm.end));
+                arm.normal.dot(&relative)
+            });
+            let forces = bar.forces(&arms, speed, options.switches.springs, options.switches.dampers);
+            for (k, (arm, f)) in arms.iter().zip(forces).enumerate() {
+                let w = &mut ws.wrenches[2 * a + k];
+                w.bodies[BODY_L] += point_force(&f, &arm.end);
+                w.chassis -= point_force(&f, &arm.end);
+            }
+        }
         Ok(())
     }
 

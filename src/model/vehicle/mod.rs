@@ -517,7 +517,8 @@ impl Vehicle {
             + steering.body.mass
             + corners.iter().map(|c| c.lower.mass + c.upper.mass + c.carrier.mass).sum::<f64>()
             + solid_axles.iter().flatten().map(SolidAxle::mass).sum::<f64>();
-        let antiroll_bars = [&data.front, &data.rear].map(|a| a.antiroll_bar.as_ref().map(|b| AxleBar::new(data, b)));
+        let antiroll_bars =
+            [&data.front, &data.rear].map(|a| a.antiroll_bar.as_ref().and_then(|b| AxleBar::new(data, b)));
         let mut v = Vehicle {
             corners,
             corner_forces,
@@ -826,6 +827,12 @@ impl Vehicle {
                 if let Some(bar) = bar {
                     let (l, r) = (2 * axle, 2 * axle + 1);
                     let arms = bar.angles([&self.corners[l], &self.corners[r]], [&positions[l], &positions[r]])?;
+                    spring_potential += bar.potential(&arms);
+                }
+            }
+            for (a, solid) in self.solid_axles.iter().enumerate() {
+                let Some((solid, bar)) = solid.as_ref().and_then(|s| Some((s, s.bar.as_ref()?))) else { continue };
+                if let Some(arms) = solid.bar_arms(&cache.axles[a].positions)? {
                     spring_potential += bar.potential(&arms);
                 }
             }

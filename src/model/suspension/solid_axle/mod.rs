@@ -26,6 +26,7 @@
 pub mod steering;
 
 use self::steering::{AxleSteering, SteerPositions};
+use super::antiroll_bar::{SlidingArm, SlidingBar};
 use super::{
     carrier_inertia, BodyInertia, Closure, Corner, CornerPositions, Hardpoints, LineMount, MountBody, Side,
     MAX_NEWTON_ITERATIONS, POSITION_TOLERANCE,
@@ -60,6 +61,9 @@ pub struct SolidAxle {
     pub body: BodyInertia,
     /// A steered axle's knuckles, bellcrank and links (`solid_axle::steering`).
     pub steering: Option<AxleSteering>,
+    /// The anti-roll bar whose arms slide on the tube (Chrono's rigid Panhard axle's), if the file gives one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bar: Option<SlidingBar>,
 }
 
 impl SolidAxle {
@@ -77,7 +81,9 @@ impl SolidAxle {
             SuspensionTemplate::SolidLeafspring | SuspensionTemplate::SolidToebarLeafspring => {
                 AxleLinkage::leafspring(centre)
             }
-            SuspensionTemplate::SolidPanhard => AxleLinkage::panhard(centre, single("PANHARD_C"), single("PANHARD_A")),
+            SuspensionTemplate::SolidPanhard | SuspensionTemplate::SolidToebarPanhard => {
+                AxleLinkage::panhard(centre, single("PANHARD_C"), single("PANHARD_A"))
+            }
             _ => AxleLinkage::three_link(
                 centre,
                 mid("TRIANGLE_C"),
@@ -92,16 +98,17 @@ impl SolidAxle {
             message: "missing: a solid axle has one".into(),
         })?;
         let tube = BodyInertia { mass: tube.mass_kg, com: centre, inertia: tube.inertia() };
+        let bar = axle.antiroll_bar.as_ref().map(|b| SlidingBar::new(data, b));
         if axle.template.is_steered_solid_axle() {
             let steering = Self::steering(data, name, axle, &linkage, [&left, &right])?;
-            return Ok(SolidAxle { linkage, body: tube, steering: Some(steering) });
+            return Ok(SolidAxle { linkage, body: tube, steering: Some(steering), bar });
         }
         let mut parts = vec![tube];
         for points in [&left, &right] {
             let w0 = points.point("SPINDLE");
             parts.push(carrier_inertia(data, axle, points.side, w0, w0).0);
         }
-        Ok(SolidAxle { linkage, body: BodyInertia::combined(&parts), steering: None })
+        Ok(SolidAxle { linkage, body: BodyInertia::combined(&parts), steering: None, bar })
     }
 
     /// A steered axle's steering linkage and bodies: the bellcrank (CM at its pivot, Chrono's), each knuckle
@@ -119,7 +126,7 @@ impl SolidAxle {
         let knuckles = sides.map(|h| carrier_inertia(data, axle, h.side, h.point("KNUCKLE_CM"), h.point("SPINDLE")).0);
         let drive = crate::model::steering::tie_rod_drive(data)?;
         let field = format!("{name}.hardpoints_chassis_frame_m");
-        if axle.template == SuspensionTemplate::SolidToebarLeafspring {
+        if axle.template.has_toe_bar() {
             // The drag link on the knuckle of its point's side (Chrono's `m_left_knuckle_steers`: y > 0).
             let end = single("KNUCKLE_D");
             let side = if VehicleData::point(axle, "KNUCKLE_D")[1] >= 0.0 { 0 } else { 1 };
@@ -162,6 +169,13 @@ impl SolidAxle {
     /// axle's reference point, r_k its rotation; no lower or upper arm turns).
     pub fn place_wheel(&self, pos: &AxlePositions, out: &mut CornerPositions) {
         out.carried(self.linkage.point(pos, &self.linkage.centre), pos.rotation, pos.residual);
+    }
+
+    /// Its bar's arms at the axle's positions `pos` (`None`: the axle has no bar).
+    pub fn bar_arms(&self, pos: &AxlePositions) -> Result<Option<[SlidingArm; 2]>, ModelError> {
+        let Some(bar) = &self.bar else { return Ok(None) };
+        let p = bar.end.map(|e| self.linkage.point(pos, &e));
+        bar.arms(p, &(pos.rotation * V3::z())).map(Some)
     }
 
     /// The mass that moves with the axle: its body's, and a steered axle's knuckles (with their spindles and
@@ -241,6 +255,10 @@ pub fn check_moves(data: &VehicleData, name: &str, axle: &Axle) -> Result<(), Da
         let pos = solid.linkage.solve_positions(u, &[0.0; 4]).map_err(|e| DataError {
             field: field.clone(),
             message: format!("the solid axle's linkage cannot move: {e}"),
+        })?;
+        solid.bar_arms(&pos).map_err(|e| DataError {
+            field: format!("{name}.antiroll_bar"),
+            message: format!("at heave {:+.3} m, roll {:+.3} rad: {e}", u[0], u[1]),
         })?;
         // A steered axle's steering reaches both locks at each of these positions.
         if solid.steering.is_some() {
@@ -404,6 +422,11 @@ impl AxleLinkage {
     #[inline(always)]
     pub fn point(&self, pos: &AxlePositions, p: &V3) -> V3 {
         self.centre + V3::new(pos.q[DX], pos.q[DY], pos.q[HEAVE]) + pos.rotation * (p - self.centre)
+    }
+
+    /// The axle-fixed point (given at design) that the positions `pos` put at `spatial`: `point`'s inverse.
+    pub fn design_point(&self, pos: &AxlePositions, spatial: &V3) -> V3 {
+        self.centre + pos.rotation.transpose() * (spatial - self.centre - V3::new(pos.q[DX], pos.q[DY], pos.q[HEAVE]))
     }
 
     /// ∂r/∂q of an axle-fixed point r (at `r_now`, with `arm` = R (p − c₀)): the translations' unit columns,
