@@ -924,9 +924,10 @@ impl VehicleData {
             // tire ties the chassis velocities to the road stiffly, a mode that passes through faster than the
             // step check's schedule as the car stops (docs/integrators.md, "The WRONG runs the suites still find").
             out.push(
-                "tire: TMeasy: the stability suites of Chrono's VW microbus and Sedan on their TMeasy tires \
+                "tire: TMeasy: the stability suites of Chrono's VW microbus, Sedan and G500 on their TMeasy tires \
                  have runs off without a word: RK4 at 8.33 to 2.08 ms on the wheel lock at 100 km/h (3 to 5 % at the \
-                 stop), IMEX-AB3 at 4.17 ms on it (2 %), RK4 held on a 20 % grade before its refusal (2 %); check \
+                 stop), IMEX-AB3 at 4.17 ms on it (2 %), RK4 held on a 20 % grade before its refusal (2 %), RK4 at \
+                 8.33 and 4.17 ms braked to a stop from 60 km/h (13 to 16 %); check \
                  this vehicle with `rtv stability --vehicle-file` before trusting a scheme and step, or run RK4 at \
                  1 ms or DOPRI5"
                     .to_string(),
