@@ -1820,3 +1820,91 @@ fn steered_solid_axles_and_a_rotary_arm_import_as_chrono_reads_them() {
     assert!(e.contains("ThreeLinkAxle.json") && e.contains("no steering"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Chrono's `MapSpringDamperForce::evaluate` (read from Chrono's source, `src/chrono/utils/ChForceFunctors.cpp`):
+/// the bracketing points by `std::lower_bound` (the first not below the value; the last pair past the high end,
+/// the first pair at or below the low end), weights that continue linearly outside the grid, bilinear inside.
+fn chrono_map_force(defs: &[f64], vels: &[f64], data: &[Vec<f64>], def: f64, vel: f64) -> f64 {
+    let pair = |xs: &[f64], x: f64| {
+        let lb = xs.iter().position(|v| *v >= x).unwrap_or(xs.len() - 1).max(1);
+        (lb - 1, lb)
+    };
+    let ((d1, d2), (v1, v2)) = (pair(defs, def), pair(vels, vel));
+    let (dd, dv) = (defs[d2] - defs[d1], vels[v2] - vels[v1]);
+    let (wd1, wd2) = ((defs[d2] - def) / dd, (def - defs[d1]) / dd);
+    let (wv1, wv2) = ((vels[v2] - vel) / dv, (vel - vels[v1]) / dv);
+    let f1 = wv1 * data[v1][d1] + wv2 * data[v2][d1];
+    let f2 = wv1 * data[v1][d2] + wv2 * data[v2][d2];
+    wd1 * f1 + wd2 * f2
+}
+
+#[test]
+fn a_damper_map_is_chronos_map_spring_damper() {
+    // Chrono's HMMWV with its length-and-speed damper maps (`hmmwv/vehicle/HMMWV_Vehicle_mapShock.json`).
+    let chrono = chrono_data();
+    let import =
+        import_vehicle(&chrono.join("hmmwv/vehicle/HMMWV_Vehicle_mapShock.json"), &chrono, None).expect("imports");
+    let raw: Value = serde_json::from_str(
+        &std::fs::read_to_string(chrono.join("hmmwv/suspension/HMMWV_DoubleWishboneFront_mapShock.json")).unwrap(),
+    )
+    .unwrap();
+    let defs: Vec<f64> = raw["Shock"]["Deformation"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let rows: Vec<Vec<f64>> = raw["Shock"]["Map Data"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect())
+        .collect();
+    let vels: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    let data: Vec<Vec<f64>> = rows.iter().map(|r| r[1..].to_vec()).collect();
+    let damper = &import.data.front.damper;
+    let map = damper.map.as_ref().expect("the front damper is a map");
+    assert_eq!((map.length_m.len(), map.velocity_m_per_s.len()), (15, 5));
+    use rt_vehicle::model::suspension::forces::damper_force;
+    // Away from the grid's lines (the roundings: 1 mm of length, 5 mm/s of speed, and the compression–rebound
+    // blend at rest, e^(−2|v|/0.01 m/s)) and past its edges (linear continuation), the model's push is −F.
+    let mut worst = 0.0f64;
+    let mut largest = 0.0f64;
+    for length in [0.26, 0.276, 0.29, 0.31, 0.335, 0.39, 0.42, 0.436, 0.45] {
+        for v in [-1.0, -0.5, -0.2, -0.1, 0.1, 0.2, 0.5, 1.0] {
+            let chrono = chrono_map_force(&defs, &vels, &data, length, v);
+            worst = worst.max((damper_force(damper, length, v) + chrono).abs());
+            largest = largest.max(chrono.abs());
+        }
+    }
+    eprintln!(
+        "the damper map against Chrono's MapSpringDamperForce: within {worst:.1e} N (forces up to {largest:.0} N)"
+    );
+    assert!(largest > 5e4, "the points reached only {largest} N");
+    assert!(worst < 1e-9 * largest, "{worst:e} N");
+    // At rest it pushes nothing; across a length line the force is continuous (the rounding).
+    assert_eq!(damper_force(damper, 0.35, 0.0), 0.0);
+    let across = (damper_force(damper, 0.324104 + 1e-9, 0.3) - damper_force(damper, 0.324104 - 1e-9, 0.3)).abs();
+    assert!(across < 1e-3, "{across} N across a length line");
+}
+
+#[test]
+fn a_damper_map_that_is_no_damper_is_refused_by_file_and_key() {
+    let file = "hmmwv/suspension/HMMWV_DoubleWishboneFront_mapShock.json";
+    let cases: Vec<(Edit, &str)> = vec![
+        (Box::new(|v| v["Shock"]["Map Data"][0] = json!([-0.666667, 1.0])), "rows [speed, a force per Deformation]"),
+        (Box::new(|v| v["Shock"]["Deformation"][3] = json!(0.2)), "strictly increasing"),
+        // a falling column: negative damping at that length
+        (Box::new(|v| v["Shock"]["Map Data"][4][1] = json!(100.0)), "at length 0.273304 m"),
+        (Box::new(|v| v["Shock"]["Map Data"][2][5] = json!(50.0)), "must be 0 at v = 0"),
+    ];
+    for (k, (edit, needle)) in cases.into_iter().enumerate() {
+        let dir = chrono_copy_of(
+            &format!("map_damper_bad_{k}"),
+            "hmmwv",
+            &["vehicle", "suspension", "steering", "chassis", "wheel", "brake", "driveline", "tire"],
+        );
+        edit_json(&dir.join(file), edit);
+        let e = import_vehicle(&dir.join("hmmwv/vehicle/HMMWV_Vehicle_mapShock.json"), &dir, None)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("Shock.") && e.contains(needle), "case {k}: '{needle}' not in: {e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

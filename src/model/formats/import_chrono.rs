@@ -26,8 +26,8 @@
 use crate::math::{M3, V3};
 use crate::model::formats::chrono_json::strip_comments;
 use crate::model::formats::params::{
-    check_damper_curve, AntirollBar, Axle, Chassis, Damper, DamperCurve, DataError, PitmanArm, Rack, RigidBody,
-    RotaryArm, Spring, SpringCurve, SuspensionTemplate, VehicleData, WheelBody,
+    check_damper_curve, check_damper_map, AntirollBar, Axle, Chassis, Damper, DamperCurve, DamperMap, DataError,
+    PitmanArm, Rack, RigidBody, RotaryArm, Spring, SpringCurve, SuspensionTemplate, VehicleData, WheelBody,
 };
 use crate::model::formats::vehicle_file::MAX_FILE_BYTES;
 use nalgebra::{Quaternion, UnitQuaternion};
@@ -774,8 +774,9 @@ impl<'a> SuspensionReader<'a> {
     fn spring(&mut self) -> Result<Spring, ImportError> {
         let sp = self.o.obj(self.spring_key())?;
         if self.template == SuspensionTemplate::SingleWishbone {
-            // The element's damper laws the model cannot take, named before any other key of it.
-            Self::unsupported_damper(&sp, &[])?;
+            // The element's damper laws the model cannot take, named before any other key of it (a map: the
+            // model's single wishbone has one element, its spring with its damper, and the map would be both).
+            Self::unsupported_damper(&sp, &["Map Data"])?;
         }
         let moving = self.moving_key();
         let mut used = vec![
@@ -907,23 +908,53 @@ impl<'a> SuspensionReader<'a> {
     /// Refuses the damper laws the model cannot take (a map; a degressive law in a combined spring-damper
     /// element, which Chrono's reader does not read either), and the keys `more`, in `o`.
     fn unsupported_damper(o: &Obj, more: &[&str]) -> Result<(), ImportError> {
-        let laws = ["Map Data"];
-        match laws.iter().chain(more).find(|k| o.has(k)) {
+        match more.iter().find(|k| o.has(k)) {
             Some(k) => Err(o.err(
                 k,
-                "not supported: the model's damper is a rate per direction and stroke band, or a curve of the speed \
-                 alone (this map is of the length too)",
+                "not supported: the model's damper is a rate per direction and stroke band, a curve of the speed, \
+                 or a map of the length and the speed",
             )),
             None => Ok(()),
         }
+    }
+
+    /// A shock's `Map Data` (Chrono's `MapSpringDamperForce`): `Deformation` (the lengths: a shock's rest length
+    /// is 0 in Chrono's reader) and a row per speed [v, F at each length].
+    fn damper_map(sh: &Obj) -> Result<DamperMap, ImportError> {
+        let numbers = |v: &serde_json::Value| -> Option<Vec<f64>> {
+            v.as_array()?.iter().map(number).collect::<Option<Vec<f64>>>()
+        };
+        let length_m = numbers(sh.get("Deformation")?)
+            .ok_or_else(|| sh.err("Deformation", "must be an array of numbers (the damper's lengths, m)"))?;
+        let bad = || sh.err("Map Data", "must be an array of rows [speed, a force per Deformation] of numbers");
+        let rows = sh.get("Map Data")?.as_array().ok_or_else(bad)?;
+        let (mut velocity_m_per_s, mut forces) = (Vec::new(), Vec::new());
+        for row in rows {
+            let row = numbers(row).filter(|r| r.len() == length_m.len() + 1).ok_or_else(bad)?;
+            velocity_m_per_s.push(row[0]);
+            forces.push(row[1..].to_vec());
+        }
+        let map = DamperMap { length_m, velocity_m_per_s, force_N: forces };
+        check_damper_map("Map Data", &map).map_err(|e| sh.err("Map Data", e.message))?;
+        Ok(map)
     }
 
     /// The damper (`Shock`): its ends and its law, a rate or a curve of the speed.
     fn damper(&mut self) -> Result<Damper, ImportError> {
         let sh = self.o.obj("Shock")?;
         let combined = self.template == SuspensionTemplate::SingleWishbone;
-        Self::unsupported_damper(&sh, if combined { &[] } else { &["Spring Coefficient", "Spring Curve Data"] })?;
+        Self::unsupported_damper(
+            &sh,
+            if combined { &["Map Data"] } else { &["Spring Coefficient", "Spring Curve Data"] },
+        )?;
         let moving = self.moving_key();
+        if !combined && sh.has("Map Data") {
+            sh.keys(&["Location Chassis", moving, "Deformation", "Map Data"], &[], self.warnings)?;
+            self.put("SHOCK_C", sh.point("Location Chassis")?);
+            let (_, lower_end) = self.lower_ends();
+            self.put(lower_end, sh.point(moving)?);
+            return Ok(Damper::of_map(Self::damper_map(&sh)?));
+        }
         if !combined {
             // A single wishbone's element: its keys were accounted for by `spring`.
             sh.keys(
@@ -954,6 +985,7 @@ impl<'a> SuspensionReader<'a> {
             degressivity_compression_s_per_m,
             degressivity_rebound_s_per_m,
             curve: None,
+            map: None,
         };
         match force_law(&sh, "Damping Coefficient", "Damping Curve Data", "N s/m")? {
             Law::Coefficient(c) => Ok(rates(c, c)),

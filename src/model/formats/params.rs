@@ -155,6 +155,7 @@ impl Damper {
         degressivity_compression_s_per_m: 0.0,
         degressivity_rebound_s_per_m: 0.0,
         curve: None,
+        map: None,
     };
 
     fn none() -> Damper {
@@ -177,6 +178,16 @@ impl Damper {
             degressivity_compression_s_per_m: 0.0,
             degressivity_rebound_s_per_m: 0.0,
             curve: Some(curve),
+            map: None,
+        }
+    }
+
+    /// A damper whose law is the map `map`.
+    pub fn of_map(map: DamperMap) -> Damper {
+        Damper {
+            curve: None,
+            map: Some(map),
+            ..Damper::of_curve(DamperCurve { velocity_m_per_s: vec![], force_N: vec![] })
         }
     }
 
@@ -245,6 +256,28 @@ pub struct Damper {
     /// A tabulated law instead of the bands (Chrono's `Damping Curve Data`, its `NonlinearDamperForce`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub curve: Option<DamperCurve>,
+    /// A map of the length and the speed instead of the bands (Chrono's `Map Data`, its `MapSpringDamperForce`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<DamperMap>,
+}
+
+/// The most lengths or speeds a damper map may have (the evaluation gathers its columns on the stack).
+pub const MAX_DAMPER_MAP_POINTS: usize = 64;
+
+/// A damper's resisting force (N, with the speed's sign: the element pushes with −F) at each of its lengths
+/// and speeds, as Chrono's `MapSpringDamperForce` takes it (`Deformation`, the length less a rest length that
+/// is 0 for a shock, and `Map Data`, a row per speed): bilinear between the grid's points and continued
+/// linearly past its edges, as Chrono interpolates it (docs/physics.md §5.3; rounded at the grid's lines as a
+/// curve is at its knots, `forces::damper_map_force`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DamperMap {
+    /// Damper lengths, m, strictly increasing.
+    pub length_m: Vec<f64>,
+    /// Damper speeds, m/s (positive extending), strictly increasing, with 0 between speeds of both signs.
+    pub velocity_m_per_s: Vec<f64>,
+    /// For each speed, the force at each length, N.
+    pub force_N: Vec<Vec<f64>>,
 }
 
 /// A damper's resisting force against its speed v (m/s, positive extending), F with the sign of v (the
@@ -1395,6 +1428,18 @@ fn check_damper(field: &str, d: &Damper) -> Result<(), DataError> {
     ] {
         nonneg(&format!("{field}.{k}"), v)?;
     }
+    if let Some(map) = &d.map {
+        if let Some((k, _)) = d.band_fields().into_iter().find(|(_, v)| v.is_some()) {
+            return Err(err(format!("{field}.{k}"), "give either the rates and their band or a map, not both"));
+        }
+        if d.curve.is_some() {
+            return Err(err(format!("{field}.curve"), "give either a curve or a map, not both"));
+        }
+        if d.degressivity_compression_s_per_m != 0.0 || d.degressivity_rebound_s_per_m != 0.0 {
+            return Err(err(format!("{field}.degressivity_compression_s_per_m"), "a map has no degressivity"));
+        }
+        return check_damper_map(&format!("{field}.map"), map);
+    }
     if let Some(curve) = &d.curve {
         if let Some((k, _)) = d.band_fields().into_iter().find(|(_, v)| v.is_some()) {
             return Err(err(format!("{field}.{k}"), "give either the rates and their band or a curve, not both"));
@@ -1586,6 +1631,30 @@ pub(crate) fn check_damper_curve(field: &str, curve: &DamperCurve) -> Result<(),
             "must have the point v = 0 (force 0) between speeds of both signs: compression and rebound",
         )),
     }
+}
+
+/// A damper map (`field`): at least two lengths, positive and strictly increasing, at most
+/// `MAX_DAMPER_MAP_POINTS` of them and of the speeds; a row of forces per speed, one per length; and at each
+/// length, its column a damper curve against the speed (`check_damper_curve`: rising, 0 at rest).
+pub(crate) fn check_damper_map(field: &str, m: &DamperMap) -> Result<(), DataError> {
+    let (l, v) = (&m.length_m, &m.velocity_m_per_s);
+    if l.len() < 2 || l.len() > MAX_DAMPER_MAP_POINTS || v.len() > MAX_DAMPER_MAP_POINTS {
+        return Err(err(field, format!("2 to {MAX_DAMPER_MAP_POINTS} lengths and at most as many speeds")));
+    }
+    if !l.iter().all(|x| x.is_finite() && *x > 0.0) || l.windows(2).any(|w| !(w[1] > w[0])) {
+        return Err(err(format!("{field}.length_m"), "must be positive, finite and strictly increasing"));
+    }
+    if m.force_N.len() != v.len() || m.force_N.iter().any(|row| row.len() != l.len()) {
+        return Err(err(
+            format!("{field}.force_N"),
+            format!("must have a row per speed ({}) of a force per length ({})", v.len(), l.len()),
+        ));
+    }
+    for (j, length) in l.iter().enumerate() {
+        let column = DamperCurve { velocity_m_per_s: v.clone(), force_N: m.force_N.iter().map(|row| row[j]).collect() };
+        check_damper_curve(field, &column).map_err(|e| err(e.field, format!("at length {length} m: {}", e.message)))?;
+    }
+    Ok(())
 }
 
 /// A spring curve: at least two points, deflections strictly increasing, forces finite and never falling

@@ -3,7 +3,9 @@
 //! purpose: kinks in the right-hand side spoil integrator orders and the Jacobian of a linearly implicit scheme.
 
 use crate::math::smoothstep;
-use crate::model::formats::params::{Damper, DamperCurve, Spring, SpringCurve, StopTable};
+use crate::model::formats::params::{
+    Damper, DamperCurve, DamperMap, Spring, SpringCurve, StopTable, MAX_DAMPER_MAP_POINTS,
+};
 use serde::{Deserialize, Serialize};
 
 /// Width of the C¹ blend at a stop's engagement, m.
@@ -148,14 +150,36 @@ const DAMPER_CURVE_CORNER: f64 = DAMPER_VELOCITY_BLEND;
 /// by ½(1 + tanh(v/`DAMPER_VELOCITY_BLEND`)): 0 at rest, C¹, and within |Δs v| e^(−2|v|/0.01 m/s) of the
 /// table's lines away from the corners.
 pub fn damper_curve_force(c: &DamperCurve, v: f64) -> f64 {
-    let (xs, fs) = (&c.velocity_m_per_s, &c.force_N);
+    damper_table_force(&c.velocity_m_per_s, &c.force_N, true, v)
+}
+
+/// `damper_curve_force` on the table (`xs` speeds, `fs` forces), held past its ends (`hold`, Chrono's curve) or
+/// continued linearly (Chrono's map).
+fn damper_table_force(xs: &[f64], fs: &[f64], hold: bool, v: f64) -> f64 {
     let rounded = |xs: &[f64], fs: &[f64], hold| rounded_table(xs, fs, DAMPER_CURVE_CORNER, hold, v);
     // The loader makes the knot at rest an inner one (`params::check_damper_curve`).
     let k = xs.iter().position(|x| *x == 0.0).unwrap_or(0).clamp(1, xs.len() - 2);
-    let compression = rounded(&xs[..=k], &fs[..=k], [true, false]);
-    let rebound = rounded(&xs[k..], &fs[k..], [false, true]);
+    let compression = rounded(&xs[..=k], &fs[..=k], [hold, false]);
+    let rebound = rounded(&xs[k..], &fs[k..], [false, hold]);
     let w = 0.5 * (1.0 + (v / DAMPER_VELOCITY_BLEND).tanh());
     (1.0 - w) * compression + w * rebound
+}
+
+/// A damper map's resisting force at length L and speed v (Chrono's `MapSpringDamperForce`, which interpolates
+/// bilinearly and continues linearly past the grid): each length's column a damper table of the speed
+/// (`damper_table_force`, continued linearly past its ends), then those values a table of the length
+/// (`rounded_table`, its corners `CURVE_CORNER` wide, continued linearly). Away from the grid's lines (the
+/// roundings' widths) it is Chrono's bilinear interpolation; across them C¹, as a curve is at its knots.
+pub fn damper_map_force(m: &DamperMap, length: f64, v: f64) -> f64 {
+    let (nl, nv) = (m.length_m.len(), m.velocity_m_per_s.len());
+    let (mut by_length, mut column) = ([0.0; MAX_DAMPER_MAP_POINTS], [0.0; MAX_DAMPER_MAP_POINTS]);
+    for j in 0..nl {
+        for (c, row) in column.iter_mut().zip(&m.force_N) {
+            *c = row[j];
+        }
+        by_length[j] = damper_table_force(&m.velocity_m_per_s, &column[..nv], false, v);
+    }
+    rounded_table(&m.length_m, &by_length[..nl], CURVE_CORNER, [false, false], length)
 }
 
 /// The energy stored in a tabulated spring deflected from 0 to x, ∫₀ˣ F: exact, by Simpson's rule on the
@@ -190,6 +214,9 @@ pub fn curve_energy(c: &SpringCurve, x: f64) -> f64 {
 pub fn damper_force(d: &Damper, length: f64, rate: f64) -> f64 {
     if let Some(curve) = &d.curve {
         return -damper_curve_force(curve, rate);
+    }
+    if let Some(map) = &d.map {
+        return -damper_map_force(map, length, rate);
     }
     let b = d.bands();
     let inside = smoothstep((length - b.engagement_min_length) / DAMPER_BAND_BLEND + 0.5)
