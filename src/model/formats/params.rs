@@ -1428,26 +1428,27 @@ fn check_damper(field: &str, d: &Damper) -> Result<(), DataError> {
     ] {
         nonneg(&format!("{field}.{k}"), v)?;
     }
-    if let Some(map) = &d.map {
+    // A table (a curve or a map) replaces the bands and their degressivity.
+    let table = match (&d.curve, &d.map) {
+        (Some(_), Some(_)) => return Err(err(format!("{field}.curve"), "give either a curve or a map, not both")),
+        (Some(curve), None) => Some(("curve", check_damper_curve(&format!("{field}.curve"), curve))),
+        (None, Some(map)) => Some(("map", check_damper_map(&format!("{field}.map"), map))),
+        (None, None) => None,
+    };
+    if let Some((name, checked)) = table {
         if let Some((k, _)) = d.band_fields().into_iter().find(|(_, v)| v.is_some()) {
-            return Err(err(format!("{field}.{k}"), "give either the rates and their band or a map, not both"));
-        }
-        if d.curve.is_some() {
-            return Err(err(format!("{field}.curve"), "give either a curve or a map, not both"));
+            return Err(err(
+                format!("{field}.{k}"),
+                format!("give either the rates and their band or a {name}, not both"),
+            ));
         }
         if d.degressivity_compression_s_per_m != 0.0 || d.degressivity_rebound_s_per_m != 0.0 {
-            return Err(err(format!("{field}.degressivity_compression_s_per_m"), "a map has no degressivity"));
+            return Err(err(
+                format!("{field}.degressivity_compression_s_per_m"),
+                format!("a {name} has no degressivity"),
+            ));
         }
-        return check_damper_map(&format!("{field}.map"), map);
-    }
-    if let Some(curve) = &d.curve {
-        if let Some((k, _)) = d.band_fields().into_iter().find(|(_, v)| v.is_some()) {
-            return Err(err(format!("{field}.{k}"), "give either the rates and their band or a curve, not both"));
-        }
-        if d.degressivity_compression_s_per_m != 0.0 || d.degressivity_rebound_s_per_m != 0.0 {
-            return Err(err(format!("{field}.degressivity_compression_s_per_m"), "a curve has no degressivity"));
-        }
-        return check_damper_curve(&format!("{field}.curve"), curve);
+        return checked;
     }
     for (k, v) in d.band_fields() {
         match v {
